@@ -1,0 +1,329 @@
+/*
+ * Command-line parsing of reyes-render.  Every option is one row of
+ * `options[]` (name, argument, handler, help), and techniques and
+ * strategies are rows of their own tables, so adding one is one line.
+ */
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "reyes_cli.h"
+
+typedef struct name_value {
+    const char *name;
+    int value;
+    const char *help;
+} name_value;
+
+static const name_value techniques[] = {
+    { "megakernel", PERMA_TECHNIQUE_MEGAKERNEL, "one persistent kernel" },
+};
+/* Queue strategies; only the runtime's shared queues exist so far. */
+static const name_value strategies[] = {
+    { "shared", 0, "one global queue per procedure" },
+};
+
+#define COUNT_OF(a) (sizeof(a) / sizeof((a)[0]))
+
+typedef int (*option_handler)(reyes_cli *cli, const char *value, char *message, size_t size);
+
+typedef struct cli_option {
+    const char *name;      /* long name without dashes */
+    char short_name;       /* 0 if none */
+    const char *argument;  /* NULL for a flag */
+    option_handler handle;
+    const char *help;
+} cli_option;
+
+static int usage_error(char *message, size_t size, const char *format, const char *a, const char *b)
+{
+    snprintf(message, size, format, a, b);
+    return REYES_CLI_USAGE;
+}
+
+static int parse_unsigned(const char *text, unsigned long max, unsigned *out)
+{
+    if (!text[0] || text[0] == '-' || text[0] == '+')
+        return 0;
+    char *end;
+    errno = 0;
+    unsigned long value = strtoul(text, &end, 10);
+    if (errno || *end || value > max)
+        return 0;
+    *out = (unsigned)value;
+    return 1;
+}
+
+static int parse_float(const char *text, float *out)
+{
+    char *end;
+    errno = 0;
+    float value = strtof(text, &end);
+    if (!text[0] || errno || *end || !isfinite(value))
+        return 0;
+    *out = value;
+    return 1;
+}
+
+/* A name from a table, or a message listing the valid names. */
+static int lookup(const name_value *table, size_t count, const char *kind, const char *name,
+                  int *value, char *message, size_t size)
+{
+    for (size_t i = 0; i < count; ++i) {
+        if (strcmp(table[i].name, name) == 0) {
+            *value = table[i].value;
+            return REYES_CLI_OK;
+        }
+    }
+    int used = snprintf(message, size, "unknown %s '%s'; valid:", kind, name);
+    for (size_t i = 0; i < count && used >= 0 && (size_t)used < size; ++i)
+        used += snprintf(message + used, size - (size_t)used, " %s", table[i].name);
+    return REYES_CLI_USAGE;
+}
+
+static int on_output(reyes_cli *cli, const char *value, char *message, size_t size)
+{
+    (void)message;
+    (void)size;
+    cli->output = value;
+    return REYES_CLI_OK;
+}
+
+static int on_stats(reyes_cli *cli, const char *value, char *message, size_t size)
+{
+    (void)message;
+    (void)size;
+    cli->stats_path = value;
+    return REYES_CLI_OK;
+}
+
+static int on_size(reyes_cli *cli, const char *value, char *message, size_t size)
+{
+    char width[32], height[32];
+    const char *x = strchr(value, 'x');
+    size_t n = x ? (size_t)(x - value) : 0;
+    if (!x || n >= sizeof width || strlen(x + 1) >= sizeof height)
+        return usage_error(message, size, "--size '%s': expected WxH, e.g. 512x512%s", value, "");
+    memcpy(width, value, n);
+    width[n] = '\0';
+    strcpy(height, x + 1);
+    if (!parse_unsigned(width, REYES_MAX_SIZE, &cli->render.width) || cli->render.width == 0
+        || !parse_unsigned(height, REYES_MAX_SIZE, &cli->render.height) || cli->render.height == 0)
+        return usage_error(message, size, "--size '%s': width and height must be 1..%s", value,
+                           "16384");
+    return REYES_CLI_OK;
+}
+
+static int on_bound(reyes_cli *cli, const char *value, char *message, size_t size)
+{
+    if (!parse_float(value, &cli->render.bound_px) || cli->render.bound_px < 0.5f)
+        return usage_error(message, size, "--bound '%s': expected pixels >= 0.5%s", value, "");
+    return REYES_CLI_OK;
+}
+
+static int on_grid(reyes_cli *cli, const char *value, char *message, size_t size)
+{
+    if (!parse_unsigned(value, REYES_MAX_GRID, &cli->render.grid) || cli->render.grid < 2)
+        return usage_error(message, size, "--grid '%s': expected 2..%s", value, "32");
+    return REYES_CLI_OK;
+}
+
+static int on_spp(reyes_cli *cli, const char *value, char *message, size_t size)
+{
+    if (!parse_unsigned(value, REYES_MAX_SPP, &cli->render.spp) || cli->render.spp < 1)
+        return usage_error(message, size, "--spp '%s': expected 1..%s", value, "64");
+    return REYES_CLI_OK;
+}
+
+static int on_max_depth(reyes_cli *cli, const char *value, char *message, size_t size)
+{
+    if (!parse_unsigned(value, REYES_MAX_DEPTH, &cli->render.max_depth))
+        return usage_error(message, size, "--max-depth '%s': expected 0..%s", value, "40");
+    return REYES_CLI_OK;
+}
+
+static int on_groups(reyes_cli *cli, const char *value, char *message, size_t size)
+{
+    if (!parse_unsigned(value, 4096, &cli->render.work_groups) || cli->render.work_groups < 1)
+        return usage_error(message, size, "--groups '%s': expected 1..%s", value, "4096");
+    return REYES_CLI_OK;
+}
+
+static int on_fov(reyes_cli *cli, const char *value, char *message, size_t size)
+{
+    if (!parse_float(value, &cli->fov_deg) || !(cli->fov_deg > 0.5f && cli->fov_deg < 179.0f))
+        return usage_error(message, size, "--fov '%s': expected degrees in (0.5, 179)%s", value, "");
+    return REYES_CLI_OK;
+}
+
+static int on_camera(reyes_cli *cli, const char *value, char *message, size_t size)
+{
+    const char *at = value;
+    for (int k = 0; k < 6; ++k) {
+        char number[64];
+        size_t n = strcspn(at, ",");
+        int last = k == 5;
+        if (n == 0 || n >= sizeof number || (last ? at[n] != '\0' : at[n] != ','))
+            return usage_error(message, size, "--camera '%s': expected 6 numbers %s", value,
+                               "ex,ey,ez,ax,ay,az");
+        memcpy(number, at, n);
+        number[n] = '\0';
+        if (!parse_float(number, &cli->camera[k]))
+            return usage_error(message, size, "--camera: '%s' is not a number%s", number, "");
+        at += n + (last ? 0 : 1);
+    }
+    cli->has_camera = 1;
+    return REYES_CLI_OK;
+}
+
+static int on_technique(reyes_cli *cli, const char *value, char *message, size_t size)
+{
+    int technique;
+    int result = lookup(techniques, COUNT_OF(techniques), "technique", value, &technique, message, size);
+    if (result == REYES_CLI_OK)
+        cli->render.technique = (perma_technique)technique;
+    return result;
+}
+
+static int on_strategy(reyes_cli *cli, const char *value, char *message, size_t size)
+{
+    int strategy;
+    int result = lookup(strategies, COUNT_OF(strategies), "strategy", value, &strategy, message, size);
+    if (result == REYES_CLI_OK)
+        cli->strategy = value;
+    return result;
+}
+
+static int on_backface(reyes_cli *cli, const char *value, char *message, size_t size)
+{
+    (void)value;
+    (void)message;
+    (void)size;
+    cli->render.backface_cull = 1;
+    return REYES_CLI_OK;
+}
+
+static int on_help(reyes_cli *cli, const char *value, char *message, size_t size)
+{
+    (void)value;
+    (void)message;
+    (void)size;
+    cli->help = 1;
+    return REYES_CLI_OK;
+}
+
+static int on_version(reyes_cli *cli, const char *value, char *message, size_t size)
+{
+    (void)value;
+    (void)message;
+    (void)size;
+    cli->version = 1;
+    return REYES_CLI_OK;
+}
+
+static const cli_option options[] = {
+    { "output", 'o', "FILE", on_output, "PNG to write (default reyes.png)" },
+    { "size", 0, "WxH", on_size, "image size in pixels (default 512x512)" },
+    { "bound", 0, "PX", on_bound, "dice patches whose screen bound is at most PX (default 8)" },
+    { "grid", 0, "N", on_grid, "grid vertices per side when dicing (default 16)" },
+    { "spp", 0, "N", on_spp, "jittered samples per pixel (default 4)" },
+    { "max-depth", 0, "D", on_max_depth, "splits after which a patch is diced anyway (default 20)" },
+    { "camera", 0, "ex,ey,ez,ax,ay,az", on_camera, "eye and target (default: frame the scene)" },
+    { "fov", 0, "DEG", on_fov, "vertical field of view (default 40)" },
+    { "technique", 0, "NAME", on_technique, "scheduling technique: megakernel" },
+    { "strategy", 0, "NAME", on_strategy, "queue strategy: shared" },
+    { "groups", 0, "N", on_groups, "persistent work-groups (default: as many as fit)" },
+    { "backface", 0, NULL, on_backface, "cull patches that face away entirely" },
+    { "stats", 0, "FILE", on_stats, "write statistics as JSON" },
+    { "help", 'h', NULL, on_help, "show this help" },
+    { "version", 0, NULL, on_version, "show the version" },
+};
+
+void reyes_cli_usage(FILE *out, const char *program)
+{
+    fprintf(out, "usage: %s [MODEL.bpt ...] [options]\n\n"
+                 "Render bicubic Bezier patch models (.bpt) with a Reyes pipeline of perma\n"
+                 "procedures; with no model, a built-in scene.\n\noptions:\n",
+            program);
+    for (size_t i = 0; i < COUNT_OF(options); ++i) {
+        char prefix[8] = "    ", left[64];
+        if (options[i].short_name)
+            snprintf(prefix, sizeof prefix, "-%c, ", options[i].short_name);
+        snprintf(left, sizeof left, "%s--%s %s", prefix, options[i].name,
+                 options[i].argument ? options[i].argument : "");
+        fprintf(out, "  %-30s %s\n", left, options[i].help);
+    }
+    fprintf(out, "\nexit status: 0 ok, 1 rendering or file error, 2 bad usage\n");
+}
+
+/* The option an argument names ("--name", "--name=value" or "-c"), or NULL. */
+static const cli_option *find_option(const char *arg, const char **inline_value)
+{
+    *inline_value = NULL;
+    if (arg[0] == '-' && arg[1] != '-' && arg[1] && !arg[2]) {
+        for (size_t i = 0; i < COUNT_OF(options); ++i)
+            if (options[i].short_name == arg[1])
+                return &options[i];
+        return NULL;
+    }
+    if (strncmp(arg, "--", 2) != 0)
+        return NULL;
+    const char *name = arg + 2;
+    size_t length = strcspn(name, "=");
+    for (size_t i = 0; i < COUNT_OF(options); ++i) {
+        if (strlen(options[i].name) == length && strncmp(options[i].name, name, length) == 0) {
+            if (name[length] == '=')
+                *inline_value = name + length + 1;
+            return &options[i];
+        }
+    }
+    return NULL;
+}
+
+int reyes_cli_parse(int argc, char **argv, reyes_cli *cli, char *message, size_t size)
+{
+    memset(cli, 0, sizeof *cli);
+    reyes_options_init(&cli->render);
+    cli->output = "reyes.png";
+    cli->strategy = "shared";
+    cli->fov_deg = 40.0f;
+    message[0] = '\0';
+    cli->models = calloc(argc > 0 ? (size_t)argc : 1, sizeof *cli->models);
+    if (!cli->models)
+        return usage_error(message, size, "out of memory%s%s", "", "");
+    int only_models = 0;
+    for (int i = 1; i < argc; ++i) {
+        const char *arg = argv[i];
+        if (only_models || arg[0] != '-' || strcmp(arg, "-") == 0) {
+            cli->models[cli->model_count++] = arg;
+            continue;
+        }
+        if (strcmp(arg, "--") == 0) {
+            only_models = 1;
+            continue;
+        }
+        const char *value;
+        const cli_option *option = find_option(arg, &value);
+        if (!option)
+            return usage_error(message, size, "unknown option '%s' (see --help)%s", arg, "");
+        if (option->argument && !value) {
+            if (i + 1 >= argc)
+                return usage_error(message, size, "option '%s' needs a value %s", arg,
+                                   option->argument);
+            value = argv[++i];
+        } else if (!option->argument && value) {
+            return usage_error(message, size, "option '--%s' takes no value%s", option->name, "");
+        }
+        int result = option->handle(cli, value, message, size);
+        if (result != REYES_CLI_OK)
+            return result;
+    }
+    return REYES_CLI_OK;
+}
+
+void reyes_cli_free(reyes_cli *cli)
+{
+    free(cli->models);
+    cli->models = NULL;
+}

@@ -1,0 +1,33 @@
+/* Command-line parsing of reyes-render, table-driven (see reyes_cli.c). */
+#ifndef REYES_CLI_H
+#define REYES_CLI_H
+
+#include <stddef.h>
+
+#include "reyes.h"
+
+#define REYES_CLI_OK 0
+#define REYES_CLI_USAGE 2 /* the exit code for bad usage */
+
+typedef struct reyes_cli {
+    reyes_options render;
+    const char **models;    /* model paths from argv (the array is allocated) */
+    size_t model_count;
+    const char *output;     /* PNG path */
+    const char *stats_path; /* NULL: no statistics file */
+    const char *strategy;
+    int has_camera;
+    float camera[6];        /* eye x y z, target x y z */
+    float fov_deg;
+    int help, version;
+} reyes_cli;
+
+/* Parse argv into *cli.  Returns REYES_CLI_OK or REYES_CLI_USAGE with a
+ * message in `message`.  Free with reyes_cli_free. */
+int reyes_cli_parse(int argc, char **argv, reyes_cli *cli, char *message, size_t message_size);
+void reyes_cli_free(reyes_cli *cli);
+
+/* The --help text. */
+void reyes_cli_usage(FILE *out, const char *program);
+
+#endif

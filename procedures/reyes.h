@@ -1,0 +1,188 @@
+/*
+ * Reyes renderer on perma: bicubic Bézier patches are bounded, split,
+ * diced into micropolygon grids, shaded and rasterized by perma procedures
+ * (see docs/reyes.md).  This header is the library used by the reyes-render
+ * command and the tests.  Functions return a reyes_status and fill a
+ * reyes_error; nothing here exits the process.
+ */
+#ifndef REYES_H
+#define REYES_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+
+#include "perma.h"
+
+#define REYES_VERSION_STRING "0.1.0"
+#define REYES_MESSAGE_MAX 1024
+
+typedef enum reyes_status {
+    REYES_OK = 0,
+    REYES_ERR_ARGUMENT, /* an option or argument out of range */
+    REYES_ERR_IO,       /* a file could not be read or written */
+    REYES_ERR_FORMAT,   /* a model file is malformed; the message has file:line */
+    REYES_ERR_NO_MEMORY,
+    REYES_ERR_RUNTIME   /* perma failed; the message has its report */
+} reyes_status;
+
+typedef struct reyes_error {
+    reyes_status status;
+    char message[REYES_MESSAGE_MAX];
+} reyes_error;
+
+/* Set *error (may be NULL) and return status. */
+reyes_status reyes_fail(reyes_error *error, reyes_status status, const char *format, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
+
+/* ---- Scenes: a list of bicubic Bézier patches with a color each. ---- */
+
+#define REYES_MAX_PATCHES 10000000u /* refuse larger scenes (and file counts) */
+
+typedef struct reyes_scene {
+    float *points;      /* 16 control points per patch, x y z w (w = 1), row-major */
+    uint32_t *colors;   /* RGBA8 per patch, red in the low byte */
+    size_t patch_count;
+    size_t capacity;
+} reyes_scene;
+
+void reyes_scene_init(reyes_scene *scene);
+void reyes_scene_free(reyes_scene *scene);
+
+/* Append one patch: cp[row][col][xyz]. */
+reyes_status reyes_scene_add_patch(reyes_scene *scene, const float cp[4][4][3], uint32_t rgba,
+                                   reyes_error *error);
+
+/* Parse .bpt text (`name` is used in messages) or read a .bpt file, adding
+ * its patches with color rgba.  Errors name the file and line. */
+reyes_status reyes_scene_parse_bpt(reyes_scene *scene, const char *text, const char *name,
+                                   uint32_t rgba, reyes_error *error);
+reyes_status reyes_scene_load_bpt(reyes_scene *scene, const char *path, uint32_t rgba,
+                                  reyes_error *error);
+
+/* The built-in scene: two spheres, a torus and a ribbon, z up. */
+reyes_status reyes_scene_add_builtin(reyes_scene *scene, reyes_error *error);
+
+/* Shapes of the built-in scene, usable on their own (tests). */
+reyes_status reyes_scene_add_sphere(reyes_scene *scene, const float center[3], float radius,
+                                    uint32_t rgba, reyes_error *error);
+reyes_status reyes_scene_add_torus(reyes_scene *scene, const float center[3], float major,
+                                   float minor, uint32_t rgba, reyes_error *error);
+reyes_status reyes_scene_add_ribbon(reyes_scene *scene, const float start[3], float length,
+                                    float width, int pieces, uint32_t rgba, reyes_error *error);
+
+/* Axis-aligned box of all control points (it contains the surfaces).
+ * Returns 0 for an empty scene. */
+int reyes_scene_bounds(const reyes_scene *scene, float lo[3], float hi[3]);
+
+/* A distinct color for the n-th model. */
+uint32_t reyes_model_color(unsigned n);
+
+#define REYES_RGBA(r, g, b) ((uint32_t)(r) | ((uint32_t)(g) << 8) | ((uint32_t)(b) << 16) | 0xff000000u)
+
+/* ---- Camera ---- */
+
+typedef struct reyes_camera {
+    float eye[3];
+    float at[3];
+    float fov_deg;     /* vertical field of view */
+} reyes_camera;
+
+/* Place the camera so the scene's bounding sphere fits the view
+ * (fov_deg and aspect = width / height given). */
+reyes_status reyes_camera_frame(const reyes_scene *scene, float fov_deg, float aspect,
+                                reyes_camera *camera, reyes_error *error);
+
+/* Row-major view-projection matrix: clip = m * (x y z 1), clip.w is the
+ * depth along the view direction.  Up is +z unless the view is vertical. */
+reyes_status reyes_camera_matrix(const reyes_camera *camera, float aspect, float near_w,
+                                 float m[16], reyes_error *error);
+
+/* Pixel position (y down) and depth of a world point; 0 if behind the eye. */
+int reyes_camera_project(const float m[16], unsigned width, unsigned height, const float x[3],
+                         float *px, float *py, float *depth);
+
+/* ---- Rendering ---- */
+
+typedef struct reyes_options {
+    unsigned width, height;
+    float bound_px;       /* dice below this screen bound (default 8) */
+    unsigned grid;        /* grid vertices per side (default 16) */
+    unsigned spp;         /* samples per pixel (default 4) */
+    unsigned max_depth;   /* split depth that forces dicing (default 20) */
+    int backface_cull;    /* default 0: the models have open, two-sided parts */
+    float cull_margin;    /* frustum margin, fraction of the viewport (default 0.05) */
+    uint32_t background;  /* RGBA8 of empty samples */
+    /* Scheduling (perma_config); 0 = runtime default. */
+    unsigned work_groups;
+    unsigned group_size;
+    perma_technique technique;
+    double time_limit;
+} reyes_options;
+
+void reyes_options_init(reyes_options *options);
+
+/* Limits the options are checked against. */
+#define REYES_MAX_SIZE 16384u
+#define REYES_MAX_GRID 32u
+#define REYES_MAX_SPP 64u
+#define REYES_MAX_DEPTH 40u
+
+reyes_status reyes_options_check(const reyes_options *options, reyes_error *error);
+
+typedef struct reyes_image {
+    unsigned width, height;
+    uint8_t *rgb;       /* width * height * 3, rows top to bottom */
+    uint8_t *coverage;  /* per pixel: samples that hit a surface */
+} reyes_image;
+
+void reyes_image_free(reyes_image *image);
+
+enum { REYES_PROC_BOUND, REYES_PROC_SPLIT_U, REYES_PROC_SPLIT_V, REYES_PROC_DICE,
+       REYES_PROC_RASTERIZE, REYES_PROC_COUNT };
+
+typedef struct reyes_stats {
+    uint64_t patches_in;
+    uint64_t splits;
+    uint64_t culled;
+    uint64_t grids;
+    uint64_t forced_dice;     /* grids diced because of the depth limit */
+    uint64_t micropolygons;
+    uint64_t samples_written;
+    size_t peak_queue_bytes;
+    double seconds;           /* perma_run wall time */
+    perma_stats run;
+    perma_procedure_stats procedures[REYES_PROC_COUNT];
+} reyes_stats;
+
+/* A perma runtime with the Reyes procedures registered (for options->grid,
+ * group_size, work_groups and technique; other options may change per render). */
+typedef struct reyes_renderer reyes_renderer;
+
+reyes_status reyes_renderer_create(const reyes_options *options, reyes_renderer **out,
+                                   reyes_error *error);
+void reyes_renderer_destroy(reyes_renderer *renderer);
+
+/* One line describing the OpenCL device and groups. */
+const char *reyes_renderer_device(const reyes_renderer *renderer);
+
+/* Render the scene; *image is allocated (free with reyes_image_free).
+ * stats may be NULL. */
+reyes_status reyes_render(reyes_renderer *renderer, const reyes_scene *scene,
+                          const reyes_camera *camera, const reyes_options *options,
+                          reyes_image *image, reyes_stats *stats, reyes_error *error);
+
+/* ---- Output ---- */
+
+reyes_status reyes_write_png(const char *path, const reyes_image *image, reyes_error *error);
+
+/* Statistics as a JSON object (the keys documented in docs/reyes.md). */
+reyes_status reyes_write_stats_json(FILE *out, const reyes_stats *stats,
+                                    const reyes_options *options, reyes_error *error);
+reyes_status reyes_save_stats_json(const char *path, const reyes_stats *stats,
+                                   const reyes_options *options, reyes_error *error);
+
+#endif

@@ -1,0 +1,126 @@
+/*
+ * bound: one item per sub-patch.  Culls it against the view frustum,
+ * optionally culls back faces, and sends it to dice when the screen bound
+ * of its control hull is small enough, else to split_u or split_v.
+ */
+
+/* 1 when every hull point lies outside the same frustum side plane. */
+int reyes_outside_frustum(const float4 clip[16], float margin)
+{
+    int left = 1, right = 1, bottom = 1, top = 1;
+    for (int k = 0; k < 16; ++k) {
+        float w = clip[k].w * (1.0f + margin);
+        left &= clip[k].x < -w;
+        right &= clip[k].x > w;
+        bottom &= clip[k].y < -w;
+        top &= clip[k].y > w;
+    }
+    return left | right | bottom | top;
+}
+
+/* 1 when every cross product of a u-difference and a v-difference of the
+ * projected hull has the same sign as a back face: the patch's screen-space
+ * normal (a positive combination of those) then faces away everywhere. */
+int reyes_backfacing(const float2 s[16])
+{
+    for (int a = 0; a < 12; ++a) {
+        int r = a / 3, c = a % 3;
+        float2 du = s[r * 4 + c + 1] - s[r * 4 + c];
+        for (int b = 0; b < 12; ++b) {
+            int cc = b / 3, rr = b % 3;
+            float2 dv = s[(rr + 1) * 4 + cc] - s[rr * 4 + cc];
+            /* Screen y points down, so a front face has du x dv < 0. */
+            if (du.x * dv.y - du.y * dv.x <= 0.0f)
+                return 0;
+        }
+    }
+    return 1;
+}
+
+/* Longest screen-space polyline of the hull along u (rows) or v (columns). */
+float reyes_hull_extent(const float2 s[16], int along_u)
+{
+    float longest = 0.0f;
+    for (int line = 0; line < 4; ++line) {
+        float length = 0.0f;
+        for (int k = 0; k < 3; ++k) {
+            int i0 = along_u ? line * 4 + k : k * 4 + line;
+            int i1 = along_u ? i0 + 1 : i0 + 4;
+            length += distance(s[i0], s[i1]);
+        }
+        longest = fmax(longest, length);
+    }
+    return longest;
+}
+
+/* Same in world space, for patches that cannot be projected. */
+float reyes_world_extent(const float3 cp[16], int along_u)
+{
+    float longest = 0.0f;
+    for (int line = 0; line < 4; ++line) {
+        float length = 0.0f;
+        for (int k = 0; k < 3; ++k) {
+            int i0 = along_u ? line * 4 + k : k * 4 + line;
+            int i1 = along_u ? i0 + 1 : i0 + 4;
+            length += distance(cp[i0], cp[i1]);
+        }
+        longest = fmax(longest, length);
+    }
+    return longest;
+}
+
+void reyes_bound(perma_ctx *ctx, __local const struct reyes_subpatch *item)
+{
+    __global const struct reyes_params *p = ctx->buf.params;
+    __global uint *counters = ctx->buf.counters;
+    struct reyes_subpatch sp = *item;
+    float3 cp[16];
+    float4 clip[16];
+    reyes_subpatch_points(ctx->buf.patches, &sp, cp);
+
+    int all_behind = 1, any_behind = 0;
+    for (int k = 0; k < 16; ++k) {
+        clip[k] = reyes_to_clip(p, cp[k]);
+        int behind = clip[k].w <= p->near_w;
+        all_behind &= behind;
+        any_behind |= behind;
+    }
+    if (all_behind || reyes_outside_frustum(clip, p->cull_margin)) {
+        atomic_inc(&counters[REYES_COUNT_CULLED]);
+        return;
+    }
+    int forced = sp.depth >= p->max_depth;
+    if (any_behind) {
+        /* Never project through the near plane: split in world space. */
+        if (forced) {
+            atomic_inc(&counters[REYES_COUNT_CULLED]);
+        } else if (reyes_world_extent(cp, 1) >= reyes_world_extent(cp, 0)) {
+            emit_split_u(ctx, &sp);
+        } else {
+            emit_split_v(ctx, &sp);
+        }
+        return;
+    }
+
+    float2 s[16];
+    float2 lo = (float2)(INFINITY, INFINITY), hi = (float2)(-INFINITY, -INFINITY);
+    for (int k = 0; k < 16; ++k) {
+        s[k] = reyes_to_screen(p, clip[k]);
+        lo = fmin(lo, s[k]);
+        hi = fmax(hi, s[k]);
+    }
+    if (p->backface_cull && reyes_backfacing(s)) {
+        atomic_inc(&counters[REYES_COUNT_CULLED]);
+        return;
+    }
+    float2 size = hi - lo;
+    if (forced || fmax(size.x, size.y) <= p->bound_px) {
+        if (forced)
+            atomic_inc(&counters[REYES_COUNT_FORCED_DICE]);
+        emit_dice(ctx, &sp);
+    } else if (reyes_hull_extent(s, 1) >= reyes_hull_extent(s, 0)) {
+        emit_split_u(ctx, &sp);
+    } else {
+        emit_split_v(ctx, &sp);
+    }
+}

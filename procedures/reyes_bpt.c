@@ -1,0 +1,198 @@
+/*
+ * Loader of the .bpt patch format: a patch count N, then per patch the
+ * degrees "3 3" and 16 control points "x y z", whitespace separated.
+ * Every error names the file and the line of the offending token.
+ */
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "reyes.h"
+
+#define TOKEN_MAX 64
+
+typedef struct tokenizer {
+    const char *at;
+    const char *name;
+    unsigned line;       /* line of the read position */
+    unsigned token_line; /* line of the last token read (errors point here) */
+    char token[TOKEN_MAX + 1];
+    int truncated; /* the token was longer than TOKEN_MAX */
+} tokenizer;
+
+/* Read the next token; 0 at the end of the text. */
+static int next_token(tokenizer *t)
+{
+    while (*t->at && isspace((unsigned char)*t->at)) {
+        if (*t->at == '\n')
+            ++t->line;
+        ++t->at;
+    }
+    if (!*t->at)
+        return 0;
+    t->token_line = t->line;
+    size_t n = 0;
+    t->truncated = 0;
+    while (*t->at && !isspace((unsigned char)*t->at)) {
+        if (n < TOKEN_MAX)
+            t->token[n++] = *t->at;
+        else
+            t->truncated = 1;
+        ++t->at;
+    }
+    t->token[n] = '\0';
+    return 1;
+}
+
+static reyes_status syntax_error(const tokenizer *t, reyes_error *error, const char *what)
+{
+    return reyes_fail(error, REYES_ERR_FORMAT, "%s:%u: %s", t->name, t->token_line, what);
+}
+
+/* A decimal count without sign. */
+static int parse_count(const tokenizer *t, unsigned long *out)
+{
+    if (t->truncated || !isdigit((unsigned char)t->token[0]))
+        return 0;
+    char *end;
+    errno = 0;
+    unsigned long value = strtoul(t->token, &end, 10);
+    if (errno || *end)
+        return 0;
+    *out = value;
+    return 1;
+}
+
+static reyes_status read_coordinate(tokenizer *t, size_t patch, int point, float *out,
+                                    reyes_error *error)
+{
+    char what[160];
+    if (!next_token(t)) {
+        snprintf(what, sizeof what, "file ends inside patch %zu (control point %d of 16)",
+                 patch + 1, point + 1);
+        return syntax_error(t, error, what);
+    }
+    char *end;
+    errno = 0;
+    float value = t->truncated ? NAN : strtof(t->token, &end);
+    if (t->truncated || *end || errno == ERANGE || !isfinite(value)) {
+        snprintf(what, sizeof what, "patch %zu, control point %d: '%s' is not a finite number",
+                 patch + 1, point + 1, t->token);
+        return syntax_error(t, error, what);
+    }
+    *out = value;
+    return REYES_OK;
+}
+
+static reyes_status read_degrees(tokenizer *t, size_t patch, reyes_error *error)
+{
+    char what[160];
+    for (int k = 0; k < 2; ++k) {
+        if (!next_token(t)) {
+            snprintf(what, sizeof what, "file ends before patch %zu", patch + 1);
+            return syntax_error(t, error, what);
+        }
+        if (strcmp(t->token, "3") != 0) {
+            snprintf(what, sizeof what, "patch %zu: degree '%s', only bicubic '3 3' is supported",
+                     patch + 1, t->token);
+            return syntax_error(t, error, what);
+        }
+    }
+    return REYES_OK;
+}
+
+reyes_status reyes_scene_parse_bpt(reyes_scene *scene, const char *text, const char *name,
+                                   uint32_t rgba, reyes_error *error)
+{
+    tokenizer t = { .at = text, .name = name, .line = 1, .token_line = 1 };
+    char what[160];
+    unsigned long count;
+    if (!next_token(&t))
+        return syntax_error(&t, error, "empty file, expected a patch count");
+    if (!parse_count(&t, &count) || count == 0) {
+        snprintf(what, sizeof what, "patch count '%s' is not a positive integer", t.token);
+        return syntax_error(&t, error, what);
+    }
+    if (count > REYES_MAX_PATCHES) {
+        snprintf(what, sizeof what, "patch count %lu exceeds the limit of %u", count,
+                 REYES_MAX_PATCHES);
+        return syntax_error(&t, error, what);
+    }
+    size_t first = scene->patch_count;
+    for (size_t patch = 0; patch < count; ++patch) {
+        float cp[4][4][3];
+        reyes_status status = read_degrees(&t, patch, error);
+        for (int point = 0; point < 16 && status == REYES_OK; ++point)
+            for (int k = 0; k < 3 && status == REYES_OK; ++k)
+                status = read_coordinate(&t, patch, point, &cp[point / 4][point % 4][k], error);
+        if (status == REYES_OK)
+            status = reyes_scene_add_patch(scene, cp, rgba, error);
+        if (status != REYES_OK) {
+            scene->patch_count = first; /* leave the scene as it was */
+            return status;
+        }
+    }
+    if (next_token(&t)) {
+        scene->patch_count = first;
+        snprintf(what, sizeof what, "unexpected '%s' after the %lu patches", t.token, count);
+        return syntax_error(&t, error, what);
+    }
+    return REYES_OK;
+}
+
+/* Read a whole file into a NUL-terminated buffer. */
+static reyes_status read_file(const char *path, char **out, reyes_error *error)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return reyes_fail(error, REYES_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+    size_t size = 0, capacity = 1 << 16;
+    char *text = malloc(capacity);
+    reyes_status status = text ? REYES_OK : REYES_ERR_NO_MEMORY;
+    while (status == REYES_OK) {
+        if (capacity - size < 2) {
+            char *bigger = realloc(text, capacity * 2);
+            if (!bigger) {
+                status = REYES_ERR_NO_MEMORY;
+                break;
+            }
+            text = bigger;
+            capacity *= 2;
+        }
+        size_t got = fread(text + size, 1, capacity - size - 1, f);
+        size += got;
+        if (got == 0)
+            break;
+    }
+    if (status == REYES_OK && ferror(f))
+        status = reyes_fail(error, REYES_ERR_IO, "%s: read error", path);
+    else if (status == REYES_ERR_NO_MEMORY)
+        reyes_fail(error, status, "%s: out of memory reading the file", path);
+    fclose(f);
+    if (status != REYES_OK) {
+        free(text);
+        return status;
+    }
+    if (memchr(text, '\0', size)) {
+        free(text);
+        return reyes_fail(error, REYES_ERR_FORMAT, "%s: binary data (NUL byte), not a .bpt file",
+                          path);
+    }
+    text[size] = '\0';
+    *out = text;
+    return REYES_OK;
+}
+
+reyes_status reyes_scene_load_bpt(reyes_scene *scene, const char *path, uint32_t rgba,
+                                  reyes_error *error)
+{
+    char *text;
+    reyes_status status = read_file(path, &text, error);
+    if (status != REYES_OK)
+        return status;
+    status = reyes_scene_parse_bpt(scene, text, path, rgba, error);
+    free(text);
+    return status;
+}

@@ -1,0 +1,47 @@
+/* Render options: defaults and range checks. */
+#include <math.h>
+#include <string.h>
+
+#include "reyes.h"
+
+void reyes_options_init(reyes_options *options)
+{
+    memset(options, 0, sizeof *options);
+    options->width = 512;
+    options->height = 512;
+    options->bound_px = 8.0f;
+    options->grid = 16;
+    options->spp = 4;
+    options->max_depth = 20;
+    options->backface_cull = 0;
+    options->cull_margin = 0.05f;
+    options->background = REYES_RGBA(24, 26, 32);
+    options->technique = PERMA_TECHNIQUE_MEGAKERNEL;
+}
+
+reyes_status reyes_options_check(const reyes_options *o, reyes_error *error)
+{
+    if (o->width < 1 || o->height < 1 || o->width > REYES_MAX_SIZE || o->height > REYES_MAX_SIZE)
+        return reyes_fail(error, REYES_ERR_ARGUMENT, "image size %ux%u is not in 1..%u", o->width,
+                          o->height, REYES_MAX_SIZE);
+    if (!(o->bound_px >= 0.5f && o->bound_px <= 1e6f))
+        return reyes_fail(error, REYES_ERR_ARGUMENT, "bound %g px is not in 0.5..1e6",
+                          (double)o->bound_px);
+    if (o->grid < 2 || o->grid > REYES_MAX_GRID)
+        return reyes_fail(error, REYES_ERR_ARGUMENT, "grid %u is not in 2..%u", o->grid,
+                          REYES_MAX_GRID);
+    if (o->spp < 1 || o->spp > REYES_MAX_SPP)
+        return reyes_fail(error, REYES_ERR_ARGUMENT, "samples per pixel %u is not in 1..%u", o->spp,
+                          REYES_MAX_SPP);
+    if (o->max_depth > REYES_MAX_DEPTH)
+        return reyes_fail(error, REYES_ERR_ARGUMENT, "max depth %u is not in 0..%u", o->max_depth,
+                          REYES_MAX_DEPTH);
+    if (!(o->cull_margin >= 0.0f && o->cull_margin <= 10.0f))
+        return reyes_fail(error, REYES_ERR_ARGUMENT, "cull margin is not in 0..10");
+    /* The sample buffer holds one 64-bit word per sample; keep it under 4 GiB
+     * and its indices within 32 bits. */
+    if ((uint64_t)o->width * o->height * o->spp > (1ull << 29))
+        return reyes_fail(error, REYES_ERR_ARGUMENT, "%ux%u at %u samples per pixel is too many samples",
+                          o->width, o->height, o->spp);
+    return REYES_OK;
+}

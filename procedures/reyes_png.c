@@ -1,0 +1,50 @@
+/* PNG output through libpng. */
+#include <errno.h>
+#include <png.h>
+#include <setjmp.h>
+#include <string.h>
+
+#include "reyes.h"
+
+/* libpng reports errors by longjmp; keep the stream outside the jump. */
+static int write_rows(FILE *f, const reyes_image *image, char *message, size_t size)
+{
+    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL);
+    if (!png) {
+        snprintf(message, size, "png_create_write_struct failed");
+        return 0;
+    }
+    png_infop info = png_create_info_struct(png);
+    if (!info || setjmp(png_jmpbuf(png))) {
+        png_destroy_write_struct(&png, info ? &info : NULL);
+        snprintf(message, size, "libpng failed to encode the image");
+        return 0;
+    }
+    png_init_io(png, f);
+    png_set_IHDR(png, info, image->width, image->height, 8, PNG_COLOR_TYPE_RGB,
+                 PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    png_write_info(png, info);
+    for (unsigned y = 0; y < image->height; ++y)
+        png_write_row(png, image->rgb + (size_t)y * image->width * 3);
+    png_write_end(png, NULL);
+    png_destroy_write_struct(&png, &info);
+    return 1;
+}
+
+reyes_status reyes_write_png(const char *path, const reyes_image *image, reyes_error *error)
+{
+    if (!image->rgb || image->width == 0 || image->height == 0)
+        return reyes_fail(error, REYES_ERR_ARGUMENT, "%s: empty image", path);
+    FILE *f = fopen(path, "wb");
+    if (!f)
+        return reyes_fail(error, REYES_ERR_IO, "%s: cannot create: %s", path, strerror(errno));
+    char message[256];
+    int ok = write_rows(f, image, message, sizeof message);
+    if (fclose(f) != 0 && ok) {
+        ok = 0;
+        snprintf(message, sizeof message, "write failed: %s", strerror(errno));
+    }
+    if (!ok)
+        return reyes_fail(error, REYES_ERR_IO, "%s: %s", path, message);
+    return REYES_OK;
+}

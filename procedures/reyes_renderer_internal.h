@@ -1,0 +1,18 @@
+/* The renderer object, shared by reyes_renderer.c and reyes_render.c. */
+#ifndef REYES_RENDERER_INTERNAL_H
+#define REYES_RENDERER_INTERNAL_H
+
+#include "reyes.h"
+
+struct reyes_renderer {
+    perma_runtime *rt;
+    perma_proc procs[REYES_PROC_COUNT];
+    unsigned grid;          /* the dice procedure's emit maximum depends on it */
+    unsigned dice_threads;  /* threads_per_item of dice */
+};
+
+/* Copy the runtime's last message into *error. */
+reyes_status reyes_runtime_error(const struct reyes_renderer *r, const char *call,
+                                 perma_status status, reyes_error *error);
+
+#endif

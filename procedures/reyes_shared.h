@@ -1,0 +1,64 @@
+/*
+ * Types shared by the host and the OpenCL procedures of the Reyes renderer.
+ * This file is compiled as C11 by the host and embedded verbatim into the
+ * device program, so it may only use syntax both languages accept.
+ */
+#ifndef REYES_SHARED_H
+#define REYES_SHARED_H
+
+#ifdef __OPENCL_VERSION__
+#define REYES_U32 uint
+#else
+#include <stdint.h>
+#define REYES_U32 uint32_t
+#endif
+
+/* A rectangle [u0,u1] x [v0,v1] of a base patch's parameter domain: the
+ * work item of bound and split (24 bytes instead of 16 control points). */
+struct reyes_subpatch {
+    REYES_U32 patch;  /* index of the base patch */
+    REYES_U32 depth;  /* number of splits from the base patch */
+    float u0, v0, u1, v1;
+};
+
+/* One micropolygon: a grid quad in screen space (pixels, y down; z is the
+ * camera-space depth) with a packed RGBA8 color per vertex.  Vertices go
+ * around the quad: (i,j), (i+1,j), (i+1,j+1), (i,j+1). */
+struct reyes_quad {
+    float x[4];
+    float y[4];
+    float z[4];
+    REYES_U32 rgba[4];
+};
+
+/* Indices into the statistics counter buffer. */
+#define REYES_COUNT_SPLITS 0
+#define REYES_COUNT_CULLED 1
+#define REYES_COUNT_GRIDS 2
+#define REYES_COUNT_MICROPOLYGONS 3
+#define REYES_COUNT_FORCED_DICE 4 /* diced because the depth limit was hit */
+#define REYES_COUNTERS 8
+
+/* Scene and camera parameters, one per render (only scalars: the layout is
+ * the same on host and device). */
+struct reyes_params {
+    float view_proj[16];   /* row-major: clip = view_proj * (x y z 1) */
+    float eye[4];          /* camera position (w unused) */
+    float light_dir[4];    /* unit vector towards the light (w unused) */
+    float width, height;   /* image size in pixels */
+    float bound_px;        /* dice when the screen bound is at most this */
+    float cull_margin;     /* frustum tolerance, fraction of the half-viewport */
+    float near_w;          /* clip w of the near plane */
+    float ambient;         /* ambient light intensity */
+    float diffuse;         /* Lambert weight */
+    float specular;        /* Blinn-Phong weight */
+    float shininess;       /* Blinn-Phong exponent */
+    REYES_U32 max_depth;   /* splits after which a patch is diced anyway */
+    REYES_U32 grid;        /* vertices per grid side */
+    REYES_U32 spp;         /* samples per pixel */
+    REYES_U32 backface_cull; /* 1: drop patches facing away entirely */
+    REYES_U32 dice_threads;  /* threads_per_item of the dice procedure */
+    REYES_U32 pad[2];
+};
+
+#endif

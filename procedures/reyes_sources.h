@@ -1,0 +1,13 @@
+/* OpenCL sources of the Reyes procedures, embedded at build time. */
+#ifndef REYES_SOURCES_H
+#define REYES_SOURCES_H
+
+extern const char reyes_shared_h_source[];
+extern const char reyes_common_cl_source[];
+extern const char reyes_bound_cl_source[];
+extern const char reyes_split_u_cl_source[];
+extern const char reyes_split_v_cl_source[];
+extern const char reyes_dice_cl_source[];
+extern const char reyes_rasterize_cl_source[];
+
+#endif

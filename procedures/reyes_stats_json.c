@@ -1,0 +1,58 @@
+/* Statistics of a render as JSON. */
+#include <errno.h>
+#include <inttypes.h>
+#include <string.h>
+
+#include "reyes.h"
+
+static void write_procedure(FILE *out, const perma_procedure_stats *p, int last)
+{
+    fprintf(out, "    \"%s\": {\"items\": %" PRIu64 ", \"batches\": %" PRIu64
+                 ", \"seeded\": %" PRIu64 ", \"emitted\": [",
+            p->name ? p->name : "?", p->items, p->batches, p->seeded);
+    for (unsigned e = 0; e < p->emit_count && e < PERMA_MAX_EMITS; ++e)
+        fprintf(out, "%s%" PRIu64, e ? ", " : "", p->emitted[e]);
+    fprintf(out, "], \"peak_queue_items\": %" PRIu64 ", \"queue_capacity\": %zu, \"regrowths\": %u}%s\n",
+            p->peak_queue_items, p->queue_capacity, p->regrowths, last ? "" : ",");
+}
+
+reyes_status reyes_write_stats_json(FILE *out, const reyes_stats *s, const reyes_options *o,
+                                    reyes_error *error)
+{
+    fprintf(out, "{\n");
+    fprintf(out, "  \"width\": %u, \"height\": %u, \"bound_px\": %g, \"grid\": %u, \"spp\": %u, "
+                 "\"max_depth\": %u,\n",
+            o->width, o->height, (double)o->bound_px, o->grid, o->spp, o->max_depth);
+    fprintf(out, "  \"patches_in\": %" PRIu64 ",\n", s->patches_in);
+    fprintf(out, "  \"splits\": %" PRIu64 ",\n", s->splits);
+    fprintf(out, "  \"culled\": %" PRIu64 ",\n", s->culled);
+    fprintf(out, "  \"grids\": %" PRIu64 ",\n", s->grids);
+    fprintf(out, "  \"forced_dice\": %" PRIu64 ",\n", s->forced_dice);
+    fprintf(out, "  \"micropolygons\": %" PRIu64 ",\n", s->micropolygons);
+    fprintf(out, "  \"samples_written\": %" PRIu64 ",\n", s->samples_written);
+    fprintf(out, "  \"peak_queue_bytes\": %zu,\n", s->peak_queue_bytes);
+    fprintf(out, "  \"seconds\": %.6f,\n", s->seconds);
+    fprintf(out, "  \"work_groups\": %u, \"group_size\": %u, \"launches\": %u, \"regrowths\": %u,\n",
+            s->run.work_groups, s->run.group_size, s->run.launches, s->run.regrowths);
+    fprintf(out, "  \"procedures\": {\n");
+    for (int p = 0; p < REYES_PROC_COUNT; ++p)
+        write_procedure(out, &s->procedures[p], p == REYES_PROC_COUNT - 1);
+    fprintf(out, "  }\n}\n");
+    if (ferror(out))
+        return reyes_fail(error, REYES_ERR_IO, "writing the statistics failed");
+    return REYES_OK;
+}
+
+reyes_status reyes_save_stats_json(const char *path, const reyes_stats *stats,
+                                   const reyes_options *options, reyes_error *error)
+{
+    FILE *f = fopen(path, "w");
+    if (!f)
+        return reyes_fail(error, REYES_ERR_IO, "%s: cannot create: %s", path, strerror(errno));
+    reyes_status status = reyes_write_stats_json(f, stats, options, error);
+    if (fclose(f) != 0 && status == REYES_OK)
+        status = reyes_fail(error, REYES_ERR_IO, "%s: write failed: %s", path, strerror(errno));
+    else if (status != REYES_OK)
+        reyes_fail(error, status, "%s: %s", path, "write failed");
+    return status;
+}

@@ -1,0 +1,156 @@
+/* reyes-render command line: parsing, and the exit codes of the program
+ * (REYES_RENDER names the executable; those tests are skipped without it). */
+#include <check.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+
+#include "reyes_cli.h"
+
+static int parse(reyes_cli *cli, char *message, int argc, char **argv)
+{
+    return reyes_cli_parse(argc, argv, cli, message, 512);
+}
+
+#define ARGS(...) ((char *[]){"reyes-render", __VA_ARGS__})
+#define COUNT(...) ((int)(sizeof((char *[]){"reyes-render", __VA_ARGS__}) / sizeof(char *)))
+#define PARSE(cli, message, ...) parse(cli, message, COUNT(__VA_ARGS__), ARGS(__VA_ARGS__))
+
+START_TEST(test_defaults)
+{
+    reyes_cli cli;
+    char message[512];
+    char *argv[] = {"reyes-render"};
+    ck_assert_int_eq(parse(&cli, message, 1, argv), REYES_CLI_OK);
+    ck_assert_uint_eq(cli.model_count, 0);
+    ck_assert_str_eq(cli.output, "reyes.png");
+    ck_assert_uint_eq(cli.render.width, 512);
+    ck_assert_uint_eq(cli.render.grid, 16);
+    ck_assert(!cli.has_camera);
+    reyes_cli_free(&cli);
+}
+END_TEST
+
+START_TEST(test_all_options)
+{
+    reyes_cli cli;
+    char message[512];
+    ck_assert_int_eq(PARSE(&cli, message, "a.bpt", "-o", "x.png", "--size", "320x200", "--bound=4",
+                           "--grid", "8", "--spp", "9", "--max-depth", "12", "--camera",
+                           "1,2,3,-4.5,0,1e1", "--fov", "30", "--technique", "megakernel",
+                           "--strategy", "shared", "--stats", "s.json", "--groups", "2", "b.bpt",
+                           "--backface", "--", "-c.bpt"),
+                     REYES_CLI_OK);
+    ck_assert_uint_eq(cli.model_count, 3);
+    ck_assert_str_eq(cli.models[0], "a.bpt");
+    ck_assert_str_eq(cli.models[1], "b.bpt");
+    ck_assert_str_eq(cli.models[2], "-c.bpt");
+    ck_assert_str_eq(cli.output, "x.png");
+    ck_assert_uint_eq(cli.render.width, 320);
+    ck_assert_uint_eq(cli.render.height, 200);
+    ck_assert_float_eq(cli.render.bound_px, 4.0f);
+    ck_assert_uint_eq(cli.render.grid, 8);
+    ck_assert_uint_eq(cli.render.spp, 9);
+    ck_assert_uint_eq(cli.render.max_depth, 12);
+    ck_assert(cli.has_camera);
+    ck_assert_float_eq(cli.camera[3], -4.5f);
+    ck_assert_float_eq(cli.camera[5], 10.0f);
+    ck_assert_float_eq(cli.fov_deg, 30.0f);
+    ck_assert_str_eq(cli.stats_path, "s.json");
+    ck_assert_uint_eq(cli.render.work_groups, 2);
+    ck_assert_int_eq(cli.render.backface_cull, 1);
+    reyes_cli_free(&cli);
+}
+END_TEST
+
+/* Each bad command line gives REYES_CLI_USAGE and a message with `needle`. */
+START_TEST(test_bad_usage)
+{
+    struct { int argc; char **argv; const char *needle; } cases[] = {
+        { COUNT("--technique", "warp"), ARGS("--technique", "warp"), "valid: megakernel" },
+        { COUNT("--strategy", "steal"), ARGS("--strategy", "steal"), "valid: shared" },
+        { COUNT("--size", "100"), ARGS("--size", "100"), "WxH" },
+        { COUNT("--size", "0x10"), ARGS("--size", "0x10"), "--size" },
+        { COUNT("--grid", "1"), ARGS("--grid", "1"), "--grid" },
+        { COUNT("--grid", "99"), ARGS("--grid", "99"), "--grid" },
+        { COUNT("--spp", "-1"), ARGS("--spp", "-1"), "--spp" },
+        { COUNT("--bound", "nan"), ARGS("--bound", "nan"), "--bound" },
+        { COUNT("--camera", "1,2,3"), ARGS("--camera", "1,2,3"), "6 numbers" },
+        { COUNT("--camera", "1,2,3,4,5,6,7"), ARGS("--camera", "1,2,3,4,5,6,7"), "6 numbers" },
+        { COUNT("--camera", "1,2,x,4,5,6"), ARGS("--camera", "1,2,x,4,5,6"), "'x'" },
+        { COUNT("--fov", "180"), ARGS("--fov", "180"), "--fov" },
+        { COUNT("--groups", "0"), ARGS("--groups", "0"), "--groups" },
+        { COUNT("--frobnicate"), ARGS("--frobnicate"), "unknown option '--frobnicate'" },
+        { COUNT("-o"), ARGS("-o"), "needs a value" },
+        { COUNT("--help=yes"), ARGS("--help=yes"), "takes no value" },
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+        reyes_cli cli;
+        char message[512];
+        ck_assert_int_eq(parse(&cli, message, cases[i].argc, cases[i].argv), REYES_CLI_USAGE);
+        ck_assert_msg(strstr(message, cases[i].needle) != NULL, "case %zu: '%s' lacks '%s'", i,
+                      message, cases[i].needle);
+        reyes_cli_free(&cli);
+    }
+}
+END_TEST
+
+/* Run the program; returns its exit status and the start of its output. */
+static int run_program(const char *arguments, char *output, size_t size)
+{
+    const char *program = getenv("REYES_RENDER");
+    char command[1024];
+    snprintf(command, sizeof command, "'%s' %s 2>&1", program, arguments);
+    FILE *p = popen(command, "r");
+    ck_assert_ptr_nonnull(p);
+    size_t n = fread(output, 1, size - 1, p);
+    output[n] = '\0';
+    char rest[256];
+    while (fread(rest, 1, sizeof rest, p) > 0) {
+        /* drain, so the program never blocks on a full pipe */
+    }
+    int status = pclose(p);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+START_TEST(test_program_exit_codes)
+{
+    if (!getenv("REYES_RENDER"))
+        return;
+    char output[8192];
+    ck_assert_int_eq(run_program("--technique nope", output, sizeof output), 2);
+    ck_assert_msg(strstr(output, "valid: megakernel") != NULL, "%s", output);
+    ck_assert_int_eq(run_program("--bogus", output, sizeof output), 2);
+    ck_assert_msg(strstr(output, "--bogus") != NULL, "%s", output);
+    ck_assert_int_eq(run_program("--help", output, sizeof output), 0);
+    ck_assert_msg(strstr(output, "--max-depth") != NULL, "%s", output);
+    ck_assert_int_eq(run_program("--version", output, sizeof output), 0);
+    ck_assert_msg(strstr(output, "reyes-render") != NULL, "%s", output);
+    /* A file error is a failure (1), not a usage error, and names the file. */
+    ck_assert_int_eq(run_program("/nonexistent/model.bpt -o /tmp/unused.png", output, sizeof output), 1);
+    ck_assert_msg(strstr(output, "/nonexistent/model.bpt") != NULL, "%s", output);
+}
+END_TEST
+
+static Suite *cli_suite(void)
+{
+    Suite *s = suite_create("reyes_cli");
+    TCase *tc = tcase_create("cli");
+    tcase_set_timeout(tc, 60);
+    tcase_add_test(tc, test_defaults);
+    tcase_add_test(tc, test_all_options);
+    tcase_add_test(tc, test_bad_usage);
+    tcase_add_test(tc, test_program_exit_codes);
+    suite_add_tcase(s, tc);
+    return s;
+}
+
+int main(void)
+{
+    SRunner *runner = srunner_create(cli_suite());
+    srunner_run_all(runner, CK_NORMAL);
+    int failed = srunner_ntests_failed(runner);
+    srunner_free(runner);
+    return failed ? EXIT_FAILURE : EXIT_SUCCESS;
+}

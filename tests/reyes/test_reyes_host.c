@@ -1,0 +1,210 @@
+/* Host pieces without OpenCL: built-in scene, camera, options, PNG, JSON. */
+#include <check.h>
+#include <math.h>
+#include <png.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "reyes.h"
+
+START_TEST(test_builtin_scene)
+{
+    reyes_scene scene;
+    reyes_error error;
+    reyes_scene_init(&scene);
+    ck_assert_int_eq(reyes_scene_add_builtin(&scene, &error), REYES_OK);
+    /* Two spheres (8 each), a torus (16) and a ribbon (6). */
+    ck_assert_uint_eq(scene.patch_count, 8 + 8 + 16 + 6);
+    for (size_t i = 0; i < scene.patch_count * 64; ++i)
+        ck_assert(isfinite(scene.points[i]));
+    reyes_scene_free(&scene);
+}
+END_TEST
+
+/* Every surface point of the sphere patches lies at the radius (cubic
+ * quarter circles err by 0.027%, twice that where profile and sweep add). */
+START_TEST(test_sphere_patches_on_sphere)
+{
+    reyes_scene scene;
+    reyes_error error;
+    reyes_scene_init(&scene);
+    const float center[3] = {1, 2, 3};
+    ck_assert_int_eq(reyes_scene_add_sphere(&scene, center, 2.0f, 0, &error), REYES_OK);
+    ck_assert_uint_eq(scene.patch_count, 8);
+    for (size_t p = 0; p < scene.patch_count; ++p) {
+        const float *cp = scene.points + p * 64;
+        for (int i = 0; i <= 8; ++i) {
+            for (int j = 0; j <= 8; ++j) {
+                float u = (float)i / 8, v = (float)j / 8;
+                float bu[4] = {(1 - u) * (1 - u) * (1 - u), 3 * u * (1 - u) * (1 - u), 3 * u * u * (1 - u), u * u * u};
+                float bv[4] = {(1 - v) * (1 - v) * (1 - v), 3 * v * (1 - v) * (1 - v), 3 * v * v * (1 - v), v * v * v};
+                float x[3] = {0, 0, 0};
+                for (int r = 0; r < 4; ++r)
+                    for (int c = 0; c < 4; ++c)
+                        for (int k = 0; k < 3; ++k)
+                            x[k] += bv[r] * bu[c] * cp[(r * 4 + c) * 4 + k];
+                float d = sqrtf((x[0] - 1) * (x[0] - 1) + (x[1] - 2) * (x[1] - 2) + (x[2] - 3) * (x[2] - 3));
+                ck_assert_float_eq_tol(d, 2.0f, 2.0f * 6e-4f);
+            }
+        }
+    }
+    ck_assert_int_eq(reyes_scene_add_sphere(&scene, center, -1.0f, 0, &error), REYES_ERR_ARGUMENT);
+    reyes_scene_free(&scene);
+}
+END_TEST
+
+START_TEST(test_camera_projection)
+{
+    reyes_camera camera = { .eye = {0, -10, 0}, .at = {0, 0, 0}, .fov_deg = 90 };
+    float m[16], px, py, depth;
+    reyes_error error;
+    ck_assert_int_eq(reyes_camera_matrix(&camera, 2.0f, 0.01f, m, &error), REYES_OK);
+    const float at[3] = {0, 0, 0}, up[3] = {0, 0, 5}, right[3] = {10, 0, 0}, behind[3] = {0, -20, 0};
+    ck_assert(reyes_camera_project(m, 200, 100, at, &px, &py, &depth));
+    ck_assert_float_eq_tol(px, 100, 1e-3f);
+    ck_assert_float_eq_tol(py, 50, 1e-3f);
+    ck_assert_float_eq_tol(depth, 10, 1e-4f);
+    /* fov 90: at distance 10 the top edge is z = 10; z = 5 is a quarter down. */
+    ck_assert(reyes_camera_project(m, 200, 100, up, &px, &py, &depth));
+    ck_assert_float_eq_tol(py, 25, 1e-3f);
+    /* aspect 2: x = 10 is halfway to the right edge (x = 20). */
+    ck_assert(reyes_camera_project(m, 200, 100, right, &px, &py, &depth));
+    ck_assert_float_eq_tol(px, 150, 1e-3f);
+    ck_assert(!reyes_camera_project(m, 200, 100, behind, &px, &py, &depth));
+    /* Looking straight down still works. */
+    reyes_camera down = { .eye = {0, 0, 10}, .at = {0, 0, 0}, .fov_deg = 60 };
+    ck_assert_int_eq(reyes_camera_matrix(&down, 1.0f, 0.01f, m, &error), REYES_OK);
+    ck_assert(reyes_camera_project(m, 64, 64, at, &px, &py, &depth));
+    ck_assert_float_eq_tol(px, 32, 1e-3f);
+    reyes_camera same = { .eye = {1, 1, 1}, .at = {1, 1, 1}, .fov_deg = 60 };
+    ck_assert_int_eq(reyes_camera_matrix(&same, 1.0f, 0.01f, m, &error), REYES_ERR_ARGUMENT);
+}
+END_TEST
+
+/* Auto-framing puts every control point of the scene inside the image. */
+START_TEST(test_camera_frames_scene)
+{
+    reyes_scene scene;
+    reyes_error error;
+    reyes_camera camera;
+    float m[16];
+    reyes_scene_init(&scene);
+    ck_assert_int_eq(reyes_scene_add_builtin(&scene, &error), REYES_OK);
+    const float aspects[] = {1.0f, 2.0f, 0.5f};
+    for (int a = 0; a < 3; ++a) {
+        ck_assert_int_eq(reyes_camera_frame(&scene, 40.0f, aspects[a], &camera, &error), REYES_OK);
+        ck_assert_int_eq(reyes_camera_matrix(&camera, aspects[a], 0.01f, m, &error), REYES_OK);
+        unsigned w = (unsigned)(200 * aspects[a]), h = 200;
+        for (size_t i = 0; i < scene.patch_count * 16; ++i) {
+            float px, py, depth;
+            ck_assert(reyes_camera_project(m, w, h, scene.points + i * 4, &px, &py, &depth));
+            ck_assert(px >= 0 && px <= (float)w && py >= 0 && py <= (float)h);
+        }
+    }
+    ck_assert_int_eq(reyes_camera_frame(&scene, 0.0f, 1.0f, &camera, &error), REYES_ERR_ARGUMENT);
+    reyes_scene_free(&scene);
+}
+END_TEST
+
+START_TEST(test_options_check)
+{
+    reyes_options o;
+    reyes_error error;
+    reyes_options_init(&o);
+    ck_assert_int_eq(reyes_options_check(&o, &error), REYES_OK);
+    ck_assert_uint_eq(o.grid, 16);
+    ck_assert_uint_eq(o.spp, 4);
+    ck_assert_uint_eq(o.max_depth, 20);
+    ck_assert_float_eq(o.bound_px, 8.0f);
+    o.grid = 1;
+    ck_assert_int_eq(reyes_options_check(&o, &error), REYES_ERR_ARGUMENT);
+    ck_assert(strstr(error.message, "grid") != NULL);
+    reyes_options_init(&o);
+    o.width = 16384;
+    o.height = 16384;
+    o.spp = 64;
+    ck_assert_int_eq(reyes_options_check(&o, &error), REYES_ERR_ARGUMENT);
+}
+END_TEST
+
+START_TEST(test_png_roundtrip)
+{
+    uint8_t rgb[3 * 4 * 3], coverage[12];
+    for (int i = 0; i < 36; ++i)
+        rgb[i] = (uint8_t)(i * 7);
+    reyes_image image = { .width = 4, .height = 3, .rgb = rgb, .coverage = coverage };
+    char path[] = "/tmp/reyes-png-XXXXXX";
+    int fd = mkstemp(path);
+    ck_assert_int_ge(fd, 0);
+    close(fd);
+    reyes_error error;
+    ck_assert_int_eq(reyes_write_png(path, &image, &error), REYES_OK);
+    png_image read;
+    memset(&read, 0, sizeof read);
+    read.version = PNG_IMAGE_VERSION;
+    ck_assert(png_image_begin_read_from_file(&read, path));
+    read.format = PNG_FORMAT_RGB;
+    ck_assert_uint_eq(read.width, 4);
+    ck_assert_uint_eq(read.height, 3);
+    uint8_t back[36];
+    ck_assert(png_image_finish_read(&read, NULL, back, 0, NULL));
+    ck_assert_mem_eq(back, rgb, 36);
+    unlink(path);
+    ck_assert_int_eq(reyes_write_png("/nonexistent-dir/x.png", &image, &error), REYES_ERR_IO);
+    ck_assert(strstr(error.message, "/nonexistent-dir/x.png") != NULL);
+}
+END_TEST
+
+START_TEST(test_stats_json)
+{
+    reyes_stats stats;
+    reyes_options o;
+    reyes_error error;
+    memset(&stats, 0, sizeof stats);
+    reyes_options_init(&o);
+    stats.patches_in = 32;
+    stats.splits = 1234;
+    stats.grids = 1267;
+    stats.procedures[REYES_PROC_BOUND].name = "bound";
+    stats.procedures[REYES_PROC_BOUND].emit_count = 3;
+    stats.procedures[REYES_PROC_BOUND].emitted[2] = 1267;
+    char *text = NULL;
+    size_t size = 0;
+    FILE *f = open_memstream(&text, &size);
+    ck_assert_int_eq(reyes_write_stats_json(f, &stats, &o, &error), REYES_OK);
+    fclose(f);
+    const char *keys[] = {"\"patches_in\": 32", "\"splits\": 1234", "\"culled\": 0",
+                          "\"grids\": 1267", "\"micropolygons\"", "\"samples_written\"",
+                          "\"peak_queue_bytes\"", "\"seconds\"", "\"procedures\"",
+                          "\"bound\": {\"items\": 0", "\"emitted\": [0, 0, 1267]"};
+    for (size_t k = 0; k < sizeof keys / sizeof keys[0]; ++k)
+        ck_assert_msg(strstr(text, keys[k]) != NULL, "missing %s in\n%s", keys[k], text);
+    free(text);
+}
+END_TEST
+
+static Suite *host_suite(void)
+{
+    Suite *s = suite_create("reyes_host");
+    TCase *tc = tcase_create("host");
+    tcase_add_test(tc, test_builtin_scene);
+    tcase_add_test(tc, test_sphere_patches_on_sphere);
+    tcase_add_test(tc, test_camera_projection);
+    tcase_add_test(tc, test_camera_frames_scene);
+    tcase_add_test(tc, test_options_check);
+    tcase_add_test(tc, test_png_roundtrip);
+    tcase_add_test(tc, test_stats_json);
+    suite_add_tcase(s, tc);
+    return s;
+}
+
+int main(void)
+{
+    SRunner *runner = srunner_create(host_suite());
+    srunner_run_all(runner, CK_NORMAL);
+    int failed = srunner_ntests_failed(runner);
+    srunner_free(runner);
+    return failed ? EXIT_FAILURE : EXIT_SUCCESS;
+}
