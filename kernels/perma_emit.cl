@@ -1,0 +1,53 @@
+/*
+ * The context a procedure receives, and emit staging.
+ *
+ * Emits are staged in __local memory during the batch: a local atomic picks
+ * the staging index, so no work-item ever waits on another one of its group.
+ * After the batch one work-item reserves the positions of all staged items
+ * of a target with a single global atomic, and the group copies them out.
+ * Included after the generated `perma_buffers` struct.
+ */
+
+typedef struct perma_ctx {
+    uint proc;     /* id of the running procedure */
+    uint thread;   /* 0 .. threads-1: this work-item's part of the item */
+    uint threads;  /* threads_per_item of the procedure */
+    uint slot;     /* index of the item in the batch */
+    uint group;    /* persistent work-group id */
+    uint active;   /* 1 if this work-item has an item (cooperative procedures) */
+    __local void *scratch;            /* local_bytes_per_item for this item */
+    __local uint *item_emit_counts;   /* per edge: items this item emitted */
+    __local uint *edge_counts;        /* per edge: items the batch staged */
+    __local uint *stage;              /* staging arena */
+    __local uint *error_code;         /* 0, or PERMA_EMIT_ERROR_* | detail */
+    perma_buffers buf;                /* user buffers, by name */
+} perma_ctx;
+
+#define PERMA_EMIT_ERROR_LIMIT 0x10000u      /* | edge: over the declared maximum */
+#define PERMA_EMIT_ERROR_UNDECLARED 0x20000u /* | target: not in the procedure's .emits */
+
+/* Stage one item emitted into procedure `target` by the running procedure.
+ * Returns 1 if staged, 0 if the target is not declared in .emits or the item
+ * already emitted its declared maximum there (the run then fails). */
+inline int perma_emit(perma_ctx *ctx, uint target, const uint *src)
+{
+    if (!ctx->active)
+        return 0;
+    int edge = perma_edge_index[ctx->proc * PERMA_NUM_PROCS + target];
+    if (edge < 0) {
+        atomic_cmpxchg(ctx->error_code, 0u, PERMA_EMIT_ERROR_UNDECLARED | target);
+        return 0;
+    }
+    uint e = ctx->proc * PERMA_MAX_EDGES + (uint)edge;
+    uint own = atomic_inc(ctx->item_emit_counts + edge);
+    if (own >= perma_edge_max[e]) {
+        atomic_cmpxchg(ctx->error_code, 0u, PERMA_EMIT_ERROR_LIMIT | (uint)edge);
+        return 0;
+    }
+    uint words = perma_item_words[target];
+    uint index = atomic_inc(ctx->edge_counts + edge);
+    __local uint *dst = ctx->stage + perma_edge_stage[e] + index * words;
+    for (uint w = 0; w < words; ++w)
+        dst[w] = src[w];
+    return 1;
+}

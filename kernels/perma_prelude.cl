@@ -1,0 +1,80 @@
+/*
+ * perma device prelude: the layout of the control block shared with the
+ * host, and small helpers.  Included first in every generated program, after
+ * the generated #defines (PERMA_GROUP_SIZE, PERMA_NUM_PROCS, ...).
+ *
+ * The control block `ctl` is an array of uint:
+ *   header words (PERMA_CTL_*), then one record of PERMA_QUEUE_WORDS per
+ *   queue (PERMA_Q_*), then per-group words (PERMA_G_*).
+ * Keep in sync with runtime/src/control.h.
+ */
+#pragma OPENCL EXTENSION cl_khr_global_int32_base_atomics : enable
+#pragma OPENCL EXTENSION cl_khr_local_int32_base_atomics : enable
+#pragma OPENCL EXTENSION cl_khr_global_int32_extended_atomics : enable
+#pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
+#pragma OPENCL EXTENSION cl_khr_int64_extended_atomics : enable
+
+#define PERMA_CTL_OUTSTANDING 0 /* items queued or being processed (int) */
+#define PERMA_CTL_STATUS 1      /* PERMA_KSTATUS_* */
+#define PERMA_CTL_EXIT 2        /* nonzero: every group leaves the loop */
+#define PERMA_CTL_DETAIL_PROC 3 /* procedure that caused a failure status */
+#define PERMA_CTL_DETAIL_EDGE 4 /* edge index for PERMA_KSTATUS_EMIT_LIMIT */
+#define PERMA_CTL_PROGRESS 5    /* epoch, bumped whenever queue room grows */
+#define PERMA_CTL_HEADER_WORDS 16
+
+#define PERMA_Q_HEAD 0     /* next position to claim */
+#define PERMA_Q_TAIL 1     /* next position to reserve for writing */
+#define PERMA_Q_ROOM 2     /* free slots not promised to any batch (int) */
+#define PERMA_Q_CAP 3      /* capacity, a power of two */
+#define PERMA_Q_DATA 4     /* offset of slot 0 in queue_data, in words */
+#define PERMA_Q_SEQ 5      /* offset of slot 0 in queue_seq */
+#define PERMA_Q_PEAK 6     /* most items queued at once */
+#define PERMA_QUEUE_WORDS 8
+
+#define PERMA_G_STATE 0    /* 0 not started, 1 running, 2 finished */
+#define PERMA_G_BLOCKED 1  /* progress epoch + 1 when blocked on room, else 0 */
+#define PERMA_GROUP_WORDS 2
+
+#define PERMA_KSTATUS_DONE 0
+#define PERMA_KSTATUS_NEEDS_ROOM 1 /* no group could reserve room: grow and relaunch */
+#define PERMA_KSTATUS_EMIT_LIMIT 2 /* a procedure emitted more than declared */
+#define PERMA_KSTATUS_SPIN_LIMIT 3 /* a bounded wait ran out */
+#define PERMA_KSTATUS_ABORTED 4    /* the host watchdog asked us to stop */
+
+/* Per-group statistics record, written once when the group leaves. */
+#define PERMA_STAT_ITEMS 0
+#define PERMA_STAT_BATCHES 1
+#define PERMA_STAT_EMITTED 2 /* then PERMA_MAX_EDGES words */
+#define PERMA_STAT_PROC_WORDS (2 + PERMA_MAX_EDGES)
+#define PERMA_STAT_GROUP_WORDS (PERMA_NUM_PROCS * PERMA_STAT_PROC_WORDS)
+
+/* Spin loops give up after this many polls (and poll the abort flag). */
+#ifndef PERMA_SPIN_LIMIT
+#define PERMA_SPIN_LIMIT 0x40000000u
+#endif
+
+#define PERMA_QUEUE(ctl, q) ((ctl) + PERMA_CTL_HEADER_WORDS + (q) * PERMA_QUEUE_WORDS)
+#define PERMA_GROUP(ctl, g) \
+    ((ctl) + PERMA_CTL_HEADER_WORDS + PERMA_NUM_PROCS * PERMA_QUEUE_WORDS + (g) * PERMA_GROUP_WORDS)
+
+/* A read that always goes to memory (another group may have written it). */
+inline uint perma_load(__global uint *p)
+{
+    return *(volatile __global uint *)p;
+}
+
+inline int perma_load_int(__global uint *p)
+{
+    return (int)perma_load(p);
+}
+
+/* Record a failure status once (the first one wins) and stop all groups. */
+inline void perma_fail(__global uint *ctl, uint status, uint proc, uint edge)
+{
+    if (atomic_cmpxchg(ctl + PERMA_CTL_STATUS, PERMA_KSTATUS_DONE, status) == PERMA_KSTATUS_DONE) {
+        ctl[PERMA_CTL_DETAIL_PROC] = proc;
+        ctl[PERMA_CTL_DETAIL_EDGE] = edge;
+    }
+    mem_fence(CLK_GLOBAL_MEM_FENCE);
+    atomic_xchg(ctl + PERMA_CTL_EXIT, 1u);
+}

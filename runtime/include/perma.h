@@ -1,0 +1,249 @@
+/*
+ * perma: a persistent-megakernel task-scheduling runtime on OpenCL.
+ *
+ * A program describes *procedures*: OpenCL C functions that each process one
+ * work item of a fixed size and may emit new items into other procedures'
+ * queues.  The host seeds some queues and calls perma_run(), which launches
+ * one persistent kernel.  Its work-groups loop: pick a non-empty queue, take a
+ * batch of items, run the procedure on them, enqueue what it emitted, until no
+ * item is queued or being processed anywhere.
+ *
+ * Host usage, in order:
+ *
+ *     perma_config cfg;            perma_config_init(&cfg);
+ *     perma_runtime *rt;           perma_error err;
+ *     if (perma_create(&cfg, &rt, &err) != PERMA_OK) { puts(err.message); ... }
+ *     perma_add_source(rt, "struct node { uint depth; uint id; };", "types.cl");
+ *     perma_procedure split = { .name = "split", .item_type = "struct node",
+ *         .item_size = 8, .threads_per_item = 1, .source = SPLIT_SRC,
+ *         .function = "split", .emits = { { "split", 2 } } };
+ *     perma_proc id;               perma_register(rt, &split, &id);
+ *     perma_bind_host(rt, "leaves", "__global uint *", &count, 4, PERMA_READ_WRITE);
+ *     perma_seed(rt, id, &root, 1);
+ *     perma_run(rt);               // count now holds the result
+ *     perma_print_stats(rt, stdout);
+ *     perma_destroy(rt);
+ *
+ * Every function returns a perma_status; on failure perma_errmsg(rt) says
+ * what went wrong, naming the procedure, parameter, file or OpenCL call.
+ * The library never calls exit() or abort().
+ *
+ * Device side.  A procedure is an OpenCL C function
+ *
+ *     void NAME(perma_ctx *ctx, __local const ITEM_TYPE *item);
+ *
+ * called once per work-item assigned to the item (threads_per_item of them;
+ * ctx->thread is 0..threads_per_item-1).  Inside it:
+ *   - emit_TARGET(ctx, &child) queues one item for a procedure listed in
+ *     .emits; `child` is a private variable of TARGET's item type.  Returns 1
+ *     if staged, 0 if the item exceeded the declared per-item maximum (the run
+ *     then fails with PERMA_ERR_EMIT_LIMIT).  Emitting into a procedure not
+ *     listed in .emits is a compile error.
+ *   - ctx->buf.NAME is the buffer bound under NAME (perma_bind_*).
+ *   - ctx->scratch points to local_bytes_per_item bytes of __local memory
+ *     for this item, shared by its threads.
+ *   - ctx->slot is the item's index in the batch, ctx->group the work-group.
+ * A procedure must not spin-wait on other work-items, must not call barrier()
+ * unless it is declared .cooperative (then it is called by every work-item
+ * of the group, ctx->active tells whether this one has an item, and every
+ * barrier must be reached by all of them).
+ */
+#ifndef PERMA_H
+#define PERMA_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+
+#define CL_TARGET_OPENCL_VERSION 120
+#include <CL/cl.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define PERMA_VERSION_STRING "0.1.0"
+
+/* Limits of a procedure description. */
+#define PERMA_NAME_MAX 63        /* longest procedure or buffer name */
+#define PERMA_MAX_EMITS 8        /* targets one procedure may emit into */
+#define PERMA_MAX_ITEM_SIZE 1024 /* bytes in one work item */
+#define PERMA_MAX_EMIT_ITEMS 4096 /* most items one input item may emit into one target */
+#define PERMA_MAX_PROCEDURES 64
+#define PERMA_MAX_BUFFERS 32
+#define PERMA_MESSAGE_MAX 1024
+
+typedef enum perma_status {
+    PERMA_OK = 0,
+    PERMA_ERR_ARGUMENT,   /* a bad argument or descriptor field; the message names it */
+    PERMA_ERR_NO_PLATFORM,/* no OpenCL platform installed (install pocl-opencl-icd) */
+    PERMA_ERR_NO_DEVICE,  /* the requested platform:device does not exist */
+    PERMA_ERR_OPENCL,     /* an OpenCL call failed; the message names the call */
+    PERMA_ERR_BUILD,      /* the generated program did not compile; message has the log */
+    PERMA_ERR_NO_MEMORY,  /* a host allocation failed */
+    PERMA_ERR_CAPACITY,   /* queues cannot grow enough for the run to progress */
+    PERMA_ERR_EMIT_LIMIT, /* a procedure emitted more items than it declared */
+    PERMA_ERR_TIMEOUT,    /* the watchdog time limit passed */
+    PERMA_ERR_STATE,      /* call not valid now (e.g. register after destroy) */
+    PERMA_ERR_IO,         /* a file could not be read */
+    PERMA_ERR_DEVICE      /* the kernel reported an internal failure */
+} perma_status;
+
+/* Short constant name of a status, e.g. "PERMA_ERR_BUILD". */
+const char *perma_status_name(perma_status status);
+
+typedef struct perma_error {
+    perma_status status;
+    char message[PERMA_MESSAGE_MAX];
+} perma_error;
+
+typedef struct perma_runtime perma_runtime;
+typedef int perma_proc; /* procedure handle returned by perma_register */
+
+/* How the work is scheduled. */
+typedef enum perma_technique {
+    PERMA_TECHNIQUE_MEGAKERNEL = 0 /* one persistent kernel (default) */
+} perma_technique;
+
+typedef struct perma_config {
+    /* OpenCL device, by index.  -1 (default): the PERMA_DEVICE environment
+     * variable "platform:device" if set, else 0:0. */
+    int platform_index;
+    int device_index;
+    /* Persistent work-groups; 0 = as many as can be co-resident (compute
+     * units; on a CPU device the physical core count from hwloc). */
+    unsigned work_groups;
+    /* Work-items per group; 0 = 64. */
+    unsigned group_size;
+    /* Initial capacity of each queue in items; 0 = 1024.  Rounded up to a
+     * power of two; queues grow on demand. */
+    size_t queue_capacity;
+    /* Cap on the bytes of all queues together; 0 = half the device's
+     * largest allocation.  Reaching it fails the run with PERMA_ERR_CAPACITY. */
+    size_t queue_memory_limit;
+    /* Watchdog: a run longer than this many seconds fails with
+     * PERMA_ERR_TIMEOUT; 0 = 600. */
+    double time_limit;
+    /* Cap on the __local memory one group uses; 0 = the device's size. */
+    size_t local_memory_limit;
+    /* Extra options for clBuildProgram, e.g. "-DTHRESHOLD=8"; may be NULL. */
+    const char *build_options;
+    perma_technique technique;
+} perma_config;
+
+/* Fill *config with the defaults described above. */
+void perma_config_init(perma_config *config);
+
+/* Create a runtime on the configured device.  On failure *out is NULL and
+ * *error (if not NULL) holds the status and message. */
+perma_status perma_create(const perma_config *config, perma_runtime **out, perma_error *error);
+
+/* Release everything; NULL is fine. */
+void perma_destroy(perma_runtime *rt);
+
+/* The message of the last failed call on rt ("" after success). */
+const char *perma_errmsg(const perma_runtime *rt);
+
+/* The OpenCL context, device and queue the runtime uses (for user buffers). */
+cl_context perma_cl_context(const perma_runtime *rt);
+cl_device_id perma_cl_device(const perma_runtime *rt);
+cl_command_queue perma_cl_queue(const perma_runtime *rt);
+
+/* Add OpenCL C declarations visible to every procedure: item types, helper
+ * functions.  `source` may be NULL to read `file`; `file` names the text in
+ * compiler messages (may be NULL for a string: "<source N>"). */
+perma_status perma_add_source(perma_runtime *rt, const char *source, const char *file);
+
+/* One edge of the procedure graph: this procedure may emit up to
+ * max_items items into `target` for each item it processes. */
+typedef struct perma_emit {
+    const char *target;
+    unsigned max_items;
+} perma_emit;
+
+/* A procedure, in the spirit of StarPU's codelet. */
+typedef struct perma_procedure {
+    const char *name;         /* C identifier, unique; also the queue name */
+    const char *item_type;    /* OpenCL C type of one item, e.g. "struct node" */
+    size_t item_size;         /* sizeof(item_type) on the device: 4..1024, multiple of 4 */
+    unsigned threads_per_item;/* 1..group size; 0 means 1 */
+    size_t local_bytes_per_item; /* __local scratch per item (ctx->scratch) */
+    const char *source;       /* OpenCL C defining `function`; NULL = read source_file */
+    const char *source_file;  /* path to read, and the name in compiler messages */
+    const char *function;     /* name of the function in source */
+    perma_emit emits[PERMA_MAX_EMITS]; /* ends at the first target == NULL */
+    int priority;             /* higher is served first; 0 = default order */
+    int cooperative;          /* 1: called by all work-items, may use barrier() */
+} perma_procedure;
+
+/* Validate and register a procedure.  Emit targets are resolved when the
+ * program is built, so procedures may emit into ones registered later. */
+perma_status perma_register(perma_runtime *rt, const perma_procedure *procedure, perma_proc *out);
+
+/* Handle of a registered procedure by name. */
+perma_status perma_find(perma_runtime *rt, const char *name, perma_proc *out);
+
+/* Buffer access flags for host memory the runtime copies. */
+enum {
+    PERMA_READ = 1,       /* copied to the device before each run */
+    PERMA_WRITE = 2,      /* copied back to host memory after each run */
+    PERMA_READ_WRITE = 3
+};
+
+/* Bind a buffer that procedures see as ctx->buf.NAME with OpenCL C type
+ * `type` (e.g. "__global float *", "__global const struct patch *").
+ * Bind every name before the first run; binding the same name again later
+ * (same type) swaps the memory.  perma_bind_cl uses the caller's cl_mem
+ * (not released by perma); perma_bind_host copies `bytes` of host memory. */
+perma_status perma_bind_cl(perma_runtime *rt, const char *name, const char *type, cl_mem buffer);
+perma_status perma_bind_host(perma_runtime *rt, const char *name, const char *type,
+                             void *host, size_t bytes, unsigned flags);
+
+/* Generate and compile the megakernel now (perma_run does it when needed).
+ * A compile error in a procedure reports the procedure's file and line. */
+perma_status perma_build(perma_runtime *rt);
+
+/* Queue `count` items of procedure `proc` (item_size bytes each) for the next run. */
+perma_status perma_seed(perma_runtime *rt, perma_proc proc, const void *items, size_t count);
+
+/* Run until no work is left.  Queues grow as needed; the watchdog turns a
+ * run longer than the time limit into PERMA_ERR_TIMEOUT. */
+perma_status perma_run(perma_runtime *rt);
+
+/* Statistics of the last run. */
+typedef struct perma_procedure_stats {
+    const char *name;
+    uint64_t items;                     /* items executed */
+    uint64_t batches;                   /* batches executed */
+    uint64_t emitted[PERMA_MAX_EMITS];  /* items emitted, per entry of .emits */
+    unsigned emit_count;                /* entries used in emitted[] */
+    uint64_t seeded;                    /* items seeded by the host */
+    uint64_t peak_queue_items;          /* most items queued at once */
+    size_t queue_capacity;              /* final capacity in items */
+    unsigned regrowths;                 /* times this queue was grown */
+} perma_procedure_stats;
+
+typedef struct perma_stats {
+    double seconds;            /* wall time of perma_run, build excluded */
+    unsigned launches;         /* kernel launches (1 + relaunches after growth) */
+    unsigned regrowths;        /* queue growth steps */
+    unsigned work_groups;
+    unsigned group_size;
+    unsigned procedure_count;
+    size_t peak_queue_bytes;   /* largest total queue allocation */
+    uint64_t items;            /* items executed, all procedures */
+} perma_stats;
+
+perma_status perma_get_stats(perma_runtime *rt, perma_stats *out);
+perma_status perma_get_procedure_stats(perma_runtime *rt, perma_proc proc, perma_procedure_stats *out);
+
+/* Print the statistics of the last run as a readable table. */
+void perma_print_stats(perma_runtime *rt, FILE *out);
+
+/* Description of the device and the chosen work-group count, one line. */
+const char *perma_device_summary(const perma_runtime *rt);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

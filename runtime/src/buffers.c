@@ -1,0 +1,98 @@
+/* User buffers, passed to the megakernel as arguments. */
+#include "internal.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+static perma_buffer_binding *find_buffer(perma_runtime *rt, const char *name)
+{
+    for (unsigned i = 0; i < rt->buffer_count; ++i)
+        if (strcmp(rt->buffers[i].name, name) == 0)
+            return &rt->buffers[i];
+    return NULL;
+}
+
+/* Find or add the binding `name`; a rebinding must keep the type. */
+static perma_status binding_for(perma_runtime *rt, const char *name, const char *type,
+                                perma_buffer_binding **out)
+{
+    if (!perma_is_identifier(name))
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT, "buffer name '%s' is not a C identifier",
+                               name ? name : "(null)");
+    if (!type || !strchr(type, '*') || strpbrk(type, ";{}\n"))
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT,
+                               "buffer '%s': type '%s' is not an OpenCL C pointer type such as '__global float *'",
+                               name, type ? type : "(null)");
+    perma_buffer_binding *b = find_buffer(rt, name);
+    if (b) {
+        if (strcmp(b->type, type) != 0)
+            return perma_set_error(rt, PERMA_ERR_ARGUMENT,
+                                   "buffer '%s' was bound as '%s' and cannot be rebound as '%s'",
+                                   name, b->type, type);
+        if (b->mem)
+            clReleaseMemObject(b->mem);
+        b->mem = NULL;
+        b->host = NULL;
+        b->bytes = 0;
+        b->flags = 0;
+        *out = b;
+        return PERMA_OK;
+    }
+    if (rt->buffer_count == PERMA_MAX_BUFFERS)
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT, "more than %d buffers", PERMA_MAX_BUFFERS);
+    b = &rt->buffers[rt->buffer_count];
+    memset(b, 0, sizeof *b);
+    b->name = strdup(name);
+    b->type = strdup(type);
+    if (!b->name || !b->type) {
+        free(b->name);
+        free(b->type);
+        return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory binding '%s'", name);
+    }
+    rt->buffer_count++;
+    /* A new kernel argument: the program must be generated again. */
+    perma_release_program(rt);
+    rt->built = false;
+    *out = b;
+    return PERMA_OK;
+}
+
+perma_status perma_bind_cl(perma_runtime *rt, const char *name, const char *type, cl_mem buffer)
+{
+    if (!rt)
+        return PERMA_ERR_ARGUMENT;
+    if (!buffer)
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT, "buffer '%s': cl_mem is NULL", name ? name : "(null)");
+    perma_buffer_binding *b;
+    perma_status st = binding_for(rt, name, type, &b);
+    if (st != PERMA_OK)
+        return st;
+    PERMA_CL_CHECK(rt, "clRetainMemObject", clRetainMemObject(buffer));
+    b->mem = buffer;
+    return PERMA_OK;
+}
+
+perma_status perma_bind_host(perma_runtime *rt, const char *name, const char *type,
+                             void *host, size_t bytes, unsigned flags)
+{
+    if (!rt)
+        return PERMA_ERR_ARGUMENT;
+    if (!host || bytes == 0)
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT, "buffer '%s': host memory is NULL or empty",
+                               name ? name : "(null)");
+    if (flags == 0 || (flags & ~(unsigned)PERMA_READ_WRITE))
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT,
+                               "buffer '%s': flags %u must be PERMA_READ, PERMA_WRITE or both",
+                               name ? name : "(null)", flags);
+    perma_buffer_binding *b;
+    perma_status st = binding_for(rt, name, type, &b);
+    if (st != PERMA_OK)
+        return st;
+    cl_int err;
+    b->mem = clCreateBuffer(rt->context, CL_MEM_READ_WRITE, bytes, NULL, &err);
+    PERMA_CL_CHECK(rt, "clCreateBuffer (user buffer)", err);
+    b->host = host;
+    b->bytes = bytes;
+    b->flags = flags;
+    return PERMA_OK;
+}

@@ -1,0 +1,199 @@
+/* Generating the megakernel's OpenCL C from the registered procedures:
+ * constants and tables, the user's sources with #line directives, typed
+ * emit helpers, the dispatch switch and the scheduler loop. */
+#include "internal.h"
+
+#include <string.h>
+
+extern const char perma_kernel_prelude[];
+extern const char perma_kernel_queue[];
+extern const char perma_kernel_emit[];
+extern const char perma_kernel_scheduler[];
+
+#define GENERATED_NAME "perma-generated.cl"
+
+/* Point compiler messages back at the generated text after a user source. */
+static void resume_generated(perma_strbuf *sb)
+{
+    perma_strbuf_printf(sb, "\n#line %zu \"" GENERATED_NAME "\"\n", sb->lines + 3);
+}
+
+static void append_user_source(perma_strbuf *sb, const perma_source_text *src)
+{
+    perma_strbuf_printf(sb, "#line 1 \"%s\"\n", src->name);
+    perma_strbuf_append(sb, src->text);
+    resume_generated(sb);
+}
+
+static void append_uint_table(perma_strbuf *sb, const char *name, const unsigned *values, unsigned n)
+{
+    perma_strbuf_printf(sb, "__constant uint %s[%u] = {", name, n);
+    for (unsigned i = 0; i < n; ++i)
+        perma_strbuf_printf(sb, "%s%u", i ? ", " : " ", values[i]);
+    perma_strbuf_append(sb, " };\n");
+}
+
+static void append_tables(perma_runtime *rt, perma_strbuf *sb)
+{
+    unsigned n = rt->proc_count, me = rt->max_edges;
+    unsigned v[PERMA_MAX_PROCEDURES] = { 0 };
+    unsigned edges[PERMA_MAX_PROCEDURES * PERMA_MAX_EMITS];
+#define PER_PROC(table, expr)                  \
+    do {                                       \
+        for (unsigned i = 0; i < n; ++i) {     \
+            const perma_proc_info *p = &rt->procs[i]; \
+            (void)p;                           \
+            v[i] = (expr);                     \
+        }                                      \
+        append_uint_table(sb, table, v, n);    \
+    } while (0)
+#define PER_EDGE(table, expr)                                  \
+    do {                                                       \
+        memset(edges, 0, sizeof edges);                        \
+        for (unsigned i = 0; i < n; ++i)                       \
+            for (unsigned e = 0; e < rt->procs[i].emit_count; ++e) { \
+                const perma_proc_info *p = &rt->procs[i];      \
+                edges[i * me + e] = (expr);                    \
+            }                                                  \
+        append_uint_table(sb, table, edges, n * me);           \
+    } while (0)
+
+    append_uint_table(sb, "perma_order", rt->order, n);
+    PER_PROC("perma_max_batch", p->max_batch);
+    PER_PROC("perma_item_words", (unsigned)(p->item_size / 4));
+    PER_PROC("perma_tpi", p->threads_per_item);
+    PER_PROC("perma_scratch_words", p->scratch_words);
+    PER_PROC("perma_items_off", p->items_off);
+    PER_PROC("perma_scratch_off", p->scratch_off);
+    PER_PROC("perma_counters_off", p->counters_off);
+    PER_PROC("perma_edge_count", p->emit_count);
+    PER_EDGE("perma_edge_target", (unsigned)p->emit_target[e]);
+    PER_EDGE("perma_edge_max", p->emit_max[e]);
+    PER_EDGE("perma_edge_stage", p->stage_off[e]);
+#undef PER_PROC
+#undef PER_EDGE
+
+    /* perma_edge_index[proc * n + target]: which edge of proc goes to target. */
+    perma_strbuf_printf(sb, "__constant int perma_edge_index[%u] = {", n * n);
+    for (unsigned i = 0; i < n; ++i) {
+        for (unsigned t = 0; t < n; ++t) {
+            int edge = -1;
+            for (unsigned e = 0; e < rt->procs[i].emit_count; ++e)
+                if ((unsigned)rt->procs[i].emit_target[e] == t)
+                    edge = (int)e;
+            perma_strbuf_printf(sb, "%s%d", i + t ? ", " : " ", edge);
+        }
+    }
+    perma_strbuf_append(sb, " };\n");
+}
+
+static void append_buffers(perma_runtime *rt, perma_strbuf *sb)
+{
+    perma_strbuf_append(sb, "typedef struct perma_buffers {\n");
+    for (unsigned i = 0; i < rt->buffer_count; ++i)
+        perma_strbuf_printf(sb, "    %s %s;\n", rt->buffers[i].type, rt->buffers[i].name);
+    if (rt->buffer_count == 0)
+        perma_strbuf_append(sb, "    int perma_no_buffers;\n");
+    perma_strbuf_append(sb, "} perma_buffers;\n");
+}
+
+static void append_kernel_params(perma_runtime *rt, perma_strbuf *sb)
+{
+    perma_strbuf_append(sb, "#define PERMA_BUFFER_PARAMS");
+    for (unsigned i = 0; i < rt->buffer_count; ++i)
+        perma_strbuf_printf(sb, " , %s perma_arg_%s", rt->buffers[i].type, rt->buffers[i].name);
+    perma_strbuf_append(sb, "\n#define PERMA_BIND_BUFFERS(b) do {");
+    for (unsigned i = 0; i < rt->buffer_count; ++i)
+        perma_strbuf_printf(sb, " (b).%s = perma_arg_%s;", rt->buffers[i].name, rt->buffers[i].name);
+    if (rt->buffer_count == 0)
+        perma_strbuf_append(sb, " (b).perma_no_buffers = 0;");
+    perma_strbuf_append(sb, " } while (0)\n");
+}
+
+/* One emit helper per procedure that something emits into. */
+static void append_emit_helpers(perma_runtime *rt, perma_strbuf *sb)
+{
+    for (unsigned t = 0; t < rt->proc_count; ++t) {
+        bool targeted = false;
+        for (unsigned i = 0; i < rt->proc_count; ++i)
+            for (unsigned e = 0; e < rt->procs[i].emit_count; ++e)
+                targeted = targeted || (unsigned)rt->procs[i].emit_target[e] == t;
+        if (!targeted)
+            continue;
+        const perma_proc_info *p = &rt->procs[t];
+        perma_strbuf_printf(sb,
+                            "inline int emit_%s(perma_ctx *ctx, const %s *item)\n"
+                            "{\n    return perma_emit(ctx, %uu, (const uint *)item);\n}\n",
+                            p->name, p->item_type, t);
+    }
+}
+
+/* sizeof(item_type) on the device must equal the declared item_size. */
+static void append_size_checks(perma_runtime *rt, perma_strbuf *sb)
+{
+    for (unsigned i = 0; i < rt->proc_count; ++i) {
+        const perma_proc_info *p = &rt->procs[i];
+        perma_strbuf_printf(sb,
+                            "typedef char perma_item_size_of_%s_must_equal_sizeof_its_item_type_%zu"
+                            "[(sizeof(%s) == %zu) ? 1 : -1];\n",
+                            p->name, p->item_size, p->item_type, p->item_size);
+    }
+}
+
+/* Procedure sources, each once even if several procedures share it. */
+static void append_procedure_sources(perma_runtime *rt, perma_strbuf *sb)
+{
+    for (unsigned i = 0; i < rt->proc_count; ++i) {
+        const perma_source_text *src = &rt->procs[i].source;
+        bool duplicate = false;
+        for (unsigned j = 0; j < i && !duplicate; ++j)
+            duplicate = strcmp(rt->procs[j].source.name, src->name) == 0 &&
+                        strcmp(rt->procs[j].source.text, src->text) == 0;
+        if (!duplicate)
+            append_user_source(sb, src);
+    }
+}
+
+static void append_dispatch(perma_runtime *rt, perma_strbuf *sb)
+{
+    perma_strbuf_append(sb, "void perma_dispatch(uint proc, perma_ctx *ctx, __local uint *items)\n{\n"
+                            "    switch (proc) {\n");
+    for (unsigned i = 0; i < rt->proc_count; ++i) {
+        const perma_proc_info *p = &rt->procs[i];
+        perma_strbuf_printf(sb, "    case %u:\n        %s%s(ctx, (__local const %s *)(items + ctx->slot * %zuu));\n"
+                                "        break;\n",
+                            i, p->cooperative ? "" : "if (ctx->active) ", p->function, p->item_type,
+                            p->item_size / 4);
+    }
+    perma_strbuf_append(sb, "    }\n}\n");
+}
+
+perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *sb)
+{
+    perma_strbuf_printf(sb, "#line 1 \"" GENERATED_NAME "\"\n"
+                            "/* perma megakernel, generated for %u procedure(s). */\n"
+                            "#define PERMA_GROUP_SIZE %uu\n"
+                            "#define PERMA_NUM_PROCS %uu\n"
+                            "#define PERMA_MAX_EDGES %uu\n"
+                            "#define PERMA_ARENA_WORDS %uu\n",
+                        rt->proc_count, rt->group_size, rt->proc_count, rt->max_edges, rt->arena_words);
+    perma_strbuf_append(sb, perma_kernel_prelude);
+    resume_generated(sb);
+    perma_strbuf_append(sb, perma_kernel_queue);
+    resume_generated(sb);
+    for (unsigned i = 0; i < rt->source_count; ++i)
+        append_user_source(sb, &rt->sources[i]);
+    append_buffers(rt, sb);
+    append_tables(rt, sb);
+    perma_strbuf_append(sb, perma_kernel_emit);
+    resume_generated(sb);
+    append_size_checks(rt, sb);
+    append_emit_helpers(rt, sb);
+    append_procedure_sources(rt, sb);
+    append_dispatch(rt, sb);
+    append_kernel_params(rt, sb);
+    perma_strbuf_append(sb, perma_kernel_scheduler);
+    if (sb->failed)
+        return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory generating the program");
+    return PERMA_OK;
+}

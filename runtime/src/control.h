@@ -1,0 +1,48 @@
+/* Host view of the device control block; mirrors kernels/perma_prelude.cl. */
+#ifndef PERMA_CONTROL_H
+#define PERMA_CONTROL_H
+
+enum {
+    PERMA_CTL_OUTSTANDING = 0,
+    PERMA_CTL_STATUS = 1,
+    PERMA_CTL_EXIT = 2,
+    PERMA_CTL_DETAIL_PROC = 3,
+    PERMA_CTL_DETAIL_EDGE = 4,
+    PERMA_CTL_PROGRESS = 5,
+    PERMA_CTL_HEADER_WORDS = 16
+};
+
+enum {
+    PERMA_Q_HEAD = 0,
+    PERMA_Q_TAIL = 1,
+    PERMA_Q_ROOM = 2,
+    PERMA_Q_CAP = 3,
+    PERMA_Q_DATA = 4,
+    PERMA_Q_SEQ = 5,
+    PERMA_Q_PEAK = 6,
+    PERMA_QUEUE_WORDS = 8
+};
+
+enum { PERMA_GROUP_WORDS = 2 };
+
+enum {
+    PERMA_KSTATUS_DONE = 0,
+    PERMA_KSTATUS_NEEDS_ROOM = 1,
+    PERMA_KSTATUS_EMIT_LIMIT = 2,
+    PERMA_KSTATUS_SPIN_LIMIT = 3,
+    PERMA_KSTATUS_ABORTED = 4
+};
+
+#define PERMA_EMIT_ERROR_LIMIT 0x10000u
+#define PERMA_EMIT_ERROR_UNDECLARED 0x20000u
+
+enum { PERMA_STAT_ITEMS = 0, PERMA_STAT_BATCHES = 1, PERMA_STAT_EMITTED = 2 };
+
+#define PERMA_STAT_PROC_WORDS(max_edges) (2u + (max_edges))
+
+static inline unsigned perma_ctl_words(unsigned procs, unsigned groups)
+{
+    return PERMA_CTL_HEADER_WORDS + procs * PERMA_QUEUE_WORDS + groups * PERMA_GROUP_WORDS;
+}
+
+#endif

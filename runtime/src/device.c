@@ -1,0 +1,162 @@
+/* Choosing the OpenCL device and the number of persistent work-groups. */
+#include "internal.h"
+
+#include <hwloc.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Parse PERMA_DEVICE="platform:device". */
+static perma_status parse_device_env(perma_runtime *rt, const char *value, int *platform, int *device)
+{
+    char *end = NULL;
+    long p = strtol(value, &end, 10);
+    if (end == value || *end != ':' || p < 0 || p > 1000000)
+        goto bad;
+    const char *second = end + 1;
+    long d = strtol(second, &end, 10);
+    if (end == second || *end != '\0' || d < 0 || d > 1000000)
+        goto bad;
+    *platform = (int)p;
+    *device = (int)d;
+    return PERMA_OK;
+bad:
+    return perma_set_error(rt, PERMA_ERR_ARGUMENT,
+                           "PERMA_DEVICE='%s' is not of the form platform:device (e.g. 0:0)", value);
+}
+
+/* Physical cores from hwloc; 0 if hwloc cannot tell. */
+static unsigned physical_cores(void)
+{
+    hwloc_topology_t topology;
+    if (hwloc_topology_init(&topology) != 0)
+        return 0;
+    int cores = 0;
+    if (hwloc_topology_load(topology) == 0)
+        cores = hwloc_get_nbobjs_by_type(topology, HWLOC_OBJ_CORE);
+    hwloc_topology_destroy(topology);
+    return cores > 0 ? (unsigned)cores : 0;
+}
+
+static void choose_work_groups(perma_runtime *rt, const char *device_name)
+{
+    char why[160];
+    unsigned groups = rt->compute_units ? rt->compute_units : 1;
+    snprintf(why, sizeof why, "%u compute units", (unsigned)rt->compute_units);
+    if (rt->device_is_cpu) {
+        unsigned cores = physical_cores();
+        if (cores && cores < groups) {
+            groups = cores;
+            snprintf(why, sizeof why, "%u physical cores (hwloc) of %u compute units", cores,
+                     (unsigned)rt->compute_units);
+        }
+    }
+    if (rt->config.work_groups) {
+        groups = rt->config.work_groups;
+        snprintf(why, sizeof why, "configured");
+    }
+    rt->work_groups = groups;
+    snprintf(rt->summary, sizeof rt->summary, "%s: %u work-groups (%s) of %u work-items",
+             device_name, rt->work_groups, why, rt->group_size);
+}
+
+perma_status perma_device_open(perma_runtime *rt)
+{
+    int platform_index = rt->config.platform_index;
+    int device_index = rt->config.device_index;
+    if (platform_index < 0 || device_index < 0) {
+        const char *env = getenv("PERMA_DEVICE");
+        int p = 0, d = 0;
+        if (env && *env) {
+            perma_status st = parse_device_env(rt, env, &p, &d);
+            if (st != PERMA_OK)
+                return st;
+        }
+        if (platform_index < 0)
+            platform_index = p;
+        if (device_index < 0)
+            device_index = d;
+    }
+
+    cl_uint platform_count = 0;
+    cl_int err = clGetPlatformIDs(0, NULL, &platform_count);
+    if (err == -1001 /* CL_PLATFORM_NOT_FOUND_KHR */ || (err == CL_SUCCESS && platform_count == 0))
+        return perma_set_error(rt, PERMA_ERR_NO_PLATFORM,
+                               "no OpenCL platform found; install an OpenCL driver, e.g. "
+                               "'apt-get install pocl-opencl-icd'");
+    PERMA_CL_CHECK(rt, "clGetPlatformIDs", err);
+    if ((cl_uint)platform_index >= platform_count)
+        return perma_set_error(rt, PERMA_ERR_NO_DEVICE,
+                               "OpenCL platform %d requested (PERMA_DEVICE or config), but only %u "
+                               "platform(s) exist", platform_index, (unsigned)platform_count);
+    cl_platform_id *platforms = calloc(platform_count, sizeof *platforms);
+    if (!platforms)
+        return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory listing platforms");
+    err = clGetPlatformIDs(platform_count, platforms, NULL);
+    rt->platform = platforms[platform_index];
+    free(platforms);
+    PERMA_CL_CHECK(rt, "clGetPlatformIDs", err);
+
+    cl_uint device_count = 0;
+    err = clGetDeviceIDs(rt->platform, CL_DEVICE_TYPE_ALL, 0, NULL, &device_count);
+    if (err != CL_DEVICE_NOT_FOUND)
+        PERMA_CL_CHECK(rt, "clGetDeviceIDs", err);
+    if ((cl_uint)device_index >= device_count)
+        return perma_set_error(rt, PERMA_ERR_NO_DEVICE,
+                               "OpenCL device %d:%d requested (PERMA_DEVICE or config), but platform "
+                               "%d has %u device(s)", platform_index, device_index, platform_index,
+                               (unsigned)device_count);
+    cl_device_id *devices = calloc(device_count, sizeof *devices);
+    if (!devices)
+        return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory listing devices");
+    err = clGetDeviceIDs(rt->platform, CL_DEVICE_TYPE_ALL, device_count, devices, NULL);
+    rt->device = devices[device_index];
+    free(devices);
+    PERMA_CL_CHECK(rt, "clGetDeviceIDs", err);
+
+    cl_device_type type = 0;
+    cl_ulong local_mem = 0;
+    size_t max_group = 0;
+    char name[256] = "";
+    PERMA_CL_CHECK(rt, "clGetDeviceInfo(CL_DEVICE_TYPE)",
+                   clGetDeviceInfo(rt->device, CL_DEVICE_TYPE, sizeof type, &type, NULL));
+    PERMA_CL_CHECK(rt, "clGetDeviceInfo(CL_DEVICE_MAX_COMPUTE_UNITS)",
+                   clGetDeviceInfo(rt->device, CL_DEVICE_MAX_COMPUTE_UNITS, sizeof rt->compute_units,
+                                   &rt->compute_units, NULL));
+    PERMA_CL_CHECK(rt, "clGetDeviceInfo(CL_DEVICE_LOCAL_MEM_SIZE)",
+                   clGetDeviceInfo(rt->device, CL_DEVICE_LOCAL_MEM_SIZE, sizeof local_mem, &local_mem, NULL));
+    PERMA_CL_CHECK(rt, "clGetDeviceInfo(CL_DEVICE_MAX_MEM_ALLOC_SIZE)",
+                   clGetDeviceInfo(rt->device, CL_DEVICE_MAX_MEM_ALLOC_SIZE, sizeof rt->max_alloc,
+                                   &rt->max_alloc, NULL));
+    PERMA_CL_CHECK(rt, "clGetDeviceInfo(CL_DEVICE_MAX_WORK_GROUP_SIZE)",
+                   clGetDeviceInfo(rt->device, CL_DEVICE_MAX_WORK_GROUP_SIZE, sizeof max_group, &max_group, NULL));
+    PERMA_CL_CHECK(rt, "clGetDeviceInfo(CL_DEVICE_NAME)",
+                   clGetDeviceInfo(rt->device, CL_DEVICE_NAME, sizeof name - 1, name, NULL));
+    rt->device_is_cpu = (type & CL_DEVICE_TYPE_CPU) != 0;
+    rt->local_mem_size = (size_t)local_mem;
+    if (rt->group_size > max_group)
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT,
+                               "group_size %u exceeds the device's maximum work-group size %zu",
+                               rt->group_size, max_group);
+
+    rt->context = clCreateContext(NULL, 1, &rt->device, NULL, NULL, &err);
+    PERMA_CL_CHECK(rt, "clCreateContext", err);
+    rt->queue = clCreateCommandQueue(rt->context, rt->device, 0, &err);
+    PERMA_CL_CHECK(rt, "clCreateCommandQueue", err);
+    choose_work_groups(rt, name);
+    return PERMA_OK;
+}
+
+void perma_device_close(perma_runtime *rt)
+{
+    if (rt->queue)
+        clReleaseCommandQueue(rt->queue);
+    if (rt->context)
+        clReleaseContext(rt->context);
+    rt->queue = NULL;
+    rt->context = NULL;
+}
+
+const char *perma_device_summary(const perma_runtime *rt)
+{
+    return rt ? rt->summary : "";
+}

@@ -1,0 +1,154 @@
+/* Internal declarations shared by the runtime's host modules. */
+#ifndef PERMA_INTERNAL_H
+#define PERMA_INTERNAL_H
+
+#include "perma.h"
+#include "control.h"
+#include "strbuf.h"
+
+#include <stdarg.h>
+#include <stdbool.h>
+
+/* A block of OpenCL C with the name compiler messages use for it. */
+typedef struct perma_source_text {
+    char *text;
+    char *name;
+} perma_source_text;
+
+/* A registered procedure: an owned copy of its description plus what the
+ * build derives from it. */
+typedef struct perma_proc_info {
+    char *name;
+    char *item_type;
+    char *function;
+    perma_source_text source;
+    size_t item_size;
+    unsigned threads_per_item;
+    size_t local_bytes_per_item;
+    int priority;
+    int cooperative;
+    unsigned emit_count;
+    char *emit_target_name[PERMA_MAX_EMITS];
+    unsigned emit_max[PERMA_MAX_EMITS];
+
+    /* Filled by the build. */
+    int emit_target[PERMA_MAX_EMITS];  /* procedure ids */
+    unsigned depth;                    /* distance from a root of the graph */
+    unsigned max_batch;                /* items per batch */
+    unsigned items_off, scratch_off, counters_off; /* arena offsets, words */
+    unsigned scratch_words;            /* per item */
+    unsigned stage_off[PERMA_MAX_EMITS];
+
+    /* Items seeded for the next run (item_size bytes each). */
+    unsigned char *seeds;
+    size_t seed_count, seed_alloc;
+
+    perma_procedure_stats stats;
+} perma_proc_info;
+
+typedef struct perma_buffer_binding {
+    char *name;
+    char *type;
+    cl_mem mem;
+    void *host;      /* perma_bind_host: memory copied in and/or out */
+    size_t bytes;
+    unsigned flags;
+} perma_buffer_binding;
+
+/* Items waiting in one queue, laid out linearly (host side of a relaunch). */
+typedef struct perma_queue_image {
+    uint32_t *words;
+    size_t count;     /* items */
+    size_t capacity;  /* items, a power of two */
+    unsigned regrowths;
+} perma_queue_image;
+
+struct perma_runtime {
+    perma_config config;
+    char message[PERMA_MESSAGE_MAX];
+    char summary[512];
+
+    cl_platform_id platform;
+    cl_device_id device;
+    cl_context context;
+    cl_command_queue queue;
+    bool device_is_cpu;
+    cl_uint compute_units;
+    size_t local_mem_size;
+    cl_ulong max_alloc;
+    unsigned work_groups;
+    unsigned group_size;
+
+    perma_source_text sources[PERMA_MAX_PROCEDURES];
+    unsigned source_count;
+    perma_proc_info procs[PERMA_MAX_PROCEDURES];
+    unsigned proc_count;
+    perma_buffer_binding buffers[PERMA_MAX_BUFFERS];
+    unsigned buffer_count;
+
+    /* Build products. */
+    bool built;
+    cl_program program;
+    cl_kernel kernel;
+    unsigned max_edges;
+    unsigned arena_words;
+    unsigned order[PERMA_MAX_PROCEDURES];
+
+    /* Device state of a run. */
+    cl_mem ctl_mem, data_mem, seq_mem, stats_mem, abort_mem;
+    size_t data_mem_words, seq_mem_words;
+    uint32_t *abort_flag;           /* host memory the kernel polls */
+    perma_queue_image images[PERMA_MAX_PROCEDURES];
+    bool hung;                      /* a kernel ignored the watchdog; do not wait on it */
+
+    perma_stats stats;
+};
+
+/* Format the runtime's message and return `status`. */
+perma_status perma_set_error(perma_runtime *rt, perma_status status, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+perma_status perma_set_error_va(perma_runtime *rt, perma_status status, const char *fmt, va_list ap);
+
+/* Name of an OpenCL error code, e.g. "CL_OUT_OF_RESOURCES". */
+const char *perma_cl_error_name(cl_int code);
+
+/* Fail with PERMA_ERR_OPENCL naming the call, if code is not CL_SUCCESS. */
+#define PERMA_CL_CHECK(rt, call, code)                                                     \
+    do {                                                                                    \
+        cl_int perma_code_ = (code);                                                        \
+        if (perma_code_ != CL_SUCCESS)                                                      \
+            return perma_set_error((rt), PERMA_ERR_OPENCL, "%s failed: %s (%d)", (call),    \
+                                   perma_cl_error_name(perma_code_), (int)perma_code_);     \
+    } while (0)
+
+/* device.c */
+perma_status perma_device_open(perma_runtime *rt);
+void perma_device_close(perma_runtime *rt);
+
+/* files.c: read a whole text file; the message names the path. */
+perma_status perma_read_text_file(perma_runtime *rt, const char *path, char **out);
+bool perma_is_identifier(const char *s);
+
+/* build.c */
+perma_status perma_build_layout(perma_runtime *rt);
+perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *out);
+void perma_release_program(perma_runtime *rt);
+
+/* queues.c */
+perma_status perma_queues_prepare(perma_runtime *rt);
+perma_status perma_queues_upload(perma_runtime *rt);
+perma_status perma_queues_download(perma_runtime *rt);
+perma_status perma_queues_grow(perma_runtime *rt);
+void perma_queues_release(perma_runtime *rt);
+
+/* launch.c */
+perma_status perma_launch_megakernel(perma_runtime *rt, double deadline, uint32_t *kernel_status);
+
+/* stats.c */
+void perma_stats_reset(perma_runtime *rt);
+perma_status perma_stats_collect(perma_runtime *rt);
+
+/* time */
+double perma_now(void);
+
+#endif

@@ -1,0 +1,166 @@
+/* Resolving the procedure graph and laying out each procedure's __local
+ * arena: its batch of items, scratch, per-item emit counters and staging. */
+#include "internal.h"
+
+#include <string.h>
+
+static unsigned words_of(size_t bytes)
+{
+    return (unsigned)((bytes + 3) / 4);
+}
+
+static unsigned round_up(unsigned value, unsigned multiple)
+{
+    return (value + multiple - 1) / multiple * multiple;
+}
+
+static perma_status resolve_targets(perma_runtime *rt)
+{
+    for (unsigned i = 0; i < rt->proc_count; ++i) {
+        perma_proc_info *p = &rt->procs[i];
+        for (unsigned e = 0; e < p->emit_count; ++e) {
+            p->emit_target[e] = -1;
+            for (unsigned j = 0; j < rt->proc_count; ++j)
+                if (strcmp(rt->procs[j].name, p->emit_target_name[e]) == 0)
+                    p->emit_target[e] = (int)j;
+            if (p->emit_target[e] < 0)
+                return perma_set_error(rt, PERMA_ERR_ARGUMENT,
+                                       "procedure '%s' emits into '%s', which is not a registered procedure",
+                                       p->name, p->emit_target_name[e]);
+        }
+    }
+    return PERMA_OK;
+}
+
+/* depth = edges from the nearest root (a procedure nothing else emits into).
+ * Deeper procedures are "downstream" and served first by default. */
+static void compute_depths(perma_runtime *rt)
+{
+    unsigned n = rt->proc_count;
+    bool has_input[PERMA_MAX_PROCEDURES] = { false };
+    bool seen[PERMA_MAX_PROCEDURES] = { false };
+    unsigned queue[PERMA_MAX_PROCEDURES];
+    unsigned head = 0, tail = 0;
+    for (unsigned i = 0; i < n; ++i)
+        for (unsigned e = 0; e < rt->procs[i].emit_count; ++e)
+            if ((unsigned)rt->procs[i].emit_target[e] != i)
+                has_input[rt->procs[i].emit_target[e]] = true;
+    for (unsigned i = 0; i < n; ++i) {
+        if (!has_input[i]) {
+            seen[i] = true;
+            rt->procs[i].depth = 0;
+            queue[tail++] = i;
+        }
+    }
+    for (;;) {
+        while (head < tail) {
+            perma_proc_info *p = &rt->procs[queue[head++]];
+            for (unsigned e = 0; e < p->emit_count; ++e) {
+                unsigned t = (unsigned)p->emit_target[e];
+                if (!seen[t]) {
+                    seen[t] = true;
+                    rt->procs[t].depth = p->depth + 1;
+                    queue[tail++] = t;
+                }
+            }
+        }
+        /* A cycle with no root: start it at its first registered member. */
+        unsigned next = n;
+        for (unsigned i = 0; i < n && next == n; ++i)
+            if (!seen[i])
+                next = i;
+        if (next == n)
+            break;
+        seen[next] = true;
+        rt->procs[next].depth = 0;
+        queue[tail++] = next;
+    }
+}
+
+/* True if a should be served before b. */
+static bool served_before(const perma_proc_info *a, unsigned ia, const perma_proc_info *b, unsigned ib)
+{
+    if (a->priority != b->priority)
+        return a->priority > b->priority;
+    if (a->depth != b->depth)
+        return a->depth > b->depth;
+    return ia > ib;
+}
+
+static void compute_order(perma_runtime *rt)
+{
+    for (unsigned i = 0; i < rt->proc_count; ++i)
+        rt->order[i] = i;
+    for (unsigned i = 1; i < rt->proc_count; ++i) {
+        unsigned v = rt->order[i];
+        unsigned j = i;
+        while (j > 0 && served_before(&rt->procs[v], v, &rt->procs[rt->order[j - 1]], rt->order[j - 1])) {
+            rt->order[j] = rt->order[j - 1];
+            --j;
+        }
+        rt->order[j] = v;
+    }
+}
+
+/* Arena words procedure p needs for a batch of `batch` items. */
+static unsigned arena_cost(const perma_runtime *rt, perma_proc_info *p, unsigned batch, bool assign)
+{
+    unsigned offset = 0;
+    if (assign)
+        p->items_off = offset;
+    offset += round_up(batch * words_of(p->item_size), 16);
+    if (assign)
+        p->scratch_off = offset;
+    offset += round_up(batch * p->scratch_words, 16);
+    if (assign)
+        p->counters_off = offset;
+    offset += batch * p->emit_count;
+    for (unsigned e = 0; e < p->emit_count; ++e) {
+        if (assign)
+            p->stage_off[e] = offset;
+        offset += batch * p->emit_max[e] * words_of(rt->procs[p->emit_target[e]].item_size);
+    }
+    return offset;
+}
+
+perma_status perma_build_layout(perma_runtime *rt)
+{
+    if (rt->proc_count == 0)
+        return perma_set_error(rt, PERMA_ERR_STATE, "no procedure is registered");
+    perma_status st = resolve_targets(rt);
+    if (st != PERMA_OK)
+        return st;
+    compute_depths(rt);
+    compute_order(rt);
+
+    rt->max_edges = 1;
+    for (unsigned i = 0; i < rt->proc_count; ++i)
+        if (rt->procs[i].emit_count > rt->max_edges)
+            rt->max_edges = rt->procs[i].emit_count;
+
+    size_t limit = rt->local_mem_size;
+    if (rt->config.local_memory_limit && rt->config.local_memory_limit < limit)
+        limit = rt->config.local_memory_limit;
+    /* The kernel's other __local words: statistics, edge counters, batch. */
+    size_t fixed = 4 * ((size_t)rt->proc_count * (2 + rt->max_edges) + 2 * rt->max_edges + 16);
+    size_t budget_words = limit > fixed ? (limit - fixed) / 4 : 0;
+
+    rt->arena_words = 16;
+    for (unsigned i = 0; i < rt->proc_count; ++i) {
+        perma_proc_info *p = &rt->procs[i];
+        p->scratch_words = round_up(words_of(p->local_bytes_per_item), 4);
+        unsigned batch = rt->group_size / p->threads_per_item;
+        while (batch > 0 && arena_cost(rt, p, batch, false) > budget_words)
+            --batch;
+        if (batch == 0)
+            return perma_set_error(rt, PERMA_ERR_ARGUMENT,
+                                   "procedure '%s' needs %u bytes of __local memory for one item (item, "
+                                   "scratch and worst-case emits), more than the %zu bytes available",
+                                   p->name, 4 * arena_cost(rt, p, 1, false), (size_t)(budget_words * 4));
+        p->max_batch = batch;
+        unsigned cost = arena_cost(rt, p, batch, true);
+        if (cost > rt->arena_words)
+            rt->arena_words = cost;
+    }
+    return PERMA_OK;
+}

@@ -1,0 +1,111 @@
+/* Compiling the generated megakernel. */
+#include "internal.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+void perma_release_program(perma_runtime *rt)
+{
+    if (rt->kernel)
+        clReleaseKernel(rt->kernel);
+    if (rt->program)
+        clReleaseProgram(rt->program);
+    rt->kernel = NULL;
+    rt->program = NULL;
+}
+
+/* Keep the lines of a build log that say what is wrong, within the message. */
+static void summarize_log(const char *log, char *out, size_t size)
+{
+    size_t used = 0;
+    out[0] = '\0';
+    const char *line = log;
+    for (int pass = 0; pass < 2 && used == 0; ++pass) {
+        for (line = log; *line;) {
+            const char *end = strchr(line, '\n');
+            size_t len = end ? (size_t)(end - line) : strlen(line);
+            bool wanted = pass == 1 || strstr(line, "error") != NULL;
+            if (wanted && len > 0 && used + len + 2 < size) {
+                memcpy(out + used, line, len);
+                used += len;
+                out[used++] = '\n';
+                out[used] = '\0';
+            }
+            line = end ? end + 1 : line + len;
+        }
+    }
+    if (used > 0 && out[used - 1] == '\n')
+        out[used - 1] = '\0';
+}
+
+static perma_status report_build_failure(perma_runtime *rt, cl_int code)
+{
+    size_t size = 0;
+    clGetProgramBuildInfo(rt->program, rt->device, CL_PROGRAM_BUILD_LOG, 0, NULL, &size);
+    char *log = calloc(1, size + 1);
+    if (!log)
+        return perma_set_error(rt, PERMA_ERR_BUILD, "clBuildProgram failed (%s) and the log is too large",
+                               perma_cl_error_name(code));
+    clGetProgramBuildInfo(rt->program, rt->device, CL_PROGRAM_BUILD_LOG, size, log, NULL);
+    if (getenv("PERMA_BUILD_LOG"))
+        fprintf(stderr, "perma: build log:\n%s\n", log);
+    char summary[PERMA_MESSAGE_MAX - 64];
+    summarize_log(log, summary, sizeof summary);
+    free(log);
+    return perma_set_error(rt, PERMA_ERR_BUILD, "building the megakernel failed:\n%s", summary);
+}
+
+perma_status perma_build(perma_runtime *rt)
+{
+    if (!rt)
+        return PERMA_ERR_ARGUMENT;
+    if (rt->built)
+        return PERMA_OK;
+    perma_release_program(rt);
+    perma_status st = perma_build_layout(rt);
+    if (st != PERMA_OK)
+        return st;
+
+    perma_strbuf sb;
+    perma_strbuf_init(&sb);
+    st = perma_generate_program(rt, &sb);
+    if (st != PERMA_OK) {
+        perma_strbuf_free(&sb);
+        return st;
+    }
+    const char *dump = getenv("PERMA_DUMP_PROGRAM");
+    if (dump && *dump) {
+        FILE *f = fopen(dump, "w");
+        if (f) {
+            fputs(sb.data, f);
+            fclose(f);
+        }
+    }
+    cl_int err;
+    const char *text = sb.data;
+    rt->program = clCreateProgramWithSource(rt->context, 1, &text, NULL, &err);
+    perma_strbuf_free(&sb);
+    PERMA_CL_CHECK(rt, "clCreateProgramWithSource", err);
+
+    char options[1024];
+    snprintf(options, sizeof options, "-cl-std=CL1.2 %s",
+             rt->config.build_options ? rt->config.build_options : "");
+    err = clBuildProgram(rt->program, 1, &rt->device, options, NULL, NULL);
+    if (err == CL_BUILD_PROGRAM_FAILURE || err == CL_INVALID_BUILD_OPTIONS) {
+        st = report_build_failure(rt, err);
+        perma_release_program(rt);
+        return st;
+    }
+    if (err != CL_SUCCESS) {
+        perma_release_program(rt);
+        PERMA_CL_CHECK(rt, "clBuildProgram", err);
+    }
+    rt->kernel = clCreateKernel(rt->program, "perma_megakernel", &err);
+    if (err != CL_SUCCESS) {
+        perma_release_program(rt);
+        PERMA_CL_CHECK(rt, "clCreateKernel(perma_megakernel)", err);
+    }
+    rt->built = true;
+    rt->message[0] = '\0';
+    return PERMA_OK;
+}

@@ -1,0 +1,134 @@
+/* Creating and destroying a runtime. */
+#include "internal.h"
+
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+void perma_config_init(perma_config *config)
+{
+    memset(config, 0, sizeof *config);
+    config->platform_index = -1;
+    config->device_index = -1;
+    config->technique = PERMA_TECHNIQUE_MEGAKERNEL;
+}
+
+double perma_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+static perma_status check_config(perma_runtime *rt, const perma_config *c)
+{
+    if (c->group_size > 4096)
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.group_size %u is above 4096", c->group_size);
+    if (c->work_groups > 65536)
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.work_groups %u is above 65536", c->work_groups);
+    if (!(c->time_limit >= 0.0) || c->time_limit > 1e7)
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT,
+                               "config.time_limit %g is not a number of seconds in 0..1e7", c->time_limit);
+    if (c->queue_capacity > ((size_t)1 << 30))
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.queue_capacity %zu is above 2^30 items",
+                               c->queue_capacity);
+    if (c->technique != PERMA_TECHNIQUE_MEGAKERNEL)
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.technique %d is not a known technique",
+                               (int)c->technique);
+    return PERMA_OK;
+}
+
+perma_status perma_create(const perma_config *config, perma_runtime **out, perma_error *error)
+{
+    perma_config defaults;
+    if (!config) {
+        perma_config_init(&defaults);
+        config = &defaults;
+    }
+    if (out)
+        *out = NULL;
+    perma_runtime *rt = calloc(1, sizeof *rt);
+    if (!rt) {
+        if (error) {
+            error->status = PERMA_ERR_NO_MEMORY;
+            snprintf(error->message, sizeof error->message, "out of memory creating the runtime");
+        }
+        return PERMA_ERR_NO_MEMORY;
+    }
+    rt->config = *config;
+    rt->config.build_options = NULL; /* copied below */
+    rt->group_size = config->group_size ? config->group_size : 64;
+    perma_status st = out ? check_config(rt, config)
+                          : perma_set_error(rt, PERMA_ERR_ARGUMENT, "perma_create: out is NULL");
+    if (st == PERMA_OK && config->build_options) {
+        rt->config.build_options = strdup(config->build_options);
+        if (!rt->config.build_options)
+            st = perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory copying build options");
+    }
+    if (st == PERMA_OK)
+        st = perma_device_open(rt);
+    if (st == PERMA_OK) {
+        rt->abort_flag = aligned_alloc(4096, 4096);
+        if (!rt->abort_flag)
+            st = perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory for the watchdog flag");
+        else
+            memset(rt->abort_flag, 0, 4096);
+    }
+    if (error) {
+        error->status = st;
+        snprintf(error->message, sizeof error->message, "%s", st == PERMA_OK ? "" : rt->message);
+    }
+    if (st != PERMA_OK) {
+        perma_destroy(rt);
+        return st;
+    }
+    *out = rt;
+    return PERMA_OK;
+}
+
+static void free_proc(perma_proc_info *p)
+{
+    free(p->name);
+    free(p->item_type);
+    free(p->function);
+    free(p->source.text);
+    free(p->source.name);
+    for (unsigned e = 0; e < p->emit_count; ++e)
+        free(p->emit_target_name[e]);
+    free(p->seeds);
+}
+
+void perma_destroy(perma_runtime *rt)
+{
+    if (!rt)
+        return;
+    if (rt->hung) {
+        /* A kernel is still running and would make every release block:
+         * leak the OpenCL objects rather than hang the caller. */
+        return;
+    }
+    if (rt->queue)
+        clFinish(rt->queue);
+    perma_queues_release(rt);
+    perma_release_program(rt);
+    for (unsigned i = 0; i < rt->buffer_count; ++i) {
+        if (rt->buffers[i].mem)
+            clReleaseMemObject(rt->buffers[i].mem);
+        free(rt->buffers[i].name);
+        free(rt->buffers[i].type);
+    }
+    for (unsigned i = 0; i < rt->source_count; ++i) {
+        free(rt->sources[i].text);
+        free(rt->sources[i].name);
+    }
+    for (unsigned i = 0; i < rt->proc_count; ++i)
+        free_proc(&rt->procs[i]);
+    perma_device_close(rt);
+    free((char *)rt->config.build_options);
+    free(rt->abort_flag);
+    free(rt);
+}
+
+cl_context perma_cl_context(const perma_runtime *rt) { return rt ? rt->context : NULL; }
+cl_device_id perma_cl_device(const perma_runtime *rt) { return rt ? rt->device : NULL; }
+cl_command_queue perma_cl_queue(const perma_runtime *rt) { return rt ? rt->queue : NULL; }

@@ -1,0 +1,102 @@
+/* Run statistics: collected from each launch, summed, printed. */
+#include "internal.h"
+
+#include <inttypes.h>
+#include <stdlib.h>
+#include <string.h>
+
+void perma_stats_reset(perma_runtime *rt)
+{
+    memset(&rt->stats, 0, sizeof rt->stats);
+    rt->stats.work_groups = rt->work_groups;
+    rt->stats.group_size = rt->group_size;
+    rt->stats.procedure_count = rt->proc_count;
+    for (unsigned q = 0; q < rt->proc_count; ++q) {
+        perma_proc_info *p = &rt->procs[q];
+        memset(&p->stats, 0, sizeof p->stats);
+        p->stats.name = p->name;
+        p->stats.emit_count = p->emit_count;
+    }
+}
+
+/* Add the per-group counters and queue peaks of the launch that just ended. */
+perma_status perma_stats_collect(perma_runtime *rt)
+{
+    unsigned n = rt->proc_count, stride = PERMA_STAT_PROC_WORDS(rt->max_edges);
+    size_t stats_words = (size_t)rt->work_groups * n * stride;
+    size_t ctl_words = perma_ctl_words(n, rt->work_groups);
+    uint32_t *words = malloc((stats_words + ctl_words) * 4);
+    if (!words)
+        return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory reading statistics");
+    uint32_t *ctl = words + stats_words;
+    cl_int err = clEnqueueReadBuffer(rt->queue, rt->stats_mem, CL_TRUE, 0, stats_words * 4, words, 0, NULL, NULL);
+    if (err == CL_SUCCESS)
+        err = clEnqueueReadBuffer(rt->queue, rt->ctl_mem, CL_TRUE, 0, ctl_words * 4, ctl, 0, NULL, NULL);
+    if (err != CL_SUCCESS) {
+        free(words);
+        return perma_set_error(rt, PERMA_ERR_OPENCL, "clEnqueueReadBuffer (statistics) failed: %s (%d)",
+                               perma_cl_error_name(err), (int)err);
+    }
+    for (unsigned g = 0; g < rt->work_groups; ++g) {
+        for (unsigned q = 0; q < n; ++q) {
+            const uint32_t *s = words + ((size_t)g * n + q) * stride;
+            perma_procedure_stats *ps = &rt->procs[q].stats;
+            ps->items += s[PERMA_STAT_ITEMS];
+            ps->batches += s[PERMA_STAT_BATCHES];
+            for (unsigned e = 0; e < rt->procs[q].emit_count; ++e)
+                ps->emitted[e] += s[PERMA_STAT_EMITTED + e];
+            rt->stats.items += s[PERMA_STAT_ITEMS];
+        }
+    }
+    for (unsigned q = 0; q < n; ++q) {
+        uint32_t peak = ctl[PERMA_CTL_HEADER_WORDS + q * PERMA_QUEUE_WORDS + PERMA_Q_PEAK];
+        if (peak > rt->procs[q].stats.peak_queue_items)
+            rt->procs[q].stats.peak_queue_items = peak;
+    }
+    free(words);
+    return PERMA_OK;
+}
+
+perma_status perma_get_stats(perma_runtime *rt, perma_stats *out)
+{
+    if (!rt)
+        return PERMA_ERR_ARGUMENT;
+    if (!out)
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT, "perma_get_stats: out is NULL");
+    *out = rt->stats;
+    return PERMA_OK;
+}
+
+perma_status perma_get_procedure_stats(perma_runtime *rt, perma_proc proc, perma_procedure_stats *out)
+{
+    if (!rt)
+        return PERMA_ERR_ARGUMENT;
+    if (proc < 0 || (unsigned)proc >= rt->proc_count || !out)
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT, "perma_get_procedure_stats: %d is not a registered procedure",
+                               proc);
+    *out = rt->procs[proc].stats;
+    out->name = rt->procs[proc].name;
+    out->emit_count = rt->procs[proc].emit_count;
+    return PERMA_OK;
+}
+
+void perma_print_stats(perma_runtime *rt, FILE *out)
+{
+    if (!rt || !out)
+        return;
+    const perma_stats *s = &rt->stats;
+    fprintf(out, "perma run: %.3f s, %u launch(es), %u regrowth(s), %u group(s) x %u work-items, "
+                 "peak queue memory %zu bytes\n",
+            s->seconds, s->launches, s->regrowths, s->work_groups, s->group_size, s->peak_queue_bytes);
+    fprintf(out, "%-20s %12s %10s %10s %12s %10s  %s\n", "procedure", "items", "batches", "seeded",
+            "peak queued", "capacity", "emitted");
+    for (unsigned q = 0; q < rt->proc_count; ++q) {
+        const perma_proc_info *p = &rt->procs[q];
+        const perma_procedure_stats *ps = &p->stats;
+        fprintf(out, "%-20s %12" PRIu64 " %10" PRIu64 " %10" PRIu64 " %12" PRIu64 " %10zu ", p->name,
+                ps->items, ps->batches, ps->seeded, ps->peak_queue_items, ps->queue_capacity);
+        for (unsigned e = 0; e < p->emit_count; ++e)
+            fprintf(out, " %s:%" PRIu64, p->emit_target_name[e], ps->emitted[e]);
+        fputc('\n', out);
+    }
+}
