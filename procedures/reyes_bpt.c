@@ -188,7 +188,7 @@ static reyes_status read_file(const char *path, char **out, reyes_error *error)
 reyes_status reyes_scene_load_bpt(reyes_scene *scene, const char *path, uint32_t rgba,
                                   reyes_error *error)
 {
-    char *text;
+    char *text = NULL;
     reyes_status status = read_file(path, &text, error);
     if (status != REYES_OK)
         return status;

@@ -125,13 +125,13 @@ reyes_status reyes_scene_add_ribbon(reyes_scene *scene, const float start[3], fl
 reyes_status reyes_scene_add_builtin(reyes_scene *scene, reyes_error *error)
 {
     const float big[3] = {-1.4f, 0.3f, 1.0f}, small[3] = {1.3f, 0.9f, 0.7f};
-    const float ring[3] = {0.5f, -1.3f, 0.3f}, ribbon[3] = {-3.0f, 2.6f, 0.4f};
+    const float ring[3] = {0.5f, -1.3f, 0.3f}, ribbon[3] = {-3.0f, 2.2f, 1.9f};
     reyes_status status = reyes_scene_add_sphere(scene, big, 1.0f, REYES_RGBA(200, 70, 60), error);
     if (status == REYES_OK)
         status = reyes_scene_add_sphere(scene, small, 0.7f, REYES_RGBA(70, 130, 200), error);
     if (status == REYES_OK)
         status = reyes_scene_add_torus(scene, ring, 0.9f, 0.3f, REYES_RGBA(220, 190, 60), error);
     if (status == REYES_OK)
-        status = reyes_scene_add_ribbon(scene, ribbon, 6.0f, 0.8f, 6, REYES_RGBA(90, 170, 90), error);
+        status = reyes_scene_add_ribbon(scene, ribbon, 6.0f, 1.2f, 6, REYES_RGBA(90, 170, 90), error);
     return status;
 }

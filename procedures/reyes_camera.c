@@ -42,6 +42,25 @@ static reyes_status check_fov(float fov_deg, reyes_error *error)
     return REYES_OK;
 }
 
+/* Distance from the target at which every control point is in view: a
+ * point at (x, y) across the view and z along it (towards the scene) needs
+ * distance + z >= |x| / tan(half_h) and >= |y| / tan(half_v). */
+static float fit_distance(const reyes_scene *scene, const float center[3], const float forward[3],
+                          const float side[3], const float up[3], float tan_v, float tan_h,
+                          float radius)
+{
+    float distance = 0.0f;
+    for (size_t i = 0; i < scene->patch_count * 16; ++i) {
+        float d[3];
+        sub3(scene->points + i * 4, center, d);
+        float need = fmaxf(fabsf(dot3(d, side)) / tan_h, fabsf(dot3(d, up)) / tan_v) - dot3(d, forward);
+        /* and stay in front of the points, not only around them */
+        need = fmaxf(need, 0.05f * radius - dot3(d, forward));
+        distance = fmaxf(distance, need);
+    }
+    return distance > 0.0f ? distance : radius;
+}
+
 reyes_status reyes_camera_frame(const reyes_scene *scene, float fov_deg, float aspect,
                                 reyes_camera *camera, reyes_error *error)
 {
@@ -60,16 +79,21 @@ reyes_status reyes_camera_frame(const reyes_scene *scene, float fov_deg, float a
     float radius = 0.5f * sqrtf(dot3(diagonal, diagonal));
     if (!(radius > 1e-6f))
         radius = 1.0f;
-    /* The bounding sphere fits when its angular radius is the smaller half
-     * field of view. */
-    float half_v = 0.5f * fov_deg * DEG_TO_RAD;
-    float half_h = atanf(tanf(half_v) * aspect);
-    float distance = radius / sinf(fminf(half_v, half_h));
-    float direction[3] = {0.35f, -1.0f, 0.45f}; /* front, a little right and above */
-    normalize3(direction);
+    /* Look from the front, a little right and above (z up). */
+    float to_eye[3] = {0.35f, -1.0f, 0.45f}, forward[3], side[3], up[3];
+    const float z_axis[3] = {0.0f, 0.0f, 1.0f};
+    normalize3(to_eye);
+    for (int k = 0; k < 3; ++k)
+        forward[k] = -to_eye[k];
+    cross3(forward, z_axis, side);
+    normalize3(side);
+    cross3(side, forward, up);
+    float tan_v = tanf(0.5f * fov_deg * DEG_TO_RAD);
+    float distance = fit_distance(scene, center, forward, side, up, tan_v, tan_v * aspect, radius);
+    distance *= 1.04f; /* a small border */
     for (int k = 0; k < 3; ++k) {
         camera->at[k] = center[k];
-        camera->eye[k] = center[k] + distance * direction[k];
+        camera->eye[k] = center[k] + distance * to_eye[k];
     }
     camera->fov_deg = fov_deg;
     return REYES_OK;

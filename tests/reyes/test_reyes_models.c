@@ -1,0 +1,109 @@
+/* Renders of the models in ../shared/models (suite 'shared'). */
+#include <check.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "reyes_test_util.h"
+
+#ifndef REYES_MODELS_DIR
+#error "REYES_MODELS_DIR must name the shared models directory"
+#endif
+
+static void load(reyes_scene *scene, const char *file)
+{
+    char path[1024];
+    reyes_error error;
+    snprintf(path, sizeof path, "%s/%s", REYES_MODELS_DIR, file);
+    reyes_scene_init(scene);
+    reyes_status status = reyes_scene_load_bpt(scene, path, reyes_model_color(0), &error);
+    ck_assert_msg(status == REYES_OK, "%s", error.message);
+}
+
+START_TEST(test_load_all_models)
+{
+    const struct { const char *file; size_t patches; } models[] = {
+        {"teapot.bpt", 32}, {"killeroo.bpt", 11532}, {"newell-teapot.bpt", 28},
+        {"teacup.bpt", 26}, {"teaspoon.bpt", 16},
+    };
+    for (size_t m = 0; m < sizeof models / sizeof models[0]; ++m) {
+        reyes_scene scene;
+        load(&scene, models[m].file);
+        ck_assert_uint_eq(scene.patch_count, models[m].patches);
+        reyes_scene_free(&scene);
+    }
+}
+END_TEST
+
+/* The teapot: same splits, grids and image with 1 and 2 work-groups, and
+ * no crack pixels at the default 8 px bound and 16x16 grid. */
+START_TEST(test_teapot_groups_and_holes)
+{
+    reyes_scene scene;
+    reyes_error error;
+    reyes_camera camera;
+    load(&scene, "teapot.bpt");
+    reyes_options o;
+    reyes_options_init(&o);
+    o.width = 192;
+    o.height = 144;
+    ck_assert_int_eq(reyes_camera_frame(&scene, 40.0f, 192.0f / 144.0f, &camera, &error), REYES_OK);
+    reyes_image one, two;
+    reyes_stats stats_one, stats_two;
+    reyes_test_render(reyes_test_renderer(1), &scene, &camera, &o, &one, &stats_one);
+    reyes_test_render(reyes_test_renderer(2), &scene, &camera, &o, &two, &stats_two);
+    ck_assert_uint_gt(stats_one.splits, 32);
+    ck_assert_uint_eq(stats_one.splits, stats_two.splits);
+    ck_assert_uint_eq(stats_one.grids, stats_two.grids);
+    ck_assert_uint_eq(stats_one.micropolygons, stats_two.micropolygons);
+    ck_assert_uint_eq(stats_one.forced_dice, 0);
+    ck_assert_mem_eq(one.rgb, two.rgb, (size_t)o.width * o.height * 3);
+    ck_assert_uint_eq(reyes_test_hole_pixels(&one, 16), 0);
+    reyes_image_free(&one);
+    reyes_image_free(&two);
+    reyes_scene_free(&scene);
+}
+END_TEST
+
+/* Killeroo (11532 patches) renders at a small size. */
+START_TEST(test_killeroo)
+{
+    reyes_scene scene;
+    reyes_error error;
+    reyes_camera camera;
+    load(&scene, "killeroo.bpt");
+    reyes_options o;
+    reyes_options_init(&o);
+    o.width = 128;
+    o.height = 128;
+    ck_assert_int_eq(reyes_camera_frame(&scene, 40.0f, 1.0f, &camera, &error), REYES_OK);
+    reyes_image image;
+    reyes_stats stats;
+    reyes_test_render(reyes_test_renderer(0), &scene, &camera, &o, &image, &stats);
+    ck_assert_uint_eq(stats.patches_in + stats.splits, stats.grids + stats.culled);
+    ck_assert_uint_gt(stats.samples_written, 128 * 128 * o.spp / 10);
+    reyes_image_free(&image);
+    reyes_scene_free(&scene);
+}
+END_TEST
+
+static Suite *models_suite(void)
+{
+    Suite *s = suite_create("reyes_models");
+    TCase *tc = tcase_create("models");
+    tcase_set_timeout(tc, 300);
+    tcase_add_test(tc, test_load_all_models);
+    tcase_add_test(tc, test_teapot_groups_and_holes);
+    tcase_add_test(tc, test_killeroo);
+    suite_add_tcase(s, tc);
+    return s;
+}
+
+int main(void)
+{
+    SRunner *runner = srunner_create(models_suite());
+    srunner_set_fork_status(runner, CK_NOFORK);
+    srunner_run_all(runner, CK_NORMAL);
+    int failed = srunner_ntests_failed(runner);
+    srunner_free(runner);
+    return failed ? EXIT_FAILURE : EXIT_SUCCESS;
+}

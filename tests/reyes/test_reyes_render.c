@@ -1,0 +1,251 @@
+/* End-to-end renders of generated scenes through the perma runtime. */
+#include <check.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "reyes_test_util.h"
+
+#define PI 3.14159265358979323846
+
+static void small_options(reyes_options *o, unsigned width, unsigned height)
+{
+    reyes_options_init(o);
+    o->width = width;
+    o->height = height;
+}
+
+/* A flat patch z = 0 over [-1,1] x [-0.6,0.6] seen from above: pixels more
+ * than one pixel inside its projected rectangle are fully covered, pixels
+ * more than one pixel outside are empty. */
+START_TEST(test_flat_rectangle)
+{
+    reyes_scene scene;
+    reyes_error error;
+    reyes_scene_init(&scene);
+    float cp[4][4][3];
+    for (int r = 0; r < 4; ++r) {
+        for (int c = 0; c < 4; ++c) {
+            cp[r][c][0] = -1.0f + 2.0f * (float)c / 3.0f;
+            cp[r][c][1] = -0.6f + 1.2f * (float)r / 3.0f;
+            cp[r][c][2] = 0.0f;
+        }
+    }
+    ck_assert_int_eq(reyes_scene_add_patch(&scene, cp, REYES_RGBA(255, 255, 255), &error), REYES_OK);
+    reyes_options o;
+    small_options(&o, 128, 96);
+    reyes_camera camera = { .eye = {0.1f, 0.05f, 4.0f}, .at = {0.1f, 0.05f, 0.0f}, .fov_deg = 40.0f };
+    float m[16], x0, y0, x1, y1, depth;
+    ck_assert_int_eq(reyes_camera_matrix(&camera, 128.0f / 96.0f, 1e-4f, m, &error), REYES_OK);
+    const float low[3] = {-1.0f, -0.6f, 0.0f}, high[3] = {1.0f, 0.6f, 0.0f};
+    ck_assert(reyes_camera_project(m, 128, 96, low, &x0, &y0, &depth));
+    ck_assert(reyes_camera_project(m, 128, 96, high, &x1, &y1, &depth));
+    float left = fminf(x0, x1), right = fmaxf(x0, x1), top = fminf(y0, y1), bottom = fmaxf(y0, y1);
+    ck_assert(left > 4 && right < 124 && top > 4 && bottom < 92);
+
+    reyes_image image;
+    reyes_stats stats;
+    reyes_test_render(reyes_test_renderer(0), &scene, &camera, &o, &image, &stats);
+    size_t checked = 0;
+    for (unsigned y = 0; y < image.height; ++y) {
+        for (unsigned x = 0; x < image.width; ++x) {
+            /* Distance of the pixel square to the rectangle's edges. */
+            float inside = fminf(fminf((float)x - left, right - (float)(x + 1)),
+                                 fminf((float)y - top, bottom - (float)(y + 1)));
+            float outside = fmaxf(fmaxf(left - (float)(x + 1), (float)x - right),
+                                  fmaxf(top - (float)(y + 1), (float)y - bottom));
+            unsigned coverage = image.coverage[y * image.width + x];
+            if (inside >= 1.0f) {
+                ck_assert_msg(coverage == o.spp, "pixel %u,%u inside has %u samples", x, y, coverage);
+                ++checked;
+            } else if (outside >= 1.0f) {
+                ck_assert_msg(coverage == 0, "pixel %u,%u outside has %u samples", x, y, coverage);
+                ++checked;
+            }
+        }
+    }
+    ck_assert_uint_gt(checked, 128 * 96 * 9 / 10);
+    /* The covered area matches the rectangle's to within its perimeter. */
+    double area = (double)reyes_test_covered_samples(&image) / o.spp;
+    double expected = (double)(right - left) * (double)(bottom - top);
+    ck_assert_double_eq_tol(area, expected, 0.5 * 2.0 * ((right - left) + (bottom - top)) * 0.25);
+    ck_assert_uint_eq(stats.patches_in, 1);
+    ck_assert_uint_eq(stats.grids, stats.splits + 1);
+    reyes_image_free(&image);
+    reyes_scene_free(&scene);
+}
+END_TEST
+
+/* A sphere of patches covers pi r^2 (r: the projected silhouette radius)
+ * within 1%, and shows no cracks. */
+START_TEST(test_sphere_area_and_no_holes)
+{
+    reyes_scene scene;
+    reyes_error error;
+    reyes_scene_init(&scene);
+    const float center[3] = {0, 0, 0};
+    ck_assert_int_eq(reyes_scene_add_sphere(&scene, center, 1.0f, REYES_RGBA(200, 200, 200), &error),
+                     REYES_OK);
+    reyes_options o;
+    small_options(&o, 160, 160);
+    const float distance = 5.0f, fov = 35.0f;
+    reyes_camera camera = { .eye = {0, -distance, 0}, .at = {0, 0, 0}, .fov_deg = fov };
+    reyes_image image;
+    reyes_stats stats;
+    reyes_test_render(reyes_test_renderer(0), &scene, &camera, &o, &image, &stats);
+    /* The silhouette cone has half-angle asin(r/d). */
+    double focal = 80.0 / tan(0.5 * fov * PI / 180.0);
+    double radius_px = focal * tan(asin(1.0 / distance));
+    double expected = PI * radius_px * radius_px;
+    double area = (double)reyes_test_covered_samples(&image) / o.spp;
+    ck_assert_msg(fabs(area - expected) < 0.01 * expected, "area %g, expected %g", area, expected);
+    ck_assert_uint_eq(reyes_test_hole_pixels(&image, 64), 0);
+    ck_assert_uint_eq(stats.samples_written, reyes_test_covered_samples(&image));
+    ck_assert_uint_eq(stats.forced_dice, 0);
+    reyes_image_free(&image);
+    reyes_scene_free(&scene);
+}
+END_TEST
+
+/* The built-in scene at the default 8 px bound and 16x16 grid: no crack
+ * pixels, and a plausible pipeline. */
+START_TEST(test_builtin_no_holes)
+{
+    reyes_scene scene;
+    reyes_error error;
+    reyes_camera camera;
+    reyes_scene_init(&scene);
+    ck_assert_int_eq(reyes_scene_add_builtin(&scene, &error), REYES_OK);
+    reyes_options o;
+    small_options(&o, 192, 144);
+    ck_assert_int_eq(reyes_camera_frame(&scene, 40.0f, 192.0f / 144.0f, &camera, &error), REYES_OK);
+    reyes_image image;
+    reyes_stats stats;
+    reyes_test_render(reyes_test_renderer(0), &scene, &camera, &o, &image, &stats);
+    ck_assert_uint_eq(reyes_test_hole_pixels(&image, 32), 0);
+    ck_assert_uint_eq(stats.patches_in, scene.patch_count);
+    /* Every split makes one patch two; every patch ends culled or diced. */
+    ck_assert_uint_eq(stats.patches_in + stats.splits, stats.grids + stats.culled);
+    ck_assert_uint_eq(stats.procedures[REYES_PROC_DICE].items, stats.grids);
+    ck_assert_uint_eq(stats.procedures[REYES_PROC_RASTERIZE].items, stats.micropolygons);
+    ck_assert_uint_eq(stats.procedures[REYES_PROC_SPLIT_U].items + stats.procedures[REYES_PROC_SPLIT_V].items,
+                      stats.splits);
+    ck_assert_uint_gt(stats.samples_written, 0);
+    reyes_image_free(&image);
+    reyes_scene_free(&scene);
+}
+END_TEST
+
+/* 1 and 2 work-groups render byte-identical images with identical counts. */
+START_TEST(test_groups_identical)
+{
+    reyes_scene scene;
+    reyes_error error;
+    reyes_camera camera;
+    reyes_scene_init(&scene);
+    ck_assert_int_eq(reyes_scene_add_builtin(&scene, &error), REYES_OK);
+    reyes_options o;
+    small_options(&o, 128, 96);
+    ck_assert_int_eq(reyes_camera_frame(&scene, 40.0f, 128.0f / 96.0f, &camera, &error), REYES_OK);
+    reyes_image one, two;
+    reyes_stats stats_one, stats_two;
+    o.work_groups = 1;
+    reyes_test_render(reyes_test_renderer(1), &scene, &camera, &o, &one, &stats_one);
+    o.work_groups = 2;
+    reyes_test_render(reyes_test_renderer(2), &scene, &camera, &o, &two, &stats_two);
+    ck_assert_uint_eq(stats_one.run.work_groups, 1);
+    ck_assert_uint_eq(stats_two.run.work_groups, 2);
+    ck_assert_mem_eq(one.rgb, two.rgb, (size_t)128 * 96 * 3);
+    ck_assert_mem_eq(one.coverage, two.coverage, (size_t)128 * 96);
+    ck_assert_uint_eq(stats_one.splits, stats_two.splits);
+    ck_assert_uint_eq(stats_one.grids, stats_two.grids);
+    ck_assert_uint_eq(stats_one.micropolygons, stats_two.micropolygons);
+    ck_assert_uint_eq(stats_one.samples_written, stats_two.samples_written);
+    reyes_image_free(&one);
+    reyes_image_free(&two);
+    reyes_scene_free(&scene);
+}
+END_TEST
+
+/* Patches behind the camera are culled, patches around it are split at the
+ * near plane rather than projected through it: from inside a sphere every
+ * pixel sees the sphere. */
+START_TEST(test_camera_inside_and_behind)
+{
+    reyes_scene scene;
+    reyes_error error;
+    reyes_scene_init(&scene);
+    const float center[3] = {0, 0, 0};
+    ck_assert_int_eq(reyes_scene_add_sphere(&scene, center, 1.0f, REYES_RGBA(200, 200, 200), &error),
+                     REYES_OK);
+    reyes_options o;
+    small_options(&o, 64, 64);
+    reyes_image image;
+    reyes_stats stats;
+    reyes_camera inside = { .eye = {0.1f, 0.0f, 0.2f}, .at = {0.1f, 1.0f, 0.2f}, .fov_deg = 60 };
+    reyes_test_render(reyes_test_renderer(0), &scene, &inside, &o, &image, &stats);
+    ck_assert_uint_eq(reyes_test_covered_samples(&image), (uint64_t)64 * 64 * o.spp);
+    reyes_image_free(&image);
+
+    reyes_camera away = { .eye = {0, -5, 0}, .at = {0, -10, 0}, .fov_deg = 40 };
+    reyes_test_render(reyes_test_renderer(0), &scene, &away, &o, &image, &stats);
+    ck_assert_uint_eq(reyes_test_covered_samples(&image), 0);
+    ck_assert_uint_eq(stats.culled, scene.patch_count);
+    ck_assert_uint_eq(stats.grids, 0);
+    ck_assert_uint_eq(image.rgb[0], o.background & 255u);
+    reyes_image_free(&image);
+    reyes_scene_free(&scene);
+}
+END_TEST
+
+START_TEST(test_render_arguments)
+{
+    reyes_scene scene;
+    reyes_error error;
+    reyes_image image;
+    reyes_scene_init(&scene);
+    reyes_options o;
+    small_options(&o, 32, 32);
+    reyes_camera camera = { .eye = {0, -5, 0}, .at = {0, 0, 0}, .fov_deg = 40 };
+    /* An empty scene renders the background without running anything. */
+    ck_assert_int_eq(reyes_render(reyes_test_renderer(0), &scene, &camera, &o, &image, NULL, &error),
+                     REYES_OK);
+    ck_assert_uint_eq(reyes_test_covered_samples(&image), 0);
+    reyes_image_free(&image);
+    o.grid = 8;
+    ck_assert_int_eq(reyes_render(reyes_test_renderer(0), &scene, &camera, &o, &image, NULL, &error),
+                     REYES_ERR_ARGUMENT);
+    ck_assert(strstr(error.message, "grid") != NULL);
+    o.grid = 16;
+    o.spp = 0;
+    ck_assert_int_eq(reyes_render(reyes_test_renderer(0), &scene, &camera, &o, &image, NULL, &error),
+                     REYES_ERR_ARGUMENT);
+    reyes_scene_free(&scene);
+}
+END_TEST
+
+static Suite *render_suite(void)
+{
+    Suite *s = suite_create("reyes_render");
+    TCase *tc = tcase_create("render");
+    tcase_set_timeout(tc, 300);
+    tcase_add_test(tc, test_flat_rectangle);
+    tcase_add_test(tc, test_sphere_area_and_no_holes);
+    tcase_add_test(tc, test_builtin_no_holes);
+    tcase_add_test(tc, test_groups_identical);
+    tcase_add_test(tc, test_camera_inside_and_behind);
+    tcase_add_test(tc, test_render_arguments);
+    suite_add_tcase(s, tc);
+    return s;
+}
+
+int main(void)
+{
+    SRunner *runner = srunner_create(render_suite());
+    /* One OpenCL runtime serves all tests: no fork per test. */
+    srunner_set_fork_status(runner, CK_NOFORK);
+    srunner_run_all(runner, CK_NORMAL);
+    int failed = srunner_ntests_failed(runner);
+    srunner_free(runner);
+    return failed ? EXIT_FAILURE : EXIT_SUCCESS;
+}
