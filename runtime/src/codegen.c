@@ -187,9 +187,9 @@ perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *sb)
     append_tables(rt, sb);
     perma_strbuf_append(sb, perma_kernel_emit);
     resume_generated(sb);
-    append_size_checks(rt, sb);
     append_emit_helpers(rt, sb);
     append_procedure_sources(rt, sb);
+    append_size_checks(rt, sb);
     append_dispatch(rt, sb);
     append_kernel_params(rt, sb);
     perma_strbuf_append(sb, perma_kernel_scheduler);

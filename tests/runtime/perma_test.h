@@ -1,0 +1,29 @@
+/* Helpers shared by the runtime's Check tests. */
+#ifndef PERMA_TEST_H
+#define PERMA_TEST_H
+
+#include <check.h>
+
+#include "perma.h"
+
+/* Seconds a test may take; PoCL's first compile of a program is slow. */
+#define PERMA_TEST_TIMEOUT 300
+
+/* A runtime on the default device with the given group size (0 = default),
+ * work-group count (0 = automatic) and queue capacity (0 = default). */
+perma_runtime *test_runtime(unsigned group_size, unsigned work_groups, size_t queue_capacity);
+perma_runtime *test_runtime_config(const perma_config *config);
+
+/* Fail the test with the runtime's message unless `status` is PERMA_OK. */
+#define ck_assert_perma_ok(rt, status)                                                       \
+    ck_assert_msg((status) == PERMA_OK, "%s: %s", perma_status_name(status), perma_errmsg(rt))
+
+/* Assert that `haystack` contains `needle`. */
+#define ck_assert_contains(haystack, needle)                                                 \
+    ck_assert_msg(strstr((haystack), (needle)) != NULL, "expected '%s' in message: %s",      \
+                  (needle), (haystack))
+
+/* Run a suite; returns the number of failures. */
+int test_run_suite(Suite *suite);
+
+#endif

@@ -1,0 +1,289 @@
+/* Errors are values with messages that name what is wrong: bad descriptor
+ * fields, compile errors with the user's file and line, unknown emit
+ * targets, missing devices, emit limits, the watchdog. */
+#include "perma_test.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+static const char *noop_source = "void noop(perma_ctx *ctx, __local const uint *x) { (void)ctx; (void)x; }\n";
+
+static perma_procedure noop_procedure(void)
+{
+    perma_procedure p = { .name = "noop", .item_type = "uint", .item_size = 4, .threads_per_item = 1,
+                          .source = noop_source, .function = "noop" };
+    return p;
+}
+
+/* Register `p` and expect PERMA_ERR_ARGUMENT with `needle` in the message. */
+static void expect_rejected(perma_runtime *rt, const perma_procedure *p, const char *needle)
+{
+    perma_proc id = -1;
+    perma_status st = perma_register(rt, p, &id);
+    ck_assert_msg(st == PERMA_ERR_ARGUMENT, "expected PERMA_ERR_ARGUMENT for '%s', got %s", needle,
+                  perma_status_name(st));
+    ck_assert_contains(perma_errmsg(rt), needle);
+}
+
+START_TEST(bad_registration_fields)
+{
+    perma_runtime *rt = test_runtime(64, 0, 0);
+    perma_procedure p = noop_procedure();
+    p.name = "9lives";
+    expect_rejected(rt, &p, "procedure name '9lives' is not a C identifier");
+    p = noop_procedure();
+    p.name = NULL;
+    expect_rejected(rt, &p, "procedure name '(null)'");
+    p = noop_procedure();
+    p.item_size = 6;
+    expect_rejected(rt, &p, "item_size 6 must be a multiple of 4");
+    p.item_size = 0;
+    expect_rejected(rt, &p, "item_size 0");
+    p.item_size = 2048;
+    expect_rejected(rt, &p, "item_size 2048");
+    p = noop_procedure();
+    p.threads_per_item = 65;
+    expect_rejected(rt, &p, "threads_per_item 65 exceeds the group size 64");
+    p = noop_procedure();
+    p.item_type = "";
+    expect_rejected(rt, &p, "item_type is empty");
+    p = noop_procedure();
+    p.source = NULL;
+    expect_rejected(rt, &p, "neither source nor source_file is set");
+    p = noop_procedure();
+    p.function = "do-it";
+    expect_rejected(rt, &p, "function 'do-it' is not a C identifier");
+    p = noop_procedure();
+    p.emits[0] = (perma_emit){ "noop", 0 };
+    expect_rejected(rt, &p, "emits[0].max_items 0 must be in 1..4096");
+    p.emits[0] = (perma_emit){ "noop", 1 };
+    p.emits[1] = (perma_emit){ "noop", 1 };
+    expect_rejected(rt, &p, "emits lists target 'noop' twice");
+    p = noop_procedure();
+    p.source = NULL;
+    p.source_file = "tests/data/does-not-exist.cl";
+    perma_proc id;
+    ck_assert_int_eq(perma_register(rt, &p, &id), PERMA_ERR_IO);
+    ck_assert_contains(perma_errmsg(rt), "cannot open 'tests/data/does-not-exist.cl'");
+
+    p = noop_procedure();
+    ck_assert_perma_ok(rt, perma_register(rt, &p, &id));
+    expect_rejected(rt, &p, "procedure 'noop' is already registered");
+    ck_assert_int_eq(perma_register(rt, NULL, &id), PERMA_ERR_ARGUMENT);
+    ck_assert_int_eq(perma_find(rt, "nope", &id), PERMA_ERR_ARGUMENT);
+    ck_assert_contains(perma_errmsg(rt), "no procedure named 'nope'");
+    ck_assert_int_eq(perma_seed(rt, 7, &id, 1), PERMA_ERR_ARGUMENT);
+    ck_assert_contains(perma_errmsg(rt), "7 is not a registered procedure");
+    ck_assert_int_eq(perma_seed(rt, 0, NULL, 1), PERMA_ERR_ARGUMENT);
+    uint32_t buf[4];
+    ck_assert_int_eq(perma_bind_host(rt, "out", "float", buf, sizeof buf, PERMA_WRITE), PERMA_ERR_ARGUMENT);
+    ck_assert_contains(perma_errmsg(rt), "type 'float' is not an OpenCL C pointer type");
+    ck_assert_int_eq(perma_bind_host(rt, "out", "__global uint *", buf, sizeof buf, 8), PERMA_ERR_ARGUMENT);
+    ck_assert_contains(perma_errmsg(rt), "flags 8");
+    perma_destroy(rt);
+}
+END_TEST
+
+START_TEST(no_procedures_is_a_state_error)
+{
+    perma_runtime *rt = test_runtime(64, 0, 0);
+    ck_assert_int_eq(perma_run(rt), PERMA_ERR_STATE);
+    ck_assert_contains(perma_errmsg(rt), "no procedure is registered");
+    perma_destroy(rt);
+}
+END_TEST
+
+START_TEST(syntax_error_names_file_and_line)
+{
+    perma_runtime *rt = test_runtime(64, 0, 0);
+    perma_procedure p = { .name = "broken", .item_type = "uint", .item_size = 4,
+                          .source_file = "tests/data/bad_syntax.cl", .function = "broken" };
+    perma_proc id;
+    ck_assert_perma_ok(rt, perma_register(rt, &p, &id));
+    ck_assert_int_eq(perma_build(rt), PERMA_ERR_BUILD);
+    ck_assert_contains(perma_errmsg(rt), "tests/data/bad_syntax.cl:4:");
+    ck_assert_contains(perma_errmsg(rt), "error");
+    /* perma_run reports the same. */
+    ck_assert_int_eq(perma_run(rt), PERMA_ERR_BUILD);
+    ck_assert_contains(perma_errmsg(rt), "tests/data/bad_syntax.cl:4:");
+    perma_destroy(rt);
+}
+END_TEST
+
+START_TEST(item_size_mismatch_is_a_build_error)
+{
+    perma_runtime *rt = test_runtime(64, 0, 0);
+    perma_procedure p = noop_procedure();
+    p.item_type = "uint2";
+    p.source = "void noop(perma_ctx *ctx, __local const uint2 *x) { (void)ctx; (void)x; }\n";
+    perma_proc id;
+    ck_assert_perma_ok(rt, perma_register(rt, &p, &id));
+    ck_assert_int_eq(perma_build(rt), PERMA_ERR_BUILD);
+    ck_assert_contains(perma_errmsg(rt), "perma_item_size_of_noop_must_equal_sizeof_its_item_type_4");
+    perma_destroy(rt);
+}
+END_TEST
+
+START_TEST(unknown_emit_target)
+{
+    perma_runtime *rt = test_runtime(64, 0, 0);
+    perma_procedure p = noop_procedure();
+    p.emits[0] = (perma_emit){ "nowhere", 1 };
+    perma_proc id;
+    ck_assert_perma_ok(rt, perma_register(rt, &p, &id));
+    ck_assert_int_eq(perma_build(rt), PERMA_ERR_ARGUMENT);
+    ck_assert_contains(perma_errmsg(rt), "procedure 'noop' emits into 'nowhere', which is not a registered procedure");
+    perma_destroy(rt);
+}
+END_TEST
+
+START_TEST(missing_device_from_environment)
+{
+    setenv("PERMA_DEVICE", "9:9", 1);
+    perma_runtime *rt = (perma_runtime *)1;
+    perma_error error;
+    perma_status st = perma_create(NULL, &rt, &error);
+    ck_assert_int_eq(st, PERMA_ERR_NO_DEVICE);
+    ck_assert_int_eq(error.status, PERMA_ERR_NO_DEVICE);
+    ck_assert_ptr_null(rt);
+    ck_assert_contains(error.message, "OpenCL platform 9 requested");
+
+    setenv("PERMA_DEVICE", "0:9", 1);
+    ck_assert_int_eq(perma_create(NULL, &rt, &error), PERMA_ERR_NO_DEVICE);
+    ck_assert_contains(error.message, "OpenCL device 0:9 requested");
+
+    setenv("PERMA_DEVICE", "gpu", 1);
+    ck_assert_int_eq(perma_create(NULL, &rt, &error), PERMA_ERR_ARGUMENT);
+    ck_assert_contains(error.message, "PERMA_DEVICE='gpu' is not of the form platform:device");
+
+    /* An explicit config field wins over the environment. */
+    perma_config config;
+    perma_config_init(&config);
+    config.platform_index = 0;
+    config.device_index = 0;
+    ck_assert_int_eq(perma_create(&config, &rt, &error), PERMA_OK);
+    perma_destroy(rt);
+    unsetenv("PERMA_DEVICE");
+}
+END_TEST
+
+START_TEST(bad_config_values)
+{
+    perma_config config;
+    perma_config_init(&config);
+    config.time_limit = -1;
+    perma_runtime *rt;
+    perma_error error;
+    ck_assert_int_eq(perma_create(&config, &rt, &error), PERMA_ERR_ARGUMENT);
+    ck_assert_contains(error.message, "config.time_limit -1");
+    perma_config_init(&config);
+    config.group_size = 100000;
+    ck_assert_int_eq(perma_create(&config, &rt, &error), PERMA_ERR_ARGUMENT);
+    ck_assert_contains(error.message, "config.group_size 100000");
+}
+END_TEST
+
+static const char *limit_source =
+    "void greedy(perma_ctx *ctx, __local const uint *x)\n"
+    "{\n"
+    "    uint v = *x;\n"
+    "    if (v == 0u) { uint a = 1u; emit_sink(ctx, &a); emit_sink(ctx, &a); emit_sink(ctx, &a); }\n"
+    "}\n"
+    "void sink(perma_ctx *ctx, __local const uint *x) { (void)ctx; (void)x; }\n";
+
+START_TEST(emitting_beyond_the_declared_maximum)
+{
+    perma_runtime *rt = test_runtime(64, 0, 0);
+    perma_procedure greedy = { .name = "greedy", .item_type = "uint", .item_size = 4, .source = limit_source,
+                               .source_file = "limit.cl", .function = "greedy", .emits = { { "sink", 2 } } };
+    perma_procedure sink = greedy;
+    sink.name = "sink";
+    sink.function = "sink";
+    memset(sink.emits, 0, sizeof sink.emits);
+    perma_proc g, s;
+    ck_assert_perma_ok(rt, perma_register(rt, &greedy, &g));
+    ck_assert_perma_ok(rt, perma_register(rt, &sink, &s));
+    uint32_t zero = 0;
+    ck_assert_perma_ok(rt, perma_seed(rt, g, &zero, 1));
+    ck_assert_int_eq(perma_run(rt), PERMA_ERR_EMIT_LIMIT);
+    ck_assert_contains(perma_errmsg(rt),
+                       "procedure 'greedy' emitted more than its declared maximum of 2 item(s) into 'sink'");
+    perma_destroy(rt);
+}
+END_TEST
+
+/* Two procedures in one source: `rogue` calls the emit helper of a target
+ * that only `a` declares. */
+static const char *undeclared_source =
+    "void proc_a(perma_ctx *ctx, __local const uint *x) { uint v = *x; if (v) emit_b(ctx, &v); }\n"
+    "void proc_b(perma_ctx *ctx, __local const uint *x) { (void)ctx; (void)x; }\n"
+    "void rogue(perma_ctx *ctx, __local const uint *x) { uint v = 0; emit_b(ctx, &v); (void)x; }\n";
+
+START_TEST(emitting_into_an_undeclared_target)
+{
+    perma_runtime *rt = test_runtime(64, 0, 0);
+    perma_procedure a = { .name = "a", .item_type = "uint", .item_size = 4, .source = undeclared_source,
+                          .source_file = "undeclared.cl", .function = "proc_a", .emits = { { "b", 1 } } };
+    perma_procedure b = a, rogue = a;
+    b.name = "b";
+    b.function = "proc_b";
+    memset(b.emits, 0, sizeof b.emits);
+    rogue.name = "rogue";
+    rogue.function = "rogue";
+    memset(rogue.emits, 0, sizeof rogue.emits);
+    perma_proc ia, ib, ir;
+    ck_assert_perma_ok(rt, perma_register(rt, &a, &ia));
+    ck_assert_perma_ok(rt, perma_register(rt, &b, &ib));
+    ck_assert_perma_ok(rt, perma_register(rt, &rogue, &ir));
+    uint32_t one = 1;
+    ck_assert_perma_ok(rt, perma_seed(rt, ia, &one, 1));
+    ck_assert_perma_ok(rt, perma_run(rt));
+    ck_assert_perma_ok(rt, perma_seed(rt, ir, &one, 1));
+    ck_assert_int_eq(perma_run(rt), PERMA_ERR_EMIT_LIMIT);
+    ck_assert_contains(perma_errmsg(rt), "procedure 'rogue' emitted into 'b', which is not listed in its .emits");
+    perma_destroy(rt);
+}
+END_TEST
+
+START_TEST(watchdog_stops_an_endless_run)
+{
+    perma_config config;
+    perma_config_init(&config);
+    config.time_limit = 1.0;
+    perma_runtime *rt = test_runtime_config(&config);
+    perma_procedure spin = {
+        .name = "spin", .item_type = "uint", .item_size = 4,
+        .source = "void spin(perma_ctx *ctx, __local const uint *x) { uint v = *x + 1u; emit_spin(ctx, &v); }\n",
+        .function = "spin", .emits = { { "spin", 1 } },
+    };
+    perma_proc id;
+    ck_assert_perma_ok(rt, perma_register(rt, &spin, &id));
+    uint32_t zero = 0;
+    ck_assert_perma_ok(rt, perma_seed(rt, id, &zero, 1));
+    ck_assert_int_eq(perma_run(rt), PERMA_ERR_TIMEOUT);
+    ck_assert_contains(perma_errmsg(rt), "time limit of 1 s");
+    perma_stats st;
+    ck_assert_perma_ok(rt, perma_get_stats(rt, &st));
+    ck_assert_double_lt(st.seconds, 15.0);
+    perma_destroy(rt);
+}
+END_TEST
+
+int main(void)
+{
+    Suite *s = suite_create("errors");
+    TCase *tc = tcase_create("errors");
+    tcase_set_timeout(tc, PERMA_TEST_TIMEOUT);
+    tcase_add_test(tc, bad_registration_fields);
+    tcase_add_test(tc, no_procedures_is_a_state_error);
+    tcase_add_test(tc, syntax_error_names_file_and_line);
+    tcase_add_test(tc, item_size_mismatch_is_a_build_error);
+    tcase_add_test(tc, unknown_emit_target);
+    tcase_add_test(tc, missing_device_from_environment);
+    tcase_add_test(tc, bad_config_values);
+    tcase_add_test(tc, emitting_beyond_the_declared_maximum);
+    tcase_add_test(tc, emitting_into_an_undeclared_target);
+    tcase_add_test(tc, watchdog_stops_an_endless_run);
+    suite_add_tcase(s, tc);
+    return test_run_suite(s) ? EXIT_FAILURE : EXIT_SUCCESS;
+}

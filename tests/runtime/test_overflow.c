@@ -1,0 +1,117 @@
+/* Overflow loses nothing: queues far too small grow and the run completes
+ * with the exact result; a memory cap that cannot be met is an error that
+ * names the queue, never a hang. */
+#include "perma_test.h"
+#include "tree_procedure.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+static perma_proc add_tree(perma_runtime *rt, uint32_t *counts, uint64_t *sums)
+{
+    ck_assert_perma_ok(rt, perma_add_source(rt, TREE_TYPES, "tree_types.cl"));
+    perma_procedure tree = {
+        .name = "tree", .item_type = "struct tree_node", .item_size = sizeof(struct tree_node),
+        .source = TREE_SOURCE, .function = "tree_split", .emits = { { "tree", 2 } },
+    };
+    perma_proc id;
+    ck_assert_perma_ok(rt, perma_register(rt, &tree, &id));
+    ck_assert_perma_ok(rt, perma_bind_host(rt, "counts", "__global uint *", counts, 8, PERMA_READ_WRITE));
+    ck_assert_perma_ok(rt, perma_bind_host(rt, "sums", "__global ulong *", sums, 8, PERMA_READ_WRITE));
+    return id;
+}
+
+START_TEST(tiny_queue_regrows_to_exact_result)
+{
+    perma_runtime *rt = test_runtime(64, 2, 2);
+    uint32_t counts[2] = { 0, 0 };
+    uint64_t sums[1] = { 0 };
+    perma_proc id = add_tree(rt, counts, sums);
+    enum { DEPTH = 14 };
+    struct tree_node root = { 0, DEPTH, 1, 0 };
+    ck_assert_perma_ok(rt, perma_seed(rt, id, &root, 1));
+    ck_assert_perma_ok(rt, perma_run(rt));
+    ck_assert_uint_eq(counts[0], 1u << DEPTH);
+    ck_assert_uint_eq(counts[1], (1u << DEPTH) - 1);
+    uint64_t first = 1u << DEPTH, last = (2u << DEPTH) - 1;
+    ck_assert_uint_eq(sums[0], (first + last) * (last - first + 1) / 2);
+
+    perma_stats st;
+    ck_assert_perma_ok(rt, perma_get_stats(rt, &st));
+    ck_assert_uint_gt(st.regrowths, 0);
+    ck_assert_uint_eq(st.launches, st.regrowths + 1);
+    perma_procedure_stats ps;
+    ck_assert_perma_ok(rt, perma_get_procedure_stats(rt, id, &ps));
+    ck_assert_uint_eq(ps.regrowths, st.regrowths);
+    ck_assert_uint_gt(ps.queue_capacity, 2);
+    ck_assert_uint_le(ps.peak_queue_items, ps.queue_capacity);
+    ck_assert_uint_eq(ps.items, (2u << DEPTH) - 1);
+
+    /* The next run starts from the configured capacity again. */
+    memset(counts, 0, sizeof counts);
+    sums[0] = 0;
+    root.target = 3;
+    ck_assert_perma_ok(rt, perma_seed(rt, id, &root, 1));
+    ck_assert_perma_ok(rt, perma_run(rt));
+    ck_assert_uint_eq(counts[0], 8);
+    perma_destroy(rt);
+}
+END_TEST
+
+START_TEST(memory_cap_is_a_clear_error)
+{
+    perma_config config;
+    perma_config_init(&config);
+    config.queue_capacity = 16;
+    config.queue_memory_limit = 64 * 1024;
+    config.time_limit = 60;
+    perma_runtime *rt = test_runtime_config(&config);
+    uint32_t counts[2] = { 0, 0 };
+    uint64_t sums[1] = { 0 };
+    perma_proc id = add_tree(rt, counts, sums);
+    struct tree_node root = { 0, 16, 1, 0 }; /* 65536 leaves: far beyond 64 KiB */
+    ck_assert_perma_ok(rt, perma_seed(rt, id, &root, 1));
+    perma_status st = perma_run(rt);
+    ck_assert_int_eq(st, PERMA_ERR_CAPACITY);
+    ck_assert_contains(perma_errmsg(rt), "queue 'tree'");
+    ck_assert_contains(perma_errmsg(rt), "memory limit of 65536 bytes");
+    perma_destroy(rt);
+}
+END_TEST
+
+/* A procedure that always emits two copies of itself never finishes: the
+ * queues grow until the cap, and the run ends with an error. */
+START_TEST(unbounded_recursion_hits_the_cap)
+{
+    perma_config config;
+    perma_config_init(&config);
+    config.queue_memory_limit = 1 << 20;
+    config.time_limit = 60;
+    perma_runtime *rt = test_runtime_config(&config);
+    perma_procedure forever = {
+        .name = "forever", .item_type = "uint", .item_size = 4,
+        .source = "void forever(perma_ctx *ctx, __local const uint *x)\n"
+                  "{ uint a = *x + 1u; emit_forever(ctx, &a); emit_forever(ctx, &a); }\n",
+        .function = "forever", .emits = { { "forever", 2 } },
+    };
+    perma_proc id;
+    ck_assert_perma_ok(rt, perma_register(rt, &forever, &id));
+    uint32_t zero = 0;
+    ck_assert_perma_ok(rt, perma_seed(rt, id, &zero, 1));
+    ck_assert_int_eq(perma_run(rt), PERMA_ERR_CAPACITY);
+    ck_assert_contains(perma_errmsg(rt), "queue 'forever'");
+    perma_destroy(rt);
+}
+END_TEST
+
+int main(void)
+{
+    Suite *s = suite_create("overflow");
+    TCase *tc = tcase_create("overflow");
+    tcase_set_timeout(tc, PERMA_TEST_TIMEOUT);
+    tcase_add_test(tc, tiny_queue_regrows_to_exact_result);
+    tcase_add_test(tc, memory_cap_is_a_clear_error);
+    tcase_add_test(tc, unbounded_recursion_hits_the_cap);
+    suite_add_tcase(s, tc);
+    return test_run_suite(s) ? EXIT_FAILURE : EXIT_SUCCESS;
+}

@@ -1,0 +1,109 @@
+/* A recursive split procedure building a binary tree of depth d: exact leaf
+ * and inner-node counts and a checksum of leaf ids, for several depths,
+ * group sizes, threads per item and work-group counts. */
+#include "perma_test.h"
+#include "tree_procedure.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+static const struct {
+    unsigned group_size, threads_per_item, work_groups;
+} configs[] = {
+    { 64, 1, 0 }, { 32, 1, 2 }, { 64, 2, 1 }, { 128, 4, 2 }, { 16, 16, 2 },
+};
+
+static uint64_t leaf_id_sum(unsigned d)
+{
+    uint64_t first = (uint64_t)1 << d, last = ((uint64_t)1 << (d + 1)) - 1;
+    return (first + last) * (last - first + 1) / 2;
+}
+
+START_TEST(tree_counts_exact)
+{
+    unsigned gs = configs[_i].group_size, tpi = configs[_i].threads_per_item;
+    perma_runtime *rt = test_runtime(gs, configs[_i].work_groups, 0);
+    ck_assert_perma_ok(rt, perma_add_source(rt, TREE_TYPES, "tree_types.cl"));
+    perma_procedure tree = {
+        .name = "tree", .item_type = "struct tree_node", .item_size = sizeof(struct tree_node),
+        .threads_per_item = tpi, .source = TREE_SOURCE, .source_file = "tree_split.cl",
+        .function = "tree_split", .emits = { { "tree", 2 } },
+    };
+    perma_proc id;
+    ck_assert_perma_ok(rt, perma_register(rt, &tree, &id));
+    uint32_t counts[2];
+    uint64_t sums[1];
+    ck_assert_perma_ok(rt, perma_bind_host(rt, "counts", "__global uint *", counts, sizeof counts, PERMA_READ_WRITE));
+    ck_assert_perma_ok(rt, perma_bind_host(rt, "sums", "__global ulong *", sums, sizeof sums, PERMA_READ_WRITE));
+
+    const unsigned depths[] = { 0, 1, 5, 12 };
+    for (size_t k = 0; k < sizeof depths / sizeof depths[0]; ++k) {
+        unsigned d = depths[k];
+        memset(counts, 0, sizeof counts);
+        sums[0] = 0;
+        struct tree_node root = { 0, d, 1, 0 };
+        ck_assert_perma_ok(rt, perma_seed(rt, id, &root, 1));
+        ck_assert_perma_ok(rt, perma_run(rt));
+        ck_assert_uint_eq(counts[0], 1u << d);
+        ck_assert_uint_eq(counts[1], (1u << d) - 1);
+        ck_assert_uint_eq(sums[0], leaf_id_sum(d));
+
+        perma_procedure_stats ps;
+        ck_assert_perma_ok(rt, perma_get_procedure_stats(rt, id, &ps));
+        ck_assert_uint_eq(ps.items, (2u << d) - 1);
+        ck_assert_uint_eq(ps.emitted[0], (2u << d) - 2);
+        ck_assert_uint_eq(ps.seeded, 1);
+        ck_assert_uint_ge(ps.batches, ps.items * tpi / gs);
+        perma_stats st;
+        ck_assert_perma_ok(rt, perma_get_stats(rt, &st));
+        ck_assert_uint_eq(st.items, (2u << d) - 1);
+        ck_assert_uint_eq(st.group_size, gs);
+    }
+    perma_destroy(rt);
+}
+END_TEST
+
+/* Many roots seeded at once, more than one batch and than the initial
+ * queue capacity. */
+START_TEST(tree_many_roots)
+{
+    perma_runtime *rt = test_runtime(64, 0, 256);
+    ck_assert_perma_ok(rt, perma_add_source(rt, TREE_TYPES, "tree_types.cl"));
+    perma_procedure tree = {
+        .name = "tree", .item_type = "struct tree_node", .item_size = sizeof(struct tree_node),
+        .source = TREE_SOURCE, .function = "tree_split", .emits = { { "tree", 2 } },
+    };
+    perma_proc id;
+    ck_assert_perma_ok(rt, perma_register(rt, &tree, &id));
+    uint32_t counts[2] = { 0, 0 };
+    uint64_t sums[1] = { 0 };
+    ck_assert_perma_ok(rt, perma_bind_host(rt, "counts", "__global uint *", counts, sizeof counts, PERMA_READ_WRITE));
+    ck_assert_perma_ok(rt, perma_bind_host(rt, "sums", "__global ulong *", sums, sizeof sums, PERMA_READ_WRITE));
+    enum { ROOTS = 1000, DEPTH = 6 };
+    struct tree_node *roots = calloc(ROOTS, sizeof *roots);
+    uint64_t expected = 0;
+    for (unsigned i = 0; i < ROOTS; ++i) {
+        roots[i] = (struct tree_node){ 0, DEPTH, i + 1, 0 };
+        for (uint64_t leaf = 0; leaf < (1u << DEPTH); ++leaf)
+            expected += ((uint64_t)(i + 1) << DEPTH) + leaf;
+    }
+    ck_assert_perma_ok(rt, perma_seed(rt, id, roots, ROOTS));
+    ck_assert_perma_ok(rt, perma_run(rt));
+    ck_assert_uint_eq(counts[0], ROOTS << DEPTH);
+    ck_assert_uint_eq(counts[1], ROOTS * ((1u << DEPTH) - 1));
+    ck_assert_uint_eq(sums[0], expected);
+    free(roots);
+    perma_destroy(rt);
+}
+END_TEST
+
+int main(void)
+{
+    Suite *s = suite_create("tree");
+    TCase *tc = tcase_create("tree");
+    tcase_set_timeout(tc, PERMA_TEST_TIMEOUT);
+    tcase_add_loop_test(tc, tree_counts_exact, 0, (int)(sizeof configs / sizeof configs[0]));
+    tcase_add_test(tc, tree_many_roots);
+    suite_add_tcase(s, tc);
+    return test_run_suite(s) ? EXIT_FAILURE : EXIT_SUCCESS;
+}
