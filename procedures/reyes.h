@@ -101,6 +101,9 @@ reyes_status reyes_camera_frame(const reyes_scene *scene, float fov_deg, float a
 reyes_status reyes_camera_matrix(const reyes_camera *camera, float aspect, float near_w,
                                  float m[16], reyes_error *error);
 
+/* Clip w of the near plane for a scene: a small fraction of its size. */
+float reyes_near_plane(const reyes_scene *scene);
+
 /* Pixel position (y down) and depth of a world point; 0 if behind the eye. */
 int reyes_camera_project(const float m[16], unsigned width, unsigned height, const float x[3],
                          float *px, float *py, float *depth);

@@ -143,3 +143,12 @@ int reyes_camera_project(const float m[16], unsigned width, unsigned height, con
     *depth = clip[3];
     return 1;
 }
+
+float reyes_near_plane(const reyes_scene *scene)
+{
+    float lo[3], hi[3], diagonal[3];
+    if (!reyes_scene_bounds(scene, lo, hi))
+        return 1e-4f;
+    sub3(hi, lo, diagonal);
+    return 1e-4f * fmaxf(0.5f * sqrtf(dot3(diagonal, diagonal)), 1e-3f);
+}

@@ -30,13 +30,8 @@ static reyes_status fill_params(const reyes_scene *scene, const reyes_camera *ca
                                 struct reyes_params *p, reyes_error *error)
 {
     memset(p, 0, sizeof *p);
-    float lo[3], hi[3];
-    float radius = 1.0f;
-    if (reyes_scene_bounds(scene, lo, hi))
-        radius = fmaxf(0.5f * sqrtf((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1])
-                                    + (hi[2] - lo[2]) * (hi[2] - lo[2])), 1e-3f);
     /* Nothing closer than this is projected; patches crossing it are split. */
-    p->near_w = 1e-4f * radius;
+    p->near_w = reyes_near_plane(scene);
     reyes_status status = reyes_camera_matrix(camera, (float)o->width / (float)o->height, p->near_w,
                                               p->view_proj, error);
     if (status != REYES_OK)

@@ -204,6 +204,15 @@ static int on_backface(reyes_cli *cli, const char *value, char *message, size_t 
     return REYES_CLI_OK;
 }
 
+static int on_reference(reyes_cli *cli, const char *value, char *message, size_t size)
+{
+    (void)value;
+    (void)message;
+    (void)size;
+    cli->reference = 1;
+    return REYES_CLI_OK;
+}
+
 static int on_help(reyes_cli *cli, const char *value, char *message, size_t size)
 {
     (void)value;
@@ -236,6 +245,7 @@ static const cli_option options[] = {
     { "groups", 0, "N", on_groups, "persistent work-groups (default: as many as fit)" },
     { "backface", 0, NULL, on_backface, "cull patches that face away entirely" },
     { "stats", 0, "FILE", on_stats, "write statistics as JSON" },
+    { "reference", 0, NULL, on_reference, "also run the single-threaded C bound/split/dice and print its counts" },
     { "help", 'h', NULL, on_help, "show this help" },
     { "version", 0, NULL, on_version, "show the version" },
 };

@@ -19,6 +19,7 @@ typedef struct reyes_cli {
     int has_camera;
     float camera[6];        /* eye x y z, target x y z */
     float fov_deg;
+    int reference;          /* also run the C reference of bound/split/dice */
     int help, version;
 } reyes_cli;
 

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 
 #include "reyes_cli.h"
+#include "reyes_reference.h"
 
 #define EXIT_USAGE 2
 
@@ -37,6 +38,20 @@ static reyes_status choose_camera(const reyes_cli *cli, const reyes_scene *scene
     return REYES_OK;
 }
 
+static reyes_status run_reference(const reyes_cli *cli, const reyes_scene *scene,
+                                  const reyes_camera *camera, reyes_error *error)
+{
+    reyes_reference_counts counts;
+    reyes_status status = reyes_reference_run(scene, camera, &cli->render, &counts, error);
+    if (status == REYES_OK)
+        printf("reference (C, 1 thread, no shading or sampling): %llu splits, %llu grids, "
+               "%llu culled, %llu micropolygons, %.3f s\n",
+               (unsigned long long)counts.splits, (unsigned long long)counts.grids,
+               (unsigned long long)counts.culled, (unsigned long long)counts.micropolygons,
+               counts.seconds);
+    return status;
+}
+
 static reyes_status run(const reyes_cli *cli, reyes_error *error)
 {
     reyes_scene scene;
@@ -62,6 +77,8 @@ static reyes_status run(const reyes_cli *cli, reyes_error *error)
                (unsigned long long)stats.splits, (unsigned long long)stats.grids,
                (unsigned long long)stats.micropolygons, stats.seconds,
                reyes_renderer_device(renderer));
+    if (status == REYES_OK && cli->reference)
+        status = run_reference(cli, &scene, &camera, error);
     reyes_image_free(&image);
     reyes_renderer_destroy(renderer);
     reyes_scene_free(&scene);

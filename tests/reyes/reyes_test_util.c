@@ -3,6 +3,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "reyes_reference.h"
 #include "reyes_test_util.h"
 
 uint64_t reyes_test_covered_samples(const reyes_image *image)
@@ -80,4 +81,18 @@ reyes_renderer *reyes_test_renderer(unsigned work_groups)
         ck_assert_msg(status == REYES_OK, "renderer: %s", error.message);
     }
     return renderers[work_groups];
+}
+
+void reyes_test_expect_reference_counts(const reyes_scene *scene, const reyes_camera *camera,
+                                        const reyes_options *options, const reyes_stats *stats)
+{
+    reyes_reference_counts counts;
+    reyes_error error;
+    reyes_status status = reyes_reference_run(scene, camera, options, &counts, &error);
+    ck_assert_msg(status == REYES_OK, "reference: %s", error.message);
+    ck_assert_uint_eq(stats->splits, counts.splits);
+    ck_assert_uint_eq(stats->culled, counts.culled);
+    ck_assert_uint_eq(stats->grids, counts.grids);
+    ck_assert_uint_eq(stats->forced_dice, counts.forced_dice);
+    ck_assert_uint_eq(stats->micropolygons, counts.micropolygons);
 }

@@ -18,6 +18,11 @@ void reyes_test_render(reyes_renderer *renderer, const reyes_scene *scene,
                        const reyes_camera *camera, const reyes_options *options,
                        reyes_image *image, reyes_stats *stats);
 
+/* The megakernel's splits, culled, grids and micropolygons equal those of
+ * the single-threaded C reference (reyes_reference.c). */
+void reyes_test_expect_reference_counts(const reyes_scene *scene, const reyes_camera *camera,
+                                        const reyes_options *options, const reyes_stats *stats);
+
 /* A renderer created once per process for `work_groups` groups (0 or
  * 1..2) with default grid; destroyed at exit. */
 reyes_renderer *reyes_test_renderer(unsigned work_groups);

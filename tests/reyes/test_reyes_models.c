@@ -57,6 +57,7 @@ START_TEST(test_teapot_groups_and_holes)
     ck_assert_uint_eq(stats_one.micropolygons, stats_two.micropolygons);
     ck_assert_uint_eq(stats_one.forced_dice, 0);
     ck_assert_mem_eq(one.rgb, two.rgb, (size_t)o.width * o.height * 3);
+    reyes_test_expect_reference_counts(&scene, &camera, &o, &stats_one);
     ck_assert_uint_eq(reyes_test_hole_pixels(&one, 16), 0);
     reyes_image_free(&one);
     reyes_image_free(&two);
@@ -81,6 +82,7 @@ START_TEST(test_killeroo)
     reyes_test_render(reyes_test_renderer(0), &scene, &camera, &o, &image, &stats);
     ck_assert_uint_eq(stats.patches_in + stats.splits, stats.grids + stats.culled);
     ck_assert_uint_gt(stats.samples_written, 128 * 128 * o.spp / 10);
+    reyes_test_expect_reference_counts(&scene, &camera, &o, &stats);
     reyes_image_free(&image);
     reyes_scene_free(&scene);
 }

@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "reyes_reference.h"
 #include "reyes_test_util.h"
 
 #define PI 3.14159265358979323846
@@ -131,6 +132,7 @@ START_TEST(test_builtin_no_holes)
     ck_assert_uint_eq(stats.procedures[REYES_PROC_SPLIT_U].items + stats.procedures[REYES_PROC_SPLIT_V].items,
                       stats.splits);
     ck_assert_uint_gt(stats.samples_written, 0);
+    reyes_test_expect_reference_counts(&scene, &camera, &o, &stats);
     reyes_image_free(&image);
     reyes_scene_free(&scene);
 }
@@ -192,7 +194,35 @@ START_TEST(test_camera_inside_and_behind)
     ck_assert_uint_eq(reyes_test_covered_samples(&image), 0);
     ck_assert_uint_eq(stats.culled, scene.patch_count);
     ck_assert_uint_eq(stats.grids, 0);
+    reyes_test_expect_reference_counts(&scene, &away, &o, &stats);
     ck_assert_uint_eq(image.rgb[0], o.background & 255u);
+    reyes_image_free(&image);
+    reyes_scene_free(&scene);
+}
+END_TEST
+
+/* Back-face culling, another bound and a depth limit that forces dicing:
+ * the counts still equal the C reference's. */
+START_TEST(test_options_match_reference)
+{
+    reyes_scene scene;
+    reyes_error error;
+    reyes_camera camera;
+    reyes_scene_init(&scene);
+    ck_assert_int_eq(reyes_scene_add_builtin(&scene, &error), REYES_OK);
+    reyes_options o;
+    small_options(&o, 96, 64);
+    ck_assert_int_eq(reyes_camera_frame(&scene, 40.0f, 96.0f / 64.0f, &camera, &error), REYES_OK);
+    o.backface_cull = 1;
+    o.bound_px = 3.0f;
+    o.max_depth = 4;
+    o.spp = 1;
+    reyes_image image;
+    reyes_stats stats;
+    reyes_test_render(reyes_test_renderer(0), &scene, &camera, &o, &image, &stats);
+    ck_assert_uint_gt(stats.culled, 0);
+    ck_assert_uint_gt(stats.forced_dice, 0);
+    reyes_test_expect_reference_counts(&scene, &camera, &o, &stats);
     reyes_image_free(&image);
     reyes_scene_free(&scene);
 }
@@ -234,6 +264,7 @@ static Suite *render_suite(void)
     tcase_add_test(tc, test_builtin_no_holes);
     tcase_add_test(tc, test_groups_identical);
     tcase_add_test(tc, test_camera_inside_and_behind);
+    tcase_add_test(tc, test_options_match_reference);
     tcase_add_test(tc, test_render_arguments);
     suite_add_tcase(s, tc);
     return s;

@@ -1,0 +1,272 @@
+/*
+ * CPU reference of the Reyes subdivision: the same tests as reyes_bound.cl
+ * and reyes_dice.cl, written in C and run depth-first.  Float rounding may
+ * differ from the device's (contractions, vector code), so a patch right at
+ * a threshold can rarely be decided differently.
+ */
+#include <math.h>
+#include <string.h>
+#include <time.h>
+
+#include "reyes_reference.h"
+#include "reyes_shared.h"
+
+typedef struct vec3 { float x, y, z; } vec3;
+typedef struct vec4 { float x, y, z, w; } vec4;
+
+typedef struct context {
+    const reyes_scene *scene;
+    const reyes_options *o;
+    float m[16];
+    float near_w;
+    reyes_reference_counts *counts;
+} context;
+
+static vec3 mix3(vec3 a, vec3 b, float t)
+{
+    return (vec3){ a.x + (b.x - a.x) * t, a.y + (b.y - a.y) * t, a.z + (b.z - a.z) * t };
+}
+
+static vec3 blossom(const vec3 p[4], float t1, float t2, float t3)
+{
+    vec3 a = mix3(p[0], p[1], t1), b = mix3(p[1], p[2], t1), c = mix3(p[2], p[3], t1);
+    return mix3(mix3(a, b, t2), mix3(b, c, t2), t3);
+}
+
+static void restrict_curve(vec3 cp[16], int first, int stride, float a, float b)
+{
+    vec3 p[4] = { cp[first], cp[first + stride], cp[first + 2 * stride], cp[first + 3 * stride] };
+    cp[first] = blossom(p, a, a, a);
+    cp[first + stride] = blossom(p, a, a, b);
+    cp[first + 2 * stride] = blossom(p, a, b, b);
+    cp[first + 3 * stride] = blossom(p, b, b, b);
+}
+
+static void load_patch(const reyes_scene *scene, uint32_t patch, vec3 cp[16])
+{
+    const float *p = scene->points + (size_t)patch * 64;
+    for (int k = 0; k < 16; ++k)
+        cp[k] = (vec3){ p[k * 4], p[k * 4 + 1], p[k * 4 + 2] };
+}
+
+static vec4 to_clip(const float m[16], vec3 x)
+{
+    float c[4];
+    for (int r = 0; r < 4; ++r)
+        c[r] = m[r * 4] * x.x + m[r * 4 + 1] * x.y + m[r * 4 + 2] * x.z + m[r * 4 + 3];
+    return (vec4){ c[0], c[1], c[2], c[3] };
+}
+
+static void to_screen(const context *c, vec4 clip, float *sx, float *sy)
+{
+    float inv_w = 1.0f / clip.w;
+    *sx = (clip.x * inv_w * 0.5f + 0.5f) * (float)c->o->width;
+    *sy = (0.5f - clip.y * inv_w * 0.5f) * (float)c->o->height;
+}
+
+static int outside_frustum(const vec4 clip[16], float margin)
+{
+    int left = 1, right = 1, bottom = 1, top = 1;
+    for (int k = 0; k < 16; ++k) {
+        float w = clip[k].w * (1.0f + margin);
+        left &= clip[k].x < -w;
+        right &= clip[k].x > w;
+        bottom &= clip[k].y < -w;
+        top &= clip[k].y > w;
+    }
+    return left | right | bottom | top;
+}
+
+static int backfacing(const float sx[16], const float sy[16])
+{
+    for (int a = 0; a < 12; ++a) {
+        int r = a / 3, col = a % 3;
+        float dux = sx[r * 4 + col + 1] - sx[r * 4 + col], duy = sy[r * 4 + col + 1] - sy[r * 4 + col];
+        for (int b = 0; b < 12; ++b) {
+            int cc = b / 3, rr = b % 3;
+            float dvx = sx[(rr + 1) * 4 + cc] - sx[rr * 4 + cc];
+            float dvy = sy[(rr + 1) * 4 + cc] - sy[rr * 4 + cc];
+            if (dux * dvy - duy * dvx <= 0.0f)
+                return 0;
+        }
+    }
+    return 1;
+}
+
+/* Longest polyline of the hull along u (rows) or v (columns); 2D when z is NULL. */
+static float extent(const float *x, const float *y, const float *z, int along_u)
+{
+    float longest = 0.0f;
+    for (int line = 0; line < 4; ++line) {
+        float length = 0.0f;
+        for (int k = 0; k < 3; ++k) {
+            int i0 = along_u ? line * 4 + k : k * 4 + line;
+            int i1 = along_u ? i0 + 1 : i0 + 4;
+            float dx = x[i1] - x[i0], dy = y[i1] - y[i0], dz = z ? z[i1] - z[i0] : 0.0f;
+            length += sqrtf(dx * dx + dy * dy + dz * dz);
+        }
+        longest = fmaxf(longest, length);
+    }
+    return longest;
+}
+
+static void bernstein(float t, float b[4])
+{
+    float s = 1.0f - t;
+    b[0] = s * s * s;
+    b[1] = 3.0f * t * s * s;
+    b[2] = 3.0f * t * t * s;
+    b[3] = t * t * t;
+}
+
+/* Quads of the grid that dice would emit. */
+static void dice(context *c, const struct reyes_subpatch *sp)
+{
+    unsigned n = c->o->grid;
+    vec3 cp[16];
+    load_patch(c->scene, sp->patch, cp);
+    float last = (float)(n - 1);
+    /* Screen position and w of every grid vertex, row by row. */
+    float sx[REYES_MAX_GRID * REYES_MAX_GRID], sy[REYES_MAX_GRID * REYES_MAX_GRID];
+    int front[REYES_MAX_GRID * REYES_MAX_GRID];
+    for (unsigned j = 0; j < n; ++j) {
+        for (unsigned i = 0; i < n; ++i) {
+            float tu = (float)i / last, tv = (float)j / last;
+            float u = sp->u0 * (1.0f - tu) + sp->u1 * tu, v = sp->v0 * (1.0f - tv) + sp->v1 * tv;
+            float bu[4], bv[4];
+            bernstein(u, bu);
+            bernstein(v, bv);
+            vec3 x = {0, 0, 0};
+            for (int r = 0; r < 4; ++r) {
+                for (int col = 0; col < 4; ++col) {
+                    float w = bv[r] * bu[col];
+                    x.x += w * cp[r * 4 + col].x;
+                    x.y += w * cp[r * 4 + col].y;
+                    x.z += w * cp[r * 4 + col].z;
+                }
+            }
+            vec4 clip = to_clip(c->m, x);
+            front[j * n + i] = clip.w > c->near_w;
+            to_screen(c, clip, &sx[j * n + i], &sy[j * n + i]);
+        }
+    }
+    for (unsigned j = 0; j + 1 < n; ++j) {
+        for (unsigned i = 0; i + 1 < n; ++i) {
+            unsigned corner[4] = { j * n + i, j * n + i + 1, (j + 1) * n + i + 1, (j + 1) * n + i };
+            int visible = 1;
+            float lox = INFINITY, loy = INFINITY, hix = -INFINITY, hiy = -INFINITY;
+            for (int k = 0; k < 4; ++k) {
+                visible &= front[corner[k]];
+                lox = fminf(lox, sx[corner[k]]);
+                hix = fmaxf(hix, sx[corner[k]]);
+                loy = fminf(loy, sy[corner[k]]);
+                hiy = fmaxf(hiy, sy[corner[k]]);
+            }
+            visible &= hix >= 0.0f && hiy >= 0.0f && lox <= (float)c->o->width
+                       && loy <= (float)c->o->height;
+            c->counts->micropolygons += (uint64_t)visible;
+        }
+    }
+}
+
+static void split(context *c, struct reyes_subpatch sp, int along_u);
+
+static void bound(context *c, struct reyes_subpatch sp)
+{
+    const reyes_options *o = c->o;
+    if (sp.depth > c->counts->max_depth_seen)
+        c->counts->max_depth_seen = sp.depth;
+    vec3 cp[16];
+    vec4 clip[16];
+    load_patch(c->scene, sp.patch, cp);
+    for (int row = 0; row < 4; ++row)
+        restrict_curve(cp, row * 4, 1, sp.u0, sp.u1);
+    for (int col = 0; col < 4; ++col)
+        restrict_curve(cp, col, 4, sp.v0, sp.v1);
+    int all_behind = 1, any_behind = 0;
+    for (int k = 0; k < 16; ++k) {
+        clip[k] = to_clip(c->m, cp[k]);
+        int behind = clip[k].w <= c->near_w;
+        all_behind &= behind;
+        any_behind |= behind;
+    }
+    if (all_behind || outside_frustum(clip, o->cull_margin)) {
+        ++c->counts->culled;
+        return;
+    }
+    int forced = sp.depth >= o->max_depth;
+    if (any_behind) {
+        if (forced) {
+            ++c->counts->culled;
+        } else {
+            float x[16], y[16], z[16];
+            for (int k = 0; k < 16; ++k) {
+                x[k] = cp[k].x;
+                y[k] = cp[k].y;
+                z[k] = cp[k].z;
+            }
+            split(c, sp, extent(x, y, z, 1) >= extent(x, y, z, 0));
+        }
+        return;
+    }
+    float sx[16], sy[16], lox = INFINITY, loy = INFINITY, hix = -INFINITY, hiy = -INFINITY;
+    for (int k = 0; k < 16; ++k) {
+        to_screen(c, clip[k], &sx[k], &sy[k]);
+        lox = fminf(lox, sx[k]);
+        hix = fmaxf(hix, sx[k]);
+        loy = fminf(loy, sy[k]);
+        hiy = fmaxf(hiy, sy[k]);
+    }
+    if (o->backface_cull && backfacing(sx, sy)) {
+        ++c->counts->culled;
+        return;
+    }
+    if (forced || fmaxf(hix - lox, hiy - loy) <= o->bound_px) {
+        c->counts->forced_dice += (uint64_t)forced;
+        ++c->counts->grids;
+        dice(c, &sp);
+    } else {
+        split(c, sp, extent(sx, sy, NULL, 1) >= extent(sx, sy, NULL, 0));
+    }
+}
+
+static void split(context *c, struct reyes_subpatch sp, int along_u)
+{
+    struct reyes_subpatch a = sp, b = sp;
+    if (along_u) {
+        float mid = 0.5f * (sp.u0 + sp.u1);
+        a.u1 = mid;
+        b.u0 = mid;
+    } else {
+        float mid = 0.5f * (sp.v0 + sp.v1);
+        a.v1 = mid;
+        b.v0 = mid;
+    }
+    a.depth = b.depth = sp.depth + 1;
+    ++c->counts->splits;
+    bound(c, a); /* recursion depth is at most max_depth (<= 40) */
+    bound(c, b);
+}
+
+reyes_status reyes_reference_run(const reyes_scene *scene, const reyes_camera *camera,
+                                 const reyes_options *options, reyes_reference_counts *out,
+                                 reyes_error *error)
+{
+    memset(out, 0, sizeof *out);
+    reyes_status status = reyes_options_check(options, error);
+    if (status != REYES_OK)
+        return status;
+    context c = { .scene = scene, .o = options, .counts = out };
+    c.near_w = reyes_near_plane(scene);
+    status = reyes_camera_matrix(camera, (float)options->width / (float)options->height, c.near_w,
+                                 c.m, error);
+    if (status != REYES_OK)
+        return status;
+    struct timespec start, end;
+    clock_gettime(CLOCK_MONOTONIC, &start);
+    for (size_t p = 0; p < scene->patch_count; ++p)
+        bound(&c, (struct reyes_subpatch){ .patch = (uint32_t)p, .u1 = 1.0f, .v1 = 1.0f });
+    clock_gettime(CLOCK_MONOTONIC, &end);
+    out->seconds = (double)(end.tv_sec - start.tv_sec) + 1e-9 * (double)(end.tv_nsec - start.tv_nsec);
+    return REYES_OK;
+}

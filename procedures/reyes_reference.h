@@ -1,0 +1,25 @@
+/*
+ * Single-threaded C reference of bound / split / dice (depth-first
+ * recursion, no OpenCL), mirroring the procedures' decisions.  Used to
+ * cross-check the counts of the megakernel and as a CPU baseline.
+ */
+#ifndef REYES_REFERENCE_H
+#define REYES_REFERENCE_H
+
+#include "reyes.h"
+
+typedef struct reyes_reference_counts {
+    uint64_t splits;
+    uint64_t culled;
+    uint64_t grids;
+    uint64_t forced_dice;
+    uint64_t micropolygons; /* quads dice would emit (in front, on the image) */
+    unsigned max_depth_seen;
+    double seconds;
+} reyes_reference_counts;
+
+reyes_status reyes_reference_run(const reyes_scene *scene, const reyes_camera *camera,
+                                 const reyes_options *options, reyes_reference_counts *out,
+                                 reyes_error *error);
+
+#endif
