@@ -1,0 +1,46 @@
+#!/usr/bin/env python3
+"""Run a program and check its exit code and that its output matches patterns.
+
+usage: check_output.py [--status N] --expect REGEX [--expect REGEX ...] -- PROGRAM [ARGS...]
+"""
+import re
+import subprocess
+import sys
+
+
+def main(argv):
+    if '--' not in argv:
+        sys.stderr.write(__doc__)
+        return 2
+    split = argv.index('--')
+    options, command = argv[1:split], argv[split + 1:]
+    expected_status, patterns = 0, []
+    i = 0
+    while i < len(options):
+        if options[i] == '--status':
+            expected_status = int(options[i + 1])
+        elif options[i] == '--expect':
+            patterns.append(options[i + 1])
+        else:
+            sys.stderr.write('unknown option %s\n' % options[i])
+            return 2
+        i += 2
+    result = subprocess.run(command, capture_output=True, text=True, timeout=600)
+    output = result.stdout + result.stderr
+    ok = True
+    if result.returncode != expected_status:
+        print('exit status %d, expected %d' % (result.returncode, expected_status))
+        ok = False
+    for pattern in patterns:
+        if not re.search(pattern, output, re.MULTILINE):
+            print('output does not match %r' % pattern)
+            ok = False
+    if not ok:
+        print('--- output of %s ---\n%s' % (' '.join(command), output))
+        return 1
+    print('1 passed, 0 failed')
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main(sys.argv))
