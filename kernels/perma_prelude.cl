@@ -5,7 +5,8 @@
  *
  * The control block `ctl` is an array of uint:
  *   header words (PERMA_CTL_*), then one record of PERMA_QUEUE_WORDS per
- *   queue (PERMA_Q_*), then per-group words (PERMA_G_*).
+ *   queue (PERMA_Q_*; queue index = set * PERMA_NUM_PROCS + procedure),
+ *   then per-group words (PERMA_G_*).
  * Keep in sync with runtime/src/control.h.
  */
 #pragma OPENCL EXTENSION cl_khr_global_int32_base_atomics : enable
@@ -46,7 +47,14 @@
 #define PERMA_STAT_BATCHES 1
 #define PERMA_STAT_EMITTED 2 /* then PERMA_MAX_EDGES words */
 #define PERMA_STAT_PROC_WORDS (2 + PERMA_MAX_EDGES)
-#define PERMA_STAT_GROUP_WORDS (PERMA_NUM_PROCS * PERMA_STAT_PROC_WORDS)
+/* After the per-procedure records: the group's load-balancing counters. */
+#define PERMA_GSTAT_STEALS 0
+#define PERMA_GSTAT_DONATIONS 1
+#define PERMA_GSTAT_DONATED 2
+#define PERMA_GSTAT_SPILLS 3
+#define PERMA_GSTAT_IDLE_POLLS 4
+#define PERMA_GSTAT_WORDS 8
+#define PERMA_STAT_GROUP_WORDS (PERMA_NUM_PROCS * PERMA_STAT_PROC_WORDS + PERMA_GSTAT_WORDS)
 
 /* Spin loops give up after this many polls (and poll the abort flag). */
 #ifndef PERMA_SPIN_LIMIT
@@ -55,7 +63,8 @@
 
 #define PERMA_QUEUE(ctl, q) ((ctl) + PERMA_CTL_HEADER_WORDS + (q) * PERMA_QUEUE_WORDS)
 #define PERMA_GROUP(ctl, g) \
-    ((ctl) + PERMA_CTL_HEADER_WORDS + PERMA_NUM_PROCS * PERMA_QUEUE_WORDS + (g) * PERMA_GROUP_WORDS)
+    ((ctl) + PERMA_CTL_HEADER_WORDS + PERMA_QUEUE_SETS * PERMA_NUM_PROCS * PERMA_QUEUE_WORDS + \
+     (g) * PERMA_GROUP_WORDS)
 
 /* A read that always goes to memory (another group may have written it). */
 inline uint perma_load(__global uint *p)

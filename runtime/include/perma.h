@@ -100,10 +100,41 @@ typedef struct perma_error {
 typedef struct perma_runtime perma_runtime;
 typedef int perma_proc; /* procedure handle returned by perma_register */
 
-/* How the work is scheduled. */
+/* How the work is executed.  Every technique runs the same procedure
+ * sources and gives the same results. */
 typedef enum perma_technique {
-    PERMA_TECHNIQUE_MEGAKERNEL = 0 /* one persistent kernel (default) */
+    PERMA_TECHNIQUE_MEGAKERNEL = 0,       /* one persistent kernel (default) */
+    PERMA_TECHNIQUE_KERNEL_PER_PROCEDURE, /* host launches one NDRange per non-empty queue,
+                                             breadth-first, until all are empty */
+    PERMA_TECHNIQUE_BOUNDED_BATCHES       /* host iterations taking at most batch_limit items
+                                             from the end of a queue (LIFO): bounded memory */
 } perma_technique;
+
+/* Where the megakernel's queues live and how load is balanced. */
+typedef enum perma_strategy {
+    PERMA_STRATEGY_SHARED = 0,        /* one global queue per procedure (default) */
+    PERMA_STRATEGY_STEALING,          /* a queue set per group; idle groups steal */
+    PERMA_STRATEGY_DONATION,          /* a queue set per group; full groups donate */
+    PERMA_STRATEGY_STEALING_DONATION  /* both */
+} perma_strategy;
+
+/* How a stealing group picks its victim. */
+typedef enum perma_victim {
+    PERMA_VICTIM_RANDOM = 0,
+    PERMA_VICTIM_ROUND_ROBIN
+} perma_victim;
+
+/* Names used on command lines: "megakernel", "kernel-per-procedure",
+ * "bounded-batches"; "shared", "stealing", "donation", "stealing-donation";
+ * "random", "round-robin".  NULL for an unknown value. */
+const char *perma_technique_name(perma_technique technique);
+const char *perma_strategy_name(perma_strategy strategy);
+const char *perma_victim_name(perma_victim victim);
+/* Parse a name; PERMA_ERR_ARGUMENT for an unknown one.  `out` is set only
+ * on success. */
+perma_status perma_technique_parse(const char *name, perma_technique *out);
+perma_status perma_strategy_parse(const char *name, perma_strategy *out);
+perma_status perma_victim_parse(const char *name, perma_victim *out);
 
 typedef struct perma_config {
     /* OpenCL device, by index.  -1 (default): the PERMA_DEVICE environment
@@ -129,6 +160,16 @@ typedef struct perma_config {
     /* Extra options for clBuildProgram, e.g. "-DTHRESHOLD=8"; may be NULL. */
     const char *build_options;
     perma_technique technique;
+    perma_strategy strategy;        /* megakernel only */
+    perma_victim victim;            /* stealing strategies */
+    /* Donation: a group whose queue of a procedure holds more than this many
+     * items gives a share to the emptiest group; 0 = 4 batches. */
+    unsigned donation_threshold;
+    /* Items per procedure in a per-group front queue in __local memory,
+     * in front of the global queues (spilling when full); 0 = none. */
+    unsigned local_queue_items;
+    /* Bounded batches: most items taken per host iteration; 0 = 4096. */
+    unsigned batch_limit;
 } perma_config;
 
 /* Fill *config with the defaults described above. */
@@ -223,6 +264,17 @@ typedef struct perma_procedure_stats {
     unsigned regrowths;                 /* times this queue was grown */
 } perma_procedure_stats;
 
+/* Load-balancing counters of one persistent work-group. */
+typedef struct perma_group_stats {
+    uint64_t batches;          /* batches executed */
+    uint64_t items;            /* items executed */
+    uint64_t steals;           /* batches taken from another group's queue */
+    uint64_t donations;        /* times it gave items to another group */
+    uint64_t donated_items;
+    uint64_t spills;           /* items its local front queue passed to global queues */
+    uint64_t idle_polls;       /* scheduler polls that found nothing to run */
+} perma_group_stats;
+
 typedef struct perma_stats {
     double seconds;            /* wall time of perma_run, build excluded */
     unsigned launches;         /* kernel launches (1 + relaunches after growth) */
@@ -232,10 +284,16 @@ typedef struct perma_stats {
     unsigned procedure_count;
     size_t peak_queue_bytes;   /* largest total queue allocation */
     uint64_t items;            /* items executed, all procedures */
+    uint64_t steals, donations, spills, idle_polls; /* sums over groups */
+    perma_technique technique;
+    perma_strategy strategy;
 } perma_stats;
 
 perma_status perma_get_stats(perma_runtime *rt, perma_stats *out);
 perma_status perma_get_procedure_stats(perma_runtime *rt, perma_proc proc, perma_procedure_stats *out);
+/* Counters of persistent group `group` (0..work_groups-1) in the last run;
+ * all zero for the host-driven techniques. */
+perma_status perma_get_group_stats(perma_runtime *rt, unsigned group, perma_group_stats *out);
 
 /* Print the statistics of the last run as a readable table. */
 void perma_print_stats(perma_runtime *rt, FILE *out);

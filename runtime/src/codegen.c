@@ -175,8 +175,19 @@ perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *sb)
                             "#define PERMA_GROUP_SIZE %uu\n"
                             "#define PERMA_NUM_PROCS %uu\n"
                             "#define PERMA_MAX_EDGES %uu\n"
-                            "#define PERMA_ARENA_WORDS %uu\n",
-                        rt->proc_count, rt->group_size, rt->proc_count, rt->max_edges, rt->arena_words);
+                            "#define PERMA_ARENA_WORDS %uu\n"
+                            "#define PERMA_QUEUE_SETS %uu\n"
+                            "#define PERMA_STEALING %d\n"
+                            "#define PERMA_DONATION %d\n"
+                            "#define PERMA_VICTIM_ROUND_ROBIN %d\n"
+                            "#define PERMA_DONATION_THRESHOLD %uu\n",
+                        rt->proc_count, rt->group_size, rt->proc_count, rt->max_edges, rt->arena_words,
+                        rt->queue_sets,
+                        rt->queue_sets > 1 && (rt->config.strategy == PERMA_STRATEGY_STEALING ||
+                                               rt->config.strategy == PERMA_STRATEGY_STEALING_DONATION),
+                        rt->queue_sets > 1 && (rt->config.strategy == PERMA_STRATEGY_DONATION ||
+                                               rt->config.strategy == PERMA_STRATEGY_STEALING_DONATION),
+                        rt->config.victim == PERMA_VICTIM_ROUND_ROBIN, rt->config.donation_threshold);
     perma_strbuf_append(sb, perma_kernel_prelude);
     resume_generated(sb);
     perma_strbuf_append(sb, perma_kernel_queue);

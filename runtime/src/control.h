@@ -40,9 +40,25 @@ enum { PERMA_STAT_ITEMS = 0, PERMA_STAT_BATCHES = 1, PERMA_STAT_EMITTED = 2 };
 
 #define PERMA_STAT_PROC_WORDS(max_edges) (2u + (max_edges))
 
-static inline unsigned perma_ctl_words(unsigned procs, unsigned groups)
+enum {
+    PERMA_GSTAT_STEALS = 0,
+    PERMA_GSTAT_DONATIONS = 1,
+    PERMA_GSTAT_DONATED = 2,
+    PERMA_GSTAT_SPILLS = 3,
+    PERMA_GSTAT_IDLE_POLLS = 4,
+    PERMA_GSTAT_WORDS = 8
+};
+
+/* Words of one group's statistics record. */
+static inline unsigned perma_stat_group_words(unsigned procs, unsigned max_edges)
 {
-    return PERMA_CTL_HEADER_WORDS + procs * PERMA_QUEUE_WORDS + groups * PERMA_GROUP_WORDS;
+    return procs * PERMA_STAT_PROC_WORDS(max_edges) + PERMA_GSTAT_WORDS;
+}
+
+/* Words of the control block for `queues` queues (sets x procedures). */
+static inline unsigned perma_ctl_words(unsigned queues, unsigned groups)
+{
+    return PERMA_CTL_HEADER_WORDS + queues * PERMA_QUEUE_WORDS + groups * PERMA_GROUP_WORDS;
 }
 
 #endif

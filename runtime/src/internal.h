@@ -98,7 +98,10 @@ struct perma_runtime {
     cl_mem ctl_mem, data_mem, seq_mem, stats_mem, abort_mem;
     size_t data_mem_words, seq_mem_words;
     uint32_t *abort_flag;           /* host memory the kernel polls */
-    perma_queue_image images[PERMA_MAX_PROCEDURES];
+    unsigned queue_sets;            /* 1 (shared) or one per group (distributed) */
+    perma_queue_image *images;      /* queue_sets * proc_count, index set * procs + proc */
+    unsigned image_count;
+    perma_group_stats *group_stats; /* work_groups entries */
     bool hung;                      /* a kernel ignored the watchdog; do not wait on it */
 
     perma_stats stats;

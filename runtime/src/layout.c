@@ -132,6 +132,9 @@ perma_status perma_build_layout(perma_runtime *rt)
         return st;
     compute_depths(rt);
     compute_order(rt);
+    bool distributed = rt->config.technique == PERMA_TECHNIQUE_MEGAKERNEL &&
+                       rt->config.strategy != PERMA_STRATEGY_SHARED;
+    rt->queue_sets = distributed ? rt->work_groups : 1;
 
     rt->max_edges = 1;
     for (unsigned i = 0; i < rt->proc_count; ++i)
@@ -142,7 +145,7 @@ perma_status perma_build_layout(perma_runtime *rt)
     if (rt->config.local_memory_limit && rt->config.local_memory_limit < limit)
         limit = rt->config.local_memory_limit;
     /* The kernel's other __local words: statistics, edge counters, batch. */
-    size_t fixed = 4 * ((size_t)rt->proc_count * (2 + rt->max_edges) + 2 * rt->max_edges + 16);
+    size_t fixed = 4 * ((size_t)rt->proc_count * (2 + rt->max_edges) + 2 * rt->max_edges + 32);
     size_t budget_words = limit > fixed ? (limit - fixed) / 4 : 0;
 
     rt->arena_words = 16;

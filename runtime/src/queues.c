@@ -27,23 +27,29 @@ static size_t memory_limit(const perma_runtime *rt)
     return rt->max_alloc ? (size_t)rt->max_alloc : ((size_t)1 << 30);
 }
 
+/* The procedure whose items queue `qi` holds. */
+static const perma_proc_info *proc_of(const perma_runtime *rt, unsigned qi)
+{
+    return &rt->procs[qi % rt->proc_count];
+}
+
 static size_t queue_bytes(const perma_runtime *rt, const size_t *capacities)
 {
     size_t total = 0;
-    for (unsigned q = 0; q < rt->proc_count; ++q)
-        total += capacities[q] * (rt->procs[q].item_size + 4);
+    for (unsigned qi = 0; qi < rt->image_count; ++qi)
+        total += capacities[qi] * (proc_of(rt, qi)->item_size + 4);
     return total;
 }
 
-/* Ensure image q can hold `capacity` items. */
-static perma_status image_reserve(perma_runtime *rt, unsigned q, size_t capacity)
+/* Ensure image qi can hold `capacity` items. */
+static perma_status image_reserve(perma_runtime *rt, unsigned qi, size_t capacity)
 {
-    perma_queue_image *img = &rt->images[q];
-    size_t words = capacity * item_words(&rt->procs[q]);
+    perma_queue_image *img = &rt->images[qi];
+    size_t words = capacity * item_words(proc_of(rt, qi));
     uint32_t *data = realloc(img->words, words ? words * 4 : 4);
     if (!data)
         return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory for queue '%s' (%zu items)",
-                               rt->procs[q].name, capacity);
+                               proc_of(rt, qi)->name, capacity);
     img->words = data;
     return PERMA_OK;
 }
@@ -57,44 +63,72 @@ void perma_queues_release(perma_runtime *rt)
         *mems[i] = NULL;
     }
     rt->data_mem_words = rt->seq_mem_words = 0;
-    for (unsigned q = 0; q < PERMA_MAX_PROCEDURES; ++q) {
-        free(rt->images[q].words);
-        memset(&rt->images[q], 0, sizeof rt->images[q]);
-    }
+    for (unsigned qi = 0; qi < rt->image_count; ++qi)
+        free(rt->images[qi].words);
+    free(rt->images);
+    rt->images = NULL;
+    rt->image_count = 0;
 }
 
-/* Turn the seeds into queue images with their initial capacities. */
+/* Turn the seeds into queue images with their initial capacities.  With
+ * one queue set per group the seeds are dealt out in contiguous shares. */
 perma_status perma_queues_prepare(perma_runtime *rt)
 {
+    unsigned n = rt->proc_count, sets = rt->queue_sets;
+    if (rt->image_count != sets * n) {
+        perma_queues_release(rt);
+        rt->images = calloc((size_t)sets * n, sizeof *rt->images);
+        if (!rt->images)
+            return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory for %u queues", sets * n);
+        rt->image_count = sets * n;
+    }
     size_t base = rt->config.queue_capacity ? rt->config.queue_capacity : DEFAULT_CAPACITY;
-    size_t capacities[PERMA_MAX_PROCEDURES];
-    for (unsigned q = 0; q < rt->proc_count; ++q) {
+    size_t *capacities = calloc(rt->image_count, sizeof *capacities);
+    if (!capacities)
+        return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory for %u queues", rt->image_count);
+    for (unsigned qi = 0; qi < rt->image_count; ++qi) {
+        unsigned q = qi % n, set = qi / n;
+        size_t share = (rt->procs[q].seed_count + sets - 1) / sets;
         size_t cap = base;
-        if (rt->procs[q].seed_count > cap)
-            cap = rt->procs[q].seed_count;
+        if (share > cap)
+            cap = share;
         /* One item of any producer must fit, or nothing could ever run. */
-        for (unsigned i = 0; i < rt->proc_count; ++i)
+        for (unsigned i = 0; i < n; ++i)
             for (unsigned e = 0; e < rt->procs[i].emit_count; ++e)
                 if ((unsigned)rt->procs[i].emit_target[e] == q && rt->procs[i].emit_max[e] > cap)
                     cap = rt->procs[i].emit_max[e];
-        capacities[q] = next_pow2(cap);
+        capacities[qi] = next_pow2(cap);
+        (void)set;
     }
     size_t bytes = queue_bytes(rt, capacities);
+    perma_status st = PERMA_OK;
     if (bytes > memory_limit(rt))
-        return perma_set_error(rt, PERMA_ERR_CAPACITY,
-                               "the initial queues need %zu bytes, more than the queue memory limit of %zu bytes",
-                               bytes, memory_limit(rt));
-    for (unsigned q = 0; q < rt->proc_count; ++q) {
+        st = perma_set_error(rt, PERMA_ERR_CAPACITY,
+                             "the initial queues need %zu bytes, more than the queue memory limit of %zu bytes",
+                             bytes, memory_limit(rt));
+    for (unsigned qi = 0; st == PERMA_OK && qi < rt->image_count; ++qi) {
+        unsigned q = qi % n, set = qi / n;
         perma_proc_info *p = &rt->procs[q];
-        perma_status st = image_reserve(rt, q, capacities[q]);
+        st = image_reserve(rt, qi, capacities[qi]);
         if (st != PERMA_OK)
-            return st;
-        perma_queue_image *img = &rt->images[q];
-        img->capacity = capacities[q];
-        img->count = p->seed_count;
+            break;
+        size_t share = (p->seed_count + sets - 1) / sets;
+        size_t first = (size_t)set * share;
+        size_t count = first < p->seed_count ? p->seed_count - first : 0;
+        if (count > share)
+            count = share;
+        perma_queue_image *img = &rt->images[qi];
+        img->capacity = capacities[qi];
+        img->count = count;
         img->regrowths = 0;
-        if (p->seed_count)
-            memcpy(img->words, p->seeds, p->seed_count * p->item_size);
+        if (count)
+            memcpy(img->words, p->seeds + first * p->item_size, count * p->item_size);
+    }
+    free(capacities);
+    if (st != PERMA_OK)
+        return st;
+    for (unsigned q = 0; q < n; ++q) {
+        perma_proc_info *p = &rt->procs[q];
         p->stats.seeded = p->seed_count;
         p->stats.peak_queue_items = p->seed_count;
         p->seed_count = 0;
@@ -124,21 +158,18 @@ static perma_status ensure_buffer(perma_runtime *rt, cl_mem *mem, size_t *have_w
 /* Write the queue images to the device as a fresh launch state. */
 perma_status perma_queues_upload(perma_runtime *rt)
 {
-    unsigned n = rt->proc_count;
-    size_t data_words = 0, seq_words = 0, outstanding = 0;
-    size_t capacities[PERMA_MAX_PROCEDURES];
-    for (unsigned q = 0; q < n; ++q) {
-        capacities[q] = rt->images[q].capacity;
-        data_words += rt->images[q].capacity * item_words(&rt->procs[q]);
-        seq_words += rt->images[q].capacity;
-        outstanding += rt->images[q].count;
+    size_t data_words = 0, seq_words = 0, outstanding = 0, bytes = 0;
+    for (unsigned qi = 0; qi < rt->image_count; ++qi) {
+        data_words += rt->images[qi].capacity * item_words(proc_of(rt, qi));
+        seq_words += rt->images[qi].capacity;
+        outstanding += rt->images[qi].count;
+        bytes += rt->images[qi].capacity * (proc_of(rt, qi)->item_size + 4);
     }
-    size_t bytes = queue_bytes(rt, capacities);
     if (bytes > rt->stats.peak_queue_bytes)
         rt->stats.peak_queue_bytes = bytes;
 
-    size_t ctl_words = perma_ctl_words(n, rt->work_groups);
-    size_t stats_words = (size_t)rt->work_groups * n * PERMA_STAT_PROC_WORDS(rt->max_edges);
+    size_t ctl_words = perma_ctl_words(rt->image_count, rt->work_groups);
+    size_t stats_words = (size_t)rt->work_groups * perma_stat_group_words(rt->proc_count, rt->max_edges);
     uint32_t *ctl = calloc(ctl_words, 4);
     uint32_t *data = calloc(data_words ? data_words : 1, 4);
     uint32_t *seq = calloc(seq_words ? seq_words : 1, 4);
@@ -149,10 +180,10 @@ perma_status perma_queues_upload(perma_runtime *rt)
     }
     ctl[PERMA_CTL_OUTSTANDING] = (uint32_t)outstanding;
     size_t data_off = 0, seq_off = 0;
-    for (unsigned q = 0; q < n; ++q) {
-        const perma_queue_image *img = &rt->images[q];
-        size_t words = item_words(&rt->procs[q]);
-        uint32_t *rec = ctl + PERMA_CTL_HEADER_WORDS + q * PERMA_QUEUE_WORDS;
+    for (unsigned qi = 0; qi < rt->image_count; ++qi) {
+        const perma_queue_image *img = &rt->images[qi];
+        size_t words = item_words(proc_of(rt, qi));
+        uint32_t *rec = ctl + PERMA_CTL_HEADER_WORDS + qi * PERMA_QUEUE_WORDS;
         rec[PERMA_Q_HEAD] = 0;
         rec[PERMA_Q_TAIL] = (uint32_t)img->count;
         rec[PERMA_Q_ROOM] = (uint32_t)(img->capacity - img->count);
@@ -195,12 +226,11 @@ done:
 /* Read the queues back after a launch stopped with no batch running. */
 perma_status perma_queues_download(perma_runtime *rt)
 {
-    unsigned n = rt->proc_count;
-    size_t ctl_words = perma_ctl_words(n, rt->work_groups);
+    size_t ctl_words = perma_ctl_words(rt->image_count, rt->work_groups);
     size_t data_words = 0, seq_words = 0;
-    for (unsigned q = 0; q < n; ++q) {
-        data_words += rt->images[q].capacity * item_words(&rt->procs[q]);
-        seq_words += rt->images[q].capacity;
+    for (unsigned qi = 0; qi < rt->image_count; ++qi) {
+        data_words += rt->images[qi].capacity * item_words(proc_of(rt, qi));
+        seq_words += rt->images[qi].capacity;
     }
     uint32_t *ctl = malloc(ctl_words * 4);
     uint32_t *data = malloc(data_words * 4 + 4);
@@ -220,16 +250,16 @@ perma_status perma_queues_download(perma_runtime *rt)
                              perma_cl_error_name(err), (int)err);
         goto done;
     }
-    for (unsigned q = 0; q < n; ++q) {
-        perma_queue_image *img = &rt->images[q];
-        const uint32_t *rec = ctl + PERMA_CTL_HEADER_WORDS + q * PERMA_QUEUE_WORDS;
+    for (unsigned qi = 0; qi < rt->image_count; ++qi) {
+        perma_queue_image *img = &rt->images[qi];
+        const uint32_t *rec = ctl + PERMA_CTL_HEADER_WORDS + qi * PERMA_QUEUE_WORDS;
         uint32_t head = rec[PERMA_Q_HEAD], tail = rec[PERMA_Q_TAIL];
         uint32_t cap = rec[PERMA_Q_CAP];
-        size_t words = item_words(&rt->procs[q]);
+        size_t words = item_words(proc_of(rt, qi));
         size_t count = (uint32_t)(tail - head);
         if (cap != img->capacity || count > cap) {
             st = perma_set_error(rt, PERMA_ERR_DEVICE, "queue '%s' is inconsistent after the launch "
-                                 "(head %u, tail %u, capacity %u)", rt->procs[q].name, head, tail, cap);
+                                 "(head %u, tail %u, capacity %u)", proc_of(rt, qi)->name, head, tail, cap);
             goto done;
         }
         for (size_t i = 0; i < count; ++i) {
@@ -237,7 +267,7 @@ perma_status perma_queues_download(perma_runtime *rt)
             uint32_t slot = pos & (cap - 1);
             if (seq[rec[PERMA_Q_SEQ] + slot] != pos + 1) {
                 st = perma_set_error(rt, PERMA_ERR_DEVICE,
-                                     "queue '%s': item at position %u was never published", rt->procs[q].name, pos);
+                                     "queue '%s': item at position %u was never published", proc_of(rt, qi)->name, pos);
                 goto done;
             }
             memcpy(img->words + i * words, data + rec[PERMA_Q_DATA] + (size_t)slot * words, words * 4);
@@ -252,66 +282,79 @@ done:
 }
 
 /* Grow the queues that stopped the launch: every target without room for
- * one item's worst-case emits from a non-empty source. */
+ * one item's worst-case emits from a non-empty source in the same set. */
 perma_status perma_queues_grow(perma_runtime *rt)
 {
     unsigned n = rt->proc_count;
-    size_t capacities[PERMA_MAX_PROCEDURES];
-    bool grow[PERMA_MAX_PROCEDURES] = { false };
+    size_t *capacities = calloc(rt->image_count, sizeof *capacities);
+    bool *grow = calloc(rt->image_count, sizeof *grow);
+    perma_status st = PERMA_OK;
+    if (!capacities || !grow) {
+        st = perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory growing queues");
+        goto done;
+    }
     bool any = false;
-    for (unsigned q = 0; q < n; ++q)
-        capacities[q] = rt->images[q].capacity;
+    for (unsigned qi = 0; qi < rt->image_count; ++qi)
+        capacities[qi] = rt->images[qi].capacity;
     for (int relaxed = 0; relaxed < 2 && !any; ++relaxed) {
-        for (unsigned q = 0; q < n; ++q) {
-            if (rt->images[q].count == 0)
+        for (unsigned qi = 0; qi < rt->image_count; ++qi) {
+            if (rt->images[qi].count == 0)
                 continue;
-            const perma_proc_info *p = &rt->procs[q];
-            for (unsigned e = 0; e < p->emit_count; ++e) {
-                unsigned t = (unsigned)p->emit_target[e];
-                size_t room = rt->images[t].capacity - rt->images[t].count;
-                /* relaxed: the kernel saw no room where we see some (a race
-                 * between groups); grow the targets of all waiting work. */
-                if (relaxed || room < p->emit_max[e]) {
-                    grow[t] = true;
-                    any = true;
+            const perma_proc_info *p = proc_of(rt, qi);
+            /* A stolen batch emits into the thief's set: consider every set. */
+            for (unsigned set = 0; set < rt->queue_sets; ++set) {
+                for (unsigned e = 0; e < p->emit_count; ++e) {
+                    unsigned ti = set * n + (unsigned)p->emit_target[e];
+                    size_t room = rt->images[ti].capacity - rt->images[ti].count;
+                    /* relaxed: the kernel saw no room where we see some (a
+                     * race between groups); grow the targets of all waiting work. */
+                    if (relaxed || room < p->emit_max[e]) {
+                        grow[ti] = true;
+                        any = true;
+                    }
                 }
             }
         }
     }
-    if (!any)
-        return perma_set_error(rt, PERMA_ERR_DEVICE,
-                               "the kernel reported no room, but no queued item emits anything");
-    for (unsigned t = 0; t < n; ++t) {
-        if (!grow[t])
-            continue;
-        /* capacity >= any emit_max (perma_queues_prepare), so doubling
-         * leaves room for at least one item's emits. */
-        capacities[t] = rt->images[t].capacity * 2;
+    if (!any) {
+        st = perma_set_error(rt, PERMA_ERR_DEVICE, "the kernel reported no room, but no queued item emits anything");
+        goto done;
     }
+    /* capacity >= any emit_max (perma_queues_prepare), so doubling leaves
+     * room for at least one item's emits. */
+    for (unsigned qi = 0; qi < rt->image_count; ++qi)
+        if (grow[qi])
+            capacities[qi] = rt->images[qi].capacity * 2;
     size_t bytes = queue_bytes(rt, capacities);
-    if (bytes > memory_limit(rt) || bytes / 2 > ((size_t)1 << 40)) {
-        for (unsigned t = 0; t < n; ++t) {
-            if (!grow[t])
-                continue;
-            return perma_set_error(rt, PERMA_ERR_CAPACITY,
-                                   "queue '%s' is full (%zu items of %zu bytes) and cannot grow to %zu items: "
-                                   "all queues would need %zu bytes, more than the queue memory limit of %zu bytes",
-                                   rt->procs[t].name, rt->images[t].capacity, rt->procs[t].item_size,
-                                   capacities[t], bytes, memory_limit(rt));
+    for (unsigned qi = 0; qi < rt->image_count; ++qi) {
+        if (!grow[qi])
+            continue;
+        if (bytes > memory_limit(rt)) {
+            st = perma_set_error(rt, PERMA_ERR_CAPACITY,
+                                 "queue '%s' is full (%zu items of %zu bytes) and cannot grow to %zu items: "
+                                 "all queues would need %zu bytes, more than the queue memory limit of %zu bytes",
+                                 proc_of(rt, qi)->name, rt->images[qi].capacity, proc_of(rt, qi)->item_size,
+                                 capacities[qi], bytes, memory_limit(rt));
+            goto done;
+        }
+        if (capacities[qi] > ((size_t)1 << 31)) {
+            st = perma_set_error(rt, PERMA_ERR_CAPACITY, "queue '%s' would need more than 2^31 items",
+                                 proc_of(rt, qi)->name);
+            goto done;
         }
     }
-    for (unsigned t = 0; t < n; ++t) {
-        if (!grow[t])
+    for (unsigned qi = 0; qi < rt->image_count; ++qi) {
+        if (!grow[qi])
             continue;
-        if (capacities[t] > ((size_t)1 << 31))
-            return perma_set_error(rt, PERMA_ERR_CAPACITY,
-                                   "queue '%s' would need more than 2^31 items", rt->procs[t].name);
-        perma_status st = image_reserve(rt, t, capacities[t]);
+        st = image_reserve(rt, qi, capacities[qi]);
         if (st != PERMA_OK)
-            return st;
-        rt->images[t].capacity = capacities[t];
-        rt->images[t].regrowths++;
+            goto done;
+        rt->images[qi].capacity = capacities[qi];
+        rt->images[qi].regrowths++;
     }
     rt->stats.regrowths++;
-    return PERMA_OK;
+done:
+    free(capacities);
+    free(grow);
+    return st;
 }

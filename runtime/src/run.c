@@ -106,8 +106,14 @@ perma_status perma_run(perma_runtime *rt)
         st = copy_host_buffers(rt, PERMA_WRITE);
     rt->stats.seconds = perma_now() - start;
     for (unsigned q = 0; q < rt->proc_count; ++q) {
-        rt->procs[q].stats.queue_capacity = rt->images[q].capacity;
-        rt->procs[q].stats.regrowths = rt->images[q].regrowths;
+        rt->procs[q].stats.queue_capacity = 0;
+        rt->procs[q].stats.regrowths = 0;
+    }
+    for (unsigned qi = 0; qi < rt->image_count; ++qi) {
+        perma_procedure_stats *ps = &rt->procs[qi % rt->proc_count].stats;
+        ps->queue_capacity += rt->images[qi].capacity;
+        if (rt->images[qi].regrowths > ps->regrowths)
+            ps->regrowths = rt->images[qi].regrowths;
     }
     if (st == PERMA_OK)
         rt->message[0] = '\0';

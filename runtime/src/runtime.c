@@ -32,9 +32,18 @@ static perma_status check_config(perma_runtime *rt, const perma_config *c)
     if (c->queue_capacity > ((size_t)1 << 30))
         return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.queue_capacity %zu is above 2^30 items",
                                c->queue_capacity);
-    if (c->technique != PERMA_TECHNIQUE_MEGAKERNEL)
+    if (!perma_technique_name(c->technique))
         return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.technique %d is not a known technique",
                                (int)c->technique);
+    if (!perma_strategy_name(c->strategy))
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.strategy %d is not a known strategy",
+                               (int)c->strategy);
+    if (!perma_victim_name(c->victim))
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.victim %d is not a known victim policy",
+                               (int)c->victim);
+    if (c->local_queue_items > 4096)
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.local_queue_items %u is above 4096",
+                               c->local_queue_items);
     return PERMA_OK;
 }
 
@@ -126,6 +135,7 @@ void perma_destroy(perma_runtime *rt)
     perma_device_close(rt);
     free((char *)rt->config.build_options);
     free(rt->abort_flag);
+    free(rt->group_stats);
     free(rt);
 }
 

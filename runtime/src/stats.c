@@ -8,6 +8,10 @@
 void perma_stats_reset(perma_runtime *rt)
 {
     memset(&rt->stats, 0, sizeof rt->stats);
+    rt->stats.technique = rt->config.technique;
+    rt->stats.strategy = rt->config.strategy;
+    if (rt->group_stats)
+        memset(rt->group_stats, 0, rt->work_groups * sizeof *rt->group_stats);
     rt->stats.work_groups = rt->work_groups;
     rt->stats.group_size = rt->group_size;
     rt->stats.procedure_count = rt->proc_count;
@@ -23,8 +27,14 @@ void perma_stats_reset(perma_runtime *rt)
 perma_status perma_stats_collect(perma_runtime *rt)
 {
     unsigned n = rt->proc_count, stride = PERMA_STAT_PROC_WORDS(rt->max_edges);
-    size_t stats_words = (size_t)rt->work_groups * n * stride;
-    size_t ctl_words = perma_ctl_words(n, rt->work_groups);
+    unsigned group_words = perma_stat_group_words(n, rt->max_edges);
+    size_t stats_words = (size_t)rt->work_groups * group_words;
+    size_t ctl_words = perma_ctl_words(rt->image_count, rt->work_groups);
+    if (!rt->group_stats) {
+        rt->group_stats = calloc(rt->work_groups, sizeof *rt->group_stats);
+        if (!rt->group_stats)
+            return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory for group statistics");
+    }
     uint32_t *words = malloc((stats_words + ctl_words) * 4);
     if (!words)
         return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory reading statistics");
@@ -38,18 +48,35 @@ perma_status perma_stats_collect(perma_runtime *rt)
                                perma_cl_error_name(err), (int)err);
     }
     for (unsigned g = 0; g < rt->work_groups; ++g) {
+        const uint32_t *record = words + (size_t)g * group_words;
+        perma_group_stats *gs = &rt->group_stats[g];
         for (unsigned q = 0; q < n; ++q) {
-            const uint32_t *s = words + ((size_t)g * n + q) * stride;
+            const uint32_t *s = record + q * stride;
             perma_procedure_stats *ps = &rt->procs[q].stats;
             ps->items += s[PERMA_STAT_ITEMS];
             ps->batches += s[PERMA_STAT_BATCHES];
             for (unsigned e = 0; e < rt->procs[q].emit_count; ++e)
                 ps->emitted[e] += s[PERMA_STAT_EMITTED + e];
             rt->stats.items += s[PERMA_STAT_ITEMS];
+            gs->items += s[PERMA_STAT_ITEMS];
+            gs->batches += s[PERMA_STAT_BATCHES];
         }
+        const uint32_t *gw = record + n * stride;
+        gs->steals += gw[PERMA_GSTAT_STEALS];
+        gs->donations += gw[PERMA_GSTAT_DONATIONS];
+        gs->donated_items += gw[PERMA_GSTAT_DONATED];
+        gs->spills += gw[PERMA_GSTAT_SPILLS];
+        gs->idle_polls += gw[PERMA_GSTAT_IDLE_POLLS];
+        rt->stats.steals += gw[PERMA_GSTAT_STEALS];
+        rt->stats.donations += gw[PERMA_GSTAT_DONATIONS];
+        rt->stats.spills += gw[PERMA_GSTAT_SPILLS];
+        rt->stats.idle_polls += gw[PERMA_GSTAT_IDLE_POLLS];
     }
+    /* A procedure's peak: the sum over queue sets of each queue's peak. */
     for (unsigned q = 0; q < n; ++q) {
-        uint32_t peak = ctl[PERMA_CTL_HEADER_WORDS + q * PERMA_QUEUE_WORDS + PERMA_Q_PEAK];
+        uint64_t peak = 0;
+        for (unsigned set = 0; set < rt->queue_sets; ++set)
+            peak += ctl[PERMA_CTL_HEADER_WORDS + (set * n + q) * PERMA_QUEUE_WORDS + PERMA_Q_PEAK];
         if (peak > rt->procs[q].stats.peak_queue_items)
             rt->procs[q].stats.peak_queue_items = peak;
     }
@@ -80,14 +107,33 @@ perma_status perma_get_procedure_stats(perma_runtime *rt, perma_proc proc, perma
     return PERMA_OK;
 }
 
+perma_status perma_get_group_stats(perma_runtime *rt, unsigned group, perma_group_stats *out)
+{
+    if (!rt)
+        return PERMA_ERR_ARGUMENT;
+    if (group >= rt->work_groups || !out)
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT, "perma_get_group_stats: group %u is not in 0..%u",
+                               group, rt->work_groups - 1);
+    if (rt->group_stats)
+        *out = rt->group_stats[group];
+    else
+        memset(out, 0, sizeof *out);
+    return PERMA_OK;
+}
+
 void perma_print_stats(perma_runtime *rt, FILE *out)
 {
     if (!rt || !out)
         return;
     const perma_stats *s = &rt->stats;
-    fprintf(out, "perma run: %.3f s, %u launch(es), %u regrowth(s), %u group(s) x %u work-items, "
+    fprintf(out, "perma run (%s, %s): %.3f s, %u launch(es), %u regrowth(s), %u group(s) x %u work-items, "
                  "peak queue memory %zu bytes\n",
-            s->seconds, s->launches, s->regrowths, s->work_groups, s->group_size, s->peak_queue_bytes);
+            perma_technique_name(s->technique), perma_strategy_name(s->strategy), s->seconds, s->launches,
+            s->regrowths, s->work_groups, s->group_size, s->peak_queue_bytes);
+    if (s->steals || s->donations || s->spills)
+        fprintf(out, "load balancing: %" PRIu64 " steal(s), %" PRIu64 " donation(s), %" PRIu64
+                     " spill(s), %" PRIu64 " idle poll(s)\n",
+                s->steals, s->donations, s->spills, s->idle_polls);
     fprintf(out, "%-20s %12s %10s %10s %12s %10s  %s\n", "procedure", "items", "batches", "seeded",
             "peak queued", "capacity", "emitted");
     for (unsigned q = 0; q < rt->proc_count; ++q) {

@@ -2,8 +2,29 @@
 
 #include <stdlib.h>
 
-perma_runtime *test_runtime_config(const perma_config *config)
+/* PERMA_TEST_TECHNIQUE, PERMA_TEST_STRATEGY, PERMA_TEST_VICTIM and
+ * PERMA_TEST_LOCAL_QUEUE select the variant every test runs under (meson
+ * registers each test once per variant). */
+static void apply_variant(perma_config *config)
 {
+    const char *v;
+    if ((v = getenv("PERMA_TEST_TECHNIQUE")) && *v)
+        ck_assert_msg(perma_technique_parse(v, &config->technique) == PERMA_OK, "bad PERMA_TEST_TECHNIQUE %s", v);
+    if ((v = getenv("PERMA_TEST_STRATEGY")) && *v)
+        ck_assert_msg(perma_strategy_parse(v, &config->strategy) == PERMA_OK, "bad PERMA_TEST_STRATEGY %s", v);
+    if ((v = getenv("PERMA_TEST_VICTIM")) && *v)
+        ck_assert_msg(perma_victim_parse(v, &config->victim) == PERMA_OK, "bad PERMA_TEST_VICTIM %s", v);
+    if ((v = getenv("PERMA_TEST_LOCAL_QUEUE")) && *v)
+        config->local_queue_items = (unsigned)strtoul(v, NULL, 10);
+    if ((v = getenv("PERMA_TEST_BATCH_LIMIT")) && *v)
+        config->batch_limit = (unsigned)strtoul(v, NULL, 10);
+}
+
+perma_runtime *test_runtime_config(const perma_config *requested)
+{
+    perma_config variant = *requested;
+    apply_variant(&variant);
+    const perma_config *config = &variant;
     perma_runtime *rt = NULL;
     perma_error error;
     perma_status st = perma_create(config, &rt, &error);

@@ -13,6 +13,35 @@ static const struct {
     { 64, 1, 0 }, { 32, 1, 2 }, { 64, 2, 1 }, { 128, 4, 2 }, { 16, 16, 2 },
 };
 
+/* Per-group counters add up, and with one root (seeded into group 0's queue
+ * set) any other group that ran items must have stolen them, or group 0
+ * must have donated. */
+static void check_group_stats(perma_runtime *rt, const perma_stats *st)
+{
+    uint64_t items = 0, steals = 0, donations = 0, others = 0;
+    for (unsigned g = 0; g < st->work_groups; ++g) {
+        perma_group_stats gs;
+        ck_assert_perma_ok(rt, perma_get_group_stats(rt, g, &gs));
+        items += gs.items;
+        steals += gs.steals;
+        donations += gs.donations;
+        if (g > 0)
+            others += gs.items;
+        if (g > 0 && gs.items > 0 && st->strategy == PERMA_STRATEGY_STEALING)
+            ck_assert_msg(gs.steals > 0, "group %u ran %llu items without stealing", g,
+                          (unsigned long long)gs.items);
+    }
+    ck_assert_uint_eq(items, st->items);
+    ck_assert_uint_eq(steals, st->steals);
+    ck_assert_uint_eq(donations, st->donations);
+    if (others > 0 && st->strategy == PERMA_STRATEGY_DONATION)
+        ck_assert_uint_gt(donations, 0);
+    if (st->strategy == PERMA_STRATEGY_SHARED || st->work_groups == 1)
+        ck_assert_uint_eq(steals + donations, 0);
+    perma_group_stats none;
+    ck_assert_int_eq(perma_get_group_stats(rt, st->work_groups, &none), PERMA_ERR_ARGUMENT);
+}
+
 static uint64_t leaf_id_sum(unsigned d)
 {
     uint64_t first = (uint64_t)1 << d, last = ((uint64_t)1 << (d + 1)) - 1;
@@ -58,6 +87,7 @@ START_TEST(tree_counts_exact)
         ck_assert_perma_ok(rt, perma_get_stats(rt, &st));
         ck_assert_uint_eq(st.items, (2u << d) - 1);
         ck_assert_uint_eq(st.group_size, gs);
+        check_group_stats(rt, &st);
     }
     perma_destroy(rt);
 }
