@@ -1,0 +1,141 @@
+/* perma-bench: shared declarations of the scheduler microbenchmarks.
+ *
+ * Every subcommand measures one workload with every perma variant (see
+ * variants.c), a sequential C implementation and an OpenMP-tasks
+ * implementation, and reports one row per measurement through report.c. */
+#ifndef BENCH_H
+#define BENCH_H
+
+#include <perma.h>
+
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+
+/* Options common to every subcommand. */
+typedef struct bench_options {
+    const char *csv_path;   /* --csv FILE, or NULL */
+    unsigned repeat;        /* --repeat N: timed runs, the median is reported */
+    int quick;              /* --quick: small sizes (tests) */
+    unsigned groups;        /* --groups N: perma work-groups, 0 = runtime default */
+    unsigned threads;       /* OpenMP threads: --threads N, 0 = online CPUs */
+    const char *only;       /* --only TEXT: run only perma variants whose label contains it */
+    int verbose;            /* --verbose: perma_print_stats after each perma row */
+} bench_options;
+
+/* A subcommand: one entry of the table in main.c. */
+typedef struct bench_command {
+    const char *name;
+    const char *summary;
+    int (*run)(const bench_options *options, int argc, char **argv);
+} bench_command;
+
+int bench_queue(const bench_options *options, int argc, char **argv);
+int bench_tree(const bench_options *options, int argc, char **argv);
+int bench_pipeline(const bench_options *options, int argc, char **argv);
+
+/* ---- results (report.c) ---- */
+
+typedef enum bench_check {
+    BENCH_CHECK_NONE = 0, /* nothing to compare (or the variant did not run) */
+    BENCH_CHECK_PASS,
+    BENCH_CHECK_FAIL
+} bench_check;
+
+typedef struct bench_row {
+    char workload[64];       /* e.g. "geometric b=4 d=10" */
+    char variant[64];        /* e.g. "megakernel/stealing/random", "sequential C" */
+    unsigned group_size;     /* perma rows; 0 otherwise */
+    unsigned work_groups;    /* perma rows: groups; baselines: threads */
+    int ran;                 /* 0: "n/a", message says why */
+    char message[PERMA_MESSAGE_MAX + 64];
+    double seconds;          /* median of the timed runs */
+    double wall_seconds;     /* perma rows: median wall time around perma_run */
+    double units;            /* items or nodes processed per run */
+    const char *unit;        /* "items" or "nodes" */
+    uint64_t count, expected;
+    bench_check check;
+    size_t peak_queue_bytes; /* perma: largest queue allocation */
+    size_t peak_item_bytes;  /* sum over procedures of peak items * item size */
+    uint64_t steals, donations, spills;
+} bench_row;
+
+/* One report per subcommand run: a readable table on stdout and, when
+ * csv_path is set, the same rows in a CSV file. */
+typedef struct bench_report bench_report;
+
+int bench_report_open(bench_report **out, const char *benchmark, const bench_options *options);
+/* Start a new workload: its first row should be the sequential baseline. */
+void bench_report_workload(bench_report *report, const char *title);
+/* Print and record one row; the sequential row sets the ratio baseline. */
+void bench_report_add(bench_report *report, const bench_row *row, int is_baseline);
+/* Number of rows whose check failed. */
+unsigned bench_report_failures(const bench_report *report);
+/* Finish the table, close the CSV file; returns 0, or 1 when writing failed. */
+int bench_report_close(bench_report *report);
+
+/* Initialise a row with a workload and variant name. */
+void bench_row_init(bench_row *row, const char *workload, const char *variant, const char *unit);
+
+/* ---- timing (timing.c) ---- */
+
+double bench_now(void);                         /* monotonic seconds */
+double bench_median(double *values, unsigned count); /* sorts values */
+
+/* ---- perma variants (variants.c) ---- */
+
+typedef struct bench_variant {
+    perma_technique technique;
+    perma_strategy strategy;
+    perma_victim victim;
+    unsigned local_queue_items;
+    unsigned batch_limit;
+} bench_variant;
+
+extern const bench_variant bench_variants[];
+extern const unsigned bench_variant_count;
+
+/* "megakernel/stealing/random", "megakernel/shared+local64", ... */
+void bench_variant_label(const bench_variant *variant, char *out, size_t size);
+/* Whether --only selects this variant. */
+int bench_variant_selected(const bench_options *options, const bench_variant *variant);
+
+/* ---- running a perma workload (perma_session.c) ---- */
+
+/* A workload plugged into bench_perma_measure: `prepare` resets the host
+ * counters and seeds the queues before each run; `verify` compares the
+ * results of the run that just finished with the expected ones and fills
+ * row->count/expected. */
+typedef struct bench_workload {
+    perma_status (*prepare)(void *state, perma_runtime *rt);
+    int (*verify)(void *state, perma_runtime *rt, bench_row *row);
+    void *state;
+    unsigned procedures;       /* registered procedures */
+    const perma_proc *procs;   /* their handles */
+    const size_t *item_sizes;  /* and item sizes */
+} bench_workload;
+
+/* Create a runtime for `variant` with the given group size and work-group
+ * count.  On failure returns NULL and writes the message into row. */
+perma_runtime *bench_perma_create(const bench_variant *variant, unsigned group_size,
+                                  unsigned work_groups, bench_row *row);
+
+/* Build, run once untimed (warm-up), then options->repeat timed runs.
+ * Fills row (times: median of perma_stats.seconds and of wall time; the
+ * queue statistics of the last run) and marks it ran, or sets the message
+ * and leaves ran == 0 when a call failed.  Every run is verified.  A row
+ * whose statistics name another technique or strategy than `variant` says
+ * so in its message. */
+void bench_perma_measure(perma_runtime *rt, const bench_variant *variant, const bench_options *options,
+                         const bench_workload *workload, bench_row *row);
+
+/* Print the runtime's statistics when --verbose. */
+void bench_perma_verbose(perma_runtime *rt, const bench_options *options);
+
+/* Time `repeat` runs of fn (after one warm-up run) and return the median. */
+double bench_time_baseline(const bench_options *options, void (*fn)(void *), void *arg);
+
+/* Number of OpenMP threads to use. */
+unsigned bench_threads(const bench_options *options);
+
+#endif

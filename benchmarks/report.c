@@ -1,0 +1,171 @@
+/* Result rows: a readable table on stdout, printed as rows finish, and the
+ * same rows as CSV.  The ratio column is sequential C time / row time, so
+ * above 1 means faster than sequential C. */
+#include "bench.h"
+
+#include <errno.h>
+#include <stdlib.h>
+#include <string.h>
+
+struct bench_report {
+    const char *benchmark;
+    FILE *csv;
+    const char *csv_path;
+    int csv_failed;
+    double baseline_seconds; /* sequential C time of the current workload */
+    unsigned failures;
+};
+
+void bench_row_init(bench_row *row, const char *workload, const char *variant, const char *unit)
+{
+    memset(row, 0, sizeof *row);
+    snprintf(row->workload, sizeof row->workload, "%s", workload);
+    snprintf(row->variant, sizeof row->variant, "%s", variant);
+    row->unit = unit;
+}
+
+int bench_report_open(bench_report **out, const char *benchmark, const bench_options *options)
+{
+    bench_report *r = calloc(1, sizeof *r);
+    if (!r) {
+        fprintf(stderr, "perma-bench: out of memory\n");
+        return 1;
+    }
+    r->benchmark = benchmark;
+    if (options->csv_path) {
+        r->csv = fopen(options->csv_path, "w");
+        if (!r->csv) {
+            fprintf(stderr, "perma-bench: cannot write %s: %s\n", options->csv_path, strerror(errno));
+            free(r);
+            return 1;
+        }
+        r->csv_path = options->csv_path;
+        fprintf(r->csv, "benchmark,workload,variant,group_size,work_groups,status,seconds,wall_seconds,"
+                        "units,unit,rate,speedup_vs_sequential,count,expected,check,peak_queue_bytes,"
+                        "peak_item_bytes,steals,donations,spills,message\n");
+    }
+    *out = r;
+    return 0;
+}
+
+static const char *check_name(bench_check check)
+{
+    return check == BENCH_CHECK_PASS ? "ok" : check == BENCH_CHECK_FAIL ? "WRONG" : "-";
+}
+
+/* 1234567 -> "1.23M" style, for the table. */
+static void human(char *out, size_t size, double value)
+{
+    if (value >= 1e9)
+        snprintf(out, size, "%.2fG", value / 1e9);
+    else if (value >= 1e6)
+        snprintf(out, size, "%.2fM", value / 1e6);
+    else if (value >= 1e3)
+        snprintf(out, size, "%.1fk", value / 1e3);
+    else
+        snprintf(out, size, "%.0f", value);
+}
+
+static void print_header(void)
+{
+    printf("%-34s %4s %3s %9s %9s %9s %6s %10s  %s\n", "variant", "gs", "wg", "seconds", "rate/s",
+           "vs seq", "check", "peak q.B", "note");
+}
+
+void bench_report_workload(bench_report *r, const char *title)
+{
+    r->baseline_seconds = 0.0;
+    printf("\n== %s: %s ==\n", r->benchmark, title);
+    print_header();
+    fflush(stdout);
+}
+
+/* CSV field without commas or quotes inside (messages are sanitised). */
+static void csv_text(FILE *f, const char *text)
+{
+    fputc('"', f);
+    for (const char *p = text; *p; ++p)
+        fputc(*p == '"' ? '\'' : (*p == '\n' ? ' ' : *p), f);
+    fputc('"', f);
+}
+
+/* The first line of a message, at most 90 characters, for the table. */
+static void short_note(char *out, size_t size, const char *message)
+{
+    size_t n = strcspn(message, "\n");
+    if (n > 90)
+        n = 90;
+    if (n >= size)
+        n = size - 1;
+    memcpy(out, message, n);
+    out[n] = '\0';
+}
+
+void bench_report_add(bench_report *r, const bench_row *row, int is_baseline)
+{
+    char note[96];
+    short_note(note, sizeof note, row->message);
+    if (is_baseline && row->ran)
+        r->baseline_seconds = row->seconds;
+    if (row->check == BENCH_CHECK_FAIL)
+        ++r->failures;
+    double rate = row->ran && row->seconds > 0 ? row->units / row->seconds : 0.0;
+    double ratio = row->ran && row->seconds > 0 && r->baseline_seconds > 0 ? r->baseline_seconds / row->seconds : 0.0;
+
+    char gs[16] = "-", wg[16] = "-", rate_text[16], peak[16] = "-";
+    if (row->group_size)
+        snprintf(gs, sizeof gs, "%u", row->group_size);
+    if (row->work_groups)
+        snprintf(wg, sizeof wg, "%u", row->work_groups);
+    if (row->peak_queue_bytes || row->peak_item_bytes)
+        human(peak, sizeof peak, (double)(row->peak_queue_bytes ? row->peak_queue_bytes : row->peak_item_bytes));
+    if (!row->ran) {
+        printf("%-34s %4s %3s %9s %9s %9s %6s %10s  %s\n", row->variant, gs, wg, "n/a", "n/a", "n/a", "-", "-",
+               note);
+    } else {
+        human(rate_text, sizeof rate_text, rate);
+        char ratio_text[16] = "-";
+        if (ratio > 0)
+            snprintf(ratio_text, sizeof ratio_text, "%.2fx", ratio);
+        printf("%-34s %4s %3s %9.4f %9s %9s %6s %10s  %s\n", row->variant, gs, wg, row->seconds, rate_text,
+               ratio_text, check_name(row->check), peak, note);
+    }
+    fflush(stdout);
+
+    if (!r->csv)
+        return;
+    fprintf(r->csv, "%s,", r->benchmark);
+    csv_text(r->csv, row->workload);
+    fputc(',', r->csv);
+    csv_text(r->csv, row->variant);
+    fprintf(r->csv, ",%u,%u,%s,%.6f,%.6f,%.0f,%s,%.1f,%.4f,%llu,%llu,%s,%zu,%zu,%llu,%llu,%llu,", row->group_size,
+            row->work_groups, row->ran ? "ok" : "n/a", row->seconds, row->wall_seconds, row->units,
+            row->unit ? row->unit : "", rate, ratio, (unsigned long long)row->count,
+            (unsigned long long)row->expected, check_name(row->check), row->peak_queue_bytes,
+            row->peak_item_bytes, (unsigned long long)row->steals, (unsigned long long)row->donations,
+            (unsigned long long)row->spills);
+    csv_text(r->csv, row->message);
+    fputc('\n', r->csv);
+    if (ferror(r->csv))
+        r->csv_failed = 1;
+}
+
+unsigned bench_report_failures(const bench_report *r)
+{
+    return r->failures;
+}
+
+int bench_report_close(bench_report *r)
+{
+    int failed = 0;
+    if (r->failures)
+        printf("\n%u row(s) produced a WRONG result\n", r->failures);
+    if (r->csv) {
+        if (fclose(r->csv) != 0 || r->csv_failed) {
+            fprintf(stderr, "perma-bench: writing %s failed\n", r->csv_path);
+            failed = 1;
+        }
+    }
+    free(r);
+    return failed;
+}

@@ -1,0 +1,49 @@
+/* Clock, median and the timing loop of the C and OpenMP baselines. */
+#include "bench.h"
+
+#include <stdlib.h>
+#include <time.h>
+#include <unistd.h>
+
+double bench_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+static int compare_doubles(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+double bench_median(double *values, unsigned count)
+{
+    if (count == 0)
+        return 0.0;
+    qsort(values, count, sizeof *values, compare_doubles);
+    return count % 2 ? values[count / 2] : 0.5 * (values[count / 2 - 1] + values[count / 2]);
+}
+
+double bench_time_baseline(const bench_options *options, void (*fn)(void *), void *arg)
+{
+    enum { MAX_REPEAT = 1000 };
+    static double times[MAX_REPEAT];
+    unsigned n = options->repeat < MAX_REPEAT ? options->repeat : MAX_REPEAT;
+    fn(arg); /* warm-up: page faults, OpenMP thread pool, caches */
+    for (unsigned i = 0; i < n; ++i) {
+        double start = bench_now();
+        fn(arg);
+        times[i] = bench_now() - start;
+    }
+    return bench_median(times, n);
+}
+
+unsigned bench_threads(const bench_options *options)
+{
+    if (options->threads)
+        return options->threads;
+    long cpus = sysconf(_SC_NPROCESSORS_ONLN);
+    return cpus > 0 ? (unsigned)cpus : 1;
+}

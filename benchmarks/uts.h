@@ -1,0 +1,108 @@
+/* UTS-style unbalanced trees (after Olivier et al., "UTS: An Unbalanced
+ * Tree Search Benchmark", 2006), with our own integer hash instead of SHA-1.
+ *
+ * A node is {hash, depth}.  Its child count comes from its hash, and child i
+ * gets hash uts_child_hash(parent, i, rounds), so the whole tree follows from
+ * the root hash.  The functions are written once in UTS_SHARED_CODE and
+ * compiled both as C (below) and as OpenCL C (its text is the device source),
+ * with 32-bit unsigned integer operations only, so host and device build the
+ * identical tree.
+ *
+ *   geometric: a node above max_depth has k children with probability
+ *              (1-p) p^k, capped at UTS_GEO_CAP, p = b / (1 + b), so the
+ *              expected branching factor is about b (UTS "T1"-like).
+ *   binomial:  the root has b0 children; every other node has m children
+ *              with probability q, else none; q*m just below 1 keeps the
+ *              tree finite but deep and very unbalanced (UTS "T3"-like).
+ *
+ * `rounds` sets the work per child: the number of hash rounds that derive a
+ * child's hash (UTS spends one SHA-1 evaluation there). */
+#ifndef UTS_H
+#define UTS_H
+
+#include <stdint.h>
+
+#define UTS_GEO_CAP 32u
+
+#define UTS_SHARED_CODE(FN)                                                            \
+    FN uint uts_mix(uint x)                                                            \
+    {                                                                                  \
+        x ^= x >> 16; x *= 0x7feb352du; x ^= x >> 15; x *= 0x846ca68bu; x ^= x >> 16;  \
+        return x;                                                                      \
+    }                                                                                  \
+    FN uint uts_child_hash(uint parent, uint index, uint rounds)                       \
+    {                                                                                  \
+        uint h = parent ^ (index * 0x9e3779b9u + 0x632be5abu);                         \
+        for (uint r = 0; r < rounds; ++r)                                              \
+            h = uts_mix(h + r);                                                        \
+        return h;                                                                      \
+    }                                                                                  \
+    /* p16 = p * 65536: each further child has probability p. */                     \
+    FN uint uts_geometric_children(uint hash, uint depth, uint max_depth, uint p16)    \
+    {                                                                                  \
+        if (depth >= max_depth)                                                        \
+            return 0u;                                                                 \
+        uint k = 0u, h = hash;                                                         \
+        while (k < UTS_GEO_CAP_VALUE) {                                                \
+            h = uts_mix(h ^ 0x5bd1e995u);                                              \
+            if ((h >> 16) >= p16)                                                      \
+                break;                                                                 \
+            ++k;                                                                       \
+        }                                                                              \
+        return k;                                                                      \
+    }                                                                                  \
+    /* q32 = q * 2^32. */                                                            \
+    FN uint uts_binomial_children(uint hash, uint depth, uint b0, uint m, uint q32)    \
+    {                                                                                  \
+        if (depth == 0u)                                                               \
+            return b0;                                                                 \
+        return uts_mix(hash ^ 0x27d4eb2fu) < q32 ? m : 0u;                             \
+    }
+
+typedef uint32_t uint;
+#define UTS_GEO_CAP_VALUE UTS_GEO_CAP
+UTS_SHARED_CODE(static inline)
+
+/* The OpenCL C text of the same functions (UTS_GEO_CAP_VALUE is defined in
+ * the device source before it). */
+#define UTS_STRINGIFY_(...) #__VA_ARGS__
+#define UTS_STRINGIFY(...) UTS_STRINGIFY_(__VA_ARGS__)
+#define UTS_DEVICE_CODE UTS_STRINGIFY(UTS_SHARED_CODE())
+
+typedef enum uts_shape { UTS_GEOMETRIC, UTS_BINOMIAL } uts_shape;
+
+typedef struct uts_tree {
+    uts_shape shape;
+    uint root_hash;
+    uint rounds;
+    /* geometric */
+    uint max_depth, p16;
+    /* binomial */
+    uint b0, m, q32;
+} uts_tree;
+
+typedef struct uts_node {
+    uint hash, depth;
+} uts_node;
+
+typedef struct uts_result {
+    uint64_t nodes;
+    uint64_t hash_sum; /* sum of all node hashes: checks the shape, not only the size */
+    uint max_depth;
+} uts_result;
+
+static inline uint uts_children(const uts_tree *t, uts_node n)
+{
+    return t->shape == UTS_GEOMETRIC ? uts_geometric_children(n.hash, n.depth, t->max_depth, t->p16)
+                                     : uts_binomial_children(n.hash, n.depth, t->b0, t->m, t->q32);
+}
+
+/* Sequential depth-first count with an explicit stack; 0 on success, -1 if
+ * out of memory. */
+int uts_count_sequential(const uts_tree *tree, uts_result *out);
+/* The same with OpenMP tasks on `threads` threads; spawn_depth: nodes at a
+ * depth below it spawn one task per child, deeper nodes recurse inline
+ * (UINT32_MAX: a task per node). */
+void uts_count_openmp(const uts_tree *tree, unsigned threads, uint spawn_depth, uts_result *out);
+
+#endif
