@@ -15,61 +15,8 @@
  * Every barrier is reached by all work-items on every iteration.
  */
 
-#define PERMA_CMD_RUN 0u
-#define PERMA_CMD_IDLE 1u
-#define PERMA_CMD_EXIT 2u
-#define PERMA_CMD_DONATE 3u
-
-/* Words work-item 0 broadcasts to the group. */
-#define PERMA_B_PROC 0
-#define PERMA_B_START 1
-#define PERMA_B_COUNT 2
-#define PERMA_B_COMMAND 3
-#define PERMA_B_SOURCE 4 /* queue index the items come from */
-#define PERMA_B_DEST 5   /* donation: queue index they go to */
-#define PERMA_BATCH_WORDS 8
-
 /* Scheduler polls in work-item 0 before the group goes round its loop once. */
 #define PERMA_IDLE_POLLS 64u
-
-#define PERMA_QINDEX(set, proc) ((set) * PERMA_NUM_PROCS + (proc))
-
-/* How many of `want` items of procedure q fit into the room of its targets
- * in queue set `set`. */
-inline uint perma_admissible(__global uint *ctl, uint set, uint q, uint want)
-{
-    for (uint e = 0; e < perma_edge_count[q]; ++e) {
-        uint t = perma_edge_target[q * PERMA_MAX_EDGES + e];
-        int room = perma_load_int(PERMA_QUEUE(ctl, PERMA_QINDEX(set, t)) + PERMA_Q_ROOM);
-        uint fit = room > 0 ? (uint)room / perma_edge_max[q * PERMA_MAX_EDGES + e] : 0u;
-        want = min(want, fit);
-    }
-    return want;
-}
-
-inline void perma_release_batch_room(__global uint *ctl, uint set, uint q, uint items, uint edges)
-{
-    for (uint e = 0; e < edges; ++e) {
-        uint t = perma_edge_target[q * PERMA_MAX_EDGES + e];
-        perma_queue_return_room(ctl, PERMA_QUEUE(ctl, PERMA_QINDEX(set, t)),
-                                (int)(items * perma_edge_max[q * PERMA_MAX_EDGES + e]));
-    }
-}
-
-/* Reserve the worst-case emits of `items` items of q in every target. */
-inline int perma_reserve_batch_room(__global uint *ctl, uint set, uint q, uint items)
-{
-    uint edges = perma_edge_count[q];
-    for (uint e = 0; e < edges; ++e) {
-        uint t = perma_edge_target[q * PERMA_MAX_EDGES + e];
-        if (!perma_queue_reserve_room(PERMA_QUEUE(ctl, PERMA_QINDEX(set, t)),
-                                      (int)(items * perma_edge_max[q * PERMA_MAX_EDGES + e]))) {
-            perma_release_batch_room(ctl, set, q, items, e);
-            return 0;
-        }
-    }
-    return 1;
-}
 
 /* Take a batch of procedure q from queue set `from` for a group whose emits
  * go to set `own`.  Returns the item count (0: none), first position in
@@ -132,13 +79,21 @@ inline uint perma_try_donate(__global uint *ctl, uint own, uint *proc, uint *des
     return 0;
 }
 
-/* True when every running group is blocked on room since `epoch` and no room
- * appeared since: nobody can make progress until the host grows queues. */
+/* True when every running group found nothing to start since `epoch` and
+ * no batch finished since: nobody can make progress until the host grows
+ * queues. */
 inline int perma_all_blocked(__global uint *ctl, uint epoch)
 {
     for (uint g = 0; g < get_num_groups(0); ++g) {
         __global uint *gw = PERMA_GROUP(ctl, g);
-        if (perma_load(gw + PERMA_G_STATE) == 1u && perma_load(gw + PERMA_G_BLOCKED) != epoch + 1u)
+        uint state = perma_load(gw + PERMA_G_STATE);
+#if PERMA_DONATION && !PERMA_STEALING
+        /* Nobody else can take the items of a group that has not started
+         * (the host keeps work_groups <= compute units for this strategy). */
+        if (state == 0u)
+            return 0;
+#endif
+        if (state == 1u && perma_load(gw + PERMA_G_BLOCKED) != epoch + 1u)
             return 0;
     }
     return perma_load(ctl + PERMA_CTL_PROGRESS) == epoch;
@@ -198,6 +153,7 @@ inline void perma_schedule(__global uint *ctl, __global uint *group_words, uint 
 #if PERMA_DONATION
         got = perma_try_donate(ctl, own, &q, &dest, &start);
         if (got) {
+            perma_set_blocked(group_words, 0u);
             group_stat[PERMA_GSTAT_DONATIONS] += 1u;
             group_stat[PERMA_GSTAT_DONATED] += got;
             perma_set_batch(batch, PERMA_CMD_DONATE, q, start, got, PERMA_QINDEX(own, q), dest);
@@ -233,16 +189,16 @@ inline void perma_schedule(__global uint *ctl, __global uint *group_words, uint 
         }
 #endif
         group_stat[PERMA_GSTAT_IDLE_POLLS] += 1u;
-        if (found) {
-            /* Work exists but no target has room for it. */
-            perma_set_blocked(group_words, epoch + 1u);
-            if (perma_all_blocked(ctl, epoch)) {
-                perma_fail(ctl, PERMA_KSTATUS_NEEDS_ROOM, 0xffffffffu, 0);
-                break;
-            }
-        } else {
-            perma_set_blocked(group_words, 0u);
+        /* Nothing this group can start: either no room for the work it sees,
+         * or no work it may take (another group's set, without stealing).
+         * If every running group is in that state since the same epoch while
+         * items are outstanding, only bigger queues can help. */
+        perma_set_blocked(group_words, epoch + 1u);
+        if (perma_all_blocked(ctl, epoch) && perma_load_int(ctl + PERMA_CTL_OUTSTANDING) > 0) {
+            perma_fail(ctl, PERMA_KSTATUS_NEEDS_ROOM, 0xffffffffu, 0);
+            break;
         }
+        (void)found;
         if (poll >= PERMA_IDLE_POLLS) {
             batch[PERMA_B_COMMAND] = PERMA_CMD_IDLE;
             return;
@@ -251,40 +207,45 @@ inline void perma_schedule(__global uint *ctl, __global uint *group_words, uint 
     batch[PERMA_B_COMMAND] = PERMA_CMD_EXIT;
 }
 
+/* Declare a group's __local memory and the record pointing at it. */
+#define PERMA_GROUP_LOCALS(mem)                                                   \
+    __local uint perma_arena[PERMA_ARENA_WORDS] __attribute__((aligned(64)));    \
+    __local uint perma_edge_counts[PERMA_MAX_EDGES];                             \
+    __local uint perma_edge_base[PERMA_MAX_EDGES];                               \
+    __local uint perma_stats[PERMA_STAT_GROUP_WORDS];                            \
+    __local uint perma_error_code;                                               \
+    __local uint perma_copy_failed;                                              \
+    perma_group_mem mem = { perma_arena, perma_edge_counts, perma_edge_base,     \
+                            perma_stats, &perma_error_code, &perma_copy_failed }
+
 __kernel __attribute__((reqd_work_group_size(PERMA_GROUP_SIZE, 1, 1)))
 void perma_megakernel(__global uint *ctl, __global uint *queue_data, __global uint *queue_seq,
                       __global uint *group_stats, volatile __global uint *abort_flag
                       PERMA_BUFFER_PARAMS)
 {
-    /* One arena; each procedure has its own layout of items, scratch, emit
-     * counters and staging inside it (perma_*_off tables). */
-    __local uint arena[PERMA_ARENA_WORDS] __attribute__((aligned(64)));
-    __local uint edge_counts[PERMA_MAX_EDGES];
-    __local uint edge_base[PERMA_MAX_EDGES];
-    __local uint stats[PERMA_STAT_GROUP_WORDS];
+    PERMA_GROUP_LOCALS(mem);
     __local uint batch[PERMA_BATCH_WORDS];
-    __local uint error_code;
-    __local uint copy_failed;
 
     const uint lid = get_local_id(0);
     const uint group = get_group_id(0);
     const uint own = PERMA_QUEUE_SETS > 1 ? group : 0u;
     __global uint *group_words = PERMA_GROUP(ctl, group);
-    __local uint *group_stat = stats + PERMA_NUM_PROCS * PERMA_STAT_PROC_WORDS;
+    __local uint *group_stat = mem.stats + PERMA_NUM_PROCS * PERMA_STAT_PROC_WORDS;
     uint victim_state = group * 2654435761u + 12345u; /* used by work-item 0 only */
+    perma_buffers buf;
+    PERMA_BIND_BUFFERS(buf);
 
     for (uint i = lid; i < PERMA_STAT_GROUP_WORDS; i += PERMA_GROUP_SIZE)
-        stats[i] = 0;
+        mem.stats[i] = 0;
     if (lid == 0) {
-        copy_failed = 0;
+        *mem.copy_failed = 0;
         perma_set_batch(batch, PERMA_CMD_IDLE, 0, 0, 0, 0, 0);
         atomic_xchg(group_words + PERMA_G_STATE, 1u);
     }
     barrier(CLK_LOCAL_MEM_FENCE);
 
-    /* The body is straight-line code with a uniform trip count: an idle or
-     * final iteration runs it with count = 0 rather than branching around
-     * barriers (PoCL mishandles continue/break between barriers). */
+    /* An idle or final iteration runs the batch code with 0 items rather
+     * than branching around its barriers. */
     uint command = PERMA_CMD_IDLE;
     while (command != PERMA_CMD_EXIT) {
         if (lid == 0)
@@ -295,115 +256,15 @@ void perma_megakernel(__global uint *ctl, __global uint *queue_data, __global ui
         const uint start = batch[PERMA_B_START];
         const uint moving = command == PERMA_CMD_RUN || command == PERMA_CMD_DONATE;
         const uint count = moving ? batch[PERMA_B_COUNT] : 0u;
-        const uint run = command == PERMA_CMD_RUN ? count : 0u; /* items to execute */
-        __global uint *queue = PERMA_QUEUE(ctl, batch[PERMA_B_SOURCE]);
+        __global uint *source = PERMA_QUEUE(ctl, batch[PERMA_B_SOURCE]);
         __global uint *donee = PERMA_QUEUE(ctl, batch[PERMA_B_DEST]);
         barrier(CLK_LOCAL_MEM_FENCE); /* all have read batch[] before it is rewritten */
-
-        /* Copy the batch into local memory, freeing its queue slots. */
-        const uint words = perma_item_words[proc];
-        const uint edges = command == PERMA_CMD_RUN ? perma_edge_count[proc] : 0u;
-        __local uint *items = arena + perma_items_off[proc];
-        __local uint *item_emit_counts = arena + perma_counters_off[proc];
-        for (uint i = lid; i < count; i += PERMA_GROUP_SIZE) {
-            if (!perma_queue_read_item(queue, queue_data, queue_seq, start + i, words,
-                                       items + i * words, abort_flag))
-                copy_failed = 1;
-        }
-        for (uint i = lid; i < run * edges; i += PERMA_GROUP_SIZE)
-            item_emit_counts[i] = 0;
-        for (uint i = lid; i < PERMA_MAX_EDGES; i += PERMA_GROUP_SIZE)
-            edge_counts[i] = 0;
-        if (lid == 0)
-            error_code = 0;
-        barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
-        if (lid == 0)
-            perma_queue_return_room(ctl, queue, (int)count);
-
-        /* Run the procedure (not on items that failed to arrive). */
-        perma_ctx ctx;
-        const uint tpi = perma_tpi[proc];
-        const uint slot = lid / tpi;
-        ctx.proc = proc;
-        ctx.thread = lid % tpi;
-        ctx.threads = tpi;
-        ctx.active = (slot < run && !copy_failed) ? 1u : 0u;
-        ctx.slot = ctx.active ? slot : 0u;
-        ctx.group = group;
-        ctx.scratch = (__local void *)(arena + perma_scratch_off[proc] +
-                                       ctx.slot * perma_scratch_words[proc]);
-        ctx.item_emit_counts = item_emit_counts + ctx.slot * perma_edge_count[proc];
-        ctx.edge_counts = edge_counts;
-        ctx.stage = arena;
-        ctx.error_code = &error_code;
-        PERMA_BIND_BUFFERS(ctx.buf);
-        perma_dispatch(proc, &ctx, items);
-        barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
-
-        /* Reserve positions in the targets: one atomic per target. */
-        if (lid == 0) {
-            int emitted = 0;
-            for (uint e = 0; e < edges; ++e) {
-                uint t = perma_edge_target[proc * PERMA_MAX_EDGES + e];
-                __global uint *target = PERMA_QUEUE(ctl, PERMA_QINDEX(own, t));
-                uint k = edge_counts[e];
-                edge_base[e] = k ? atomic_add(target + PERMA_Q_TAIL, k) : 0u;
-                if (k)
-                    perma_queue_note_peak(target, edge_base[e] + k);
-                emitted += (int)k;
-                stats[proc * PERMA_STAT_PROC_WORDS + PERMA_STAT_EMITTED + e] += k;
-            }
-            if (run) {
-                stats[proc * PERMA_STAT_PROC_WORDS + PERMA_STAT_ITEMS] += run;
-                stats[proc * PERMA_STAT_PROC_WORDS + PERMA_STAT_BATCHES] += 1u;
-                /* Count the emits before they become visible, and retire the batch. */
-                atomic_add((volatile __global int *)(ctl + PERMA_CTL_OUTSTANDING), emitted - (int)run);
-            }
-            if (command == PERMA_CMD_DONATE) {
-                edge_base[0] = atomic_add(donee + PERMA_Q_TAIL, count);
-                perma_queue_note_peak(donee, edge_base[0] + count);
-            }
-            if (error_code)
-                perma_fail(ctl, PERMA_KSTATUS_EMIT_LIMIT, proc, error_code);
-        }
-        barrier(CLK_LOCAL_MEM_FENCE);
-
-        /* Copy the staged items out and publish them. */
-        for (uint e = 0; e < edges; ++e) {
-            const uint t = perma_edge_target[proc * PERMA_MAX_EDGES + e];
-            __global uint *target = PERMA_QUEUE(ctl, PERMA_QINDEX(own, t));
-            const uint k = edge_counts[e];
-            const uint target_words = perma_item_words[t];
-            __local const uint *src = arena + perma_edge_stage[proc * PERMA_MAX_EDGES + e];
-            for (uint i = lid; i < k; i += PERMA_GROUP_SIZE) {
-                if (!perma_queue_write_item(target, queue_data, queue_seq, edge_base[e] + i,
-                                            target_words, src + i * target_words, abort_flag))
-                    copy_failed = 1;
-            }
-        }
-        /* A donation publishes the batch itself in the other group's queue. */
-        const uint donated = command == PERMA_CMD_DONATE ? count : 0u;
-        for (uint i = lid; i < donated; i += PERMA_GROUP_SIZE) {
-            if (!perma_queue_write_item(donee, queue_data, queue_seq, edge_base[0] + i, words,
-                                        items + i * words, abort_flag))
-                copy_failed = 1;
-        }
-        barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
-        if (lid == 0) {
-            for (uint e = 0; e < edges; ++e) {
-                uint t = perma_edge_target[proc * PERMA_MAX_EDGES + e];
-                uint promised = run * perma_edge_max[proc * PERMA_MAX_EDGES + e];
-                perma_queue_return_room(ctl, PERMA_QUEUE(ctl, PERMA_QINDEX(own, t)),
-                                        (int)(promised - edge_counts[e]));
-            }
-            if (copy_failed)
-                perma_fail(ctl, *abort_flag ? PERMA_KSTATUS_ABORTED : PERMA_KSTATUS_SPIN_LIMIT,
-                           0xffffffffu, 0);
-        }
+        perma_run_batch(ctl, queue_data, queue_seq, abort_flag, mem, buf, command, proc, start, count,
+                        source, donee, (__global const uint *)0, own);
     }
 
     for (uint i = lid; i < PERMA_STAT_GROUP_WORDS; i += PERMA_GROUP_SIZE)
-        group_stats[group * PERMA_STAT_GROUP_WORDS + i] = stats[i];
+        group_stats[group * PERMA_STAT_GROUP_WORDS + i] = mem.stats[i];
     if (lid == 0)
         atomic_xchg(group_words + PERMA_G_STATE, 2u);
 }

@@ -8,7 +8,9 @@
 extern const char perma_kernel_prelude[];
 extern const char perma_kernel_queue[];
 extern const char perma_kernel_emit[];
+extern const char perma_kernel_batch[];
 extern const char perma_kernel_scheduler[];
+extern const char perma_kernel_host_steps[];
 
 #define GENERATED_NAME "perma-generated.cl"
 
@@ -203,7 +205,11 @@ perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *sb)
     append_size_checks(rt, sb);
     append_dispatch(rt, sb);
     append_kernel_params(rt, sb);
+    perma_strbuf_append(sb, perma_kernel_batch);
+    resume_generated(sb);
     perma_strbuf_append(sb, perma_kernel_scheduler);
+    resume_generated(sb);
+    perma_strbuf_append(sb, perma_kernel_host_steps);
     if (sb->failed)
         return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory generating the program");
     return PERMA_OK;

@@ -89,7 +89,11 @@ struct perma_runtime {
     /* Build products. */
     bool built;
     cl_program program;
-    cl_kernel kernel;
+    cl_kernel kernel;          /* perma_megakernel */
+    cl_kernel step_kernel;     /* perma_step_kernel (host-driven techniques) */
+    cl_kernel take_kernel;     /* perma_take_kernel */
+    cl_mem input_mem;          /* items a step kernel consumes */
+    size_t input_mem_words;
     unsigned max_edges;
     unsigned arena_words;
     unsigned order[PERMA_MAX_PROCEDURES];
@@ -143,9 +147,21 @@ perma_status perma_queues_upload(perma_runtime *rt);
 perma_status perma_queues_download(perma_runtime *rt);
 perma_status perma_queues_grow(perma_runtime *rt);
 void perma_queues_release(perma_runtime *rt);
+/* Make *mem a buffer of at least `words` words (keeps a big enough one). */
+perma_status perma_ensure_buffer(perma_runtime *rt, cl_mem *mem, size_t *have_words, size_t words, const char *what);
+/* Grow queue qi (set 0 only) to hold `needed` more items, relaying out all
+ * queues; only between launches. */
+perma_status perma_queues_make_room(perma_runtime *rt, const size_t *needed);
 
 /* launch.c */
 perma_status perma_launch_megakernel(perma_runtime *rt, double deadline, uint32_t *kernel_status);
+perma_status perma_set_common_args(perma_runtime *rt, cl_kernel kernel, cl_uint first_user_arg);
+
+/* steps.c: the host-driven techniques. */
+perma_status perma_run_steps(perma_runtime *rt, double deadline);
+
+/* run.c */
+perma_status perma_kernel_status_error(perma_runtime *rt, const uint32_t *kernel_status);
 
 /* stats.c */
 void perma_stats_reset(perma_runtime *rt);

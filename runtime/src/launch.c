@@ -12,15 +12,23 @@ static void sleep_seconds(double s)
     nanosleep(&ts, NULL);
 }
 
-static perma_status set_args(perma_runtime *rt)
+/* The control block, queues, statistics and watchdog flag (arguments 0-4)
+ * and the user buffers from `first_user_arg` on. */
+perma_status perma_set_common_args(perma_runtime *rt, cl_kernel kernel, cl_uint first_user_arg)
 {
+    if (!rt->abort_mem) {
+        cl_int err;
+        rt->abort_mem = clCreateBuffer(rt->context, CL_MEM_READ_WRITE | CL_MEM_USE_HOST_PTR, 4096,
+                                       rt->abort_flag, &err);
+        PERMA_CL_CHECK(rt, "clCreateBuffer (watchdog flag)", err);
+    }
     cl_mem fixed[] = { rt->ctl_mem, rt->data_mem, rt->seq_mem, rt->stats_mem, rt->abort_mem };
     for (cl_uint i = 0; i < 5; ++i)
-        PERMA_CL_CHECK(rt, "clSetKernelArg", clSetKernelArg(rt->kernel, i, sizeof(cl_mem), &fixed[i]));
+        PERMA_CL_CHECK(rt, "clSetKernelArg", clSetKernelArg(kernel, i, sizeof(cl_mem), &fixed[i]));
     for (unsigned b = 0; b < rt->buffer_count; ++b) {
         if (!rt->buffers[b].mem)
             return perma_set_error(rt, PERMA_ERR_STATE, "buffer '%s' has no memory bound", rt->buffers[b].name);
-        cl_int err = clSetKernelArg(rt->kernel, 5 + b, sizeof(cl_mem), &rt->buffers[b].mem);
+        cl_int err = clSetKernelArg(kernel, first_user_arg + b, sizeof(cl_mem), &rt->buffers[b].mem);
         if (err != CL_SUCCESS)
             return perma_set_error(rt, PERMA_ERR_OPENCL, "clSetKernelArg (buffer '%s') failed: %s (%d)",
                                    rt->buffers[b].name, perma_cl_error_name(err), (int)err);
@@ -63,13 +71,8 @@ static perma_status watch(perma_runtime *rt, cl_event done, double deadline)
 perma_status perma_launch_megakernel(perma_runtime *rt, double deadline, uint32_t *kernel_status)
 {
     cl_int err;
-    if (!rt->abort_mem) {
-        rt->abort_mem = clCreateBuffer(rt->context, CL_MEM_READ_WRITE | CL_MEM_USE_HOST_PTR, 4096,
-                                       rt->abort_flag, &err);
-        PERMA_CL_CHECK(rt, "clCreateBuffer (watchdog flag)", err);
-    }
     __atomic_store_n(rt->abort_flag, 0u, __ATOMIC_SEQ_CST);
-    perma_status st = set_args(rt);
+    perma_status st = perma_set_common_args(rt, rt->kernel, 5);
     if (st != PERMA_OK)
         return st;
     size_t local = rt->group_size;

@@ -6,11 +6,14 @@
 
 void perma_release_program(perma_runtime *rt)
 {
-    if (rt->kernel)
-        clReleaseKernel(rt->kernel);
+    cl_kernel *kernels[] = { &rt->kernel, &rt->step_kernel, &rt->take_kernel };
+    for (size_t i = 0; i < 3; ++i) {
+        if (*kernels[i])
+            clReleaseKernel(*kernels[i]);
+        *kernels[i] = NULL;
+    }
     if (rt->program)
         clReleaseProgram(rt->program);
-    rt->kernel = NULL;
     rt->program = NULL;
 }
 
@@ -100,10 +103,15 @@ perma_status perma_build(perma_runtime *rt)
         perma_release_program(rt);
         PERMA_CL_CHECK(rt, "clBuildProgram", err);
     }
-    rt->kernel = clCreateKernel(rt->program, "perma_megakernel", &err);
-    if (err != CL_SUCCESS) {
-        perma_release_program(rt);
-        PERMA_CL_CHECK(rt, "clCreateKernel(perma_megakernel)", err);
+    static const char *const names[] = { "perma_megakernel", "perma_step_kernel", "perma_take_kernel" };
+    cl_kernel *kernels[] = { &rt->kernel, &rt->step_kernel, &rt->take_kernel };
+    for (size_t i = 0; i < 3; ++i) {
+        *kernels[i] = clCreateKernel(rt->program, names[i], &err);
+        if (err != CL_SUCCESS) {
+            perma_release_program(rt);
+            return perma_set_error(rt, PERMA_ERR_OPENCL, "clCreateKernel(%s) failed: %s (%d)", names[i],
+                                   perma_cl_error_name(err), (int)err);
+        }
     }
     rt->built = true;
     rt->message[0] = '\0';

@@ -56,13 +56,14 @@ static perma_status image_reserve(perma_runtime *rt, unsigned qi, size_t capacit
 
 void perma_queues_release(perma_runtime *rt)
 {
-    cl_mem *mems[] = { &rt->ctl_mem, &rt->data_mem, &rt->seq_mem, &rt->stats_mem, &rt->abort_mem };
+    cl_mem *mems[] = { &rt->ctl_mem, &rt->data_mem, &rt->seq_mem, &rt->stats_mem, &rt->abort_mem,
+                       &rt->input_mem };
     for (size_t i = 0; i < sizeof mems / sizeof mems[0]; ++i) {
         if (*mems[i])
             clReleaseMemObject(*mems[i]);
         *mems[i] = NULL;
     }
-    rt->data_mem_words = rt->seq_mem_words = 0;
+    rt->data_mem_words = rt->seq_mem_words = rt->input_mem_words = 0;
     for (unsigned qi = 0; qi < rt->image_count; ++qi)
         free(rt->images[qi].words);
     free(rt->images);
@@ -136,7 +137,7 @@ perma_status perma_queues_prepare(perma_runtime *rt)
     return PERMA_OK;
 }
 
-static perma_status ensure_buffer(perma_runtime *rt, cl_mem *mem, size_t *have_words, size_t words,
+perma_status perma_ensure_buffer(perma_runtime *rt, cl_mem *mem, size_t *have_words, size_t words,
                                   const char *what)
 {
     if (*mem && *have_words >= words)
@@ -203,12 +204,16 @@ perma_status perma_queues_upload(perma_runtime *rt)
         clReleaseMemObject(rt->ctl_mem), rt->ctl_mem = NULL;
     if (rt->stats_mem)
         clReleaseMemObject(rt->stats_mem), rt->stats_mem = NULL;
-    if ((st = ensure_buffer(rt, &rt->ctl_mem, &ctl_have, ctl_words, "control block")) != PERMA_OK ||
-        (st = ensure_buffer(rt, &rt->stats_mem, &stats_have, stats_words ? stats_words : 1, "statistics")) != PERMA_OK ||
-        (st = ensure_buffer(rt, &rt->data_mem, &rt->data_mem_words, data_words ? data_words : 1, "queue items")) != PERMA_OK ||
-        (st = ensure_buffer(rt, &rt->seq_mem, &rt->seq_mem_words, seq_words ? seq_words : 1, "queue sequence words")) != PERMA_OK)
+    if ((st = perma_ensure_buffer(rt, &rt->ctl_mem, &ctl_have, ctl_words, "control block")) != PERMA_OK ||
+        (st = perma_ensure_buffer(rt, &rt->stats_mem, &stats_have, stats_words ? stats_words : 1, "statistics")) != PERMA_OK ||
+        (st = perma_ensure_buffer(rt, &rt->data_mem, &rt->data_mem_words, data_words ? data_words : 1, "queue items")) != PERMA_OK ||
+        (st = perma_ensure_buffer(rt, &rt->seq_mem, &rt->seq_mem_words, seq_words ? seq_words : 1, "queue sequence words")) != PERMA_OK)
         goto done;
-    cl_int err = clEnqueueWriteBuffer(rt->queue, rt->ctl_mem, CL_TRUE, 0, ctl_words * 4, ctl, 0, NULL, NULL);
+    cl_uint zero = 0;
+    cl_int err = clEnqueueFillBuffer(rt->queue, rt->stats_mem, &zero, sizeof zero, 0,
+                                     (stats_words ? stats_words : 1) * 4, 0, NULL, NULL);
+    if (err == CL_SUCCESS)
+        err = clEnqueueWriteBuffer(rt->queue, rt->ctl_mem, CL_TRUE, 0, ctl_words * 4, ctl, 0, NULL, NULL);
     if (err == CL_SUCCESS && data_words)
         err = clEnqueueWriteBuffer(rt->queue, rt->data_mem, CL_TRUE, 0, data_words * 4, data, 0, NULL, NULL);
     if (err == CL_SUCCESS && seq_words)
@@ -357,4 +362,44 @@ done:
     free(capacities);
     free(grow);
     return st;
+}
+
+/* Between launches of the host-driven techniques: grow every queue qi with
+ * needed[qi] > free slots to a capacity that fits, and relay the queues out. */
+perma_status perma_queues_make_room(perma_runtime *rt, const size_t *needed)
+{
+    perma_status st = perma_queues_download(rt);
+    if (st != PERMA_OK)
+        return st;
+    size_t *capacities = calloc(rt->image_count, sizeof *capacities);
+    if (!capacities)
+        return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory growing queues");
+    for (unsigned qi = 0; qi < rt->image_count; ++qi) {
+        capacities[qi] = rt->images[qi].capacity;
+        while (capacities[qi] - rt->images[qi].count < needed[qi])
+            capacities[qi] *= 2;
+    }
+    size_t bytes = queue_bytes(rt, capacities);
+    for (unsigned qi = 0; st == PERMA_OK && qi < rt->image_count; ++qi) {
+        if (capacities[qi] == rt->images[qi].capacity)
+            continue;
+        if (bytes > memory_limit(rt) || capacities[qi] > ((size_t)1 << 31)) {
+            st = perma_set_error(rt, PERMA_ERR_CAPACITY,
+                                 "queue '%s' (%zu items of %zu bytes) cannot grow to %zu items: all queues would "
+                                 "need %zu bytes, more than the queue memory limit of %zu bytes",
+                                 proc_of(rt, qi)->name, rt->images[qi].capacity, proc_of(rt, qi)->item_size,
+                                 capacities[qi], bytes, memory_limit(rt));
+            break;
+        }
+        st = image_reserve(rt, qi, capacities[qi]);
+        if (st == PERMA_OK) {
+            rt->images[qi].capacity = capacities[qi];
+            rt->images[qi].regrowths++;
+        }
+    }
+    free(capacities);
+    if (st != PERMA_OK)
+        return st;
+    rt->stats.regrowths++;
+    return perma_queues_upload(rt);
 }

@@ -41,6 +41,24 @@ static perma_status emit_limit_error(perma_runtime *rt, uint32_t proc, uint32_t 
                            "for one input item", p->name, p->emit_max[e], p->emit_target_name[e]);
 }
 
+/* The error for a failure status of a kernel (not DONE or NEEDS_ROOM). */
+perma_status perma_kernel_status_error(perma_runtime *rt, const uint32_t *ks)
+{
+    switch (ks[0]) {
+    case PERMA_KSTATUS_EMIT_LIMIT:
+        return emit_limit_error(rt, ks[1], ks[2]);
+    case PERMA_KSTATUS_SPIN_LIMIT:
+        return perma_set_error(rt, PERMA_ERR_DEVICE,
+                               "a bounded wait in the kernel ran out (a queue slot was never published or freed)");
+    case PERMA_KSTATUS_ABORTED:
+        return perma_set_error(rt, PERMA_ERR_TIMEOUT, "the run passed its time limit of %g s and was stopped",
+                               rt->config.time_limit > 0 ? rt->config.time_limit : DEFAULT_TIME_LIMIT);
+    case PERMA_KSTATUS_NEEDS_ROOM:
+        return perma_set_error(rt, PERMA_ERR_DEVICE, "a step kernel found a queue without the room the host reserved");
+    }
+    return perma_set_error(rt, PERMA_ERR_DEVICE, "the kernel ended with unknown status %u", ks[0]);
+}
+
 /* Turn the status a launch ended with into the next step or an error. */
 static perma_status interpret(perma_runtime *rt, const uint32_t *ks, bool *again)
 {
@@ -58,16 +76,8 @@ static perma_status interpret(perma_runtime *rt, const uint32_t *ks, bool *again
         *again = st == PERMA_OK;
         return st;
     }
-    case PERMA_KSTATUS_EMIT_LIMIT:
-        return emit_limit_error(rt, ks[1], ks[2]);
-    case PERMA_KSTATUS_SPIN_LIMIT:
-        return perma_set_error(rt, PERMA_ERR_DEVICE,
-                               "a bounded wait in the kernel ran out (a queue slot was never published or freed)");
-    case PERMA_KSTATUS_ABORTED:
-        return perma_set_error(rt, PERMA_ERR_TIMEOUT, "the run passed its time limit of %g s and was stopped",
-                               rt->config.time_limit > 0 ? rt->config.time_limit : DEFAULT_TIME_LIMIT);
     }
-    return perma_set_error(rt, PERMA_ERR_DEVICE, "the kernel ended with unknown status %u", ks[0]);
+    return perma_kernel_status_error(rt, ks);
 }
 
 perma_status perma_run(perma_runtime *rt)
@@ -88,6 +98,10 @@ perma_status perma_run(perma_runtime *rt)
     if (st == PERMA_OK)
         st = copy_host_buffers(rt, PERMA_READ);
     bool again = st == PERMA_OK;
+    if (again && rt->config.technique != PERMA_TECHNIQUE_MEGAKERNEL) {
+        again = false;
+        st = perma_run_steps(rt, deadline);
+    }
     while (again) {
         uint32_t ks[4];
         st = perma_queues_upload(rt);

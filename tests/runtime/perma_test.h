@@ -16,7 +16,11 @@ perma_runtime *test_runtime_config(const perma_config *config);
 
 /* Fail the test with the runtime's message unless `status` is PERMA_OK. */
 #define ck_assert_perma_ok(rt, status)                                                       \
-    ck_assert_msg((status) == PERMA_OK, "%s: %s", perma_status_name(status), perma_errmsg(rt))
+    do {                                                                                     \
+        perma_status perma_st_ = (status);                                                   \
+        ck_assert_msg(perma_st_ == PERMA_OK, "%s: %s", perma_status_name(perma_st_),         \
+                      perma_errmsg(rt));                                                     \
+    } while (0)
 
 /* Assert that `haystack` contains `needle`. */
 #define ck_assert_contains(haystack, needle)                                                 \

@@ -39,7 +39,12 @@ START_TEST(tiny_queue_regrows_to_exact_result)
     perma_stats st;
     ck_assert_perma_ok(rt, perma_get_stats(rt, &st));
     ck_assert_uint_gt(st.regrowths, 0);
-    ck_assert_uint_eq(st.launches, st.regrowths + 1);
+    if (st.technique == PERMA_TECHNIQUE_MEGAKERNEL)
+        ck_assert_uint_eq(st.launches, st.regrowths + 1); /* one relaunch per growth */
+    else if (st.technique == PERMA_TECHNIQUE_KERNEL_PER_PROCEDURE)
+        ck_assert_uint_eq(st.launches, DEPTH + 1);        /* one NDRange per tree level */
+    else
+        ck_assert_uint_ge(st.launches, DEPTH + 1);
     perma_procedure_stats ps;
     ck_assert_perma_ok(rt, perma_get_procedure_stats(rt, id, &ps));
     ck_assert_uint_eq(ps.regrowths, st.regrowths);
@@ -65,6 +70,7 @@ START_TEST(memory_cap_is_a_clear_error)
     config.queue_capacity = 16;
     config.queue_memory_limit = 64 * 1024;
     config.time_limit = 60;
+    config.batch_limit = 64; /* bounded batches: small steps fit the cap */
     perma_runtime *rt = test_runtime_config(&config);
     uint32_t counts[2] = { 0, 0 };
     uint64_t sums[1] = { 0 };
@@ -72,9 +78,17 @@ START_TEST(memory_cap_is_a_clear_error)
     struct tree_node root = { 0, 16, 1, 0 }; /* 65536 leaves: far beyond 64 KiB */
     ck_assert_perma_ok(rt, perma_seed(rt, id, &root, 1));
     perma_status st = perma_run(rt);
-    ck_assert_int_eq(st, PERMA_ERR_CAPACITY);
-    ck_assert_contains(perma_errmsg(rt), "queue 'tree'");
-    ck_assert_contains(perma_errmsg(rt), "memory limit of 65536 bytes");
+    perma_stats stats;
+    ck_assert_perma_ok(rt, perma_get_stats(rt, &stats));
+    if (stats.technique == PERMA_TECHNIQUE_BOUNDED_BATCHES) {
+        /* Depth-first batches need a stack of batches, not a tree level. */
+        ck_assert_perma_ok(rt, st);
+        ck_assert_uint_eq(counts[0], 1u << 16);
+    } else {
+        ck_assert_int_eq(st, PERMA_ERR_CAPACITY);
+        ck_assert_contains(perma_errmsg(rt), "queue 'tree'");
+        ck_assert_contains(perma_errmsg(rt), "memory limit of 65536 bytes");
+    }
     perma_destroy(rt);
 }
 END_TEST
@@ -104,6 +118,40 @@ START_TEST(unbounded_recursion_hits_the_cap)
 }
 END_TEST
 
+/* Bounded batches keep the queue at O(N + depth * p * (k - 1)) items where
+ * breadth-first needs a whole tree level.  Built directly (not through the
+ * test variant) because the technique is the point. */
+START_TEST(bounded_batches_bound_memory)
+{
+    enum { DEPTH = 16, LIMIT = 64 };
+    uint64_t peaks[2];
+    perma_technique techniques[2] = { PERMA_TECHNIQUE_KERNEL_PER_PROCEDURE, PERMA_TECHNIQUE_BOUNDED_BATCHES };
+    for (int k = 0; k < 2; ++k) {
+        perma_config config;
+        perma_config_init(&config);
+        config.technique = techniques[k];
+        config.batch_limit = LIMIT;
+        config.queue_capacity = 16;
+        perma_runtime *rt;
+        perma_error error;
+        ck_assert_msg(perma_create(&config, &rt, &error) == PERMA_OK, "%s", error.message);
+        uint32_t counts[2] = { 0, 0 };
+        uint64_t sums[1] = { 0 };
+        perma_proc id = add_tree(rt, counts, sums);
+        struct tree_node root = { 0, DEPTH, 1, 0 };
+        ck_assert_perma_ok(rt, perma_seed(rt, id, &root, 1));
+        ck_assert_perma_ok(rt, perma_run(rt));
+        ck_assert_uint_eq(counts[0], 1u << DEPTH);
+        perma_procedure_stats ps;
+        ck_assert_perma_ok(rt, perma_get_procedure_stats(rt, id, &ps));
+        peaks[k] = ps.peak_queue_items;
+        perma_destroy(rt);
+    }
+    ck_assert_uint_ge(peaks[0], 1u << DEPTH);            /* the widest level */
+    ck_assert_uint_le(peaks[1], 1 + DEPTH * LIMIT + 2 * LIMIT); /* a stack of batches */
+}
+END_TEST
+
 int main(void)
 {
     Suite *s = suite_create("overflow");
@@ -112,6 +160,7 @@ int main(void)
     tcase_add_test(tc, tiny_queue_regrows_to_exact_result);
     tcase_add_test(tc, memory_cap_is_a_clear_error);
     tcase_add_test(tc, unbounded_recursion_hits_the_cap);
+    tcase_add_test(tc, bounded_batches_bound_memory);
     suite_add_tcase(s, tc);
     return test_run_suite(s) ? EXIT_FAILURE : EXIT_SUCCESS;
 }

@@ -1,0 +1,192 @@
+/*
+ * One batch, executed by a whole work-group: copy the items into __local
+ * memory, run the procedure, reserve the targets' positions with one atomic
+ * each, publish the emits.  Shared by the persistent megakernel and the
+ * host-driven step kernel.  Every barrier in here is reached by every
+ * work-item on every call, whatever the batch (a batch of 0 items runs the
+ * same code): PoCL mishandles continue/break between barriers, and
+ * barriers must be in uniform control flow anyway.
+ */
+
+#define PERMA_CMD_RUN 0u
+#define PERMA_CMD_IDLE 1u
+#define PERMA_CMD_EXIT 2u
+#define PERMA_CMD_DONATE 3u
+
+/* Words work-item 0 broadcasts to the group. */
+#define PERMA_B_PROC 0
+#define PERMA_B_START 1
+#define PERMA_B_COUNT 2
+#define PERMA_B_COMMAND 3
+#define PERMA_B_SOURCE 4 /* queue index the items come from */
+#define PERMA_B_DEST 5   /* donation: queue index they go to */
+#define PERMA_BATCH_WORDS 8
+
+#define PERMA_QINDEX(set, proc) ((set) * PERMA_NUM_PROCS + (proc))
+
+/* How many of `want` items of procedure q fit into the room of its targets
+ * in queue set `set`. */
+inline uint perma_admissible(__global uint *ctl, uint set, uint q, uint want)
+{
+    for (uint e = 0; e < perma_edge_count[q]; ++e) {
+        uint t = perma_edge_target[q * PERMA_MAX_EDGES + e];
+        int room = perma_load_int(PERMA_QUEUE(ctl, PERMA_QINDEX(set, t)) + PERMA_Q_ROOM);
+        uint fit = room > 0 ? (uint)room / perma_edge_max[q * PERMA_MAX_EDGES + e] : 0u;
+        want = min(want, fit);
+    }
+    return want;
+}
+
+inline void perma_release_batch_room(__global uint *ctl, uint set, uint q, uint items, uint edges)
+{
+    for (uint e = 0; e < edges; ++e) {
+        uint t = perma_edge_target[q * PERMA_MAX_EDGES + e];
+        perma_queue_return_room(ctl, PERMA_QUEUE(ctl, PERMA_QINDEX(set, t)),
+                                (int)(items * perma_edge_max[q * PERMA_MAX_EDGES + e]));
+    }
+}
+
+/* Reserve the worst-case emits of `items` items of q in every target. */
+inline int perma_reserve_batch_room(__global uint *ctl, uint set, uint q, uint items)
+{
+    uint edges = perma_edge_count[q];
+    for (uint e = 0; e < edges; ++e) {
+        uint t = perma_edge_target[q * PERMA_MAX_EDGES + e];
+        if (!perma_queue_reserve_room(PERMA_QUEUE(ctl, PERMA_QINDEX(set, t)),
+                                      (int)(items * perma_edge_max[q * PERMA_MAX_EDGES + e]))) {
+            perma_release_batch_room(ctl, set, q, items, e);
+            return 0;
+        }
+    }
+    return 1;
+}
+
+/* __local memory of one group, declared in the kernel and passed down. */
+typedef struct perma_group_mem {
+    __local uint *arena;        /* items, scratch, emit counters, staging */
+    __local uint *edge_counts;  /* per edge: items the batch staged */
+    __local uint *edge_base;    /* per edge: first reserved target position */
+    __local uint *stats;        /* the group's statistics record */
+    __local uint *error_code;   /* emit errors of the batch */
+    __local uint *copy_failed;  /* a bounded wait ran out */
+} perma_group_mem;
+
+/* Run `count` items of `proc` (command RUN) or move them to `donee`
+ * (command DONATE).  The items come from queue `source` at `start`, or,
+ * when `input` is not null, from input[start..] (the host-driven step
+ * kernel).  Emits go to queue set `own`. */
+inline void perma_run_batch(__global uint *ctl, __global uint *queue_data, __global uint *queue_seq,
+                            volatile __global uint *abort_flag, perma_group_mem mem, perma_buffers buf,
+                            uint command, uint proc, uint start, uint count,
+                            __global uint *source, __global uint *donee,
+                            __global const uint *input, uint own)
+{
+    const uint lid = get_local_id(0);
+    const uint run = command == PERMA_CMD_RUN ? count : 0u; /* items to execute */
+
+    /* Copy the batch into local memory, freeing its queue slots. */
+    const uint words = perma_item_words[proc];
+    const uint edges = command == PERMA_CMD_RUN ? perma_edge_count[proc] : 0u;
+    __local uint *items = mem.arena + perma_items_off[proc];
+    __local uint *item_emit_counts = mem.arena + perma_counters_off[proc];
+    for (uint i = lid; i < count; i += PERMA_GROUP_SIZE) {
+        if (input) {
+            for (uint w = 0; w < words; ++w)
+                items[i * words + w] = input[(start + i) * words + w];
+        } else if (!perma_queue_read_item(source, queue_data, queue_seq, start + i, words,
+                                          items + i * words, abort_flag)) {
+            *mem.copy_failed = 1;
+        }
+    }
+    for (uint i = lid; i < run * edges; i += PERMA_GROUP_SIZE)
+        item_emit_counts[i] = 0;
+    for (uint i = lid; i < PERMA_MAX_EDGES; i += PERMA_GROUP_SIZE)
+        mem.edge_counts[i] = 0;
+    if (lid == 0)
+        *mem.error_code = 0;
+    barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
+    if (lid == 0 && !input)
+        perma_queue_return_room(ctl, source, (int)count);
+
+    /* Run the procedure (not on items that failed to arrive). */
+    perma_ctx ctx;
+    const uint tpi = perma_tpi[proc];
+    const uint slot = lid / tpi;
+    ctx.proc = proc;
+    ctx.thread = lid % tpi;
+    ctx.threads = tpi;
+    ctx.active = (slot < run && !*mem.copy_failed) ? 1u : 0u;
+    ctx.slot = ctx.active ? slot : 0u;
+    ctx.group = get_group_id(0);
+    ctx.scratch = (__local void *)(mem.arena + perma_scratch_off[proc] + ctx.slot * perma_scratch_words[proc]);
+    ctx.item_emit_counts = item_emit_counts + ctx.slot * perma_edge_count[proc];
+    ctx.edge_counts = mem.edge_counts;
+    ctx.stage = mem.arena;
+    ctx.error_code = mem.error_code;
+    ctx.buf = buf;
+    perma_dispatch(proc, &ctx, items);
+    barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
+
+    /* Reserve positions in the targets: one atomic per target. */
+    __local uint *stats = mem.stats;
+    if (lid == 0) {
+        int emitted = 0;
+        for (uint e = 0; e < edges; ++e) {
+            uint t = perma_edge_target[proc * PERMA_MAX_EDGES + e];
+            __global uint *target = PERMA_QUEUE(ctl, PERMA_QINDEX(own, t));
+            uint k = mem.edge_counts[e];
+            mem.edge_base[e] = k ? atomic_add(target + PERMA_Q_TAIL, k) : 0u;
+            if (k)
+                perma_queue_note_peak(target, mem.edge_base[e] + k);
+            emitted += (int)k;
+            stats[proc * PERMA_STAT_PROC_WORDS + PERMA_STAT_EMITTED + e] += k;
+        }
+        if (run) {
+            stats[proc * PERMA_STAT_PROC_WORDS + PERMA_STAT_ITEMS] += run;
+            stats[proc * PERMA_STAT_PROC_WORDS + PERMA_STAT_BATCHES] += 1u;
+            /* Count the emits before they become visible, and retire the batch. */
+            atomic_add((volatile __global int *)(ctl + PERMA_CTL_OUTSTANDING), emitted - (int)run);
+        }
+        if (command == PERMA_CMD_DONATE) {
+            mem.edge_base[0] = atomic_add(donee + PERMA_Q_TAIL, count);
+            perma_queue_note_peak(donee, mem.edge_base[0] + count);
+        }
+        if (*mem.error_code)
+            perma_fail(ctl, PERMA_KSTATUS_EMIT_LIMIT, proc, *mem.error_code);
+    }
+    barrier(CLK_LOCAL_MEM_FENCE);
+
+    /* Copy the staged items out and publish them. */
+    for (uint e = 0; e < edges; ++e) {
+        const uint t = perma_edge_target[proc * PERMA_MAX_EDGES + e];
+        __global uint *target = PERMA_QUEUE(ctl, PERMA_QINDEX(own, t));
+        const uint k = mem.edge_counts[e];
+        const uint target_words = perma_item_words[t];
+        __local const uint *src = mem.arena + perma_edge_stage[proc * PERMA_MAX_EDGES + e];
+        for (uint i = lid; i < k; i += PERMA_GROUP_SIZE) {
+            if (!perma_queue_write_item(target, queue_data, queue_seq, mem.edge_base[e] + i,
+                                        target_words, src + i * target_words, abort_flag))
+                *mem.copy_failed = 1;
+        }
+    }
+    /* A donation publishes the batch itself in the other group's queue. */
+    const uint donated = command == PERMA_CMD_DONATE ? count : 0u;
+    for (uint i = lid; i < donated; i += PERMA_GROUP_SIZE) {
+        if (!perma_queue_write_item(donee, queue_data, queue_seq, mem.edge_base[0] + i, words,
+                                    items + i * words, abort_flag))
+            *mem.copy_failed = 1;
+    }
+    barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
+    if (lid == 0) {
+        for (uint e = 0; e < edges; ++e) {
+            uint t = perma_edge_target[proc * PERMA_MAX_EDGES + e];
+            uint promised = run * perma_edge_max[proc * PERMA_MAX_EDGES + e];
+            perma_queue_return_room(ctl, PERMA_QUEUE(ctl, PERMA_QINDEX(own, t)),
+                                    (int)(promised - mem.edge_counts[e]));
+        }
+        if (count)
+            atomic_inc(ctl + PERMA_CTL_PROGRESS); /* stalled groups must look again */
+        if (*mem.copy_failed)
+            perma_fail(ctl, *abort_flag ? PERMA_KSTATUS_ABORTED : PERMA_KSTATUS_SPIN_LIMIT, 0xffffffffu, 0);
+    }
+}
