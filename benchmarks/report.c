@@ -68,8 +68,8 @@ static void human(char *out, size_t size, double value)
 
 static void print_header(void)
 {
-    printf("%-34s %4s %3s %9s %9s %9s %6s %10s  %s\n", "variant", "gs", "wg", "seconds", "rate/s",
-           "vs seq", "check", "peak q.B", "note");
+    printf("%-36s %4s %3s %9s %9s %8s %6s %9s %9s  %s\n", "variant", "gs", "wg", "seconds", "rate/s",
+           "vs seq", "check", "peak q.B", "items B", "note");
 }
 
 void bench_report_workload(bench_report *r, const char *title)
@@ -112,23 +112,25 @@ void bench_report_add(bench_report *r, const bench_row *row, int is_baseline)
     double rate = row->ran && row->seconds > 0 ? row->units / row->seconds : 0.0;
     double ratio = row->ran && row->seconds > 0 && r->baseline_seconds > 0 ? r->baseline_seconds / row->seconds : 0.0;
 
-    char gs[16] = "-", wg[16] = "-", rate_text[16], peak[16] = "-";
+    char gs[16] = "-", wg[16] = "-", rate_text[16], peak[16] = "-", items[16] = "-";
     if (row->group_size)
         snprintf(gs, sizeof gs, "%u", row->group_size);
     if (row->work_groups)
         snprintf(wg, sizeof wg, "%u", row->work_groups);
-    if (row->peak_queue_bytes || row->peak_item_bytes)
-        human(peak, sizeof peak, (double)(row->peak_queue_bytes ? row->peak_queue_bytes : row->peak_item_bytes));
+    if (row->peak_queue_bytes)
+        human(peak, sizeof peak, (double)row->peak_queue_bytes);
+    if (row->peak_item_bytes)
+        human(items, sizeof items, (double)row->peak_item_bytes);
     if (!row->ran) {
-        printf("%-34s %4s %3s %9s %9s %9s %6s %10s  %s\n", row->variant, gs, wg, "n/a", "n/a", "n/a", "-", "-",
-               note);
+        printf("%-36s %4s %3s %9s %9s %8s %6s %9s %9s  %s\n", row->variant, gs, wg, "n/a", "n/a", "n/a", "-", "-",
+               "-", note);
     } else {
         human(rate_text, sizeof rate_text, rate);
         char ratio_text[16] = "-";
         if (ratio > 0)
             snprintf(ratio_text, sizeof ratio_text, "%.2fx", ratio);
-        printf("%-34s %4s %3s %9.4f %9s %9s %6s %10s  %s\n", row->variant, gs, wg, row->seconds, rate_text,
-               ratio_text, check_name(row->check), peak, note);
+        printf("%-36s %4s %3s %9.4f %9s %8s %6s %9s %9s  %s\n", row->variant, gs, wg, row->seconds, rate_text,
+               ratio_text, check_name(row->check), peak, items, note);
     }
     fflush(stdout);
 

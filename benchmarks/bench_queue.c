@@ -1,0 +1,293 @@
+/* `perma-bench queue`: throughput of empty tasks.
+ *
+ * G generator items each emit K empty items into a procedure that does
+ * nothing, so the time is the scheduler's own cost per task: taking a
+ * batch, dispatching, reserving and publishing emits.  Measured for every
+ * perma variant, group size (= batch size of the empty procedure) and
+ * work-group count, against a sequential FIFO loop and OpenMP tasks.
+ * Rate = (G + G*K) executed items per second. */
+#include "bench.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+static const char *device_types =
+    "struct generator_item { uint index; };\n"
+    "struct empty_item { uint value; };\n";
+
+static const char *generate_source =
+    "void generate(perma_ctx *ctx, __local const struct generator_item *g)\n"
+    "{\n"
+    "    struct empty_item e;\n"
+    "    for (uint i = 0; i < EMPTY_PER_GENERATOR; ++i) {\n"
+    "        e.value = g->index + i;\n"
+    "        emit_empty(ctx, &e);\n"
+    "    }\n"
+    "}\n";
+
+static const char *empty_source =
+    "void empty(perma_ctx *ctx, __local const struct empty_item *e)\n"
+    "{\n"
+    "    (void)ctx;\n"
+    "    (void)e;\n"
+    "}\n";
+
+typedef struct queue_params {
+    unsigned generators, per_generator; /* G, K */
+} queue_params;
+
+static double total_items(const queue_params *p)
+{
+    return (double)p->generators * (1.0 + p->per_generator);
+}
+
+/* ---- perma ---- */
+
+typedef struct queue_state {
+    queue_params params;
+    perma_proc procs[2]; /* generate, empty */
+    uint32_t *seeds;
+} queue_state;
+
+static perma_status queue_prepare(void *state, perma_runtime *rt)
+{
+    queue_state *s = state;
+    return perma_seed(rt, s->procs[0], s->seeds, s->params.generators);
+}
+
+/* The empty procedure has nothing to count with, so the check uses the
+ * runtime's per-procedure item counts. */
+static int queue_verify(void *state, perma_runtime *rt, bench_row *row)
+{
+    queue_state *s = state;
+    perma_procedure_stats gen, empty;
+    if (perma_get_procedure_stats(rt, s->procs[0], &gen) != PERMA_OK ||
+        perma_get_procedure_stats(rt, s->procs[1], &empty) != PERMA_OK)
+        return 0;
+    uint64_t expected = (uint64_t)s->params.generators * s->params.per_generator;
+    row->count = gen.items + empty.items;
+    row->expected = s->params.generators + expected;
+    return gen.items == s->params.generators && empty.items == expected;
+}
+
+static void run_perma(const bench_options *o, const bench_variant *v, queue_state *s, unsigned group_size,
+                      unsigned groups, const char *title, bench_report *report)
+{
+    bench_row row;
+    char label[96];
+    bench_variant_label(v, label, sizeof label);
+    bench_row_init(&row, title, label, "items");
+    row.group_size = group_size;
+    row.work_groups = groups;
+    row.units = total_items(&s->params);
+    perma_runtime *rt = bench_perma_create(v, group_size, groups, &row);
+    if (rt) {
+        perma_procedure generate = {
+            .name = "generate", .item_type = "struct generator_item", .item_size = 4,
+            .source = generate_source, .source_file = "queue_generate.cl", .function = "generate",
+            .emits = { { "empty", s->params.per_generator } },
+        };
+        perma_procedure empty = {
+            .name = "empty", .item_type = "struct empty_item", .item_size = 4,
+            .source = empty_source, .source_file = "queue_empty.cl", .function = "empty",
+        };
+        /* EMPTY_PER_GENERATOR is defined in the shared source. */
+        char *types = malloc(strlen(device_types) + 64);
+        size_t sizes[2] = { 4, 4 };
+        bench_workload w = { queue_prepare, queue_verify, s, 2, s->procs, sizes };
+        if (!types) {
+            snprintf(row.message, sizeof row.message, "out of memory");
+        } else {
+            sprintf(types, "#define EMPTY_PER_GENERATOR %uu\n%s", s->params.per_generator, device_types);
+            if (perma_add_source(rt, types, "queue_types.cl") != PERMA_OK ||
+                perma_register(rt, &generate, &s->procs[0]) != PERMA_OK ||
+                perma_register(rt, &empty, &s->procs[1]) != PERMA_OK)
+                snprintf(row.message, sizeof row.message, "setup: %s", perma_errmsg(rt));
+            else
+                bench_perma_measure(rt, v, o, &w, &row);
+        }
+        free(types);
+        bench_perma_verbose(rt, o);
+        perma_destroy(rt);
+    }
+    bench_report_add(report, &row, 0);
+}
+
+/* ---- baselines ---- */
+
+typedef struct baseline_arg {
+    queue_params params;
+    unsigned threads;
+    uint32_t *ring; /* sequential FIFO storage */
+    size_t ring_size;
+    uint64_t executed;
+} baseline_arg;
+
+/* The task bodies, called through pointers so the loops cannot vanish. */
+static void empty_task(uint32_t value)
+{
+    (void)value;
+}
+static void (*volatile run_empty)(uint32_t) = empty_task;
+
+/* A plain FIFO of tagged items: the top bit marks a generator. */
+static void sequential_once(void *p)
+{
+    baseline_arg *a = p;
+    const uint32_t generator_bit = 0x80000000u;
+    size_t mask = a->ring_size - 1, head = 0, tail = 0;
+    for (uint32_t g = 0; g < a->params.generators; ++g)
+        a->ring[tail++ & mask] = generator_bit | g;
+    uint64_t executed = 0;
+    while (head != tail) {
+        uint32_t item = a->ring[head++ & mask];
+        ++executed;
+        if (item & generator_bit) {
+            uint32_t base = item & ~generator_bit;
+            for (uint32_t i = 0; i < a->params.per_generator; ++i)
+                a->ring[tail++ & mask] = base + i;
+        } else {
+            run_empty(item);
+        }
+    }
+    a->executed = executed;
+}
+
+/* OpenMP, the common pattern: one thread creates every empty task. */
+static void openmp_single_producer_once(void *p)
+{
+    baseline_arg *a = p;
+    uint64_t n = (uint64_t)a->params.generators * a->params.per_generator;
+#pragma omp parallel num_threads(a->threads)
+#pragma omp single
+    for (uint64_t i = 0; i < n; ++i) {
+#pragma omp task
+        run_empty((uint32_t)i);
+    }
+    /* Every created task runs before the parallel region's barrier. */
+    a->executed = n;
+}
+
+/* OpenMP with the same shape as the perma workload: generator tasks that
+ * each create K empty tasks. */
+static void openmp_generators_once(void *p)
+{
+    baseline_arg *a = p;
+#pragma omp parallel num_threads(a->threads)
+#pragma omp single
+    for (uint32_t g = 0; g < a->params.generators; ++g) {
+#pragma omp task firstprivate(g)
+        for (uint32_t i = 0; i < a->params.per_generator; ++i) {
+#pragma omp task firstprivate(i)
+            run_empty(g + i);
+        }
+    }
+    a->executed = (uint64_t)a->params.generators * (1 + a->params.per_generator);
+}
+
+static void add_baseline(const bench_options *o, baseline_arg *a, const char *variant, void (*fn)(void *),
+                         unsigned threads, int is_baseline, const char *title, bench_report *report)
+{
+    bench_row row;
+    bench_row_init(&row, title, variant, "items");
+    row.work_groups = threads;
+    row.seconds = bench_time_baseline(o, fn, a);
+    row.ran = 1;
+    /* Rate counts the tasks each implementation executed. */
+    row.units = (double)a->executed;
+    bench_report_add(report, &row, is_baseline);
+}
+
+static void queue_usage(FILE *out)
+{
+    fprintf(out, "usage: perma-bench queue [common options] [--generators G] [--per-generator K]\n"
+                 "  G generator items each emit K empty items (default G=8192 K=256; quick G=256 K=256)\n"
+                 "  group sizes 32, 64, 128 and work-groups 1, 2 (--groups N: only N; quick: 64 and 2)\n");
+}
+
+int bench_queue(const bench_options *o, int argc, char **argv)
+{
+    queue_params params = { o->quick ? 256 : 8192, 256 };
+    for (int i = 1; i < argc; ++i) {
+        const char *next = i + 1 < argc ? argv[i + 1] : NULL;
+        unsigned *target = NULL, max = 0;
+        if (strcmp(argv[i], "--help") == 0) {
+            queue_usage(stdout);
+            return 0;
+        } else if (strcmp(argv[i], "--generators") == 0 && next) {
+            target = &params.generators, max = 1u << 20;
+        } else if (strcmp(argv[i], "--per-generator") == 0 && next) {
+            target = &params.per_generator, max = PERMA_MAX_EMIT_ITEMS;
+        } else {
+            fprintf(stderr, "perma-bench queue: unknown or incomplete option '%s'\n", argv[i]);
+            queue_usage(stderr);
+            return 2;
+        }
+        char *end;
+        unsigned long value = strtoul(next, &end, 10);
+        if (!*next || *end || value < 1 || value > max) {
+            fprintf(stderr, "perma-bench queue: %s needs a number in 1..%u, got '%s'\n", argv[i], max, next);
+            return 2;
+        }
+        *target = (unsigned)value;
+        ++i;
+    }
+
+    static const unsigned all_sizes[] = { 32, 64, 128 }, quick_sizes[] = { 64 };
+    static const unsigned all_groups[] = { 1, 2 }, quick_groups[] = { 2 };
+    const unsigned *sizes = o->quick ? quick_sizes : all_sizes;
+    unsigned size_count = o->quick ? 1 : 3;
+    const unsigned *group_list = o->quick ? quick_groups : all_groups;
+    unsigned group_count = o->quick ? 1 : 2;
+    if (o->groups) {
+        group_list = &o->groups;
+        group_count = 1;
+    }
+
+    char title[96];
+    snprintf(title, sizeof title, "%u generators x %u empty tasks", params.generators, params.per_generator);
+    bench_report *report;
+    if (bench_report_open(&report, "queue", o))
+        return 1;
+    bench_report_workload(report, title);
+
+    baseline_arg a = { .params = params, .threads = bench_threads(o) };
+    /* The FIFO holds at most all items at once. */
+    size_t needed = (size_t)params.generators * (1 + (size_t)params.per_generator);
+    a.ring_size = 1;
+    while (a.ring_size < needed)
+        a.ring_size *= 2;
+    a.ring = malloc(a.ring_size * sizeof *a.ring);
+    queue_state *s = calloc(1, sizeof *s);
+    if (s)
+        s->seeds = malloc(params.generators * sizeof *s->seeds);
+    if (!a.ring || !s || !s->seeds) {
+        fprintf(stderr, "perma-bench queue: out of memory\n");
+        free(a.ring);
+        if (s)
+            free(s->seeds);
+        free(s);
+        bench_report_close(report);
+        return 1;
+    }
+    add_baseline(o, &a, "sequential C (FIFO loop)", sequential_once, 1, 1, title, report);
+    free(a.ring);
+    a.ring = NULL;
+    add_baseline(o, &a, "openmp tasks (one producer)", openmp_single_producer_once, a.threads, 0, title, report);
+    add_baseline(o, &a, "openmp tasks (generator tasks)", openmp_generators_once, a.threads, 0, title, report);
+
+    s->params = params;
+    for (uint32_t g = 0; g < params.generators; ++g)
+        s->seeds[g] = g * params.per_generator;
+    for (unsigned gi = 0; gi < group_count; ++gi)
+        for (unsigned si = 0; si < size_count; ++si)
+            for (unsigned v = 0; v < bench_variant_count; ++v)
+                if (bench_variant_selected(o, &bench_variants[v]))
+                    run_perma(o, &bench_variants[v], s, sizes[si], group_list[gi], title, report);
+    free(s->seeds);
+    free(s);
+
+    unsigned wrong = bench_report_failures(report);
+    int failed = bench_report_close(report);
+    return failed || wrong ? 1 : 0;
+}
