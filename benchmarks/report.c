@@ -80,12 +80,13 @@ void bench_report_workload(bench_report *r, const char *title)
     fflush(stdout);
 }
 
-/* CSV field without commas or quotes inside (messages are sanitised). */
+/* A quoted CSV field with no quote, comma or newline inside, so that
+ * simple tools (awk -F, in plot.sh) can split the lines. */
 static void csv_text(FILE *f, const char *text)
 {
     fputc('"', f);
     for (const char *p = text; *p; ++p)
-        fputc(*p == '"' ? '\'' : (*p == '\n' ? ' ' : *p), f);
+        fputc(*p == '"' ? '\'' : *p == '\n' ? ' ' : *p == ',' ? ';' : *p, f);
     fputc('"', f);
 }
 
