@@ -12,6 +12,7 @@
 #define PERMA_CMD_IDLE 1u
 #define PERMA_CMD_EXIT 2u
 #define PERMA_CMD_DONATE 3u
+#define PERMA_CMD_RUN_LOCAL 4u /* run items from the group's local stack */
 
 /* Words work-item 0 broadcasts to the group. */
 #define PERMA_B_PROC 0
@@ -69,17 +70,42 @@ typedef struct perma_group_mem {
     __local uint *stats;        /* the group's statistics record */
     __local uint *error_code;   /* emit errors of the batch */
     __local uint *copy_failed;  /* a bounded wait ran out */
+    __local uint *lq;           /* local front queue: a stack per procedure */
+    __local uint *lq_count;     /* items on each procedure's stack */
+    __local uint *edge_keep;    /* per edge: emits kept on the local stack */
 } perma_group_mem;
 
+/* Move a procedure's whole local stack to its global queue (work-item 0
+ * only; the items hold the ROOM reserved when they were emitted). */
+inline uint perma_local_flush(__global uint *ctl, __global uint *queue_data, __global uint *queue_seq,
+                              volatile __global uint *abort_flag, perma_group_mem mem, uint own, uint q)
+{
+    uint n = mem.lq_count[q];
+    if (n == 0)
+        return 0;
+    __global uint *queue = PERMA_QUEUE(ctl, PERMA_QINDEX(own, q));
+    uint words = perma_item_words[q];
+    uint base = atomic_add(queue + PERMA_Q_TAIL, n);
+    perma_queue_note_peak(queue, base + n);
+    for (uint i = 0; i < n; ++i)
+        if (!perma_queue_write_item(queue, queue_data, queue_seq, base + i, words,
+                                    mem.lq + perma_lq_off[q] + i * words, abort_flag))
+            perma_fail(ctl, *abort_flag ? PERMA_KSTATUS_ABORTED : PERMA_KSTATUS_SPIN_LIMIT, q, 0);
+    mem.lq_count[q] = 0;
+    return n;
+}
+
 /* Run `count` items of `proc` (command RUN) or move them to `donee`
- * (command DONATE).  The items come from queue `source` at `start`, or,
- * when `input` is not null, from input[start..] (the host-driven step
- * kernel).  Emits go to queue set `own`. */
+ * (command DONATE).  The items come from queue `source` at `start`, from
+ * input[start..] when `input` is not null (the host-driven step kernel), or
+ * from the group's local stack at `start` when `from_local` (then `source`
+ * is the global queue whose ROOM they hold).  Emits go to queue set `own`,
+ * first onto the local stack when PERMA_LOCAL_QUEUE is on. */
 inline void perma_run_batch(__global uint *ctl, __global uint *queue_data, __global uint *queue_seq,
                             volatile __global uint *abort_flag, perma_group_mem mem, perma_buffers buf,
                             uint command, uint proc, uint start, uint count,
                             __global uint *source, __global uint *donee,
-                            __global const uint *input, uint own)
+                            __global const uint *input, uint from_local, uint own)
 {
     const uint lid = get_local_id(0);
     const uint run = command == PERMA_CMD_RUN ? count : 0u; /* items to execute */
@@ -93,6 +119,9 @@ inline void perma_run_batch(__global uint *ctl, __global uint *queue_data, __glo
         if (input) {
             for (uint w = 0; w < words; ++w)
                 items[i * words + w] = input[(start + i) * words + w];
+        } else if (from_local) {
+            for (uint w = 0; w < words; ++w)
+                items[i * words + w] = mem.lq[perma_lq_off[proc] + (start + i) * words + w];
         } else if (!perma_queue_read_item(source, queue_data, queue_seq, start + i, words,
                                           items + i * words, abort_flag)) {
             *mem.copy_failed = 1;
@@ -135,9 +164,21 @@ inline void perma_run_batch(__global uint *ctl, __global uint *queue_data, __glo
             uint t = perma_edge_target[proc * PERMA_MAX_EDGES + e];
             __global uint *target = PERMA_QUEUE(ctl, PERMA_QINDEX(own, t));
             uint k = mem.edge_counts[e];
-            mem.edge_base[e] = k ? atomic_add(target + PERMA_Q_TAIL, k) : 0u;
-            if (k)
-                perma_queue_note_peak(target, mem.edge_base[e] + k);
+            /* Keep what fits on the local stack (those keep their ROOM in
+             * the global queue); the rest goes to the global queue.
+             * edge_base[e]: first local position, [MAX_EDGES + e]: first
+             * global position. */
+            uint keep = 0;
+#if PERMA_LOCAL_QUEUE
+            keep = min(k, (uint)PERMA_LOCAL_QUEUE - mem.lq_count[t]);
+            mem.edge_base[e] = mem.lq_count[t];
+            mem.lq_count[t] += keep;
+            stats[PERMA_NUM_PROCS * PERMA_STAT_PROC_WORDS + PERMA_GSTAT_SPILLS] += k - keep;
+#endif
+            mem.edge_keep[e] = keep;
+            mem.edge_base[PERMA_MAX_EDGES + e] = k > keep ? atomic_add(target + PERMA_Q_TAIL, k - keep) : 0u;
+            if (k > keep)
+                perma_queue_note_peak(target, mem.edge_base[PERMA_MAX_EDGES + e] + k - keep);
             emitted += (int)k;
             stats[proc * PERMA_STAT_PROC_WORDS + PERMA_STAT_EMITTED + e] += k;
         }
@@ -161,10 +202,16 @@ inline void perma_run_batch(__global uint *ctl, __global uint *queue_data, __glo
         const uint t = perma_edge_target[proc * PERMA_MAX_EDGES + e];
         __global uint *target = PERMA_QUEUE(ctl, PERMA_QINDEX(own, t));
         const uint k = mem.edge_counts[e];
+        const uint keep = mem.edge_keep[e];
         const uint target_words = perma_item_words[t];
         __local const uint *src = mem.arena + perma_edge_stage[proc * PERMA_MAX_EDGES + e];
-        for (uint i = lid; i < k; i += PERMA_GROUP_SIZE) {
-            if (!perma_queue_write_item(target, queue_data, queue_seq, mem.edge_base[e] + i,
+        __local uint *stack = mem.lq + perma_lq_off[t] + mem.edge_base[e] * target_words;
+        for (uint i = lid; i < keep; i += PERMA_GROUP_SIZE)
+            for (uint w = 0; w < target_words; ++w)
+                stack[i * target_words + w] = src[i * target_words + w];
+        for (uint i = keep + lid; i < k; i += PERMA_GROUP_SIZE) {
+            if (!perma_queue_write_item(target, queue_data, queue_seq,
+                                        mem.edge_base[PERMA_MAX_EDGES + e] + i - keep,
                                         target_words, src + i * target_words, abort_flag))
                 *mem.copy_failed = 1;
         }

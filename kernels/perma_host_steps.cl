@@ -49,7 +49,7 @@ void perma_step_kernel(__global uint *ctl, __global uint *queue_data, __global u
     }
     barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
     perma_run_batch(ctl, queue_data, queue_seq, abort_flag, mem, buf, PERMA_CMD_RUN, proc, start, n,
-                    PERMA_QUEUE(ctl, proc), PERMA_QUEUE(ctl, proc), input, 0);
+                    PERMA_QUEUE(ctl, proc), PERMA_QUEUE(ctl, proc), input, 0, 0);
     barrier(CLK_LOCAL_MEM_FENCE);
     /* Many groups per launch: add to group 0's record. */
     for (uint i = lid; i < PERMA_STAT_GROUP_WORDS; i += PERMA_GROUP_SIZE)

@@ -132,11 +132,30 @@ inline void perma_set_batch(__local uint *batch, uint command, uint proc, uint s
     batch[PERMA_B_DEST] = dest;
 }
 
-/* Work-item 0: choose what the group does next and write it to batch[]. */
-inline void perma_schedule(__global uint *ctl, __global uint *group_words, uint own,
-                           volatile __global uint *abort_flag, __local uint *batch,
-                           __local uint *group_stat, uint *victim_state)
+#if PERMA_LOCAL_QUEUE
+/* Take a batch from the local stack of q (top first) if its targets have
+ * room; the items already hold ROOM in the global queue of q. */
+inline uint perma_try_take_local(__global uint *ctl, perma_group_mem mem, uint own, uint q, uint *start)
 {
+    uint n = min(mem.lq_count[q], perma_max_batch[q]);
+    if (n == 0)
+        return 0;
+    n = perma_admissible(ctl, own, q, n);
+    if (n == 0 || !perma_reserve_batch_room(ctl, own, q, n))
+        return 0;
+    mem.lq_count[q] -= n;
+    *start = mem.lq_count[q];
+    return n;
+}
+#endif
+
+/* Work-item 0: choose what the group does next and write it to batch[]. */
+inline void perma_schedule(__global uint *ctl, __global uint *queue_data, __global uint *queue_seq,
+                           __global uint *group_words, uint own,
+                           volatile __global uint *abort_flag, __local uint *batch,
+                           perma_group_mem mem, uint *victim_state)
+{
+    __local uint *group_stat = mem.stats + PERMA_NUM_PROCS * PERMA_STAT_PROC_WORDS;
     for (uint poll = 0;; ++poll) {
         if (perma_load(ctl + PERMA_CTL_EXIT))
             break;
@@ -150,6 +169,17 @@ inline void perma_schedule(__global uint *ctl, __global uint *group_words, uint 
         uint epoch = perma_load(ctl + PERMA_CTL_PROGRESS);
         int found = 0;
         uint start = 0, q = 0, dest = 0, got;
+#if PERMA_LOCAL_QUEUE
+        for (uint i = 0; i < PERMA_NUM_PROCS; ++i) {
+            q = perma_order[i];
+            got = perma_try_take_local(ctl, mem, own, q, &start);
+            if (got) {
+                perma_set_blocked(group_words, 0u);
+                perma_set_batch(batch, PERMA_CMD_RUN_LOCAL, q, start, got, PERMA_QINDEX(own, q), 0);
+                return;
+            }
+        }
+#endif
 #if PERMA_DONATION
         got = perma_try_donate(ctl, own, &q, &dest, &start);
         if (got) {
@@ -188,6 +218,13 @@ inline void perma_schedule(__global uint *ctl, __global uint *group_words, uint 
             }
         }
 #endif
+#if PERMA_LOCAL_QUEUE
+        /* Local items that cannot run now go where other groups and the
+         * host can see them before this group calls itself stalled. */
+        for (uint p = 0; p < PERMA_NUM_PROCS; ++p)
+            group_stat[PERMA_GSTAT_SPILLS] +=
+                perma_local_flush(ctl, queue_data, queue_seq, abort_flag, mem, own, p);
+#endif
         group_stat[PERMA_GSTAT_IDLE_POLLS] += 1u;
         /* Nothing this group can start: either no room for the work it sees,
          * or no work it may take (another group's set, without stealing).
@@ -211,12 +248,16 @@ inline void perma_schedule(__global uint *ctl, __global uint *group_words, uint 
 #define PERMA_GROUP_LOCALS(mem)                                                   \
     __local uint perma_arena[PERMA_ARENA_WORDS] __attribute__((aligned(64)));    \
     __local uint perma_edge_counts[PERMA_MAX_EDGES];                             \
-    __local uint perma_edge_base[PERMA_MAX_EDGES];                               \
+    __local uint perma_edge_base[2 * PERMA_MAX_EDGES];                           \
     __local uint perma_stats[PERMA_STAT_GROUP_WORDS];                            \
     __local uint perma_error_code;                                               \
     __local uint perma_copy_failed;                                              \
+    __local uint perma_lq[PERMA_LQ_WORDS] __attribute__((aligned(64)));          \
+    __local uint perma_lq_count[PERMA_NUM_PROCS];                                \
+    __local uint perma_edge_keep[PERMA_MAX_EDGES];                               \
     perma_group_mem mem = { perma_arena, perma_edge_counts, perma_edge_base,     \
-                            perma_stats, &perma_error_code, &perma_copy_failed }
+                            perma_stats, &perma_error_code, &perma_copy_failed,  \
+                            perma_lq, perma_lq_count, perma_edge_keep }
 
 __kernel __attribute__((reqd_work_group_size(PERMA_GROUP_SIZE, 1, 1)))
 void perma_megakernel(__global uint *ctl, __global uint *queue_data, __global uint *queue_seq,
@@ -230,13 +271,14 @@ void perma_megakernel(__global uint *ctl, __global uint *queue_data, __global ui
     const uint group = get_group_id(0);
     const uint own = PERMA_QUEUE_SETS > 1 ? group : 0u;
     __global uint *group_words = PERMA_GROUP(ctl, group);
-    __local uint *group_stat = mem.stats + PERMA_NUM_PROCS * PERMA_STAT_PROC_WORDS;
     uint victim_state = group * 2654435761u + 12345u; /* used by work-item 0 only */
     perma_buffers buf;
     PERMA_BIND_BUFFERS(buf);
 
     for (uint i = lid; i < PERMA_STAT_GROUP_WORDS; i += PERMA_GROUP_SIZE)
         mem.stats[i] = 0;
+    for (uint i = lid; i < PERMA_NUM_PROCS; i += PERMA_GROUP_SIZE)
+        mem.lq_count[i] = 0;
     if (lid == 0) {
         *mem.copy_failed = 0;
         perma_set_batch(batch, PERMA_CMD_IDLE, 0, 0, 0, 0, 0);
@@ -249,18 +291,20 @@ void perma_megakernel(__global uint *ctl, __global uint *queue_data, __global ui
     uint command = PERMA_CMD_IDLE;
     while (command != PERMA_CMD_EXIT) {
         if (lid == 0)
-            perma_schedule(ctl, group_words, own, abort_flag, batch, group_stat, &victim_state);
+            perma_schedule(ctl, queue_data, queue_seq, group_words, own, abort_flag, batch, mem, &victim_state);
         barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
         command = batch[PERMA_B_COMMAND];
         const uint proc = batch[PERMA_B_PROC];
         const uint start = batch[PERMA_B_START];
-        const uint moving = command == PERMA_CMD_RUN || command == PERMA_CMD_DONATE;
+        const uint from_local = command == PERMA_CMD_RUN_LOCAL;
+        const uint moving = command == PERMA_CMD_RUN || command == PERMA_CMD_DONATE || from_local;
         const uint count = moving ? batch[PERMA_B_COUNT] : 0u;
         __global uint *source = PERMA_QUEUE(ctl, batch[PERMA_B_SOURCE]);
         __global uint *donee = PERMA_QUEUE(ctl, batch[PERMA_B_DEST]);
         barrier(CLK_LOCAL_MEM_FENCE); /* all have read batch[] before it is rewritten */
-        perma_run_batch(ctl, queue_data, queue_seq, abort_flag, mem, buf, command, proc, start, count,
-                        source, donee, (__global const uint *)0, own);
+        perma_run_batch(ctl, queue_data, queue_seq, abort_flag, mem, buf,
+                        from_local ? PERMA_CMD_RUN : command, proc, start, count,
+                        source, donee, (__global const uint *)0, from_local, own);
     }
 
     for (uint i = lid; i < PERMA_STAT_GROUP_WORDS; i += PERMA_GROUP_SIZE)

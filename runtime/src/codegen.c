@@ -69,6 +69,7 @@ static void append_tables(perma_runtime *rt, perma_strbuf *sb)
     PER_PROC("perma_scratch_off", p->scratch_off);
     PER_PROC("perma_counters_off", p->counters_off);
     PER_PROC("perma_edge_count", p->emit_count);
+    PER_PROC("perma_lq_off", p->lq_off);
     PER_EDGE("perma_edge_target", (unsigned)p->emit_target[e]);
     PER_EDGE("perma_edge_max", p->emit_max[e]);
     PER_EDGE("perma_edge_stage", p->stage_off[e]);
@@ -182,14 +183,17 @@ perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *sb)
                             "#define PERMA_STEALING %d\n"
                             "#define PERMA_DONATION %d\n"
                             "#define PERMA_VICTIM_ROUND_ROBIN %d\n"
-                            "#define PERMA_DONATION_THRESHOLD %uu\n",
+                            "#define PERMA_DONATION_THRESHOLD %uu\n"
+                            "#define PERMA_LOCAL_QUEUE %uu\n"
+                            "#define PERMA_LQ_WORDS %uu\n",
                         rt->proc_count, rt->group_size, rt->proc_count, rt->max_edges, rt->arena_words,
                         rt->queue_sets,
                         rt->queue_sets > 1 && (rt->config.strategy == PERMA_STRATEGY_STEALING ||
                                                rt->config.strategy == PERMA_STRATEGY_STEALING_DONATION),
                         rt->queue_sets > 1 && (rt->config.strategy == PERMA_STRATEGY_DONATION ||
                                                rt->config.strategy == PERMA_STRATEGY_STEALING_DONATION),
-                        rt->config.victim == PERMA_VICTIM_ROUND_ROBIN, rt->config.donation_threshold);
+                        rt->config.victim == PERMA_VICTIM_ROUND_ROBIN, rt->config.donation_threshold,
+                        rt->local_queue_items, rt->lq_words ? rt->lq_words : 1u);
     perma_strbuf_append(sb, perma_kernel_prelude);
     resume_generated(sb);
     perma_strbuf_append(sb, perma_kernel_queue);

@@ -38,6 +38,7 @@ typedef struct perma_proc_info {
     unsigned items_off, scratch_off, counters_off; /* arena offsets, words */
     unsigned scratch_words;            /* per item */
     unsigned stage_off[PERMA_MAX_EMITS];
+    unsigned lq_off;                   /* local front queue offset, words */
 
     /* Items seeded for the next run (item_size bytes each). */
     unsigned char *seeds;
@@ -96,6 +97,8 @@ struct perma_runtime {
     size_t input_mem_words;
     unsigned max_edges;
     unsigned arena_words;
+    unsigned local_queue_items;        /* 0: no local front queue */
+    unsigned lq_words;
     unsigned order[PERMA_MAX_PROCEDURES];
 
     /* Device state of a run. */

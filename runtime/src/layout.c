@@ -145,8 +145,23 @@ perma_status perma_build_layout(perma_runtime *rt)
     if (rt->config.local_memory_limit && rt->config.local_memory_limit < limit)
         limit = rt->config.local_memory_limit;
     /* The kernel's other __local words: statistics, edge counters, batch. */
-    size_t fixed = 4 * ((size_t)rt->proc_count * (2 + rt->max_edges) + 2 * rt->max_edges + 32);
-    size_t budget_words = limit > fixed ? (limit - fixed) / 4 : 0;
+    /* The local front queue: a stack of local_queue_items per procedure. */
+    rt->local_queue_items = distributed || rt->config.strategy == PERMA_STRATEGY_SHARED
+                                ? rt->config.local_queue_items : 0;
+    if (rt->config.technique != PERMA_TECHNIQUE_MEGAKERNEL)
+        rt->local_queue_items = 0; /* step kernels' groups do not live on */
+    rt->lq_words = 0;
+    for (unsigned i = 0; i < rt->proc_count; ++i) {
+        rt->procs[i].lq_off = rt->lq_words;
+        rt->lq_words += rt->local_queue_items * words_of(rt->procs[i].item_size);
+    }
+    size_t fixed = 4 * ((size_t)rt->proc_count * (3 + rt->max_edges) + 4 * rt->max_edges + 32 +
+                        (size_t)rt->lq_words);
+    if (fixed >= limit)
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT,
+                               "config.local_queue_items %u needs %u bytes of __local memory, more than the "
+                               "%zu bytes available", rt->local_queue_items, 4 * rt->lq_words, limit);
+    size_t budget_words = (limit - fixed) / 4;
 
     rt->arena_words = 16;
     for (unsigned i = 0; i < rt->proc_count; ++i) {
