@@ -119,10 +119,15 @@ typedef struct reyes_options {
     int backface_cull;    /* default 0: the models have open, two-sided parts */
     float cull_margin;    /* frustum margin, fraction of the viewport (default 0.05) */
     uint32_t background;  /* RGBA8 of empty samples */
-    /* Scheduling (perma_config); 0 = runtime default. */
+    /* Scheduling, passed to perma_config when the renderer is created;
+     * 0 = the runtime's default. */
     unsigned work_groups;
     unsigned group_size;
     perma_technique technique;
+    perma_strategy strategy;        /* megakernel only */
+    perma_victim victim;            /* stealing strategies */
+    unsigned local_queue_items;     /* per-group front queue; 0 = none */
+    unsigned batch_limit;           /* bounded batches: items per host iteration */
     double time_limit;
 } reyes_options;
 
@@ -161,8 +166,10 @@ typedef struct reyes_stats {
     perma_procedure_stats procedures[REYES_PROC_COUNT];
 } reyes_stats;
 
-/* A perma runtime with the Reyes procedures registered (for options->grid,
- * group_size, work_groups and technique; other options may change per render). */
+/* A perma runtime with the Reyes procedures registered (for options->grid
+ * and the scheduling fields: group_size, work_groups, technique, strategy,
+ * victim, local_queue_items, batch_limit, time_limit; the other options may
+ * change per render). */
 typedef struct reyes_renderer reyes_renderer;
 
 reyes_status reyes_renderer_create(const reyes_options *options, reyes_renderer **out,

@@ -17,6 +17,8 @@ void reyes_options_init(reyes_options *options)
     options->cull_margin = 0.05f;
     options->background = REYES_RGBA(24, 26, 32);
     options->technique = PERMA_TECHNIQUE_MEGAKERNEL;
+    options->strategy = PERMA_STRATEGY_SHARED;
+    options->victim = PERMA_VICTIM_RANDOM;
 }
 
 reyes_status reyes_options_check(const reyes_options *o, reyes_error *error)
@@ -43,5 +45,8 @@ reyes_status reyes_options_check(const reyes_options *o, reyes_error *error)
     if ((uint64_t)o->width * o->height * o->spp > (1ull << 29))
         return reyes_fail(error, REYES_ERR_ARGUMENT, "%ux%u at %u samples per pixel is too many samples",
                           o->width, o->height, o->spp);
+    if (!perma_technique_name(o->technique) || !perma_strategy_name(o->strategy)
+        || !perma_victim_name(o->victim))
+        return reyes_fail(error, REYES_ERR_ARGUMENT, "unknown technique, strategy or victim value");
     return REYES_OK;
 }

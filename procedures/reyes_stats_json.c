@@ -16,6 +16,11 @@ static void write_procedure(FILE *out, const perma_procedure_stats *p, int last)
             p->peak_queue_items, p->queue_capacity, p->regrowths, last ? "" : ",");
 }
 
+static const char *name_or_unknown(const char *name)
+{
+    return name ? name : "?";
+}
+
 reyes_status reyes_write_stats_json(FILE *out, const reyes_stats *s, const reyes_options *o,
                                     reyes_error *error)
 {
@@ -34,6 +39,13 @@ reyes_status reyes_write_stats_json(FILE *out, const reyes_stats *s, const reyes
     fprintf(out, "  \"seconds\": %.6f,\n", s->seconds);
     fprintf(out, "  \"work_groups\": %u, \"group_size\": %u, \"launches\": %u, \"regrowths\": %u,\n",
             s->run.work_groups, s->run.group_size, s->run.launches, s->run.regrowths);
+    fprintf(out, "  \"technique\": \"%s\", \"strategy\": \"%s\", \"victim\": \"%s\", "
+                 "\"local_queue_items\": %u, \"batch_limit\": %u,\n",
+            name_or_unknown(perma_technique_name(o->technique)),
+            name_or_unknown(perma_strategy_name(o->strategy)),
+            name_or_unknown(perma_victim_name(o->victim)), o->local_queue_items, o->batch_limit);
+    fprintf(out, "  \"steals\": %" PRIu64 ", \"donations\": %" PRIu64 ", \"spills\": %" PRIu64 ",\n",
+            s->run.steals, s->run.donations, s->run.spills);
     fprintf(out, "  \"procedures\": {\n");
     for (int p = 0; p < REYES_PROC_COUNT; ++p)
         write_procedure(out, &s->procedures[p], p == REYES_PROC_COUNT - 1);

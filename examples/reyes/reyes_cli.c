@@ -1,7 +1,8 @@
 /*
  * Command-line parsing of reyes-render.  Every option is one row of
- * `options[]` (name, argument, handler, help), and techniques and
- * strategies are rows of their own tables, so adding one is one line.
+ * `options[]` (name, argument, handler, help).  Technique, strategy and
+ * victim names are the runtime's (perma_*_parse), so new ones work here
+ * without a change.
  */
 #include <errno.h>
 #include <math.h>
@@ -9,20 +10,6 @@
 #include <string.h>
 
 #include "reyes_cli.h"
-
-typedef struct name_value {
-    const char *name;
-    int value;
-    const char *help;
-} name_value;
-
-static const name_value techniques[] = {
-    { "megakernel", PERMA_TECHNIQUE_MEGAKERNEL, "one persistent kernel" },
-};
-/* Queue strategies; only the runtime's shared queues exist so far. */
-static const name_value strategies[] = {
-    { "shared", 0, "one global queue per procedure" },
-};
 
 #define COUNT_OF(a) (sizeof(a) / sizeof((a)[0]))
 
@@ -66,19 +53,30 @@ static int parse_float(const char *text, float *out)
     return 1;
 }
 
-/* A name from a table, or a message listing the valid names. */
-static int lookup(const name_value *table, size_t count, const char *kind, const char *name,
-                  int *value, char *message, size_t size)
+/* The name of enum value `value`, or NULL past the last one. */
+typedef const char *(*name_of)(int value);
+
+static const char *technique_name(int value)
 {
-    for (size_t i = 0; i < count; ++i) {
-        if (strcmp(table[i].name, name) == 0) {
-            *value = table[i].value;
-            return REYES_CLI_OK;
-        }
-    }
+    return perma_technique_name((perma_technique)value);
+}
+
+static const char *strategy_name(int value)
+{
+    return perma_strategy_name((perma_strategy)value);
+}
+
+static const char *victim_name(int value)
+{
+    return perma_victim_name((perma_victim)value);
+}
+
+/* "unknown KIND 'NAME'; valid: a b c", the names from value 0 on. */
+static int unknown_name(name_of names, const char *kind, const char *name, char *message, size_t size)
+{
     int used = snprintf(message, size, "unknown %s '%s'; valid:", kind, name);
-    for (size_t i = 0; i < count && used >= 0 && (size_t)used < size; ++i)
-        used += snprintf(message + used, size - (size_t)used, " %s", table[i].name);
+    for (int v = 0; names(v) && used >= 0 && (size_t)used < size; ++v)
+        used += snprintf(message + used, size - (size_t)used, " %s", names(v));
     return REYES_CLI_USAGE;
 }
 
@@ -179,20 +177,37 @@ static int on_camera(reyes_cli *cli, const char *value, char *message, size_t si
 
 static int on_technique(reyes_cli *cli, const char *value, char *message, size_t size)
 {
-    int technique;
-    int result = lookup(techniques, COUNT_OF(techniques), "technique", value, &technique, message, size);
-    if (result == REYES_CLI_OK)
-        cli->render.technique = (perma_technique)technique;
-    return result;
+    if (perma_technique_parse(value, &cli->render.technique) != PERMA_OK)
+        return unknown_name(technique_name, "technique", value, message, size);
+    return REYES_CLI_OK;
 }
 
 static int on_strategy(reyes_cli *cli, const char *value, char *message, size_t size)
 {
-    int strategy;
-    int result = lookup(strategies, COUNT_OF(strategies), "strategy", value, &strategy, message, size);
-    if (result == REYES_CLI_OK)
-        cli->strategy = value;
-    return result;
+    if (perma_strategy_parse(value, &cli->render.strategy) != PERMA_OK)
+        return unknown_name(strategy_name, "strategy", value, message, size);
+    return REYES_CLI_OK;
+}
+
+static int on_victim(reyes_cli *cli, const char *value, char *message, size_t size)
+{
+    if (perma_victim_parse(value, &cli->render.victim) != PERMA_OK)
+        return unknown_name(victim_name, "victim", value, message, size);
+    return REYES_CLI_OK;
+}
+
+static int on_local_queue(reyes_cli *cli, const char *value, char *message, size_t size)
+{
+    if (!parse_unsigned(value, 65536, &cli->render.local_queue_items))
+        return usage_error(message, size, "--local-queue '%s': expected items 0..%s", value, "65536");
+    return REYES_CLI_OK;
+}
+
+static int on_batch_limit(reyes_cli *cli, const char *value, char *message, size_t size)
+{
+    if (!parse_unsigned(value, 1u << 24, &cli->render.batch_limit) || cli->render.batch_limit < 1)
+        return usage_error(message, size, "--batch-limit '%s': expected items 1..%s", value, "16777216");
+    return REYES_CLI_OK;
 }
 
 static int on_backface(reyes_cli *cli, const char *value, char *message, size_t size)
@@ -240,8 +255,13 @@ static const cli_option options[] = {
     { "max-depth", 0, "D", on_max_depth, "splits after which a patch is diced anyway (default 20)" },
     { "camera", 0, "ex,ey,ez,ax,ay,az", on_camera, "eye and target (default: frame the scene)" },
     { "fov", 0, "DEG", on_fov, "vertical field of view (default 40)" },
-    { "technique", 0, "NAME", on_technique, "scheduling technique: megakernel" },
-    { "strategy", 0, "NAME", on_strategy, "queue strategy: shared" },
+    { "technique", 0, "NAME", on_technique,
+      "megakernel (default), kernel-per-procedure or bounded-batches" },
+    { "strategy", 0, "NAME", on_strategy,
+      "megakernel queues: shared (default), stealing, donation, stealing-donation" },
+    { "victim", 0, "NAME", on_victim, "stealing victim: random (default) or round-robin" },
+    { "local-queue", 0, "N", on_local_queue, "items per procedure in a per-group local queue (default 0)" },
+    { "batch-limit", 0, "N", on_batch_limit, "bounded-batches: items per host iteration (default 4096)" },
     { "groups", 0, "N", on_groups, "persistent work-groups (default: as many as fit)" },
     { "backface", 0, NULL, on_backface, "cull patches that face away entirely" },
     { "stats", 0, "FILE", on_stats, "write statistics as JSON" },
@@ -296,7 +316,6 @@ int reyes_cli_parse(int argc, char **argv, reyes_cli *cli, char *message, size_t
     memset(cli, 0, sizeof *cli);
     reyes_options_init(&cli->render);
     cli->output = "reyes.png";
-    cli->strategy = "shared";
     cli->fov_deg = 40.0f;
     message[0] = '\0';
     cli->models = calloc(argc > 0 ? (size_t)argc : 1, sizeof *cli->models);

@@ -15,7 +15,6 @@ typedef struct reyes_cli {
     size_t model_count;
     const char *output;     /* PNG path */
     const char *stats_path; /* NULL: no statistics file */
-    const char *strategy;
     int has_camera;
     float camera[6];        /* eye x y z, target x y z */
     float fov_deg;

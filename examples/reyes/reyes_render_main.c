@@ -72,10 +72,12 @@ static reyes_status run(const reyes_cli *cli, reyes_error *error)
     if (status == REYES_OK && cli->stats_path)
         status = reyes_save_stats_json(cli->stats_path, &stats, &cli->render, error);
     if (status == REYES_OK)
-        printf("%s: %ux%u, %zu patches, %llu splits, %llu grids, %llu micropolygons, %.3f s (%s)\n",
+        printf("%s: %ux%u, %zu patches, %llu splits, %llu grids, %llu micropolygons, %.3f s, "
+               "%s/%s (%s)\n",
                cli->output, image.width, image.height, scene.patch_count,
                (unsigned long long)stats.splits, (unsigned long long)stats.grids,
                (unsigned long long)stats.micropolygons, stats.seconds,
+               perma_technique_name(cli->render.technique), perma_strategy_name(cli->render.strategy),
                reyes_renderer_device(renderer));
     if (status == REYES_OK && cli->reference)
         status = run_reference(cli, &scene, &camera, error);

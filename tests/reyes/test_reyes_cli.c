@@ -64,12 +64,42 @@ START_TEST(test_all_options)
 }
 END_TEST
 
+/* Every technique, strategy and victim name of the runtime is accepted and
+ * lands in the render options passed to perma_config. */
+START_TEST(test_scheduling_names)
+{
+    const char *techniques[] = {"megakernel", "kernel-per-procedure", "bounded-batches"};
+    const char *strategies[] = {"shared", "stealing", "donation", "stealing-donation"};
+    for (int t = 0; t < 3; ++t) {
+        for (int s = 0; s < 4; ++s) {
+            reyes_cli cli;
+            char message[512];
+            ck_assert_int_eq(PARSE(&cli, message, "--technique", (char *)techniques[t], "--strategy",
+                                   (char *)strategies[s], "--victim", "round-robin", "--local-queue",
+                                   "128", "--batch-limit", "512"),
+                             REYES_CLI_OK);
+            ck_assert_str_eq(perma_technique_name(cli.render.technique), techniques[t]);
+            ck_assert_str_eq(perma_strategy_name(cli.render.strategy), strategies[s]);
+            ck_assert_int_eq(cli.render.victim, PERMA_VICTIM_ROUND_ROBIN);
+            ck_assert_uint_eq(cli.render.local_queue_items, 128);
+            ck_assert_uint_eq(cli.render.batch_limit, 512);
+            reyes_cli_free(&cli);
+        }
+    }
+}
+END_TEST
+
 /* Each bad command line gives REYES_CLI_USAGE and a message with `needle`. */
 START_TEST(test_bad_usage)
 {
     struct { int argc; char **argv; const char *needle; } cases[] = {
-        { COUNT("--technique", "warp"), ARGS("--technique", "warp"), "valid: megakernel" },
-        { COUNT("--strategy", "steal"), ARGS("--strategy", "steal"), "valid: shared" },
+        { COUNT("--technique", "warp"), ARGS("--technique", "warp"),
+          "valid: megakernel kernel-per-procedure bounded-batches" },
+        { COUNT("--strategy", "steal"), ARGS("--strategy", "steal"),
+          "valid: shared stealing donation stealing-donation" },
+        { COUNT("--victim", "any"), ARGS("--victim", "any"), "valid: random round-robin" },
+        { COUNT("--local-queue", "-3"), ARGS("--local-queue", "-3"), "--local-queue" },
+        { COUNT("--batch-limit", "0"), ARGS("--batch-limit", "0"), "--batch-limit" },
         { COUNT("--size", "100"), ARGS("--size", "100"), "WxH" },
         { COUNT("--size", "0x10"), ARGS("--size", "0x10"), "--size" },
         { COUNT("--grid", "1"), ARGS("--grid", "1"), "--grid" },
@@ -120,7 +150,11 @@ START_TEST(test_program_exit_codes)
         return;
     char output[8192];
     ck_assert_int_eq(run_program("--technique nope", output, sizeof output), 2);
-    ck_assert_msg(strstr(output, "valid: megakernel") != NULL, "%s", output);
+    ck_assert_msg(strstr(output, "valid: megakernel kernel-per-procedure bounded-batches") != NULL, "%s",
+                  output);
+    ck_assert_int_eq(run_program("--strategy nope", output, sizeof output), 2);
+    ck_assert_msg(strstr(output, "valid: shared stealing donation stealing-donation") != NULL, "%s",
+                  output);
     ck_assert_int_eq(run_program("--bogus", output, sizeof output), 2);
     ck_assert_msg(strstr(output, "--bogus") != NULL, "%s", output);
     ck_assert_int_eq(run_program("--help", output, sizeof output), 0);
@@ -140,6 +174,7 @@ static Suite *cli_suite(void)
     tcase_set_timeout(tc, 60);
     tcase_add_test(tc, test_defaults);
     tcase_add_test(tc, test_all_options);
+    tcase_add_test(tc, test_scheduling_names);
     tcase_add_test(tc, test_bad_usage);
     tcase_add_test(tc, test_program_exit_codes);
     suite_add_tcase(s, tc);
