@@ -21,6 +21,7 @@
 #define PERMA_B_COMMAND 3
 #define PERMA_B_SOURCE 4 /* queue index the items come from */
 #define PERMA_B_DEST 5   /* donation: queue index they go to */
+#define PERMA_B_KIND 6   /* PERMA_TRACE_* */
 #define PERMA_BATCH_WORDS 8
 
 #define PERMA_QINDEX(set, proc) ((set) * PERMA_NUM_PROCS + (proc))

@@ -31,11 +31,12 @@ __kernel void perma_take_kernel(__global uint *ctl, __global uint *queue_data, _
 __kernel __attribute__((reqd_work_group_size(PERMA_GROUP_SIZE, 1, 1)))
 void perma_step_kernel(__global uint *ctl, __global uint *queue_data, __global uint *queue_seq,
                        __global uint *group_stats, volatile __global uint *abort_flag,
-                       __global const uint *input, uint proc, uint count
+                       __global uint *trace, __global const uint *input, uint proc, uint count
                        PERMA_BUFFER_PARAMS)
 {
     PERMA_GROUP_LOCALS(mem);
     const uint lid = get_local_id(0);
+    (void)trace; /* the host records the steps of host-driven techniques */
     perma_buffers buf;
     PERMA_BIND_BUFFERS(buf);
     for (uint i = lid; i < PERMA_STAT_GROUP_WORDS; i += PERMA_GROUP_SIZE)

@@ -21,6 +21,7 @@
 #define PERMA_CTL_DETAIL_PROC 3 /* procedure that caused a failure status */
 #define PERMA_CTL_DETAIL_EDGE 4 /* edge index for PERMA_KSTATUS_EMIT_LIMIT */
 #define PERMA_CTL_PROGRESS 5    /* epoch, bumped whenever queue room grows */
+#define PERMA_CTL_CLOCK 6       /* logical clock of the trace */
 #define PERMA_CTL_HEADER_WORDS 16
 
 #define PERMA_Q_HEAD 0     /* next position to claim */
@@ -55,6 +56,15 @@
 #define PERMA_GSTAT_IDLE_POLLS 4
 #define PERMA_GSTAT_WORDS 8
 #define PERMA_STAT_GROUP_WORDS (PERMA_NUM_PROCS * PERMA_STAT_PROC_WORDS + PERMA_GSTAT_WORDS)
+
+/* Trace (PERMA_TRACE_EVENTS > 0): per group one count word, then
+ * PERMA_TRACE_EVENTS records of 4 words: procedure | kind << 8, items,
+ * logical start, logical end. */
+#define PERMA_TRACE_RUN 0u
+#define PERMA_TRACE_STEAL 1u
+#define PERMA_TRACE_LOCAL 2u
+#define PERMA_TRACE_DONATE 3u
+#define PERMA_TRACE_GROUP_WORDS (1u + 4u * PERMA_TRACE_EVENTS)
 
 /* Spin loops give up after this many polls (and poll the abort flag). */
 #ifndef PERMA_SPIN_LIMIT

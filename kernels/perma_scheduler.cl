@@ -104,6 +104,7 @@ inline void perma_set_blocked(__global uint *group_words, uint value)
     atomic_xchg(group_words + PERMA_G_BLOCKED, value);
 }
 
+#if PERMA_STEALING
 /* The next victim of a stealing group (never itself). */
 inline uint perma_next_victim(uint own, uint *state)
 {
@@ -120,10 +121,13 @@ inline uint perma_next_victim(uint own, uint *state)
     return v >= own ? v + 1u : v;
 #endif
 }
+#endif
 
 inline void perma_set_batch(__local uint *batch, uint command, uint proc, uint start, uint count,
                             uint source, uint dest)
 {
+    batch[PERMA_B_KIND] = command == PERMA_CMD_DONATE ? PERMA_TRACE_DONATE
+                        : command == PERMA_CMD_RUN_LOCAL ? PERMA_TRACE_LOCAL : PERMA_TRACE_RUN;
     batch[PERMA_B_PROC] = proc;
     batch[PERMA_B_START] = start;
     batch[PERMA_B_COUNT] = count;
@@ -156,6 +160,9 @@ inline void perma_schedule(__global uint *ctl, __global uint *queue_data, __glob
                            perma_group_mem mem, uint *victim_state)
 {
     __local uint *group_stat = mem.stats + PERMA_NUM_PROCS * PERMA_STAT_PROC_WORDS;
+    (void)queue_data; /* used by the local front queue's flush only */
+    (void)queue_seq;
+    (void)victim_state; /* used by stealing only */
     for (uint poll = 0;; ++poll) {
         if (perma_load(ctl + PERMA_CTL_EXIT))
             break;
@@ -213,6 +220,7 @@ inline void perma_schedule(__global uint *ctl, __global uint *queue_data, __glob
                     group_stat[PERMA_GSTAT_STEALS] += 1u;
                     perma_set_blocked(group_words, 0u);
                     perma_set_batch(batch, PERMA_CMD_RUN, q, start, got, PERMA_QINDEX(victim, q), 0);
+                    batch[PERMA_B_KIND] = PERMA_TRACE_STEAL;
                     return;
                 }
             }
@@ -236,6 +244,7 @@ inline void perma_schedule(__global uint *ctl, __global uint *queue_data, __glob
             break;
         }
         (void)found;
+        (void)dest;
         if (poll >= PERMA_IDLE_POLLS) {
             batch[PERMA_B_COMMAND] = PERMA_CMD_IDLE;
             return;
@@ -261,8 +270,8 @@ inline void perma_schedule(__global uint *ctl, __global uint *queue_data, __glob
 
 __kernel __attribute__((reqd_work_group_size(PERMA_GROUP_SIZE, 1, 1)))
 void perma_megakernel(__global uint *ctl, __global uint *queue_data, __global uint *queue_seq,
-                      __global uint *group_stats, volatile __global uint *abort_flag
-                      PERMA_BUFFER_PARAMS)
+                      __global uint *group_stats, volatile __global uint *abort_flag,
+                      __global uint *trace PERMA_BUFFER_PARAMS)
 {
     PERMA_GROUP_LOCALS(mem);
     __local uint batch[PERMA_BATCH_WORDS];
@@ -272,6 +281,12 @@ void perma_megakernel(__global uint *ctl, __global uint *queue_data, __global ui
     const uint own = PERMA_QUEUE_SETS > 1 ? group : 0u;
     __global uint *group_words = PERMA_GROUP(ctl, group);
     uint victim_state = group * 2654435761u + 12345u; /* used by work-item 0 only */
+#if PERMA_TRACE_EVENTS
+    uint trace_count = 0, trace_start = 0;            /* likewise */
+    __global uint *group_trace = trace + group * PERMA_TRACE_GROUP_WORDS;
+#else
+    (void)trace;
+#endif
     perma_buffers buf;
     PERMA_BIND_BUFFERS(buf);
 
@@ -301,11 +316,28 @@ void perma_megakernel(__global uint *ctl, __global uint *queue_data, __global ui
         const uint count = moving ? batch[PERMA_B_COUNT] : 0u;
         __global uint *source = PERMA_QUEUE(ctl, batch[PERMA_B_SOURCE]);
         __global uint *donee = PERMA_QUEUE(ctl, batch[PERMA_B_DEST]);
+#if PERMA_TRACE_EVENTS
+        if (lid == 0 && count)
+            trace_start = atomic_inc(ctl + PERMA_CTL_CLOCK);
+#endif
         barrier(CLK_LOCAL_MEM_FENCE); /* all have read batch[] before it is rewritten */
         perma_run_batch(ctl, queue_data, queue_seq, abort_flag, mem, buf,
                         from_local ? PERMA_CMD_RUN : command, proc, start, count,
                         source, donee, (__global const uint *)0, from_local, own);
+#if PERMA_TRACE_EVENTS
+        if (lid == 0 && count && trace_count < PERMA_TRACE_EVENTS) {
+            __global uint *record = group_trace + 1u + 4u * trace_count++;
+            record[0] = proc | batch[PERMA_B_KIND] << 8;
+            record[1] = count;
+            record[2] = trace_start;
+            record[3] = atomic_inc(ctl + PERMA_CTL_CLOCK);
+        }
+#endif
     }
+#if PERMA_TRACE_EVENTS
+    if (lid == 0)
+        group_trace[0] = trace_count;
+#endif
 
     for (uint i = lid; i < PERMA_STAT_GROUP_WORDS; i += PERMA_GROUP_SIZE)
         group_stats[group * PERMA_STAT_GROUP_WORDS + i] = mem.stats[i];

@@ -170,6 +170,15 @@ typedef struct perma_config {
     unsigned local_queue_items;
     /* Bounded batches: most items taken per host iteration; 0 = 4096. */
     unsigned batch_limit;
+    /* Trace: if set (or the PERMA_TRACE environment variable names a file),
+     * every run writes its batches as Chrome trace events (JSON, viewable
+     * in Perfetto or chrome://tracing): one track per work-group, one event
+     * per batch with procedure, items and kind (run, steal, local,
+     * donate).  Megakernel events use a logical clock (one tick per batch
+     * start or end); host-driven steps use host time. */
+    const char *trace_path;
+    /* Most events recorded per work-group and launch; 0 = 65536. */
+    unsigned trace_events;
 } perma_config;
 
 /* Fill *config with the defaults described above. */

@@ -185,7 +185,8 @@ perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *sb)
                             "#define PERMA_VICTIM_ROUND_ROBIN %d\n"
                             "#define PERMA_DONATION_THRESHOLD %uu\n"
                             "#define PERMA_LOCAL_QUEUE %uu\n"
-                            "#define PERMA_LQ_WORDS %uu\n",
+                            "#define PERMA_LQ_WORDS %uu\n"
+                            "#define PERMA_TRACE_EVENTS %uu\n",
                         rt->proc_count, rt->group_size, rt->proc_count, rt->max_edges, rt->arena_words,
                         rt->queue_sets,
                         rt->queue_sets > 1 && (rt->config.strategy == PERMA_STRATEGY_STEALING ||
@@ -193,7 +194,8 @@ perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *sb)
                         rt->queue_sets > 1 && (rt->config.strategy == PERMA_STRATEGY_DONATION ||
                                                rt->config.strategy == PERMA_STRATEGY_STEALING_DONATION),
                         rt->config.victim == PERMA_VICTIM_ROUND_ROBIN, rt->config.donation_threshold,
-                        rt->local_queue_items, rt->lq_words ? rt->lq_words : 1u);
+                        rt->local_queue_items, rt->lq_words ? rt->lq_words : 1u,
+                        rt->trace_path && rt->config.technique == PERMA_TECHNIQUE_MEGAKERNEL ? rt->trace_events : 0u);
     perma_strbuf_append(sb, perma_kernel_prelude);
     resume_generated(sb);
     perma_strbuf_append(sb, perma_kernel_queue);

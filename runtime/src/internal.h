@@ -112,7 +112,25 @@ struct perma_runtime {
     bool hung;                      /* a kernel ignored the watchdog; do not wait on it */
 
     perma_stats stats;
+
+    /* Trace of the current run (trace.c). */
+    const char *trace_path;         /* NULL: tracing off */
+    unsigned trace_events;          /* per group and launch */
+    cl_mem trace_mem;
+    size_t trace_mem_words;
+    struct perma_trace_event *trace;
+    size_t trace_count, trace_alloc;
+    double trace_clock_base;        /* logical ticks of earlier launches */
+    double trace_start_time;        /* host time of the run's start */
 };
+
+typedef struct perma_trace_event {
+    uint32_t group;     /* track; UINT32_MAX for host steps */
+    uint32_t proc;
+    uint32_t kind;      /* 0 run, 1 steal, 2 local, 3 donate */
+    uint32_t items;
+    double start, end;  /* microseconds (host) or ticks (logical) */
+} perma_trace_event;
 
 /* Format the runtime's message and return `status`. */
 perma_status perma_set_error(perma_runtime *rt, perma_status status, const char *fmt, ...)
@@ -169,6 +187,13 @@ perma_status perma_kernel_status_error(perma_runtime *rt, const uint32_t *kernel
 /* stats.c */
 void perma_stats_reset(perma_runtime *rt);
 perma_status perma_stats_collect(perma_runtime *rt);
+
+/* trace.c */
+perma_status perma_trace_prepare(perma_runtime *rt);       /* buffer for a launch */
+perma_status perma_trace_collect(perma_runtime *rt);       /* after a megakernel launch */
+perma_status perma_trace_host_step(perma_runtime *rt, unsigned proc, uint32_t items, double start, double end);
+perma_status perma_trace_write(perma_runtime *rt);         /* at the end of a run */
+void perma_trace_release(perma_runtime *rt);
 
 /* time */
 double perma_now(void);

@@ -57,13 +57,13 @@ static perma_status image_reserve(perma_runtime *rt, unsigned qi, size_t capacit
 void perma_queues_release(perma_runtime *rt)
 {
     cl_mem *mems[] = { &rt->ctl_mem, &rt->data_mem, &rt->seq_mem, &rt->stats_mem, &rt->abort_mem,
-                       &rt->input_mem };
+                       &rt->input_mem, &rt->trace_mem };
     for (size_t i = 0; i < sizeof mems / sizeof mems[0]; ++i) {
         if (*mems[i])
             clReleaseMemObject(*mems[i]);
         *mems[i] = NULL;
     }
-    rt->data_mem_words = rt->seq_mem_words = rt->input_mem_words = 0;
+    rt->data_mem_words = rt->seq_mem_words = rt->input_mem_words = rt->trace_mem_words = 0;
     for (unsigned qi = 0; qi < rt->image_count; ++qi)
         free(rt->images[qi].words);
     free(rt->images);

@@ -91,6 +91,9 @@ perma_status perma_run(perma_runtime *rt)
         return st;
     perma_stats_reset(rt);
     double start = perma_now();
+    rt->trace_count = 0;
+    rt->trace_clock_base = 0.0;
+    rt->trace_start_time = start;
     double limit = rt->config.time_limit > 0 ? rt->config.time_limit : DEFAULT_TIME_LIMIT;
     double deadline = start + limit;
 
@@ -112,6 +115,8 @@ perma_status perma_run(perma_runtime *rt)
         rt->stats.launches++;
         st = perma_stats_collect(rt);
         if (st == PERMA_OK)
+            st = perma_trace_collect(rt);
+        if (st == PERMA_OK)
             st = interpret(rt, ks, &again);
         if (st != PERMA_OK)
             break;
@@ -119,6 +124,16 @@ perma_status perma_run(perma_runtime *rt)
     if (st == PERMA_OK)
         st = copy_host_buffers(rt, PERMA_WRITE);
     rt->stats.seconds = perma_now() - start;
+    if (rt->trace_path && !rt->hung) {
+        /* Written after a failure too: it shows what ran before it. */
+        char kept[PERMA_MESSAGE_MAX];
+        memcpy(kept, rt->message, sizeof kept);
+        perma_status trace_st = perma_trace_write(rt);
+        if (st == PERMA_OK)
+            st = trace_st;
+        else
+            memcpy(rt->message, kept, sizeof kept);
+    }
     for (unsigned q = 0; q < rt->proc_count; ++q) {
         rt->procs[q].stats.queue_capacity = 0;
         rt->procs[q].stats.regrowths = 0;

@@ -41,6 +41,8 @@ static perma_status check_config(perma_runtime *rt, const perma_config *c)
     if (!perma_victim_name(c->victim))
         return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.victim %d is not a known victim policy",
                                (int)c->victim);
+    if (c->trace_events > (1u << 24))
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.trace_events %u is above 2^24", c->trace_events);
     if (c->local_queue_items > 4096)
         return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.local_queue_items %u is above 4096",
                                c->local_queue_items);
@@ -66,6 +68,7 @@ perma_status perma_create(const perma_config *config, perma_runtime **out, perma
     }
     rt->config = *config;
     rt->config.build_options = NULL; /* copied below */
+    rt->config.trace_path = NULL;
     rt->group_size = config->group_size ? config->group_size : 64;
     perma_status st = out ? check_config(rt, config)
                           : perma_set_error(rt, PERMA_ERR_ARGUMENT, "perma_create: out is NULL");
@@ -73,6 +76,14 @@ perma_status perma_create(const perma_config *config, perma_runtime **out, perma
         rt->config.build_options = strdup(config->build_options);
         if (!rt->config.build_options)
             st = perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory copying build options");
+    }
+    const char *trace = config->trace_path ? config->trace_path : getenv("PERMA_TRACE");
+    if (st == PERMA_OK && trace && *trace) {
+        rt->config.trace_path = strdup(trace);
+        if (!rt->config.trace_path)
+            st = perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory copying the trace path");
+        rt->trace_path = rt->config.trace_path;
+        rt->trace_events = config->trace_events ? config->trace_events : 65536;
     }
     if (st == PERMA_OK)
         st = perma_device_open(rt);
@@ -134,6 +145,8 @@ void perma_destroy(perma_runtime *rt)
         free_proc(&rt->procs[i]);
     perma_device_close(rt);
     free((char *)rt->config.build_options);
+    free((char *)rt->config.trace_path);
+    perma_trace_release(rt);
     free(rt->abort_flag);
     free(rt->group_stats);
     free(rt);

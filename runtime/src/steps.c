@@ -79,13 +79,13 @@ static perma_status launch_step(perma_runtime *rt, unsigned q, uint32_t first, u
     PERMA_CL_CHECK(rt, "clEnqueueNDRangeKernel (take)",
                    clEnqueueNDRangeKernel(rt->queue, rt->take_kernel, 1, NULL, &take_global, NULL, 0, NULL, NULL));
 
-    st = perma_set_common_args(rt, rt->step_kernel, 8);
+    st = perma_set_common_args(rt, rt->step_kernel, 9);
     if (st != PERMA_OK)
         return st;
     cl_uint proc = q;
-    PERMA_CL_CHECK(rt, "clSetKernelArg (step)", clSetKernelArg(rt->step_kernel, 5, sizeof(cl_mem), &rt->input_mem));
-    PERMA_CL_CHECK(rt, "clSetKernelArg (step)", clSetKernelArg(rt->step_kernel, 6, sizeof proc, &proc));
-    PERMA_CL_CHECK(rt, "clSetKernelArg (step)", clSetKernelArg(rt->step_kernel, 7, sizeof take, &take));
+    PERMA_CL_CHECK(rt, "clSetKernelArg (step)", clSetKernelArg(rt->step_kernel, 6, sizeof(cl_mem), &rt->input_mem));
+    PERMA_CL_CHECK(rt, "clSetKernelArg (step)", clSetKernelArg(rt->step_kernel, 7, sizeof proc, &proc));
+    PERMA_CL_CHECK(rt, "clSetKernelArg (step)", clSetKernelArg(rt->step_kernel, 8, sizeof take, &take));
     size_t local = rt->group_size;
     size_t global = ((size_t)take + p->max_batch - 1) / p->max_batch * local;
     PERMA_CL_CHECK(rt, "clEnqueueNDRangeKernel (step)",
@@ -102,10 +102,16 @@ perma_status perma_run_steps(perma_runtime *rt, double deadline)
     uint32_t limit = rt->config.batch_limit ? rt->config.batch_limit : DEFAULT_BATCH_LIMIT;
     bool bounded = rt->config.technique == PERMA_TECHNIQUE_BOUNDED_BATCHES;
     unsigned cursor = 0;
+    int traced_proc = -1;          /* the step in flight, for the trace */
+    uint32_t traced_items = 0;
+    double traced_start = 0.0;
     __atomic_store_n(rt->abort_flag, 0u, __ATOMIC_SEQ_CST);
     perma_status st = perma_queues_upload(rt);
     while (st == PERMA_OK) {
         st = read_control(rt, ctl, ctl_words); /* waits for the previous step */
+        if (st == PERMA_OK && traced_proc >= 0 && rt->trace_path)
+            st = perma_trace_host_step(rt, (unsigned)traced_proc, traced_items, traced_start, perma_now());
+        traced_proc = -1;
         if (st != PERMA_OK)
             break;
         if (ctl[PERMA_CTL_STATUS] != PERMA_KSTATUS_DONE) {
@@ -147,7 +153,10 @@ perma_status perma_run_steps(perma_runtime *rt, double deadline)
                                  perma_cl_error_name(err), (int)err);
             break;
         }
+        traced_start = perma_now();
         st = launch_step(rt, q, first, take, bounded ? 1u : 0u);
+        traced_proc = (int)q;
+        traced_items = take;
     }
     if (st == PERMA_OK)
         st = perma_stats_collect(rt);

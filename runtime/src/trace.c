@@ -1,0 +1,121 @@
+/* Trace mode: each work-group's batches as Chrome trace events (JSON),
+ * viewable in Perfetto (ui.perfetto.dev) or chrome://tracing. */
+#include "internal.h"
+
+#include <errno.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const char *const kind_names[] = { "run", "steal", "local", "donate" };
+
+static bool tracing_on_device(const perma_runtime *rt)
+{
+    return rt->trace_path && rt->config.technique == PERMA_TECHNIQUE_MEGAKERNEL;
+}
+
+void perma_trace_release(perma_runtime *rt)
+{
+    free(rt->trace);
+    rt->trace = NULL;
+    rt->trace_count = rt->trace_alloc = 0;
+}
+
+static perma_status push_event(perma_runtime *rt, const perma_trace_event *event)
+{
+    if (rt->trace_count == rt->trace_alloc) {
+        size_t alloc = rt->trace_alloc ? rt->trace_alloc * 2 : 4096;
+        perma_trace_event *events = realloc(rt->trace, alloc * sizeof *events);
+        if (!events)
+            return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory recording the trace");
+        rt->trace = events;
+        rt->trace_alloc = alloc;
+    }
+    rt->trace[rt->trace_count++] = *event;
+    return PERMA_OK;
+}
+
+perma_status perma_trace_prepare(perma_runtime *rt)
+{
+    size_t words = tracing_on_device(rt) ? (size_t)rt->work_groups * (1 + 4 * (size_t)rt->trace_events) : 1;
+    return perma_ensure_buffer(rt, &rt->trace_mem, &rt->trace_mem_words, words, "trace");
+}
+
+perma_status perma_trace_collect(perma_runtime *rt)
+{
+    if (!tracing_on_device(rt))
+        return PERMA_OK;
+    size_t per_group = 1 + 4 * (size_t)rt->trace_events;
+    size_t words = rt->work_groups * per_group;
+    uint32_t *buffer = malloc(words * 4);
+    if (!buffer)
+        return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory reading the trace");
+    cl_int err = clEnqueueReadBuffer(rt->queue, rt->trace_mem, CL_TRUE, 0, words * 4, buffer, 0, NULL, NULL);
+    if (err != CL_SUCCESS) {
+        free(buffer);
+        return perma_set_error(rt, PERMA_ERR_OPENCL, "clEnqueueReadBuffer (trace) failed: %s (%d)",
+                               perma_cl_error_name(err), (int)err);
+    }
+    double last = 0.0;
+    perma_status st = PERMA_OK;
+    for (unsigned g = 0; g < rt->work_groups && st == PERMA_OK; ++g) {
+        const uint32_t *group = buffer + g * per_group;
+        uint32_t count = group[0] < rt->trace_events ? group[0] : rt->trace_events;
+        for (uint32_t i = 0; i < count && st == PERMA_OK; ++i) {
+            const uint32_t *r = group + 1 + 4 * i;
+            perma_trace_event event = { g, r[0] & 0xffu, (r[0] >> 8) & 0xffu, r[1],
+                                        rt->trace_clock_base + r[2], rt->trace_clock_base + r[3] };
+            if (event.proc >= rt->proc_count || event.kind > 3)
+                continue;
+            if (event.end > last)
+                last = event.end;
+            st = push_event(rt, &event);
+        }
+    }
+    free(buffer);
+    /* The next launch's clock starts at zero again. */
+    if (last >= rt->trace_clock_base)
+        rt->trace_clock_base = last + 1.0;
+    return st;
+}
+
+perma_status perma_trace_host_step(perma_runtime *rt, unsigned proc, uint32_t items, double start, double end)
+{
+    perma_trace_event event = { UINT32_MAX, proc, 0, items, (start - rt->trace_start_time) * 1e6,
+                                (end - rt->trace_start_time) * 1e6 };
+    return push_event(rt, &event);
+}
+
+perma_status perma_trace_write(perma_runtime *rt)
+{
+    if (!rt->trace_path)
+        return PERMA_OK;
+    FILE *f = fopen(rt->trace_path, "w");
+    if (!f)
+        return perma_set_error(rt, PERMA_ERR_IO, "cannot write the trace '%s': %s", rt->trace_path, strerror(errno));
+    bool host = rt->config.technique != PERMA_TECHNIQUE_MEGAKERNEL;
+    fprintf(f, "{\"displayTimeUnit\":\"ns\",\"otherData\":{\"runtime\":\"perma %s\",\"technique\":\"%s\","
+               "\"strategy\":\"%s\",\"clock\":\"%s\"},\n\"traceEvents\":[\n",
+            PERMA_VERSION_STRING, perma_technique_name(rt->config.technique),
+            perma_strategy_name(rt->config.strategy),
+            host ? "host microseconds" : "logical: one tick per batch start or end");
+    if (host) {
+        fprintf(f, "{\"name\":\"thread_name\",\"ph\":\"M\",\"pid\":1,\"tid\":0,\"args\":{\"name\":\"host steps\"}}");
+    } else {
+        for (unsigned g = 0; g < rt->work_groups; ++g)
+            fprintf(f, "%s{\"name\":\"thread_name\",\"ph\":\"M\",\"pid\":1,\"tid\":%u,\"args\":{\"name\":\"group %u\"}}",
+                    g ? ",\n" : "", g, g);
+    }
+    for (size_t i = 0; i < rt->trace_count; ++i) {
+        const perma_trace_event *e = &rt->trace[i];
+        double duration = e->end > e->start ? e->end - e->start : 0.0;
+        fprintf(f, ",\n{\"name\":\"%s\",\"cat\":\"%s\",\"ph\":\"X\",\"pid\":1,\"tid\":%u,\"ts\":%.3f,\"dur\":%.3f,"
+                   "\"args\":{\"items\":%u,\"kind\":\"%s\"}}",
+                rt->procs[e->proc].name, kind_names[e->kind], e->group == UINT32_MAX ? 0u : e->group, e->start,
+                duration, e->items, kind_names[e->kind]);
+    }
+    fprintf(f, "\n]}\n");
+    bool failed = ferror(f) != 0;
+    if (fclose(f) != 0 || failed)
+        return perma_set_error(rt, PERMA_ERR_IO, "error writing the trace '%s'", rt->trace_path);
+    return PERMA_OK;
+}
