@@ -65,6 +65,54 @@ START_TEST(test_teapot_groups_and_holes)
 }
 END_TEST
 
+/* Counts: splits and grids (and every other count) for the teapot are
+ * identical across techniques and strategies, and equal the C reference's. */
+START_TEST(test_teapot_counts_every_schedule)
+{
+    reyes_scene scene;
+    reyes_error error;
+    reyes_camera camera;
+    load(&scene, "teapot.bpt");
+    reyes_options o;
+    reyes_options_init(&o);
+    o.width = 256;
+    o.height = 192;
+    o.spp = 1;
+    ck_assert_int_eq(reyes_camera_frame(&scene, 40.0f, 256.0f / 192.0f, &camera, &error), REYES_OK);
+    reyes_stats first;
+    memset(&first, 0, sizeof first);
+    for (unsigned s = 0; s < reyes_test_schedule_count; ++s) {
+        char label[128];
+        reyes_test_schedule_label(&reyes_test_schedules[s], label, sizeof label);
+        reyes_test_apply_schedule(&reyes_test_schedules[s], 2, &o);
+        reyes_image image;
+        reyes_stats stats;
+        reyes_test_render_once(&scene, &camera, &o, &image, &stats);
+        reyes_image_free(&image);
+        ck_assert_msg(stats.run.technique == o.technique, "%s: ran another technique", label);
+        if (s == 0) {
+            first = stats;
+            ck_assert_uint_gt(stats.splits, 1000);
+            reyes_test_expect_reference_counts(&scene, &camera, &o, &stats);
+            continue;
+        }
+        ck_assert_msg(stats.splits == first.splits && stats.grids == first.grids,
+                      "%s: %llu splits and %llu grids, expected %llu and %llu", label,
+                      (unsigned long long)stats.splits, (unsigned long long)stats.grids,
+                      (unsigned long long)first.splits, (unsigned long long)first.grids);
+        ck_assert_msg(stats.culled == first.culled && stats.micropolygons == first.micropolygons
+                          && stats.samples_written == first.samples_written,
+                      "%s: culled, micropolygon or sample counts differ", label);
+        for (int p = 0; p < REYES_PROC_COUNT; ++p)
+            ck_assert_msg(stats.procedures[p].items == first.procedures[p].items,
+                          "%s: %s ran %llu items, expected %llu", label, stats.procedures[p].name,
+                          (unsigned long long)stats.procedures[p].items,
+                          (unsigned long long)first.procedures[p].items);
+    }
+    reyes_scene_free(&scene);
+}
+END_TEST
+
 /* Killeroo (11532 patches) renders at a small size. */
 START_TEST(test_killeroo)
 {
@@ -95,6 +143,7 @@ static Suite *models_suite(void)
     tcase_set_timeout(tc, 300);
     tcase_add_test(tc, test_load_all_models);
     tcase_add_test(tc, test_teapot_groups_and_holes);
+    tcase_add_test(tc, test_teapot_counts_every_schedule);
     tcase_add_test(tc, test_killeroo);
     suite_add_tcase(s, tc);
     return s;
