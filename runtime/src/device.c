@@ -52,7 +52,7 @@ static void choose_work_groups(perma_runtime *rt, const char *device_name)
     }
     if (rt->config.work_groups) {
         groups = rt->config.work_groups;
-        snprintf(why, sizeof why, "configured");
+        snprintf(why, sizeof why, rt->debug ? "PERMA_DEBUG" : "configured");
     }
     if (rt->config.strategy == PERMA_STRATEGY_DONATION && groups > rt->compute_units) {
         /* Without stealing, only a running group serves its own queues. */

@@ -91,7 +91,7 @@ perma_status perma_build(perma_runtime *rt)
     PERMA_CL_CHECK(rt, "clCreateProgramWithSource", err);
 
     char options[1024];
-    snprintf(options, sizeof options, "-cl-std=CL1.2 %s",
+    snprintf(options, sizeof options, "-cl-std=CL1.2 %s%s", rt->debug ? "-DPERMA_DEBUG=1 " : "",
              rt->config.build_options ? rt->config.build_options : "");
     err = clBuildProgram(rt->program, 1, &rt->device, options, NULL, NULL);
     if (err == CL_BUILD_PROGRAM_FAILURE || err == CL_INVALID_BUILD_OPTIONS) {

@@ -67,6 +67,12 @@ perma_status perma_create(const perma_config *config, perma_runtime **out, perma
         return PERMA_ERR_NO_MEMORY;
     }
     rt->config = *config;
+    /* Debug mode: one work-group, so printf output of a procedure comes in
+     * order, and PERMA_DEBUG defined for the procedures. */
+    const char *debug = getenv("PERMA_DEBUG");
+    rt->debug = debug && *debug && strcmp(debug, "0") != 0;
+    if (rt->debug)
+        rt->config.work_groups = 1;
     rt->config.build_options = NULL; /* copied below */
     rt->config.trace_path = NULL;
     rt->group_size = config->group_size ? config->group_size : 64;

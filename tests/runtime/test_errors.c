@@ -269,6 +269,39 @@ START_TEST(watchdog_stops_an_endless_run)
 }
 END_TEST
 
+/* PERMA_DEBUG=1: one work-group and PERMA_DEBUG defined for procedures. */
+START_TEST(debug_mode)
+{
+    setenv("PERMA_DEBUG", "1", 1);
+    perma_runtime *rt = test_runtime(64, 0, 0);
+    unsetenv("PERMA_DEBUG");
+    perma_procedure p = {
+        .name = "mark", .item_type = "uint", .item_size = 4, .function = "mark",
+        .source = "void mark(perma_ctx *ctx, __local const uint *x)\n"
+                  "{\n"
+                  "#ifdef PERMA_DEBUG\n"
+                  "    atomic_add(&ctx->buf.out[0], *x);\n"
+                  "#endif\n"
+                  "}\n",
+    };
+    perma_proc id;
+    ck_assert_perma_ok(rt, perma_register(rt, &p, &id));
+    uint32_t out[1] = { 0 };
+    ck_assert_perma_ok(rt, perma_bind_host(rt, "out", "__global uint *", out, sizeof out, PERMA_READ_WRITE));
+    uint32_t values[100];
+    for (unsigned i = 0; i < 100; ++i)
+        values[i] = i;
+    ck_assert_perma_ok(rt, perma_seed(rt, id, values, 100));
+    ck_assert_perma_ok(rt, perma_run(rt));
+    ck_assert_uint_eq(out[0], 4950);
+    perma_stats st;
+    ck_assert_perma_ok(rt, perma_get_stats(rt, &st));
+    ck_assert_uint_eq(st.work_groups, 1);
+    ck_assert_contains(perma_device_summary(rt), "1 work-groups (PERMA_DEBUG)");
+    perma_destroy(rt);
+}
+END_TEST
+
 int main(void)
 {
     Suite *s = suite_create("errors");
@@ -284,6 +317,7 @@ int main(void)
     tcase_add_test(tc, emitting_beyond_the_declared_maximum);
     tcase_add_test(tc, emitting_into_an_undeclared_target);
     tcase_add_test(tc, watchdog_stops_an_endless_run);
+    tcase_add_test(tc, debug_mode);
     suite_add_tcase(s, tc);
     return test_run_suite(s) ? EXIT_FAILURE : EXIT_SUCCESS;
 }
