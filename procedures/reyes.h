@@ -119,6 +119,9 @@ typedef struct reyes_options {
     int backface_cull;    /* default 0: the models have open, two-sided parts */
     float cull_margin;    /* frustum margin, fraction of the viewport (default 0.05) */
     uint32_t background;  /* RGBA8 of empty samples */
+    /* REYES_STAGES_ALL (default); REYES_STAGES_GEOMETRY or _SUBDIVIDE stop
+     * early so stages can be timed by difference (reyes_shared.h). */
+    unsigned stages;
     /* Scheduling, passed to perma_config when the renderer is created;
      * 0 = the runtime's default. */
     unsigned work_groups;

@@ -67,8 +67,10 @@ uint reyes_shade(__global const struct reyes_params *p, float3 x, float3 n, floa
     return reyes_pack_rgba(color);
 }
 
+/* Position (clip space) of grid vertex (i,j), and its color when `shade`. */
 struct reyes_vertex reyes_grid_vertex(__global const struct reyes_params *p, const float3 cp[16],
-                                      const struct reyes_subpatch *sp, float3 base, int i, int j)
+                                      const struct reyes_subpatch *sp, float3 base, int i, int j,
+                                      int shade)
 {
     float last = (float)(p->grid - 1u);
     /* mix(a, b, 1) == b exactly, so shared patch edges get equal u, v. */
@@ -78,7 +80,7 @@ struct reyes_vertex reyes_grid_vertex(__global const struct reyes_params *p, con
     float3 x = reyes_patch_point(cp, u, v);
     struct reyes_vertex out;
     out.clip = reyes_to_clip(p, x);
-    out.rgba = reyes_shade(p, x, reyes_safe_normal(cp, u, v), base);
+    out.rgba = shade ? reyes_shade(p, x, reyes_safe_normal(cp, u, v), base) : 0u;
     return out;
 }
 
@@ -94,6 +96,9 @@ void reyes_dice(perma_ctx *ctx, __local const struct reyes_subpatch *item)
     int threads = (int)p->dice_threads;
     if (ctx->thread == 0)
         atomic_inc(&counters[REYES_COUNT_GRIDS]);
+    if (p->stages == REYES_STAGES_SUBDIVIDE)
+        return;
+    int full = p->stages == REYES_STAGES_ALL;
 
     const int corner_i[4] = {0, 1, 1, 0}, corner_j[4] = {0, 0, 1, 1};
     for (int q = (int)ctx->thread; q < side * side; q += threads) {
@@ -102,7 +107,8 @@ void reyes_dice(perma_ctx *ctx, __local const struct reyes_subpatch *item)
         int visible = 1;
         float2 lo = (float2)(INFINITY, INFINITY), hi = (float2)(-INFINITY, -INFINITY);
         for (int k = 0; k < 4; ++k) {
-            struct reyes_vertex vtx = reyes_grid_vertex(p, cp, &sp, base, i + corner_i[k], j + corner_j[k]);
+            struct reyes_vertex vtx = reyes_grid_vertex(p, cp, &sp, base, i + corner_i[k], j + corner_j[k],
+                                                       full);
             visible &= vtx.clip.w > p->near_w;
             float2 s = reyes_to_screen(p, vtx.clip);
             quad.x[k] = s.x;
@@ -116,7 +122,8 @@ void reyes_dice(perma_ctx *ctx, __local const struct reyes_subpatch *item)
         visible &= hi.x >= 0.0f && hi.y >= 0.0f && lo.x <= p->width && lo.y <= p->height;
         if (visible) {
             atomic_inc(&counters[REYES_COUNT_MICROPOLYGONS]);
-            emit_rasterize(ctx, &quad);
+            if (full)
+                emit_rasterize(ctx, &quad);
         }
     }
 }

@@ -3,6 +3,7 @@
 #include <string.h>
 
 #include "reyes.h"
+#include "reyes_shared.h"
 
 void reyes_options_init(reyes_options *options)
 {
@@ -45,6 +46,9 @@ reyes_status reyes_options_check(const reyes_options *o, reyes_error *error)
     if ((uint64_t)o->width * o->height * o->spp > (1ull << 29))
         return reyes_fail(error, REYES_ERR_ARGUMENT, "%ux%u at %u samples per pixel is too many samples",
                           o->width, o->height, o->spp);
+    if (o->stages > REYES_STAGES_SUBDIVIDE)
+        return reyes_fail(error, REYES_ERR_ARGUMENT, "stages %u is not %u..%u", o->stages,
+                          REYES_STAGES_ALL, REYES_STAGES_SUBDIVIDE);
     if (!perma_technique_name(o->technique) || !perma_strategy_name(o->strategy)
         || !perma_victim_name(o->victim))
         return reyes_fail(error, REYES_ERR_ARGUMENT, "unknown technique, strategy or victim value");

@@ -224,7 +224,8 @@ static void bound(context *c, struct reyes_subpatch sp)
     if (forced || fmaxf(hix - lox, hiy - loy) <= o->bound_px) {
         c->counts->forced_dice += (uint64_t)forced;
         ++c->counts->grids;
-        dice(c, &sp);
+        if (o->stages != REYES_STAGES_SUBDIVIDE)
+            dice(c, &sp);
     } else {
         split(c, sp, extent(sx, sy, NULL, 1) >= extent(sx, sy, NULL, 0));
     }

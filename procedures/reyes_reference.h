@@ -1,7 +1,8 @@
 /*
  * Single-threaded C reference of bound / split / dice (depth-first
  * recursion, no OpenCL), mirroring the procedures' decisions.  Used to
- * cross-check the counts of the megakernel and as a CPU baseline.
+ * cross-check the counts of the megakernel and as a CPU baseline.  With
+ * options->stages == REYES_STAGES_SUBDIVIDE grids are counted, not diced.
  */
 #ifndef REYES_REFERENCE_H
 #define REYES_REFERENCE_H

@@ -56,6 +56,7 @@ static reyes_status fill_params(const reyes_scene *scene, const reyes_camera *ca
     p->spp = o->spp;
     p->backface_cull = o->backface_cull ? 1u : 0u;
     p->dice_threads = dice_threads;
+    p->stages = o->stages;
     return REYES_OK;
 }
 

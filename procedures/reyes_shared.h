@@ -39,6 +39,14 @@ struct reyes_quad {
 #define REYES_COUNT_FORCED_DICE 4 /* diced because the depth limit was hit */
 #define REYES_COUNTERS 8
 
+/* Which stages a render runs (reyes_params.stages), for timing stages by
+ * difference: everything; bound, split and dice's geometry (positions and
+ * visibility of the quads, what the C reference computes) without shading
+ * or sampling; or bound and split only (dice just counts the grid). */
+#define REYES_STAGES_ALL 0
+#define REYES_STAGES_GEOMETRY 1
+#define REYES_STAGES_SUBDIVIDE 2
+
 /* Scene and camera parameters, one per render (only scalars: the layout is
  * the same on host and device). */
 struct reyes_params {
@@ -58,7 +66,8 @@ struct reyes_params {
     REYES_U32 spp;         /* samples per pixel */
     REYES_U32 backface_cull; /* 1: drop patches facing away entirely */
     REYES_U32 dice_threads;  /* threads_per_item of the dice procedure */
-    REYES_U32 pad[2];
+    REYES_U32 stages;        /* REYES_STAGES_* */
+    REYES_U32 pad;
 };
 
 #endif

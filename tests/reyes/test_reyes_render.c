@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "reyes_reference.h"
+#include "reyes_shared.h"
 #include "reyes_test_util.h"
 
 #define PI 3.14159265358979323846
@@ -228,6 +229,44 @@ START_TEST(test_options_match_reference)
 }
 END_TEST
 
+/* Stopping after dice's geometry or after subdivision: the same splits and
+ * grids, micropolygons only with geometry, no samples, and the C
+ * reference's counts for the same stages. */
+START_TEST(test_stages)
+{
+    reyes_scene scene;
+    reyes_error error;
+    reyes_camera camera;
+    reyes_scene_init(&scene);
+    ck_assert_int_eq(reyes_scene_add_builtin(&scene, &error), REYES_OK);
+    reyes_options o;
+    small_options(&o, 128, 96);
+    ck_assert_int_eq(reyes_camera_frame(&scene, 40.0f, 128.0f / 96.0f, &camera, &error), REYES_OK);
+    reyes_image image;
+    reyes_stats all, geometry, subdivide;
+    reyes_test_render(reyes_test_renderer(0), &scene, &camera, &o, &image, &all);
+    reyes_image_free(&image);
+    o.stages = REYES_STAGES_GEOMETRY;
+    reyes_test_render(reyes_test_renderer(0), &scene, &camera, &o, &image, &geometry);
+    ck_assert_uint_eq(reyes_test_covered_samples(&image), 0);
+    reyes_test_expect_reference_counts(&scene, &camera, &o, &geometry);
+    reyes_image_free(&image);
+    o.stages = REYES_STAGES_SUBDIVIDE;
+    reyes_test_render(reyes_test_renderer(0), &scene, &camera, &o, &image, &subdivide);
+    reyes_test_expect_reference_counts(&scene, &camera, &o, &subdivide);
+    reyes_image_free(&image);
+    ck_assert_uint_eq(geometry.splits, all.splits);
+    ck_assert_uint_eq(subdivide.grids, all.grids);
+    ck_assert_uint_eq(geometry.micropolygons, all.micropolygons);
+    ck_assert_uint_eq(geometry.procedures[REYES_PROC_RASTERIZE].items, 0);
+    ck_assert_uint_eq(subdivide.micropolygons, 0);
+    o.stages = 3;
+    ck_assert_int_eq(reyes_render(reyes_test_renderer(0), &scene, &camera, &o, &image, NULL, &error),
+                     REYES_ERR_ARGUMENT);
+    reyes_scene_free(&scene);
+}
+END_TEST
+
 START_TEST(test_render_arguments)
 {
     reyes_scene scene;
@@ -265,6 +304,7 @@ static Suite *render_suite(void)
     tcase_add_test(tc, test_groups_identical);
     tcase_add_test(tc, test_camera_inside_and_behind);
     tcase_add_test(tc, test_options_match_reference);
+    tcase_add_test(tc, test_stages);
     tcase_add_test(tc, test_render_arguments);
     suite_add_tcase(s, tc);
     return s;
