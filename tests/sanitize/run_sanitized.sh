@@ -1,0 +1,23 @@
+#!/bin/sh
+# Build a copy of the project with AddressSanitizer and UBSan (host code) in
+# BUILD_DIR/sanitize and run a cross-section of the tests there: every
+# runtime test under several techniques and strategies, the Reyes host and
+# render tests, the examples.  Any sanitizer report fails the test.
+# Usage: run_sanitized.sh SOURCE_DIR BUILD_DIR
+set -eu
+source=$1
+dir=$2/sanitize
+if [ ! -f "$dir/build.ninja" ]; then
+    meson setup "$dir" "$source" -Db_sanitize=address,undefined -Db_lundef=false \
+        -Dsanitize_suite=false >/dev/null
+fi
+ninja -C "$dir" >/dev/null
+export LSAN_OPTIONS="suppressions=$source/tests/sanitize/lsan.supp:print_suppressions=0"
+export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0"
+export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
+meson test -C "$dir" --no-rebuild --print-errorlogs \
+    tree@megakernel-shared tree@megakernel-stealing-donation chain@megakernel-stealing \
+    chain@kernel-per-procedure overflow@megakernel-shared overflow@megakernel-stealing-local-queue \
+    overflow@bounded-batches cooperative@megakernel-shared trace@megakernel-stealing \
+    errors@megakernel-shared collatz_example perma_info_json \
+    $(meson test -C "$dir" --list 2>/dev/null | sed -n 's/^perma:reyes \/ //p')
