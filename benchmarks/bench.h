@@ -33,6 +33,7 @@ typedef struct bench_command {
 int bench_queue(const bench_options *options, int argc, char **argv);
 int bench_tree(const bench_options *options, int argc, char **argv);
 int bench_pipeline(const bench_options *options, int argc, char **argv);
+int bench_reyes(const bench_options *options, int argc, char **argv);
 
 /* ---- results (report.c) ---- */
 

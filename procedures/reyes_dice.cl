@@ -1,13 +1,14 @@
 /*
  * dice: evaluate a sub-patch on a grid x grid vertex lattice, shade each
  * vertex and emit the (grid-1)^2 quads as micropolygons.  The threads of an
- * item share the quads (q = thread, thread + threads, ...); each computes
- * its quads' corners itself, so no barrier is needed.  Vertices are
- * evaluated on the base patch at global (u,v), so a vertex shared by two
- * quads or two sub-patches is bit-identical wherever it is computed.
+ * item share the vertices, then the quads (v, q = thread, thread + threads,
+ * ...), with one barrier between, through REYES_DICE_VERTEX_BYTES of
+ * __local scratch per vertex.  Vertices are evaluated on the base patch at
+ * global (u,v), so a vertex shared by two sub-patches is bit-identical
+ * wherever it is computed.
  */
 
-struct reyes_vertex {
+struct reyes_vertex {      /* REYES_DICE_VERTEX_BYTES (32) bytes */
     float4 clip;
     uint rgba;
 };
@@ -84,21 +85,34 @@ struct reyes_vertex reyes_grid_vertex(__global const struct reyes_params *p, con
     return out;
 }
 
+/* Cooperative: every work-item of the group calls it.  The item's threads
+ * first evaluate and shade each grid vertex once into __local scratch, then,
+ * after the barrier, assemble the quads from it. */
 void reyes_dice(perma_ctx *ctx, __local const struct reyes_subpatch *item)
 {
     __global const struct reyes_params *p = ctx->buf.params;
     __global uint *counters = ctx->buf.counters;
-    struct reyes_subpatch sp = *item;
-    float3 cp[16];
-    reyes_load_patch(ctx->buf.patches, sp.patch, cp);
-    float3 base = reyes_unpack_rgb(ctx->buf.colors[sp.patch]);
-    int side = (int)p->grid - 1;
+    __local struct reyes_vertex *grid = (__local struct reyes_vertex *)ctx->scratch;
+    int n = (int)p->grid, side = n - 1;
     int threads = (int)p->dice_threads;
-    if (ctx->thread == 0)
-        atomic_inc(&counters[REYES_COUNT_GRIDS]);
-    if (p->stages == REYES_STAGES_SUBDIVIDE)
-        return;
+    int diced = ctx->active && p->stages != REYES_STAGES_SUBDIVIDE;
     int full = p->stages == REYES_STAGES_ALL;
+    struct reyes_subpatch sp;
+    if (ctx->active) {
+        sp = *item;
+        if (ctx->thread == 0)
+            atomic_inc(&counters[REYES_COUNT_GRIDS]);
+    }
+    if (diced) {
+        float3 cp[16];
+        reyes_load_patch(ctx->buf.patches, sp.patch, cp);
+        float3 base = reyes_unpack_rgb(ctx->buf.colors[sp.patch]);
+        for (int v = (int)ctx->thread; v < n * n; v += threads)
+            grid[v] = reyes_grid_vertex(p, cp, &sp, base, v % n, v / n, full);
+    }
+    barrier(CLK_LOCAL_MEM_FENCE);
+    if (!diced)
+        return;
 
     const int corner_i[4] = {0, 1, 1, 0}, corner_j[4] = {0, 0, 1, 1};
     for (int q = (int)ctx->thread; q < side * side; q += threads) {
@@ -107,8 +121,7 @@ void reyes_dice(perma_ctx *ctx, __local const struct reyes_subpatch *item)
         int visible = 1;
         float2 lo = (float2)(INFINITY, INFINITY), hi = (float2)(-INFINITY, -INFINITY);
         for (int k = 0; k < 4; ++k) {
-            struct reyes_vertex vtx = reyes_grid_vertex(p, cp, &sp, base, i + corner_i[k], j + corner_j[k],
-                                                       full);
+            struct reyes_vertex vtx = grid[(j + corner_j[k]) * n + i + corner_i[k]];
             visible &= vtx.clip.w > p->near_w;
             float2 s = reyes_to_screen(p, vtx.clip);
             quad.x[k] = s.x;

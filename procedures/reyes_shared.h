@@ -31,6 +31,10 @@ struct reyes_quad {
     REYES_U32 rgba[4];
 };
 
+/* __local bytes per grid vertex of dice (struct reyes_vertex: float4 + uint,
+ * padded to the float4 alignment). */
+#define REYES_DICE_VERTEX_BYTES 32
+
 /* Indices into the statistics counter buffer. */
 #define REYES_COUNT_SPLITS 0
 #define REYES_COUNT_CULLED 1

@@ -1,0 +1,403 @@
+/* perma-bench reyes: the Reyes renderer (procedures/) on the teapot and
+ * killeroo models, per technique and main strategy, against the
+ * single-threaded C reference of bound/split/dice (reyes_reference.c).
+ *
+ * Per-procedure times cannot be measured inside one megakernel, so stages
+ * are timed by difference: every variant renders each workload three times,
+ * stopping after subdivision (bound + split; dice only counts the grid),
+ * after dice's geometry (the work the C reference does: positions and
+ * visibility of every quad, no shading or sampling), and in full (shading
+ * and rasterization too).  The C reference is timed the same way. */
+#include "bench.h"
+
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "reyes.h"
+#include "reyes_reference.h"
+#include "reyes_shared.h"
+
+#ifndef REYES_BENCH_MODELS_DIR
+#define REYES_BENCH_MODELS_DIR "../shared/models"
+#endif
+
+#define STAGE_MODES 3
+#define MAX_SIZES 4
+
+/* The variants measured: every technique and the main strategies. */
+static const bench_variant reyes_variants[] = {
+    { PERMA_TECHNIQUE_MEGAKERNEL, PERMA_STRATEGY_SHARED, PERMA_VICTIM_RANDOM, 0, 0 },
+    { PERMA_TECHNIQUE_MEGAKERNEL, PERMA_STRATEGY_STEALING, PERMA_VICTIM_RANDOM, 0, 0 },
+    { PERMA_TECHNIQUE_MEGAKERNEL, PERMA_STRATEGY_DONATION, PERMA_VICTIM_RANDOM, 0, 0 },
+    { PERMA_TECHNIQUE_MEGAKERNEL, PERMA_STRATEGY_STEALING_DONATION, PERMA_VICTIM_RANDOM, 0, 0 },
+    { PERMA_TECHNIQUE_KERNEL_PER_PROCEDURE, PERMA_STRATEGY_SHARED, PERMA_VICTIM_RANDOM, 0, 0 },
+    { PERMA_TECHNIQUE_BOUNDED_BATCHES, PERMA_STRATEGY_SHARED, PERMA_VICTIM_RANDOM, 0, 4096 },
+};
+#define VARIANT_COUNT (sizeof reyes_variants / sizeof reyes_variants[0])
+
+/* Stage modes in the order the rows are printed. */
+static const unsigned stage_modes[STAGE_MODES] = { REYES_STAGES_ALL, REYES_STAGES_GEOMETRY,
+                                                   REYES_STAGES_SUBDIVIDE };
+static const char *const stage_names[STAGE_MODES] = { "full", "geometry", "subdivide" };
+
+typedef struct reyes_bench_args {
+    const char *models_dir;
+    unsigned widths[MAX_SIZES], heights[MAX_SIZES];
+    unsigned size_count;
+    float bound_px;
+} reyes_bench_args;
+
+/* Median seconds of one variant and workload, per stage mode. */
+typedef struct variant_times {
+    int ran;
+    double seconds[STAGE_MODES];
+} variant_times;
+
+static void usage(FILE *out)
+{
+    fprintf(out,
+            "usage: perma-bench reyes [--models DIR] [--size WxH] [--bound PX] [common options]\n"
+            "\n"
+            "Renders teapot.bpt and killeroo.bpt from DIR (default %s)\n"
+            "at 512x512 and 1280x1024 (--size replaces them; --quick: teapot at 256x256)\n"
+            "with every technique and the main strategies, in full and stopped after\n"
+            "dice's geometry and after subdivision, and times the single-threaded C\n"
+            "reference of bound/split/dice the same way.  Rows: seconds are the median\n"
+            "perma_run time; 'vs seq' is C reference (bound/split/dice) / row.\n",
+            REYES_BENCH_MODELS_DIR);
+}
+
+static int parse_size(const char *text, unsigned *width, unsigned *height)
+{
+    char *end;
+    unsigned long w = strtoul(text, &end, 10);
+    if (*end != 'x' || w < 1 || w > REYES_MAX_SIZE)
+        return 0;
+    unsigned long h = strtoul(end + 1, &end, 10);
+    if (*end || h < 1 || h > REYES_MAX_SIZE)
+        return 0;
+    *width = (unsigned)w;
+    *height = (unsigned)h;
+    return 1;
+}
+
+/* Returns 0, or 2 for a usage error, or -1 after --help. */
+static int parse_args(int argc, char **argv, const bench_options *options, reyes_bench_args *a)
+{
+    memset(a, 0, sizeof *a);
+    a->models_dir = REYES_BENCH_MODELS_DIR;
+    a->bound_px = 8.0f;
+    for (int i = 1; i < argc; ++i) {
+        const char *next = i + 1 < argc ? argv[i + 1] : NULL;
+        if (strcmp(argv[i], "--help") == 0) {
+            usage(stdout);
+            return -1;
+        } else if (strcmp(argv[i], "--models") == 0 && next) {
+            a->models_dir = next;
+            ++i;
+        } else if (strcmp(argv[i], "--size") == 0 && next && a->size_count < MAX_SIZES
+                   && parse_size(next, &a->widths[a->size_count], &a->heights[a->size_count])) {
+            ++a->size_count;
+            ++i;
+        } else if (strcmp(argv[i], "--bound") == 0 && next && atof(next) >= 0.5) {
+            a->bound_px = (float)atof(next);
+            ++i;
+        } else {
+            fprintf(stderr, "perma-bench reyes: bad option '%s'\n", argv[i]);
+            usage(stderr);
+            return 2;
+        }
+    }
+    if (a->size_count == 0) {
+        const unsigned w[2] = {512, 1280}, h[2] = {512, 1024};
+        a->size_count = options->quick ? 1 : 2;
+        for (unsigned s = 0; s < a->size_count; ++s) {
+            a->widths[s] = options->quick ? 256 : w[s];
+            a->heights[s] = options->quick ? 256 : h[s];
+        }
+    }
+    return 0;
+}
+
+static reyes_options render_options(const reyes_bench_args *a, const bench_options *options,
+                                    const bench_variant *v, unsigned width, unsigned height)
+{
+    reyes_options o;
+    reyes_options_init(&o);
+    o.width = width;
+    o.height = height;
+    o.bound_px = a->bound_px;
+    o.work_groups = options->groups;
+    o.technique = v->technique;
+    o.strategy = v->strategy;
+    o.victim = v->victim;
+    o.local_queue_items = v->local_queue_items;
+    o.batch_limit = v->batch_limit;
+    return o;
+}
+
+/* The C reference: the baseline row (bound/split/dice) and a subdivision
+ * row.  Fills *reference with the counts of the full reference. */
+static void measure_reference(bench_report *report, const char *workload, const reyes_scene *scene,
+                              const reyes_camera *camera, reyes_options o, const bench_options *options,
+                              reyes_reference_counts *reference, double seconds[2])
+{
+    const unsigned modes[2] = { REYES_STAGES_GEOMETRY, REYES_STAGES_SUBDIVIDE };
+    const char *labels[2] = { "C reference bound/split/dice", "C reference bound/split" };
+    for (int m = 0; m < 2; ++m) {
+        bench_row row;
+        bench_row_init(&row, workload, labels[m], "quads");
+        row.work_groups = 1;
+        o.stages = modes[m];
+        double times[1000];
+        reyes_error error;
+        reyes_reference_counts counts;
+        memset(&counts, 0, sizeof counts);
+        unsigned runs = options->repeat < 1000 ? options->repeat : 1000;
+        row.ran = 1;
+        for (unsigned r = 0; r < runs && row.ran; ++r) {
+            if (reyes_reference_run(scene, camera, &o, &counts, &error) != REYES_OK) {
+                snprintf(row.message, sizeof row.message, "%s", error.message);
+                row.ran = 0;
+            } else {
+                times[r] = counts.seconds;
+            }
+        }
+        if (row.ran) {
+            row.seconds = row.wall_seconds = bench_median(times, runs);
+            row.units = (double)counts.micropolygons;
+            row.count = row.expected = counts.grids;
+            snprintf(row.message, sizeof row.message, "splits %llu grids %llu",
+                     (unsigned long long)counts.splits, (unsigned long long)counts.grids);
+        }
+        if (m == 0)
+            *reference = counts;
+        seconds[m] = row.ran ? row.seconds : 0.0;
+        bench_report_add(report, &row, m == 0);
+    }
+}
+
+static size_t peak_item_bytes(const reyes_stats *stats)
+{
+    size_t total = 0;
+    for (int p = 0; p < REYES_PROC_COUNT; ++p) {
+        size_t size = p == REYES_PROC_RASTERIZE ? sizeof(struct reyes_quad) : sizeof(struct reyes_subpatch);
+        total += (size_t)stats->procedures[p].peak_queue_items * size;
+    }
+    return total;
+}
+
+/* Render `repeat` times in one stage mode and add the row. */
+static double measure_stage(bench_report *report, const char *workload, reyes_renderer *renderer,
+                            const char *label, const reyes_scene *scene, const reyes_camera *camera,
+                            const reyes_options *o, const bench_options *options,
+                            const reyes_reference_counts *reference)
+{
+    bench_row row;
+    bench_row_init(&row, workload, label, "quads");
+    row.group_size = 64;
+    double times[1000], walls[1000];
+    unsigned runs = options->repeat < 1000 ? options->repeat : 1000;
+    reyes_stats stats;
+    reyes_error error;
+    row.ran = 1;
+    for (unsigned r = 0; r < runs && row.ran; ++r) {
+        reyes_image image;
+        double start = bench_now();
+        if (reyes_render(renderer, scene, camera, o, &image, &stats, &error) != REYES_OK) {
+            snprintf(row.message, sizeof row.message, "%s", error.message);
+            row.ran = 0;
+            break;
+        }
+        walls[r] = bench_now() - start;
+        times[r] = stats.seconds;
+        reyes_image_free(&image);
+    }
+    if (row.ran) {
+        row.seconds = bench_median(times, runs);
+        row.wall_seconds = bench_median(walls, runs);
+        row.work_groups = stats.run.work_groups;
+        row.group_size = stats.run.group_size;
+        row.units = (double)stats.micropolygons;
+        row.count = stats.grids;
+        row.expected = reference->grids;
+        int same = stats.splits == reference->splits && stats.grids == reference->grids
+                   && (o->stages == REYES_STAGES_SUBDIVIDE || stats.micropolygons == reference->micropolygons);
+        row.check = same ? BENCH_CHECK_PASS : BENCH_CHECK_FAIL;
+        row.peak_queue_bytes = stats.peak_queue_bytes;
+        row.peak_item_bytes = peak_item_bytes(&stats);
+        row.steals = stats.run.steals;
+        row.donations = stats.run.donations;
+        row.spills = stats.run.spills;
+        const perma_procedure_stats *p = stats.procedures;
+        snprintf(row.message, sizeof row.message,
+                 "splits %llu grids %llu; items bound %llu split %llu dice %llu raster %llu; launches %u",
+                 (unsigned long long)stats.splits, (unsigned long long)stats.grids,
+                 (unsigned long long)p[REYES_PROC_BOUND].items,
+                 (unsigned long long)(p[REYES_PROC_SPLIT_U].items + p[REYES_PROC_SPLIT_V].items),
+                 (unsigned long long)p[REYES_PROC_DICE].items,
+                 (unsigned long long)p[REYES_PROC_RASTERIZE].items, stats.run.launches);
+    }
+    bench_report_add(report, &row, 0);
+    return row.ran ? row.seconds : 0.0;
+}
+
+static double ratio(double numerator, double denominator)
+{
+    return numerator > 0.0 && denominator > 0.0 ? numerator / denominator : 0.0;
+}
+
+/* The stage times by difference and the ratios against both targets. */
+static void print_summary(const double reference[2], const variant_times times[VARIANT_COUNT])
+{
+    const variant_times *mk = &times[0], *kpp = &times[4];
+    printf("\n  stages (by difference, seconds):     subdivide   dice geometry   shade+sample   total\n");
+    printf("  %-34s %9.4f %15.4f %14s %7.4f\n", "C reference (1 thread)", reference[1],
+           reference[0] - reference[1], "-", reference[0]);
+    for (unsigned v = 0; v < VARIANT_COUNT; ++v) {
+        if (!times[v].ran)
+            continue;
+        char label[96];
+        bench_variant_label(&reyes_variants[v], label, sizeof label);
+        const double *s = times[v].seconds;
+        printf("  %-34s %9.4f %15.4f %14.4f %7.4f\n", label, s[2], s[1] - s[2], s[0] - s[1], s[0]);
+    }
+    if (!mk->ran)
+        return;
+    double geometry = ratio(reference[0], mk->seconds[1]), full = ratio(reference[0], mk->seconds[0]);
+    printf("  megakernel/shared vs C reference, same work (bound/split/dice geometry): %.2fx "
+           "(target >= 1.6x: %s)\n", geometry, geometry >= 1.6 ? "met" : "NOT met");
+    printf("  megakernel/shared full render vs C reference bound/split/dice: %.2fx\n", full);
+    if (kpp->ran) {
+        double vs_kpp = ratio(kpp->seconds[0], mk->seconds[0]);
+        printf("  megakernel/shared vs kernel-per-procedure, full render: %.2fx (target >= 2x: %s); "
+               "geometry: %.2fx\n", vs_kpp, vs_kpp >= 2.0 ? "met" : "NOT met",
+               ratio(kpp->seconds[1], mk->seconds[1]));
+    }
+}
+
+static int file_exists(const char *path)
+{
+    return access(path, R_OK) == 0;
+}
+
+/* One renderer per variant, kept for every workload; NULL (with the
+ * message printed) when the runtime refuses it. */
+static void create_renderers(const reyes_bench_args *a, const bench_options *options,
+                             reyes_renderer *renderers[VARIANT_COUNT])
+{
+    for (unsigned v = 0; v < VARIANT_COUNT; ++v) {
+        renderers[v] = NULL;
+        char label[96];
+        bench_variant_label(&reyes_variants[v], label, sizeof label);
+        if (!bench_variant_selected(options, &reyes_variants[v]))
+            continue;
+        reyes_options o = render_options(a, options, &reyes_variants[v], 64, 64);
+        reyes_error error;
+        if (reyes_renderer_create(&o, &renderers[v], &error) != REYES_OK)
+            printf("reyes: %s: n/a: %s\n", label, error.message);
+    }
+}
+
+/* A small render per renderer compiles the program and its kernels
+ * outside the timed runs. */
+static void warm_up(const reyes_scene *scene, const reyes_bench_args *a, const bench_options *options,
+                    reyes_renderer *renderers[VARIANT_COUNT])
+{
+    for (unsigned v = 0; v < VARIANT_COUNT; ++v) {
+        if (!renderers[v])
+            continue;
+        reyes_options o = render_options(a, options, &reyes_variants[v], 64, 64);
+        reyes_camera camera;
+        reyes_image image;
+        reyes_error error;
+        if (reyes_camera_frame(scene, 40.0f, 1.0f, &camera, &error) == REYES_OK
+            && reyes_render(renderers[v], scene, &camera, &o, &image, NULL, &error) == REYES_OK)
+            reyes_image_free(&image);
+    }
+}
+
+static void run_workload(bench_report *report, const char *model, const reyes_scene *scene,
+                         unsigned width, unsigned height, const reyes_bench_args *a,
+                         const bench_options *options, reyes_renderer *renderers[VARIANT_COUNT])
+{
+    char workload[64];
+    snprintf(workload, sizeof workload, "%s %ux%u bound %g", model, width, height, (double)a->bound_px);
+    bench_report_workload(report, workload);
+    reyes_camera camera;
+    reyes_error error;
+    if (reyes_camera_frame(scene, 40.0f, (float)width / (float)height, &camera, &error) != REYES_OK) {
+        printf("reyes: %s: %s\n", workload, error.message);
+        return;
+    }
+    reyes_options base = render_options(a, options, &reyes_variants[0], width, height);
+    reyes_reference_counts reference;
+    double reference_seconds[2];
+    measure_reference(report, workload, scene, &camera, base, options, &reference, reference_seconds);
+    variant_times times[VARIANT_COUNT];
+    memset(times, 0, sizeof times);
+    for (unsigned v = 0; v < VARIANT_COUNT; ++v) {
+        if (!renderers[v])
+            continue;
+        char variant[96], label[128];
+        bench_variant_label(&reyes_variants[v], variant, sizeof variant);
+        reyes_options o = render_options(a, options, &reyes_variants[v], width, height);
+        times[v].ran = 1;
+        for (int m = 0; m < STAGE_MODES; ++m) {
+            o.stages = stage_modes[m];
+            snprintf(label, sizeof label, "%s %s", variant, stage_names[m]);
+            times[v].seconds[m] = measure_stage(report, workload, renderers[v], label, scene, &camera, &o,
+                                                options, &reference);
+            times[v].ran &= times[v].seconds[m] > 0.0;
+        }
+        if (options->verbose)
+            printf("  (%s)\n", reyes_renderer_device(renderers[v]));
+    }
+    print_summary(reference_seconds, times);
+}
+
+int bench_reyes(const bench_options *options, int argc, char **argv)
+{
+    reyes_bench_args a;
+    int parsed = parse_args(argc, argv, options, &a);
+    if (parsed)
+        return parsed < 0 ? 0 : parsed;
+    const char *models[] = { "teapot", "killeroo" };
+    unsigned model_count = options->quick ? 1 : 2;
+    bench_report *report;
+    if (bench_report_open(&report, "reyes", options))
+        return 1;
+    reyes_renderer *renderers[VARIANT_COUNT] = { NULL };
+    int created = 0, status = 0;
+    for (unsigned m = 0; m < model_count && status == 0; ++m) {
+        char path[1024];
+        snprintf(path, sizeof path, "%s/%s.bpt", a.models_dir, models[m]);
+        if (!file_exists(path)) {
+            printf("reyes: skipping %s: %s is missing (the models are in ../shared/models; "
+                   "pass --models DIR)\n", models[m], path);
+            continue;
+        }
+        reyes_scene scene;
+        reyes_error error;
+        reyes_scene_init(&scene);
+        if (reyes_scene_load_bpt(&scene, path, reyes_model_color(0), &error) != REYES_OK) {
+            fprintf(stderr, "perma-bench reyes: %s\n", error.message);
+            status = 1;
+        } else {
+            if (!created++)
+                create_renderers(&a, options, renderers);
+            warm_up(&scene, &a, options, renderers);
+            for (unsigned s = 0; s < a.size_count; ++s)
+                run_workload(report, models[m], &scene, a.widths[s], a.heights[s], &a, options, renderers);
+        }
+        reyes_scene_free(&scene);
+    }
+    for (unsigned v = 0; v < VARIANT_COUNT; ++v)
+        reyes_renderer_destroy(renderers[v]);
+    if (bench_report_failures(report))
+        status = 1;
+    if (bench_report_close(report))
+        status = 1;
+    return status;
+}
