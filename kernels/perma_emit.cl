@@ -39,7 +39,8 @@ inline int perma_emit(perma_ctx *ctx, uint target, const uint *src)
         return 0;
     }
     uint e = ctx->proc * PERMA_MAX_EDGES + (uint)edge;
-    uint own = atomic_inc(ctx->item_emit_counts + edge);
+    /* With one thread per item nobody else counts this item's emits. */
+    uint own = ctx->threads == 1 ? ctx->item_emit_counts[edge]++ : atomic_inc(ctx->item_emit_counts + edge);
     if (own >= perma_edge_max[e]) {
         atomic_cmpxchg(ctx->error_code, 0u, PERMA_EMIT_ERROR_LIMIT | (uint)edge);
         return 0;
