@@ -21,20 +21,29 @@ static char *read_file(const char *path)
     return text;
 }
 
-/* Sum of the "items" of all complete events, their count, highest tid. */
-static void scan_events(const char *json, uint64_t *items, unsigned *events, unsigned *max_tid)
+/* Sum of the "items" of all executed batches (not donations, which move
+ * items), their count, the number of donations and the highest tid. */
+static void scan_events(const char *json, uint64_t *items, unsigned *events, unsigned *donations,
+                        unsigned *max_tid)
 {
     *items = 0;
     *events = 0;
+    *donations = 0;
     *max_tid = 0;
     for (const char *p = json; (p = strstr(p, "\"ph\":\"X\"")) != NULL; ++p) {
         const char *tid = strstr(p, "\"tid\":");
         const char *n = strstr(p, "\"items\":");
+        const char *kind = strstr(p, "\"kind\":\"");
         ck_assert_ptr_nonnull(tid);
         ck_assert_ptr_nonnull(n);
+        ck_assert_ptr_nonnull(kind);
         unsigned t = (unsigned)strtoul(tid + 6, NULL, 10);
         if (t > *max_tid)
             *max_tid = t;
+        if (strncmp(kind + 8, "donate\"", 7) == 0) {
+            ++*donations;
+            continue;
+        }
         *items += strtoull(n + 8, NULL, 10);
         ++*events;
     }
@@ -69,8 +78,9 @@ START_TEST(trace_events_cover_every_item)
     ck_assert_contains(json, "\"traceEvents\":[");
     ck_assert_contains(json, "\"name\":\"tree\"");
     uint64_t items;
-    unsigned events, max_tid;
-    scan_events(json, &items, &events, &max_tid);
+    unsigned events, donations, max_tid;
+    scan_events(json, &items, &events, &donations, &max_tid);
+    ck_assert_uint_eq(donations, st.donations);
     ck_assert_uint_eq(items, st.items);
     ck_assert_uint_eq(items, (2u << 11) - 1);
     if (st.technique == PERMA_TECHNIQUE_MEGAKERNEL) {
