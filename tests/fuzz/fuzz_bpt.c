@@ -12,6 +12,22 @@
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
+/* Errors must read "fuzz.bpt:LINE: ..." with LINE a line of the text. */
+static int names_a_line(const char *message, const char *text)
+{
+    static const char prefix[] = "fuzz.bpt:";
+    if (strncmp(message, prefix, sizeof prefix - 1) != 0)
+        return 0;
+    char *end;
+    unsigned long line = strtoul(message + sizeof prefix - 1, &end, 10);
+    if (end[0] != ':' || end[1] != ' ')
+        return 0;
+    unsigned long lines = 1;
+    for (const char *c = text; *c; ++c)
+        lines += *c == '\n';
+    return line >= 1 && line <= lines;
+}
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     /* The parser takes a NUL-terminated string; an embedded NUL just ends it
@@ -34,8 +50,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (status != REYES_OK) {
         if (scene.patch_count != 1) /* a failed parse must not add patches */
             abort();
-        if (error.status != status || error.message[0] == '\0')
-            abort(); /* every error carries a message */
+        if (error.status != status || !names_a_line(error.message, text))
+            abort(); /* every error carries a message with file:line */
     } else if (scene.patch_count < 2) {
         abort(); /* success means at least one patch was read */
     }

@@ -18,8 +18,8 @@ work=${2:-}
 [ $# -gt 2 ] && shift 2 || set --
 targets=${*:-bpt cli}
 
-here=$(cd "$(dirname "$0")" && pwd)
-source=$(cd "$here/../.." && pwd)
+here=$(cd "$(dirname "$0")" && pwd -P)
+source=$(cd "$here/../.." && pwd -P)
 
 case $seconds in
     ''|*[!0-9]*) echo "run.sh: SECONDS must be a whole number, not '$seconds'" >&2; exit 2 ;;
