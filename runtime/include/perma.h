@@ -257,7 +257,8 @@ perma_status perma_build(perma_runtime *rt);
 perma_status perma_seed(perma_runtime *rt, perma_proc proc, const void *items, size_t count);
 
 /* Run until no work is left.  Queues grow as needed; the watchdog turns a
- * run longer than the time limit into PERMA_ERR_TIMEOUT. */
+ * run longer than the time limit into PERMA_ERR_TIMEOUT.  A run consumes the
+ * seeded items whether it succeeds or fails: seed again before a retry. */
 perma_status perma_run(perma_runtime *rt);
 
 /* Statistics of the last run. */

@@ -212,15 +212,21 @@ perma_status perma_queues_upload(perma_runtime *rt)
     cl_uint zero = 0;
     cl_int err = clEnqueueFillBuffer(rt->queue, rt->stats_mem, &zero, sizeof zero, 0,
                                      (stats_words ? stats_words : 1) * 4, 0, NULL, NULL);
-    if (err == CL_SUCCESS)
+    const char *call = "clEnqueueFillBuffer (statistics)";
+    if (err == CL_SUCCESS) {
         err = clEnqueueWriteBuffer(rt->queue, rt->ctl_mem, CL_TRUE, 0, ctl_words * 4, ctl, 0, NULL, NULL);
-    if (err == CL_SUCCESS && data_words)
+        call = "clEnqueueWriteBuffer (control block)";
+    }
+    if (err == CL_SUCCESS && data_words) {
         err = clEnqueueWriteBuffer(rt->queue, rt->data_mem, CL_TRUE, 0, data_words * 4, data, 0, NULL, NULL);
-    if (err == CL_SUCCESS && seq_words)
+        call = "clEnqueueWriteBuffer (queue items)";
+    }
+    if (err == CL_SUCCESS && seq_words) {
         err = clEnqueueWriteBuffer(rt->queue, rt->seq_mem, CL_TRUE, 0, seq_words * 4, seq, 0, NULL, NULL);
+        call = "clEnqueueWriteBuffer (queue sequence words)";
+    }
     if (err != CL_SUCCESS)
-        st = perma_set_error(rt, PERMA_ERR_OPENCL, "clEnqueueWriteBuffer (queues) failed: %s (%d)",
-                             perma_cl_error_name(err), (int)err);
+        st = perma_set_error(rt, PERMA_ERR_OPENCL, "%s failed: %s (%d)", call, perma_cl_error_name(err), (int)err);
 done:
     free(ctl);
     free(data);
@@ -251,7 +257,7 @@ perma_status perma_queues_download(perma_runtime *rt)
     if (err == CL_SUCCESS && seq_words)
         err = clEnqueueReadBuffer(rt->queue, rt->seq_mem, CL_TRUE, 0, seq_words * 4, seq, 0, NULL, NULL);
     if (err != CL_SUCCESS) {
-        st = perma_set_error(rt, PERMA_ERR_OPENCL, "clEnqueueReadBuffer (queues) failed: %s (%d)",
+        st = perma_set_error(rt, PERMA_ERR_OPENCL, "clEnqueueReadBuffer (reading the queues back) failed: %s (%d)",
                              perma_cl_error_name(err), (int)err);
         goto done;
     }

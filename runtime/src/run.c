@@ -87,8 +87,12 @@ perma_status perma_run(perma_runtime *rt)
     if (rt->hung)
         return perma_set_error(rt, PERMA_ERR_STATE, "a previous run did not stop; this runtime cannot run again");
     perma_status st = perma_build(rt);
-    if (st != PERMA_OK)
+    if (st != PERMA_OK) {
+        /* A run consumes its seeds whether it succeeds or not. */
+        for (unsigned q = 0; q < rt->proc_count; ++q)
+            rt->procs[q].seed_count = 0;
         return st;
+    }
     perma_stats_reset(rt);
     double start = perma_now();
     rt->trace_count = 0;

@@ -1,0 +1,96 @@
+/* See cl_fault.h.  Each wrapper looks up the real function with
+ * dlsym(RTLD_NEXT) and forwards to it unless this call is the armed one. */
+#define _GNU_SOURCE
+#define CL_TARGET_OPENCL_VERSION 120
+#include "cl_fault.h"
+
+#include <CL/cl.h>
+#include <dlfcn.h>
+#include <stddef.h>
+
+static unsigned long calls, armed_at;
+static const char *failed_call;
+
+void cl_fault_arm(unsigned long n)
+{
+    calls = 0;
+    armed_at = n;
+    failed_call = NULL;
+}
+
+unsigned long cl_fault_calls(void) { return calls; }
+const char *cl_fault_failed_call(void) { return failed_call; }
+
+/* Count the call; true if it must fail. */
+static int fault_now(const char *name)
+{
+    ++calls;
+    if (armed_at && calls == armed_at) {
+        failed_call = name;
+        return 1;
+    }
+    return 0;
+}
+
+#define REAL(name) ((__typeof__(&name))dlsym(RTLD_NEXT, #name))
+
+/* Calls that return a status. */
+#define WRAP_STATUS(name, params, args)                 \
+    cl_int name params                                  \
+    {                                                   \
+        if (fault_now(#name))                           \
+            return CL_OUT_OF_RESOURCES;                 \
+        return REAL(name) args;                         \
+    }
+
+/* Calls that return an object and report through errcode_ret. */
+#define WRAP_OBJECT(type, name, params, args)           \
+    type name params                                    \
+    {                                                   \
+        if (fault_now(#name)) {                         \
+            if (errcode_ret)                            \
+                *errcode_ret = CL_OUT_OF_RESOURCES;     \
+            return NULL;                                \
+        }                                               \
+        return REAL(name) args;                         \
+    }
+
+WRAP_STATUS(clGetPlatformIDs, (cl_uint n, cl_platform_id *p, cl_uint *count), (n, p, count))
+WRAP_STATUS(clGetDeviceIDs, (cl_platform_id p, cl_device_type t, cl_uint n, cl_device_id *d, cl_uint *count),
+            (p, t, n, d, count))
+WRAP_STATUS(clGetDeviceInfo, (cl_device_id d, cl_device_info i, size_t s, void *v, size_t *r), (d, i, s, v, r))
+WRAP_OBJECT(cl_context, clCreateContext,
+            (const cl_context_properties *p, cl_uint n, const cl_device_id *d,
+             void (CL_CALLBACK *f)(const char *, const void *, size_t, void *), void *u, cl_int *errcode_ret),
+            (p, n, d, f, u, errcode_ret))
+WRAP_OBJECT(cl_command_queue, clCreateCommandQueue,
+            (cl_context c, cl_device_id d, cl_command_queue_properties p, cl_int *errcode_ret),
+            (c, d, p, errcode_ret))
+WRAP_OBJECT(cl_program, clCreateProgramWithSource,
+            (cl_context c, cl_uint n, const char **s, const size_t *l, cl_int *errcode_ret), (c, n, s, l, errcode_ret))
+WRAP_STATUS(clBuildProgram,
+            (cl_program p, cl_uint n, const cl_device_id *d, const char *o,
+             void (CL_CALLBACK *f)(cl_program, void *), void *u),
+            (p, n, d, o, f, u))
+WRAP_OBJECT(cl_kernel, clCreateKernel, (cl_program p, const char *name, cl_int *errcode_ret), (p, name, errcode_ret))
+WRAP_STATUS(clSetKernelArg, (cl_kernel k, cl_uint i, size_t s, const void *v), (k, i, s, v))
+WRAP_OBJECT(cl_mem, clCreateBuffer, (cl_context c, cl_mem_flags f, size_t s, void *h, cl_int *errcode_ret),
+            (c, f, s, h, errcode_ret))
+WRAP_STATUS(clEnqueueWriteBuffer,
+            (cl_command_queue q, cl_mem m, cl_bool b, size_t o, size_t s, const void *p, cl_uint n,
+             const cl_event *w, cl_event *e),
+            (q, m, b, o, s, p, n, w, e))
+WRAP_STATUS(clEnqueueReadBuffer,
+            (cl_command_queue q, cl_mem m, cl_bool b, size_t o, size_t s, void *p, cl_uint n, const cl_event *w,
+             cl_event *e),
+            (q, m, b, o, s, p, n, w, e))
+WRAP_STATUS(clEnqueueFillBuffer,
+            (cl_command_queue q, cl_mem m, const void *pat, size_t ps, size_t o, size_t s, cl_uint n,
+             const cl_event *w, cl_event *e),
+            (q, m, pat, ps, o, s, n, w, e))
+WRAP_STATUS(clEnqueueNDRangeKernel,
+            (cl_command_queue q, cl_kernel k, cl_uint dim, const size_t *off, const size_t *g, const size_t *l,
+             cl_uint n, const cl_event *w, cl_event *e),
+            (q, k, dim, off, g, l, n, w, e))
+WRAP_STATUS(clGetEventInfo, (cl_event e, cl_event_info i, size_t s, void *v, size_t *r), (e, i, s, v, r))
+WRAP_STATUS(clRetainMemObject, (cl_mem m), (m))
