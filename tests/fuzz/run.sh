@@ -4,9 +4,10 @@
 #
 # Usage: run.sh [SECONDS [WORK_DIR [TARGET ...]]]
 #   SECONDS   fuzzing time per target (default 60)
-#   WORK_DIR  build and scratch directory (default: a new one under /tmp);
-#             it gets the binaries, a copy of the corpus, logs and any crash
-#             artifacts.  The source tree is never written to.
+#   WORK_DIR  build and scratch directory (default: a new one under /tmp,
+#             removed after a run without failures); it gets the binaries, a
+#             copy of the corpus, logs and any crash artifacts.  The source
+#             tree is never written to.
 #   TARGET    bpt and/or cli (default: both)
 # Environment: FUZZ_CC, the clang to use (default clang-14, then clang).
 # The targets run one after the other.
@@ -36,8 +37,10 @@ if [ -z "$cc" ]; then
     echo "SKIP: no clang found (apt-get install clang-14 libclang-rt-14-dev, or set FUZZ_CC)"
     exit 77
 fi
+made_work=0
 if [ -z "$work" ]; then
     work=$(mktemp -d /tmp/perma-fuzz.XXXXXX) || exit 1
+    made_work=1
 fi
 mkdir -p "$work" || exit 1
 work=$(cd "$work" && pwd)
@@ -123,4 +126,9 @@ for target in $targets; do
     if [ $ok -eq 1 ]; then passed=$((passed + 1)); else failed=$((failed + 1)); fi
 done
 echo "$passed passed, $failed failed"
-[ $failed -eq 0 ]
+if [ $failed -ne 0 ]; then
+    echo "logs and artifacts are in $work"
+    exit 1
+fi
+[ $made_work -eq 1 ] && rm -rf "$work" # a default scratch directory is kept only on failure
+exit 0
