@@ -16,7 +16,7 @@
 set -u
 seconds=${1:-60}
 work=${2:-}
-[ $# -gt 2 ] && shift 2 || set --
+if [ $# -gt 2 ]; then shift 2; else set --; fi
 targets=${*:-bpt cli}
 
 here=$(cd "$(dirname "$0")" && pwd -P)
@@ -59,19 +59,29 @@ fi
 cflags="-std=c11 -g -O1 -Wall -Wextra -fsanitize=fuzzer,address,undefined
  -fno-sanitize-recover=all -fno-omit-frame-pointer
  -I$source/procedures -I$source/examples/reyes -I$source/runtime/include -I$source/runtime/src"
-bpt_sources="$here/fuzz_bpt.c $source/procedures/reyes_bpt.c $source/procedures/reyes_scene.c
- $source/procedures/reyes_error.c"
-cli_sources="$here/fuzz_cli.c $source/examples/reyes/reyes_cli.c
- $source/procedures/reyes_options.c $source/procedures/reyes_error.c $source/runtime/src/names.c"
-bpt_max_len=4096 # a few patches of text
-cli_max_len=1024 # up to a few dozen options
+# The sources and the longest input (-max_len) of a target.
+target_sources() {
+    case $1 in
+        bpt) echo "$here/fuzz_bpt.c $source/procedures/reyes_bpt.c"\
+                  "$source/procedures/reyes_scene.c $source/procedures/reyes_error.c" ;;
+        cli) echo "$here/fuzz_cli.c $source/examples/reyes/reyes_cli.c"\
+                  "$source/procedures/reyes_options.c $source/procedures/reyes_error.c"\
+                  "$source/runtime/src/names.c" ;;
+    esac
+}
+target_max_len() {
+    case $1 in
+        bpt) echo 4096 ;; # a few patches of text
+        cli) echo 1024 ;; # up to a few dozen options
+    esac
+}
 
 for target in $targets; do
     case $target in
         bpt|cli) ;;
         *) echo "run.sh: unknown target '$target' (bpt or cli)" >&2; exit 2 ;;
     esac
-    eval "sources=\$${target}_sources"
+    sources=$(target_sources "$target")
     # shellcheck disable=SC2086 # word splitting of the lists is intended
     if ! "$cc" $cflags $sources -lm -o "$work/fuzz_$target" 2>"$work/build_$target.log"; then
         cat "$work/build_$target.log"
@@ -93,7 +103,7 @@ for target in $targets; do
     log="$work/fuzz_$target.log"
     mkdir -p "$corpus" "$artifacts"
     cp "$source/tests/fuzz/corpus/$target/"* "$corpus/"
-    eval "max_len=\$${target}_max_len"
+    max_len=$(target_max_len "$target")
     ok=1
 
     # Reproducers of fixed bugs (crashes/TARGET-*) must stay fixed.
