@@ -77,7 +77,9 @@ static reyes_status read_coordinate(tokenizer *t, size_t patch, int point, float
     char *end;
     errno = 0;
     float value = t->truncated ? NAN : strtof(t->token, &end);
-    if (t->truncated || *end || errno == ERANGE || !isfinite(value)) {
+    /* Overflow gives an infinity (refused); underflow to a tiny or zero
+     * value sets ERANGE too but is a fine coordinate. */
+    if (t->truncated || *end || !isfinite(value)) {
         snprintf(what, sizeof what, "patch %zu, control point %d: '%s' is not a finite number",
                  patch + 1, point + 1, t->token);
         return syntax_error(t, error, what);

@@ -21,11 +21,14 @@ static perma_status register_all(struct reyes_renderer *r)
     const char *item = "struct reyes_subpatch";
     const size_t item_size = sizeof(struct reyes_subpatch);
     unsigned quads = (r->grid - 1) * (r->grid - 1);
+    /* Bound and split emit into each other: bound is served before split
+     * (it culls and dices, split doubles), and consumers before producers
+     * keeps the queues short. */
     const perma_procedure procedures[REYES_PROC_COUNT] = {
         [REYES_PROC_BOUND] = { .name = "bound", .item_type = item, .item_size = item_size,
             .threads_per_item = 1, .source = reyes_bound_cl_source,
             .source_file = "reyes_bound.cl", .function = "reyes_bound",
-            .emits = { { "split_u", 1 }, { "split_v", 1 }, { "dice", 1 } }, .priority = 1 },
+            .emits = { { "split_u", 1 }, { "split_v", 1 }, { "dice", 1 } }, .priority = 2 },
         [REYES_PROC_SPLIT_U] = { .name = "split_u", .item_type = item, .item_size = item_size,
             .threads_per_item = 1, .source = reyes_split_u_cl_source,
             .source_file = "reyes_split_u.cl", .function = "reyes_split_u",
@@ -34,16 +37,15 @@ static perma_status register_all(struct reyes_renderer *r)
             .threads_per_item = 1, .source = reyes_split_v_cl_source,
             .source_file = "reyes_split_v.cl", .function = "reyes_split_v",
             .emits = { { "bound", 2 } }, .priority = 1 },
-        /* Consumers first keeps the queues short. */
         [REYES_PROC_DICE] = { .name = "dice", .item_type = item, .item_size = item_size,
             .threads_per_item = r->dice_threads, .source = reyes_dice_cl_source,
             .source_file = "reyes_dice.cl", .function = "reyes_dice",
             .local_bytes_per_item = (size_t)r->grid * r->grid * REYES_DICE_VERTEX_BYTES,
-            .cooperative = 1, .emits = { { "rasterize", quads } }, .priority = 2 },
+            .cooperative = 1, .emits = { { "rasterize", quads } }, .priority = 3 },
         [REYES_PROC_RASTERIZE] = { .name = "rasterize", .item_type = "struct reyes_quad",
             .item_size = sizeof(struct reyes_quad), .threads_per_item = 1,
             .source = reyes_rasterize_cl_source, .source_file = "reyes_rasterize.cl",
-            .function = "reyes_rasterize", .priority = 3 },
+            .function = "reyes_rasterize", .priority = 4 },
     };
     perma_status status = perma_add_source(r->rt, reyes_shared_h_source, "reyes_shared.h");
     if (status == PERMA_OK)

@@ -28,6 +28,7 @@ static perma_status register_procedures(bfs_session *s)
         .threads_per_item = 1, .source = source, .source_file = "bfs_procedures.cl",
         .function = "bfs_visit",
         .emits = { { "visit", BFS_CHUNK }, { "expand", 1 } },
+        .priority = 1, /* visit and expand emit into each other: visits first */
     };
     perma_procedure expand = {
         .name = "expand", .item_type = "struct bfs_slice", .item_size = 16,

@@ -4,6 +4,7 @@
  * victim names are the runtime's (perma_*_parse), so new ones work here
  * without a change.
  */
+#include <ctype.h>
 #include <errno.h>
 #include <math.h>
 #include <stdlib.h>
@@ -31,7 +32,7 @@ static int usage_error(char *message, size_t size, const char *format, const cha
 
 static int parse_unsigned(const char *text, unsigned long max, unsigned *out)
 {
-    if (!text[0] || text[0] == '-' || text[0] == '+')
+    if (!isdigit((unsigned char)text[0])) /* strtoul would skip spaces and take a sign */
         return 0;
     char *end;
     errno = 0;
@@ -47,7 +48,8 @@ static int parse_float(const char *text, float *out)
     char *end;
     errno = 0;
     float value = strtof(text, &end);
-    if (!text[0] || errno || *end || !isfinite(value))
+    /* Overflow is an infinity (refused); underflow (ERANGE) is a tiny number. */
+    if (!text[0] || *end || !isfinite(value))
         return 0;
     *out = value;
     return 1;

@@ -2,6 +2,7 @@
  * arena: its batch of items, scratch, per-item emit counters and staging. */
 #include "internal.h"
 
+#include <ctype.h>
 #include <string.h>
 
 static unsigned words_of(size_t bytes)
@@ -28,6 +29,85 @@ static perma_status resolve_targets(perma_runtime *rt)
                                        "procedure '%s' emits into '%s', which is not a registered procedure",
                                        p->name, p->emit_target_name[e]);
         }
+    }
+    return PERMA_OK;
+}
+
+/* True if `text` has `name` as an identifier followed by '('. */
+static bool defines_function(const char *text, const char *name)
+{
+    size_t n = strlen(name);
+    for (const char *p = text; (p = strstr(p, name)) != NULL; p += n) {
+        bool starts = p == text || !(isalnum((unsigned char)p[-1]) || p[-1] == '_');
+        const char *q = p + n;
+        while (*q == ' ' || *q == '\t' || *q == '\n' || *q == '\r')
+            ++q;
+        if (starts && *q == '(')
+            return true;
+    }
+    return false;
+}
+
+/* Each procedure's function must appear in its source or a shared source. */
+static perma_status check_functions(perma_runtime *rt)
+{
+    for (unsigned i = 0; i < rt->proc_count; ++i) {
+        const perma_proc_info *p = &rt->procs[i];
+        bool found = defines_function(p->source.text, p->function);
+        for (unsigned k = 0; k < rt->source_count && !found; ++k)
+            found = defines_function(rt->sources[k].text, p->function);
+        if (!found)
+            return perma_set_error(rt, PERMA_ERR_ARGUMENT,
+                                   "procedure '%s': function '%s' is not defined in '%s' or a shared source",
+                                   p->name, p->function, p->source.name);
+    }
+    return PERMA_OK;
+}
+
+/* reach[i][j]: j can be reached from i along emit edges. */
+static void transitive_closure(const perma_runtime *rt, bool reach[PERMA_MAX_PROCEDURES][PERMA_MAX_PROCEDURES])
+{
+    unsigned n = rt->proc_count;
+    for (unsigned i = 0; i < n; ++i) {
+        for (unsigned j = 0; j < n; ++j)
+            reach[i][j] = false;
+        for (unsigned e = 0; e < rt->procs[i].emit_count; ++e)
+            reach[i][rt->procs[i].emit_target[e]] = true;
+    }
+    for (unsigned k = 0; k < n; ++k)
+        for (unsigned i = 0; i < n; ++i)
+            if (reach[i][k])
+                for (unsigned j = 0; j < n; ++j)
+                    reach[i][j] = reach[i][j] || reach[k][j];
+}
+
+/* Procedures that emit into each other in a cycle have no downstream end:
+ * their priorities must say which is served first. */
+static perma_status check_cycles(perma_runtime *rt)
+{
+    static bool reach[PERMA_MAX_PROCEDURES][PERMA_MAX_PROCEDURES];
+    unsigned n = rt->proc_count;
+    transitive_closure(rt, reach);
+    for (unsigned i = 0; i < n; ++i) {
+        bool cyclic = false, ordered = false;
+        for (unsigned j = 0; j < n; ++j) {
+            if (j == i || !reach[i][j] || !reach[j][i])
+                continue;
+            cyclic = true;
+            ordered = ordered || rt->procs[j].priority != rt->procs[i].priority;
+        }
+        if (!cyclic || ordered)
+            continue;
+        char names[512] = "";
+        size_t used = 0;
+        for (unsigned j = 0; j < n; ++j)
+            if (j == i || (reach[i][j] && reach[j][i]))
+                used += (size_t)snprintf(names + used, used < sizeof names ? sizeof names - used : 0, "%s'%s'",
+                                         used ? ", " : "", rt->procs[j].name);
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT,
+                               "procedures %s emit into each other in a cycle and all have priority %d: give "
+                               "them different .priority values (higher is served first) to order them",
+                               names, rt->procs[i].priority);
     }
     return PERMA_OK;
 }
@@ -128,6 +208,10 @@ perma_status perma_build_layout(perma_runtime *rt)
     if (rt->proc_count == 0)
         return perma_set_error(rt, PERMA_ERR_STATE, "no procedure is registered");
     perma_status st = resolve_targets(rt);
+    if (st == PERMA_OK)
+        st = check_functions(rt);
+    if (st == PERMA_OK)
+        st = check_cycles(rt);
     if (st != PERMA_OK)
         return st;
     compute_depths(rt);

@@ -111,6 +111,8 @@ START_TEST(test_bad_usage)
         { COUNT("--camera", "1,2,x,4,5,6"), ARGS("--camera", "1,2,x,4,5,6"), "'x'" },
         { COUNT("--fov", "180"), ARGS("--fov", "180"), "--fov" },
         { COUNT("--groups", "0"), ARGS("--groups", "0"), "--groups" },
+        { COUNT("--max-depth", " -0"), ARGS("--max-depth", " -0"), "--max-depth" },
+        { COUNT("--groups", " +5"), ARGS("--groups", " +5"), "--groups" },
         { COUNT("--frobnicate"), ARGS("--frobnicate"), "unknown option '--frobnicate'" },
         { COUNT("-o"), ARGS("-o"), "needs a value" },
         { COUNT("--help=yes"), ARGS("--help=yes"), "takes no value" },

@@ -98,6 +98,20 @@ START_TEST(test_not_finite)
 }
 END_TEST
 
+/* Tiny coordinates underflow (strtof sets ERANGE) but are finite: accepted. */
+START_TEST(test_tiny_numbers)
+{
+    char text[4096];
+    int n = snprintf(text, sizeof text, "1\n3 3\n1e-40 1e-50 0\n");
+    for (int k = 1; k < 16; ++k)
+        n += snprintf(text + n, sizeof text - (size_t)n, "%d %d 0\n", k % 4, k / 4);
+    reyes_error error;
+    size_t patches;
+    ck_assert_msg(parse(text, &error, &patches) == REYES_OK, "%s", error.message);
+    ck_assert_uint_eq(patches, 1);
+}
+END_TEST
+
 START_TEST(test_bad_counts)
 {
     expect_error("", "model.bpt:1:", "empty file");
@@ -180,6 +194,7 @@ static Suite *loader_suite(void)
     tcase_add_test(tc, test_truncated);
     tcase_add_test(tc, test_missing_patch);
     tcase_add_test(tc, test_not_finite);
+    tcase_add_test(tc, test_tiny_numbers);
     tcase_add_test(tc, test_bad_counts);
     tcase_add_test(tc, test_bad_degree_and_trailing);
     tcase_add_test(tc, test_long_token);

@@ -137,6 +137,58 @@ START_TEST(unknown_emit_target)
 }
 END_TEST
 
+START_TEST(function_missing_from_its_source)
+{
+    perma_runtime *rt = test_runtime(64, 0, 0);
+    perma_procedure p = noop_procedure();
+    p.function = "noop_typo";
+    p.source_file = "noop.cl";
+    perma_proc id;
+    ck_assert_perma_ok(rt, perma_register(rt, &p, &id));
+    ck_assert_int_eq(perma_build(rt), PERMA_ERR_ARGUMENT);
+    ck_assert_contains(perma_errmsg(rt),
+                       "procedure 'noop': function 'noop_typo' is not defined in 'noop.cl' or a shared source");
+    perma_destroy(rt);
+}
+END_TEST
+
+/* Procedures that emit into each other need priorities that order them;
+ * a procedure emitting into itself does not. */
+START_TEST(cycle_without_priority_order)
+{
+    perma_runtime *rt = test_runtime(64, 0, 0);
+    const char *source = "void ping(perma_ctx *c, __local const uint *x) { uint v = *x; if (v) { --v; emit_pong(c, &v); } }\n"
+                         "void pong(perma_ctx *c, __local const uint *x) { uint v = *x; if (v) { --v; emit_ping(c, &v); } }\n";
+    perma_procedure ping = { .name = "ping", .item_type = "uint", .item_size = 4, .source = source,
+                             .source_file = "pingpong.cl", .function = "ping", .emits = { { "pong", 1 } } };
+    perma_procedure pong = ping;
+    pong.name = "pong";
+    pong.function = "pong";
+    pong.emits[0] = (perma_emit){ "ping", 1 };
+    perma_proc a, b;
+    ck_assert_perma_ok(rt, perma_register(rt, &ping, &a));
+    ck_assert_perma_ok(rt, perma_register(rt, &pong, &b));
+    ck_assert_int_eq(perma_build(rt), PERMA_ERR_ARGUMENT);
+    ck_assert_contains(perma_errmsg(rt), "procedures 'ping', 'pong' emit into each other in a cycle and all have priority 0");
+    perma_destroy(rt);
+
+    /* With an order, the same pair runs: 10 hops back and forth. */
+    rt = test_runtime(64, 0, 0);
+    pong.priority = 1;
+    ck_assert_perma_ok(rt, perma_register(rt, &ping, &a));
+    ck_assert_perma_ok(rt, perma_register(rt, &pong, &b));
+    uint32_t ten = 10;
+    ck_assert_perma_ok(rt, perma_seed(rt, a, &ten, 1));
+    ck_assert_perma_ok(rt, perma_run(rt));
+    perma_procedure_stats ps;
+    ck_assert_perma_ok(rt, perma_get_procedure_stats(rt, a, &ps));
+    ck_assert_uint_eq(ps.items, 6); /* 10, 8, 6, 4, 2, 0 */
+    ck_assert_perma_ok(rt, perma_get_procedure_stats(rt, b, &ps));
+    ck_assert_uint_eq(ps.items, 5); /* 9, 7, 5, 3, 1 */
+    perma_destroy(rt);
+}
+END_TEST
+
 START_TEST(missing_device_from_environment)
 {
     setenv("PERMA_DEVICE", "9:9", 1);
@@ -312,6 +364,8 @@ int main(void)
     tcase_add_test(tc, syntax_error_names_file_and_line);
     tcase_add_test(tc, item_size_mismatch_is_a_build_error);
     tcase_add_test(tc, unknown_emit_target);
+    tcase_add_test(tc, function_missing_from_its_source);
+    tcase_add_test(tc, cycle_without_priority_order);
     tcase_add_test(tc, missing_device_from_environment);
     tcase_add_test(tc, bad_config_values);
     tcase_add_test(tc, emitting_beyond_the_declared_maximum);

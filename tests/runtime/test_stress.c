@@ -213,7 +213,7 @@ static void open_shape(stress_runtime *s, unsigned shape_index, unsigned variant
         snprintf(type, sizeof type, "struct item%u", p);
         perma_procedure d = { .name = name, .item_type = type, .item_size = 4 * sh->words[p],
                               .threads_per_item = sh->tpi[p], .source = procs, .source_file = "stress.cl",
-                              .function = name };
+                              .function = name, .priority = (int)p /* the shapes have cycles */ };
         unsigned k = 0;
         char targets[MAX_EDGES][16];
         for (unsigned e = 0; e < sh->edges; ++e) {
