@@ -104,9 +104,11 @@ int main(int argc, char **argv)
         printf("reyes-render %s (perma %s)\n", REYES_VERSION_STRING, PERMA_VERSION_STRING);
     } else {
         reyes_error error;
-        if (run(&cli, &error) != REYES_OK) {
+        reyes_status status = run(&cli, &error);
+        if (status != REYES_OK) {
             fprintf(stderr, "%s: %s\n", program, error.message);
-            code = EXIT_FAILURE;
+            /* Options that parse but do not fit together are bad usage too. */
+            code = status == REYES_ERR_ARGUMENT ? EXIT_USAGE : EXIT_FAILURE;
         }
     }
     reyes_cli_free(&cli);
