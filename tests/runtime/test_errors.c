@@ -5,6 +5,7 @@
 
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 static const char *noop_source = "void noop(perma_ctx *ctx, __local const uint *x) { (void)ctx; (void)x; }\n";
 
@@ -219,6 +220,26 @@ START_TEST(missing_device_from_environment)
 }
 END_TEST
 
+/* No OpenCL platform at all: the ICD loader is pointed at an empty vendor
+ * directory.  Needs its own process (the loader reads it once). */
+START_TEST(no_platform_names_the_package)
+{
+    const char *fork = getenv("CK_FORK");
+    if (fork && strcmp(fork, "no") == 0)
+        return; /* would poison the loader for the other tests */
+    char empty[] = "/tmp/perma-no-vendors-XXXXXX";
+    ck_assert_ptr_nonnull(mkdtemp(empty));
+    setenv("OCL_ICD_VENDORS", empty, 1);
+    perma_runtime *rt = NULL;
+    perma_error error;
+    ck_assert_int_eq(perma_create(NULL, &rt, &error), PERMA_ERR_NO_PLATFORM);
+    ck_assert_ptr_null(rt);
+    ck_assert_contains(error.message, "no OpenCL platform found");
+    ck_assert_contains(error.message, "apt-get install pocl-opencl-icd");
+    rmdir(empty);
+}
+END_TEST
+
 START_TEST(bad_config_values)
 {
     perma_config config;
@@ -367,6 +388,7 @@ int main(void)
     tcase_add_test(tc, function_missing_from_its_source);
     tcase_add_test(tc, cycle_without_priority_order);
     tcase_add_test(tc, missing_device_from_environment);
+    tcase_add_test(tc, no_platform_names_the_package);
     tcase_add_test(tc, bad_config_values);
     tcase_add_test(tc, emitting_beyond_the_declared_maximum);
     tcase_add_test(tc, emitting_into_an_undeclared_target);
