@@ -122,6 +122,11 @@ typedef struct reyes_options {
     /* REYES_STAGES_ALL (default); REYES_STAGES_GEOMETRY or _SUBDIVIDE stop
      * early so stages can be timed by difference (reyes_shared.h). */
     unsigned stages;
+    /* Screen-space buckets: render the image in tiles of at most
+     * bucket_width x bucket_height pixels, one perma run each, culling the
+     * patches outside the tile; 0 x 0 (default) renders the whole image at
+     * once.  The image is the same either way. */
+    unsigned bucket_width, bucket_height;
     /* Scheduling, passed to perma_config when the renderer is created;
      * 0 = the runtime's default. */
     unsigned work_groups;
@@ -141,6 +146,7 @@ void reyes_options_init(reyes_options *options);
 #define REYES_MAX_GRID 32u
 #define REYES_MAX_SPP 64u
 #define REYES_MAX_DEPTH 40u
+#define REYES_MAX_BUCKETS 1048576u
 
 reyes_status reyes_options_check(const reyes_options *options, reyes_error *error);
 
@@ -163,11 +169,21 @@ typedef struct reyes_stats {
     uint64_t forced_dice;     /* grids diced because of the depth limit */
     uint64_t micropolygons;
     uint64_t samples_written;
-    size_t peak_queue_bytes;
-    double seconds;           /* perma_run wall time */
+    size_t peak_queue_bytes;  /* largest of any bucket */
+    double seconds;           /* perma_run wall time (sum over buckets) */
+    /* Buckets: columns x rows, and each bucket's peak queue memory (row
+     * by row; allocated only for bucketed renders, else NULL and the one
+     * bucket's peak is peak_queue_bytes).  Free with reyes_stats_free. */
+    unsigned bucket_columns, bucket_rows;
+    size_t *bucket_peak_queue_bytes;
+    /* The runtime's statistics, summed over the buckets' runs (peaks and
+     * capacities: the largest). */
     perma_stats run;
     perma_procedure_stats procedures[REYES_PROC_COUNT];
 } reyes_stats;
+
+/* Free what a render allocated in *stats (the per-bucket list). */
+void reyes_stats_free(reyes_stats *stats);
 
 /* A perma runtime with the Reyes procedures registered (for options->grid
  * and the scheduling fields: group_size, work_groups, technique, strategy,

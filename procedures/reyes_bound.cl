@@ -4,16 +4,22 @@
  * of its control hull is small enough, else to split_u or split_v.
  */
 
-/* 1 when every hull point lies outside the same frustum side plane. */
-int reyes_outside_frustum(const float4 clip[16], float margin)
+/* 1 when every hull point lies outside the same side plane of the tile's
+ * sub-frustum, widened by `margin` (a fraction of the half-viewport).  For
+ * the whole image (-1, 1, -1, 1) the planes are x = +-(1 + margin) w
+ * exactly, as without buckets. */
+int reyes_outside_frustum(__global const struct reyes_params *p, const float4 clip[16],
+                          float margin)
 {
+    float left_ndc = p->ndc_left - margin, right_ndc = p->ndc_right + margin;
+    float bottom_ndc = p->ndc_bottom - margin, top_ndc = p->ndc_top + margin;
     int left = 1, right = 1, bottom = 1, top = 1;
     for (int k = 0; k < 16; ++k) {
-        float w = clip[k].w * (1.0f + margin);
-        left &= clip[k].x < -w;
-        right &= clip[k].x > w;
-        bottom &= clip[k].y < -w;
-        top &= clip[k].y > w;
+        float w = clip[k].w;
+        left &= clip[k].x < w * left_ndc;
+        right &= clip[k].x > w * right_ndc;
+        bottom &= clip[k].y < w * bottom_ndc;
+        top &= clip[k].y > w * top_ndc;
     }
     return left | right | bottom | top;
 }
@@ -85,7 +91,7 @@ void reyes_bound(perma_ctx *ctx, __local const struct reyes_subpatch *item)
         all_behind &= behind;
         any_behind |= behind;
     }
-    if (all_behind || reyes_outside_frustum(clip, p->cull_margin)) {
+    if (all_behind || reyes_outside_frustum(p, clip, p->cull_margin)) {
         atomic_inc(&counters[REYES_COUNT_CULLED]);
         return;
     }

@@ -131,8 +131,10 @@ void reyes_dice(perma_ctx *ctx, __local const struct reyes_subpatch *item)
             lo = fmin(lo, s);
             hi = fmax(hi, s);
         }
-        /* Quads through the near plane or wholly off the image are dropped. */
-        visible &= hi.x >= 0.0f && hi.y >= 0.0f && lo.x <= p->width && lo.y <= p->height;
+        /* Quads through the near plane or wholly off the tile (the image
+         * without buckets) are dropped. */
+        visible &= hi.x >= p->tile_x0 && hi.y >= p->tile_y0 && lo.x <= p->tile_x1
+                   && lo.y <= p->tile_y1;
         if (visible) {
             atomic_inc(&counters[REYES_COUNT_MICROPOLYGONS]);
             if (full)

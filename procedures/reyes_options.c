@@ -49,6 +49,18 @@ reyes_status reyes_options_check(const reyes_options *o, reyes_error *error)
     if (o->stages > REYES_STAGES_SUBDIVIDE)
         return reyes_fail(error, REYES_ERR_ARGUMENT, "stages %u is not %u..%u", o->stages,
                           REYES_STAGES_ALL, REYES_STAGES_SUBDIVIDE);
+    if ((o->bucket_width == 0) != (o->bucket_height == 0))
+        return reyes_fail(error, REYES_ERR_ARGUMENT, "bucket %ux%u: both sides or neither must be 0",
+                          o->bucket_width, o->bucket_height);
+    if (o->bucket_width > 0) {
+        uint64_t columns = (o->width + o->bucket_width - 1) / o->bucket_width;
+        uint64_t rows = (o->height + o->bucket_height - 1) / o->bucket_height;
+        if (columns * rows > REYES_MAX_BUCKETS)
+            return reyes_fail(error, REYES_ERR_ARGUMENT,
+                              "bucket %ux%u makes %llu buckets of a %ux%u image, more than %u",
+                              o->bucket_width, o->bucket_height, (unsigned long long)(columns * rows),
+                              o->width, o->height, REYES_MAX_BUCKETS);
+    }
     if (!perma_technique_name(o->technique) || !perma_strategy_name(o->strategy)
         || !perma_victim_name(o->victim))
         return reyes_fail(error, REYES_ERR_ARGUMENT, "unknown technique, strategy or victim value");

@@ -76,17 +76,19 @@ void reyes_rasterize(perma_ctx *ctx, __local const struct reyes_quad *item)
     float max_x = fmax(fmax(q.x[0], q.x[1]), fmax(q.x[2], q.x[3]));
     float min_y = fmin(fmin(q.y[0], q.y[1]), fmin(q.y[2], q.y[3]));
     float max_y = fmax(fmax(q.y[0], q.y[1]), fmax(q.y[2], q.y[3]));
-    /* Clamp in float first: the box may lie far outside int range. */
-    int x0 = (int)floor(clamp(min_x, 0.0f, p->width - 1.0f));
-    int x1 = (int)floor(clamp(max_x, 0.0f, p->width - 1.0f));
-    int y0 = (int)floor(clamp(min_y, 0.0f, p->height - 1.0f));
-    int y1 = (int)floor(clamp(max_y, 0.0f, p->height - 1.0f));
-    uint width = (uint)p->width, spp = p->spp;
+    /* Clamp to the tile in float first: the box may lie far outside int
+     * range.  Pixels are global; the sample buffer holds the tile's. */
+    int x0 = (int)floor(clamp(min_x, p->tile_x0, p->tile_x1 - 1.0f));
+    int x1 = (int)floor(clamp(max_x, p->tile_x0, p->tile_x1 - 1.0f));
+    int y0 = (int)floor(clamp(min_y, p->tile_y0, p->tile_y1 - 1.0f));
+    int y1 = (int)floor(clamp(max_y, p->tile_y0, p->tile_y1 - 1.0f));
+    uint tile_x = (uint)p->tile_x0, tile_y = (uint)p->tile_y0;
+    uint tile_width = (uint)p->tile_x1 - tile_x, spp = p->spp;
     for (int py = y0; py <= y1; ++py) {
         for (int px = x0; px <= x1; ++px) {
             for (uint s = 0; s < spp; ++s) {
                 float2 pos = reyes_sample_position((uint)px, (uint)py, s, spp);
-                uint index = ((uint)py * width + (uint)px) * spp + s;
+                uint index = (((uint)py - tile_y) * tile_width + ((uint)px - tile_x)) * spp + s;
                 reyes_sample_triangle(samples, index, pos, &q, 0, 1, 2);
                 reyes_sample_triangle(samples, index, pos, &q, 0, 2, 3);
             }

@@ -3,6 +3,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "reyes_render_stats.h"
 #include "reyes_renderer_internal.h"
 #include "reyes_shared.h"
 
@@ -21,9 +22,14 @@ void reyes_image_free(reyes_image *image)
 typedef struct render_buffers {
     struct reyes_params params;
     uint32_t counters[REYES_COUNTERS];
-    uint64_t *samples;
+    uint64_t *samples;              /* one bucket's samples */
     struct reyes_subpatch *seeds;
 } render_buffers;
+
+/* A bucket: pixels [x0,x1) x [y0,y1) of the image. */
+typedef struct tile {
+    unsigned x0, y0, x1, y1;
+} tile;
 
 static reyes_status fill_params(const reyes_scene *scene, const reyes_camera *camera,
                                 const reyes_options *o, unsigned dice_threads,
@@ -60,12 +66,33 @@ static reyes_status fill_params(const reyes_scene *scene, const reyes_camera *ca
     return REYES_OK;
 }
 
+/* Point the parameters at one tile: its pixel rectangle and its
+ * sub-frustum in normalised device coordinates (exactly -1 and 1 at the
+ * image borders, so the whole image culls as without buckets). */
+static void set_tile(struct reyes_params *p, const reyes_options *o, tile t)
+{
+    p->tile_x0 = (float)t.x0;
+    p->tile_y0 = (float)t.y0;
+    p->tile_x1 = (float)t.x1;
+    p->tile_y1 = (float)t.y1;
+    p->ndc_left = (float)(2.0 * t.x0 / o->width - 1.0);
+    p->ndc_right = (float)(2.0 * t.x1 / o->width - 1.0);
+    p->ndc_top = (float)(1.0 - 2.0 * t.y0 / o->height);
+    p->ndc_bottom = (float)(1.0 - 2.0 * t.y1 / o->height);
+}
+
+static unsigned bucket_side(unsigned bucket, unsigned image)
+{
+    return bucket == 0 || bucket > image ? image : bucket;
+}
+
 static reyes_status allocate(const reyes_scene *scene, const reyes_options *o, render_buffers *b,
                              reyes_image *image, reyes_error *error)
 {
     size_t pixels = (size_t)o->width * o->height;
-    size_t samples = pixels * o->spp;
-    b->samples = malloc(samples * sizeof *b->samples);
+    size_t tile_pixels = (size_t)bucket_side(o->bucket_width, o->width)
+                         * bucket_side(o->bucket_height, o->height);
+    b->samples = malloc(tile_pixels * o->spp * sizeof *b->samples);
     b->seeds = malloc((scene->patch_count ? scene->patch_count : 1) * sizeof *b->seeds);
     image->width = o->width;
     image->height = o->height;
@@ -74,7 +101,6 @@ static reyes_status allocate(const reyes_scene *scene, const reyes_options *o, r
     if (!b->samples || !b->seeds || !image->rgb || !image->coverage)
         return reyes_fail(error, REYES_ERR_NO_MEMORY, "out of memory for a %ux%u image", o->width,
                           o->height);
-    memset(b->samples, 0xff, samples * sizeof *b->samples);
     memset(b->counters, 0, sizeof b->counters);
     for (size_t i = 0; i < scene->patch_count; ++i)
         b->seeds[i] = (struct reyes_subpatch){ .patch = (uint32_t)i, .depth = 0,
@@ -82,11 +108,15 @@ static reyes_status allocate(const reyes_scene *scene, const reyes_options *o, r
     return REYES_OK;
 }
 
+static size_t tile_samples(const reyes_options *o, tile t)
+{
+    return (size_t)(t.x1 - t.x0) * (t.y1 - t.y0) * o->spp;
+}
+
 static perma_status bind_and_seed(reyes_renderer *r, const reyes_scene *scene,
-                                  const reyes_options *o, render_buffers *b)
+                                  const reyes_options *o, tile t, render_buffers *b)
 {
     perma_runtime *rt = r->rt;
-    size_t samples = (size_t)o->width * o->height * o->spp;
     perma_status s = perma_bind_host(rt, "patches", "__global const float4 *", scene->points,
                                      scene->patch_count * 64 * sizeof(float), PERMA_READ);
     if (s == PERMA_OK)
@@ -100,58 +130,126 @@ static perma_status bind_and_seed(reyes_renderer *r, const reyes_scene *scene,
                             PERMA_READ_WRITE);
     if (s == PERMA_OK)
         s = perma_bind_host(rt, "samples", "__global ulong *", b->samples,
-                            samples * sizeof *b->samples, PERMA_READ_WRITE);
+                            tile_samples(o, t) * sizeof *b->samples, PERMA_READ_WRITE);
     if (s == PERMA_OK)
         s = perma_seed(rt, r->procs[REYES_PROC_BOUND], b->seeds, scene->patch_count);
     return s;
 }
 
-/* Average the samples of each pixel; empty samples show the background. */
-static uint64_t resolve(const uint64_t *samples, const reyes_options *o, reyes_image *image)
+/* Average the samples of each pixel of the tile; empty samples show the
+ * background.  Returns the covered samples. */
+static uint64_t resolve(const uint64_t *samples, const reyes_options *o, tile t,
+                        reyes_image *image)
 {
     uint64_t written = 0;
-    size_t pixels = (size_t)o->width * o->height;
-    for (size_t px = 0; px < pixels; ++px) {
-        unsigned sum[3] = {0, 0, 0}, hits = 0;
-        for (unsigned s = 0; s < o->spp; ++s) {
-            uint64_t sample = samples[px * o->spp + s];
-            uint32_t rgba = o->background;
-            if (sample != EMPTY_SAMPLE) {
-                rgba = (uint32_t)sample;
-                ++hits;
+    size_t tile_width = t.x1 - t.x0;
+    for (unsigned y = t.y0; y < t.y1; ++y) {
+        for (unsigned x = t.x0; x < t.x1; ++x) {
+            const uint64_t *pixel = samples + ((y - t.y0) * tile_width + (x - t.x0)) * o->spp;
+            size_t px = (size_t)y * o->width + x;
+            unsigned sum[3] = {0, 0, 0}, hits = 0;
+            for (unsigned s = 0; s < o->spp; ++s) {
+                uint32_t rgba = o->background;
+                if (pixel[s] != EMPTY_SAMPLE) {
+                    rgba = (uint32_t)pixel[s];
+                    ++hits;
+                }
+                for (int c = 0; c < 3; ++c)
+                    sum[c] += (rgba >> (8 * c)) & 255u;
             }
             for (int c = 0; c < 3; ++c)
-                sum[c] += (rgba >> (8 * c)) & 255u;
+                image->rgb[px * 3 + c] = (uint8_t)((sum[c] + o->spp / 2) / o->spp);
+            image->coverage[px] = (uint8_t)hits;
+            written += hits;
         }
-        for (int c = 0; c < 3; ++c)
-            image->rgb[px * 3 + c] = (uint8_t)((sum[c] + o->spp / 2) / o->spp);
-        image->coverage[px] = (uint8_t)hits;
-        written += hits;
     }
     return written;
 }
 
-static perma_status collect_stats(reyes_renderer *r, const reyes_scene *scene,
-                                  const render_buffers *b, uint64_t written, reyes_stats *stats)
+/* Add the last run's runtime statistics to *stats; *peak_bytes: its peak
+ * queue memory. */
+static perma_status add_run_stats(reyes_renderer *r, reyes_stats *stats, size_t *peak_bytes)
 {
-    memset(stats, 0, sizeof *stats);
+    perma_stats run;
+    perma_procedure_stats procedures[REYES_PROC_COUNT];
+    perma_status s = perma_get_stats(r->rt, &run);
+    for (int p = 0; p < REYES_PROC_COUNT && s == PERMA_OK; ++p)
+        s = perma_get_procedure_stats(r->rt, r->procs[p], &procedures[p]);
+    if (s == PERMA_OK) {
+        reyes_stats_add_run(stats, &run, procedures);
+        *peak_bytes = run.peak_queue_bytes;
+    }
+    return s;
+}
+
+static void count_stats(const reyes_scene *scene, const render_buffers *b, reyes_stats *stats)
+{
     stats->patches_in = scene->patch_count;
     stats->splits = b->counters[REYES_COUNT_SPLITS];
     stats->culled = b->counters[REYES_COUNT_CULLED];
     stats->grids = b->counters[REYES_COUNT_GRIDS];
     stats->forced_dice = b->counters[REYES_COUNT_FORCED_DICE];
     stats->micropolygons = b->counters[REYES_COUNT_MICROPOLYGONS];
-    stats->samples_written = written;
-    for (int p = 0; p < REYES_PROC_COUNT; ++p)
-        stats->procedures[p].name = "";
-    if (scene->patch_count == 0)
-        return PERMA_OK; /* nothing ran */
-    perma_status s = perma_get_stats(r->rt, &stats->run);
-    for (int p = 0; p < REYES_PROC_COUNT && s == PERMA_OK; ++p)
-        s = perma_get_procedure_stats(r->rt, r->procs[p], &stats->procedures[p]);
-    stats->peak_queue_bytes = stats->run.peak_queue_bytes;
-    stats->seconds = stats->run.seconds;
-    return s;
+}
+
+/* Render one tile: a perma run (unless the scene is empty), then resolve.
+ * *call names what failed. */
+static perma_status render_tile(reyes_renderer *r, const reyes_scene *scene, const reyes_options *o,
+                                tile t, render_buffers *b, reyes_image *image, reyes_stats *stats,
+                                size_t *peak_bytes, const char **call)
+{
+    memset(b->samples, 0xff, tile_samples(o, t) * sizeof *b->samples);
+    set_tile(&b->params, o, t);
+    perma_status ps = PERMA_OK;
+    *peak_bytes = 0;
+    if (scene->patch_count > 0) {
+        *call = "binding the scene";
+        ps = bind_and_seed(r, scene, o, t, b);
+        if (ps == PERMA_OK) {
+            *call = "perma_run";
+            ps = perma_run(r->rt);
+        }
+        if (ps == PERMA_OK) {
+            *call = "reading the statistics";
+            ps = add_run_stats(r, stats, peak_bytes);
+        }
+    }
+    if (ps == PERMA_OK)
+        stats->samples_written += resolve(b->samples, o, t, image);
+    return ps;
+}
+
+/* Render every bucket, row by row (one bucket: the whole image). */
+static reyes_status render_buckets(reyes_renderer *r, const reyes_scene *scene,
+                                   const reyes_options *o, render_buffers *b, reyes_image *image,
+                                   reyes_stats *stats, reyes_error *error)
+{
+    unsigned bw = bucket_side(o->bucket_width, o->width);
+    unsigned bh = bucket_side(o->bucket_height, o->height);
+    stats->bucket_columns = (o->width + bw - 1) / bw;
+    stats->bucket_rows = (o->height + bh - 1) / bh;
+    size_t count = (size_t)stats->bucket_columns * stats->bucket_rows;
+    if (o->bucket_width > 0) {
+        stats->bucket_peak_queue_bytes = calloc(count, sizeof *stats->bucket_peak_queue_bytes);
+        if (!stats->bucket_peak_queue_bytes)
+            return reyes_fail(error, REYES_ERR_NO_MEMORY, "out of memory for %zu buckets", count);
+    }
+    for (size_t k = 0; k < count; ++k) {
+        unsigned column = (unsigned)(k % stats->bucket_columns);
+        unsigned row = (unsigned)(k / stats->bucket_columns);
+        tile t = { column * bw, row * bh, 0, 0 };
+        t.x1 = t.x0 + bw < o->width ? t.x0 + bw : o->width;
+        t.y1 = t.y0 + bh < o->height ? t.y0 + bh : o->height;
+        const char *call = "";
+        size_t peak;
+        perma_status ps = render_tile(r, scene, o, t, b, image, stats, &peak, &call);
+        if (ps != PERMA_OK)
+            return reyes_runtime_error(r, call, ps, error);
+        if (stats->bucket_peak_queue_bytes)
+            stats->bucket_peak_queue_bytes[k] = peak;
+    }
+    count_stats(scene, b, stats);
+    return REYES_OK;
 }
 
 reyes_status reyes_render(reyes_renderer *r, const reyes_scene *scene, const reyes_camera *camera,
@@ -159,6 +257,12 @@ reyes_status reyes_render(reyes_renderer *r, const reyes_scene *scene, const rey
                           reyes_error *error)
 {
     memset(image, 0, sizeof *image);
+    reyes_stats local;
+    if (!stats)
+        stats = &local;
+    memset(stats, 0, sizeof *stats);
+    for (int p = 0; p < REYES_PROC_COUNT; ++p)
+        stats->procedures[p].name = "";
     reyes_status status = reyes_options_check(options, error);
     if (status != REYES_OK)
         return status;
@@ -170,27 +274,13 @@ reyes_status reyes_render(reyes_renderer *r, const reyes_scene *scene, const rey
     status = fill_params(scene, camera, options, r->dice_threads, &b.params, error);
     if (status == REYES_OK)
         status = allocate(scene, options, &b, image, error);
-    perma_status ps = PERMA_OK;
-    const char *call = "binding the scene";
-    if (status == REYES_OK && scene->patch_count > 0) {
-        ps = bind_and_seed(r, scene, options, &b);
-        if (ps == PERMA_OK) {
-            call = "perma_run";
-            ps = perma_run(r->rt);
-        }
-        if (ps != PERMA_OK)
-            status = reyes_runtime_error(r, call, ps, error);
-    }
-    if (status == REYES_OK) {
-        uint64_t written = resolve(b.samples, options, image);
-        reyes_stats local;
-        ps = collect_stats(r, scene, &b, written, stats ? stats : &local);
-        if (ps != PERMA_OK)
-            status = reyes_runtime_error(r, "reading the statistics", ps, error);
-    }
+    if (status == REYES_OK)
+        status = render_buckets(r, scene, options, &b, image, stats, error);
     free(b.samples);
     free(b.seeds);
     if (status != REYES_OK)
         reyes_image_free(image);
+    if (status != REYES_OK || stats == &local)
+        reyes_stats_free(stats);
     return status;
 }

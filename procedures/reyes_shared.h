@@ -72,6 +72,15 @@ struct reyes_params {
     REYES_U32 dice_threads;  /* threads_per_item of the dice procedure */
     REYES_U32 stages;        /* REYES_STAGES_* */
     REYES_U32 pad;
+    /* The bucket (tile) this run renders, in pixels: [tile_x0,tile_x1) x
+     * [tile_y0,tile_y1) (the whole image without buckets).  The sample
+     * buffer holds the tile's pixels only; sample positions stay those of
+     * the global pixel. */
+    float tile_x0, tile_y0, tile_x1, tile_y1;
+    /* The tile's sub-frustum in normalised device coordinates (x right, y
+     * up): -1, 1, -1, 1 for the whole image.  bound culls against it with
+     * the cull margin. */
+    float ndc_left, ndc_right, ndc_bottom, ndc_top;
 };
 
 #endif

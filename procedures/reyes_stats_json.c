@@ -21,6 +21,24 @@ static const char *name_or_unknown(const char *name)
     return name ? name : "?";
 }
 
+/* Bucket size (0 x 0: none), count, and the peak queue memory of each
+ * bucket (row by row) and their maximum. */
+static void write_buckets(FILE *out, const reyes_stats *s, const reyes_options *o)
+{
+    size_t count = (size_t)s->bucket_columns * s->bucket_rows;
+    fprintf(out, "  \"bucket_width\": %u, \"bucket_height\": %u, \"buckets\": %zu,\n",
+            o->bucket_width, o->bucket_height, count);
+    fprintf(out, "  \"bucket_peak_queue_bytes_max\": %zu,\n", s->peak_queue_bytes);
+    fprintf(out, "  \"bucket_peak_queue_bytes\": [");
+    if (s->bucket_peak_queue_bytes) {
+        for (size_t k = 0; k < count; ++k)
+            fprintf(out, "%s%zu", k ? ", " : "", s->bucket_peak_queue_bytes[k]);
+    } else {
+        fprintf(out, "%zu", s->peak_queue_bytes);
+    }
+    fprintf(out, "],\n");
+}
+
 reyes_status reyes_write_stats_json(FILE *out, const reyes_stats *s, const reyes_options *o,
                                     reyes_error *error)
 {
@@ -36,6 +54,7 @@ reyes_status reyes_write_stats_json(FILE *out, const reyes_stats *s, const reyes
     fprintf(out, "  \"micropolygons\": %" PRIu64 ",\n", s->micropolygons);
     fprintf(out, "  \"samples_written\": %" PRIu64 ",\n", s->samples_written);
     fprintf(out, "  \"peak_queue_bytes\": %zu,\n", s->peak_queue_bytes);
+    write_buckets(out, s, o);
     fprintf(out, "  \"seconds\": %.6f,\n", s->seconds);
     fprintf(out, "  \"work_groups\": %u, \"group_size\": %u, \"launches\": %u, \"regrowths\": %u,\n",
             s->run.work_groups, s->run.group_size, s->run.launches, s->run.regrowths);

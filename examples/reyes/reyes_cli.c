@@ -98,20 +98,34 @@ static int on_stats(reyes_cli *cli, const char *value, char *message, size_t siz
     return REYES_CLI_OK;
 }
 
-static int on_size(reyes_cli *cli, const char *value, char *message, size_t size)
+/* "WxH" with both sides in 1..REYES_MAX_SIZE; 0 if malformed. */
+static int parse_wxh(const char *value, unsigned *w, unsigned *h)
 {
     char width[32], height[32];
     const char *x = strchr(value, 'x');
     size_t n = x ? (size_t)(x - value) : 0;
     if (!x || n >= sizeof width || strlen(x + 1) >= sizeof height)
-        return usage_error(message, size, "--size '%s': expected WxH, e.g. 512x512%s", value, "");
+        return 0;
     memcpy(width, value, n);
     width[n] = '\0';
     strcpy(height, x + 1);
-    if (!parse_unsigned(width, REYES_MAX_SIZE, &cli->render.width) || cli->render.width == 0
-        || !parse_unsigned(height, REYES_MAX_SIZE, &cli->render.height) || cli->render.height == 0)
-        return usage_error(message, size, "--size '%s': width and height must be 1..%s", value,
-                           "16384");
+    return parse_unsigned(width, REYES_MAX_SIZE, w) && *w > 0
+           && parse_unsigned(height, REYES_MAX_SIZE, h) && *h > 0;
+}
+
+static int on_size(reyes_cli *cli, const char *value, char *message, size_t size)
+{
+    if (!parse_wxh(value, &cli->render.width, &cli->render.height))
+        return usage_error(message, size, "--size '%s': expected WxH with sides 1..%s, e.g. 512x512",
+                           value, "16384");
+    return REYES_CLI_OK;
+}
+
+static int on_bucket(reyes_cli *cli, const char *value, char *message, size_t size)
+{
+    if (!parse_wxh(value, &cli->render.bucket_width, &cli->render.bucket_height))
+        return usage_error(message, size, "--bucket '%s': expected WxH with sides 1..%s, e.g. 64x64",
+                           value, "16384");
     return REYES_CLI_OK;
 }
 
@@ -251,6 +265,7 @@ static int on_version(reyes_cli *cli, const char *value, char *message, size_t s
 static const cli_option options[] = {
     { "output", 'o', "FILE", on_output, "PNG to write (default reyes.png)" },
     { "size", 0, "WxH", on_size, "image size in pixels (default 512x512)" },
+    { "bucket", 0, "WxH", on_bucket, "render in screen tiles of WxH pixels (default: one)" },
     { "bound", 0, "PX", on_bound, "dice patches whose screen bound is at most PX (default 8)" },
     { "grid", 0, "N", on_grid, "grid vertices per side when dicing (default 16)" },
     { "spp", 0, "N", on_spp, "jittered samples per pixel (default 4)" },

@@ -59,7 +59,7 @@ static reyes_status run(const reyes_cli *cli, reyes_error *error)
     reyes_camera camera;
     reyes_renderer *renderer = NULL;
     reyes_image image = {0};
-    reyes_stats stats;
+    reyes_stats stats = {0};
     reyes_status status = build_scene(cli, &scene, error);
     if (status == REYES_OK)
         status = choose_camera(cli, &scene, &camera, error);
@@ -82,6 +82,7 @@ static reyes_status run(const reyes_cli *cli, reyes_error *error)
     if (status == REYES_OK && cli->reference)
         status = run_reference(cli, &scene, &camera, error);
     reyes_image_free(&image);
+    reyes_stats_free(&stats);
     reyes_renderer_destroy(renderer);
     reyes_scene_free(&scene);
     return status;

@@ -40,7 +40,7 @@ START_TEST(test_all_options)
                            "--grid", "8", "--spp", "9", "--max-depth", "12", "--camera",
                            "1,2,3,-4.5,0,1e1", "--fov", "30", "--technique", "megakernel",
                            "--strategy", "shared", "--stats", "s.json", "--groups", "2", "b.bpt",
-                           "--backface", "--", "-c.bpt"),
+                           "--backface", "--bucket", "32x16", "--", "-c.bpt"),
                      REYES_CLI_OK);
     ck_assert_uint_eq(cli.model_count, 3);
     ck_assert_str_eq(cli.models[0], "a.bpt");
@@ -60,6 +60,8 @@ START_TEST(test_all_options)
     ck_assert_str_eq(cli.stats_path, "s.json");
     ck_assert_uint_eq(cli.render.work_groups, 2);
     ck_assert_int_eq(cli.render.backface_cull, 1);
+    ck_assert_uint_eq(cli.render.bucket_width, 32);
+    ck_assert_uint_eq(cli.render.bucket_height, 16);
     reyes_cli_free(&cli);
 }
 END_TEST
@@ -102,6 +104,8 @@ START_TEST(test_bad_usage)
         { COUNT("--batch-limit", "0"), ARGS("--batch-limit", "0"), "--batch-limit" },
         { COUNT("--size", "100"), ARGS("--size", "100"), "WxH" },
         { COUNT("--size", "0x10"), ARGS("--size", "0x10"), "--size" },
+        { COUNT("--bucket", "0x8"), ARGS("--bucket", "0x8"), "--bucket" },
+        { COUNT("--bucket", "64"), ARGS("--bucket", "64"), "--bucket '64': expected WxH" },
         { COUNT("--grid", "1"), ARGS("--grid", "1"), "--grid" },
         { COUNT("--grid", "99"), ARGS("--grid", "99"), "--grid" },
         { COUNT("--spp", "-1"), ARGS("--spp", "-1"), "--spp" },

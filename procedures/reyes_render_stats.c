@@ -1,0 +1,61 @@
+/* Statistics of a render: the runtime's per-run numbers summed over the
+ * buckets' runs (peaks and capacities: the largest). */
+#include <stdlib.h>
+
+#include "reyes_render_stats.h"
+
+void reyes_stats_free(reyes_stats *stats)
+{
+    if (!stats)
+        return;
+    free(stats->bucket_peak_queue_bytes);
+    stats->bucket_peak_queue_bytes = NULL;
+}
+
+static uint64_t max_u64(uint64_t a, uint64_t b)
+{
+    return a > b ? a : b;
+}
+
+static size_t max_size(size_t a, size_t b)
+{
+    return a > b ? a : b;
+}
+
+static void add_procedure(perma_procedure_stats *total, const perma_procedure_stats *run)
+{
+    total->name = run->name;
+    total->items += run->items;
+    total->batches += run->batches;
+    total->emit_count = run->emit_count;
+    for (unsigned e = 0; e < PERMA_MAX_EMITS; ++e)
+        total->emitted[e] += run->emitted[e];
+    total->seeded += run->seeded;
+    total->peak_queue_items = max_u64(total->peak_queue_items, run->peak_queue_items);
+    total->queue_capacity = max_size(total->queue_capacity, run->queue_capacity);
+    total->regrowths += run->regrowths;
+}
+
+void reyes_stats_add_run(reyes_stats *total, const perma_stats *run,
+                         const perma_procedure_stats procedures[REYES_PROC_COUNT])
+{
+    perma_stats *t = &total->run;
+    t->seconds += run->seconds;
+    t->launches += run->launches;
+    t->regrowths += run->regrowths;
+    t->work_groups = run->work_groups;
+    t->group_size = run->group_size;
+    t->procedure_count = run->procedure_count;
+    t->peak_queue_bytes = max_size(t->peak_queue_bytes, run->peak_queue_bytes);
+    t->items += run->items;
+    t->steals += run->steals;
+    t->donations += run->donations;
+    t->spills += run->spills;
+    t->idle_polls += run->idle_polls;
+    t->technique = run->technique;
+    t->strategy = run->strategy;
+    for (int p = 0; p < REYES_PROC_COUNT; ++p)
+        add_procedure(&total->procedures[p], &procedures[p]);
+    total->peak_queue_bytes = t->peak_queue_bytes;
+    total->seconds = t->seconds;
+}

@@ -1,0 +1,131 @@
+/* Screen-space buckets: a bucketed render is byte-identical to the
+ * unbucketed one, and small buckets bound the queue memory. */
+#include <check.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "reyes_test_util.h"
+
+static void builtin_scene(reyes_scene *scene, reyes_camera *camera, unsigned width, unsigned height)
+{
+    reyes_error error;
+    reyes_scene_init(scene);
+    ck_assert_int_eq(reyes_scene_add_builtin(scene, &error), REYES_OK);
+    ck_assert_int_eq(reyes_camera_frame(scene, 40.0f, (float)width / (float)height, camera, &error),
+                     REYES_OK);
+}
+
+static void expect_same_image(const reyes_image *a, const reyes_image *b)
+{
+    size_t pixels = (size_t)a->width * a->height;
+    ck_assert_uint_eq(a->width, b->width);
+    ck_assert_uint_eq(a->height, b->height);
+    ck_assert_mem_eq(a->rgb, b->rgb, pixels * 3);
+    ck_assert_mem_eq(a->coverage, b->coverage, pixels);
+}
+
+/* Two bucket sizes (one not dividing the image) give the unbucketed bytes;
+ * the per-bucket list has one entry per bucket and its maximum is the
+ * render's peak. */
+START_TEST(test_buckets_identical)
+{
+    reyes_scene scene;
+    reyes_camera camera;
+    builtin_scene(&scene, &camera, 160, 120);
+    reyes_options o;
+    reyes_options_init(&o);
+    o.width = 160;
+    o.height = 120;
+    reyes_image whole, tiled;
+    reyes_stats whole_stats, tiled_stats;
+    reyes_test_render(reyes_test_renderer(0), &scene, &camera, &o, &whole, &whole_stats);
+    ck_assert_uint_eq(whole_stats.bucket_columns * whole_stats.bucket_rows, 1);
+    ck_assert_ptr_null(whole_stats.bucket_peak_queue_bytes);
+    const unsigned sizes[2][2] = { {64, 64}, {48, 20} };
+    for (int k = 0; k < 2; ++k) {
+        o.bucket_width = sizes[k][0];
+        o.bucket_height = sizes[k][1];
+        reyes_test_render(reyes_test_renderer(0), &scene, &camera, &o, &tiled, &tiled_stats);
+        expect_same_image(&whole, &tiled);
+        ck_assert_uint_eq(tiled_stats.samples_written, whole_stats.samples_written);
+        ck_assert_uint_eq(tiled_stats.bucket_columns, (160 + sizes[k][0] - 1) / sizes[k][0]);
+        ck_assert_uint_eq(tiled_stats.bucket_rows, (120 + sizes[k][1] - 1) / sizes[k][1]);
+        size_t largest = 0, count = (size_t)tiled_stats.bucket_columns * tiled_stats.bucket_rows;
+        for (size_t b = 0; b < count; ++b)
+            largest = tiled_stats.bucket_peak_queue_bytes[b] > largest
+                          ? tiled_stats.bucket_peak_queue_bytes[b] : largest;
+        ck_assert_uint_eq(largest, tiled_stats.peak_queue_bytes);
+        /* Culling per tile: patches outside a tile never reach dice there. */
+        ck_assert_uint_gt(tiled_stats.culled, whole_stats.culled);
+        reyes_image_free(&tiled);
+        reyes_stats_free(&tiled_stats);
+    }
+    reyes_image_free(&whole);
+    reyes_scene_free(&scene);
+}
+END_TEST
+
+/* Kernel-per-procedure holds a whole breadth-first level of micropolygons
+ * in its queues: with 32x32 buckets the peak queue memory is smaller than
+ * for the whole image, and the image is the same. */
+START_TEST(test_buckets_bound_queue_memory)
+{
+    reyes_scene scene;
+    reyes_camera camera;
+    builtin_scene(&scene, &camera, 192, 144);
+    reyes_options o;
+    reyes_options_init(&o);
+    o.width = 192;
+    o.height = 144;
+    o.spp = 1;
+    o.technique = PERMA_TECHNIQUE_KERNEL_PER_PROCEDURE;
+    reyes_image whole, tiled;
+    reyes_stats whole_stats, tiled_stats;
+    reyes_test_render_once(&scene, &camera, &o, &whole, &whole_stats);
+    o.bucket_width = o.bucket_height = 32;
+    reyes_test_render_once(&scene, &camera, &o, &tiled, &tiled_stats);
+    expect_same_image(&whole, &tiled);
+    printf("peak queue bytes: whole image %zu, 32x32 buckets %zu\n", whole_stats.peak_queue_bytes,
+           tiled_stats.peak_queue_bytes);
+    ck_assert_uint_lt(tiled_stats.peak_queue_bytes, whole_stats.peak_queue_bytes);
+    reyes_image_free(&whole);
+    reyes_image_free(&tiled);
+    reyes_stats_free(&tiled_stats);
+    reyes_scene_free(&scene);
+}
+END_TEST
+
+START_TEST(test_bucket_arguments)
+{
+    reyes_options o;
+    reyes_error error;
+    reyes_options_init(&o);
+    o.bucket_width = 16;
+    ck_assert_int_eq(reyes_options_check(&o, &error), REYES_ERR_ARGUMENT);
+    ck_assert(strstr(error.message, "bucket") != NULL);
+    o.bucket_height = 600; /* larger than the image: one row of buckets */
+    ck_assert_int_eq(reyes_options_check(&o, &error), REYES_OK);
+    o.width = o.height = 16384;
+    o.spp = 1;
+    o.bucket_width = o.bucket_height = 1;
+    ck_assert_int_eq(reyes_options_check(&o, &error), REYES_ERR_ARGUMENT);
+    ck_assert(strstr(error.message, "buckets") != NULL);
+}
+END_TEST
+
+int main(void)
+{
+    Suite *s = suite_create("reyes_buckets");
+    TCase *tc = tcase_create("buckets");
+    tcase_set_timeout(tc, 300);
+    tcase_add_test(tc, test_buckets_identical);
+    tcase_add_test(tc, test_buckets_bound_queue_memory);
+    tcase_add_test(tc, test_bucket_arguments);
+    suite_add_tcase(s, tc);
+    SRunner *runner = srunner_create(s);
+    srunner_set_fork_status(runner, CK_NOFORK);
+    srunner_run_all(runner, CK_NORMAL);
+    int failed = srunner_ntests_failed(runner);
+    srunner_free(runner);
+    return failed ? EXIT_FAILURE : EXIT_SUCCESS;
+}
