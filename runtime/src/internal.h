@@ -181,6 +181,7 @@ perma_status perma_set_common_args(perma_runtime *rt, cl_kernel kernel, cl_uint 
 
 /* steps.c: the host-driven techniques. */
 perma_status perma_run_steps(perma_runtime *rt, double deadline);
+perma_status perma_warm_up_steps(perma_runtime *rt);
 
 /* run.c */
 perma_status perma_kernel_status_error(perma_runtime *rt, const uint32_t *kernel_status);

@@ -58,6 +58,48 @@ static perma_status report_build_failure(perma_runtime *rt, cl_int code)
     return perma_set_error(rt, PERMA_ERR_BUILD, "building the megakernel failed:\n%s", summary);
 }
 
+/* PoCL compiles a kernel for real at its first launch with a local size:
+ * launch each kernel the technique uses once on an empty state (no item
+ * outstanding, so every group leaves at once), so perma_build pays for the
+ * compile rather than the first perma_run. */
+static perma_status warm_up(perma_runtime *rt)
+{
+    unsigned queues = rt->queue_sets * rt->proc_count;
+    size_t ctl_words = perma_ctl_words(queues, rt->work_groups);
+    size_t stats_words = (size_t)rt->work_groups * perma_stat_group_words(rt->proc_count, rt->max_edges);
+    perma_status st = perma_ensure_buffer(rt, &rt->ctl_mem, &(size_t){ 0 }, ctl_words, "control block");
+    size_t stats_have = 0, data_have = rt->data_mem_words, seq_have = rt->seq_mem_words;
+    if (st == PERMA_OK)
+        st = perma_ensure_buffer(rt, &rt->stats_mem, &stats_have, stats_words, "statistics");
+    if (st == PERMA_OK)
+        st = perma_ensure_buffer(rt, &rt->data_mem, &data_have, 1, "queue items");
+    if (st == PERMA_OK)
+        st = perma_ensure_buffer(rt, &rt->seq_mem, &seq_have, 1, "queue sequence words");
+    if (st != PERMA_OK)
+        return st;
+    rt->data_mem_words = data_have;
+    rt->seq_mem_words = seq_have;
+    cl_uint zero = 0;
+    PERMA_CL_CHECK(rt, "clEnqueueFillBuffer (warm-up control block)",
+                   clEnqueueFillBuffer(rt->queue, rt->ctl_mem, &zero, sizeof zero, 0, ctl_words * 4, 0, NULL, NULL));
+    size_t local = rt->group_size;
+    if (rt->config.technique == PERMA_TECHNIQUE_MEGAKERNEL) {
+        __atomic_store_n(rt->abort_flag, 0u, __ATOMIC_SEQ_CST);
+        st = perma_set_common_args(rt, rt->kernel, 6);
+        if (st != PERMA_OK)
+            return st;
+        size_t global = (size_t)rt->work_groups * local;
+        PERMA_CL_CHECK(rt, "clEnqueueNDRangeKernel (warm-up)",
+                       clEnqueueNDRangeKernel(rt->queue, rt->kernel, 1, NULL, &global, &local, 0, NULL, NULL));
+    } else {
+        st = perma_warm_up_steps(rt);
+        if (st != PERMA_OK)
+            return st;
+    }
+    PERMA_CL_CHECK(rt, "clFinish (warm-up)", clFinish(rt->queue));
+    return PERMA_OK;
+}
+
 perma_status perma_build(perma_runtime *rt)
 {
     if (!rt)
@@ -112,6 +154,11 @@ perma_status perma_build(perma_runtime *rt)
             return perma_set_error(rt, PERMA_ERR_OPENCL, "clCreateKernel(%s) failed: %s (%d)", names[i],
                                    perma_cl_error_name(err), (int)err);
         }
+    }
+    st = warm_up(rt);
+    if (st != PERMA_OK) {
+        perma_release_program(rt);
+        return st;
     }
     rt->built = true;
     rt->message[0] = '\0';

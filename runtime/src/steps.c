@@ -94,6 +94,34 @@ static perma_status launch_step(perma_runtime *rt, unsigned q, uint32_t first, u
     return PERMA_OK;
 }
 
+/* Launch the take and step kernels once with no items (see warm_up in
+ * program.c): a step with count 0 runs one empty batch. */
+perma_status perma_warm_up_steps(perma_runtime *rt)
+{
+    perma_status st = perma_ensure_buffer(rt, &rt->input_mem, &rt->input_mem_words, 1, "step input");
+    if (st != PERMA_OK)
+        return st;
+    cl_uint zero = 0;
+    cl_mem fixed[] = { rt->ctl_mem, rt->data_mem, rt->seq_mem, rt->input_mem };
+    for (cl_uint i = 0; i < 4; ++i)
+        PERMA_CL_CHECK(rt, "clSetKernelArg (take)", clSetKernelArg(rt->take_kernel, i, sizeof(cl_mem), &fixed[i]));
+    for (cl_uint i = 4; i < 8; ++i)
+        PERMA_CL_CHECK(rt, "clSetKernelArg (take)", clSetKernelArg(rt->take_kernel, i, sizeof zero, &zero));
+    size_t take_global = 64;
+    PERMA_CL_CHECK(rt, "clEnqueueNDRangeKernel (take warm-up)",
+                   clEnqueueNDRangeKernel(rt->queue, rt->take_kernel, 1, NULL, &take_global, NULL, 0, NULL, NULL));
+    st = perma_set_common_args(rt, rt->step_kernel, 9);
+    if (st != PERMA_OK)
+        return st;
+    PERMA_CL_CHECK(rt, "clSetKernelArg (step)", clSetKernelArg(rt->step_kernel, 6, sizeof(cl_mem), &rt->input_mem));
+    PERMA_CL_CHECK(rt, "clSetKernelArg (step)", clSetKernelArg(rt->step_kernel, 7, sizeof zero, &zero));
+    PERMA_CL_CHECK(rt, "clSetKernelArg (step)", clSetKernelArg(rt->step_kernel, 8, sizeof zero, &zero));
+    size_t local = rt->group_size;
+    PERMA_CL_CHECK(rt, "clEnqueueNDRangeKernel (step warm-up)",
+                   clEnqueueNDRangeKernel(rt->queue, rt->step_kernel, 1, NULL, &local, &local, 0, NULL, NULL));
+    return PERMA_OK;
+}
+
 perma_status perma_run_steps(perma_runtime *rt, double deadline)
 {
     unsigned n = rt->proc_count;
