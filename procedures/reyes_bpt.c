@@ -5,6 +5,7 @@
  */
 #include <ctype.h>
 #include <errno.h>
+#include <sys/types.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -144,12 +145,26 @@ reyes_status reyes_scene_parse_bpt(reyes_scene *scene, const char *text, const c
     return REYES_OK;
 }
 
+/* Larger model files are refused before reading: REYES_MAX_PATCHES
+ * patches of text fit well below this, and reading more could exhaust
+ * memory. */
+#define REYES_MAX_FILE_BYTES ((size_t)4 << 30)
+
 /* Read a whole file into a NUL-terminated buffer. */
 static reyes_status read_file(const char *path, char **out, reyes_error *error)
 {
     FILE *f = fopen(path, "rb");
     if (!f)
         return reyes_fail(error, REYES_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+    if (fseeko(f, 0, SEEK_END) == 0) {
+        off_t length = ftello(f);
+        if (length > (off_t)REYES_MAX_FILE_BYTES) {
+            fclose(f);
+            return reyes_fail(error, REYES_ERR_FORMAT, "%s: file of %lld bytes is larger than the %zu bytes a "
+                              "model may have", path, (long long)length, REYES_MAX_FILE_BYTES);
+        }
+        rewind(f);
+    }
     size_t size = 0, capacity = 1 << 16;
     char *text = malloc(capacity);
     reyes_status status = text ? REYES_OK : REYES_ERR_NO_MEMORY;
@@ -165,6 +180,9 @@ static reyes_status read_file(const char *path, char **out, reyes_error *error)
         }
         size_t got = fread(text + size, 1, capacity - size - 1, f);
         size += got;
+        if (size > REYES_MAX_FILE_BYTES) /* a pipe or a file that grew */
+            status = reyes_fail(error, REYES_ERR_FORMAT, "%s: larger than the %zu bytes a model may have",
+                                path, REYES_MAX_FILE_BYTES);
         if (got == 0)
             break;
     }
