@@ -32,8 +32,8 @@
  *
  *     void NAME(perma_ctx *ctx, __local const ITEM_TYPE *item);
  *
- * called once per work-item assigned to the item (threads_per_item of them;
- * ctx->thread is 0..threads_per_item-1).  Inside it:
+ * called once per work-item assigned to the item (ctx->threads =
+ * threads_per_item of them; ctx->thread is 0..threads_per_item-1).  Inside it:
  *   - emit_TARGET(ctx, &child) queues one item for a procedure listed in
  *     .emits; `child` is a private variable of TARGET's item type.  Returns 1
  *     if staged, 0 if the item exceeded the declared per-item maximum (the run
@@ -222,7 +222,9 @@ typedef struct perma_procedure {
     const char *source_file;  /* path to read, and the name in compiler messages */
     const char *function;     /* name of the function in source */
     perma_emit emits[PERMA_MAX_EMITS]; /* ends at the first target == NULL */
-    int priority;             /* higher is served first; 0 = default order */
+    int priority;             /* higher is served first; ties: deeper in the emit graph
+                                 first.  Procedures that emit into each other in a
+                                 cycle must differ in priority (checked at build) */
     int cooperative;          /* 1: called by all work-items, may use barrier() */
 } perma_procedure;
 
@@ -249,8 +251,12 @@ perma_status perma_bind_cl(perma_runtime *rt, const char *name, const char *type
 perma_status perma_bind_host(perma_runtime *rt, const char *name, const char *type,
                              void *host, size_t bytes, unsigned flags);
 
-/* Generate and compile the megakernel now (perma_run does it when needed).
- * A compile error in a procedure reports the procedure's file and line. */
+/* Generate and compile the megakernel now (perma_run does it when needed),
+ * including the driver's compile at the first launch.  A compile error in a
+ * procedure reports the procedure's file and line; the build also checks
+ * that emit targets exist, each function is defined in its sources and
+ * cycles are ordered by priority.  Item types that something emits must be
+ * declared in a shared source (perma_add_source). */
 perma_status perma_build(perma_runtime *rt);
 
 /* Queue `count` items of procedure `proc` (item_size bytes each) for the next run. */
