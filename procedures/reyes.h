@@ -110,6 +110,8 @@ int reyes_camera_project(const float m[16], unsigned width, unsigned height, con
 
 /* ---- Rendering ---- */
 
+enum { REYES_CRACK_FIX_NONE, REYES_CRACK_FIX_STITCH };
+
 typedef struct reyes_options {
     unsigned width, height;
     float bound_px;       /* dice below this screen bound (default 8) */
@@ -127,6 +129,11 @@ typedef struct reyes_options {
      * patches outside the tile; 0 x 0 (default) renders the whole image at
      * once.  The image is the same either way. */
     unsigned bucket_width, bucket_height;
+    /* Cracks between grids diced at different rates (T-junctions) and
+     * between base patches: REYES_CRACK_FIX_STITCH (default) fills them
+     * with zipper strips (two passes: subdivide, then dice and stitch),
+     * REYES_CRACK_FIX_NONE leaves them. */
+    unsigned crack_fix;
     /* Scheduling, passed to perma_config when the renderer is created;
      * 0 = the runtime's default. */
     unsigned work_groups;
@@ -159,7 +166,7 @@ typedef struct reyes_image {
 void reyes_image_free(reyes_image *image);
 
 enum { REYES_PROC_BOUND, REYES_PROC_SPLIT_U, REYES_PROC_SPLIT_V, REYES_PROC_DICE,
-       REYES_PROC_RASTERIZE, REYES_PROC_COUNT };
+       REYES_PROC_RASTERIZE, REYES_PROC_STITCH, REYES_PROC_COUNT };
 
 typedef struct reyes_stats {
     uint64_t patches_in;
@@ -169,7 +176,9 @@ typedef struct reyes_stats {
     uint64_t forced_dice;     /* grids diced because of the depth limit */
     uint64_t micropolygons;
     uint64_t samples_written;
-    size_t peak_queue_bytes;  /* largest of any bucket */
+    uint64_t stitches;        /* edges stitched (stitch items) */
+    uint64_t fillers;         /* crack-filling triangles in front of the eye */
+    size_t peak_queue_bytes;  /* largest of any run */
     double seconds;           /* perma_run wall time (sum over buckets) */
     /* Buckets: columns x rows, and each bucket's peak queue memory (row
      * by row; allocated only for bucketed renders, else NULL and the one

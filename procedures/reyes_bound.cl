@@ -75,6 +75,23 @@ float reyes_world_extent(const float3 cp[16], int along_u)
     return longest;
 }
 
+/* First pass of crack stitching: append the sub-patch to dice and its
+ * screen box to the leaves buffer (the count goes on past the capacity, so
+ * the host can retry with a larger buffer). */
+void reyes_record_leaf(perma_ctx *ctx, const struct reyes_subpatch *sp, float2 lo, float2 hi)
+{
+    __global const struct reyes_params *p = ctx->buf.params;
+    uint index = atomic_inc(&ctx->buf.counters[REYES_COUNT_LEAVES]);
+    if (index >= p->leaf_capacity)
+        return;
+    __global struct reyes_leaf *leaf = &ctx->buf.leaves[index];
+    leaf->sp = *sp;
+    leaf->lo_x = lo.x;
+    leaf->lo_y = lo.y;
+    leaf->hi_x = hi.x;
+    leaf->hi_y = hi.y;
+}
+
 void reyes_bound(perma_ctx *ctx, __local const struct reyes_subpatch *item)
 {
     __global const struct reyes_params *p = ctx->buf.params;
@@ -123,7 +140,10 @@ void reyes_bound(perma_ctx *ctx, __local const struct reyes_subpatch *item)
     if (forced || fmax(size.x, size.y) <= p->bound_px) {
         if (forced)
             atomic_inc(&counters[REYES_COUNT_FORCED_DICE]);
-        emit_dice(ctx, &sp);
+        if (p->record_leaves)
+            reyes_record_leaf(ctx, &sp, lo, hi);
+        else
+            emit_dice(ctx, &sp);
     } else if (reyes_hull_extent(s, 1) >= reyes_hull_extent(s, 0)) {
         emit_split_u(ctx, &sp);
     } else {

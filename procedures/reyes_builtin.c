@@ -9,14 +9,16 @@
 
 /* Control-point offset of the cubic Bézier quarter circle. */
 #define QUARTER_K 0.5522847498f
-#define HALF_PI 1.57079632679f
 
-/* Cubic Bézier approximation of the unit circle arc from angle a to
- * a + 90 degrees: out[k] = (cos, sin) like control point k. */
-static void quarter_arc(float a, float out[4][2])
+/* Cubic Bézier approximation of the unit circle arc from quarter * 90
+ * degrees to (quarter + 1) * 90 degrees: out[k] = (cos, sin) like control
+ * point k.  The end points are exact (0 or +-1), so neighbouring arcs share
+ * them bit for bit and the swept surfaces close without a seam. */
+static void quarter_arc(int quarter, float out[4][2])
 {
-    float b = a + HALF_PI;
-    float ca = cosf(a), sa = sinf(a), cb = cosf(b), sb = sinf(b);
+    static const float cosines[4] = {1.0f, 0.0f, -1.0f, 0.0f};
+    int qa = ((quarter % 4) + 4) % 4, qb = (qa + 1) % 4;
+    float ca = cosines[qa], sa = cosines[(qa + 3) % 4], cb = cosines[qb], sb = cosines[(qb + 3) % 4];
     out[0][0] = ca;
     out[0][1] = sa;
     out[1][0] = ca - QUARTER_K * sa;
@@ -34,7 +36,7 @@ static reyes_status add_revolution(reyes_scene *scene, const float center[3],
 {
     for (int quarter = 0; quarter < 4; ++quarter) {
         float arc[4][2];
-        quarter_arc((float)quarter * HALF_PI, arc);
+        quarter_arc(quarter, arc);
         float cp[4][4][3];
         for (int r = 0; r < 4; ++r) {
             for (int c = 0; c < 4; ++c) {
@@ -59,7 +61,7 @@ reyes_status reyes_scene_add_sphere(reyes_scene *scene, const float center[3], f
      * to the north pole. */
     for (int half = 0; half < 2; ++half) {
         float arc[4][2], profile[4][2];
-        quarter_arc(-HALF_PI + (float)half * HALF_PI, arc);
+        quarter_arc(half - 1, arc);
         for (int k = 0; k < 4; ++k) {
             profile[k][0] = radius * arc[k][0];
             profile[k][1] = radius * arc[k][1];
@@ -80,7 +82,7 @@ reyes_status reyes_scene_add_torus(reyes_scene *scene, const float center[3], fl
         return reyes_fail(error, REYES_ERR_ARGUMENT, "torus needs 0 < minor radius < major radius");
     for (int quarter = 0; quarter < 4; ++quarter) {
         float arc[4][2], profile[4][2];
-        quarter_arc((float)quarter * HALF_PI, arc);
+        quarter_arc(quarter, arc);
         for (int k = 0; k < 4; ++k) {
             profile[k][0] = major + minor * arc[k][0];
             profile[k][1] = minor * arc[k][1];

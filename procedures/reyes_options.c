@@ -20,6 +20,7 @@ void reyes_options_init(reyes_options *options)
     options->technique = PERMA_TECHNIQUE_MEGAKERNEL;
     options->strategy = PERMA_STRATEGY_SHARED;
     options->victim = PERMA_VICTIM_RANDOM;
+    options->crack_fix = REYES_CRACK_FIX_STITCH;
 }
 
 reyes_status reyes_options_check(const reyes_options *o, reyes_error *error)
@@ -49,6 +50,9 @@ reyes_status reyes_options_check(const reyes_options *o, reyes_error *error)
     if (o->stages > REYES_STAGES_SUBDIVIDE)
         return reyes_fail(error, REYES_ERR_ARGUMENT, "stages %u is not %u..%u", o->stages,
                           REYES_STAGES_ALL, REYES_STAGES_SUBDIVIDE);
+    if (o->crack_fix > REYES_CRACK_FIX_STITCH)
+        return reyes_fail(error, REYES_ERR_ARGUMENT, "crack fix %u is not %u (none) or %u (stitch)",
+                          o->crack_fix, REYES_CRACK_FIX_NONE, REYES_CRACK_FIX_STITCH);
     if ((o->bucket_width == 0) != (o->bucket_height == 0))
         return reyes_fail(error, REYES_ERR_ARGUMENT, "bucket %ux%u: both sides or neither must be 0",
                           o->bucket_width, o->bucket_height);

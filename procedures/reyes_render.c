@@ -5,6 +5,7 @@
 
 #include "reyes_render_stats.h"
 #include "reyes_renderer_internal.h"
+#include "reyes_stitch_plan.h"
 #include "reyes_shared.h"
 
 #define EMPTY_SAMPLE UINT64_MAX
@@ -23,8 +24,27 @@ typedef struct render_buffers {
     struct reyes_params params;
     uint32_t counters[REYES_COUNTERS];
     uint64_t *samples;              /* one bucket's samples */
-    struct reyes_subpatch *seeds;
+    struct reyes_subpatch *seeds;   /* one per base patch */
+    /* Crack stitching: the leaves of the first pass, the plan, and the
+     * seeds of one bucket (dice: leaves, stitch: items). */
+    int stitched;
+    struct reyes_leaf *leaves;
+    size_t leaf_count, leaf_capacity;
+    reyes_stitch_plan plan;
+    struct reyes_subpatch *dice_seeds;
+    struct reyes_stitch *stitch_seeds;
+    size_t dice_seed_count, stitch_seed_count;
 } render_buffers;
+
+static void free_buffers(render_buffers *b)
+{
+    free(b->samples);
+    free(b->seeds);
+    free(b->leaves);
+    free(b->dice_seeds);
+    free(b->stitch_seeds);
+    reyes_stitch_plan_free(&b->plan);
+}
 
 /* A bucket: pixels [x0,x1) x [y0,y1) of the image. */
 typedef struct tile {
@@ -113,9 +133,12 @@ static size_t tile_samples(const reyes_options *o, tile t)
     return (size_t)(t.x1 - t.x0) * (t.y1 - t.y0) * o->spp;
 }
 
-static perma_status bind_and_seed(reyes_renderer *r, const reyes_scene *scene,
-                                  const reyes_options *o, tile t, render_buffers *b)
+/* Bind every buffer for a run over tile t (unused ones get a dummy). */
+static perma_status bind_buffers(reyes_renderer *r, const reyes_scene *scene,
+                                 const reyes_options *o, tile t, render_buffers *b)
 {
+    static struct reyes_leaf no_leaf;
+    static struct reyes_stitch_piece no_piece;
     perma_runtime *rt = r->rt;
     perma_status s = perma_bind_host(rt, "patches", "__global const float4 *", scene->points,
                                      scene->patch_count * 64 * sizeof(float), PERMA_READ);
@@ -128,11 +151,38 @@ static perma_status bind_and_seed(reyes_renderer *r, const reyes_scene *scene,
     if (s == PERMA_OK)
         s = perma_bind_host(rt, "counters", "__global uint *", b->counters, sizeof b->counters,
                             PERMA_READ_WRITE);
+    /* The first pass of stitching rasterizes nothing (and its tile, the
+     * whole image, may be larger than the bucket's sample buffer). */
+    int recording = b->params.record_leaves != 0;
     if (s == PERMA_OK)
         s = perma_bind_host(rt, "samples", "__global ulong *", b->samples,
-                            tile_samples(o, t) * sizeof *b->samples, PERMA_READ_WRITE);
+                            (recording ? 1 : tile_samples(o, t)) * sizeof *b->samples,
+                            PERMA_READ_WRITE);
     if (s == PERMA_OK)
-        s = perma_seed(rt, r->procs[REYES_PROC_BOUND], b->seeds, scene->patch_count);
+        s = perma_bind_host(rt, "leaves", "__global struct reyes_leaf *",
+                            recording ? (void *)b->leaves : (void *)&no_leaf,
+                            recording ? b->leaf_capacity * sizeof *b->leaves : sizeof no_leaf,
+                            recording ? PERMA_WRITE : PERMA_READ);
+    int pieces = b->plan.piece_count > 0;
+    if (s == PERMA_OK)
+        s = perma_bind_host(rt, "pieces", "__global const struct reyes_stitch_piece *",
+                            pieces ? (void *)b->plan.pieces : (void *)&no_piece,
+                            pieces ? b->plan.piece_count * sizeof *b->plan.pieces : sizeof no_piece,
+                            PERMA_READ);
+    return s;
+}
+
+/* Seed the run: bound with every base patch, or (stitched) dice with the
+ * bucket's leaves and stitch with its items. */
+static perma_status seed(reyes_renderer *r, const reyes_scene *scene, render_buffers *b)
+{
+    if (!b->stitched || b->params.record_leaves)
+        return perma_seed(r->rt, r->procs[REYES_PROC_BOUND], b->seeds, scene->patch_count);
+    perma_status s = PERMA_OK;
+    if (b->dice_seed_count)
+        s = perma_seed(r->rt, r->procs[REYES_PROC_DICE], b->dice_seeds, b->dice_seed_count);
+    if (s == PERMA_OK && b->stitch_seed_count)
+        s = perma_seed(r->rt, r->procs[REYES_PROC_STITCH], b->stitch_seeds, b->stitch_seed_count);
     return s;
 }
 
@@ -190,30 +240,125 @@ static void count_stats(const reyes_scene *scene, const render_buffers *b, reyes
     stats->grids = b->counters[REYES_COUNT_GRIDS];
     stats->forced_dice = b->counters[REYES_COUNT_FORCED_DICE];
     stats->micropolygons = b->counters[REYES_COUNT_MICROPOLYGONS];
+    stats->fillers = b->counters[REYES_COUNT_FILLERS];
+    stats->stitches = stats->procedures[REYES_PROC_STITCH].items;
 }
 
-/* Render one tile: a perma run (unless the scene is empty), then resolve.
- * *call names what failed. */
+/* One perma run over tile t with the seeds of the current mode; adds its
+ * statistics.  *call names what failed. */
+static perma_status run_tile(reyes_renderer *r, const reyes_scene *scene, const reyes_options *o,
+                             tile t, render_buffers *b, reyes_stats *stats, size_t *peak_bytes,
+                             const char **call)
+{
+    *call = "binding the scene";
+    perma_status ps = bind_buffers(r, scene, o, t, b);
+    if (ps == PERMA_OK)
+        ps = seed(r, scene, b);
+    if (ps == PERMA_OK) {
+        *call = "perma_run";
+        ps = perma_run(r->rt);
+    }
+    if (ps == PERMA_OK) {
+        *call = "reading the statistics";
+        ps = add_run_stats(r, stats, peak_bytes);
+    }
+    return ps;
+}
+
+/* First pass of crack stitching, over the whole image: bound and split
+ * record the sub-patches to dice (retrying with a larger buffer if they
+ * did not fit), then the stitch plan is built from them. */
+static reyes_status subdivide_and_plan(reyes_renderer *r, const reyes_scene *scene,
+                                       const reyes_options *o, render_buffers *b,
+                                       reyes_stats *stats, reyes_error *error)
+{
+    tile whole = { 0, 0, o->width, o->height };
+    set_tile(&b->params, o, whole);
+    b->params.record_leaves = 1;
+    b->leaf_capacity = scene->patch_count * 16 + 1024;
+    for (;;) {
+        struct reyes_leaf *grown = realloc(b->leaves, b->leaf_capacity * sizeof *grown);
+        if (!grown)
+            return reyes_fail(error, REYES_ERR_NO_MEMORY, "out of memory for %zu grids",
+                              b->leaf_capacity);
+        b->leaves = grown;
+        b->params.leaf_capacity = (uint32_t)b->leaf_capacity;
+        memset(b->counters, 0, sizeof b->counters);
+        reyes_stats attempt = *stats;
+        const char *call = "";
+        size_t peak;
+        perma_status ps = run_tile(r, scene, o, whole, b, &attempt, &peak, &call);
+        if (ps != PERMA_OK)
+            return reyes_runtime_error(r, call, ps, error);
+        size_t recorded = b->counters[REYES_COUNT_LEAVES];
+        if (recorded <= b->leaf_capacity) {
+            *stats = attempt;
+            b->leaf_count = recorded;
+            break;
+        }
+        b->leaf_capacity = recorded;
+    }
+    b->params.record_leaves = 0;
+    reyes_leaves_sort(b->leaves, b->leaf_count);
+    b->dice_seeds = malloc((b->leaf_count ? b->leaf_count : 1) * sizeof *b->dice_seeds);
+    if (!b->dice_seeds)
+        return reyes_fail(error, REYES_ERR_NO_MEMORY, "out of memory for %zu grids", b->leaf_count);
+    reyes_status status = reyes_stitch_plan_build(scene, b->leaves, b->leaf_count, &b->plan, error);
+    if (status != REYES_OK)
+        return status;
+    b->stitch_seeds = malloc((b->plan.item_count ? b->plan.item_count : 1) * sizeof *b->stitch_seeds);
+    if (!b->stitch_seeds)
+        return reyes_fail(error, REYES_ERR_NO_MEMORY, "out of memory for %zu stitches",
+                          b->plan.item_count);
+    return REYES_OK;
+}
+
+/* 1 if screen box (lo_x, lo_y, hi_x, hi_y) reaches tile t widened by the
+ * cull margin; always 1 without buckets. */
+static int box_meets_tile(const reyes_options *o, tile t, float lo_x, float lo_y, float hi_x,
+                          float hi_y)
+{
+    if (o->bucket_width == 0)
+        return 1;
+    float mx = o->cull_margin * 0.5f * (float)o->width, my = o->cull_margin * 0.5f * (float)o->height;
+    return hi_x >= (float)t.x0 - mx && lo_x <= (float)t.x1 + mx && hi_y >= (float)t.y0 - my
+           && lo_y <= (float)t.y1 + my;
+}
+
+/* The stitched seeds of tile t: leaves and stitch items whose screen box
+ * reaches it; the leaves left out count as culled. */
+static void select_stitched_seeds(const reyes_options *o, tile t, render_buffers *b)
+{
+    b->dice_seed_count = b->stitch_seed_count = 0;
+    for (size_t l = 0; l < b->leaf_count; ++l) {
+        const struct reyes_leaf *leaf = &b->leaves[l];
+        if (box_meets_tile(o, t, leaf->lo_x, leaf->lo_y, leaf->hi_x, leaf->hi_y))
+            b->dice_seeds[b->dice_seed_count++] = leaf->sp;
+        else
+            ++b->counters[REYES_COUNT_CULLED];
+    }
+    for (size_t k = 0; k < b->plan.item_count; ++k) {
+        const float *box = b->plan.item_boxes[k];
+        if (box_meets_tile(o, t, box[0], box[1], box[2], box[3]))
+            b->stitch_seeds[b->stitch_seed_count++] = b->plan.items[k];
+    }
+}
+
+/* Render one tile: a perma run (unless there is nothing to seed), then
+ * resolve.  *call names what failed. */
 static perma_status render_tile(reyes_renderer *r, const reyes_scene *scene, const reyes_options *o,
                                 tile t, render_buffers *b, reyes_image *image, reyes_stats *stats,
                                 size_t *peak_bytes, const char **call)
 {
     memset(b->samples, 0xff, tile_samples(o, t) * sizeof *b->samples);
     set_tile(&b->params, o, t);
+    if (b->stitched)
+        select_stitched_seeds(o, t, b);
+    int work = b->stitched ? b->dice_seed_count + b->stitch_seed_count > 0 : scene->patch_count > 0;
     perma_status ps = PERMA_OK;
     *peak_bytes = 0;
-    if (scene->patch_count > 0) {
-        *call = "binding the scene";
-        ps = bind_and_seed(r, scene, o, t, b);
-        if (ps == PERMA_OK) {
-            *call = "perma_run";
-            ps = perma_run(r->rt);
-        }
-        if (ps == PERMA_OK) {
-            *call = "reading the statistics";
-            ps = add_run_stats(r, stats, peak_bytes);
-        }
-    }
+    if (work)
+        ps = run_tile(r, scene, o, t, b, stats, peak_bytes, call);
     if (ps == PERMA_OK)
         stats->samples_written += resolve(b->samples, o, t, image);
     return ps;
@@ -233,6 +378,13 @@ static reyes_status render_buckets(reyes_renderer *r, const reyes_scene *scene,
         stats->bucket_peak_queue_bytes = calloc(count, sizeof *stats->bucket_peak_queue_bytes);
         if (!stats->bucket_peak_queue_bytes)
             return reyes_fail(error, REYES_ERR_NO_MEMORY, "out of memory for %zu buckets", count);
+    }
+    b->stitched = o->crack_fix == REYES_CRACK_FIX_STITCH && o->stages == REYES_STAGES_ALL
+                  && scene->patch_count > 0;
+    if (b->stitched) {
+        reyes_status status = subdivide_and_plan(r, scene, o, b, stats, error);
+        if (status != REYES_OK)
+            return status;
     }
     for (size_t k = 0; k < count; ++k) {
         unsigned column = (unsigned)(k % stats->bucket_columns);
@@ -276,8 +428,7 @@ reyes_status reyes_render(reyes_renderer *r, const reyes_scene *scene, const rey
         status = allocate(scene, options, &b, image, error);
     if (status == REYES_OK)
         status = render_buckets(r, scene, options, &b, image, stats, error);
-    free(b.samples);
-    free(b.seeds);
+    free_buffers(&b);
     if (status != REYES_OK)
         reyes_image_free(image);
     if (status != REYES_OK || stats == &local)

@@ -46,10 +46,18 @@ static perma_status register_all(struct reyes_renderer *r)
             .item_size = sizeof(struct reyes_quad), .threads_per_item = 1,
             .source = reyes_rasterize_cl_source, .source_file = "reyes_rasterize.cl",
             .function = "reyes_rasterize", .priority = 4 },
+        [REYES_PROC_STITCH] = { .name = "stitch", .item_type = "struct reyes_stitch",
+            .item_size = sizeof(struct reyes_stitch), .threads_per_item = 1,
+            .source = reyes_stitch_cl_source, .source_file = "reyes_stitch.cl",
+            .function = "reyes_stitch", .priority = 4 },
     };
     perma_status status = perma_add_source(r->rt, reyes_shared_h_source, "reyes_shared.h");
     if (status == PERMA_OK)
         status = perma_add_source(r->rt, reyes_common_cl_source, "reyes_common.cl");
+    if (status == PERMA_OK)
+        status = perma_add_source(r->rt, reyes_sample_cl_source, "reyes_sample.cl");
+    if (status == PERMA_OK)
+        status = perma_add_source(r->rt, reyes_surface_cl_source, "reyes_surface.cl");
     for (int p = 0; p < REYES_PROC_COUNT && status == PERMA_OK; ++p)
         status = perma_register(r->rt, &procedures[p], &r->procs[p]);
     return status;

@@ -31,6 +31,41 @@ struct reyes_quad {
     REYES_U32 rgba[4];
 };
 
+/* A diced sub-patch as recorded by bound when cracks are stitched (first
+ * pass): the sub-patch and its control hull's screen box, for culling per
+ * bucket on the host. */
+struct reyes_leaf {
+    struct reyes_subpatch sp;
+    float lo_x, lo_y, hi_x, hi_y;
+};
+
+/* Edges of a sub-patch, in the order of reyes_stitch.edge. */
+#define REYES_EDGE_V0 0 /* v = v0, along u */
+#define REYES_EDGE_U1 1 /* u = u1, along v */
+#define REYES_EDGE_V1 2 /* v = v1, along u */
+#define REYES_EDGE_U0 3 /* u = u0, along v */
+
+/* One piece of an edge's neighbour: the neighbour sub-patch, which of its
+ * edges touches, and whether it runs against the owner's edge direction. */
+struct reyes_stitch_piece {
+    struct reyes_subpatch sp;
+    REYES_U32 edge;
+    REYES_U32 reversed;
+    float t0, t1;      /* the span it covers along the owner's edge, 0..1 */
+};
+
+/* The work item of the stitch procedure: one edge of a diced sub-patch
+ * (the owner) and the neighbours' edges that cover a contiguous span of
+ * it, pieces [first, first + count) of the piece buffer in the owner's
+ * edge order. */
+struct reyes_stitch {
+    struct reyes_subpatch owner;
+    REYES_U32 edge;
+    REYES_U32 first;
+    REYES_U32 count;
+    REYES_U32 pad;
+};
+
 /* __local bytes per grid vertex of dice (struct reyes_vertex: float4 + uint,
  * padded to the float4 alignment). */
 #define REYES_DICE_VERTEX_BYTES 32
@@ -41,6 +76,8 @@ struct reyes_quad {
 #define REYES_COUNT_GRIDS 2
 #define REYES_COUNT_MICROPOLYGONS 3
 #define REYES_COUNT_FORCED_DICE 4 /* diced because the depth limit was hit */
+#define REYES_COUNT_LEAVES 5      /* sub-patches recorded by bound (stitching) */
+#define REYES_COUNT_FILLERS 6     /* crack-filling triangles rasterized by stitch */
 #define REYES_COUNTERS 8
 
 /* Which stages a render runs (reyes_params.stages), for timing stages by
@@ -71,6 +108,11 @@ struct reyes_params {
     REYES_U32 backface_cull; /* 1: drop patches facing away entirely */
     REYES_U32 dice_threads;  /* threads_per_item of the dice procedure */
     REYES_U32 stages;        /* REYES_STAGES_* */
+    /* 1: bound records the sub-patches to dice in the leaves buffer (up
+     * to leaf_capacity, counted in REYES_COUNT_LEAVES) instead of emitting
+     * them: the first pass of crack stitching. */
+    REYES_U32 record_leaves;
+    REYES_U32 leaf_capacity;
     REYES_U32 pad;
     /* The bucket (tile) this run renders, in pixels: [tile_x0,tile_x1) x
      * [tile_y0,tile_y1) (the whole image without buckets).  The sample

@@ -53,6 +53,8 @@ reyes_status reyes_write_stats_json(FILE *out, const reyes_stats *s, const reyes
     fprintf(out, "  \"forced_dice\": %" PRIu64 ",\n", s->forced_dice);
     fprintf(out, "  \"micropolygons\": %" PRIu64 ",\n", s->micropolygons);
     fprintf(out, "  \"samples_written\": %" PRIu64 ",\n", s->samples_written);
+    fprintf(out, "  \"crack_fix\": \"%s\", \"stitches\": %" PRIu64 ", \"fillers\": %" PRIu64 ",\n",
+            o->crack_fix == REYES_CRACK_FIX_STITCH ? "stitch" : "none", s->stitches, s->fillers);
     fprintf(out, "  \"peak_queue_bytes\": %zu,\n", s->peak_queue_bytes);
     write_buckets(out, s, o);
     fprintf(out, "  \"seconds\": %.6f,\n", s->seconds);

@@ -129,6 +129,17 @@ static int on_bucket(reyes_cli *cli, const char *value, char *message, size_t si
     return REYES_CLI_OK;
 }
 
+static int on_crack_fix(reyes_cli *cli, const char *value, char *message, size_t size)
+{
+    if (strcmp(value, "none") == 0)
+        cli->render.crack_fix = REYES_CRACK_FIX_NONE;
+    else if (strcmp(value, "stitch") == 0)
+        cli->render.crack_fix = REYES_CRACK_FIX_STITCH;
+    else
+        return usage_error(message, size, "unknown crack fix '%s'; valid: %s", value, "none stitch");
+    return REYES_CLI_OK;
+}
+
 static int on_bound(reyes_cli *cli, const char *value, char *message, size_t size)
 {
     if (!parse_float(value, &cli->render.bound_px) || cli->render.bound_px < 0.5f)
@@ -266,6 +277,8 @@ static const cli_option options[] = {
     { "output", 'o', "FILE", on_output, "PNG to write (default reyes.png)" },
     { "size", 0, "WxH", on_size, "image size in pixels (default 512x512)" },
     { "bucket", 0, "WxH", on_bucket, "render in screen tiles of WxH pixels (default: one)" },
+    { "crack-fix", 0, "NAME", on_crack_fix,
+      "stitch (default: fill cracks between grids) or none" },
     { "bound", 0, "PX", on_bound, "dice patches whose screen bound is at most PX (default 8)" },
     { "grid", 0, "N", on_grid, "grid vertices per side when dicing (default 16)" },
     { "spp", 0, "N", on_spp, "jittered samples per pixel (default 4)" },

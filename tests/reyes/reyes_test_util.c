@@ -1,5 +1,6 @@
 /* Helpers for the Reyes rendering tests. */
 #include <check.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -14,12 +15,17 @@ uint64_t reyes_test_covered_samples(const reyes_image *image)
     return total;
 }
 
-size_t reyes_test_hole_pixels(const reyes_image *image, size_t max_region)
+/* Uncovered regions (4- or 8-connected) under max_region pixels that do
+ * not touch the border; with a reference image, only regions the
+ * reference covers entirely (a region it shows open too is a real gap). */
+static size_t enclosed_pixels(const reyes_image *image, size_t max_region, int diagonal,
+                              const reyes_image *reference)
 {
     size_t w = image->width, h = image->height, holes = 0;
     size_t *stack = malloc(w * h * sizeof *stack);
+    size_t *region = malloc(w * h * sizeof *region);
     uint8_t *seen = calloc(w * h, 1);
-    ck_assert(stack && seen);
+    ck_assert(stack && region && seen);
     for (size_t start = 0; start < w * h; ++start) {
         if (seen[start] || image->coverage[start])
             continue;
@@ -30,23 +36,41 @@ size_t reyes_test_hole_pixels(const reyes_image *image, size_t max_region)
         seen[start] = 1;
         while (top) {
             size_t p = stack[--top], x = p % w, y = p / w;
-            ++size;
+            region[size++] = p;
             touches_border |= x == 0 || y == 0 || x == w - 1 || y == h - 1;
-            size_t next[4] = {x > 0 ? p - 1 : p, x + 1 < w ? p + 1 : p, y > 0 ? p - w : p,
-                              y + 1 < h ? p + w : p};
-            for (int k = 0; k < 4; ++k) {
+            int left = x > 0, right = x + 1 < w, up = y > 0, down = y + 1 < h;
+            size_t next[8] = {left ? p - 1 : p, right ? p + 1 : p, up ? p - w : p,
+                              down ? p + w : p, left && up ? p - w - 1 : p,
+                              right && up ? p - w + 1 : p, left && down ? p + w - 1 : p,
+                              right && down ? p + w + 1 : p};
+            for (int k = 0; k < (diagonal ? 8 : 4); ++k) {
                 if (!seen[next[k]] && !image->coverage[next[k]]) {
                     seen[next[k]] = 1;
                     stack[top++] = next[k];
                 }
             }
         }
-        if (!touches_border && size < max_region)
-            holes += size;
+        if (touches_border || size >= max_region)
+            continue;
+        int covered = 1;
+        for (size_t k = 0; reference && k < size; ++k)
+            covered &= reference->coverage[region[k]] > 0;
+        holes += covered ? size : 0;
     }
     free(stack);
+    free(region);
     free(seen);
     return holes;
+}
+
+size_t reyes_test_hole_pixels(const reyes_image *image, size_t max_region)
+{
+    return enclosed_pixels(image, max_region, 0, NULL);
+}
+
+size_t reyes_test_enclosed_pixels(const reyes_image *image, size_t max_region)
+{
+    return enclosed_pixels(image, max_region, 1, NULL);
 }
 
 void reyes_test_render(reyes_renderer *renderer, const reyes_scene *scene,
@@ -95,4 +119,51 @@ void reyes_test_expect_reference_counts(const reyes_scene *scene, const reyes_ca
     ck_assert_uint_eq(stats->grids, counts.grids);
     ck_assert_uint_eq(stats->forced_dice, counts.forced_dice);
     ck_assert_uint_eq(stats->micropolygons, counts.micropolygons);
+}
+
+/* xorshift32: a fixed sequence of camera positions. */
+static float next_unit(uint32_t *state)
+{
+    uint32_t x = *state;
+    x ^= x << 13;
+    x ^= x >> 17;
+    x ^= x << 5;
+    *state = x;
+    return (float)(x >> 8) * (1.0f / 16777216.0f);
+}
+
+size_t reyes_test_holes_from_random_views(reyes_renderer *renderer, const reyes_scene *scene,
+                                          const reyes_options *options,
+                                          const reyes_options *reference, unsigned views,
+                                          unsigned seed, size_t max_region)
+{
+    float lo[3], hi[3], center[3], radius = 0.0f;
+    ck_assert(reyes_scene_bounds(scene, lo, hi));
+    for (int k = 0; k < 3; ++k) {
+        center[k] = 0.5f * (lo[k] + hi[k]);
+        radius += 0.25f * (hi[k] - lo[k]) * (hi[k] - lo[k]);
+    }
+    radius = sqrtf(radius);
+    uint32_t state = seed ? seed : 1u;
+    size_t holes = 0;
+    for (unsigned v = 0; v < views; ++v) {
+        /* A uniform direction, a distance, and a target near the center. */
+        float z = 2.0f * next_unit(&state) - 1.0f, phi = 6.2831853f * next_unit(&state);
+        float r = sqrtf(fmaxf(0.0f, 1.0f - z * z));
+        float distance = radius * (2.5f + 3.5f * next_unit(&state));
+        reyes_camera camera = { .fov_deg = 40.0f };
+        const float direction[3] = { r * cosf(phi), r * sinf(phi), z };
+        for (int k = 0; k < 3; ++k) {
+            camera.eye[k] = center[k] + distance * direction[k];
+            camera.at[k] = center[k] + 0.2f * radius * (next_unit(&state) - 0.5f);
+        }
+        reyes_image image, truth = {0};
+        reyes_test_render(renderer, scene, &camera, options, &image, NULL);
+        if (reference)
+            reyes_test_render(renderer, scene, &camera, reference, &truth, NULL);
+        holes += enclosed_pixels(&image, max_region, 1, reference ? &truth : NULL);
+        reyes_image_free(&image);
+        reyes_image_free(&truth);
+    }
+    return holes;
 }

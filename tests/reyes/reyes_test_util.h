@@ -13,6 +13,23 @@ uint64_t reyes_test_covered_samples(const reyes_image *image);
  * larger regions.) */
 size_t reyes_test_hole_pixels(const reyes_image *image, size_t max_region);
 
+/* Hole pixels (reyes_test_enclosed_pixels with regions under max_region)
+ * summed over `views` renders of a scene at options (1 sample per pixel,
+ * crack_fix as given...), from random eyes (fixed seed) at 2.5 to 6
+ * bounding radii around its center.  With a reference (NULL: none), only
+ * hole regions that a render of the same view with the reference options
+ * covers entirely count: a model's real see-through gaps (the teapot's
+ * handle and spout) are open there too. */
+size_t reyes_test_holes_from_random_views(reyes_renderer *renderer, const reyes_scene *scene,
+                                          const reyes_options *options,
+                                          const reyes_options *reference, unsigned views,
+                                          unsigned seed, size_t max_region);
+
+/* The same with 8-connected regions: at 1 sample per pixel a pixel on a
+ * convex silhouette can have all four edge neighbours covered, but it
+ * touches the outside diagonally; a crack does not. */
+size_t reyes_test_enclosed_pixels(const reyes_image *image, size_t max_region);
+
 /* Render or fail the test with the library's message. */
 void reyes_test_render(reyes_renderer *renderer, const reyes_scene *scene,
                        const reyes_camera *camera, const reyes_options *options,

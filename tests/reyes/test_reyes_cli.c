@@ -27,6 +27,8 @@ START_TEST(test_defaults)
     ck_assert_str_eq(cli.output, "reyes.png");
     ck_assert_uint_eq(cli.render.width, 512);
     ck_assert_uint_eq(cli.render.grid, 16);
+    ck_assert_uint_eq(cli.render.crack_fix, REYES_CRACK_FIX_STITCH);
+    ck_assert_uint_eq(cli.render.bucket_width, 0);
     ck_assert(!cli.has_camera);
     reyes_cli_free(&cli);
 }
@@ -40,7 +42,7 @@ START_TEST(test_all_options)
                            "--grid", "8", "--spp", "9", "--max-depth", "12", "--camera",
                            "1,2,3,-4.5,0,1e1", "--fov", "30", "--technique", "megakernel",
                            "--strategy", "shared", "--stats", "s.json", "--groups", "2", "b.bpt",
-                           "--backface", "--bucket", "32x16", "--", "-c.bpt"),
+                           "--backface", "--bucket", "32x16", "--crack-fix", "none", "--", "-c.bpt"),
                      REYES_CLI_OK);
     ck_assert_uint_eq(cli.model_count, 3);
     ck_assert_str_eq(cli.models[0], "a.bpt");
@@ -62,6 +64,7 @@ START_TEST(test_all_options)
     ck_assert_int_eq(cli.render.backface_cull, 1);
     ck_assert_uint_eq(cli.render.bucket_width, 32);
     ck_assert_uint_eq(cli.render.bucket_height, 16);
+    ck_assert_uint_eq(cli.render.crack_fix, REYES_CRACK_FIX_NONE);
     reyes_cli_free(&cli);
 }
 END_TEST
@@ -106,6 +109,8 @@ START_TEST(test_bad_usage)
         { COUNT("--size", "0x10"), ARGS("--size", "0x10"), "--size" },
         { COUNT("--bucket", "0x8"), ARGS("--bucket", "0x8"), "--bucket" },
         { COUNT("--bucket", "64"), ARGS("--bucket", "64"), "--bucket '64': expected WxH" },
+        { COUNT("--crack-fix", "glue"), ARGS("--crack-fix", "glue"),
+          "unknown crack fix 'glue'; valid: none stitch" },
         { COUNT("--grid", "1"), ARGS("--grid", "1"), "--grid" },
         { COUNT("--grid", "99"), ARGS("--grid", "99"), "--grid" },
         { COUNT("--spp", "-1"), ARGS("--spp", "-1"), "--spp" },

@@ -1,0 +1,131 @@
+/*
+ * stitch: fill the crack along one edge of a diced sub-patch (the owner)
+ * whose neighbours across the edge were diced finer, or belong to another
+ * base patch.  The owner's edge vertices C_0..C_{n-1} and the neighbours'
+ * edge vertices F_0..F_m (piece after piece, in the owner's direction) are
+ * both evaluated with reyes_grid_vertex, so each is bit-identical to the
+ * vertex dice made for its grid.  A zipper triangulates the strip between
+ * the two polylines: every triangle edge C_i C_{i+1} or F_j F_{j+1} is
+ * exactly an edge of a grid triangle on the other side, so grids and
+ * strips together form an edge-conforming mesh and the canonical edge
+ * functions leave no sample uncovered between them.
+ */
+
+/* Grid coordinates (i, j) of vertex k along edge `edge` (k in the edge's
+ * own direction: increasing u or v). */
+int2 reyes_edge_vertex(uint edge, int k, int last)
+{
+    switch (edge) {
+    case REYES_EDGE_V0: return (int2)(k, 0);
+    case REYES_EDGE_U1: return (int2)(last, k);
+    case REYES_EDGE_V1: return (int2)(k, last);
+    default: return (int2)(0, k);
+    }
+}
+
+/* A shaded vertex of sub-patch sp's grid, evaluated as dice does. */
+struct reyes_vertex reyes_stitch_vertex(perma_ctx *ctx, const struct reyes_subpatch *sp, uint edge,
+                                        int k)
+{
+    __global const struct reyes_params *p = ctx->buf.params;
+    float3 cp[16];
+    reyes_load_patch(ctx->buf.patches, sp->patch, cp);
+    float3 base = reyes_unpack_rgb(ctx->buf.colors[sp->patch]);
+    int last = (int)p->grid - 1;
+    int2 ij = reyes_edge_vertex(edge, k, last);
+    return reyes_grid_vertex(p, cp, sp, base, ij.x, ij.y, 1);
+}
+
+/* Vertex j of the neighbours' polyline, in the owner's edge order, and its
+ * position along the owner's edge (0..1). */
+struct reyes_vertex reyes_piece_vertex(perma_ctx *ctx, uint first, int j, float *t)
+{
+    int last = (int)ctx->buf.params->grid - 1;
+    int n = last + 1;
+    struct reyes_stitch_piece piece = ctx->buf.pieces[first + (uint)(j / n)];
+    int k = j % n;
+    int own = piece.reversed ? last - k : k;
+    *t = piece.t0 + (piece.t1 - piece.t0) * ((float)k / (float)last);
+    return reyes_stitch_vertex(ctx, &piece.sp, piece.edge, own);
+}
+
+/* Rasterize triangle (a, b, c) over its pixel box clipped to the tile,
+ * with the same sample positions and atomic min as rasterize.  Returns 1
+ * if it was in front of the near plane. */
+int reyes_fill_triangle(perma_ctx *ctx, struct reyes_vertex a, struct reyes_vertex b,
+                        struct reyes_vertex c)
+{
+    __global const struct reyes_params *p = ctx->buf.params;
+    if (a.clip.w <= p->near_w || b.clip.w <= p->near_w || c.clip.w <= p->near_w)
+        return 0;
+    struct reyes_vertex v[3] = {a, b, c};
+    struct reyes_quad q;
+    for (int k = 0; k < 3; ++k) {
+        float2 s = reyes_to_screen(p, v[k].clip);
+        q.x[k] = s.x;
+        q.y[k] = s.y;
+        q.z[k] = v[k].clip.w;
+        q.rgba[k] = v[k].rgba;
+    }
+    q.x[3] = q.x[0];
+    q.y[3] = q.y[0];
+    q.z[3] = q.z[0];
+    q.rgba[3] = q.rgba[0];
+    float min_x = fmin(fmin(q.x[0], q.x[1]), q.x[2]), max_x = fmax(fmax(q.x[0], q.x[1]), q.x[2]);
+    float min_y = fmin(fmin(q.y[0], q.y[1]), q.y[2]), max_y = fmax(fmax(q.y[0], q.y[1]), q.y[2]);
+    if (max_x < p->tile_x0 || max_y < p->tile_y0 || min_x > p->tile_x1 || min_y > p->tile_y1)
+        return 1;
+    int x0 = (int)floor(clamp(min_x, p->tile_x0, p->tile_x1 - 1.0f));
+    int x1 = (int)floor(clamp(max_x, p->tile_x0, p->tile_x1 - 1.0f));
+    int y0 = (int)floor(clamp(min_y, p->tile_y0, p->tile_y1 - 1.0f));
+    int y1 = (int)floor(clamp(max_y, p->tile_y0, p->tile_y1 - 1.0f));
+    uint tile_x = (uint)p->tile_x0, tile_y = (uint)p->tile_y0;
+    uint tile_width = (uint)p->tile_x1 - tile_x, spp = p->spp;
+    for (int py = y0; py <= y1; ++py) {
+        for (int px = x0; px <= x1; ++px) {
+            for (uint s = 0; s < spp; ++s) {
+                float2 pos = reyes_sample_position((uint)px, (uint)py, s, spp);
+                uint index = (((uint)py - tile_y) * tile_width + ((uint)px - tile_x)) * spp + s;
+                reyes_sample_triangle(ctx->buf.samples, index, pos, &q, 0, 1, 2);
+            }
+        }
+    }
+    return 1;
+}
+
+void reyes_stitch(perma_ctx *ctx, __local const struct reyes_stitch *item)
+{
+    __global const struct reyes_params *p = ctx->buf.params;
+    struct reyes_stitch st = *item;
+    int last = (int)p->grid - 1;
+    /* The owner's vertices around the pieces' span [t_start, t_end]. */
+    struct reyes_stitch_piece first_piece = ctx->buf.pieces[st.first];
+    struct reyes_stitch_piece last_piece = ctx->buf.pieces[st.first + st.count - 1u];
+    int i = (int)floor(first_piece.t0 * (float)last);
+    int i_end = (int)ceil(last_piece.t1 * (float)last);
+    int j = 0, j_end = (int)st.count * (last + 1) - 1;
+    float tf, tf_next;
+    struct reyes_vertex c = reyes_stitch_vertex(ctx, &st.owner, st.edge, i);
+    struct reyes_vertex f = reyes_piece_vertex(ctx, st.first, j, &tf);
+    uint fillers = 0;
+    while (i < i_end || j < j_end) {
+        struct reyes_vertex f_next = f;
+        tf_next = tf;
+        if (j < j_end)
+            f_next = reyes_piece_vertex(ctx, st.first, j + 1, &tf_next);
+        int advance_owner = j == j_end
+                            || (i < i_end && (float)(i + 1) / (float)last <= tf_next);
+        if (advance_owner) {
+            struct reyes_vertex c_next = reyes_stitch_vertex(ctx, &st.owner, st.edge, i + 1);
+            fillers += (uint)reyes_fill_triangle(ctx, c, c_next, f);
+            c = c_next;
+            ++i;
+        } else {
+            fillers += (uint)reyes_fill_triangle(ctx, c, f, f_next);
+            f = f_next;
+            tf = tf_next;
+            ++j;
+        }
+    }
+    atomic_add(&ctx->buf.counters[REYES_COUNT_FILLERS], fillers);
+}
