@@ -105,8 +105,12 @@ inline void perma_set_blocked(__global uint *group_words, uint value)
 }
 
 #if PERMA_STEALING
-/* The next victim of a stealing group (never itself). */
-inline uint perma_next_victim(uint own, uint *state)
+/* Where a stealing group starts looking: a random other group, or the one
+ * after the last start (round-robin).  The scan then visits every other
+ * group from there, so a group only calls itself stalled after looking at
+ * all of them (random picks with repetition could miss the one set that has
+ * work, and a false stall makes the host grow queues for nothing). */
+inline uint perma_first_victim(uint own, uint *state)
 {
 #if PERMA_VICTIM_ROUND_ROBIN
     *state = (*state + 1u) % PERMA_QUEUE_SETS;
@@ -211,8 +215,11 @@ inline void perma_schedule(__global uint *ctl, __global uint *queue_data, __glob
             }
         }
 #if PERMA_STEALING
-        for (uint attempt = 0; attempt + 1u < PERMA_QUEUE_SETS; ++attempt) {
-            uint victim = perma_next_victim(own, victim_state);
+        uint first = perma_first_victim(own, victim_state);
+        for (uint attempt = 0; attempt < PERMA_QUEUE_SETS; ++attempt) {
+            uint victim = (first + attempt) % PERMA_QUEUE_SETS;
+            if (victim == own)
+                continue;
             for (uint i = 0; i < PERMA_NUM_PROCS; ++i) {
                 q = perma_order[i];
                 got = perma_try_take(ctl, own, victim, q, 0, &start, &found);

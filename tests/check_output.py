@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Run a program and check its exit code and that its output matches patterns.
 
-usage: check_output.py [--status N] --expect REGEX [--expect REGEX ...] -- PROGRAM [ARGS...]
+usage: check_output.py [--status N] [--expect REGEX ...] [--reject REGEX ...] -- PROGRAM [ARGS...]
 """
 import re
 import subprocess
@@ -14,13 +14,15 @@ def main(argv):
         return 2
     split = argv.index('--')
     options, command = argv[1:split], argv[split + 1:]
-    expected_status, patterns = 0, []
+    expected_status, patterns, rejected = 0, [], []
     i = 0
     while i < len(options):
         if options[i] == '--status':
             expected_status = int(options[i + 1])
         elif options[i] == '--expect':
             patterns.append(options[i + 1])
+        elif options[i] == '--reject':
+            rejected.append(options[i + 1])
         else:
             sys.stderr.write('unknown option %s\n' % options[i])
             return 2
@@ -34,6 +36,10 @@ def main(argv):
     for pattern in patterns:
         if not re.search(pattern, output, re.MULTILINE):
             print('output does not match %r' % pattern)
+            ok = False
+    for pattern in rejected:
+        if re.search(pattern, output, re.MULTILINE):
+            print('output matches %r, which it must not' % pattern)
             ok = False
     if not ok:
         print('--- output of %s ---\n%s' % (' '.join(command), output))
