@@ -13,6 +13,7 @@
 #include <stdio.h>
 
 #include "perma.h"
+#include "reyes_shared.h" /* REYES_DISPLACE_*, REYES_STAGES_* */
 
 #define REYES_VERSION_STRING "0.1.0"
 #define REYES_MESSAGE_MAX 1024
@@ -134,6 +135,13 @@ typedef struct reyes_options {
      * with zipper strips (two passes: subdivide, then dice and stitch),
      * REYES_CRACK_FIX_NONE leaves them. */
     unsigned crack_fix;
+    /* Displacement along the normal (docs/reyes.md): REYES_DISPLACE_NONE
+     * (default), _BUMPS (procedural noise bumps of height 0..amplitude) or
+     * _MAP (grayscale PNG `displace_map`, bilinear at the base patch's
+     * (u,v), white = amplitude).  Amplitude 0 renders as no displacement. */
+    unsigned displace_mode;
+    float displace_amplitude;   /* world units */
+    const char *displace_map;   /* PNG path for REYES_DISPLACE_MAP */
     /* Scheduling, passed to perma_config when the renderer is created;
      * 0 = the runtime's default. */
     unsigned work_groups;
@@ -216,6 +224,16 @@ reyes_status reyes_render(reyes_renderer *renderer, const reyes_scene *scene,
 /* ---- Output ---- */
 
 reyes_status reyes_write_png(const char *path, const reyes_image *image, reyes_error *error);
+
+/* A grayscale image read from a PNG of any format (converted to gray). */
+typedef struct reyes_gray_map {
+    unsigned width, height;
+    uint8_t *gray;      /* width * height, rows top to bottom */
+} reyes_gray_map;
+
+/* Errors name the file. */
+reyes_status reyes_read_gray_png(const char *path, reyes_gray_map *map, reyes_error *error);
+void reyes_gray_map_free(reyes_gray_map *map);
 
 /* Statistics as a JSON object (the keys documented in docs/reyes.md). */
 reyes_status reyes_write_stats_json(FILE *out, const reyes_stats *stats,

@@ -4,24 +4,86 @@
  * of its control hull is small enough, else to split_u or split_v.
  */
 
+/* Length of the xyz part of row `row` of the view-projection matrix minus
+ * `scale` times row 3: how fast the clip-space function x - scale * w (or
+ * y - scale * w) can change per world unit. */
+float reyes_plane_slope(__global const struct reyes_params *p, int row, float scale)
+{
+    __global const float *m = p->view_proj;
+    float3 r = (float3)(m[row * 4], m[row * 4 + 1], m[row * 4 + 2]);
+    float3 w = (float3)(m[12], m[13], m[14]);
+    return length(r - scale * w);
+}
+
+/* Largest distance displacement moves a surface point (0: none). */
+float reyes_displacement_radius(__global const struct reyes_params *p)
+{
+    return p->displace_mode == REYES_DISPLACE_NONE ? 0.0f : fabs(p->displace_amplitude);
+}
+
 /* 1 when every hull point lies outside the same side plane of the tile's
- * sub-frustum, widened by `margin` (a fraction of the half-viewport).  For
- * the whole image (-1, 1, -1, 1) the planes are x = +-(1 + margin) w
+ * sub-frustum, widened by `margin` (a fraction of the half-viewport), even
+ * if displaced by up to `radius` in any direction.  For the whole image
+ * (-1, 1, -1, 1) and no displacement the planes are x = +-(1 + margin) w
  * exactly, as without buckets. */
 int reyes_outside_frustum(__global const struct reyes_params *p, const float4 clip[16],
-                          float margin)
+                          float margin, float radius)
 {
     float left_ndc = p->ndc_left - margin, right_ndc = p->ndc_right + margin;
     float bottom_ndc = p->ndc_bottom - margin, top_ndc = p->ndc_top + margin;
+    float left_pad = 0.0f, right_pad = 0.0f, bottom_pad = 0.0f, top_pad = 0.0f;
+    if (radius > 0.0f) {
+        left_pad = radius * reyes_plane_slope(p, 0, left_ndc);
+        right_pad = radius * reyes_plane_slope(p, 0, right_ndc);
+        bottom_pad = radius * reyes_plane_slope(p, 1, bottom_ndc);
+        top_pad = radius * reyes_plane_slope(p, 1, top_ndc);
+    }
     int left = 1, right = 1, bottom = 1, top = 1;
     for (int k = 0; k < 16; ++k) {
         float w = clip[k].w;
-        left &= clip[k].x < w * left_ndc;
-        right &= clip[k].x > w * right_ndc;
-        bottom &= clip[k].y < w * bottom_ndc;
-        top &= clip[k].y > w * top_ndc;
+        if (radius > 0.0f) {
+            left &= clip[k].x - w * left_ndc + left_pad < 0.0f;
+            right &= clip[k].x - w * right_ndc - right_pad > 0.0f;
+            bottom &= clip[k].y - w * bottom_ndc + bottom_pad < 0.0f;
+            top &= clip[k].y - w * top_ndc - top_pad > 0.0f;
+        } else {
+            left &= clip[k].x < w * left_ndc;
+            right &= clip[k].x > w * right_ndc;
+            bottom &= clip[k].y < w * bottom_ndc;
+            top &= clip[k].y > w * top_ndc;
+        }
     }
     return left | right | bottom | top;
+}
+
+/* The hull's screen box grown by what a displacement of up to `radius`
+ * can add (conservative: |d(x/w)| <= radius (|r0| + |x/w| |r3|) / w for the
+ * nearest w a displaced point can have); infinite if that w may reach
+ * the near plane. */
+void reyes_grow_box(__global const struct reyes_params *p, const float4 clip[16], float radius,
+                    float2 *lo, float2 *hi)
+{
+    if (radius <= 0.0f)
+        return;
+    __global const float *m = p->view_proj;
+    float r0 = length((float3)(m[0], m[1], m[2])), r1 = length((float3)(m[4], m[5], m[6]));
+    float r3 = length((float3)(m[12], m[13], m[14]));
+    float w_min = INFINITY, ndc_x = 0.0f, ndc_y = 0.0f;
+    for (int k = 0; k < 16; ++k) {
+        w_min = fmin(w_min, clip[k].w);
+        ndc_x = fmax(ndc_x, fabs(clip[k].x / clip[k].w));
+        ndc_y = fmax(ndc_y, fabs(clip[k].y / clip[k].w));
+    }
+    float nearest = w_min - radius * r3;
+    if (nearest <= p->near_w) {
+        *lo = (float2)(-INFINITY, -INFINITY);
+        *hi = (float2)(INFINITY, INFINITY);
+        return;
+    }
+    float2 grow = (float2)(0.5f * p->width * radius * (r0 + ndc_x * r3) / nearest,
+                           0.5f * p->height * radius * (r1 + ndc_y * r3) / nearest);
+    *lo -= grow;
+    *hi += grow;
 }
 
 /* 1 when every cross product of a u-difference and a v-difference of the
@@ -101,14 +163,17 @@ void reyes_bound(perma_ctx *ctx, __local const struct reyes_subpatch *item)
     float4 clip[16];
     reyes_subpatch_points(ctx->buf.patches, &sp, cp);
 
+    float radius = reyes_displacement_radius(p);
+    __global const float *m = p->view_proj;
+    float w_pad = radius * length((float3)(m[12], m[13], m[14]));
     int all_behind = 1, any_behind = 0;
     for (int k = 0; k < 16; ++k) {
         clip[k] = reyes_to_clip(p, cp[k]);
         int behind = clip[k].w <= p->near_w;
-        all_behind &= behind;
+        all_behind &= radius > 0.0f ? clip[k].w + w_pad <= p->near_w : behind;
         any_behind |= behind;
     }
-    if (all_behind || reyes_outside_frustum(p, clip, p->cull_margin)) {
+    if (all_behind || reyes_outside_frustum(p, clip, p->cull_margin, radius)) {
         atomic_inc(&counters[REYES_COUNT_CULLED]);
         return;
     }
@@ -132,7 +197,8 @@ void reyes_bound(perma_ctx *ctx, __local const struct reyes_subpatch *item)
         lo = fmin(lo, s[k]);
         hi = fmax(hi, s[k]);
     }
-    if (p->backface_cull && reyes_backfacing(s)) {
+    /* Displaced surfaces may face anywhere: no back-face culling. */
+    if (p->backface_cull && radius == 0.0f && reyes_backfacing(s)) {
         atomic_inc(&counters[REYES_COUNT_CULLED]);
         return;
     }
@@ -140,8 +206,10 @@ void reyes_bound(perma_ctx *ctx, __local const struct reyes_subpatch *item)
     if (forced || fmax(size.x, size.y) <= p->bound_px) {
         if (forced)
             atomic_inc(&counters[REYES_COUNT_FORCED_DICE]);
-        if (p->record_leaves)
+        if (p->record_leaves) {
+            reyes_grow_box(p, clip, radius, &lo, &hi);
             reyes_record_leaf(ctx, &sp, lo, hi);
+        }
         else
             emit_dice(ctx, &sp);
     } else if (reyes_hull_extent(s, 1) >= reyes_hull_extent(s, 0)) {

@@ -50,6 +50,14 @@ reyes_status reyes_options_check(const reyes_options *o, reyes_error *error)
     if (o->stages > REYES_STAGES_SUBDIVIDE)
         return reyes_fail(error, REYES_ERR_ARGUMENT, "stages %u is not %u..%u", o->stages,
                           REYES_STAGES_ALL, REYES_STAGES_SUBDIVIDE);
+    if (o->displace_mode > REYES_DISPLACE_MAP)
+        return reyes_fail(error, REYES_ERR_ARGUMENT, "displacement mode %u is not %u..%u",
+                          o->displace_mode, REYES_DISPLACE_NONE, REYES_DISPLACE_MAP);
+    if (!isfinite(o->displace_amplitude) || fabsf(o->displace_amplitude) > 1e6f)
+        return reyes_fail(error, REYES_ERR_ARGUMENT, "displacement amplitude %g is not finite and "
+                          "within 1e6", (double)o->displace_amplitude);
+    if (o->displace_mode == REYES_DISPLACE_MAP && !o->displace_map)
+        return reyes_fail(error, REYES_ERR_ARGUMENT, "map displacement needs a PNG file");
     if (o->crack_fix > REYES_CRACK_FIX_STITCH)
         return reyes_fail(error, REYES_ERR_ARGUMENT, "crack fix %u is not %u (none) or %u (stitch)",
                           o->crack_fix, REYES_CRACK_FIX_NONE, REYES_CRACK_FIX_STITCH);

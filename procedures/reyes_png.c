@@ -1,7 +1,8 @@
-/* PNG output through libpng. */
+/* PNG output, and grayscale PNG input (displacement maps), through libpng. */
 #include <errno.h>
 #include <png.h>
 #include <setjmp.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "reyes.h"
@@ -47,4 +48,42 @@ reyes_status reyes_write_png(const char *path, const reyes_image *image, reyes_e
     if (!ok)
         return reyes_fail(error, REYES_ERR_IO, "%s: %s", path, message);
     return REYES_OK;
+}
+
+reyes_status reyes_read_gray_png(const char *path, reyes_gray_map *map, reyes_error *error)
+{
+    memset(map, 0, sizeof *map);
+    png_image image;
+    memset(&image, 0, sizeof image);
+    image.version = PNG_IMAGE_VERSION;
+    if (!png_image_begin_read_from_file(&image, path))
+        return reyes_fail(error, REYES_ERR_IO, "%s: cannot read as PNG: %s", path, image.message);
+    image.format = PNG_FORMAT_GRAY;
+    size_t bytes = PNG_IMAGE_SIZE(image);
+    if (image.width == 0 || image.height == 0 || image.width > REYES_MAX_SIZE
+        || image.height > REYES_MAX_SIZE) {
+        png_image_free(&image);
+        return reyes_fail(error, REYES_ERR_FORMAT, "%s: %ux%u is not in 1..%u per side", path,
+                          image.width, image.height, REYES_MAX_SIZE);
+    }
+    map->gray = malloc(bytes);
+    if (!map->gray) {
+        png_image_free(&image);
+        return reyes_fail(error, REYES_ERR_NO_MEMORY, "%s: out of memory for %zu bytes", path, bytes);
+    }
+    if (!png_image_finish_read(&image, NULL, map->gray, 0, NULL)) {
+        reyes_status status = reyes_fail(error, REYES_ERR_FORMAT, "%s: %s", path, image.message);
+        reyes_gray_map_free(map);
+        png_image_free(&image);
+        return status;
+    }
+    map->width = image.width;
+    map->height = image.height;
+    return REYES_OK;
+}
+
+void reyes_gray_map_free(reyes_gray_map *map)
+{
+    free(map->gray);
+    memset(map, 0, sizeof *map);
 }

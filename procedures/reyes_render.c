@@ -34,6 +34,7 @@ typedef struct render_buffers {
     struct reyes_subpatch *dice_seeds;
     struct reyes_stitch *stitch_seeds;
     size_t dice_seed_count, stitch_seed_count;
+    reyes_gray_map map;             /* displacement map (or none) */
 } render_buffers;
 
 static void free_buffers(render_buffers *b)
@@ -44,6 +45,29 @@ static void free_buffers(render_buffers *b)
     free(b->dice_seeds);
     free(b->stitch_seeds);
     reyes_stitch_plan_free(&b->plan);
+    reyes_gray_map_free(&b->map);
+}
+
+/* Displacement parameters; reads the map.  Amplitude 0 is no displacement
+ * (the very code path and image of an undisplaced render). */
+static reyes_status set_displacement(const reyes_scene *scene, const reyes_options *o,
+                                     render_buffers *b, reyes_error *error)
+{
+    struct reyes_params *p = &b->params;
+    p->displace_mode = o->displace_amplitude == 0.0f ? REYES_DISPLACE_NONE : o->displace_mode;
+    p->displace_amplitude = o->displace_amplitude;
+    float lo[3], hi[3], radius = 0.0f;
+    if (reyes_scene_bounds(scene, lo, hi))
+        for (int k = 0; k < 3; ++k)
+            radius = fmaxf(radius, 0.5f * (hi[k] - lo[k]));
+    /* About twenty noise cells across the scene's half-size. */
+    p->displace_frequency = radius > 0.0f ? 20.0f / radius : 1.0f;
+    if (p->displace_mode != REYES_DISPLACE_MAP)
+        return REYES_OK;
+    reyes_status status = reyes_read_gray_png(o->displace_map, &b->map, error);
+    p->map_width = b->map.width;
+    p->map_height = b->map.height;
+    return status;
 }
 
 /* A bucket: pixels [x0,x1) x [y0,y1) of the image. */
@@ -163,6 +187,12 @@ static perma_status bind_buffers(reyes_renderer *r, const reyes_scene *scene,
                             recording ? (void *)b->leaves : (void *)&no_leaf,
                             recording ? b->leaf_capacity * sizeof *b->leaves : sizeof no_leaf,
                             recording ? PERMA_WRITE : PERMA_READ);
+    static uint8_t no_map;
+    int has_map = b->map.gray != NULL;
+    if (s == PERMA_OK)
+        s = perma_bind_host(rt, "displacement_map", "__global const uchar *",
+                            has_map ? (void *)b->map.gray : (void *)&no_map,
+                            has_map ? (size_t)b->map.width * b->map.height : 1, PERMA_READ);
     int pieces = b->plan.piece_count > 0;
     if (s == PERMA_OK)
         s = perma_bind_host(rt, "pieces", "__global const struct reyes_stitch_piece *",
@@ -424,6 +454,8 @@ reyes_status reyes_render(reyes_renderer *r, const reyes_scene *scene, const rey
                           options->grid, r->grid);
     render_buffers b = {0};
     status = fill_params(scene, camera, options, r->dice_threads, &b.params, error);
+    if (status == REYES_OK)
+        status = set_displacement(scene, options, &b, error);
     if (status == REYES_OK)
         status = allocate(scene, options, &b, image, error);
     if (status == REYES_OK)

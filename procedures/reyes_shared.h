@@ -80,6 +80,11 @@ struct reyes_stitch {
 #define REYES_COUNT_FILLERS 6     /* crack-filling triangles rasterized by stitch */
 #define REYES_COUNTERS 8
 
+/* Displacement kinds (reyes_params.displace_mode). */
+#define REYES_DISPLACE_NONE 0
+#define REYES_DISPLACE_BUMPS 1
+#define REYES_DISPLACE_MAP 2
+
 /* Which stages a render runs (reyes_params.stages), for timing stages by
  * difference: everything; bound, split and dice's geometry (positions and
  * visibility of the quads, what the C reference computes) without shading
@@ -114,6 +119,12 @@ struct reyes_params {
     REYES_U32 record_leaves;
     REYES_U32 leaf_capacity;
     REYES_U32 pad;
+    /* Displacement (reyes_displace.cl): REYES_DISPLACE_*, the largest
+     * distance, the bump frequency (per world unit) and the map size. */
+    REYES_U32 displace_mode;
+    float displace_amplitude;
+    float displace_frequency;
+    REYES_U32 map_width, map_height;
     /* The bucket (tile) this run renders, in pixels: [tile_x0,tile_x1) x
      * [tile_y0,tile_y1) (the whole image without buckets).  The sample
      * buffer holds the tile's pixels only; sample positions stay those of

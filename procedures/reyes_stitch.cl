@@ -33,7 +33,8 @@ struct reyes_vertex reyes_stitch_vertex(perma_ctx *ctx, const struct reyes_subpa
     float3 base = reyes_unpack_rgb(ctx->buf.colors[sp->patch]);
     int last = (int)p->grid - 1;
     int2 ij = reyes_edge_vertex(edge, k, last);
-    return reyes_grid_vertex(p, cp, sp, base, ij.x, ij.y, 1);
+    struct reyes_displacement d = { p, ctx->buf.displacement_map };
+    return reyes_grid_vertex(&d, cp, sp, base, ij.x, ij.y, 1);
 }
 
 /* Vertex j of the neighbours' polyline, in the owner's edge order, and its

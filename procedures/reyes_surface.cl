@@ -65,19 +65,53 @@ uint reyes_shade(__global const struct reyes_params *p, float3 x, float3 n, floa
     return reyes_pack_rgba(color);
 }
 
-/* Position (clip space) of grid vertex (i,j), and its color when `shade`. */
-struct reyes_vertex reyes_grid_vertex(__global const struct reyes_params *p, const float3 cp[16],
+/* The displaced surface point at (u,v): the patch point moved along its
+ * unit normal by displace(). */
+float3 reyes_displaced_point(const struct reyes_displacement *d, const float3 cp[16], float u,
+                             float v)
+{
+    float3 x = reyes_patch_point(cp, u, v);
+    float3 n = reyes_safe_normal(cp, u, v);
+    n = dot(n, n) > 0.0f ? normalize(n) : (float3)(0.0f);
+    return x + displace(d, (float2)(u, v), x, n) * n;
+}
+
+/* Normal of the displaced surface at (u,v) from central differences in
+ * the base patch's parameters (one-sided at its borders): a function of
+ * (patch, u, v) only, so grids sharing a vertex give it the same normal. */
+float3 reyes_displaced_normal(const struct reyes_displacement *d, const float3 cp[16], float u,
+                              float v)
+{
+    const float h = 1.0f / 1024.0f;
+    float u0 = fmax(u - h, 0.0f), u1 = fmin(u + h, 1.0f);
+    float v0 = fmax(v - h, 0.0f), v1 = fmin(v + h, 1.0f);
+    float3 du = reyes_displaced_point(d, cp, u1, v) - reyes_displaced_point(d, cp, u0, v);
+    float3 dv = reyes_displaced_point(d, cp, u, v1) - reyes_displaced_point(d, cp, u, v0);
+    float3 n = cross(du, dv);
+    return dot(n, n) > 1e-30f ? n : reyes_safe_normal(cp, u, v);
+}
+
+/* Position (clip space) of grid vertex (i,j), and its color when `shade`;
+ * displaced when the parameters ask for it. */
+struct reyes_vertex reyes_grid_vertex(const struct reyes_displacement *d, const float3 cp[16],
                                       const struct reyes_subpatch *sp, float3 base, int i, int j,
                                       int shade)
 {
+    __global const struct reyes_params *p = d->params;
     float last = (float)(p->grid - 1u);
     /* mix(a, b, 1) == b exactly, so shared patch edges get equal u, v. */
     float tu = (float)i / last, tv = (float)j / last;
     float u = sp->u0 * (1.0f - tu) + sp->u1 * tu;
     float v = sp->v0 * (1.0f - tv) + sp->v1 * tv;
-    float3 x = reyes_patch_point(cp, u, v);
     struct reyes_vertex out;
-    out.clip = reyes_to_clip(p, x);
-    out.rgba = shade ? reyes_shade(p, x, reyes_safe_normal(cp, u, v), base) : 0u;
+    if (p->displace_mode == REYES_DISPLACE_NONE) {
+        float3 x = reyes_patch_point(cp, u, v);
+        out.clip = reyes_to_clip(p, x);
+        out.rgba = shade ? reyes_shade(p, x, reyes_safe_normal(cp, u, v), base) : 0u;
+    } else {
+        float3 x = reyes_displaced_point(d, cp, u, v);
+        out.clip = reyes_to_clip(p, x);
+        out.rgba = shade ? reyes_shade(p, x, reyes_displaced_normal(d, cp, u, v), base) : 0u;
+    }
     return out;
 }

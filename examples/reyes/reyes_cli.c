@@ -140,6 +140,28 @@ static int on_crack_fix(reyes_cli *cli, const char *value, char *message, size_t
     return REYES_CLI_OK;
 }
 
+/* bumps:AMPLITUDE or png:FILE:AMPLITUDE (the amplitude after the last ':'). */
+static int on_displace(reyes_cli *cli, const char *value, char *message, size_t size)
+{
+    const char *last = strrchr(value, ':');
+    int bumps = strncmp(value, "bumps:", 6) == 0, png = strncmp(value, "png:", 4) == 0;
+    if (!last || (!bumps && !png) || (bumps && last != value + 5) || (png && last <= value + 4))
+        return usage_error(message, size, "--displace '%s': expected %s", value,
+                           "bumps:AMPLITUDE or png:FILE:AMPLITUDE");
+    if (!parse_float(last + 1, &cli->render.displace_amplitude))
+        return usage_error(message, size, "--displace: amplitude '%s' is not a number%s", last + 1, "");
+    cli->render.displace_mode = bumps ? REYES_DISPLACE_BUMPS : REYES_DISPLACE_MAP;
+    if (png) {
+        size_t n = (size_t)(last - (value + 4));
+        if (n >= sizeof cli->displace_map)
+            return usage_error(message, size, "--displace: file name '%s' is too long%s", value, "");
+        memcpy(cli->displace_map, value + 4, n);
+        cli->displace_map[n] = '\0';
+        cli->render.displace_map = cli->displace_map;
+    }
+    return REYES_CLI_OK;
+}
+
 static int on_bound(reyes_cli *cli, const char *value, char *message, size_t size)
 {
     if (!parse_float(value, &cli->render.bound_px) || cli->render.bound_px < 0.5f)
@@ -279,6 +301,8 @@ static const cli_option options[] = {
     { "bucket", 0, "WxH", on_bucket, "render in screen tiles of WxH pixels (default: one)" },
     { "crack-fix", 0, "NAME", on_crack_fix,
       "stitch (default: fill cracks between grids) or none" },
+    { "displace", 0, "KIND", on_displace,
+      "bumps:AMPLITUDE or png:FILE:AMPLITUDE (gray PNG at the patch's u,v)" },
     { "bound", 0, "PX", on_bound, "dice patches whose screen bound is at most PX (default 8)" },
     { "grid", 0, "N", on_grid, "grid vertices per side when dicing (default 16)" },
     { "spp", 0, "N", on_spp, "jittered samples per pixel (default 4)" },

@@ -20,6 +20,7 @@ typedef struct reyes_cli {
     float fov_deg;
     int reference;          /* also run the C reference of bound/split/dice */
     int help, version;
+    char displace_map[4096]; /* --displace png:FILE:A (render.displace_map points here) */
 } reyes_cli;
 
 /* Parse argv into *cli.  Returns REYES_CLI_OK or REYES_CLI_USAGE with a

@@ -42,7 +42,8 @@ START_TEST(test_all_options)
                            "--grid", "8", "--spp", "9", "--max-depth", "12", "--camera",
                            "1,2,3,-4.5,0,1e1", "--fov", "30", "--technique", "megakernel",
                            "--strategy", "shared", "--stats", "s.json", "--groups", "2", "b.bpt",
-                           "--backface", "--bucket", "32x16", "--crack-fix", "none", "--", "-c.bpt"),
+                           "--backface", "--bucket", "32x16", "--crack-fix", "none", "--displace",
+                           "png:dir/a:b.png:0.25", "--", "-c.bpt"),
                      REYES_CLI_OK);
     ck_assert_uint_eq(cli.model_count, 3);
     ck_assert_str_eq(cli.models[0], "a.bpt");
@@ -65,6 +66,9 @@ START_TEST(test_all_options)
     ck_assert_uint_eq(cli.render.bucket_width, 32);
     ck_assert_uint_eq(cli.render.bucket_height, 16);
     ck_assert_uint_eq(cli.render.crack_fix, REYES_CRACK_FIX_NONE);
+    ck_assert_uint_eq(cli.render.displace_mode, REYES_DISPLACE_MAP);
+    ck_assert_str_eq(cli.render.displace_map, "dir/a:b.png");
+    ck_assert_float_eq(cli.render.displace_amplitude, 0.25f);
     reyes_cli_free(&cli);
 }
 END_TEST
@@ -111,6 +115,10 @@ START_TEST(test_bad_usage)
         { COUNT("--bucket", "64"), ARGS("--bucket", "64"), "--bucket '64': expected WxH" },
         { COUNT("--crack-fix", "glue"), ARGS("--crack-fix", "glue"),
           "unknown crack fix 'glue'; valid: none stitch" },
+        { COUNT("--displace", "bumps"), ARGS("--displace", "bumps"), "bumps:AMPLITUDE" },
+        { COUNT("--displace", "bumps:x"), ARGS("--displace", "bumps:x"), "amplitude 'x'" },
+        { COUNT("--displace", "png:0.1"), ARGS("--displace", "png:0.1"), "png:FILE:AMPLITUDE" },
+        { COUNT("--displace", "waves:1"), ARGS("--displace", "waves:1"), "--displace 'waves:1'" },
         { COUNT("--grid", "1"), ARGS("--grid", "1"), "--grid" },
         { COUNT("--grid", "99"), ARGS("--grid", "99"), "--grid" },
         { COUNT("--spp", "-1"), ARGS("--spp", "-1"), "--spp" },
