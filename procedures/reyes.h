@@ -142,6 +142,15 @@ typedef struct reyes_options {
     unsigned displace_mode;
     float displace_amplitude;   /* world units */
     const char *displace_map;   /* PNG path for REYES_DISPLACE_MAP */
+    /* Motion blur and depth of field (simple UVT sampling): every vertex
+     * moves by motion[] (world units) over the shutter; a thin lens of
+     * radius `aperture` (world units) focused at view depth `focus` (0:
+     * the camera's target).  time_samples: time strata per pixel (0: spp).
+     * Zero motion and aperture render exactly as without the feature. */
+    float motion[3];
+    float aperture;
+    float focus;
+    unsigned time_samples;
     /* Scheduling, passed to perma_config when the renderer is created;
      * 0 = the runtime's default. */
     unsigned work_groups;

@@ -26,7 +26,7 @@ float reyes_displacement_radius(__global const struct reyes_params *p)
  * if displaced by up to `radius` in any direction.  For the whole image
  * (-1, 1, -1, 1) and no displacement the planes are x = +-(1 + margin) w
  * exactly, as without buckets. */
-int reyes_outside_frustum(__global const struct reyes_params *p, const float4 clip[16],
+int reyes_outside_frustum(__global const struct reyes_params *p, const float4 *clip, int count,
                           float margin, float radius)
 {
     float left_ndc = p->ndc_left - margin, right_ndc = p->ndc_right + margin;
@@ -39,7 +39,7 @@ int reyes_outside_frustum(__global const struct reyes_params *p, const float4 cl
         top_pad = radius * reyes_plane_slope(p, 1, top_ndc);
     }
     int left = 1, right = 1, bottom = 1, top = 1;
-    for (int k = 0; k < 16; ++k) {
+    for (int k = 0; k < count; ++k) {
         float w = clip[k].w;
         if (radius > 0.0f) {
             left &= clip[k].x - w * left_ndc + left_pad < 0.0f;
@@ -154,6 +154,28 @@ void reyes_record_leaf(perma_ctx *ctx, const struct reyes_subpatch *sp, float2 l
     leaf->hi_y = hi.y;
 }
 
+/* Blurred: the hull sweeps from clip to clip + motion over the shutter,
+ * so it is culled only if all 32 points are behind the eye or outside one
+ * plane; with a lens, only if behind (defocus can move it anywhere). */
+int reyes_blur_culled(__global const struct reyes_params *p, const float4 clip[16], float radius)
+{
+    float4 swept[32];
+    float4 motion = (float4)(p->motion_x, p->motion_y, 0.0f, p->motion_w);
+    __global const float *m = p->view_proj;
+    float w_pad = radius * length((float3)(m[12], m[13], m[14]));
+    int behind = 1;
+    for (int k = 0; k < 16; ++k) {
+        swept[k] = clip[k];
+        swept[16 + k] = clip[k] + motion;
+        behind &= swept[k].w + w_pad <= p->near_w && swept[16 + k].w + w_pad <= p->near_w;
+    }
+    if (behind)
+        return 1;
+    if (p->lens_x > 0.0f || p->lens_y > 0.0f)
+        return 0;
+    return reyes_outside_frustum(p, swept, 32, p->cull_margin, radius);
+}
+
 void reyes_bound(perma_ctx *ctx, __local const struct reyes_subpatch *item)
 {
     __global const struct reyes_params *p = ctx->buf.params;
@@ -173,7 +195,10 @@ void reyes_bound(perma_ctx *ctx, __local const struct reyes_subpatch *item)
         all_behind &= radius > 0.0f ? clip[k].w + w_pad <= p->near_w : behind;
         any_behind |= behind;
     }
-    if (all_behind || reyes_outside_frustum(p, clip, p->cull_margin, radius)) {
+    int culled = all_behind || reyes_outside_frustum(p, clip, 16, p->cull_margin, radius);
+    if (p->blur)
+        culled = reyes_blur_culled(p, clip, radius);
+    if (culled) {
         atomic_inc(&counters[REYES_COUNT_CULLED]);
         return;
     }

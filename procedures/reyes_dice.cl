@@ -48,7 +48,8 @@ void reyes_dice(perma_ctx *ctx, __local const struct reyes_subpatch *item)
         for (int k = 0; k < 4; ++k) {
             struct reyes_vertex vtx = grid[(j + corner_j[k]) * n + i + corner_i[k]];
             visible &= vtx.clip.w > p->near_w;
-            float2 s = reyes_to_screen(p, vtx.clip);
+            /* Blurred quads keep clip x, y (rasterize moves them per sample). */
+            float2 s = p->blur ? vtx.clip.xy : reyes_to_screen(p, vtx.clip);
             quad.x[k] = s.x;
             quad.y[k] = s.y;
             quad.z[k] = vtx.clip.w;
@@ -58,8 +59,8 @@ void reyes_dice(perma_ctx *ctx, __local const struct reyes_subpatch *item)
         }
         /* Quads through the near plane or wholly off the tile (the image
          * without buckets) are dropped. */
-        visible &= hi.x >= p->tile_x0 && hi.y >= p->tile_y0 && lo.x <= p->tile_x1
-                   && lo.y <= p->tile_y1;
+        visible &= p->blur || (hi.x >= p->tile_x0 && hi.y >= p->tile_y0 && lo.x <= p->tile_x1
+                               && lo.y <= p->tile_y1);
         if (visible) {
             atomic_inc(&counters[REYES_COUNT_MICROPOLYGONS]);
             if (full)

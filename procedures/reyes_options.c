@@ -58,6 +58,21 @@ reyes_status reyes_options_check(const reyes_options *o, reyes_error *error)
                           "within 1e6", (double)o->displace_amplitude);
     if (o->displace_mode == REYES_DISPLACE_MAP && !o->displace_map)
         return reyes_fail(error, REYES_ERR_ARGUMENT, "map displacement needs a PNG file");
+    int blurred = o->motion[0] != 0.0f || o->motion[1] != 0.0f || o->motion[2] != 0.0f
+                  || o->aperture != 0.0f;
+    for (int k = 0; k < 3; ++k)
+        if (!isfinite(o->motion[k]) || fabsf(o->motion[k]) > 1e6f)
+            return reyes_fail(error, REYES_ERR_ARGUMENT, "motion %g is not finite and within 1e6",
+                              (double)o->motion[k]);
+    if (!(o->aperture >= 0.0f && o->aperture <= 1e6f) || !(o->focus >= 0.0f && o->focus <= 1e9f))
+        return reyes_fail(error, REYES_ERR_ARGUMENT, "aperture %g and focus %g must be >= 0 and finite",
+                          (double)o->aperture, (double)o->focus);
+    if (o->time_samples > REYES_MAX_SPP)
+        return reyes_fail(error, REYES_ERR_ARGUMENT, "time samples %u is not in 0..%u",
+                          o->time_samples, REYES_MAX_SPP);
+    if (blurred && o->bucket_width > 0)
+        return reyes_fail(error, REYES_ERR_ARGUMENT,
+                          "buckets cannot be combined with motion blur or depth of field yet");
     if (o->crack_fix > REYES_CRACK_FIX_STITCH)
         return reyes_fail(error, REYES_ERR_ARGUMENT, "crack fix %u is not %u (none) or %u (stitch)",
                           o->crack_fix, REYES_CRACK_FIX_NONE, REYES_CRACK_FIX_STITCH);

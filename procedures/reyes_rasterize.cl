@@ -12,6 +12,10 @@ void reyes_rasterize(perma_ctx *ctx, __local const struct reyes_quad *item)
     __global const struct reyes_params *p = ctx->buf.params;
     __global ulong *samples = ctx->buf.samples;
     struct reyes_quad q = *item;
+    if (p->blur) {
+        reyes_rasterize_blurred(p, samples, &q, 2);
+        return;
+    }
     float min_x = fmin(fmin(q.x[0], q.x[1]), fmin(q.x[2], q.x[3]));
     float max_x = fmax(fmax(q.x[0], q.x[1]), fmax(q.x[2], q.x[3]));
     float min_y = fmin(fmin(q.y[0], q.y[1]), fmin(q.y[2], q.y[3]));

@@ -75,6 +75,30 @@ typedef struct tile {
     unsigned x0, y0, x1, y1;
 } tile;
 
+/* Motion blur and depth of field in clip space: the motion's clip-space
+ * delta (the matrix without translation) and the lens radius in clip x
+ * and y units (rows 0 and 1 scale the camera's right and up vectors).
+ * Off, and the unblurred code path, when both are zero. */
+static void set_blur(const reyes_camera *camera, const reyes_options *o, struct reyes_params *p)
+{
+    const float *m = p->view_proj, *d = o->motion;
+    p->blur = d[0] != 0.0f || d[1] != 0.0f || d[2] != 0.0f || o->aperture != 0.0f;
+    if (!p->blur)
+        return;
+    p->time_samples = o->time_samples ? o->time_samples : o->spp;
+    p->motion_x = m[0] * d[0] + m[1] * d[1] + m[2] * d[2];
+    p->motion_y = m[4] * d[0] + m[5] * d[1] + m[6] * d[2];
+    p->motion_w = m[12] * d[0] + m[13] * d[1] + m[14] * d[2];
+    p->lens_x = o->aperture * sqrtf(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
+    p->lens_y = o->aperture * sqrtf(m[4] * m[4] + m[5] * m[5] + m[6] * m[6]);
+    float target = 0.0f;
+    for (int k = 0; k < 3; ++k)
+        target += (camera->at[k] - camera->eye[k]) * (camera->at[k] - camera->eye[k]);
+    p->focus = o->focus > 0.0f ? o->focus : sqrtf(target);
+    if (!(p->focus > 0.0f))
+        p->focus = 1.0f;
+}
+
 static reyes_status fill_params(const reyes_scene *scene, const reyes_camera *camera,
                                 const reyes_options *o, unsigned dice_threads,
                                 struct reyes_params *p, reyes_error *error)
@@ -107,6 +131,7 @@ static reyes_status fill_params(const reyes_scene *scene, const reyes_camera *ca
     p->backface_cull = o->backface_cull ? 1u : 0u;
     p->dice_threads = dice_threads;
     p->stages = o->stages;
+    set_blur(camera, o, p);
     return REYES_OK;
 }
 

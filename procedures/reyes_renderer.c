@@ -57,6 +57,8 @@ static perma_status register_all(struct reyes_renderer *r)
     if (status == PERMA_OK)
         status = perma_add_source(r->rt, reyes_sample_cl_source, "reyes_sample.cl");
     if (status == PERMA_OK)
+        status = perma_add_source(r->rt, reyes_blur_cl_source, "reyes_blur.cl");
+    if (status == PERMA_OK)
         status = perma_add_source(r->rt, reyes_displace_cl_source, "reyes_displace.cl");
     if (status == PERMA_OK)
         status = perma_add_source(r->rt, reyes_surface_cl_source, "reyes_surface.cl");

@@ -125,6 +125,17 @@ struct reyes_params {
     float displace_amplitude;
     float displace_frequency;
     REYES_U32 map_width, map_height;
+    /* Motion blur and depth of field (rasterize, reyes_blur.cl): when
+     * blur is 1, quads carry clip-space x, y, w and each sample has its
+     * own time t in [0,1) (time_samples strata) and lens position; a
+     * vertex at time t and lens (lx, ly) in the unit disk is at
+     * clip + t * motion_clip + (w_t / focus - 1) * (lx * lens_x, ly * lens_y). */
+    REYES_U32 blur;
+    REYES_U32 time_samples;
+    float motion_x, motion_y, motion_z, motion_w;  /* clip-space motion over the shutter */
+    float lens_x, lens_y;  /* aperture radius in clip x and y units per unit w */
+    float focus;           /* view depth in focus */
+    float pad2;
     /* The bucket (tile) this run renders, in pixels: [tile_x0,tile_x1) x
      * [tile_y0,tile_y1) (the whole image without buckets).  The sample
      * buffer holds the tile's pixels only; sample positions stay those of

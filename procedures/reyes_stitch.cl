@@ -62,7 +62,8 @@ int reyes_fill_triangle(perma_ctx *ctx, struct reyes_vertex a, struct reyes_vert
     struct reyes_vertex v[3] = {a, b, c};
     struct reyes_quad q;
     for (int k = 0; k < 3; ++k) {
-        float2 s = reyes_to_screen(p, v[k].clip);
+        /* Blurred: clip x, y, w, moved per sample by rasterize's code. */
+        float2 s = p->blur ? v[k].clip.xy : reyes_to_screen(p, v[k].clip);
         q.x[k] = s.x;
         q.y[k] = s.y;
         q.z[k] = v[k].clip.w;
@@ -72,6 +73,10 @@ int reyes_fill_triangle(perma_ctx *ctx, struct reyes_vertex a, struct reyes_vert
     q.y[3] = q.y[0];
     q.z[3] = q.z[0];
     q.rgba[3] = q.rgba[0];
+    if (p->blur) {
+        reyes_rasterize_blurred(p, ctx->buf.samples, &q, 1);
+        return 1;
+    }
     float min_x = fmin(fmin(q.x[0], q.x[1]), q.x[2]), max_x = fmax(fmax(q.x[0], q.x[1]), q.x[2]);
     float min_y = fmin(fmin(q.y[0], q.y[1]), q.y[2]), max_y = fmax(fmax(q.y[0], q.y[1]), q.y[2]);
     if (max_x < p->tile_x0 || max_y < p->tile_y0 || min_x > p->tile_x1 || min_y > p->tile_y1)

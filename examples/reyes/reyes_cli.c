@@ -162,6 +162,54 @@ static int on_displace(reyes_cli *cli, const char *value, char *message, size_t 
     return REYES_CLI_OK;
 }
 
+static int on_motion(reyes_cli *cli, const char *value, char *message, size_t size)
+{
+    const char *at = value;
+    for (int k = 0; k < 3; ++k) {
+        char number[64];
+        size_t n = strcspn(at, ",");
+        int last = k == 2;
+        if (n == 0 || n >= sizeof number || (last ? at[n] != '\0' : at[n] != ','))
+            return usage_error(message, size, "--motion '%s': expected 3 numbers %s", value, "dx,dy,dz");
+        memcpy(number, at, n);
+        number[n] = '\0';
+        if (!parse_float(number, &cli->render.motion[k]))
+            return usage_error(message, size, "--motion: '%s' is not a number%s", number, "");
+        at += n + (last ? 0 : 1);
+    }
+    return REYES_CLI_OK;
+}
+
+static int on_aperture(reyes_cli *cli, const char *value, char *message, size_t size)
+{
+    if (!parse_float(value, &cli->render.aperture) || cli->render.aperture < 0.0f)
+        return usage_error(message, size, "--aperture '%s': expected a lens radius >= 0%s", value, "");
+    return REYES_CLI_OK;
+}
+
+static int on_focus(reyes_cli *cli, const char *value, char *message, size_t size)
+{
+    if (!parse_float(value, &cli->render.focus) || !(cli->render.focus > 0.0f))
+        return usage_error(message, size, "--focus '%s': expected a distance > 0%s", value, "");
+    return REYES_CLI_OK;
+}
+
+static int on_time_samples(reyes_cli *cli, const char *value, char *message, size_t size)
+{
+    if (!parse_unsigned(value, REYES_MAX_SPP, &cli->render.time_samples)
+        || cli->render.time_samples < 1)
+        return usage_error(message, size, "--time-samples '%s': expected 1..%s", value, "64");
+    return REYES_CLI_OK;
+}
+
+static int on_blur_algo(reyes_cli *cli, const char *value, char *message, size_t size)
+{
+    (void)cli;
+    if (strcmp(value, "simple") != 0)
+        return usage_error(message, size, "unknown blur algorithm '%s'; valid: %s", value, "simple");
+    return REYES_CLI_OK;
+}
+
 static int on_bound(reyes_cli *cli, const char *value, char *message, size_t size)
 {
     if (!parse_float(value, &cli->render.bound_px) || cli->render.bound_px < 0.5f)
@@ -303,6 +351,11 @@ static const cli_option options[] = {
       "stitch (default: fill cracks between grids) or none" },
     { "displace", 0, "KIND", on_displace,
       "bumps:AMPLITUDE or png:FILE:AMPLITUDE (gray PNG at the patch's u,v)" },
+    { "motion", 0, "dx,dy,dz", on_motion, "move every vertex by this over the shutter (motion blur)" },
+    { "aperture", 0, "R", on_aperture, "thin-lens radius in world units (depth of field; default 0)" },
+    { "focus", 0, "D", on_focus, "view depth in focus (default: distance to the camera target)" },
+    { "blur-algo", 0, "NAME", on_blur_algo, "motion blur and defocus sampling: simple (UVT, default)" },
+    { "time-samples", 0, "N", on_time_samples, "time strata per pixel (default: spp)" },
     { "bound", 0, "PX", on_bound, "dice patches whose screen bound is at most PX (default 8)" },
     { "grid", 0, "N", on_grid, "grid vertices per side when dicing (default 16)" },
     { "spp", 0, "N", on_spp, "jittered samples per pixel (default 4)" },

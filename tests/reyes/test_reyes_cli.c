@@ -43,7 +43,9 @@ START_TEST(test_all_options)
                            "1,2,3,-4.5,0,1e1", "--fov", "30", "--technique", "megakernel",
                            "--strategy", "shared", "--stats", "s.json", "--groups", "2", "b.bpt",
                            "--backface", "--bucket", "32x16", "--crack-fix", "none", "--displace",
-                           "png:dir/a:b.png:0.25", "--", "-c.bpt"),
+                           "png:dir/a:b.png:0.25", "--motion", "0.5,0,-1", "--aperture", "0.1",
+                           "--focus", "7", "--blur-algo", "simple", "--time-samples", "8", "--",
+                           "-c.bpt"),
                      REYES_CLI_OK);
     ck_assert_uint_eq(cli.model_count, 3);
     ck_assert_str_eq(cli.models[0], "a.bpt");
@@ -69,6 +71,11 @@ START_TEST(test_all_options)
     ck_assert_uint_eq(cli.render.displace_mode, REYES_DISPLACE_MAP);
     ck_assert_str_eq(cli.render.displace_map, "dir/a:b.png");
     ck_assert_float_eq(cli.render.displace_amplitude, 0.25f);
+    ck_assert_float_eq(cli.render.motion[0], 0.5f);
+    ck_assert_float_eq(cli.render.motion[2], -1.0f);
+    ck_assert_float_eq(cli.render.aperture, 0.1f);
+    ck_assert_float_eq(cli.render.focus, 7.0f);
+    ck_assert_uint_eq(cli.render.time_samples, 8);
     reyes_cli_free(&cli);
 }
 END_TEST
@@ -119,6 +126,11 @@ START_TEST(test_bad_usage)
         { COUNT("--displace", "bumps:x"), ARGS("--displace", "bumps:x"), "amplitude 'x'" },
         { COUNT("--displace", "png:0.1"), ARGS("--displace", "png:0.1"), "png:FILE:AMPLITUDE" },
         { COUNT("--displace", "waves:1"), ARGS("--displace", "waves:1"), "--displace 'waves:1'" },
+        { COUNT("--motion", "1,2"), ARGS("--motion", "1,2"), "3 numbers" },
+        { COUNT("--aperture", "-1"), ARGS("--aperture", "-1"), "--aperture" },
+        { COUNT("--focus", "0"), ARGS("--focus", "0"), "--focus" },
+        { COUNT("--blur-algo", "fancy"), ARGS("--blur-algo", "fancy"), "valid: simple" },
+        { COUNT("--time-samples", "0"), ARGS("--time-samples", "0"), "--time-samples" },
         { COUNT("--grid", "1"), ARGS("--grid", "1"), "--grid" },
         { COUNT("--grid", "99"), ARGS("--grid", "99"), "--grid" },
         { COUNT("--spp", "-1"), ARGS("--spp", "-1"), "--spp" },
