@@ -56,6 +56,11 @@ reyes_status reyes_write_stats_json(FILE *out, const reyes_stats *s, const reyes
     fprintf(out, "  \"crack_fix\": \"%s\", \"stitches\": %" PRIu64 ", \"fillers\": %" PRIu64 ",\n",
             o->crack_fix == REYES_CRACK_FIX_STITCH ? "stitch" : "none", s->stitches, s->fillers);
     fprintf(out, "  \"peak_queue_bytes\": %zu,\n", s->peak_queue_bytes);
+    fprintf(out, "  \"displace_mode\": %u, \"displace_amplitude\": %g, \"motion\": [%g, %g, %g], "
+                 "\"aperture\": %g, \"focus\": %g, \"time_samples\": %u,\n",
+            o->displace_mode, (double)o->displace_amplitude, (double)o->motion[0],
+            (double)o->motion[1], (double)o->motion[2], (double)o->aperture, (double)o->focus,
+            o->time_samples);
     write_buckets(out, s, o);
     fprintf(out, "  \"seconds\": %.6f,\n", s->seconds);
     fprintf(out, "  \"work_groups\": %u, \"group_size\": %u, \"launches\": %u, \"regrowths\": %u,\n",

@@ -95,6 +95,36 @@ START_TEST(test_buckets_bound_queue_memory)
 }
 END_TEST
 
+/* Displaced surfaces too: bound and the buckets' leaf selection grow by
+ * the amplitude, so nothing a bucket needs is left out; with and without
+ * crack stitching. */
+START_TEST(test_buckets_identical_displaced)
+{
+    reyes_scene scene;
+    reyes_camera camera;
+    builtin_scene(&scene, &camera, 128, 96);
+    reyes_options o;
+    reyes_options_init(&o);
+    o.width = 128;
+    o.height = 96;
+    o.displace_mode = REYES_DISPLACE_BUMPS;
+    o.displace_amplitude = 0.1f;
+    for (unsigned fix = 0; fix < 2; ++fix) {
+        reyes_image whole, tiled;
+        o.crack_fix = fix;
+        o.bucket_width = o.bucket_height = 0;
+        reyes_test_render(reyes_test_renderer(0), &scene, &camera, &o, &whole, NULL);
+        o.bucket_width = 40;
+        o.bucket_height = 24;
+        reyes_test_render(reyes_test_renderer(0), &scene, &camera, &o, &tiled, NULL);
+        expect_same_image(&whole, &tiled);
+        reyes_image_free(&whole);
+        reyes_image_free(&tiled);
+    }
+    reyes_scene_free(&scene);
+}
+END_TEST
+
 START_TEST(test_bucket_arguments)
 {
     reyes_options o;
@@ -110,6 +140,11 @@ START_TEST(test_bucket_arguments)
     o.bucket_width = o.bucket_height = 1;
     ck_assert_int_eq(reyes_options_check(&o, &error), REYES_ERR_ARGUMENT);
     ck_assert(strstr(error.message, "buckets") != NULL);
+    reyes_options_init(&o);
+    o.bucket_width = o.bucket_height = 64;
+    o.motion[0] = 0.1f;
+    ck_assert_int_eq(reyes_options_check(&o, &error), REYES_ERR_ARGUMENT);
+    ck_assert(strstr(error.message, "motion blur") != NULL);
 }
 END_TEST
 
@@ -120,6 +155,7 @@ int main(void)
     tcase_set_timeout(tc, 300);
     tcase_add_test(tc, test_buckets_identical);
     tcase_add_test(tc, test_buckets_bound_queue_memory);
+    tcase_add_test(tc, test_buckets_identical_displaced);
     tcase_add_test(tc, test_bucket_arguments);
     suite_add_tcase(s, tc);
     SRunner *runner = srunner_create(s);
