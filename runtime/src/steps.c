@@ -60,32 +60,43 @@ static perma_status ensure_room(perma_runtime *rt, const uint32_t *ctl, unsigned
     return st != PERMA_OK ? st : perma_queues_make_room(rt, needed);
 }
 
+static perma_status set_take_args(perma_runtime *rt, cl_uint qi, cl_uint first, cl_uint take, cl_uint from_tail)
+{
+    cl_mem fixed[] = { rt->ctl_mem, rt->data_mem, rt->seq_mem, rt->input_mem };
+    for (cl_uint i = 0; i < 4; ++i)
+        PERMA_CL_CHECK(rt, "clSetKernelArg (take)", clSetKernelArg(rt->take_kernel, i, sizeof(cl_mem), &fixed[i]));
+    cl_uint values[] = { qi, first, take, from_tail };
+    for (cl_uint i = 0; i < 4; ++i)
+        PERMA_CL_CHECK(rt, "clSetKernelArg (take)", clSetKernelArg(rt->take_kernel, 4 + i, sizeof values[i], &values[i]));
+    return PERMA_OK;
+}
+
+static perma_status set_step_args(perma_runtime *rt, cl_uint proc, cl_uint count)
+{
+    perma_status st = perma_set_common_args(rt, rt->step_kernel, 9);
+    if (st != PERMA_OK)
+        return st;
+    PERMA_CL_CHECK(rt, "clSetKernelArg (step)", clSetKernelArg(rt->step_kernel, 6, sizeof(cl_mem), &rt->input_mem));
+    PERMA_CL_CHECK(rt, "clSetKernelArg (step)", clSetKernelArg(rt->step_kernel, 7, sizeof proc, &proc));
+    PERMA_CL_CHECK(rt, "clSetKernelArg (step)", clSetKernelArg(rt->step_kernel, 8, sizeof count, &count));
+    return PERMA_OK;
+}
+
 static perma_status launch_step(perma_runtime *rt, unsigned q, uint32_t first, uint32_t take, uint32_t from_tail)
 {
     const perma_proc_info *p = &rt->procs[q];
     size_t words = (size_t)take * (p->item_size / 4);
     perma_status st = perma_ensure_buffer(rt, &rt->input_mem, &rt->input_mem_words, words, "step input");
+    if (st == PERMA_OK)
+        st = set_take_args(rt, q, first, take, from_tail);
     if (st != PERMA_OK)
         return st;
-    cl_uint qi = q;
-    cl_mem fixed[] = { rt->ctl_mem, rt->data_mem, rt->seq_mem, rt->input_mem };
-    for (cl_uint i = 0; i < 4; ++i)
-        PERMA_CL_CHECK(rt, "clSetKernelArg (take)", clSetKernelArg(rt->take_kernel, i, sizeof(cl_mem), &fixed[i]));
-    PERMA_CL_CHECK(rt, "clSetKernelArg (take)", clSetKernelArg(rt->take_kernel, 4, sizeof qi, &qi));
-    PERMA_CL_CHECK(rt, "clSetKernelArg (take)", clSetKernelArg(rt->take_kernel, 5, sizeof first, &first));
-    PERMA_CL_CHECK(rt, "clSetKernelArg (take)", clSetKernelArg(rt->take_kernel, 6, sizeof take, &take));
-    PERMA_CL_CHECK(rt, "clSetKernelArg (take)", clSetKernelArg(rt->take_kernel, 7, sizeof from_tail, &from_tail));
     size_t take_global = ((size_t)take + 63) / 64 * 64;
     PERMA_CL_CHECK(rt, "clEnqueueNDRangeKernel (take)",
                    clEnqueueNDRangeKernel(rt->queue, rt->take_kernel, 1, NULL, &take_global, NULL, 0, NULL, NULL));
-
-    st = perma_set_common_args(rt, rt->step_kernel, 9);
+    st = set_step_args(rt, q, take);
     if (st != PERMA_OK)
         return st;
-    cl_uint proc = q;
-    PERMA_CL_CHECK(rt, "clSetKernelArg (step)", clSetKernelArg(rt->step_kernel, 6, sizeof(cl_mem), &rt->input_mem));
-    PERMA_CL_CHECK(rt, "clSetKernelArg (step)", clSetKernelArg(rt->step_kernel, 7, sizeof proc, &proc));
-    PERMA_CL_CHECK(rt, "clSetKernelArg (step)", clSetKernelArg(rt->step_kernel, 8, sizeof take, &take));
     size_t local = rt->group_size;
     size_t global = ((size_t)take + p->max_batch - 1) / p->max_batch * local;
     PERMA_CL_CHECK(rt, "clEnqueueNDRangeKernel (step)",
@@ -99,23 +110,16 @@ static perma_status launch_step(perma_runtime *rt, unsigned q, uint32_t first, u
 perma_status perma_warm_up_steps(perma_runtime *rt)
 {
     perma_status st = perma_ensure_buffer(rt, &rt->input_mem, &rt->input_mem_words, 1, "step input");
+    if (st == PERMA_OK)
+        st = set_take_args(rt, 0, 0, 0, 0);
     if (st != PERMA_OK)
         return st;
-    cl_uint zero = 0;
-    cl_mem fixed[] = { rt->ctl_mem, rt->data_mem, rt->seq_mem, rt->input_mem };
-    for (cl_uint i = 0; i < 4; ++i)
-        PERMA_CL_CHECK(rt, "clSetKernelArg (take)", clSetKernelArg(rt->take_kernel, i, sizeof(cl_mem), &fixed[i]));
-    for (cl_uint i = 4; i < 8; ++i)
-        PERMA_CL_CHECK(rt, "clSetKernelArg (take)", clSetKernelArg(rt->take_kernel, i, sizeof zero, &zero));
     size_t take_global = 64;
     PERMA_CL_CHECK(rt, "clEnqueueNDRangeKernel (take warm-up)",
                    clEnqueueNDRangeKernel(rt->queue, rt->take_kernel, 1, NULL, &take_global, NULL, 0, NULL, NULL));
-    st = perma_set_common_args(rt, rt->step_kernel, 9);
+    st = set_step_args(rt, 0, 0);
     if (st != PERMA_OK)
         return st;
-    PERMA_CL_CHECK(rt, "clSetKernelArg (step)", clSetKernelArg(rt->step_kernel, 6, sizeof(cl_mem), &rt->input_mem));
-    PERMA_CL_CHECK(rt, "clSetKernelArg (step)", clSetKernelArg(rt->step_kernel, 7, sizeof zero, &zero));
-    PERMA_CL_CHECK(rt, "clSetKernelArg (step)", clSetKernelArg(rt->step_kernel, 8, sizeof zero, &zero));
     size_t local = rt->group_size;
     PERMA_CL_CHECK(rt, "clEnqueueNDRangeKernel (step warm-up)",
                    clEnqueueNDRangeKernel(rt->queue, rt->step_kernel, 1, NULL, &local, &local, 0, NULL, NULL));
