@@ -292,6 +292,38 @@ done:
     return st;
 }
 
+/* Give every queue whose entry in `capacities` differs from its capacity
+ * that capacity: all checked against the memory limit first, then applied,
+ * so a refusal changes nothing. */
+static perma_status apply_capacities(perma_runtime *rt, const size_t *capacities)
+{
+    size_t bytes = queue_bytes(rt, capacities);
+    for (unsigned qi = 0; qi < rt->image_count; ++qi) {
+        if (capacities[qi] == rt->images[qi].capacity)
+            continue;
+        if (bytes > memory_limit(rt))
+            return perma_set_error(rt, PERMA_ERR_CAPACITY,
+                                   "queue '%s' is full (%zu items of %zu bytes) and cannot grow to %zu items: "
+                                   "all queues would need %zu bytes, more than the queue memory limit of %zu bytes",
+                                   proc_of(rt, qi)->name, rt->images[qi].capacity, proc_of(rt, qi)->item_size,
+                                   capacities[qi], bytes, memory_limit(rt));
+        if (capacities[qi] > ((size_t)1 << 31))
+            return perma_set_error(rt, PERMA_ERR_CAPACITY, "queue '%s' would need more than 2^31 items",
+                                   proc_of(rt, qi)->name);
+    }
+    for (unsigned qi = 0; qi < rt->image_count; ++qi) {
+        if (capacities[qi] == rt->images[qi].capacity)
+            continue;
+        perma_status st = image_reserve(rt, qi, capacities[qi]);
+        if (st != PERMA_OK)
+            return st;
+        rt->images[qi].capacity = capacities[qi];
+        rt->images[qi].regrowths++;
+    }
+    rt->stats.regrowths++;
+    return PERMA_OK;
+}
+
 /* Grow the queues that stopped the launch: every target without room for
  * one item's worst-case emits from a non-empty source in the same set. */
 perma_status perma_queues_grow(perma_runtime *rt)
@@ -336,34 +368,7 @@ perma_status perma_queues_grow(perma_runtime *rt)
     for (unsigned qi = 0; qi < rt->image_count; ++qi)
         if (grow[qi])
             capacities[qi] = rt->images[qi].capacity * 2;
-    size_t bytes = queue_bytes(rt, capacities);
-    for (unsigned qi = 0; qi < rt->image_count; ++qi) {
-        if (!grow[qi])
-            continue;
-        if (bytes > memory_limit(rt)) {
-            st = perma_set_error(rt, PERMA_ERR_CAPACITY,
-                                 "queue '%s' is full (%zu items of %zu bytes) and cannot grow to %zu items: "
-                                 "all queues would need %zu bytes, more than the queue memory limit of %zu bytes",
-                                 proc_of(rt, qi)->name, rt->images[qi].capacity, proc_of(rt, qi)->item_size,
-                                 capacities[qi], bytes, memory_limit(rt));
-            goto done;
-        }
-        if (capacities[qi] > ((size_t)1 << 31)) {
-            st = perma_set_error(rt, PERMA_ERR_CAPACITY, "queue '%s' would need more than 2^31 items",
-                                 proc_of(rt, qi)->name);
-            goto done;
-        }
-    }
-    for (unsigned qi = 0; qi < rt->image_count; ++qi) {
-        if (!grow[qi])
-            continue;
-        st = image_reserve(rt, qi, capacities[qi]);
-        if (st != PERMA_OK)
-            goto done;
-        rt->images[qi].capacity = capacities[qi];
-        rt->images[qi].regrowths++;
-    }
-    rt->stats.regrowths++;
+    st = apply_capacities(rt, capacities);
 done:
     free(capacities);
     free(grow);
@@ -385,27 +390,9 @@ perma_status perma_queues_make_room(perma_runtime *rt, const size_t *needed)
         while (capacities[qi] - rt->images[qi].count < needed[qi])
             capacities[qi] *= 2;
     }
-    size_t bytes = queue_bytes(rt, capacities);
-    for (unsigned qi = 0; st == PERMA_OK && qi < rt->image_count; ++qi) {
-        if (capacities[qi] == rt->images[qi].capacity)
-            continue;
-        if (bytes > memory_limit(rt) || capacities[qi] > ((size_t)1 << 31)) {
-            st = perma_set_error(rt, PERMA_ERR_CAPACITY,
-                                 "queue '%s' (%zu items of %zu bytes) cannot grow to %zu items: all queues would "
-                                 "need %zu bytes, more than the queue memory limit of %zu bytes",
-                                 proc_of(rt, qi)->name, rt->images[qi].capacity, proc_of(rt, qi)->item_size,
-                                 capacities[qi], bytes, memory_limit(rt));
-            break;
-        }
-        st = image_reserve(rt, qi, capacities[qi]);
-        if (st == PERMA_OK) {
-            rt->images[qi].capacity = capacities[qi];
-            rt->images[qi].regrowths++;
-        }
-    }
+    st = apply_capacities(rt, capacities);
     free(capacities);
     if (st != PERMA_OK)
         return st;
-    rt->stats.regrowths++;
     return perma_queues_upload(rt);
 }
