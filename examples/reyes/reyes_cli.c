@@ -162,22 +162,35 @@ static int on_displace(reyes_cli *cli, const char *value, char *message, size_t 
     return REYES_CLI_OK;
 }
 
-static int on_motion(reyes_cli *cli, const char *value, char *message, size_t size)
+/* Parse exactly `count` comma-separated numbers of `option` into out[];
+ * `shape` shows the expected form in the message (e.g. "dx,dy,dz"). */
+static int parse_float_list(const char *option, const char *value, float *out, int count, const char *shape,
+                            char *message, size_t size)
 {
+    char what[64];
     const char *at = value;
-    for (int k = 0; k < 3; ++k) {
+    for (int k = 0; k < count; ++k) {
         char number[64];
         size_t n = strcspn(at, ",");
-        int last = k == 2;
-        if (n == 0 || n >= sizeof number || (last ? at[n] != '\0' : at[n] != ','))
-            return usage_error(message, size, "--motion '%s': expected 3 numbers %s", value, "dx,dy,dz");
+        int last = k == count - 1;
+        if (n == 0 || n >= sizeof number || (last ? at[n] != '\0' : at[n] != ',')) {
+            snprintf(what, sizeof what, "%s '%%s': expected %d numbers %%s", option, count);
+            return usage_error(message, size, what, value, shape);
+        }
         memcpy(number, at, n);
         number[n] = '\0';
-        if (!parse_float(number, &cli->render.motion[k]))
-            return usage_error(message, size, "--motion: '%s' is not a number%s", number, "");
+        if (!parse_float(number, &out[k])) {
+            snprintf(what, sizeof what, "%s: '%%s' is not a number%%s", option);
+            return usage_error(message, size, what, number, "");
+        }
         at += n + (last ? 0 : 1);
     }
     return REYES_CLI_OK;
+}
+
+static int on_motion(reyes_cli *cli, const char *value, char *message, size_t size)
+{
+    return parse_float_list("--motion", value, cli->render.motion, 3, "dx,dy,dz", message, size);
 }
 
 static int on_aperture(reyes_cli *cli, const char *value, char *message, size_t size)
@@ -254,22 +267,10 @@ static int on_fov(reyes_cli *cli, const char *value, char *message, size_t size)
 
 static int on_camera(reyes_cli *cli, const char *value, char *message, size_t size)
 {
-    const char *at = value;
-    for (int k = 0; k < 6; ++k) {
-        char number[64];
-        size_t n = strcspn(at, ",");
-        int last = k == 5;
-        if (n == 0 || n >= sizeof number || (last ? at[n] != '\0' : at[n] != ','))
-            return usage_error(message, size, "--camera '%s': expected 6 numbers %s", value,
-                               "ex,ey,ez,ax,ay,az");
-        memcpy(number, at, n);
-        number[n] = '\0';
-        if (!parse_float(number, &cli->camera[k]))
-            return usage_error(message, size, "--camera: '%s' is not a number%s", number, "");
-        at += n + (last ? 0 : 1);
-    }
-    cli->has_camera = 1;
-    return REYES_CLI_OK;
+    int st = parse_float_list("--camera", value, cli->camera, 6, "ex,ey,ez,ax,ay,az", message, size);
+    if (st == REYES_CLI_OK)
+        cli->has_camera = 1;
+    return st;
 }
 
 static int on_technique(reyes_cli *cli, const char *value, char *message, size_t size)
