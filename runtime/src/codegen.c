@@ -195,7 +195,7 @@ perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *sb)
                                                rt->config.strategy == PERMA_STRATEGY_STEALING_DONATION),
                         rt->config.victim == PERMA_VICTIM_ROUND_ROBIN, rt->config.donation_threshold,
                         rt->local_queue_items, rt->lq_words ? rt->lq_words : 1u,
-                        rt->trace_path && rt->config.technique == PERMA_TECHNIQUE_MEGAKERNEL ? rt->trace_events : 0u);
+                        rt->config.trace_path && rt->config.technique == PERMA_TECHNIQUE_MEGAKERNEL ? rt->trace_events : 0u);
     perma_strbuf_append(sb, perma_kernel_prelude);
     resume_generated(sb);
     perma_strbuf_append(sb, perma_kernel_queue);

@@ -115,7 +115,6 @@ struct perma_runtime {
     perma_stats stats;
 
     /* Trace of the current run (trace.c). */
-    const char *trace_path;         /* NULL: tracing off */
     unsigned trace_events;          /* per group and launch */
     cl_mem trace_mem;
     size_t trace_mem_words;

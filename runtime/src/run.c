@@ -128,7 +128,7 @@ perma_status perma_run(perma_runtime *rt)
     if (st == PERMA_OK)
         st = copy_host_buffers(rt, PERMA_WRITE);
     rt->stats.seconds = perma_now() - start;
-    if (rt->trace_path && !rt->hung) {
+    if (rt->config.trace_path && !rt->hung) {
         /* Written after a failure too: it shows what ran before it. */
         char kept[PERMA_MESSAGE_MAX];
         memcpy(kept, rt->message, sizeof kept);

@@ -141,7 +141,7 @@ perma_status perma_run_steps(perma_runtime *rt, double deadline)
     perma_status st = perma_queues_upload(rt);
     while (st == PERMA_OK) {
         st = read_control(rt, ctl, ctl_words); /* waits for the previous step */
-        if (st == PERMA_OK && traced_proc >= 0 && rt->trace_path)
+        if (st == PERMA_OK && traced_proc >= 0 && rt->config.trace_path)
             st = perma_trace_host_step(rt, (unsigned)traced_proc, traced_items, traced_start, perma_now());
         traced_proc = -1;
         if (st != PERMA_OK)

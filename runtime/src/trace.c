@@ -10,7 +10,7 @@ static const char *const kind_names[] = { "run", "steal", "local", "donate" };
 
 static bool tracing_on_device(const perma_runtime *rt)
 {
-    return rt->trace_path && rt->config.technique == PERMA_TECHNIQUE_MEGAKERNEL;
+    return rt->config.trace_path && rt->config.technique == PERMA_TECHNIQUE_MEGAKERNEL;
 }
 
 void perma_trace_release(perma_runtime *rt)
@@ -87,11 +87,12 @@ perma_status perma_trace_host_step(perma_runtime *rt, unsigned proc, uint32_t it
 
 perma_status perma_trace_write(perma_runtime *rt)
 {
-    if (!rt->trace_path)
+    if (!rt->config.trace_path)
         return PERMA_OK;
-    FILE *f = fopen(rt->trace_path, "w");
+    FILE *f = fopen(rt->config.trace_path, "w");
     if (!f)
-        return perma_set_error(rt, PERMA_ERR_IO, "cannot write the trace '%s': %s", rt->trace_path, strerror(errno));
+        return perma_set_error(rt, PERMA_ERR_IO, "cannot write the trace '%s': %s", rt->config.trace_path,
+                               strerror(errno));
     bool host = rt->config.technique != PERMA_TECHNIQUE_MEGAKERNEL;
     fprintf(f, "{\"displayTimeUnit\":\"ns\",\"otherData\":{\"runtime\":\"perma %s\",\"technique\":\"%s\","
                "\"strategy\":\"%s\",\"clock\":\"%s\"},\n\"traceEvents\":[\n",
@@ -116,6 +117,6 @@ perma_status perma_trace_write(perma_runtime *rt)
     fprintf(f, "\n]}\n");
     bool failed = ferror(f) != 0;
     if (fclose(f) != 0 || failed)
-        return perma_set_error(rt, PERMA_ERR_IO, "error writing the trace '%s'", rt->trace_path);
+        return perma_set_error(rt, PERMA_ERR_IO, "error writing the trace '%s'", rt->config.trace_path);
     return PERMA_OK;
 }
