@@ -113,10 +113,24 @@ int reyes_camera_project(const float m[16], unsigned width, unsigned height, con
 
 enum { REYES_CRACK_FIX_NONE, REYES_CRACK_FIX_STITCH };
 
+/* Subdivision criteria: the values of reyes_shared.h. */
+#define REYES_MAX_EPSILON 1000.0f
+
 typedef struct reyes_options {
     unsigned width, height;
     float bound_px;       /* dice below this screen bound (default 8) */
     unsigned grid;        /* grid vertices per side (default 16) */
+    /* When to stop splitting: REYES_SUBDIVISION_BOUND (default) dices a
+     * sub-patch whose screen bound is at most bound_px;
+     * REYES_SUBDIVISION_TIERED (docs/reyes.md) dices one whose edge and
+     * inner control-net curves are all within flat_epsilon pixels of
+     * straight, uniformly parametrised lines (the geometric and the full,
+     * parametric deviation mixed by flat_lambda in 0..1) and whose bound
+     * is at most grid - 1 pixels (micropolygons of about a pixel at most);
+     * bound_px does not apply to it. */
+    unsigned subdivision;
+    float flat_epsilon;   /* pixels (default 0.5) */
+    float flat_lambda;    /* 0: geometric only .. 1: full deviation (default 0.5) */
     unsigned spp;         /* samples per pixel (default 4) */
     unsigned max_depth;   /* split depth that forces dicing (default 20) */
     int backface_cull;    /* default 0: the models have open, two-sided parts */
@@ -188,6 +202,9 @@ enum { REYES_PROC_BOUND, REYES_PROC_SPLIT_U, REYES_PROC_SPLIT_V, REYES_PROC_DICE
 typedef struct reyes_stats {
     uint64_t patches_in;
     uint64_t splits;
+    /* Why bound split (they add up to splits): the screen bound, the edge
+     * or inner tier of the tiered criterion, the near plane. */
+    uint64_t split_bound, split_edge, split_inner, split_near;
     uint64_t culled;
     uint64_t grids;
     uint64_t forced_dice;     /* grids diced because of the depth limit */

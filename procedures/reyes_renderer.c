@@ -55,6 +55,8 @@ static perma_status register_all(struct reyes_renderer *r)
     if (status == PERMA_OK)
         status = perma_add_source(r->rt, reyes_common_cl_source, "reyes_common.cl");
     if (status == PERMA_OK)
+        status = perma_add_source(r->rt, reyes_flatness_cl_source, "reyes_flatness.cl");
+    if (status == PERMA_OK)
         status = perma_add_source(r->rt, reyes_sample_cl_source, "reyes_sample.cl");
     if (status == PERMA_OK)
         status = perma_add_source(r->rt, reyes_blur_cl_source, "reyes_blur.cl");

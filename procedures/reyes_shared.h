@@ -78,7 +78,18 @@ struct reyes_stitch {
 #define REYES_COUNT_FORCED_DICE 4 /* diced because the depth limit was hit */
 #define REYES_COUNT_LEAVES 5      /* sub-patches recorded by bound (stitching) */
 #define REYES_COUNT_FILLERS 6     /* crack-filling triangles rasterized by stitch */
-#define REYES_COUNTERS 8
+/* Why bound split a sub-patch (they add up to REYES_COUNT_SPLITS): its
+ * screen bound, its edge or inner tier (tiered criterion), or a hull
+ * crossing the near plane (split in world space). */
+#define REYES_COUNT_SPLIT_BOUND 7
+#define REYES_COUNT_SPLIT_EDGE 8
+#define REYES_COUNT_SPLIT_INNER 9
+#define REYES_COUNT_SPLIT_NEAR 10
+#define REYES_COUNTERS 12
+
+/* Subdivision criteria (reyes_params.subdivision). */
+#define REYES_SUBDIVISION_BOUND 0
+#define REYES_SUBDIVISION_TIERED 1
 
 /* Displacement kinds (reyes_params.displace_mode). */
 #define REYES_DISPLACE_NONE 0
@@ -118,7 +129,15 @@ struct reyes_params {
      * them: the first pass of crack stitching. */
     REYES_U32 record_leaves;
     REYES_U32 leaf_capacity;
-    REYES_U32 pad;
+    /* The split rule (reyes_bound.cl): REYES_SUBDIVISION_BOUND dices at a
+     * screen bound of bound_px; _TIERED (reyes_flatness.cl) dices when
+     * every control-net curve is within flat_epsilon pixels of its
+     * uniform chord (distance mix(geometric, full, flat_lambda)) and the
+     * bound is at most flat_cap_px. */
+    REYES_U32 subdivision;
+    float flat_epsilon;
+    float flat_lambda;
+    float flat_cap_px;
     /* Displacement (reyes_displace.cl): REYES_DISPLACE_*, the largest
      * distance, the bump frequency (per world unit) and the map size. */
     REYES_U32 displace_mode;

@@ -47,7 +47,13 @@ reyes_status reyes_write_stats_json(FILE *out, const reyes_stats *s, const reyes
                  "\"max_depth\": %u,\n",
             o->width, o->height, (double)o->bound_px, o->grid, o->spp, o->max_depth);
     fprintf(out, "  \"patches_in\": %" PRIu64 ",\n", s->patches_in);
+    fprintf(out, "  \"subdivision\": \"%s\", \"epsilon\": %g, \"lambda\": %g,\n",
+            o->subdivision == REYES_SUBDIVISION_TIERED ? "tiered" : "bound",
+            (double)o->flat_epsilon, (double)o->flat_lambda);
     fprintf(out, "  \"splits\": %" PRIu64 ",\n", s->splits);
+    fprintf(out, "  \"split_reasons\": {\"bound\": %" PRIu64 ", \"edge\": %" PRIu64
+                 ", \"inner\": %" PRIu64 ", \"near\": %" PRIu64 "},\n",
+            s->split_bound, s->split_edge, s->split_inner, s->split_near);
     fprintf(out, "  \"culled\": %" PRIu64 ",\n", s->culled);
     fprintf(out, "  \"grids\": %" PRIu64 ",\n", s->grids);
     fprintf(out, "  \"forced_dice\": %" PRIu64 ",\n", s->forced_dice);

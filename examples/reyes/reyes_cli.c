@@ -227,6 +227,38 @@ static int on_bound(reyes_cli *cli, const char *value, char *message, size_t siz
 {
     if (!parse_float(value, &cli->render.bound_px) || cli->render.bound_px < 0.5f)
         return usage_error(message, size, "--bound '%s': expected pixels >= 0.5%s", value, "");
+    cli->bound_given = 1;
+    return REYES_CLI_OK;
+}
+
+static int on_subdivision(reyes_cli *cli, const char *value, char *message, size_t size)
+{
+    if (strcmp(value, "bound") == 0)
+        cli->render.subdivision = REYES_SUBDIVISION_BOUND;
+    else if (strcmp(value, "tiered") == 0)
+        cli->render.subdivision = REYES_SUBDIVISION_TIERED;
+    else
+        return usage_error(message, size, "unknown subdivision '%s'; valid: %s", value,
+                           "bound tiered");
+    return REYES_CLI_OK;
+}
+
+static int on_epsilon(reyes_cli *cli, const char *value, char *message, size_t size)
+{
+    if (!parse_float(value, &cli->render.flat_epsilon)
+        || !(cli->render.flat_epsilon >= 0.01f && cli->render.flat_epsilon <= REYES_MAX_EPSILON))
+        return usage_error(message, size, "--epsilon '%s': expected pixels in 0.01..%s", value,
+                           "1000");
+    cli->flatness_given = 1;
+    return REYES_CLI_OK;
+}
+
+static int on_lambda(reyes_cli *cli, const char *value, char *message, size_t size)
+{
+    if (!parse_float(value, &cli->render.flat_lambda)
+        || !(cli->render.flat_lambda >= 0.0f && cli->render.flat_lambda <= 1.0f))
+        return usage_error(message, size, "--lambda '%s': expected a weight in 0..1%s", value, "");
+    cli->flatness_given = 1;
     return REYES_CLI_OK;
 }
 
@@ -359,6 +391,11 @@ static const cli_option options[] = {
     { "time-samples", 0, "N", on_time_samples, "time strata per pixel (default: spp)" },
     { "bound", 0, "PX", on_bound, "dice patches whose screen bound is at most PX (default 8)" },
     { "grid", 0, "N", on_grid, "grid vertices per side when dicing (default 16)" },
+    { "subdivision", 0, "NAME", on_subdivision,
+      "when to stop splitting: bound (default: --bound) or tiered (flatness)" },
+    { "epsilon", 0, "PX", on_epsilon, "tiered: flatness tolerance in pixels (default 0.5)" },
+    { "lambda", 0, "L", on_lambda,
+      "tiered: 0 geometric .. 1 parametric deviation weight (default 0.5)" },
     { "spp", 0, "N", on_spp, "jittered samples per pixel (default 4)" },
     { "max-depth", 0, "D", on_max_depth, "splits after which a patch is diced anyway (default 20)" },
     { "camera", 0, "ex,ey,ez,ax,ay,az", on_camera, "eye and target (default: frame the scene)" },
@@ -419,6 +456,20 @@ static const cli_option *find_option(const char *arg, const char **inline_value)
     return NULL;
 }
 
+/* --bound belongs to the bound criterion, --epsilon and --lambda to the
+ * tiered one: a value the chosen criterion would ignore is an error. */
+static int check_subdivision_options(const reyes_cli *cli, char *message, size_t size)
+{
+    int tiered = cli->render.subdivision == REYES_SUBDIVISION_TIERED;
+    if (tiered && cli->bound_given)
+        return usage_error(message, size, "--bound applies to --subdivision bound; tiered dices "
+                           "sub-patches of at most grid - 1 pixels%s%s", "", "");
+    if (!tiered && cli->flatness_given)
+        return usage_error(message, size, "--epsilon and --lambda apply to --subdivision tiered%s%s",
+                           "", "");
+    return REYES_CLI_OK;
+}
+
 int reyes_cli_parse(int argc, char **argv, reyes_cli *cli, char *message, size_t size)
 {
     memset(cli, 0, sizeof *cli);
@@ -456,7 +507,7 @@ int reyes_cli_parse(int argc, char **argv, reyes_cli *cli, char *message, size_t
         if (result != REYES_CLI_OK)
             return result;
     }
-    return REYES_CLI_OK;
+    return check_subdivision_options(cli, message, size);
 }
 
 void reyes_cli_free(reyes_cli *cli)
