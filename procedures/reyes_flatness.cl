@@ -96,3 +96,149 @@ struct reyes_tiers reyes_flatness(__global const struct reyes_params *p, const f
     }
     return tiers;
 }
+
+/*
+ * Wedges (REYES_CRACK_FIX_WEDGE): crack-free subdivision without
+ * communication between patches.  An edge of a sub-patch lies on a line of
+ * its base patch (u or v fixed); the dyadic segments of that line holding
+ * the edge form a chain that the sub-patches on both sides share.  The
+ * edge is settled at the coarsest segment of the chain that is flat
+ * (edge tier alone, measured from the segment's own control points), and
+ * both sides then reach to the same straight chord: dice adds a wedge
+ * strip between its true boundary and the chord.  Segment control points
+ * come from the base patch by blossoming in a canonical direction, and a
+ * base-patch boundary line is the control net's own row or column, so two
+ * sides compute the same bits even across base patches.
+ */
+
+#define REYES_EDGE_UNSETTLED 0xffu
+
+/* The cubic along a line of a base patch: v = fixed (along_u) or u = fixed. */
+void reyes_line_curve(const float3 base[16], int along_u, float fixed, float3 out[4])
+{
+    for (int k = 0; k < 4; ++k) {
+        int first = along_u ? k : k * 4, stride = along_u ? 4 : 1;
+        if (fixed == 0.0f)
+            out[k] = base[first];
+        else if (fixed == 1.0f)
+            out[k] = base[first + 3 * stride];
+        else
+            out[k] = reyes_blossom(base[first], base[first + stride], base[first + 2 * stride],
+                                   base[first + 3 * stride], fixed, fixed, fixed);
+    }
+}
+
+/* 1 when the curve runs against the canonical order of its end points. */
+int reyes_curve_reversed(const float3 q[4])
+{
+    return q[0].x > q[3].x
+           || (q[0].x == q[3].x && (q[0].y > q[3].y || (q[0].y == q[3].y && q[0].z > q[3].z)));
+}
+
+/* Control points of the line curve over [a,b] (dyadic), blossomed in the
+ * canonical direction; out[] in the line's own direction. */
+void reyes_restrict_canonical(const float3 q[4], float a, float b, float3 out[4])
+{
+    if (reyes_curve_reversed(q)) {
+        float ra = 1.0f - b, rb = 1.0f - a;
+        out[3] = reyes_blossom(q[3], q[2], q[1], q[0], ra, ra, ra);
+        out[2] = reyes_blossom(q[3], q[2], q[1], q[0], ra, ra, rb);
+        out[1] = reyes_blossom(q[3], q[2], q[1], q[0], ra, rb, rb);
+        out[0] = reyes_blossom(q[3], q[2], q[1], q[0], rb, rb, rb);
+    } else {
+        out[0] = reyes_blossom(q[0], q[1], q[2], q[3], a, a, a);
+        out[1] = reyes_blossom(q[0], q[1], q[2], q[3], a, a, b);
+        out[2] = reyes_blossom(q[0], q[1], q[2], q[3], a, b, b);
+        out[3] = reyes_blossom(q[0], q[1], q[2], q[3], b, b, b);
+    }
+}
+
+/* The edge tier for one curve, from its own four points only. */
+int reyes_edge_flat(__global const struct reyes_params *p, const float3 e[4])
+{
+    __global const float *m = p->view_proj;
+    float r0 = length((float3)(m[0], m[1], m[2])), r1 = length((float3)(m[4], m[5], m[6]));
+    float r3 = length((float3)(m[12], m[13], m[14]));
+    float w_min = INFINITY, ndc_x = 0.0f, ndc_y = 0.0f;
+    for (int k = 0; k < 4; ++k) {
+        float4 c = reyes_to_clip(p, e[k]);
+        if (c.w <= p->near_w)
+            return 0;
+        w_min = fmin(w_min, c.w);
+        ndc_x = fmax(ndc_x, fabs(c.x / c.w));
+        ndc_y = fmax(ndc_y, fabs(c.y / c.w));
+    }
+    float scale = fmax(0.5f * p->width * (r0 + ndc_x * r3), 0.5f * p->height * (r1 + ndc_y * r3))
+                  / w_min;
+    float2 d = reyes_curve_deviation(e[0], e[1], e[2], e[3]);
+    return scale * mix(d.x, d.y, p->flat_lambda) <= p->flat_epsilon;
+}
+
+/* Start of the level-`level` dyadic segment holding [a, ...). */
+float reyes_segment_start(float a, uint level)
+{
+    float span = ldexp(1.0f, -(int)level);
+    return floor(a / span) * span;
+}
+
+/* Coarsest level at which the segment of the line holding [a,b] is flat,
+ * or REYES_EDGE_UNSETTLED. */
+uint reyes_settled_level(__global const struct reyes_params *p, const float3 line[4], float a,
+                         float b)
+{
+    float length = b - a;
+    uint level = 0u;
+    for (float span = 1.0f; span >= length; span *= 0.5f, ++level) {
+        float start = reyes_segment_start(a, level);
+        float3 e[4];
+        reyes_restrict_canonical(line, start, start + span, e);
+        if (reyes_edge_flat(p, e))
+            return level;
+    }
+    return REYES_EDGE_UNSETTLED;
+}
+
+/* The line of edge `edge` (REYES_EDGE_*) of a sub-patch: direction, the
+ * fixed parameter and the edge's interval along it. */
+void reyes_edge_line(const struct reyes_subpatch *sp, int edge, int *along_u, float *fixed,
+                     float *a, float *b)
+{
+    *along_u = edge == REYES_EDGE_V0 || edge == REYES_EDGE_V1;
+    *fixed = edge == REYES_EDGE_V0 ? sp->v0 : edge == REYES_EDGE_V1 ? sp->v1
+             : edge == REYES_EDGE_U0 ? sp->u0 : sp->u1;
+    *a = *along_u ? sp->u0 : sp->v0;
+    *b = *along_u ? sp->u1 : sp->v1;
+}
+
+/* Settled levels of the four edges, a byte each in REYES_EDGE_* order. */
+uint reyes_edge_levels(__global const struct reyes_params *p, const float3 base[16],
+                       const struct reyes_subpatch *sp)
+{
+    uint levels = 0u;
+    for (int edge = 0; edge < 4; ++edge) {
+        int along_u;
+        float fixed, a, b;
+        reyes_edge_line(sp, edge, &along_u, &fixed, &a, &b);
+        float3 line[4];
+        reyes_line_curve(base, along_u, fixed, line);
+        levels |= reyes_settled_level(p, line, a, b) << (8 * edge);
+    }
+    return levels;
+}
+
+/* The point at parameter s of the chord of edge `edge`'s settled segment
+ * (level `level`), computed in the canonical direction. */
+float3 reyes_chord_point(const float3 base[16], const struct reyes_subpatch *sp, int edge,
+                         uint level, float s)
+{
+    int along_u;
+    float fixed, a, b;
+    reyes_edge_line(sp, edge, &along_u, &fixed, &a, &b);
+    float3 line[4], e[4];
+    reyes_line_curve(base, along_u, fixed, line);
+    float span = ldexp(1.0f, -(int)level), start = reyes_segment_start(a, level);
+    reyes_restrict_canonical(line, start, start + span, e);
+    if (reyes_curve_reversed(line))
+        return e[3] + (e[0] - e[3]) * (((1.0f - s) - (1.0f - (start + span))) / span);
+    return e[0] + (e[3] - e[0]) * ((s - start) / span);
+}

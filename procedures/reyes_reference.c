@@ -180,7 +180,8 @@ static float pixels_per_unit(const context *c, const vec4 clip[16])
 static int tiered_split(const context *c, const vec3 cp[16], const vec4 clip[16], float size,
                         int *along_u)
 {
-    if (size > (float)(c->o->grid - 1))
+    float cap = c->o->flat_bound_px > 0.0f ? c->o->flat_bound_px : (float)(c->o->grid - 1);
+    if (size > cap)
         return 1;
     float scale = pixels_per_unit(c, clip), along[2] = { 0.0f, 0.0f };
     int failed = 0;
@@ -348,6 +349,9 @@ reyes_status reyes_reference_run(const reyes_scene *scene, const reyes_camera *c
     reyes_status status = reyes_options_check(options, error);
     if (status != REYES_OK)
         return status;
+    if (options->crack_fix == REYES_CRACK_FIX_WEDGE)
+        return reyes_fail(error, REYES_ERR_ARGUMENT,
+                          "the C reference does not model the wedge crack fix's subdivision");
     context c = { .scene = scene, .o = options, .counts = out };
     c.near_w = reyes_near_plane(scene);
     status = reyes_camera_matrix(camera, (float)options->width / (float)options->height, c.near_w,

@@ -123,7 +123,8 @@ static reyes_status fill_params(const reyes_scene *scene, const reyes_camera *ca
     p->subdivision = o->subdivision;
     p->flat_epsilon = o->flat_epsilon;
     p->flat_lambda = o->flat_lambda;
-    p->flat_cap_px = (float)(o->grid - 1u);
+    p->flat_cap_px = o->flat_bound_px > 0.0f ? o->flat_bound_px : (float)(o->grid - 1u);
+    p->wedges = o->crack_fix == REYES_CRACK_FIX_WEDGE ? 1u : 0u;
     p->cull_margin = o->cull_margin;
     p->ambient = 0.18f;
     p->diffuse = 0.82f;

@@ -20,7 +20,8 @@ static perma_status register_all(struct reyes_renderer *r)
 {
     const char *item = "struct reyes_subpatch";
     const size_t item_size = sizeof(struct reyes_subpatch);
-    unsigned quads = (r->grid - 1) * (r->grid - 1);
+    /* Dice emits its grid's quads and, with wedges, a strip per edge. */
+    unsigned quads = (r->grid - 1) * (r->grid - 1) + 4 * (r->grid - 1);
     /* Bound and split emit into each other: bound is served before split
      * (it culls and dices, split doubles), and consumers before producers
      * keeps the queues short. */

@@ -19,6 +19,10 @@ struct reyes_subpatch {
     REYES_U32 patch;  /* index of the base patch */
     REYES_U32 depth;  /* number of splits from the base patch */
     float u0, v0, u1, v1;
+    /* Wedge crack fix: the level at which each edge settled, a byte per
+     * edge in REYES_EDGE_* order (0xff: not settled), set by bound for
+     * dice (reyes_flatness.cl); unused otherwise. */
+    REYES_U32 edge_levels;
 };
 
 /* One micropolygon: a grid quad in screen space (pixels, y down; z is the
@@ -138,6 +142,10 @@ struct reyes_params {
     float flat_epsilon;
     float flat_lambda;
     float flat_cap_px;
+    /* 1: crack fix by wedges (needs the tiered criterion): bound settles
+     * every edge on a flat segment of its line, dice adds wedge strips
+     * from its boundary to that segment's chord. */
+    REYES_U32 wedges;
     /* Displacement (reyes_displace.cl): REYES_DISPLACE_*, the largest
      * distance, the bump frequency (per world unit) and the map size. */
     REYES_U32 displace_mode;

@@ -135,8 +135,11 @@ static int on_crack_fix(reyes_cli *cli, const char *value, char *message, size_t
         cli->render.crack_fix = REYES_CRACK_FIX_NONE;
     else if (strcmp(value, "stitch") == 0)
         cli->render.crack_fix = REYES_CRACK_FIX_STITCH;
+    else if (strcmp(value, "wedge") == 0)
+        cli->render.crack_fix = REYES_CRACK_FIX_WEDGE;
     else
-        return usage_error(message, size, "unknown crack fix '%s'; valid: %s", value, "none stitch");
+        return usage_error(message, size, "unknown crack fix '%s'; valid: %s", value,
+                           "none stitch wedge");
     return REYES_CLI_OK;
 }
 
@@ -381,7 +384,7 @@ static const cli_option options[] = {
     { "size", 0, "WxH", on_size, "image size in pixels (default 512x512)" },
     { "bucket", 0, "WxH", on_bucket, "render in screen tiles of WxH pixels (default: one)" },
     { "crack-fix", 0, "NAME", on_crack_fix,
-      "stitch (default: fill cracks between grids) or none" },
+      "stitch (default: fill cracks between grids), wedge (one pass; tiered only) or none" },
     { "displace", 0, "KIND", on_displace,
       "bumps:AMPLITUDE or png:FILE:AMPLITUDE (gray PNG at the patch's u,v)" },
     { "motion", 0, "dx,dy,dz", on_motion, "move every vertex by this over the shutter (motion blur)" },
@@ -389,7 +392,8 @@ static const cli_option options[] = {
     { "focus", 0, "D", on_focus, "view depth in focus (default: distance to the camera target)" },
     { "blur-algo", 0, "NAME", on_blur_algo, "motion blur and defocus sampling: simple (UVT, default)" },
     { "time-samples", 0, "N", on_time_samples, "time strata per pixel (default: spp)" },
-    { "bound", 0, "PX", on_bound, "dice patches whose screen bound is at most PX (default 8)" },
+    { "bound", 0, "PX", on_bound,
+      "dice patches whose screen bound is at most PX (default 8; tiered: grid - 1)" },
     { "grid", 0, "N", on_grid, "grid vertices per side when dicing (default 16)" },
     { "subdivision", 0, "NAME", on_subdivision,
       "when to stop splitting: bound (default: --bound) or tiered (flatness)" },
@@ -456,14 +460,16 @@ static const cli_option *find_option(const char *arg, const char **inline_value)
     return NULL;
 }
 
-/* --bound belongs to the bound criterion, --epsilon and --lambda to the
- * tiered one: a value the chosen criterion would ignore is an error. */
-static int check_subdivision_options(const reyes_cli *cli, char *message, size_t size)
+/* --epsilon and --lambda belong to the tiered criterion: a value the
+ * bound criterion would ignore is an error. */
+static int check_subdivision_options(reyes_cli *cli, char *message, size_t size)
 {
     int tiered = cli->render.subdivision == REYES_SUBDIVISION_TIERED;
+    /* Tiered: --bound is the largest sub-patch to dice (else grid - 1). */
     if (tiered && cli->bound_given)
-        return usage_error(message, size, "--bound applies to --subdivision bound; tiered dices "
-                           "sub-patches of at most grid - 1 pixels%s%s", "", "");
+        cli->render.flat_bound_px = cli->render.bound_px;
+    if (!tiered && cli->render.crack_fix == REYES_CRACK_FIX_WEDGE)
+        return usage_error(message, size, "--crack-fix wedge needs --subdivision tiered%s%s", "", "");
     if (!tiered && cli->flatness_given)
         return usage_error(message, size, "--epsilon and --lambda apply to --subdivision tiered%s%s",
                            "", "");

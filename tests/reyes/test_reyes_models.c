@@ -187,10 +187,20 @@ START_TEST(test_models_tiered)
     fine = o;
     fine.bound_px = 3.0f;
     o.subdivision = REYES_SUBDIVISION_TIERED;
+    o.flat_bound_px = 12.0f;
     reyes_renderer *renderer;
     ck_assert_int_eq(reyes_renderer_create(&o, &renderer, &error), REYES_OK);
-    size_t holes = reyes_test_holes_from_random_views(renderer, &scene, &o, &fine, 24, 778u, 16);
-    ck_assert_uint_eq(holes, 0);
+    o.crack_fix = REYES_CRACK_FIX_NONE;
+    size_t without = reyes_test_holes_from_random_views(renderer, &scene, &o, &fine, 24, 778u, 16);
+    o.crack_fix = REYES_CRACK_FIX_STITCH;
+    size_t stitched = reyes_test_holes_from_random_views(renderer, &scene, &o, &fine, 24, 778u, 16);
+    o.crack_fix = REYES_CRACK_FIX_WEDGE;
+    size_t wedged = reyes_test_holes_from_random_views(renderer, &scene, &o, &fine, 24, 778u, 16);
+    printf("teapot, tiered criterion, 24 views at 128x128, grid 6, bound 12 px, 1 spp: %zu hole "
+           "pixels without crack fix, %zu with stitching, %zu with wedges\n", without, stitched,
+           wedged);
+    ck_assert_uint_eq(stitched, 0);
+    ck_assert_uint_eq(wedged, 0);
     reyes_renderer_destroy(renderer);
     reyes_scene_free(&scene);
 

@@ -250,6 +250,24 @@ START_TEST(test_option_checks)
         ck_assert_msg(strstr(error.message, cases[i].needle) != NULL, "case %zu: '%s' lacks '%s'",
                       i, error.message, cases[i].needle);
     }
+    reyes_options o;
+    reyes_error error;
+    reyes_options_init(&o);
+    o.subdivision = REYES_SUBDIVISION_TIERED;
+    o.flat_bound_px = 0.25f;
+    ck_assert_int_eq(reyes_options_check(&o, &error), REYES_ERR_ARGUMENT);
+    ck_assert_str_eq(error.message, "tiered bound 0.25 px is not 0 or in 0.5..1e6");
+    o.flat_bound_px = 0.0f;
+    o.crack_fix = REYES_CRACK_FIX_WEDGE;
+    ck_assert_int_eq(reyes_options_check(&o, &error), REYES_OK);
+    o.displace_mode = REYES_DISPLACE_BUMPS;
+    o.displace_amplitude = 0.1f;
+    ck_assert_int_eq(reyes_options_check(&o, &error), REYES_ERR_ARGUMENT);
+    ck_assert_str_eq(error.message, "crack fix wedge cannot be combined with displacement yet");
+    o.displace_amplitude = 0.0f;
+    o.subdivision = REYES_SUBDIVISION_BOUND;
+    ck_assert_int_eq(reyes_options_check(&o, &error), REYES_ERR_ARGUMENT);
+    ck_assert_str_eq(error.message, "crack fix wedge needs the tiered subdivision criterion");
 }
 END_TEST
 
