@@ -161,7 +161,7 @@ typedef struct reyes_options {
     unsigned displace_mode;
     float displace_amplitude;   /* world units */
     const char *displace_map;   /* PNG path for REYES_DISPLACE_MAP */
-    /* Motion blur and depth of field (simple UVT sampling): every vertex
+    /* Motion blur and depth of field: every vertex
      * moves by motion[] (world units) over the shutter; a thin lens of
      * radius `aperture` (world units) focused at view depth `focus` (0:
      * the camera's target).  time_samples: time strata per pixel (0: spp).
@@ -170,6 +170,13 @@ typedef struct reyes_options {
     float aperture;
     float focus;
     unsigned time_samples;
+    /* How samples get their time and lens position (docs/reyes.md):
+     * REYES_BLUR_SIMPLE, _INTERLEAVED (default) or _BBOX; interleaved uses
+     * tiles of blur_tile x blur_tile pixels (default 4) and
+     * blur_permutations permutations of their slots (default 8). */
+    unsigned blur_algo;
+    unsigned blur_tile;
+    unsigned blur_permutations;
     /* Scheduling, passed to perma_config when the renderer is created;
      * 0 = the runtime's default. */
     unsigned work_groups;
@@ -190,8 +197,15 @@ void reyes_options_init(reyes_options *options);
 #define REYES_MAX_SPP 64u
 #define REYES_MAX_DEPTH 40u
 #define REYES_MAX_BUCKETS 1048576u
+#define REYES_MAX_BLUR_TILE 8u
+#define REYES_MAX_BLUR_PERMUTATIONS 64u
 
 reyes_status reyes_options_check(const reyes_options *options, reyes_error *error);
+
+/* "simple", "interleaved", "bbox"; NULL past the last algorithm. */
+const char *reyes_blur_algo_name(unsigned algo);
+/* The REYES_BLUR_* named `name`; 0 if there is none. */
+int reyes_blur_algo_parse(const char *name, unsigned *algo);
 
 typedef struct reyes_image {
     unsigned width, height;

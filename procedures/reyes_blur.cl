@@ -1,32 +1,52 @@
 /*
- * Motion blur and depth of field with the simple UVT algorithm: every
- * sample of a pixel has its own time t (stratified over time_samples) and
- * lens position (uniform on the disk); a micropolygon is tested against
- * each sample in the screen box it can cover over the shutter and the
- * lens, with its vertices moved to that sample's t and lens position.
- * Time and lens depend on the global pixel and sample index only, so the
- * image does not depend on the schedule.
+ * Motion blur and depth of field: every sample has a time t in [0,1) and
+ * a lens position on the unit disk, taken from a pool of such (u,v,t)
+ * tuples.  Three algorithms (Fatahalian et al. 2009; Sattlecker and
+ * Steinberger 2015) differ in which tuple a sample uses and in how a
+ * micropolygon finds the samples it covers (N = spp):
+ *
+ * simple       sample s of every pixel uses tuple s.  One pass per tuple:
+ *              move the quad to that time and lens position and test
+ *              sample s of the pixels in the moved quad's (small) box.
+ * interleaved  pixel slot j = (py mod K) * K + (px mod K) of its K x K
+ *              tile uses tuples perm(j) * N + s of a pool of K*K*N, perm
+ *              one of P permutations picked by a hash of the tile.  One
+ *              pass per tuple of the pool, testing in the moved box only
+ *              the pixel of each tile whose slot maps to that tuple.
+ * bbox         pixel (px, py) uses tuples ((py mod 64) * 64 + px mod 64)
+ *              * N + s; every sample of every pixel in the box the quad
+ *              sweeps over the shutter and the lens is tested with the
+ *              quad moved to that sample's own tuple.
+ *
+ * Tuple i's time lies in stratum (i mod N) mod time_samples, so each
+ * pixel's N samples are stratified in time under every algorithm.
+ * Tuples, slots and permutations are functions of global pixel and sample
+ * indices only, so the image does not depend on the schedule.  A sample
+ * is tested exactly as without blur (reyes_sample_triangle), at the same
+ * position inside its pixel.
  */
 
-/* A hashed number in [0,1) for (pixel, sample, dimension). */
-float reyes_sample_dimension(uint px, uint py, uint s, uint dimension)
+/* A hashed number in [0,1) for (tuple index, dimension). */
+float reyes_tuple_dimension(uint index, uint dimension)
 {
-    uint h = reyes_hash(px * 0x9e3779b9u ^ reyes_hash(py * 0x85ebca6bu
-                        ^ reyes_hash(s * 0xc2b2ae35u ^ reyes_hash(dimension + 0x27d4eb2fu))));
+    uint h = reyes_hash(index * 0x9e3779b9u ^ reyes_hash(dimension + 0x27d4eb2fu));
     return (float)(h >> 8) * (1.0f / 16777216.0f);
 }
 
-/* Time of a sample: stratum s mod strata, jittered. */
-float reyes_sample_time(uint px, uint py, uint s, uint strata)
+/* Time of tuple `index` of a pool whose blocks hold n tuples: stratum
+ * (index mod n) mod strata, jittered. */
+float reyes_tuple_time(uint index, uint n, uint strata)
 {
-    return ((float)(s % strata) + reyes_sample_dimension(px, py, s, 1u)) / (float)strata;
+    uint s = index % n;
+    return ((float)(s % strata) + reyes_tuple_dimension(index, 1u)) / (float)strata;
 }
 
-/* Lens position on the unit disk (concentric mapping of the square). */
-float2 reyes_sample_lens(uint px, uint py, uint s)
+/* Lens position of tuple `index` on the unit disk (concentric mapping of
+ * the square). */
+float2 reyes_tuple_lens(uint index)
 {
-    float a = 2.0f * reyes_sample_dimension(px, py, s, 2u) - 1.0f;
-    float b = 2.0f * reyes_sample_dimension(px, py, s, 3u) - 1.0f;
+    float a = 2.0f * reyes_tuple_dimension(index, 2u) - 1.0f;
+    float b = 2.0f * reyes_tuple_dimension(index, 3u) - 1.0f;
     if (a == 0.0f && b == 0.0f)
         return (float2)(0.0f, 0.0f);
     float r, phi;
@@ -50,9 +70,35 @@ float3 reyes_blur_clip(__global const struct reyes_params *p, float x, float y, 
                     y + t * p->motion_y + defocus * lens.y * p->lens_y, wt);
 }
 
-/* Screen box of a blurred quad: its vertices at t = 0 and 1 and the four
- * corners of the lens square (offsets are linear in t and in the lens
- * position).  0 if a vertex can reach the near plane (then the tile). */
+/* The quad (clip x, y, w) moved to tuple `index`, in pixels with z the
+ * clip w, and its screen box.  0 if a vertex is at or behind the near
+ * plane (the tuple's samples then see nothing of this quad). */
+int reyes_blur_move(__global const struct reyes_params *p, const struct reyes_quad *q, uint index,
+                    struct reyes_quad *moved, float2 *lo, float2 *hi)
+{
+    float t = reyes_tuple_time(index, p->spp, p->time_samples);
+    float2 lens = reyes_tuple_lens(index);
+    *moved = *q;
+    *lo = (float2)(INFINITY, INFINITY);
+    *hi = (float2)(-INFINITY, -INFINITY);
+    for (int k = 0; k < 4; ++k) {
+        float3 clip = reyes_blur_clip(p, q->x[k], q->y[k], q->z[k], t, lens);
+        if (clip.z <= p->near_w)
+            return 0;
+        float2 sc = reyes_to_screen(p, (float4)(clip.x, clip.y, 0.0f, clip.z));
+        moved->x[k] = sc.x;
+        moved->y[k] = sc.y;
+        moved->z[k] = clip.z;
+        *lo = fmin(*lo, sc);
+        *hi = fmax(*hi, sc);
+    }
+    return 1;
+}
+
+/* Screen box of a blurred quad over the whole shutter and lens: its
+ * vertices at t = 0 and 1 and the four corners of the lens square
+ * (offsets are linear in t and in the lens position).  0 if a vertex can
+ * reach the near plane (then the tile). */
 int reyes_blur_box(__global const struct reyes_params *p, const struct reyes_quad *q, int corners,
                    float2 *lo, float2 *hi)
 {
@@ -73,46 +119,221 @@ int reyes_blur_box(__global const struct reyes_params *p, const struct reyes_qua
     return 1;
 }
 
-/* Test every sample in the quad's blurred box (clipped to the tile). */
-void reyes_rasterize_blurred(__global const struct reyes_params *p, __global ulong *samples,
-                             const struct reyes_quad *q, int triangles)
+/* Pixels (x0, y0)..(x1, y1) of screen box lo..hi inside the tile; 0 if
+ * the box misses the tile.  Clamped in float first: the box may lie far
+ * outside int range. */
+int reyes_blur_pixels(__global const struct reyes_params *p, float2 lo, float2 hi, int4 *range)
+{
+    if (hi.x < p->tile_x0 || hi.y < p->tile_y0 || lo.x > p->tile_x1 || lo.y > p->tile_y1)
+        return 0;
+    *range = (int4)((int)floor(clamp(lo.x, p->tile_x0, p->tile_x1 - 1.0f)),
+                    (int)floor(clamp(lo.y, p->tile_y0, p->tile_y1 - 1.0f)),
+                    (int)floor(clamp(hi.x, p->tile_x0, p->tile_x1 - 1.0f)),
+                    (int)floor(clamp(hi.y, p->tile_y0, p->tile_y1 - 1.0f)));
+    return 1;
+}
+
+/* Test sample s of global pixel (px, py) against the moved quad's
+ * triangles (one for a stitch triangle, two for a quad). */
+void reyes_blur_sample(__global const struct reyes_params *p, __global ulong *samples,
+                       const struct reyes_quad *moved, int triangles, uint px, uint py, uint s)
+{
+    uint tile_x = (uint)p->tile_x0, tile_y = (uint)p->tile_y0;
+    uint tile_width = (uint)p->tile_x1 - tile_x, spp = p->spp;
+    float2 pos = reyes_sample_position(px, py, s, spp);
+    uint index = ((py - tile_y) * tile_width + (px - tile_x)) * spp + s;
+    reyes_sample_triangle(samples, index, pos, moved, 0, 1, 2);
+    if (triangles == 2)
+        reyes_sample_triangle(samples, index, pos, moved, 0, 2, 3);
+}
+
+/* simple: one pass per sample index s with tuple s, the same in every
+ * pixel (cheap, but every pixel sees the same N copies of the quad). */
+void reyes_blur_simple(__global const struct reyes_params *p, __global ulong *samples,
+                       const struct reyes_quad *q, int triangles)
+{
+    for (uint s = 0; s < p->spp; ++s) {
+        struct reyes_quad moved;
+        float2 lo, hi;
+        int4 r;
+        if (!reyes_blur_move(p, q, s, &moved, &lo, &hi) || !reyes_blur_pixels(p, lo, hi, &r))
+            continue;
+        for (int py = r.y; py <= r.w; ++py)
+            for (int px = r.x; px <= r.z; ++px)
+                reyes_blur_sample(p, samples, &moved, triangles, (uint)px, (uint)py, s);
+    }
+}
+
+/* Permutation (0..count-1) of the slots of tile (tx, ty). */
+uint reyes_tile_permutation(uint tx, uint ty, uint count)
+{
+    return reyes_hash(tx * 0x9e3779b9u ^ reyes_hash(ty ^ 0x7f4a7c15u)) % count;
+}
+
+/* The slot of a k x k tile that permutation m maps to tuple block b: the
+ * inverse of perm_m.  perm_0 is the identity; perm_m (m > 0) maps slot
+ * (x, y) by three shears mod k with hashed offsets and slopes,
+ *   x1 = x + a,  y1 = y + b + c x1,  x2 = x1 + d + e y1  ->  block (x2, y1),
+ * each a bijection of the tile, so every block has exactly one slot. */
+uint reyes_slot_of_block(uint m, uint b, uint k)
+{
+    if (m == 0u)
+        return b;
+    uint h = reyes_hash(m * 0x85ebca6bu + 0x165667b1u);
+    uint a = (h & 255u) % k, bb = ((h >> 8) & 255u) % k, c = ((h >> 16) & 255u) % k;
+    uint d = (h >> 24) % k, e = reyes_hash(h) % k;
+    uint y1 = b / k, x2 = b % k;
+    uint x1 = (x2 + k - (d + e * y1) % k) % k;
+    uint y = (y1 + k - (bb + c * x1) % k) % k;
+    uint x = (x1 + k - a) % k;
+    return y * k + x;
+}
+
+/* 1 if a pixel in r (x0, y0, x1, y1) uses tuple block b: in every k x k
+ * tile that r touches, the one pixel whose slot maps to b. */
+int reyes_block_used(__global const struct reyes_params *p, uint block, int4 r, uint k)
+{
+    for (uint ty = (uint)r.y / k; ty <= (uint)r.w / k; ++ty) {
+        for (uint tx = (uint)r.x / k; tx <= (uint)r.z / k; ++tx) {
+            uint slot = reyes_slot_of_block(reyes_tile_permutation(tx, ty, p->blur_permutations),
+                                            block, k);
+            uint px = tx * k + slot % k, py = ty * k + slot / k;
+            if (px >= (uint)r.x && px <= (uint)r.z && py >= (uint)r.y && py <= (uint)r.w)
+                return 1;
+        }
+    }
+    return 0;
+}
+
+/* One interleaved pass, tuple block * N + s: in the moved box, each
+ * tile's pixel whose slot uses the block tests sample s. */
+void reyes_blur_interleaved_pass(__global const struct reyes_params *p, __global ulong *samples,
+                                 const struct reyes_quad *q, int triangles, uint block, uint s)
+{
+    uint k = p->blur_tile;
+    struct reyes_quad moved;
+    float2 lo, hi;
+    int4 r;
+    if (!reyes_blur_move(p, q, block * p->spp + s, &moved, &lo, &hi) || !reyes_blur_pixels(p, lo, hi, &r))
+        return;
+    for (uint ty = (uint)r.y / k; ty <= (uint)r.w / k; ++ty) {
+        for (uint tx = (uint)r.x / k; tx <= (uint)r.z / k; ++tx) {
+            uint slot = reyes_slot_of_block(reyes_tile_permutation(tx, ty, p->blur_permutations),
+                                            block, k);
+            uint px = tx * k + slot % k, py = ty * k + slot / k;
+            if (px >= (uint)r.x && px <= (uint)r.z && py >= (uint)r.y && py <= (uint)r.w)
+                reyes_blur_sample(p, samples, &moved, triangles, px, py, s);
+        }
+    }
+}
+
+/* Swept boxes touching at most this many tiles take the cached path. */
+#define REYES_BLUR_CACHED_TILES 16
+
+/* The same passes over a swept box (pixels x0, y0, x1, y1) of at most
+ * REYES_BLUR_CACHED_TILES tiles: each tile's permutation is hashed once,
+ * and each block's pixels in the box are found once for its N passes
+ * instead of in every pass.  A pixel of the block is tested in a pass
+ * exactly when the moved box holds it, as in the pass above (the moved
+ * box lies inside the swept one). */
+void reyes_blur_interleaved_cached(__global const struct reyes_params *p, __global ulong *samples,
+                                   const struct reyes_quad *q, int triangles, int4 swept)
+{
+    uint k = p->blur_tile, n = p->spp;
+    uint tx0 = (uint)swept.x / k, ty0 = (uint)swept.y / k;
+    uint columns = (uint)swept.z / k - tx0 + 1u, tiles = columns * ((uint)swept.w / k - ty0 + 1u);
+    uint perm[REYES_BLUR_CACHED_TILES];
+    for (uint i = 0; i < tiles; ++i)
+        perm[i] = reyes_tile_permutation(tx0 + i % columns, ty0 + i / columns, p->blur_permutations);
+    for (uint block = 0; block < k * k; ++block) {
+        uint2 pixel[REYES_BLUR_CACHED_TILES];
+        uint count = 0;
+        for (uint i = 0; i < tiles; ++i) {
+            uint slot = reyes_slot_of_block(perm[i], block, k);
+            uint px = (tx0 + i % columns) * k + slot % k, py = (ty0 + i / columns) * k + slot / k;
+            if (px >= (uint)swept.x && px <= (uint)swept.z && py >= (uint)swept.y && py <= (uint)swept.w)
+                pixel[count++] = (uint2)(px, py);
+        }
+        for (uint s = 0; s < n && count > 0; ++s) {
+            struct reyes_quad moved;
+            float2 lo, hi;
+            int4 r;
+            if (!reyes_blur_move(p, q, block * n + s, &moved, &lo, &hi) || !reyes_blur_pixels(p, lo, hi, &r))
+                continue;
+            for (uint c = 0; c < count; ++c)
+                if (pixel[c].x >= (uint)r.x && pixel[c].x <= (uint)r.z && pixel[c].y >= (uint)r.y
+                    && pixel[c].y <= (uint)r.w)
+                    reyes_blur_sample(p, samples, &moved, triangles, pixel[c].x, pixel[c].y, s);
+        }
+    }
+}
+
+/* interleaved: one pass per tuple of the pool.  The box swept over the
+ * shutter and lens (widened by 1/20 pixel against rounding) bounds every
+ * moved box, so a block none of whose pixels lies in it cannot cover
+ * anything and is skipped: with boxes smaller than a tile most are. */
+void reyes_blur_interleaved(__global const struct reyes_params *p, __global ulong *samples,
+                            const struct reyes_quad *q, int triangles)
+{
+    uint k = p->blur_tile;
+    float2 swept_lo, swept_hi;
+    int4 swept;
+    int bounded = reyes_blur_box(p, q, triangles == 2 ? 4 : 3, &swept_lo, &swept_hi);
+    if (bounded) {
+        if (!reyes_blur_pixels(p, swept_lo - 0.05f, swept_hi + 0.05f, &swept))
+            return;
+        uint tiles = ((uint)swept.z / k - (uint)swept.x / k + 1u) * ((uint)swept.w / k - (uint)swept.y / k + 1u);
+        if (tiles <= REYES_BLUR_CACHED_TILES) {
+            reyes_blur_interleaved_cached(p, samples, q, triangles, swept);
+            return;
+        }
+    }
+    for (uint block = 0; block < k * k; ++block) {
+        if (bounded && !reyes_block_used(p, block, swept, k))
+            continue;
+        for (uint s = 0; s < p->spp; ++s)
+            reyes_blur_interleaved_pass(p, samples, q, triangles, block, s);
+    }
+}
+
+/* bbox: every sample of every pixel in the box swept over the shutter and
+ * the lens, each with the quad moved to its own tuple (the pattern
+ * repeats every REYES_BLUR_BBOX_PERIOD pixels). */
+void reyes_blur_bbox(__global const struct reyes_params *p, __global ulong *samples,
+                     const struct reyes_quad *q, int triangles)
 {
     float2 lo, hi;
+    int4 r;
     if (!reyes_blur_box(p, q, triangles == 2 ? 4 : 3, &lo, &hi)) {
         lo = (float2)(p->tile_x0, p->tile_y0);
         hi = (float2)(p->tile_x1, p->tile_y1);
     }
-    if (hi.x < p->tile_x0 || hi.y < p->tile_y0 || lo.x > p->tile_x1 || lo.y > p->tile_y1)
+    if (!reyes_blur_pixels(p, lo, hi, &r))
         return;
-    int x0 = (int)floor(clamp(lo.x, p->tile_x0, p->tile_x1 - 1.0f));
-    int x1 = (int)floor(clamp(hi.x, p->tile_x0, p->tile_x1 - 1.0f));
-    int y0 = (int)floor(clamp(lo.y, p->tile_y0, p->tile_y1 - 1.0f));
-    int y1 = (int)floor(clamp(hi.y, p->tile_y0, p->tile_y1 - 1.0f));
-    uint tile_x = (uint)p->tile_x0, tile_y = (uint)p->tile_y0;
-    uint tile_width = (uint)p->tile_x1 - tile_x, spp = p->spp;
-    for (int py = y0; py <= y1; ++py) {
-        for (int px = x0; px <= x1; ++px) {
-            for (uint s = 0; s < spp; ++s) {
-                float t = reyes_sample_time((uint)px, (uint)py, s, p->time_samples);
-                float2 lens = reyes_sample_lens((uint)px, (uint)py, s);
-                struct reyes_quad moved = *q;
-                int in_front = 1;
-                for (int k = 0; k < 4; ++k) {
-                    float3 clip = reyes_blur_clip(p, q->x[k], q->y[k], q->z[k], t, lens);
-                    in_front &= clip.z > p->near_w;
-                    float2 sc = reyes_to_screen(p, (float4)(clip.x, clip.y, 0.0f, fmax(clip.z, p->near_w)));
-                    moved.x[k] = sc.x;
-                    moved.y[k] = sc.y;
-                    moved.z[k] = clip.z;
-                }
-                if (!in_front)
-                    continue;
-                float2 pos = reyes_sample_position((uint)px, (uint)py, s, spp);
-                uint index = (((uint)py - tile_y) * tile_width + ((uint)px - tile_x)) * spp + s;
-                reyes_sample_triangle(samples, index, pos, &moved, 0, 1, 2);
-                if (triangles == 2)
-                    reyes_sample_triangle(samples, index, pos, &moved, 0, 2, 3);
+    const uint period = REYES_BLUR_BBOX_PERIOD;
+    uint n = p->spp;
+    for (int py = r.y; py <= r.w; ++py) {
+        for (int px = r.x; px <= r.z; ++px) {
+            uint slot = ((uint)py % period) * period + (uint)px % period;
+            for (uint s = 0; s < n; ++s) {
+                struct reyes_quad moved;
+                float2 moved_lo, moved_hi;
+                if (reyes_blur_move(p, q, slot * n + s, &moved, &moved_lo, &moved_hi))
+                    reyes_blur_sample(p, samples, &moved, triangles, (uint)px, (uint)py, s);
             }
         }
     }
+}
+
+/* Rasterize a blurred quad (clip x, y, w; triangles == 1: a stitch
+ * triangle, vertex 3 = vertex 0) with the configured algorithm. */
+void reyes_rasterize_blurred(__global const struct reyes_params *p, __global ulong *samples,
+                             const struct reyes_quad *q, int triangles)
+{
+    if (p->blur_algo == REYES_BLUR_SIMPLE)
+        reyes_blur_simple(p, samples, q, triangles);
+    else if (p->blur_algo == REYES_BLUR_INTERLEAVED)
+        reyes_blur_interleaved(p, samples, q, triangles);
+    else
+        reyes_blur_bbox(p, samples, q, triangles);
 }

@@ -24,6 +24,43 @@ void reyes_options_init(reyes_options *options)
     options->strategy = PERMA_STRATEGY_SHARED;
     options->victim = PERMA_VICTIM_RANDOM;
     options->crack_fix = REYES_CRACK_FIX_STITCH;
+    options->blur_algo = REYES_BLUR_INTERLEAVED;
+    options->blur_tile = 4;
+    options->blur_permutations = 8;
+}
+
+static const char *const blur_algo_names[] = { "simple", "interleaved", "bbox" };
+
+const char *reyes_blur_algo_name(unsigned algo)
+{
+    return algo < sizeof blur_algo_names / sizeof blur_algo_names[0] ? blur_algo_names[algo] : NULL;
+}
+
+int reyes_blur_algo_parse(const char *name, unsigned *algo)
+{
+    for (unsigned a = 0; reyes_blur_algo_name(a); ++a) {
+        if (strcmp(name, reyes_blur_algo_name(a)) == 0) {
+            *algo = a;
+            return 1;
+        }
+    }
+    return 0;
+}
+
+/* The blur sampling fields (checked whether or not anything moves). */
+static reyes_status check_blur_algo(const reyes_options *o, reyes_error *error)
+{
+    if (!reyes_blur_algo_name(o->blur_algo))
+        return reyes_fail(error, REYES_ERR_ARGUMENT,
+                          "blur_algo %u is not %u (simple), %u (interleaved) or %u (bbox)",
+                          o->blur_algo, REYES_BLUR_SIMPLE, REYES_BLUR_INTERLEAVED, REYES_BLUR_BBOX);
+    if (o->blur_tile < 1 || o->blur_tile > REYES_MAX_BLUR_TILE)
+        return reyes_fail(error, REYES_ERR_ARGUMENT, "blur_tile %u is not in 1..%u", o->blur_tile,
+                          REYES_MAX_BLUR_TILE);
+    if (o->blur_permutations < 1 || o->blur_permutations > REYES_MAX_BLUR_PERMUTATIONS)
+        return reyes_fail(error, REYES_ERR_ARGUMENT, "blur_permutations %u is not in 1..%u",
+                          o->blur_permutations, REYES_MAX_BLUR_PERMUTATIONS);
+    return REYES_OK;
 }
 
 reyes_status reyes_options_check(const reyes_options *o, reyes_error *error)
@@ -85,6 +122,9 @@ reyes_status reyes_options_check(const reyes_options *o, reyes_error *error)
     if (o->time_samples > REYES_MAX_SPP)
         return reyes_fail(error, REYES_ERR_ARGUMENT, "time samples %u is not in 0..%u",
                           o->time_samples, REYES_MAX_SPP);
+    reyes_status blur_status = check_blur_algo(o, error);
+    if (blur_status != REYES_OK)
+        return blur_status;
     if (blurred && o->bucket_width > 0)
         return reyes_fail(error, REYES_ERR_ARGUMENT,
                           "buckets cannot be combined with motion blur or depth of field yet");

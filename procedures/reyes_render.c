@@ -86,6 +86,9 @@ static void set_blur(const reyes_camera *camera, const reyes_options *o, struct 
     if (!p->blur)
         return;
     p->time_samples = o->time_samples ? o->time_samples : o->spp;
+    p->blur_algo = o->blur_algo;
+    p->blur_tile = o->blur_tile;
+    p->blur_permutations = o->blur_permutations;
     p->motion_x = m[0] * d[0] + m[1] * d[1] + m[2] * d[2];
     p->motion_y = m[4] * d[0] + m[5] * d[1] + m[6] * d[2];
     p->motion_w = m[12] * d[0] + m[13] * d[1] + m[14] * d[2];

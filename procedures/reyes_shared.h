@@ -100,6 +100,16 @@ struct reyes_stitch {
 #define REYES_DISPLACE_BUMPS 1
 #define REYES_DISPLACE_MAP 2
 
+/* Motion blur and defocus sampling algorithms (reyes_params.blur_algo,
+ * reyes_blur.cl): one set of (time, lens) tuples for every pixel; K x K
+ * tiles of pixels with their own tuples, permuted per tile; each pixel's
+ * own tuples tested in the box swept over the shutter and lens. */
+#define REYES_BLUR_SIMPLE 0
+#define REYES_BLUR_INTERLEAVED 1
+#define REYES_BLUR_BBOX 2
+/* The bbox algorithm's tuples repeat every this many pixels in x and y. */
+#define REYES_BLUR_BBOX_PERIOD 64
+
 /* Which stages a render runs (reyes_params.stages), for timing stages by
  * difference: everything; bound, split and dice's geometry (positions and
  * visibility of the quads, what the C reference computes) without shading
@@ -163,6 +173,11 @@ struct reyes_params {
     float lens_x, lens_y;  /* aperture radius in clip x and y units per unit w */
     float focus;           /* view depth in focus */
     float pad2;
+    /* REYES_BLUR_*; interleaved: tile side K and number of permutations P. */
+    REYES_U32 blur_algo;
+    REYES_U32 blur_tile;
+    REYES_U32 blur_permutations;
+    REYES_U32 pad3;
     /* The bucket (tile) this run renders, in pixels: [tile_x0,tile_x1) x
      * [tile_y0,tile_y1) (the whole image without buckets).  The sample
      * buffer holds the tile's pixels only; sample positions stay those of

@@ -72,6 +72,8 @@ reyes_status reyes_write_stats_json(FILE *out, const reyes_stats *s, const reyes
             o->displace_mode, (double)o->displace_amplitude, (double)o->motion[0],
             (double)o->motion[1], (double)o->motion[2], (double)o->aperture, (double)o->focus,
             o->time_samples);
+    fprintf(out, "  \"blur_algo\": \"%s\", \"blur_tile\": %u, \"blur_permutations\": %u,\n",
+            name_or_unknown(reyes_blur_algo_name(o->blur_algo)), o->blur_tile, o->blur_permutations);
     write_buckets(out, s, o);
     fprintf(out, "  \"seconds\": %.6f,\n", s->seconds);
     fprintf(out, "  \"work_groups\": %u, \"group_size\": %u, \"launches\": %u, \"regrowths\": %u,\n",

@@ -218,11 +218,30 @@ static int on_time_samples(reyes_cli *cli, const char *value, char *message, siz
     return REYES_CLI_OK;
 }
 
+static const char *blur_algo_name(int value)
+{
+    return value < 0 ? NULL : reyes_blur_algo_name((unsigned)value);
+}
+
 static int on_blur_algo(reyes_cli *cli, const char *value, char *message, size_t size)
 {
-    (void)cli;
-    if (strcmp(value, "simple") != 0)
-        return usage_error(message, size, "unknown blur algorithm '%s'; valid: %s", value, "simple");
+    if (!reyes_blur_algo_parse(value, &cli->render.blur_algo))
+        return unknown_name(blur_algo_name, "blur algorithm", value, message, size);
+    return REYES_CLI_OK;
+}
+
+static int on_blur_tile(reyes_cli *cli, const char *value, char *message, size_t size)
+{
+    if (!parse_unsigned(value, REYES_MAX_BLUR_TILE, &cli->render.blur_tile) || cli->render.blur_tile < 1)
+        return usage_error(message, size, "--blur-tile '%s': expected a tile side 1..%s", value, "8");
+    return REYES_CLI_OK;
+}
+
+static int on_blur_permutations(reyes_cli *cli, const char *value, char *message, size_t size)
+{
+    if (!parse_unsigned(value, REYES_MAX_BLUR_PERMUTATIONS, &cli->render.blur_permutations)
+        || cli->render.blur_permutations < 1)
+        return usage_error(message, size, "--blur-permutations '%s': expected 1..%s", value, "64");
     return REYES_CLI_OK;
 }
 
@@ -390,7 +409,11 @@ static const cli_option options[] = {
     { "motion", 0, "dx,dy,dz", on_motion, "move every vertex by this over the shutter (motion blur)" },
     { "aperture", 0, "R", on_aperture, "thin-lens radius in world units (depth of field; default 0)" },
     { "focus", 0, "D", on_focus, "view depth in focus (default: distance to the camera target)" },
-    { "blur-algo", 0, "NAME", on_blur_algo, "motion blur and defocus sampling: simple (UVT, default)" },
+    { "blur-algo", 0, "NAME", on_blur_algo,
+      "blur sampling: interleaved (default), simple or bbox (docs/reyes.md)" },
+    { "blur-tile", 0, "K", on_blur_tile, "interleaved: tiles of KxK pixels, 1..8 (default 4)" },
+    { "blur-permutations", 0, "P", on_blur_permutations,
+      "interleaved: permutations of a tile's tuples, 1..64 (default 8)" },
     { "time-samples", 0, "N", on_time_samples, "time strata per pixel (default: spp)" },
     { "bound", 0, "PX", on_bound,
       "dice patches whose screen bound is at most PX (default 8; tiered: grid - 1)" },

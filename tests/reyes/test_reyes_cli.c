@@ -44,7 +44,8 @@ START_TEST(test_all_options)
                            "--strategy", "shared", "--stats", "s.json", "--groups", "2", "b.bpt",
                            "--backface", "--bucket", "32x16", "--crack-fix", "none", "--displace",
                            "png:dir/a:b.png:0.25", "--motion", "0.5,0,-1", "--aperture", "0.1",
-                           "--focus", "7", "--blur-algo", "simple", "--time-samples", "8", "--",
+                           "--focus", "7", "--blur-algo", "bbox", "--blur-tile", "3",
+                           "--blur-permutations", "64", "--time-samples", "8", "--",
                            "-c.bpt"),
                      REYES_CLI_OK);
     ck_assert_uint_eq(cli.model_count, 3);
@@ -76,7 +77,36 @@ START_TEST(test_all_options)
     ck_assert_float_eq(cli.render.aperture, 0.1f);
     ck_assert_float_eq(cli.render.focus, 7.0f);
     ck_assert_uint_eq(cli.render.time_samples, 8);
+    ck_assert_uint_eq(cli.render.blur_algo, REYES_BLUR_BBOX);
+    ck_assert_uint_eq(cli.render.blur_tile, 3);
+    ck_assert_uint_eq(cli.render.blur_permutations, 64);
     reyes_cli_free(&cli);
+}
+END_TEST
+
+/* Each blur algorithm name lands in the options; the defaults are
+ * interleaved with 4 x 4 tiles and 8 permutations. */
+START_TEST(test_blur_algorithms)
+{
+    const char *names[] = {"simple", "interleaved", "bbox"};
+    const unsigned values[] = {REYES_BLUR_SIMPLE, REYES_BLUR_INTERLEAVED, REYES_BLUR_BBOX};
+    reyes_cli cli;
+    char message[512];
+    ck_assert_int_eq(PARSE(&cli, message, "--motion", "1,0,0"), REYES_CLI_OK);
+    ck_assert_uint_eq(cli.render.blur_algo, REYES_BLUR_INTERLEAVED);
+    ck_assert_uint_eq(cli.render.blur_tile, 4);
+    ck_assert_uint_eq(cli.render.blur_permutations, 8);
+    reyes_cli_free(&cli);
+    for (int k = 0; k < 3; ++k) {
+        ck_assert_int_eq(PARSE(&cli, message, "--blur-algo", (char *)names[k], "--blur-tile=1",
+                               "--blur-permutations", "1"),
+                         REYES_CLI_OK);
+        ck_assert_uint_eq(cli.render.blur_algo, values[k]);
+        ck_assert_str_eq(reyes_blur_algo_name(cli.render.blur_algo), names[k]);
+        ck_assert_uint_eq(cli.render.blur_tile, 1);
+        ck_assert_uint_eq(cli.render.blur_permutations, 1);
+        reyes_cli_free(&cli);
+    }
 }
 END_TEST
 
@@ -183,7 +213,19 @@ START_TEST(test_bad_usage)
         { COUNT("--motion", "1,2"), ARGS("--motion", "1,2"), "3 numbers" },
         { COUNT("--aperture", "-1"), ARGS("--aperture", "-1"), "--aperture" },
         { COUNT("--focus", "0"), ARGS("--focus", "0"), "--focus" },
-        { COUNT("--blur-algo", "fancy"), ARGS("--blur-algo", "fancy"), "valid: simple" },
+        { COUNT("--blur-algo", "fancy"), ARGS("--blur-algo", "fancy"),
+          "unknown blur algorithm 'fancy'; valid: simple interleaved bbox" },
+        { COUNT("--blur-algo", ""), ARGS("--blur-algo", ""), "unknown blur algorithm ''" },
+        { COUNT("--blur-tile", "0"), ARGS("--blur-tile", "0"), "--blur-tile '0': expected" },
+        { COUNT("--blur-tile", "9"), ARGS("--blur-tile", "9"), "--blur-tile '9'" },
+        { COUNT("--blur-tile", "2x"), ARGS("--blur-tile", "2x"), "--blur-tile '2x'" },
+        { COUNT("--blur-tile"), ARGS("--blur-tile"), "'--blur-tile' needs a value" },
+        { COUNT("--blur-permutations", "0"), ARGS("--blur-permutations", "0"),
+          "--blur-permutations '0': expected 1..64" },
+        { COUNT("--blur-permutations", "65"), ARGS("--blur-permutations", "65"),
+          "--blur-permutations '65'" },
+        { COUNT("--blur-permutations", "-1"), ARGS("--blur-permutations", "-1"),
+          "--blur-permutations '-1'" },
         { COUNT("--time-samples", "0"), ARGS("--time-samples", "0"), "--time-samples" },
         { COUNT("--grid", "1"), ARGS("--grid", "1"), "--grid" },
         { COUNT("--grid", "99"), ARGS("--grid", "99"), "--grid" },
@@ -242,8 +284,16 @@ START_TEST(test_program_exit_codes)
                   output);
     ck_assert_int_eq(run_program("--bogus", output, sizeof output), 2);
     ck_assert_msg(strstr(output, "--bogus") != NULL, "%s", output);
+    ck_assert_int_eq(run_program("--blur-algo fancy", output, sizeof output), 2);
+    ck_assert_msg(strstr(output, "valid: simple interleaved bbox") != NULL, "%s", output);
+    ck_assert_int_eq(run_program("--blur-tile 99", output, sizeof output), 2);
+    ck_assert_msg(strstr(output, "--blur-tile") != NULL, "%s", output);
+    ck_assert_int_eq(run_program("--blur-permutations 0", output, sizeof output), 2);
+    ck_assert_msg(strstr(output, "--blur-permutations") != NULL, "%s", output);
     ck_assert_int_eq(run_program("--help", output, sizeof output), 0);
     ck_assert_msg(strstr(output, "--max-depth") != NULL, "%s", output);
+    ck_assert_msg(strstr(output, "--blur-algo NAME") != NULL && strstr(output, "--blur-tile K") != NULL
+                  && strstr(output, "--blur-permutations P") != NULL, "%s", output);
     ck_assert_int_eq(run_program("--version", output, sizeof output), 0);
     ck_assert_msg(strstr(output, "reyes-render") != NULL, "%s", output);
     /* A file error is a failure (1), not a usage error, and names the file. */
@@ -261,6 +311,7 @@ static Suite *cli_suite(void)
     tcase_add_test(tc, test_all_options);
     tcase_add_test(tc, test_scheduling_names);
     tcase_add_test(tc, test_subdivision_options);
+    tcase_add_test(tc, test_blur_algorithms);
     tcase_add_test(tc, test_bad_usage);
     tcase_add_test(tc, test_program_exit_codes);
     suite_add_tcase(s, tc);

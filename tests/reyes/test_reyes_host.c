@@ -126,6 +126,31 @@ START_TEST(test_options_check)
     o.height = 16384;
     o.spp = 64;
     ck_assert_int_eq(reyes_options_check(&o, &error), REYES_ERR_ARGUMENT);
+    /* Blur sampling: the defaults, and out-of-range values named. */
+    reyes_options_init(&o);
+    ck_assert_uint_eq(o.blur_algo, REYES_BLUR_INTERLEAVED);
+    ck_assert_uint_eq(o.blur_tile, 4);
+    ck_assert_uint_eq(o.blur_permutations, 8);
+    struct { unsigned algo, tile, permutations; const char *needle; } bad[] = {
+        { 3, 4, 8, "blur_algo 3" }, { 0, 0, 8, "blur_tile 0" }, { 1, 9, 8, "blur_tile 9" },
+        { 2, 4, 0, "blur_permutations 0" }, { 1, 4, 65, "blur_permutations 65" },
+    };
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; ++k) {
+        o.blur_algo = bad[k].algo;
+        o.blur_tile = bad[k].tile;
+        o.blur_permutations = bad[k].permutations;
+        ck_assert_int_eq(reyes_options_check(&o, &error), REYES_ERR_ARGUMENT);
+        ck_assert_msg(strstr(error.message, bad[k].needle) != NULL, "'%s' lacks '%s'", error.message,
+                      bad[k].needle);
+    }
+    o.blur_algo = REYES_BLUR_BBOX;
+    o.blur_tile = 8;
+    o.blur_permutations = 64;
+    ck_assert_int_eq(reyes_options_check(&o, &error), REYES_OK);
+    unsigned algo = 99;
+    ck_assert(reyes_blur_algo_parse("simple", &algo) && algo == REYES_BLUR_SIMPLE);
+    ck_assert(!reyes_blur_algo_parse("uvt", &algo) && algo == REYES_BLUR_SIMPLE);
+    ck_assert_ptr_null(reyes_blur_algo_name(3));
 }
 END_TEST
 
@@ -178,7 +203,8 @@ START_TEST(test_stats_json)
     const char *keys[] = {"\"patches_in\": 32", "\"splits\": 1234", "\"culled\": 0",
                           "\"grids\": 1267", "\"micropolygons\"", "\"samples_written\"",
                           "\"peak_queue_bytes\"", "\"seconds\"", "\"procedures\"",
-                          "\"bound\": {\"items\": 0", "\"emitted\": [0, 0, 1267]"};
+                          "\"bound\": {\"items\": 0", "\"emitted\": [0, 0, 1267]",
+                          "\"blur_algo\": \"interleaved\", \"blur_tile\": 4, \"blur_permutations\": 8"};
     for (size_t k = 0; k < sizeof keys / sizeof keys[0]; ++k)
         ck_assert_msg(strstr(text, keys[k]) != NULL, "missing %s in\n%s", keys[k], text);
     free(text);
