@@ -18,54 +18,31 @@
  *              sweeps over the shutter and the lens is tested with the
  *              quad moved to that sample's own tuple.
  *
- * Tuple i's time lies in stratum (i mod N) mod time_samples, so each
- * pixel's N samples are stratified in time under every algorithm.
- * Tuples, slots and permutations are functions of global pixel and sample
- * indices only, so the image does not depend on the schedule.  A sample
- * is tested exactly as without blur (reyes_sample_triangle), at the same
- * position inside its pixel.
+ * The host makes the pool (reyes_blur_tuples.c): tuple i's time lies in
+ * stratum (i mod N) mod time_samples, so each pixel's N samples are
+ * stratified in time under every algorithm.  Tuples, slots and
+ * permutations are functions of global pixel and sample indices only, so
+ * the image does not depend on the schedule.  A sample is tested exactly
+ * as without blur (reyes_sample_triangle), at the same position inside
+ * its pixel.
  */
 
-/* A hashed number in [0,1) for (tuple index, dimension). */
-float reyes_tuple_dimension(uint index, uint dimension)
-{
-    uint h = reyes_hash(index * 0x9e3779b9u ^ reyes_hash(dimension + 0x27d4eb2fu));
-    return (float)(h >> 8) * (1.0f / 16777216.0f);
-}
+/* What the passes read and write: parameters, the tuple pool (time, lens
+ * x, lens y, unused) and the tile's samples. */
+struct reyes_blur {
+    __global const struct reyes_params *p;
+    __global const float4 *tuples;
+    __global ulong *samples;
+};
 
-/* Time of tuple `index` of a pool whose blocks hold n tuples: stratum
- * (index mod n) mod strata, jittered. */
-float reyes_tuple_time(uint index, uint n, uint strata)
-{
-    uint s = index % n;
-    return ((float)(s % strata) + reyes_tuple_dimension(index, 1u)) / (float)strata;
-}
-
-/* Lens position of tuple `index` on the unit disk (concentric mapping of
- * the square). */
-float2 reyes_tuple_lens(uint index)
-{
-    float a = 2.0f * reyes_tuple_dimension(index, 2u) - 1.0f;
-    float b = 2.0f * reyes_tuple_dimension(index, 3u) - 1.0f;
-    if (a == 0.0f && b == 0.0f)
-        return (float2)(0.0f, 0.0f);
-    float r, phi;
-    if (fabs(a) > fabs(b)) {
-        r = a;
-        phi = (M_PI_F / 4.0f) * (b / a);
-    } else {
-        r = b;
-        phi = (M_PI_F / 2.0f) - (M_PI_F / 4.0f) * (a / b);
-    }
-    return (float2)(r * cos(phi), r * sin(phi));
-}
-
-/* Clip position of a vertex (clip x, y, w) at time t and lens position. */
+/* Clip position of a vertex (clip x, y, w) at time t and lens position.
+ * (A product with 1/focus rather than a quotient: the reciprocal is
+ * hoisted out of the callers' loops.) */
 float3 reyes_blur_clip(__global const struct reyes_params *p, float x, float y, float w, float t,
                        float2 lens)
 {
     float wt = w + t * p->motion_w;
-    float defocus = wt / p->focus - 1.0f;
+    float defocus = wt * (1.0f / p->focus) - 1.0f;
     return (float3)(x + t * p->motion_x + defocus * lens.x * p->lens_x,
                     y + t * p->motion_y + defocus * lens.y * p->lens_y, wt);
 }
@@ -73,11 +50,13 @@ float3 reyes_blur_clip(__global const struct reyes_params *p, float x, float y, 
 /* The quad (clip x, y, w) moved to tuple `index`, in pixels with z the
  * clip w, and its screen box.  0 if a vertex is at or behind the near
  * plane (the tuple's samples then see nothing of this quad). */
-int reyes_blur_move(__global const struct reyes_params *p, const struct reyes_quad *q, uint index,
+int reyes_blur_move(const struct reyes_blur *b, const struct reyes_quad *q, uint index,
                     struct reyes_quad *moved, float2 *lo, float2 *hi)
 {
-    float t = reyes_tuple_time(index, p->spp, p->time_samples);
-    float2 lens = reyes_tuple_lens(index);
+    __global const struct reyes_params *p = b->p;
+    float4 tuple = b->tuples[index];
+    float t = tuple.x;
+    float2 lens = tuple.yz;
     *moved = *q;
     *lo = (float2)(INFINITY, INFINITY);
     *hi = (float2)(-INFINITY, -INFINITY);
@@ -135,9 +114,11 @@ int reyes_blur_pixels(__global const struct reyes_params *p, float2 lo, float2 h
 
 /* Test sample s of global pixel (px, py) against the moved quad's
  * triangles (one for a stitch triangle, two for a quad). */
-void reyes_blur_sample(__global const struct reyes_params *p, __global ulong *samples,
-                       const struct reyes_quad *moved, int triangles, uint px, uint py, uint s)
+void reyes_blur_sample(const struct reyes_blur *b, const struct reyes_quad *moved, int triangles,
+                       uint px, uint py, uint s)
 {
+    __global const struct reyes_params *p = b->p;
+    __global ulong *samples = b->samples;
     uint tile_x = (uint)p->tile_x0, tile_y = (uint)p->tile_y0;
     uint tile_width = (uint)p->tile_x1 - tile_x, spp = p->spp;
     float2 pos = reyes_sample_position(px, py, s, spp);
@@ -149,18 +130,17 @@ void reyes_blur_sample(__global const struct reyes_params *p, __global ulong *sa
 
 /* simple: one pass per sample index s with tuple s, the same in every
  * pixel (cheap, but every pixel sees the same N copies of the quad). */
-void reyes_blur_simple(__global const struct reyes_params *p, __global ulong *samples,
-                       const struct reyes_quad *q, int triangles)
+void reyes_blur_simple(const struct reyes_blur *b, const struct reyes_quad *q, int triangles)
 {
-    for (uint s = 0; s < p->spp; ++s) {
+    for (uint s = 0; s < b->p->spp; ++s) {
         struct reyes_quad moved;
         float2 lo, hi;
         int4 r;
-        if (!reyes_blur_move(p, q, s, &moved, &lo, &hi) || !reyes_blur_pixels(p, lo, hi, &r))
+        if (!reyes_blur_move(b, q, s, &moved, &lo, &hi) || !reyes_blur_pixels(b->p, lo, hi, &r))
             continue;
         for (int py = r.y; py <= r.w; ++py)
             for (int px = r.x; px <= r.z; ++px)
-                reyes_blur_sample(p, samples, &moved, triangles, (uint)px, (uint)py, s);
+                reyes_blur_sample(b, &moved, triangles, (uint)px, (uint)py, s);
     }
 }
 
@@ -189,42 +169,49 @@ uint reyes_slot_of_block(uint m, uint b, uint k)
     return y * k + x;
 }
 
-/* 1 if a pixel in r (x0, y0, x1, y1) uses tuple block b: in every k x k
- * tile that r touches, the one pixel whose slot maps to b. */
-int reyes_block_used(__global const struct reyes_params *p, uint block, int4 r, uint k)
+/* The pixel of tile (tx, ty) that uses tuple block `block`. */
+uint2 reyes_block_pixel(__global const struct reyes_params *p, uint tx, uint ty, uint block)
 {
-    for (uint ty = (uint)r.y / k; ty <= (uint)r.w / k; ++ty) {
-        for (uint tx = (uint)r.x / k; tx <= (uint)r.z / k; ++tx) {
-            uint slot = reyes_slot_of_block(reyes_tile_permutation(tx, ty, p->blur_permutations),
-                                            block, k);
-            uint px = tx * k + slot % k, py = ty * k + slot / k;
-            if (px >= (uint)r.x && px <= (uint)r.z && py >= (uint)r.y && py <= (uint)r.w)
-                return 1;
-        }
-    }
-    return 0;
+    uint k = p->blur_tile;
+    uint slot = reyes_slot_of_block(reyes_tile_permutation(tx, ty, p->blur_permutations), block, k);
+    return (uint2)(tx * k + slot % k, ty * k + slot / k);
+}
+
+int reyes_pixel_in(uint2 pixel, int4 r)
+{
+    return pixel.x >= (uint)r.x && pixel.x <= (uint)r.z && pixel.y >= (uint)r.y && pixel.y <= (uint)r.w;
 }
 
 /* One interleaved pass, tuple block * N + s: in the moved box, each
  * tile's pixel whose slot uses the block tests sample s. */
-void reyes_blur_interleaved_pass(__global const struct reyes_params *p, __global ulong *samples,
-                                 const struct reyes_quad *q, int triangles, uint block, uint s)
+void reyes_blur_interleaved_pass(const struct reyes_blur *b, const struct reyes_quad *q, int triangles,
+                                 uint block, uint s)
 {
-    uint k = p->blur_tile;
+    uint k = b->p->blur_tile;
     struct reyes_quad moved;
     float2 lo, hi;
     int4 r;
-    if (!reyes_blur_move(p, q, block * p->spp + s, &moved, &lo, &hi) || !reyes_blur_pixels(p, lo, hi, &r))
+    if (!reyes_blur_move(b, q, block * b->p->spp + s, &moved, &lo, &hi)
+        || !reyes_blur_pixels(b->p, lo, hi, &r))
         return;
     for (uint ty = (uint)r.y / k; ty <= (uint)r.w / k; ++ty) {
         for (uint tx = (uint)r.x / k; tx <= (uint)r.z / k; ++tx) {
-            uint slot = reyes_slot_of_block(reyes_tile_permutation(tx, ty, p->blur_permutations),
-                                            block, k);
-            uint px = tx * k + slot % k, py = ty * k + slot / k;
-            if (px >= (uint)r.x && px <= (uint)r.z && py >= (uint)r.y && py <= (uint)r.w)
-                reyes_blur_sample(p, samples, &moved, triangles, px, py, s);
+            uint2 pixel = reyes_block_pixel(b->p, tx, ty, block);
+            if (reyes_pixel_in(pixel, r))
+                reyes_blur_sample(b, &moved, triangles, pixel.x, pixel.y, s);
         }
     }
+}
+
+/* 1 if a pixel in r (x0, y0, x1, y1) uses tuple block `block`. */
+int reyes_block_used(__global const struct reyes_params *p, uint block, int4 r)
+{
+    uint k = p->blur_tile;
+    for (uint ty = (uint)r.y / k; ty <= (uint)r.w / k; ++ty)
+        for (uint tx = (uint)r.x / k; tx <= (uint)r.z / k; ++tx)
+            if (reyes_pixel_in(reyes_block_pixel(p, tx, ty, block), r))
+                return 1;
+    return 0;
 }
 
 /* Swept boxes touching at most this many tiles take the cached path. */
@@ -236,9 +223,10 @@ void reyes_blur_interleaved_pass(__global const struct reyes_params *p, __global
  * instead of in every pass.  A pixel of the block is tested in a pass
  * exactly when the moved box holds it, as in the pass above (the moved
  * box lies inside the swept one). */
-void reyes_blur_interleaved_cached(__global const struct reyes_params *p, __global ulong *samples,
-                                   const struct reyes_quad *q, int triangles, int4 swept)
+void reyes_blur_interleaved_cached(const struct reyes_blur *b, const struct reyes_quad *q,
+                                   int triangles, int4 swept)
 {
+    __global const struct reyes_params *p = b->p;
     uint k = p->blur_tile, n = p->spp;
     uint tx0 = (uint)swept.x / k, ty0 = (uint)swept.y / k;
     uint columns = (uint)swept.z / k - tx0 + 1u, tiles = columns * ((uint)swept.w / k - ty0 + 1u);
@@ -250,20 +238,19 @@ void reyes_blur_interleaved_cached(__global const struct reyes_params *p, __glob
         uint count = 0;
         for (uint i = 0; i < tiles; ++i) {
             uint slot = reyes_slot_of_block(perm[i], block, k);
-            uint px = (tx0 + i % columns) * k + slot % k, py = (ty0 + i / columns) * k + slot / k;
-            if (px >= (uint)swept.x && px <= (uint)swept.z && py >= (uint)swept.y && py <= (uint)swept.w)
-                pixel[count++] = (uint2)(px, py);
+            uint2 candidate = (uint2)((tx0 + i % columns) * k + slot % k, (ty0 + i / columns) * k + slot / k);
+            if (reyes_pixel_in(candidate, swept))
+                pixel[count++] = candidate;
         }
         for (uint s = 0; s < n && count > 0; ++s) {
             struct reyes_quad moved;
             float2 lo, hi;
             int4 r;
-            if (!reyes_blur_move(p, q, block * n + s, &moved, &lo, &hi) || !reyes_blur_pixels(p, lo, hi, &r))
+            if (!reyes_blur_move(b, q, block * n + s, &moved, &lo, &hi) || !reyes_blur_pixels(p, lo, hi, &r))
                 continue;
             for (uint c = 0; c < count; ++c)
-                if (pixel[c].x >= (uint)r.x && pixel[c].x <= (uint)r.z && pixel[c].y >= (uint)r.y
-                    && pixel[c].y <= (uint)r.w)
-                    reyes_blur_sample(p, samples, &moved, triangles, pixel[c].x, pixel[c].y, s);
+                if (reyes_pixel_in(pixel[c], r))
+                    reyes_blur_sample(b, &moved, triangles, pixel[c].x, pixel[c].y, s);
         }
     }
 }
@@ -272,9 +259,9 @@ void reyes_blur_interleaved_cached(__global const struct reyes_params *p, __glob
  * shutter and lens (widened by 1/20 pixel against rounding) bounds every
  * moved box, so a block none of whose pixels lies in it cannot cover
  * anything and is skipped: with boxes smaller than a tile most are. */
-void reyes_blur_interleaved(__global const struct reyes_params *p, __global ulong *samples,
-                            const struct reyes_quad *q, int triangles)
+void reyes_blur_interleaved(const struct reyes_blur *b, const struct reyes_quad *q, int triangles)
 {
+    __global const struct reyes_params *p = b->p;
     uint k = p->blur_tile;
     float2 swept_lo, swept_hi;
     int4 swept;
@@ -284,24 +271,24 @@ void reyes_blur_interleaved(__global const struct reyes_params *p, __global ulon
             return;
         uint tiles = ((uint)swept.z / k - (uint)swept.x / k + 1u) * ((uint)swept.w / k - (uint)swept.y / k + 1u);
         if (tiles <= REYES_BLUR_CACHED_TILES) {
-            reyes_blur_interleaved_cached(p, samples, q, triangles, swept);
+            reyes_blur_interleaved_cached(b, q, triangles, swept);
             return;
         }
     }
     for (uint block = 0; block < k * k; ++block) {
-        if (bounded && !reyes_block_used(p, block, swept, k))
+        if (bounded && !reyes_block_used(p, block, swept))
             continue;
         for (uint s = 0; s < p->spp; ++s)
-            reyes_blur_interleaved_pass(p, samples, q, triangles, block, s);
+            reyes_blur_interleaved_pass(b, q, triangles, block, s);
     }
 }
 
 /* bbox: every sample of every pixel in the box swept over the shutter and
  * the lens, each with the quad moved to its own tuple (the pattern
  * repeats every REYES_BLUR_BBOX_PERIOD pixels). */
-void reyes_blur_bbox(__global const struct reyes_params *p, __global ulong *samples,
-                     const struct reyes_quad *q, int triangles)
+void reyes_blur_bbox(const struct reyes_blur *b, const struct reyes_quad *q, int triangles)
 {
+    __global const struct reyes_params *p = b->p;
     float2 lo, hi;
     int4 r;
     if (!reyes_blur_box(p, q, triangles == 2 ? 4 : 3, &lo, &hi)) {
@@ -318,8 +305,8 @@ void reyes_blur_bbox(__global const struct reyes_params *p, __global ulong *samp
             for (uint s = 0; s < n; ++s) {
                 struct reyes_quad moved;
                 float2 moved_lo, moved_hi;
-                if (reyes_blur_move(p, q, slot * n + s, &moved, &moved_lo, &moved_hi))
-                    reyes_blur_sample(p, samples, &moved, triangles, (uint)px, (uint)py, s);
+                if (reyes_blur_move(b, q, slot * n + s, &moved, &moved_lo, &moved_hi))
+                    reyes_blur_sample(b, &moved, triangles, (uint)px, (uint)py, s);
             }
         }
     }
@@ -327,13 +314,14 @@ void reyes_blur_bbox(__global const struct reyes_params *p, __global ulong *samp
 
 /* Rasterize a blurred quad (clip x, y, w; triangles == 1: a stitch
  * triangle, vertex 3 = vertex 0) with the configured algorithm. */
-void reyes_rasterize_blurred(__global const struct reyes_params *p, __global ulong *samples,
-                             const struct reyes_quad *q, int triangles)
+void reyes_rasterize_blurred(__global const struct reyes_params *p, __global const float4 *tuples,
+                             __global ulong *samples, const struct reyes_quad *q, int triangles)
 {
+    struct reyes_blur b = { p, tuples, samples };
     if (p->blur_algo == REYES_BLUR_SIMPLE)
-        reyes_blur_simple(p, samples, q, triangles);
+        reyes_blur_simple(&b, q, triangles);
     else if (p->blur_algo == REYES_BLUR_INTERLEAVED)
-        reyes_blur_interleaved(p, samples, q, triangles);
+        reyes_blur_interleaved(&b, q, triangles);
     else
-        reyes_blur_bbox(p, samples, q, triangles);
+        reyes_blur_bbox(&b, q, triangles);
 }

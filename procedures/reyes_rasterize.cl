@@ -13,7 +13,7 @@ void reyes_rasterize(perma_ctx *ctx, __local const struct reyes_quad *item)
     __global ulong *samples = ctx->buf.samples;
     struct reyes_quad q = *item;
     if (p->blur) {
-        reyes_rasterize_blurred(p, samples, &q, 2);
+        reyes_rasterize_blurred(p, ctx->buf.blur_tuples, samples, &q, 2);
         return;
     }
     float min_x = fmin(fmin(q.x[0], q.x[1]), fmin(q.x[2], q.x[3]));

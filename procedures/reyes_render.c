@@ -3,6 +3,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "reyes_blur_tuples.h"
 #include "reyes_render_stats.h"
 #include "reyes_renderer_internal.h"
 #include "reyes_stitch_plan.h"
@@ -35,6 +36,8 @@ typedef struct render_buffers {
     struct reyes_stitch *stitch_seeds;
     size_t dice_seed_count, stitch_seed_count;
     reyes_gray_map map;             /* displacement map (or none) */
+    reyes_blur_tuple *tuples;       /* motion blur and defocus (or none) */
+    size_t tuple_count;
 } render_buffers;
 
 static void free_buffers(render_buffers *b)
@@ -46,6 +49,7 @@ static void free_buffers(render_buffers *b)
     free(b->stitch_seeds);
     reyes_stitch_plan_free(&b->plan);
     reyes_gray_map_free(&b->map);
+    free(b->tuples);
 }
 
 /* Displacement parameters; reads the map.  Amplitude 0 is no displacement
@@ -100,6 +104,21 @@ static void set_blur(const reyes_camera *camera, const reyes_options *o, struct 
     p->focus = o->focus > 0.0f ? o->focus : sqrtf(target);
     if (!(p->focus > 0.0f))
         p->focus = 1.0f;
+}
+
+/* The pool of (time, lens) tuples the blur algorithm draws from. */
+static reyes_status make_blur_tuples(const reyes_options *o, render_buffers *b, reyes_error *error)
+{
+    const struct reyes_params *p = &b->params;
+    if (!p->blur)
+        return REYES_OK;
+    b->tuple_count = reyes_blur_pool_size(p->blur_algo, p->blur_tile, p->spp);
+    b->tuples = malloc(b->tuple_count * sizeof *b->tuples);
+    if (!b->tuples)
+        return reyes_fail(error, REYES_ERR_NO_MEMORY, "out of memory for %zu blur samples (%s)",
+                          b->tuple_count, reyes_blur_algo_name(o->blur_algo));
+    reyes_blur_fill_tuples(b->tuples, b->tuple_count, p->spp, p->time_samples);
+    return REYES_OK;
 }
 
 static reyes_status fill_params(const reyes_scene *scene, const reyes_camera *camera,
@@ -226,6 +245,11 @@ static perma_status bind_buffers(reyes_renderer *r, const reyes_scene *scene,
         s = perma_bind_host(rt, "displacement_map", "__global const uchar *",
                             has_map ? (void *)b->map.gray : (void *)&no_map,
                             has_map ? (size_t)b->map.width * b->map.height : 1, PERMA_READ);
+    static reyes_blur_tuple no_tuple;
+    if (s == PERMA_OK)
+        s = perma_bind_host(rt, "blur_tuples", "__global const float4 *",
+                            b->tuples ? (void *)b->tuples : (void *)&no_tuple,
+                            b->tuples ? b->tuple_count * sizeof *b->tuples : sizeof no_tuple, PERMA_READ);
     int pieces = b->plan.piece_count > 0;
     if (s == PERMA_OK)
         s = perma_bind_host(rt, "pieces", "__global const struct reyes_stitch_piece *",
@@ -493,6 +517,8 @@ reyes_status reyes_render(reyes_renderer *r, const reyes_scene *scene, const rey
     status = fill_params(scene, camera, options, r->dice_threads, &b.params, error);
     if (status == REYES_OK)
         status = set_displacement(scene, options, &b, error);
+    if (status == REYES_OK)
+        status = make_blur_tuples(options, &b, error);
     if (status == REYES_OK)
         status = allocate(scene, options, &b, image, error);
     if (status == REYES_OK)

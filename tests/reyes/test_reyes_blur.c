@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "reyes_blur_tuples.h"
 #include "reyes_test_util.h"
 
 #define W 128
@@ -189,6 +190,41 @@ START_TEST(test_lens_focus)
     reyes_image_free(&focused);
     reyes_image_free(&blurred);
     reyes_scene_free(&scene);
+}
+END_TEST
+
+/* The tuple pool: tuple i's time lies in stratum (i mod spp) mod strata,
+ * lens positions lie on the unit disk and spread over it, and a smaller
+ * pool is a prefix of a larger one (what makes interleaved with 1 x 1
+ * tiles simple UVT). */
+START_TEST(test_tuple_pool)
+{
+    const unsigned spp = 16, strata = 4;
+    ck_assert_uint_eq(reyes_blur_pool_size(REYES_BLUR_SIMPLE, 4, spp), spp);
+    ck_assert_uint_eq(reyes_blur_pool_size(REYES_BLUR_INTERLEAVED, 3, spp), 9 * spp);
+    ck_assert_uint_eq(reyes_blur_pool_size(REYES_BLUR_BBOX, 4, spp), 64 * 64 * spp);
+    size_t count = reyes_blur_pool_size(REYES_BLUR_INTERLEAVED, 4, spp);
+    reyes_blur_tuple *pool = malloc(count * sizeof *pool), prefix[16];
+    ck_assert_ptr_nonnull(pool);
+    reyes_blur_fill_tuples(pool, count, spp, strata);
+    reyes_blur_fill_tuples(prefix, spp, spp, strata);
+    ck_assert_mem_eq(pool, prefix, sizeof prefix);
+    double sum_x = 0.0, sum_y = 0.0, sum_r2 = 0.0;
+    for (size_t i = 0; i < count; ++i) {
+        float stratum = (float)((i % spp) % strata);
+        ck_assert_msg(pool[i].t >= stratum / strata && pool[i].t <= (stratum + 1.0f) / strata,
+                      "tuple %zu: t %g outside stratum %g", i, (double)pool[i].t, (double)stratum);
+        float r2 = pool[i].lens_x * pool[i].lens_x + pool[i].lens_y * pool[i].lens_y;
+        ck_assert_float_le(r2, 1.0f + 1e-6f);
+        sum_x += pool[i].lens_x;
+        sum_y += pool[i].lens_y;
+        sum_r2 += r2;
+    }
+    /* Uniform on the disk: mean 0, mean squared radius 1/2. */
+    ck_assert_msg(fabs(sum_x / count) < 0.1 && fabs(sum_y / count) < 0.1, "lens mean %g, %g",
+                  sum_x / count, sum_y / count);
+    ck_assert_msg(fabs(sum_r2 / count - 0.5) < 0.05, "mean squared radius %g", sum_r2 / count);
+    free(pool);
 }
 END_TEST
 
@@ -452,6 +488,7 @@ int main(void)
     tcase_add_loop_test(tc, test_zero_motion_and_aperture_identical, 0, ALGORITHMS);
     tcase_add_loop_test(tc, test_moving_square_blur_extent, 0, ALGORITHMS);
     tcase_add_loop_test(tc, test_lens_focus, 0, ALGORITHMS);
+    tcase_add_test(tc, test_tuple_pool);
     tcase_add_loop_test(tc, test_moving_strip_copies, 0, ALGORITHMS);
     tcase_add_test(tc, test_time_pattern_simple);
     tcase_add_test(tc, test_time_pattern_interleaved);
