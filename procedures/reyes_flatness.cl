@@ -53,15 +53,16 @@ float2 reyes_curve_deviation(float3 b0, float3 b1, float3 b2, float3 b3)
     return (float2)(geometric, full);
 }
 
-/* Pixels per world unit at the hull's nearest depth (an upper bound over
- * the hull for a displacement perpendicular to the view; cf. grow_box). */
-float reyes_pixels_per_unit(__global const struct reyes_params *p, const float4 clip[16])
+/* Pixels per world unit at the nearest depth of `count` clip points (an
+ * upper bound over them for a displacement perpendicular to the view; cf.
+ * grow_box).  The points must be in front of the near plane. */
+float reyes_pixels_per_unit(__global const struct reyes_params *p, const float4 *clip, int count)
 {
     __global const float *m = p->view_proj;
     float r0 = length((float3)(m[0], m[1], m[2])), r1 = length((float3)(m[4], m[5], m[6]));
     float r3 = length((float3)(m[12], m[13], m[14]));
     float w_min = INFINITY, ndc_x = 0.0f, ndc_y = 0.0f;
-    for (int k = 0; k < 16; ++k) {
+    for (int k = 0; k < count; ++k) {
         w_min = fmin(w_min, clip[k].w);
         ndc_x = fmax(ndc_x, fabs(clip[k].x / clip[k].w));
         ndc_y = fmax(ndc_y, fabs(clip[k].y / clip[k].w));
@@ -83,7 +84,7 @@ float reyes_curve_distance(__global const struct reyes_params *p, const float3 c
 struct reyes_tiers reyes_flatness(__global const struct reyes_params *p, const float3 cp[16],
                                   const float4 clip[16])
 {
-    float scale = reyes_pixels_per_unit(p, clip);
+    float scale = reyes_pixels_per_unit(p, clip, 16);
     struct reyes_tiers tiers = { 0.0f, 0.0f, 0 };
     for (int line = 0; line < 4; ++line) {
         int tier = (line == 0 || line == 3) ? REYES_TIER_EDGE : REYES_TIER_INNER;
@@ -156,20 +157,13 @@ void reyes_restrict_canonical(const float3 q[4], float a, float b, float3 out[4]
 /* The edge tier for one curve, from its own four points only. */
 int reyes_edge_flat(__global const struct reyes_params *p, const float3 e[4])
 {
-    __global const float *m = p->view_proj;
-    float r0 = length((float3)(m[0], m[1], m[2])), r1 = length((float3)(m[4], m[5], m[6]));
-    float r3 = length((float3)(m[12], m[13], m[14]));
-    float w_min = INFINITY, ndc_x = 0.0f, ndc_y = 0.0f;
+    float4 clip[4];
     for (int k = 0; k < 4; ++k) {
-        float4 c = reyes_to_clip(p, e[k]);
-        if (c.w <= p->near_w)
+        clip[k] = reyes_to_clip(p, e[k]);
+        if (clip[k].w <= p->near_w)
             return 0;
-        w_min = fmin(w_min, c.w);
-        ndc_x = fmax(ndc_x, fabs(c.x / c.w));
-        ndc_y = fmax(ndc_y, fabs(c.y / c.w));
     }
-    float scale = fmax(0.5f * p->width * (r0 + ndc_x * r3), 0.5f * p->height * (r1 + ndc_y * r3))
-                  / w_min;
+    float scale = reyes_pixels_per_unit(p, clip, 4);
     float2 d = reyes_curve_deviation(e[0], e[1], e[2], e[3]);
     return scale * mix(d.x, d.y, p->flat_lambda) <= p->flat_epsilon;
 }
