@@ -111,12 +111,27 @@ int reyes_camera_project(const float m[16], unsigned width, unsigned height, con
 
 /* ---- Rendering ---- */
 
-enum { REYES_CRACK_FIX_NONE, REYES_CRACK_FIX_STITCH };
+enum { REYES_CRACK_FIX_NONE, REYES_CRACK_FIX_STITCH, REYES_CRACK_FIX_WEDGE };
+
+/* Subdivision criteria: the values of reyes_shared.h. */
+#define REYES_MAX_EPSILON 1000.0f
 
 typedef struct reyes_options {
     unsigned width, height;
     float bound_px;       /* dice below this screen bound (default 8) */
     unsigned grid;        /* grid vertices per side (default 16) */
+    /* When to stop splitting: REYES_SUBDIVISION_BOUND (default) dices a
+     * sub-patch whose screen bound is at most bound_px;
+     * REYES_SUBDIVISION_TIERED (docs/reyes.md) dices one whose edge and
+     * inner control-net curves are all within flat_epsilon pixels of
+     * straight, uniformly parametrised lines (the geometric and the full,
+     * parametric deviation mixed by flat_lambda in 0..1) and whose bound
+     * is at most flat_bound_px (0, the default: grid - 1 pixels, so
+     * micropolygons of about a pixel at most). */
+    unsigned subdivision;
+    float flat_epsilon;   /* pixels (default 0.5) */
+    float flat_lambda;    /* 0: geometric only .. 1: full deviation (default 0.5) */
+    float flat_bound_px;  /* 0 or 0.5..1e6 */
     unsigned spp;         /* samples per pixel (default 4) */
     unsigned max_depth;   /* split depth that forces dicing (default 20) */
     int backface_cull;    /* default 0: the models have open, two-sided parts */
@@ -133,6 +148,10 @@ typedef struct reyes_options {
     /* Cracks between grids diced at different rates (T-junctions) and
      * between base patches: REYES_CRACK_FIX_STITCH (default) fills them
      * with zipper strips (two passes: subdivide, then dice and stitch),
+     * REYES_CRACK_FIX_WEDGE closes them in one pass without communication
+     * between patches (needs REYES_SUBDIVISION_TIERED and no displacement:
+     * every edge settles on a flat segment of its base patch's line and
+     * both sides reach its chord with wedge strips; docs/reyes.md),
      * REYES_CRACK_FIX_NONE leaves them. */
     unsigned crack_fix;
     /* Displacement along the normal (docs/reyes.md): REYES_DISPLACE_NONE
@@ -202,6 +221,9 @@ enum { REYES_PROC_BOUND, REYES_PROC_SPLIT_U, REYES_PROC_SPLIT_V, REYES_PROC_DICE
 typedef struct reyes_stats {
     uint64_t patches_in;
     uint64_t splits;
+    /* Why bound split (they add up to splits): the screen bound, the edge
+     * or inner tier of the tiered criterion, the near plane. */
+    uint64_t split_bound, split_edge, split_inner, split_near;
     uint64_t culled;
     uint64_t grids;
     uint64_t forced_dice;     /* grids diced because of the depth limit */

@@ -1,7 +1,8 @@
 /*
  * bound: one item per sub-patch.  Culls it against the view frustum,
  * optionally culls back faces, and sends it to dice when the screen bound
- * of its control hull is small enough, else to split_u or split_v.
+ * of its control hull is small enough (or, with the tiered criterion of
+ * reyes_flatness.cl, when it is flat enough), else to split_u or split_v.
  */
 
 /* Length of the xyz part of row `row` of the view-projection matrix minus
@@ -137,6 +138,53 @@ float reyes_world_extent(const float3 cp[16], int along_u)
     return longest;
 }
 
+/* With wedges, the edge tier is whether each edge has settled on a flat
+ * segment of its line (the same answer on both sides of the edge); an
+ * unsettled edge asks for a split along it.  Sets sp->edge_levels. */
+uint reyes_wedge_reason(__global const struct reyes_params *p, __global const float4 *patches,
+                        struct reyes_subpatch *sp, struct reyes_tiers tiers, int *split_u)
+{
+    float3 base[16];
+    reyes_load_patch(patches, sp->patch, base);
+    uint levels = reyes_edge_levels(p, base, sp);
+    sp->edge_levels = levels;
+    int unsettled_u = ((levels >> (8 * REYES_EDGE_V0)) & 0xffu) == REYES_EDGE_UNSETTLED
+                      || ((levels >> (8 * REYES_EDGE_V1)) & 0xffu) == REYES_EDGE_UNSETTLED;
+    int unsettled_v = ((levels >> (8 * REYES_EDGE_U0)) & 0xffu) == REYES_EDGE_UNSETTLED
+                      || ((levels >> (8 * REYES_EDGE_U1)) & 0xffu) == REYES_EDGE_UNSETTLED;
+    if (unsettled_u || unsettled_v) {
+        *split_u = unsettled_u && (!unsettled_v || tiers.along_u >= tiers.along_v);
+        return REYES_COUNT_SPLIT_EDGE;
+    }
+    if (tiers.failed & REYES_TIER_INNER) {
+        *split_u = tiers.along_u >= tiers.along_v;
+        return REYES_COUNT_SPLIT_INNER;
+    }
+    return 0u;
+}
+
+/* Whether a projectable sub-patch is split, as the counter naming the
+ * reason (0: dice it), and in which direction (*split_u).  A bound that
+ * is too large splits along the longer hull; a tier over epsilon splits
+ * across the more curved direction. */
+uint reyes_split_reason(__global const struct reyes_params *p, __global const float4 *patches,
+                        struct reyes_subpatch *sp, const float3 cp[16], const float4 clip[16],
+                        const float2 s[16], float2 size, int *split_u)
+{
+    *split_u = reyes_hull_extent(s, 1) >= reyes_hull_extent(s, 0);
+    if (p->subdivision != REYES_SUBDIVISION_TIERED)
+        return fmax(size.x, size.y) <= p->bound_px ? 0u : REYES_COUNT_SPLIT_BOUND;
+    if (fmax(size.x, size.y) > p->flat_cap_px)
+        return REYES_COUNT_SPLIT_BOUND;
+    struct reyes_tiers tiers = reyes_flatness(p, cp, clip);
+    if (p->wedges)
+        return reyes_wedge_reason(p, patches, sp, tiers, split_u);
+    if (tiers.failed == 0)
+        return 0u;
+    *split_u = tiers.along_u >= tiers.along_v;
+    return (tiers.failed & REYES_TIER_EDGE) ? REYES_COUNT_SPLIT_EDGE : REYES_COUNT_SPLIT_INNER;
+}
+
 /* First pass of crack stitching: append the sub-patch to dice and its
  * screen box to the leaves buffer (the count goes on past the capacity, so
  * the host can retry with a larger buffer). */
@@ -207,11 +255,13 @@ void reyes_bound(perma_ctx *ctx, __local const struct reyes_subpatch *item)
         /* Never project through the near plane: split in world space. */
         if (forced) {
             atomic_inc(&counters[REYES_COUNT_CULLED]);
-        } else if (reyes_world_extent(cp, 1) >= reyes_world_extent(cp, 0)) {
-            emit_split_u(ctx, &sp);
-        } else {
-            emit_split_v(ctx, &sp);
+            return;
         }
+        atomic_inc(&counters[REYES_COUNT_SPLIT_NEAR]);
+        if (reyes_world_extent(cp, 1) >= reyes_world_extent(cp, 0))
+            emit_split_u(ctx, &sp);
+        else
+            emit_split_v(ctx, &sp);
         return;
     }
 
@@ -227,8 +277,10 @@ void reyes_bound(perma_ctx *ctx, __local const struct reyes_subpatch *item)
         atomic_inc(&counters[REYES_COUNT_CULLED]);
         return;
     }
-    float2 size = hi - lo;
-    if (forced || fmax(size.x, size.y) <= p->bound_px) {
+    int split_u;
+    sp.edge_levels = 0xffffffffu;
+    uint reason = reyes_split_reason(p, ctx->buf.patches, &sp, cp, clip, s, hi - lo, &split_u);
+    if (forced || reason == 0u) {
         if (forced)
             atomic_inc(&counters[REYES_COUNT_FORCED_DICE]);
         if (p->record_leaves) {
@@ -237,9 +289,11 @@ void reyes_bound(perma_ctx *ctx, __local const struct reyes_subpatch *item)
         }
         else
             emit_dice(ctx, &sp);
-    } else if (reyes_hull_extent(s, 1) >= reyes_hull_extent(s, 0)) {
-        emit_split_u(ctx, &sp);
-    } else {
-        emit_split_v(ctx, &sp);
+        return;
     }
+    atomic_inc(&counters[reason]);
+    if (split_u)
+        emit_split_u(ctx, &sp);
+    else
+        emit_split_v(ctx, &sp);
 }

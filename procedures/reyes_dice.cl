@@ -9,6 +9,82 @@
  * reyes_surface.cl.
  */
 
+/* Send one quad (vertices around it) to rasterize if it is in front of
+ * the near plane and on the tile; returns whether it was visible. */
+int reyes_emit_quad(perma_ctx *ctx, const struct reyes_vertex corners[4], int full)
+{
+    __global const struct reyes_params *p = ctx->buf.params;
+    struct reyes_quad quad;
+    int visible = 1;
+    float2 lo = (float2)(INFINITY, INFINITY), hi = (float2)(-INFINITY, -INFINITY);
+    for (int k = 0; k < 4; ++k) {
+        visible &= corners[k].clip.w > p->near_w;
+        /* Blurred quads keep clip x, y (rasterize moves them per sample). */
+        float2 s = p->blur ? corners[k].clip.xy : reyes_to_screen(p, corners[k].clip);
+        quad.x[k] = s.x;
+        quad.y[k] = s.y;
+        quad.z[k] = corners[k].clip.w;
+        quad.rgba[k] = corners[k].rgba;
+        lo = fmin(lo, s);
+        hi = fmax(hi, s);
+    }
+    /* Quads through the near plane or wholly off the tile (the image
+     * without buckets) are dropped. */
+    visible &= p->blur || (hi.x >= p->tile_x0 && hi.y >= p->tile_y0 && lo.x <= p->tile_x1
+                           && lo.y <= p->tile_y1);
+    if (visible && full)
+        emit_rasterize(ctx, &quad);
+    return visible;
+}
+
+/* Quad i of the wedge strip of `edge`, settled at `level`. */
+void reyes_emit_wedge(perma_ctx *ctx, const float3 base[16], const struct reyes_subpatch *sp,
+                      __local const struct reyes_vertex *grid, int edge, uint level, int i,
+                      int full)
+{
+    __global const struct reyes_params *p = ctx->buf.params;
+    int n = (int)p->grid, side = n - 1;
+    float last = (float)side;
+    int along_u;
+    float fixed, a, b;
+    reyes_edge_line(sp, edge, &along_u, &fixed, &a, &b);
+    struct reyes_vertex corners[4];
+    for (int k = 0; k < 2; ++k) {
+        int step = i + k; /* along the edge */
+        int gi = along_u ? step : (edge == REYES_EDGE_U1 ? side : 0);
+        int gj = along_u ? (edge == REYES_EDGE_V1 ? side : 0) : step;
+        float t = (float)step / last;
+        float s = a * (1.0f - t) + b * t; /* as reyes_grid_vertex */
+        struct reyes_vertex on_grid = grid[gj * n + gi], on_chord;
+        on_chord.clip = reyes_to_clip(p, reyes_chord_point(base, sp, edge, level, s));
+        on_chord.rgba = on_grid.rgba;
+        corners[k] = on_grid;
+        corners[3 - k] = on_chord;
+    }
+    if (reyes_emit_quad(ctx, corners, full))
+        atomic_add(&ctx->buf.counters[REYES_COUNT_FILLERS], 2u);
+}
+
+
+/* Wedge crack fix: for every settled edge, a strip of quads from the
+ * grid's boundary vertices to the points at the same parameters on the
+ * chord of the edge's settled segment (reyes_flatness.cl).  The sides of
+ * an edge reach the same chord, so together they close the crack. */
+void reyes_dice_wedges(perma_ctx *ctx, const struct reyes_subpatch *sp,
+                       __local const struct reyes_vertex *grid, int full)
+{
+    __global const struct reyes_params *p = ctx->buf.params;
+    int side = (int)p->grid - 1;
+    float3 base[16];
+    reyes_load_patch(ctx->buf.patches, sp->patch, base);
+    for (int q = (int)ctx->thread; q < 4 * side; q += (int)p->dice_threads) {
+        int edge = q / side, i = q % side;
+        uint level = (sp->edge_levels >> (8 * edge)) & 0xffu;
+        if (level != REYES_EDGE_UNSETTLED)
+            reyes_emit_wedge(ctx, base, sp, grid, edge, level, i, full);
+    }
+}
+
 /* Cooperative: every work-item of the group calls it.  The item's threads
  * first evaluate and shade each grid vertex once into __local scratch, then,
  * after the barrier, assemble the quads from it. */
@@ -42,29 +118,12 @@ void reyes_dice(perma_ctx *ctx, __local const struct reyes_subpatch *item)
     const int corner_i[4] = {0, 1, 1, 0}, corner_j[4] = {0, 0, 1, 1};
     for (int q = (int)ctx->thread; q < side * side; q += threads) {
         int i = q % side, j = q / side;
-        struct reyes_quad quad;
-        int visible = 1;
-        float2 lo = (float2)(INFINITY, INFINITY), hi = (float2)(-INFINITY, -INFINITY);
-        for (int k = 0; k < 4; ++k) {
-            struct reyes_vertex vtx = grid[(j + corner_j[k]) * n + i + corner_i[k]];
-            visible &= vtx.clip.w > p->near_w;
-            /* Blurred quads keep clip x, y (rasterize moves them per sample). */
-            float2 s = p->blur ? vtx.clip.xy : reyes_to_screen(p, vtx.clip);
-            quad.x[k] = s.x;
-            quad.y[k] = s.y;
-            quad.z[k] = vtx.clip.w;
-            quad.rgba[k] = vtx.rgba;
-            lo = fmin(lo, s);
-            hi = fmax(hi, s);
-        }
-        /* Quads through the near plane or wholly off the tile (the image
-         * without buckets) are dropped. */
-        visible &= p->blur || (hi.x >= p->tile_x0 && hi.y >= p->tile_y0 && lo.x <= p->tile_x1
-                               && lo.y <= p->tile_y1);
-        if (visible) {
+        struct reyes_vertex corners[4];
+        for (int k = 0; k < 4; ++k)
+            corners[k] = grid[(j + corner_j[k]) * n + i + corner_i[k]];
+        if (reyes_emit_quad(ctx, corners, full))
             atomic_inc(&counters[REYES_COUNT_MICROPOLYGONS]);
-            if (full)
-                emit_rasterize(ctx, &quad);
-        }
     }
+    if (p->wedges)
+        reyes_dice_wedges(ctx, &sp, grid, full);
 }

@@ -12,6 +12,9 @@ void reyes_options_init(reyes_options *options)
     options->height = 512;
     options->bound_px = 8.0f;
     options->grid = 16;
+    options->subdivision = REYES_SUBDIVISION_BOUND;
+    options->flat_epsilon = 0.5f;
+    options->flat_lambda = 0.5f;
     options->spp = 4;
     options->max_depth = 20;
     options->backface_cull = 0;
@@ -71,6 +74,18 @@ reyes_status reyes_options_check(const reyes_options *o, reyes_error *error)
     if (o->grid < 2 || o->grid > REYES_MAX_GRID)
         return reyes_fail(error, REYES_ERR_ARGUMENT, "grid %u is not in 2..%u", o->grid,
                           REYES_MAX_GRID);
+    if (o->subdivision > REYES_SUBDIVISION_TIERED)
+        return reyes_fail(error, REYES_ERR_ARGUMENT, "subdivision %u is not %u (bound) or %u (tiered)",
+                          o->subdivision, REYES_SUBDIVISION_BOUND, REYES_SUBDIVISION_TIERED);
+    if (!(o->flat_epsilon >= 0.01f && o->flat_epsilon <= REYES_MAX_EPSILON))
+        return reyes_fail(error, REYES_ERR_ARGUMENT, "flatness epsilon %g px is not in 0.01..%g",
+                          (double)o->flat_epsilon, (double)REYES_MAX_EPSILON);
+    if (!(o->flat_bound_px == 0.0f || (o->flat_bound_px >= 0.5f && o->flat_bound_px <= 1e6f)))
+        return reyes_fail(error, REYES_ERR_ARGUMENT, "tiered bound %g px is not 0 or in 0.5..1e6",
+                          (double)o->flat_bound_px);
+    if (!(o->flat_lambda >= 0.0f && o->flat_lambda <= 1.0f))
+        return reyes_fail(error, REYES_ERR_ARGUMENT, "flatness lambda %g is not in 0..1",
+                          (double)o->flat_lambda);
     if (o->spp < 1 || o->spp > REYES_MAX_SPP)
         return reyes_fail(error, REYES_ERR_ARGUMENT, "samples per pixel %u is not in 1..%u", o->spp,
                           REYES_MAX_SPP);
@@ -113,9 +128,17 @@ reyes_status reyes_options_check(const reyes_options *o, reyes_error *error)
     if (blurred && o->bucket_width > 0)
         return reyes_fail(error, REYES_ERR_ARGUMENT,
                           "buckets cannot be combined with motion blur or depth of field yet");
-    if (o->crack_fix > REYES_CRACK_FIX_STITCH)
-        return reyes_fail(error, REYES_ERR_ARGUMENT, "crack fix %u is not %u (none) or %u (stitch)",
-                          o->crack_fix, REYES_CRACK_FIX_NONE, REYES_CRACK_FIX_STITCH);
+    if (o->crack_fix > REYES_CRACK_FIX_WEDGE)
+        return reyes_fail(error, REYES_ERR_ARGUMENT,
+                          "crack fix %u is not %u (none), %u (stitch) or %u (wedge)", o->crack_fix,
+                          REYES_CRACK_FIX_NONE, REYES_CRACK_FIX_STITCH, REYES_CRACK_FIX_WEDGE);
+    if (o->crack_fix == REYES_CRACK_FIX_WEDGE && o->subdivision != REYES_SUBDIVISION_TIERED)
+        return reyes_fail(error, REYES_ERR_ARGUMENT,
+                          "crack fix wedge needs the tiered subdivision criterion");
+    if (o->crack_fix == REYES_CRACK_FIX_WEDGE && o->displace_mode != REYES_DISPLACE_NONE
+        && o->displace_amplitude != 0.0f)
+        return reyes_fail(error, REYES_ERR_ARGUMENT,
+                          "crack fix wedge cannot be combined with displacement yet");
     if ((o->bucket_width == 0) != (o->bucket_height == 0))
         return reyes_fail(error, REYES_ERR_ARGUMENT, "bucket %ux%u: both sides or neither must be 0",
                           o->bucket_width, o->bucket_height);

@@ -110,6 +110,93 @@ static float extent(const float *x, const float *y, const float *z, int along_u)
     return longest;
 }
 
+/* The tiered criterion of reyes_flatness.cl. */
+static float length3(vec3 a)
+{
+    return sqrtf(a.x * a.x + a.y * a.y + a.z * a.z);
+}
+
+static vec3 sub3(vec3 a, vec3 b)
+{
+    return (vec3){ a.x - b.x, a.y - b.y, a.z - b.z };
+}
+
+static vec3 scale3(vec3 a, float s)
+{
+    return (vec3){ a.x * s, a.y * s, a.z * s };
+}
+
+static float dot3(vec3 a, vec3 b)
+{
+    return a.x * b.x + a.y * b.y + a.z * b.z;
+}
+
+/* Distance of curve `line` (a row when along_u) in world units, mixed. */
+static float curve_distance(const vec3 cp[16], int line, int along_u, float lambda)
+{
+    int first = along_u ? line * 4 : line, stride = along_u ? 1 : 4;
+    vec3 b0 = cp[first], b1 = cp[first + stride], b2 = cp[first + 2 * stride];
+    vec3 b3 = cp[first + 3 * stride];
+    if (b0.x > b3.x || (b0.x == b3.x && (b0.y > b3.y || (b0.y == b3.y && b0.z > b3.z)))) {
+        vec3 t = b0;
+        b0 = b3;
+        b3 = t;
+        t = b1;
+        b1 = b2;
+        b2 = t;
+    }
+    vec3 chord = sub3(b3, b0);
+    vec3 e1 = sub3(b1, (vec3){ b0.x + chord.x * (1.0f / 3.0f), b0.y + chord.y * (1.0f / 3.0f),
+                               b0.z + chord.z * (1.0f / 3.0f) });
+    vec3 e2 = sub3(b2, (vec3){ b0.x + chord.x * (2.0f / 3.0f), b0.y + chord.y * (2.0f / 3.0f),
+                               b0.z + chord.z * (2.0f / 3.0f) });
+    float full = fmaxf(length3(e1), length3(e2)), geometric = full;
+    float chord_length = length3(chord);
+    if (chord_length > 0.0f) {
+        vec3 t = scale3(chord, 1.0f / chord_length);
+        geometric = fmaxf(length3(sub3(e1, scale3(t, dot3(e1, t)))),
+                          length3(sub3(e2, scale3(t, dot3(e2, t)))));
+    }
+    return geometric + (full - geometric) * lambda;
+}
+
+static float pixels_per_unit(const context *c, const vec4 clip[16])
+{
+    const float *m = c->m;
+    float r0 = sqrtf(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
+    float r1 = sqrtf(m[4] * m[4] + m[5] * m[5] + m[6] * m[6]);
+    float r3 = sqrtf(m[12] * m[12] + m[13] * m[13] + m[14] * m[14]);
+    float w_min = INFINITY, ndc_x = 0.0f, ndc_y = 0.0f;
+    for (int k = 0; k < 16; ++k) {
+        w_min = fminf(w_min, clip[k].w);
+        ndc_x = fmaxf(ndc_x, fabsf(clip[k].x / clip[k].w));
+        ndc_y = fmaxf(ndc_y, fabsf(clip[k].y / clip[k].w));
+    }
+    return fmaxf(0.5f * (float)c->o->width * (r0 + ndc_x * r3),
+                 0.5f * (float)c->o->height * (r1 + ndc_y * r3)) / w_min;
+}
+
+/* 1 to split (then *along_u), 0 to dice, as reyes_split_reason. */
+static int tiered_split(const context *c, const vec3 cp[16], const vec4 clip[16], float size,
+                        int *along_u)
+{
+    float cap = c->o->flat_bound_px > 0.0f ? c->o->flat_bound_px : (float)(c->o->grid - 1);
+    if (size > cap)
+        return 1;
+    float scale = pixels_per_unit(c, clip), along[2] = { 0.0f, 0.0f };
+    int failed = 0;
+    for (int line = 0; line < 4; ++line) {
+        float row = scale * curve_distance(cp, line, 1, c->o->flat_lambda);
+        float column = scale * curve_distance(cp, line, 0, c->o->flat_lambda);
+        along[0] = fmaxf(along[0], row);
+        along[1] = fmaxf(along[1], column);
+        failed |= fmaxf(row, column) > c->o->flat_epsilon;
+    }
+    if (failed)
+        *along_u = along[0] >= along[1];
+    return failed;
+}
+
 static void bernstein(float t, float b[4])
 {
     float s = 1.0f - t;
@@ -221,13 +308,18 @@ static void bound(context *c, struct reyes_subpatch sp)
         ++c->counts->culled;
         return;
     }
-    if (forced || fmaxf(hix - lox, hiy - loy) <= o->bound_px) {
+    float size = fmaxf(hix - lox, hiy - loy);
+    int along_u = extent(sx, sy, NULL, 1) >= extent(sx, sy, NULL, 0);
+    int split_it = o->subdivision == REYES_SUBDIVISION_TIERED
+                       ? tiered_split(c, cp, clip, size, &along_u)
+                       : size > o->bound_px;
+    if (forced || !split_it) {
         c->counts->forced_dice += (uint64_t)forced;
         ++c->counts->grids;
         if (o->stages != REYES_STAGES_SUBDIVIDE)
             dice(c, &sp);
     } else {
-        split(c, sp, extent(sx, sy, NULL, 1) >= extent(sx, sy, NULL, 0));
+        split(c, sp, along_u);
     }
 }
 
@@ -257,6 +349,9 @@ reyes_status reyes_reference_run(const reyes_scene *scene, const reyes_camera *c
     reyes_status status = reyes_options_check(options, error);
     if (status != REYES_OK)
         return status;
+    if (options->crack_fix == REYES_CRACK_FIX_WEDGE)
+        return reyes_fail(error, REYES_ERR_ARGUMENT,
+                          "the C reference does not model the wedge crack fix's subdivision");
     context c = { .scene = scene, .o = options, .counts = out };
     c.near_w = reyes_near_plane(scene);
     status = reyes_camera_matrix(camera, (float)options->width / (float)options->height, c.near_w,

@@ -142,6 +142,11 @@ static reyes_status fill_params(const reyes_scene *scene, const reyes_camera *ca
     p->width = (float)o->width;
     p->height = (float)o->height;
     p->bound_px = o->bound_px;
+    p->subdivision = o->subdivision;
+    p->flat_epsilon = o->flat_epsilon;
+    p->flat_lambda = o->flat_lambda;
+    p->flat_cap_px = o->flat_bound_px > 0.0f ? o->flat_bound_px : (float)(o->grid - 1u);
+    p->wedges = o->crack_fix == REYES_CRACK_FIX_WEDGE ? 1u : 0u;
     p->cull_margin = o->cull_margin;
     p->ambient = 0.18f;
     p->diffuse = 0.82f;
@@ -323,6 +328,10 @@ static void count_stats(const reyes_scene *scene, const render_buffers *b, reyes
     stats->forced_dice = b->counters[REYES_COUNT_FORCED_DICE];
     stats->micropolygons = b->counters[REYES_COUNT_MICROPOLYGONS];
     stats->fillers = b->counters[REYES_COUNT_FILLERS];
+    stats->split_bound = b->counters[REYES_COUNT_SPLIT_BOUND];
+    stats->split_edge = b->counters[REYES_COUNT_SPLIT_EDGE];
+    stats->split_inner = b->counters[REYES_COUNT_SPLIT_INNER];
+    stats->split_near = b->counters[REYES_COUNT_SPLIT_NEAR];
     stats->stitches = stats->procedures[REYES_PROC_STITCH].items;
 }
 

@@ -20,7 +20,8 @@ static perma_status register_all(struct reyes_renderer *r)
 {
     const char *item = "struct reyes_subpatch";
     const size_t item_size = sizeof(struct reyes_subpatch);
-    unsigned quads = (r->grid - 1) * (r->grid - 1);
+    /* Dice emits its grid's quads and, with wedges, a strip per edge. */
+    unsigned quads = (r->grid - 1) * (r->grid - 1) + 4 * (r->grid - 1);
     /* Bound and split emit into each other: bound is served before split
      * (it culls and dices, split doubles), and consumers before producers
      * keeps the queues short. */
@@ -54,6 +55,8 @@ static perma_status register_all(struct reyes_renderer *r)
     perma_status status = perma_add_source(r->rt, reyes_shared_h_source, "reyes_shared.h");
     if (status == PERMA_OK)
         status = perma_add_source(r->rt, reyes_common_cl_source, "reyes_common.cl");
+    if (status == PERMA_OK)
+        status = perma_add_source(r->rt, reyes_flatness_cl_source, "reyes_flatness.cl");
     if (status == PERMA_OK)
         status = perma_add_source(r->rt, reyes_sample_cl_source, "reyes_sample.cl");
     if (status == PERMA_OK)

@@ -19,6 +19,10 @@ struct reyes_subpatch {
     REYES_U32 patch;  /* index of the base patch */
     REYES_U32 depth;  /* number of splits from the base patch */
     float u0, v0, u1, v1;
+    /* Wedge crack fix: the level at which each edge settled, a byte per
+     * edge in REYES_EDGE_* order (0xff: not settled), set by bound for
+     * dice (reyes_flatness.cl); unused otherwise. */
+    REYES_U32 edge_levels;
 };
 
 /* One micropolygon: a grid quad in screen space (pixels, y down; z is the
@@ -78,7 +82,18 @@ struct reyes_stitch {
 #define REYES_COUNT_FORCED_DICE 4 /* diced because the depth limit was hit */
 #define REYES_COUNT_LEAVES 5      /* sub-patches recorded by bound (stitching) */
 #define REYES_COUNT_FILLERS 6     /* crack-filling triangles rasterized by stitch */
-#define REYES_COUNTERS 8
+/* Why bound split a sub-patch (they add up to REYES_COUNT_SPLITS): its
+ * screen bound, its edge or inner tier (tiered criterion), or a hull
+ * crossing the near plane (split in world space). */
+#define REYES_COUNT_SPLIT_BOUND 7
+#define REYES_COUNT_SPLIT_EDGE 8
+#define REYES_COUNT_SPLIT_INNER 9
+#define REYES_COUNT_SPLIT_NEAR 10
+#define REYES_COUNTERS 12
+
+/* Subdivision criteria (reyes_params.subdivision). */
+#define REYES_SUBDIVISION_BOUND 0
+#define REYES_SUBDIVISION_TIERED 1
 
 /* Displacement kinds (reyes_params.displace_mode). */
 #define REYES_DISPLACE_NONE 0
@@ -128,7 +143,19 @@ struct reyes_params {
      * them: the first pass of crack stitching. */
     REYES_U32 record_leaves;
     REYES_U32 leaf_capacity;
-    REYES_U32 pad;
+    /* The split rule (reyes_bound.cl): REYES_SUBDIVISION_BOUND dices at a
+     * screen bound of bound_px; _TIERED (reyes_flatness.cl) dices when
+     * every control-net curve is within flat_epsilon pixels of its
+     * uniform chord (distance mix(geometric, full, flat_lambda)) and the
+     * bound is at most flat_cap_px. */
+    REYES_U32 subdivision;
+    float flat_epsilon;
+    float flat_lambda;
+    float flat_cap_px;
+    /* 1: crack fix by wedges (needs the tiered criterion): bound settles
+     * every edge on a flat segment of its line, dice adds wedge strips
+     * from its boundary to that segment's chord. */
+    REYES_U32 wedges;
     /* Displacement (reyes_displace.cl): REYES_DISPLACE_*, the largest
      * distance, the bump frequency (per world unit) and the map size. */
     REYES_U32 displace_mode;

@@ -47,14 +47,25 @@ reyes_status reyes_write_stats_json(FILE *out, const reyes_stats *s, const reyes
                  "\"max_depth\": %u,\n",
             o->width, o->height, (double)o->bound_px, o->grid, o->spp, o->max_depth);
     fprintf(out, "  \"patches_in\": %" PRIu64 ",\n", s->patches_in);
+    fprintf(out, "  \"subdivision\": \"%s\", \"epsilon\": %g, \"lambda\": %g, "
+                 "\"tiered_bound_px\": %g,\n",
+            o->subdivision == REYES_SUBDIVISION_TIERED ? "tiered" : "bound",
+            (double)o->flat_epsilon, (double)o->flat_lambda,
+            (double)(o->flat_bound_px > 0.0f ? o->flat_bound_px : (float)(o->grid - 1)));
     fprintf(out, "  \"splits\": %" PRIu64 ",\n", s->splits);
+    fprintf(out, "  \"split_reasons\": {\"bound\": %" PRIu64 ", \"edge\": %" PRIu64
+                 ", \"inner\": %" PRIu64 ", \"near\": %" PRIu64 "},\n",
+            s->split_bound, s->split_edge, s->split_inner, s->split_near);
     fprintf(out, "  \"culled\": %" PRIu64 ",\n", s->culled);
     fprintf(out, "  \"grids\": %" PRIu64 ",\n", s->grids);
     fprintf(out, "  \"forced_dice\": %" PRIu64 ",\n", s->forced_dice);
     fprintf(out, "  \"micropolygons\": %" PRIu64 ",\n", s->micropolygons);
     fprintf(out, "  \"samples_written\": %" PRIu64 ",\n", s->samples_written);
     fprintf(out, "  \"crack_fix\": \"%s\", \"stitches\": %" PRIu64 ", \"fillers\": %" PRIu64 ",\n",
-            o->crack_fix == REYES_CRACK_FIX_STITCH ? "stitch" : "none", s->stitches, s->fillers);
+            o->crack_fix == REYES_CRACK_FIX_STITCH  ? "stitch"
+            : o->crack_fix == REYES_CRACK_FIX_WEDGE ? "wedge"
+                                                     : "none",
+            s->stitches, s->fillers);
     fprintf(out, "  \"peak_queue_bytes\": %zu,\n", s->peak_queue_bytes);
     fprintf(out, "  \"displace_mode\": %u, \"displace_amplitude\": %g, \"motion\": [%g, %g, %g], "
                  "\"aperture\": %g, \"focus\": %g, \"time_samples\": %u,\n",

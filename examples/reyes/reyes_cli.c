@@ -135,8 +135,11 @@ static int on_crack_fix(reyes_cli *cli, const char *value, char *message, size_t
         cli->render.crack_fix = REYES_CRACK_FIX_NONE;
     else if (strcmp(value, "stitch") == 0)
         cli->render.crack_fix = REYES_CRACK_FIX_STITCH;
+    else if (strcmp(value, "wedge") == 0)
+        cli->render.crack_fix = REYES_CRACK_FIX_WEDGE;
     else
-        return usage_error(message, size, "unknown crack fix '%s'; valid: %s", value, "none stitch");
+        return usage_error(message, size, "unknown crack fix '%s'; valid: %s", value,
+                           "none stitch wedge");
     return REYES_CLI_OK;
 }
 
@@ -246,6 +249,38 @@ static int on_bound(reyes_cli *cli, const char *value, char *message, size_t siz
 {
     if (!parse_float(value, &cli->render.bound_px) || cli->render.bound_px < 0.5f)
         return usage_error(message, size, "--bound '%s': expected pixels >= 0.5%s", value, "");
+    cli->bound_given = 1;
+    return REYES_CLI_OK;
+}
+
+static int on_subdivision(reyes_cli *cli, const char *value, char *message, size_t size)
+{
+    if (strcmp(value, "bound") == 0)
+        cli->render.subdivision = REYES_SUBDIVISION_BOUND;
+    else if (strcmp(value, "tiered") == 0)
+        cli->render.subdivision = REYES_SUBDIVISION_TIERED;
+    else
+        return usage_error(message, size, "unknown subdivision '%s'; valid: %s", value,
+                           "bound tiered");
+    return REYES_CLI_OK;
+}
+
+static int on_epsilon(reyes_cli *cli, const char *value, char *message, size_t size)
+{
+    if (!parse_float(value, &cli->render.flat_epsilon)
+        || !(cli->render.flat_epsilon >= 0.01f && cli->render.flat_epsilon <= REYES_MAX_EPSILON))
+        return usage_error(message, size, "--epsilon '%s': expected pixels in 0.01..%s", value,
+                           "1000");
+    cli->flatness_given = 1;
+    return REYES_CLI_OK;
+}
+
+static int on_lambda(reyes_cli *cli, const char *value, char *message, size_t size)
+{
+    if (!parse_float(value, &cli->render.flat_lambda)
+        || !(cli->render.flat_lambda >= 0.0f && cli->render.flat_lambda <= 1.0f))
+        return usage_error(message, size, "--lambda '%s': expected a weight in 0..1%s", value, "");
+    cli->flatness_given = 1;
     return REYES_CLI_OK;
 }
 
@@ -368,7 +403,7 @@ static const cli_option options[] = {
     { "size", 0, "WxH", on_size, "image size in pixels (default 512x512)" },
     { "bucket", 0, "WxH", on_bucket, "render in screen tiles of WxH pixels (default: one)" },
     { "crack-fix", 0, "NAME", on_crack_fix,
-      "stitch (default: fill cracks between grids) or none" },
+      "stitch (default: fill cracks between grids), wedge (one pass; tiered only) or none" },
     { "displace", 0, "KIND", on_displace,
       "bumps:AMPLITUDE or png:FILE:AMPLITUDE (gray PNG at the patch's u,v)" },
     { "motion", 0, "dx,dy,dz", on_motion, "move every vertex by this over the shutter (motion blur)" },
@@ -380,8 +415,14 @@ static const cli_option options[] = {
     { "blur-permutations", 0, "P", on_blur_permutations,
       "interleaved: permutations of a tile's tuples, 1..64 (default 8)" },
     { "time-samples", 0, "N", on_time_samples, "time strata per pixel (default: spp)" },
-    { "bound", 0, "PX", on_bound, "dice patches whose screen bound is at most PX (default 8)" },
+    { "bound", 0, "PX", on_bound,
+      "dice patches whose screen bound is at most PX (default 8; tiered: grid - 1)" },
     { "grid", 0, "N", on_grid, "grid vertices per side when dicing (default 16)" },
+    { "subdivision", 0, "NAME", on_subdivision,
+      "when to stop splitting: bound (default: --bound) or tiered (flatness)" },
+    { "epsilon", 0, "PX", on_epsilon, "tiered: flatness tolerance in pixels (default 0.5)" },
+    { "lambda", 0, "L", on_lambda,
+      "tiered: 0 geometric .. 1 parametric deviation weight (default 0.5)" },
     { "spp", 0, "N", on_spp, "jittered samples per pixel (default 4)" },
     { "max-depth", 0, "D", on_max_depth, "splits after which a patch is diced anyway (default 20)" },
     { "camera", 0, "ex,ey,ez,ax,ay,az", on_camera, "eye and target (default: frame the scene)" },
@@ -442,6 +483,22 @@ static const cli_option *find_option(const char *arg, const char **inline_value)
     return NULL;
 }
 
+/* --epsilon and --lambda belong to the tiered criterion: a value the
+ * bound criterion would ignore is an error. */
+static int check_subdivision_options(reyes_cli *cli, char *message, size_t size)
+{
+    int tiered = cli->render.subdivision == REYES_SUBDIVISION_TIERED;
+    /* Tiered: --bound is the largest sub-patch to dice (else grid - 1). */
+    if (tiered && cli->bound_given)
+        cli->render.flat_bound_px = cli->render.bound_px;
+    if (!tiered && cli->render.crack_fix == REYES_CRACK_FIX_WEDGE)
+        return usage_error(message, size, "--crack-fix wedge needs --subdivision tiered%s%s", "", "");
+    if (!tiered && cli->flatness_given)
+        return usage_error(message, size, "--epsilon and --lambda apply to --subdivision tiered%s%s",
+                           "", "");
+    return REYES_CLI_OK;
+}
+
 int reyes_cli_parse(int argc, char **argv, reyes_cli *cli, char *message, size_t size)
 {
     memset(cli, 0, sizeof *cli);
@@ -479,7 +536,7 @@ int reyes_cli_parse(int argc, char **argv, reyes_cli *cli, char *message, size_t
         if (result != REYES_CLI_OK)
             return result;
     }
-    return REYES_CLI_OK;
+    return check_subdivision_options(cli, message, size);
 }
 
 void reyes_cli_free(reyes_cli *cli)

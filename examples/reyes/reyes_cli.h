@@ -19,6 +19,9 @@ typedef struct reyes_cli {
     float camera[6];        /* eye x y z, target x y z */
     float fov_deg;
     int reference;          /* also run the C reference of bound/split/dice */
+    /* --bound means the tiered criterion's largest bound with it;
+     * --epsilon and --lambda without it are refused. */
+    int bound_given, flatness_given;
     int help, version;
     char displace_map[4096]; /* --displace png:FILE:A (render.displace_map points here) */
 } reyes_cli;

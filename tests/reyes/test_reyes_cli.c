@@ -135,6 +135,60 @@ START_TEST(test_scheduling_names)
 }
 END_TEST
 
+/* The subdivision criterion and its parameters; flatness options without
+ * it, and wedges without it, are refused with a message naming them. */
+START_TEST(test_subdivision_options)
+{
+    reyes_cli cli;
+    char message[512];
+    ck_assert_int_eq(PARSE(&cli, message, "--subdivision", "tiered", "--epsilon", "0.25",
+                           "--lambda", "1"),
+                     REYES_CLI_OK);
+    ck_assert_uint_eq(cli.render.subdivision, REYES_SUBDIVISION_TIERED);
+    ck_assert_float_eq(cli.render.flat_epsilon, 0.25f);
+    ck_assert_float_eq(cli.render.flat_lambda, 1.0f);
+    reyes_cli_free(&cli);
+    ck_assert_float_eq(cli.render.flat_bound_px, 0.0f); /* grid - 1 */
+    reyes_cli_free(&cli);
+    ck_assert_int_eq(PARSE(&cli, message, "--subdivision", "bound", "--bound", "4"), REYES_CLI_OK);
+    ck_assert_uint_eq(cli.render.subdivision, REYES_SUBDIVISION_BOUND);
+    ck_assert_float_eq(cli.render.flat_bound_px, 0.0f);
+    reyes_cli_free(&cli);
+    /* With tiered, --bound (before or after) is its largest sub-patch. */
+    ck_assert_int_eq(PARSE(&cli, message, "--bound", "24", "--subdivision", "tiered", "--crack-fix",
+                           "wedge"),
+                     REYES_CLI_OK);
+    ck_assert_float_eq(cli.render.flat_bound_px, 24.0f);
+    ck_assert_uint_eq(cli.render.crack_fix, REYES_CRACK_FIX_WEDGE);
+    reyes_cli_free(&cli);
+
+    struct { int argc; char **argv; const char *needle; } cases[] = {
+        { COUNT("--subdivision", "flat"), ARGS("--subdivision", "flat"),
+          "unknown subdivision 'flat'; valid: bound tiered" },
+        { COUNT("--subdivision", "tiered", "--epsilon", "0"),
+          ARGS("--subdivision", "tiered", "--epsilon", "0"), "--epsilon '0': expected pixels" },
+        { COUNT("--subdivision", "tiered", "--epsilon", "1e9"),
+          ARGS("--subdivision", "tiered", "--epsilon", "1e9"), "--epsilon '1e9'" },
+        { COUNT("--subdivision", "tiered", "--lambda", "1.5"),
+          ARGS("--subdivision", "tiered", "--lambda", "1.5"), "--lambda '1.5': expected a weight" },
+        { COUNT("--subdivision", "tiered", "--lambda", "-0.1"),
+          ARGS("--subdivision", "tiered", "--lambda", "-0.1"), "--lambda '-0.1'" },
+        { COUNT("--crack-fix", "wedge"), ARGS("--crack-fix", "wedge"),
+          "--crack-fix wedge needs --subdivision tiered" },
+        { COUNT("--epsilon", "1"), ARGS("--epsilon", "1"),
+          "--epsilon and --lambda apply to --subdivision tiered" },
+        { COUNT("--subdivision", "bound", "--lambda", "0"),
+          ARGS("--subdivision", "bound", "--lambda", "0"), "apply to --subdivision tiered" },
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+        ck_assert_int_eq(parse(&cli, message, cases[i].argc, cases[i].argv), REYES_CLI_USAGE);
+        ck_assert_msg(strstr(message, cases[i].needle) != NULL, "case %zu: '%s' lacks '%s'", i,
+                      message, cases[i].needle);
+        reyes_cli_free(&cli);
+    }
+}
+END_TEST
+
 /* Each bad command line gives REYES_CLI_USAGE and a message with `needle`. */
 START_TEST(test_bad_usage)
 {
@@ -151,7 +205,7 @@ START_TEST(test_bad_usage)
         { COUNT("--bucket", "0x8"), ARGS("--bucket", "0x8"), "--bucket" },
         { COUNT("--bucket", "64"), ARGS("--bucket", "64"), "--bucket '64': expected WxH" },
         { COUNT("--crack-fix", "glue"), ARGS("--crack-fix", "glue"),
-          "unknown crack fix 'glue'; valid: none stitch" },
+          "unknown crack fix 'glue'; valid: none stitch wedge" },
         { COUNT("--displace", "bumps"), ARGS("--displace", "bumps"), "bumps:AMPLITUDE" },
         { COUNT("--displace", "bumps:x"), ARGS("--displace", "bumps:x"), "amplitude 'x'" },
         { COUNT("--displace", "png:0.1"), ARGS("--displace", "png:0.1"), "png:FILE:AMPLITUDE" },
@@ -256,6 +310,7 @@ static Suite *cli_suite(void)
     tcase_add_test(tc, test_defaults);
     tcase_add_test(tc, test_all_options);
     tcase_add_test(tc, test_scheduling_names);
+    tcase_add_test(tc, test_subdivision_options);
     tcase_add_test(tc, test_blur_algorithms);
     tcase_add_test(tc, test_bad_usage);
     tcase_add_test(tc, test_program_exit_codes);

@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "reyes_shared.h"
 #include "reyes_test_util.h"
 
 #define VIEWS 24
@@ -50,12 +51,98 @@ START_TEST(test_sphere_watertight)
 }
 END_TEST
 
+/* The tiered subdivision criterion, with coarse grids and sub-patches up
+ * to BOUND_PX so that cracks are wide: sub-patches are split to different
+ * depths by curvature, not only by size.  Both crack fixes close them:
+ * stitching (two passes) and wedges (one pass, no communication between
+ * patches). */
+START_TEST(test_sphere_watertight_tiered)
+{
+    reyes_scene scene;
+    reyes_error error;
+    reyes_scene_init(&scene);
+    const float center[3] = {-0.2f, 0.1f, 0.3f};
+    ck_assert_int_eq(reyes_scene_add_torus(&scene, center, 1.0f, 0.35f, REYES_RGBA(200, 200, 200),
+                                           &error),
+                     REYES_OK);
+    reyes_options o;
+    crack_options(&o, REYES_CRACK_FIX_NONE);
+    o.subdivision = REYES_SUBDIVISION_TIERED;
+    o.flat_bound_px = BOUND_PX;
+    o.flat_epsilon = 0.5f;
+    reyes_renderer *renderer;
+    ck_assert_int_eq(reyes_renderer_create(&o, &renderer, &error), REYES_OK);
+    size_t without = reyes_test_holes_from_random_views(renderer, &scene, &o, NULL, VIEWS,
+                                                        SEED + 1, MAX_HOLE);
+    o.crack_fix = REYES_CRACK_FIX_STITCH;
+    size_t stitched = reyes_test_holes_from_random_views(renderer, &scene, &o, NULL, VIEWS,
+                                                         SEED + 1, MAX_HOLE);
+    o.crack_fix = REYES_CRACK_FIX_WEDGE;
+    size_t wedged = reyes_test_holes_from_random_views(renderer, &scene, &o, NULL, VIEWS,
+                                                       SEED + 1, MAX_HOLE);
+    printf("torus, tiered criterion, %d views at 1 spp: %zu hole pixels without crack fix, "
+           "%zu with stitching, %zu with wedges\n", VIEWS, without, stitched, wedged);
+    ck_assert_uint_eq(stitched, 0);
+    ck_assert_uint_eq(wedged, 0);
+    reyes_renderer_destroy(renderer);
+    reyes_scene_free(&scene);
+}
+END_TEST
+
+/* The built-in scene framed at 512x512 with the tiered criterion, coarse
+ * 4x4 grids of sub-patches up to 48 px and 1 sample per pixel: without a
+ * fix, pinholes show through the spheres; wedges and stitching close every
+ * one of them. */
+START_TEST(test_builtin_wedges)
+{
+    reyes_scene scene;
+    reyes_error error;
+    reyes_scene_init(&scene);
+    ck_assert_int_eq(reyes_scene_add_builtin(&scene, &error), REYES_OK);
+    reyes_options o;
+    crack_options(&o, REYES_CRACK_FIX_NONE);
+    o.width = o.height = 512;
+    o.subdivision = REYES_SUBDIVISION_TIERED;
+    o.flat_bound_px = 48.0f;
+    o.flat_epsilon = 1.0f;
+    reyes_camera camera;
+    ck_assert_int_eq(reyes_camera_frame(&scene, 40.0f, 1.0f, &camera, &error), REYES_OK);
+    reyes_renderer *renderer;
+    ck_assert_int_eq(reyes_renderer_create(&o, &renderer, &error), REYES_OK);
+    const unsigned fixes[3] = {REYES_CRACK_FIX_NONE, REYES_CRACK_FIX_STITCH, REYES_CRACK_FIX_WEDGE};
+    size_t holes[3];
+    uint64_t fillers[3];
+    for (int k = 0; k < 3; ++k) {
+        o.crack_fix = fixes[k];
+        reyes_image image;
+        reyes_stats stats;
+        reyes_test_render(renderer, &scene, &camera, &o, &image, &stats);
+        holes[k] = reyes_test_hole_pixels(&image, MAX_HOLE);
+        fillers[k] = stats.fillers;
+        reyes_image_free(&image);
+        reyes_stats_free(&stats);
+    }
+    printf("built-in scene, tiered, 4x4 grids up to 48 px, 1 spp: %zu hole pixels without crack "
+           "fix, %zu with stitching, %zu with wedges (%llu wedge triangles)\n", holes[0], holes[1],
+           holes[2], (unsigned long long)fillers[2]);
+    ck_assert_uint_gt(holes[0], 0);
+    ck_assert_uint_eq(holes[1], 0);
+    ck_assert_uint_eq(holes[2], 0);
+    ck_assert_uint_eq(fillers[0], 0);
+    ck_assert_uint_gt(fillers[2], 0);
+    reyes_renderer_destroy(renderer);
+    reyes_scene_free(&scene);
+}
+END_TEST
+
 int main(void)
 {
     Suite *s = suite_create("reyes_cracks");
     TCase *tc = tcase_create("cracks");
     tcase_set_timeout(tc, 300);
     tcase_add_test(tc, test_sphere_watertight);
+    tcase_add_test(tc, test_sphere_watertight_tiered);
+    tcase_add_test(tc, test_builtin_wedges);
     suite_add_tcase(s, tc);
     SRunner *runner = srunner_create(s);
     srunner_set_fork_status(runner, CK_NOFORK);

@@ -3,6 +3,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "reyes_shared.h"
 #include "reyes_test_util.h"
 
 #ifndef REYES_MODELS_DIR
@@ -169,6 +170,59 @@ START_TEST(test_teapot_watertight)
 }
 END_TEST
 
+/* The tiered subdivision criterion on real models: the teapot stays
+ * watertight with stitching, and the killeroo's decisions match the C
+ * reference's. */
+START_TEST(test_models_tiered)
+{
+    reyes_scene scene;
+    reyes_scene_init(&scene);
+    load(&scene, "teapot.bpt");
+    reyes_options o, fine;
+    reyes_error error;
+    reyes_options_init(&o);
+    o.width = o.height = 128;
+    o.spp = 1;
+    o.grid = 6;
+    fine = o;
+    fine.bound_px = 3.0f;
+    o.subdivision = REYES_SUBDIVISION_TIERED;
+    o.flat_bound_px = 12.0f;
+    reyes_renderer *renderer;
+    ck_assert_int_eq(reyes_renderer_create(&o, &renderer, &error), REYES_OK);
+    o.crack_fix = REYES_CRACK_FIX_NONE;
+    size_t without = reyes_test_holes_from_random_views(renderer, &scene, &o, &fine, 24, 778u, 16);
+    o.crack_fix = REYES_CRACK_FIX_STITCH;
+    size_t stitched = reyes_test_holes_from_random_views(renderer, &scene, &o, &fine, 24, 778u, 16);
+    o.crack_fix = REYES_CRACK_FIX_WEDGE;
+    size_t wedged = reyes_test_holes_from_random_views(renderer, &scene, &o, &fine, 24, 778u, 16);
+    printf("teapot, tiered criterion, 24 views at 128x128, grid 6, bound 12 px, 1 spp: %zu hole "
+           "pixels without crack fix, %zu with stitching, %zu with wedges\n", without, stitched,
+           wedged);
+    ck_assert_uint_eq(stitched, 0);
+    ck_assert_uint_eq(wedged, 0);
+    reyes_renderer_destroy(renderer);
+    reyes_scene_free(&scene);
+
+    reyes_scene_init(&scene);
+    load(&scene, "killeroo.bpt");
+    reyes_options_init(&o);
+    o.width = o.height = 256;
+    o.subdivision = REYES_SUBDIVISION_TIERED;
+    reyes_camera camera;
+    ck_assert_int_eq(reyes_camera_frame(&scene, 40.0f, 1.0f, &camera, &error), REYES_OK);
+    reyes_image image;
+    reyes_stats stats;
+    reyes_test_render(reyes_test_renderer(0), &scene, &camera, &o, &image, &stats);
+    reyes_test_expect_reference_counts(&scene, &camera, &o, &stats);
+    ck_assert_uint_eq(stats.split_bound + stats.split_edge + stats.split_inner + stats.split_near,
+                      stats.splits);
+    ck_assert_uint_gt(stats.split_edge + stats.split_inner, 0);
+    reyes_image_free(&image);
+    reyes_scene_free(&scene);
+}
+END_TEST
+
 static Suite *models_suite(void)
 {
     Suite *s = suite_create("reyes_models");
@@ -179,6 +233,7 @@ static Suite *models_suite(void)
     tcase_add_test(tc, test_teapot_counts_every_schedule);
     tcase_add_test(tc, test_killeroo);
     tcase_add_test(tc, test_teapot_watertight);
+    tcase_add_test(tc, test_models_tiered);
     suite_add_tcase(s, tc);
     return s;
 }
