@@ -7,8 +7,12 @@
  * stopping after subdivision (bound + split; dice only counts the grid),
  * after dice's geometry (the work the C reference does: positions and
  * visibility of every quad, no shading or sampling), and in full (shading
- * and rasterization too).  The C reference is timed the same way. */
-#include "bench.h"
+ * and rasterization too).  The C reference is timed the same way.
+ *
+ * --workload selects this (stages, the default) and the effect workloads
+ * of bench_reyes_effects.c: displacement, motion blur and depth of field,
+ * buckets. */
+#include "bench_reyes.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -23,7 +27,7 @@
 #endif
 
 #define STAGE_MODES 3
-#define MAX_SIZES 4
+#define MAX_SIZES REYES_BENCH_MAX_SIZES
 
 /* The variants measured: every technique and the main strategies. */
 static const bench_variant reyes_variants[] = {
@@ -41,13 +45,6 @@ static const unsigned stage_modes[STAGE_MODES] = { REYES_STAGES_ALL, REYES_STAGE
                                                    REYES_STAGES_SUBDIVIDE };
 static const char *const stage_names[STAGE_MODES] = { "full", "geometry", "subdivide" };
 
-typedef struct reyes_bench_args {
-    const char *models_dir;
-    unsigned widths[MAX_SIZES], heights[MAX_SIZES];
-    unsigned size_count;
-    float bound_px;
-} reyes_bench_args;
-
 /* Median seconds of one variant and workload, per stage mode. */
 typedef struct variant_times {
     int ran;
@@ -57,14 +54,29 @@ typedef struct variant_times {
 static void usage(FILE *out)
 {
     fprintf(out,
-            "usage: perma-bench reyes [--models DIR] [--size WxH] [--bound PX] [common options]\n"
+            "usage: perma-bench reyes [--models DIR] [--size WxH] [--bound PX]\n"
+            "                         [--workload LIST] [common options]\n"
             "\n"
-            "Renders teapot.bpt and killeroo.bpt from DIR (default %s)\n"
-            "at 512x512 and 1280x1024 (--size replaces them; --quick: teapot at 256x256)\n"
-            "with every technique and the main strategies, in full and stopped after\n"
-            "dice's geometry and after subdivision, and times the single-threaded C\n"
-            "reference of bound/split/dice the same way.  Rows: seconds are the median\n"
-            "perma_run time; 'vs seq' is C reference (bound/split/dice) / row.\n",
+            "Workloads (--workload, comma-separated; default stages; all = every one):\n"
+            "  stages    teapot.bpt and killeroo.bpt from DIR (default %s)\n"
+            "            at 512x512 and 1280x1024 (--size replaces them; --quick: teapot at\n"
+            "            256x256) with every technique and the main strategies, in full and\n"
+            "            stopped after dice's geometry and after subdivision, and the\n"
+            "            single-threaded C reference of bound/split/dice timed the same way.\n"
+            "            Rows: seconds are the median perma_run time; 'vs seq' is C reference\n"
+            "            (bound/split/dice) / row.\n"
+            "  displace  the same models and sizes plain and with bumps displacement.\n"
+            "  blur      killeroo at 800x600 (or --size) at 16, 25 and 64 spp, unblurred and\n"
+            "            with each blur algorithm (simple, interleaved, bbox) under a\n"
+            "            moderate motion and aperture.\n"
+            "  buckets   the models and sizes without buckets and with 256, 128, 64 and 32\n"
+            "            pixel buckets: peak queue memory and time (megakernel/shared and\n"
+            "            kernel-per-procedure).\n"
+            "The effect workloads use the first variant --only selects (buckets: those of\n"
+            "megakernel/shared and kernel-per-procedure), run the configurations of a\n"
+            "comparison in turn --repeat times and report the best time of each; their\n"
+            "'vs seq' column is the first row's time / row (1/cost).  With --quick they\n"
+            "render the built-in scene at small sizes (no model files needed).\n",
             REYES_BENCH_MODELS_DIR);
 }
 
@@ -82,12 +94,37 @@ static int parse_size(const char *text, unsigned *width, unsigned *height)
     return 1;
 }
 
+/* The REYES_BENCH_* bits of a comma-separated list of workload names; 0
+ * if a name is unknown. */
+static unsigned parse_workloads(const char *list)
+{
+    static const struct { const char *name; unsigned bits; } names[] = {
+        { "stages", REYES_BENCH_STAGES }, { "displace", REYES_BENCH_DISPLACE },
+        { "blur", REYES_BENCH_BLUR }, { "buckets", REYES_BENCH_BUCKETS },
+        { "all", REYES_BENCH_STAGES | REYES_BENCH_DISPLACE | REYES_BENCH_BLUR | REYES_BENCH_BUCKETS },
+    };
+    unsigned bits = 0;
+    for (const char *at = list; *at;) {
+        size_t n = strcspn(at, ",");
+        unsigned found = 0;
+        for (size_t k = 0; k < sizeof names / sizeof names[0]; ++k)
+            if (strlen(names[k].name) == n && strncmp(names[k].name, at, n) == 0)
+                found = names[k].bits;
+        if (!found)
+            return 0;
+        bits |= found;
+        at += n + (at[n] == ',');
+    }
+    return bits;
+}
+
 /* Returns 0, or 2 for a usage error, or -1 after --help. */
 static int parse_args(int argc, char **argv, const bench_options *options, reyes_bench_args *a)
 {
     memset(a, 0, sizeof *a);
     a->models_dir = REYES_BENCH_MODELS_DIR;
     a->bound_px = 8.0f;
+    a->workloads = REYES_BENCH_STAGES;
     for (int i = 1; i < argc; ++i) {
         const char *next = i + 1 < argc ? argv[i + 1] : NULL;
         if (strcmp(argv[i], "--help") == 0) {
@@ -103,12 +140,21 @@ static int parse_args(int argc, char **argv, const bench_options *options, reyes
         } else if (strcmp(argv[i], "--bound") == 0 && next && atof(next) >= 0.5) {
             a->bound_px = (float)atof(next);
             ++i;
+        } else if (strcmp(argv[i], "--workload") == 0 && next) {
+            a->workloads = parse_workloads(next);
+            if (!a->workloads) {
+                fprintf(stderr, "perma-bench reyes: --workload '%s': expected a comma-separated list "
+                                "of stages, displace, blur, buckets or all\n", next);
+                return 2;
+            }
+            ++i;
         } else {
             fprintf(stderr, "perma-bench reyes: bad option '%s'\n", argv[i]);
             usage(stderr);
             return 2;
         }
     }
+    a->sizes_given = a->size_count > 0;
     if (a->size_count == 0) {
         const unsigned w[2] = {512, 1280}, h[2] = {512, 1024};
         a->size_count = options->quick ? 1 : 2;
@@ -277,7 +323,7 @@ static void print_summary(const double reference[2], const variant_times times[V
     }
 }
 
-static int file_exists(const char *path)
+int reyes_bench_file_exists(const char *path)
 {
     return access(path, R_OK) == 0;
 }
@@ -364,7 +410,7 @@ int bench_reyes(const bench_options *options, int argc, char **argv)
     if (parsed)
         return parsed < 0 ? 0 : parsed;
     const char *models[] = { "teapot", "killeroo" };
-    unsigned model_count = options->quick ? 1 : 2;
+    unsigned model_count = a.workloads & REYES_BENCH_STAGES ? (options->quick ? 1 : 2) : 0;
     bench_report *report;
     if (bench_report_open(&report, "reyes", options))
         return 1;
@@ -373,7 +419,7 @@ int bench_reyes(const bench_options *options, int argc, char **argv)
     for (unsigned m = 0; m < model_count && status == 0; ++m) {
         char path[1024];
         snprintf(path, sizeof path, "%s/%s.bpt", a.models_dir, models[m]);
-        if (!file_exists(path)) {
+        if (!reyes_bench_file_exists(path)) {
             printf("reyes: skipping %s: %s is missing (the models are in ../shared/models; "
                    "pass --models DIR)\n", models[m], path);
             continue;
@@ -395,6 +441,8 @@ int bench_reyes(const bench_options *options, int argc, char **argv)
     }
     for (unsigned v = 0; v < VARIANT_COUNT; ++v)
         reyes_renderer_destroy(renderers[v]);
+    if (status == 0 && reyes_bench_effects(report, &a, options))
+        status = 1;
     if (bench_report_failures(report))
         status = 1;
     if (bench_report_close(report))

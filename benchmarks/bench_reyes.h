@@ -1,0 +1,34 @@
+/* perma-bench reyes: the arguments shared by the stage workload
+ * (bench_reyes.c) and the effect workloads (bench_reyes_effects.c). */
+#ifndef BENCH_REYES_H
+#define BENCH_REYES_H
+
+#include "bench.h"
+
+#define REYES_BENCH_MAX_SIZES 4
+
+/* Workloads, selected with --workload (a comma-separated list). */
+enum {
+    REYES_BENCH_STAGES = 1,   /* every variant, stages by difference, vs the C reference */
+    REYES_BENCH_DISPLACE = 2, /* plain vs --displace bumps */
+    REYES_BENCH_BLUR = 4,     /* each blur algorithm vs unblurred, killeroo 800x600, 16/25/64 spp */
+    REYES_BENCH_BUCKETS = 8,  /* peak queue memory and time per bucket size */
+};
+
+typedef struct reyes_bench_args {
+    const char *models_dir;
+    unsigned widths[REYES_BENCH_MAX_SIZES], heights[REYES_BENCH_MAX_SIZES];
+    unsigned size_count;
+    int sizes_given;          /* --size was given (else the workload's default sizes) */
+    float bound_px;
+    unsigned workloads;       /* REYES_BENCH_* bits */
+} reyes_bench_args;
+
+/* 1 if the file can be read. */
+int reyes_bench_file_exists(const char *path);
+
+/* The displace, blur and buckets workloads selected in a->workloads, rows
+ * into report.  Returns 0, or 1 when a model could not be loaded. */
+int reyes_bench_effects(bench_report *report, const reyes_bench_args *a, const bench_options *options);
+
+#endif
