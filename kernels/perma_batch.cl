@@ -54,7 +54,7 @@ inline int perma_reserve_batch_room(__global uint *ctl, uint set, uint q, uint i
     uint edges = perma_edge_count[q];
     for (uint e = 0; e < edges; ++e) {
         uint t = perma_edge_target[q * PERMA_MAX_EDGES + e];
-        if (!perma_queue_reserve_room(PERMA_QUEUE(ctl, PERMA_QINDEX(set, t)),
+        if (!perma_queue_reserve_room(ctl, PERMA_QUEUE(ctl, PERMA_QINDEX(set, t)),
                                       (int)(items * perma_edge_max[q * PERMA_MAX_EDGES + e]))) {
             perma_release_batch_room(ctl, set, q, items, e);
             return 0;

@@ -24,8 +24,11 @@ inline int perma_queue_available(__global uint *queue)
     return (int)(perma_load(queue + PERMA_Q_TAIL) - perma_load(queue + PERMA_Q_HEAD));
 }
 
-/* Take `count` slots of ROOM if that many are free; returns 1 on success. */
-inline int perma_queue_reserve_room(__global uint *queue, int count)
+/* Take `count` slots of ROOM if that many are free; returns 1 on success.
+ * A failed attempt dents ROOM for a moment; giving it back counts as
+ * progress, because another group may have been refused during the dent
+ * and must not take its refusal for a stall. */
+inline int perma_queue_reserve_room(__global uint *ctl, __global uint *queue, int count)
 {
     if (count <= 0)
         return 1;
@@ -35,6 +38,7 @@ inline int perma_queue_reserve_room(__global uint *queue, int count)
     if (before >= count)
         return 1;
     atomic_add((volatile __global int *)(queue + PERMA_Q_ROOM), count);
+    atomic_inc(ctl + PERMA_CTL_PROGRESS);
     return 0;
 }
 

@@ -65,7 +65,7 @@ inline uint perma_try_donate(__global uint *ctl, uint own, uint *proc, uint *des
             continue;
         uint share = min(perma_max_batch[q], (uint)(mine - fewest) / 2u);
         __global uint *target = PERMA_QUEUE(ctl, PERMA_QINDEX(poorest, q));
-        if (share == 0 || !perma_queue_reserve_room(target, (int)share))
+        if (share == 0 || !perma_queue_reserve_room(ctl, target, (int)share))
             continue;
         uint got = perma_queue_claim(queue, share, start);
         if (got < share)
@@ -141,6 +141,23 @@ inline void perma_set_batch(__local uint *batch, uint command, uint proc, uint s
 }
 
 #if PERMA_LOCAL_QUEUE
+/* Flush every local stack to the global queues (work-item 0); returns the
+ * items moved, and counts a flush that moved any as progress. */
+inline uint perma_local_flush_all(__global uint *ctl, __global uint *queue_data, __global uint *queue_seq,
+                                  volatile __global uint *abort_flag, perma_group_mem mem, uint own,
+                                  __local uint *group_stat)
+{
+    uint moved = 0;
+    for (uint p = 0; p < PERMA_NUM_PROCS; ++p)
+        moved += perma_local_flush(ctl, queue_data, queue_seq, abort_flag, mem, own, p);
+    group_stat[PERMA_GSTAT_SPILLS] += moved;
+    if (moved) {
+        mem_fence(CLK_GLOBAL_MEM_FENCE); /* the items are published before the progress is seen */
+        atomic_inc(ctl + PERMA_CTL_PROGRESS);
+    }
+    return moved;
+}
+
 /* Take a batch from the local stack of q (top first) if its targets have
  * room; the items already hold ROOM in the global queue of q. */
 inline uint perma_try_take_local(__global uint *ctl, perma_group_mem mem, uint own, uint q, uint *start)
@@ -235,10 +252,12 @@ inline void perma_schedule(__global uint *ctl, __global uint *queue_data, __glob
 #endif
 #if PERMA_LOCAL_QUEUE
         /* Local items that cannot run now go where other groups and the
-         * host can see them before this group calls itself stalled. */
-        for (uint p = 0; p < PERMA_NUM_PROCS; ++p)
-            group_stat[PERMA_GSTAT_SPILLS] +=
-                perma_local_flush(ctl, queue_data, queue_seq, abort_flag, mem, own, p);
+         * host can see them before this group calls itself stalled.  That
+         * publishes work, so it is progress: a group that looked at this
+         * set before the flush must not take this group's stall for a
+         * deadlock (and stop the launch while the items are taken). */
+        if (perma_local_flush_all(ctl, queue_data, queue_seq, abort_flag, mem, own, group_stat))
+            continue;
 #endif
         group_stat[PERMA_GSTAT_IDLE_POLLS] += 1u;
         /* Nothing this group can start: either no room for the work it sees,
@@ -257,6 +276,14 @@ inline void perma_schedule(__global uint *ctl, __global uint *queue_data, __glob
             return;
         }
     }
+#if PERMA_LOCAL_QUEUE
+    /* Another group stopped the launch for bigger queues while this one
+     * held items on its local stacks (it ran a batch after the stall was
+     * called): they must reach the global queues, which the host carries
+     * over to the next launch.  After any other status the run is over. */
+    if (perma_load(ctl + PERMA_CTL_STATUS) == PERMA_KSTATUS_NEEDS_ROOM)
+        perma_local_flush_all(ctl, queue_data, queue_seq, abort_flag, mem, own, group_stat);
+#endif
     batch[PERMA_B_COMMAND] = PERMA_CMD_EXIT;
 }
 

@@ -261,6 +261,18 @@ perma_status perma_queues_download(perma_runtime *rt)
                              perma_cl_error_name(err), (int)err);
         goto done;
     }
+    size_t queued = 0;
+    for (unsigned qi = 0; qi < rt->image_count; ++qi) {
+        const uint32_t *rec = ctl + PERMA_CTL_HEADER_WORDS + qi * PERMA_QUEUE_WORDS;
+        queued += (uint32_t)(rec[PERMA_Q_TAIL] - rec[PERMA_Q_HEAD]);
+    }
+    /* Every item the kernel counts as outstanding must be in a queue: one
+     * left in a group's local memory would be lost by the next launch. */
+    if (queued != (size_t)(int32_t)ctl[PERMA_CTL_OUTSTANDING]) {
+        st = perma_set_error(rt, PERMA_ERR_DEVICE, "items were lost: the kernel stopped with %d items outstanding "
+                             "but its queues hold %zu", (int)(int32_t)ctl[PERMA_CTL_OUTSTANDING], queued);
+        goto done;
+    }
     for (unsigned qi = 0; qi < rt->image_count; ++qi) {
         perma_queue_image *img = &rt->images[qi];
         const uint32_t *rec = ctl + PERMA_CTL_HEADER_WORDS + qi * PERMA_QUEUE_WORDS;
