@@ -89,7 +89,7 @@ inline uint perma_local_flush(__global uint *ctl, __global uint *queue_data, __g
     uint base = atomic_add(queue + PERMA_Q_TAIL, n);
     perma_queue_note_peak(queue, base + n);
     for (uint i = 0; i < n; ++i)
-        if (!perma_queue_write_item(queue, queue_data, queue_seq, base + i, words,
+        if (!perma_queue_write_item(ctl, queue, queue_data, queue_seq, base + i, words,
                                     mem.lq + perma_lq_off[q] + i * words, abort_flag))
             perma_fail(ctl, *abort_flag ? PERMA_KSTATUS_ABORTED : PERMA_KSTATUS_SPIN_LIMIT, q, 0);
     mem.lq_count[q] = 0;
@@ -123,7 +123,7 @@ inline void perma_run_batch(__global uint *ctl, __global uint *queue_data, __glo
         } else if (from_local) {
             for (uint w = 0; w < words; ++w)
                 items[i * words + w] = mem.lq[perma_lq_off[proc] + (start + i) * words + w];
-        } else if (!perma_queue_read_item(source, queue_data, queue_seq, start + i, words,
+        } else if (!perma_queue_read_item(ctl, source, queue_data, queue_seq, start + i, words,
                                           items + i * words, abort_flag)) {
             *mem.copy_failed = 1;
         }
@@ -211,7 +211,7 @@ inline void perma_run_batch(__global uint *ctl, __global uint *queue_data, __glo
             for (uint w = 0; w < target_words; ++w)
                 stack[i * target_words + w] = src[i * target_words + w];
         for (uint i = keep + lid; i < k; i += PERMA_GROUP_SIZE) {
-            if (!perma_queue_write_item(target, queue_data, queue_seq,
+            if (!perma_queue_write_item(ctl, target, queue_data, queue_seq,
                                         mem.edge_base[PERMA_MAX_EDGES + e] + i - keep,
                                         target_words, src + i * target_words, abort_flag))
                 *mem.copy_failed = 1;
@@ -220,7 +220,7 @@ inline void perma_run_batch(__global uint *ctl, __global uint *queue_data, __glo
     /* A donation publishes the batch itself in the other group's queue. */
     const uint donated = command == PERMA_CMD_DONATE ? count : 0u;
     for (uint i = lid; i < donated; i += PERMA_GROUP_SIZE) {
-        if (!perma_queue_write_item(donee, queue_data, queue_seq, mem.edge_base[0] + i, words,
+        if (!perma_queue_write_item(ctl, donee, queue_data, queue_seq, mem.edge_base[0] + i, words,
                                     items + i * words, abort_flag))
             *mem.copy_failed = 1;
     }

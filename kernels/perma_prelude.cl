@@ -66,10 +66,18 @@
 #define PERMA_TRACE_DONATE 3u
 #define PERMA_TRACE_GROUP_WORDS (1u + 4u * PERMA_TRACE_EVENTS)
 
-/* Spin loops give up after this many polls (and poll the abort flag). */
+/* Spin loops give up after this many polls (and poll the abort flag every
+ * 1024).  2^35 polls take about 20 s on an idle core of this machine (one
+ * poll ~0.6 ns): long enough that a worker thread descheduled on a loaded
+ * machine is not taken for a deadlock (2^30, about 0.65 s, was not), short
+ * enough to report a real one well before the default time limit. */
 #ifndef PERMA_SPIN_LIMIT
-#define PERMA_SPIN_LIMIT 0x40000000u
+#define PERMA_SPIN_LIMIT 0x800000000ul
 #endif
+/* PERMA_KSTATUS_SPIN_LIMIT details: DETAIL_PROC = queue index, with this bit
+ * set when a writer waited for its slot to be freed (clear: a reader waited
+ * for the item to be published); DETAIL_EDGE = the position. */
+#define PERMA_WAIT_WRITING 0x80000000u
 
 #define PERMA_QUEUE(ctl, q) ((ctl) + PERMA_CTL_HEADER_WORDS + (q) * PERMA_QUEUE_WORDS)
 #define PERMA_GROUP(ctl, g) \

@@ -70,7 +70,7 @@ inline uint perma_queue_claim(__global uint *queue, uint wanted, uint *start)
  * wait ran out or the host asked to abort. */
 inline int perma_wait_seq(__global uint *seq, uint expected, volatile __global uint *abort_flag)
 {
-    for (uint spins = 0; spins < PERMA_SPIN_LIMIT; ++spins) {
+    for (ulong spins = 0; spins < PERMA_SPIN_LIMIT; ++spins) {
         if (perma_load(seq) == expected)
             return 1;
         if ((spins & 1023u) == 1023u && *abort_flag)
@@ -79,16 +79,29 @@ inline int perma_wait_seq(__global uint *seq, uint expected, volatile __global u
     return 0;
 }
 
+/* A wait on a slot of `queue` ran out: record which queue, which position
+ * and which side waited (the first failure wins), unless the host aborted. */
+inline void perma_queue_wait_failed(__global uint *ctl, __global uint *queue, uint pos, uint writing,
+                                    volatile __global uint *abort_flag)
+{
+    if (*abort_flag)
+        return; /* the caller reports the abort */
+    uint index = (uint)(queue - (ctl + PERMA_CTL_HEADER_WORDS)) / PERMA_QUEUE_WORDS;
+    perma_fail(ctl, PERMA_KSTATUS_SPIN_LIMIT, index | (writing ? PERMA_WAIT_WRITING : 0u), pos);
+}
+
 /* Copy the item at position `pos` into `dst` and free its slot. */
-inline int perma_queue_read_item(__global uint *queue, __global uint *data, __global uint *seqs,
-                                 uint pos, uint words, __local uint *dst,
+inline int perma_queue_read_item(__global uint *ctl, __global uint *queue, __global uint *data,
+                                 __global uint *seqs, uint pos, uint words, __local uint *dst,
                                  volatile __global uint *abort_flag)
 {
     uint cap = queue[PERMA_Q_CAP];
     uint slot = pos & (cap - 1u);
     __global uint *seq = seqs + queue[PERMA_Q_SEQ] + slot;
-    if (!perma_wait_seq(seq, pos + 1u, abort_flag))
+    if (!perma_wait_seq(seq, pos + 1u, abort_flag)) {
+        perma_queue_wait_failed(ctl, queue, pos, 0u, abort_flag);
         return 0;
+    }
     read_mem_fence(CLK_GLOBAL_MEM_FENCE); /* payload after the published flag */
     __global uint *src = data + queue[PERMA_Q_DATA] + slot * words;
     for (uint w = 0; w < words; ++w)
@@ -99,15 +112,17 @@ inline int perma_queue_read_item(__global uint *queue, __global uint *data, __gl
 }
 
 /* Write the item at position `pos` from `src` and publish it. */
-inline int perma_queue_write_item(__global uint *queue, __global uint *data, __global uint *seqs,
-                                  uint pos, uint words, __local const uint *src,
+inline int perma_queue_write_item(__global uint *ctl, __global uint *queue, __global uint *data,
+                                  __global uint *seqs, uint pos, uint words, __local const uint *src,
                                   volatile __global uint *abort_flag)
 {
     uint cap = queue[PERMA_Q_CAP];
     uint slot = pos & (cap - 1u);
     __global uint *seq = seqs + queue[PERMA_Q_SEQ] + slot;
-    if (!perma_wait_seq(seq, pos, abort_flag))
+    if (!perma_wait_seq(seq, pos, abort_flag)) {
+        perma_queue_wait_failed(ctl, queue, pos, 1u, abort_flag);
         return 0;
+    }
     __global uint *dst = data + queue[PERMA_Q_DATA] + slot * words;
     for (uint w = 0; w < words; ++w)
         dst[w] = src[w];

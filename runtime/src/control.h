@@ -34,6 +34,10 @@ enum {
     PERMA_KSTATUS_ABORTED = 4
 };
 
+/* PERMA_KSTATUS_SPIN_LIMIT: DETAIL_PROC is the queue index, with this bit set
+ * when a writer waited (kernels/perma_prelude.cl); DETAIL_EDGE the position. */
+#define PERMA_WAIT_WRITING 0x80000000u
+
 #define PERMA_EMIT_ERROR_LIMIT 0x10000u
 #define PERMA_EMIT_ERROR_UNDECLARED 0x20000u
 
