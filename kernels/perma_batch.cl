@@ -96,6 +96,31 @@ inline uint perma_local_flush(__global uint *ctl, __global uint *queue_data, __g
     return n;
 }
 
+/* The part of a batch's copy-out that this work-item does for edge e of
+ * proc: the kept items onto the local stack, the rest into the queue. */
+inline void perma_publish_edge(__global uint *ctl, __global uint *queue_data, __global uint *queue_seq,
+                               volatile __global uint *abort_flag, perma_group_mem mem, uint proc, uint own,
+                               uint e)
+{
+    const uint lid = get_local_id(0);
+    const uint t = perma_edge_target[proc * PERMA_MAX_EDGES + e];
+    __global uint *target = PERMA_QUEUE(ctl, PERMA_QINDEX(own, t));
+    const uint k = mem.edge_counts[e];
+    const uint keep = mem.edge_keep[e];
+    const uint target_words = perma_item_words[t];
+    __local const uint *src = mem.arena + perma_edge_stage[proc * PERMA_MAX_EDGES + e];
+    __local uint *stack = mem.lq + perma_lq_off[t] + mem.edge_base[e] * target_words;
+    for (uint i = lid; i < keep; i += PERMA_GROUP_SIZE)
+        for (uint w = 0; w < target_words; ++w)
+            stack[i * target_words + w] = src[i * target_words + w];
+    for (uint i = keep + lid; i < k; i += PERMA_GROUP_SIZE) {
+        if (!perma_queue_write_item(ctl, target, queue_data, queue_seq,
+                                    mem.edge_base[PERMA_MAX_EDGES + e] + i - keep,
+                                    target_words, src + i * target_words, abort_flag))
+            *mem.copy_failed = 1;
+    }
+}
+
 /* Run `count` items of `proc` (command RUN) or move them to `donee`
  * (command DONATE).  The items come from queue `source` at `start`, from
  * input[start..] when `input` is not null (the host-driven step kernel), or
@@ -198,24 +223,18 @@ inline void perma_run_batch(__global uint *ctl, __global uint *queue_data, __glo
     }
     barrier(CLK_LOCAL_MEM_FENCE);
 
-    /* Copy the staged items out and publish them. */
-    for (uint e = 0; e < edges; ++e) {
-        const uint t = perma_edge_target[proc * PERMA_MAX_EDGES + e];
-        __global uint *target = PERMA_QUEUE(ctl, PERMA_QINDEX(own, t));
-        const uint k = mem.edge_counts[e];
-        const uint keep = mem.edge_keep[e];
-        const uint target_words = perma_item_words[t];
-        __local const uint *src = mem.arena + perma_edge_stage[proc * PERMA_MAX_EDGES + e];
-        __local uint *stack = mem.lq + perma_lq_off[t] + mem.edge_base[e] * target_words;
-        for (uint i = lid; i < keep; i += PERMA_GROUP_SIZE)
-            for (uint w = 0; w < target_words; ++w)
-                stack[i * target_words + w] = src[i * target_words + w];
-        for (uint i = keep + lid; i < k; i += PERMA_GROUP_SIZE) {
-            if (!perma_queue_write_item(ctl, target, queue_data, queue_seq,
-                                        mem.edge_base[PERMA_MAX_EDGES + e] + i - keep,
-                                        target_words, src + i * target_words, abort_flag))
-                *mem.copy_failed = 1;
-        }
+    /* Copy the staged items out and publish them, one target queue after
+     * another in ascending queue order, with a barrier in between: a group
+     * that waits for a slot of one queue has then published everything it
+     * owes to the queues before it and nothing of the queues after it,
+     * which keeps the waits between groups free of cycles when PoCL runs a
+     * group's work-items one after another (docs/design.md, *Queues*).
+     * The loop's trip count is a constant, so its barrier is uniform. */
+    for (uint o = 0; o < PERMA_MAX_EDGES; ++o) {
+        if (o < edges)
+            perma_publish_edge(ctl, queue_data, queue_seq, abort_flag, mem, proc, own,
+                               perma_edge_write_order[proc * PERMA_MAX_EDGES + o]);
+        barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
     }
     /* A donation publishes the batch itself in the other group's queue. */
     const uint donated = command == PERMA_CMD_DONATE ? count : 0u;

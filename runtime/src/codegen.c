@@ -35,6 +35,20 @@ static void append_uint_table(perma_strbuf *sb, const char *name, const unsigned
     perma_strbuf_append(sb, " };\n");
 }
 
+/* The edge of p whose target has `rank` targets of p below it (the targets
+ * of one procedure are distinct). */
+static unsigned edge_by_target_rank(const perma_proc_info *p, unsigned rank)
+{
+    for (unsigned e = 0; e < p->emit_count; ++e) {
+        unsigned below = 0;
+        for (unsigned f = 0; f < p->emit_count; ++f)
+            below += p->emit_target[f] < p->emit_target[e];
+        if (below == rank)
+            return e;
+    }
+    return 0;
+}
+
 static void append_tables(perma_runtime *rt, perma_strbuf *sb)
 {
     unsigned n = rt->proc_count, me = rt->max_edges;
@@ -73,6 +87,8 @@ static void append_tables(perma_runtime *rt, perma_strbuf *sb)
     PER_EDGE("perma_edge_target", (unsigned)p->emit_target[e]);
     PER_EDGE("perma_edge_max", p->emit_max[e]);
     PER_EDGE("perma_edge_stage", p->stage_off[e]);
+    /* The order in which a batch publishes its edges: by target queue. */
+    PER_EDGE("perma_edge_write_order", edge_by_target_rank(p, e));
 #undef PER_PROC
 #undef PER_EDGE
 
