@@ -66,23 +66,14 @@ void reyes_grow_box(__global const struct reyes_params *p, const float4 clip[16]
 {
     if (radius <= 0.0f)
         return;
-    __global const float *m = p->view_proj;
-    float r0 = length((float3)(m[0], m[1], m[2])), r1 = length((float3)(m[4], m[5], m[6]));
-    float r3 = length((float3)(m[12], m[13], m[14]));
-    float w_min = INFINITY, ndc_x = 0.0f, ndc_y = 0.0f;
-    for (int k = 0; k < 16; ++k) {
-        w_min = fmin(w_min, clip[k].w);
-        ndc_x = fmax(ndc_x, fabs(clip[k].x / clip[k].w));
-        ndc_y = fmax(ndc_y, fabs(clip[k].y / clip[k].w));
-    }
-    float nearest = w_min - radius * r3;
+    float4 terms = reyes_projection_terms(p, clip, 16);
+    float nearest = terms.w - radius * terms.z;
     if (nearest <= p->near_w) {
         *lo = (float2)(-INFINITY, -INFINITY);
         *hi = (float2)(INFINITY, INFINITY);
         return;
     }
-    float2 grow = (float2)(0.5f * p->width * radius * (r0 + ndc_x * r3) / nearest,
-                           0.5f * p->height * radius * (r1 + ndc_y * r3) / nearest);
+    float2 grow = radius * terms.xy / nearest;
     *lo -= grow;
     *hi += grow;
 }

@@ -37,10 +37,9 @@ int reyes_emit_quad(perma_ctx *ctx, const struct reyes_vertex corners[4], int fu
     return visible;
 }
 
-/* Quad i of the wedge strip of `edge`, settled at `level`. */
-void reyes_emit_wedge(perma_ctx *ctx, const float3 base[16], const struct reyes_subpatch *sp,
-                      __local const struct reyes_vertex *grid, int edge, uint level, int i,
-                      int full)
+/* Quad i of the wedge strip of `edge`, whose settled segment's chord is c. */
+void reyes_emit_wedge(perma_ctx *ctx, const struct reyes_chord *c, const struct reyes_subpatch *sp,
+                      __local const struct reyes_vertex *grid, int edge, int i, int full)
 {
     __global const struct reyes_params *p = ctx->buf.params;
     int n = (int)p->grid, side = n - 1;
@@ -56,7 +55,7 @@ void reyes_emit_wedge(perma_ctx *ctx, const float3 base[16], const struct reyes_
         float t = (float)step / last;
         float s = a * (1.0f - t) + b * t; /* as reyes_grid_vertex */
         struct reyes_vertex on_grid = grid[gj * n + gi], on_chord;
-        on_chord.clip = reyes_to_clip(p, reyes_chord_point(base, sp, edge, level, s));
+        on_chord.clip = reyes_to_clip(p, reyes_chord_at(c, s));
         on_chord.rgba = on_grid.rgba;
         corners[k] = on_grid;
         corners[3 - k] = on_chord;
@@ -69,7 +68,9 @@ void reyes_emit_wedge(perma_ctx *ctx, const float3 base[16], const struct reyes_
 /* Wedge crack fix: for every settled edge, a strip of quads from the
  * grid's boundary vertices to the points at the same parameters on the
  * chord of the edge's settled segment (reyes_flatness.cl).  The sides of
- * an edge reach the same chord, so together they close the crack. */
+ * an edge reach the same chord, so together they close the crack.  A
+ * thread's quads run through the edges in order, so it makes each edge's
+ * chord once. */
 void reyes_dice_wedges(perma_ctx *ctx, const struct reyes_subpatch *sp,
                        __local const struct reyes_vertex *grid, int full)
 {
@@ -77,11 +78,18 @@ void reyes_dice_wedges(perma_ctx *ctx, const struct reyes_subpatch *sp,
     int side = (int)p->grid - 1;
     float3 base[16];
     reyes_load_patch(ctx->buf.patches, sp->patch, base);
+    struct reyes_chord chord;
+    int chord_edge = -1;
     for (int q = (int)ctx->thread; q < 4 * side; q += (int)p->dice_threads) {
         int edge = q / side, i = q % side;
         uint level = (sp->edge_levels >> (8 * edge)) & 0xffu;
-        if (level != REYES_EDGE_UNSETTLED)
-            reyes_emit_wedge(ctx, base, sp, grid, edge, level, i, full);
+        if (level != REYES_EDGE_UNSETTLED) {
+            if (edge != chord_edge) {
+                chord = reyes_edge_chord(base, sp, edge, level);
+                chord_edge = edge;
+            }
+            reyes_emit_wedge(ctx, &chord, sp, grid, edge, i, full);
+        }
     }
 }
 

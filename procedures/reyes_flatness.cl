@@ -53,10 +53,13 @@ float2 reyes_curve_deviation(float3 b0, float3 b1, float3 b2, float3 b3)
     return (float2)(geometric, full);
 }
 
-/* Pixels per world unit at the nearest depth of `count` clip points (an
- * upper bound over them for a displacement perpendicular to the view; cf.
- * grow_box).  The points must be in front of the near plane. */
-float reyes_pixels_per_unit(__global const struct reyes_params *p, const float4 *clip, int count)
+/* The projection terms of `count` clip points, in front of the near plane:
+ * .x, .y = pixels per world unit of a displacement perpendicular to the
+ * view, times the depth (0.5 width (|r0| + max |x/w| |r3|), likewise in y;
+ * r the view-projection rows), .z = |r3| (how far a unit displacement can
+ * move w), .w = the nearest w.  Shared by the flatness scale below and the
+ * bound's growth of a displaced hull (reyes_grow_box). */
+float4 reyes_projection_terms(__global const struct reyes_params *p, const float4 *clip, int count)
 {
     __global const float *m = p->view_proj;
     float r0 = length((float3)(m[0], m[1], m[2])), r1 = length((float3)(m[4], m[5], m[6]));
@@ -67,7 +70,15 @@ float reyes_pixels_per_unit(__global const struct reyes_params *p, const float4 
         ndc_x = fmax(ndc_x, fabs(clip[k].x / clip[k].w));
         ndc_y = fmax(ndc_y, fabs(clip[k].y / clip[k].w));
     }
-    return fmax(0.5f * p->width * (r0 + ndc_x * r3), 0.5f * p->height * (r1 + ndc_y * r3)) / w_min;
+    return (float4)(0.5f * p->width * (r0 + ndc_x * r3), 0.5f * p->height * (r1 + ndc_y * r3), r3, w_min);
+}
+
+/* Pixels per world unit at the nearest depth of `count` clip points (an
+ * upper bound over them for a displacement perpendicular to the view). */
+float reyes_pixels_per_unit(__global const struct reyes_params *p, const float4 *clip, int count)
+{
+    float4 terms = reyes_projection_terms(p, clip, count);
+    return fmax(terms.x, terms.y) / terms.w;
 }
 
 /* Distance of curve `line` (a row when along_u, else a column) in pixels. */
@@ -220,19 +231,37 @@ uint reyes_edge_levels(__global const struct reyes_params *p, const float3 base[
     return levels;
 }
 
-/* The point at parameter s of the chord of edge `edge`'s settled segment
- * (level `level`), computed in the canonical direction. */
-float3 reyes_chord_point(const float3 base[16], const struct reyes_subpatch *sp, int edge,
-                         uint level, float s)
+/* The chord of an edge's settled segment: its end points in the canonical
+ * direction, computed once per edge and then sampled by reyes_chord_at. */
+struct reyes_chord {
+    float3 first, last; /* canonical restriction's points 0 and 3 (line direction) */
+    float start, span;  /* the segment [start, start + span] of the line */
+    int reversed;       /* the line's canonical direction is reversed */
+};
+
+struct reyes_chord reyes_edge_chord(const float3 base[16], const struct reyes_subpatch *sp, int edge,
+                                    uint level)
 {
     int along_u;
     float fixed, a, b;
     reyes_edge_line(sp, edge, &along_u, &fixed, &a, &b);
     float3 line[4], e[4];
     reyes_line_curve(base, along_u, fixed, line);
-    float span = ldexp(1.0f, -(int)level), start = reyes_segment_start(a, level);
-    reyes_restrict_canonical(line, start, start + span, e);
-    if (reyes_curve_reversed(line))
-        return e[3] + (e[0] - e[3]) * (((1.0f - s) - (1.0f - (start + span))) / span);
-    return e[0] + (e[3] - e[0]) * ((s - start) / span);
+    struct reyes_chord c;
+    c.span = ldexp(1.0f, -(int)level);
+    c.start = reyes_segment_start(a, level);
+    reyes_restrict_canonical(line, c.start, c.start + c.span, e);
+    c.first = e[0];
+    c.last = e[3];
+    c.reversed = reyes_curve_reversed(line);
+    return c;
+}
+
+/* The point at line parameter s on the chord, interpolated in the
+ * canonical direction so both sides of the edge get the same bits. */
+float3 reyes_chord_at(const struct reyes_chord *c, float s)
+{
+    if (c->reversed)
+        return c->last + (c->first - c->last) * (((1.0f - s) - (1.0f - (c->start + c->span))) / c->span);
+    return c->first + (c->last - c->first) * ((s - c->start) / c->span);
 }
