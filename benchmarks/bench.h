@@ -85,21 +85,25 @@ double bench_median(double *values, unsigned count); /* sorts values */
 
 /* ---- perma variants (variants.c) ---- */
 
+/* A perma variant: a schedule label (perma_schedule_parse), which is also
+ * the variant's name in reports and what --only matches, and the schedule
+ * parsed from it. */
 typedef struct bench_variant {
-    perma_technique technique;
-    perma_strategy strategy;
-    perma_victim victim;
-    unsigned local_queue_items;
-    unsigned batch_limit;
+    const char *label;
+    perma_schedule schedule;
 } bench_variant;
 
-extern const bench_variant bench_variants[];
+/* The labels of the variants every benchmark measures. */
+extern const char *const bench_variants[];
 extern const unsigned bench_variant_count;
 
-/* "megakernel/stealing/random", "megakernel/shared+local64", ... */
-void bench_variant_label(const bench_variant *variant, char *out, size_t size);
-/* Whether --only selects this variant. */
-int bench_variant_selected(const bench_options *options, const bench_variant *variant);
+/* Parse a label into *out (out->label points to it); the parser's status
+ * and, in *error (may be NULL), its message. */
+perma_status bench_variant_parse(const char *label, bench_variant *out, perma_error *error);
+/* Whether --only selects `label` (a substring of it); if so, parse it into
+ * *out.  A label that does not parse prints as n/a with the parser's
+ * message and is not selected. */
+int bench_variant_select(const bench_options *options, const char *label, bench_variant *out);
 
 /* ---- running a perma workload (perma_session.c) ---- */
 

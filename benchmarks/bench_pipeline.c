@@ -80,9 +80,7 @@ static void run_perma(const bench_options *o, const bench_variant *v, pipe_state
                       unsigned group_size, const char *title, bench_report *report)
 {
     bench_row row;
-    char label[96];
-    bench_variant_label(v, label, sizeof label);
-    bench_row_init(&row, title, label, "items");
+    bench_row_init(&row, title, v->label, "items");
     row.group_size = group_size;
     row.work_groups = o->groups;
     row.units = (double)s->expected.items;
@@ -190,9 +188,11 @@ static int run_order(const bench_options *o, pipe_state *s, int upstream_first, 
         bench_report_add(report, &row, 0);
     }
 
-    for (unsigned v = 0; v < bench_variant_count; ++v)
-        if (bench_variant_selected(o, &bench_variants[v]))
-            run_perma(o, &bench_variants[v], s, upstream_first, group_size, title, report);
+    for (unsigned i = 0; i < bench_variant_count; ++i) {
+        bench_variant v;
+        if (bench_variant_select(o, bench_variants[i], &v))
+            run_perma(o, &v, s, upstream_first, group_size, title, report);
+    }
     return 0;
 }
 

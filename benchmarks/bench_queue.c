@@ -74,9 +74,7 @@ static void run_perma(const bench_options *o, const bench_variant *v, queue_stat
                       unsigned groups, const char *title, bench_report *report)
 {
     bench_row row;
-    char label[96];
-    bench_variant_label(v, label, sizeof label);
-    bench_row_init(&row, title, label, "items");
+    bench_row_init(&row, title, v->label, "items");
     row.group_size = group_size;
     row.work_groups = groups;
     row.units = total_items(&s->params);
@@ -281,9 +279,11 @@ int bench_queue(const bench_options *o, int argc, char **argv)
         s->seeds[g] = g * params.per_generator;
     for (unsigned gi = 0; gi < group_count; ++gi)
         for (unsigned si = 0; si < size_count; ++si)
-            for (unsigned v = 0; v < bench_variant_count; ++v)
-                if (bench_variant_selected(o, &bench_variants[v]))
-                    run_perma(o, &bench_variants[v], s, sizes[si], group_list[gi], title, report);
+            for (unsigned i = 0; i < bench_variant_count; ++i) {
+                bench_variant v;
+                if (bench_variant_select(o, bench_variants[i], &v))
+                    run_perma(o, &v, s, sizes[si], group_list[gi], title, report);
+            }
     free(s->seeds);
     free(s);
 

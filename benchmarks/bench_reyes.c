@@ -29,14 +29,16 @@
 #define STAGE_MODES 3
 #define MAX_SIZES REYES_BENCH_MAX_SIZES
 
-/* The variants measured: every technique and the main strategies. */
-static const bench_variant reyes_variants[] = {
-    { PERMA_TECHNIQUE_MEGAKERNEL, PERMA_STRATEGY_SHARED, PERMA_VICTIM_RANDOM, 0, 0 },
-    { PERMA_TECHNIQUE_MEGAKERNEL, PERMA_STRATEGY_STEALING, PERMA_VICTIM_RANDOM, 0, 0 },
-    { PERMA_TECHNIQUE_MEGAKERNEL, PERMA_STRATEGY_DONATION, PERMA_VICTIM_RANDOM, 0, 0 },
-    { PERMA_TECHNIQUE_MEGAKERNEL, PERMA_STRATEGY_STEALING_DONATION, PERMA_VICTIM_RANDOM, 0, 0 },
-    { PERMA_TECHNIQUE_KERNEL_PER_PROCEDURE, PERMA_STRATEGY_SHARED, PERMA_VICTIM_RANDOM, 0, 0 },
-    { PERMA_TECHNIQUE_BOUNDED_BATCHES, PERMA_STRATEGY_SHARED, PERMA_VICTIM_RANDOM, 0, 4096 },
+/* The variants measured: every technique and the main strategies, as
+ * schedule labels.  print_summary compares entries 0 (megakernel/shared)
+ * and 4 (kernel-per-procedure). */
+static const char *const reyes_variants[] = {
+    "megakernel/shared",
+    "megakernel/stealing/random",
+    "megakernel/donation",
+    "megakernel/stealing-donation/random",
+    "kernel-per-procedure",
+    "bounded-batches/p=4096",
 };
 #define VARIANT_COUNT (sizeof reyes_variants / sizeof reyes_variants[0])
 
@@ -175,11 +177,11 @@ static reyes_options render_options(const reyes_bench_args *a, const bench_optio
     o.height = height;
     o.bound_px = a->bound_px;
     o.work_groups = options->groups;
-    o.technique = v->technique;
-    o.strategy = v->strategy;
-    o.victim = v->victim;
-    o.local_queue_items = v->local_queue_items;
-    o.batch_limit = v->batch_limit;
+    o.technique = v->schedule.technique;
+    o.strategy = v->schedule.strategy;
+    o.victim = v->schedule.victim;
+    o.local_queue_items = v->schedule.local_queue_items;
+    o.batch_limit = v->schedule.batch_limit;
     return o;
 }
 
@@ -304,10 +306,9 @@ static void print_summary(const double reference[2], const variant_times times[V
     for (unsigned v = 0; v < VARIANT_COUNT; ++v) {
         if (!times[v].ran)
             continue;
-        char label[96];
-        bench_variant_label(&reyes_variants[v], label, sizeof label);
         const double *s = times[v].seconds;
-        printf("  %-34s %9.4f %15.4f %14.4f %7.4f\n", label, s[2], s[1] - s[2], s[0] - s[1], s[0]);
+        printf("  %-34s %9.4f %15.4f %14.4f %7.4f\n", reyes_variants[v], s[2], s[1] - s[2], s[0] - s[1],
+               s[0]);
     }
     if (!mk->ran)
         return;
@@ -333,16 +334,15 @@ int reyes_bench_file_exists(const char *path)
 static void create_renderers(const reyes_bench_args *a, const bench_options *options,
                              reyes_renderer *renderers[VARIANT_COUNT])
 {
-    for (unsigned v = 0; v < VARIANT_COUNT; ++v) {
-        renderers[v] = NULL;
-        char label[96];
-        bench_variant_label(&reyes_variants[v], label, sizeof label);
-        if (!bench_variant_selected(options, &reyes_variants[v]))
+    for (unsigned i = 0; i < VARIANT_COUNT; ++i) {
+        renderers[i] = NULL;
+        bench_variant v;
+        if (!bench_variant_select(options, reyes_variants[i], &v))
             continue;
-        reyes_options o = render_options(a, options, &reyes_variants[v], 64, 64);
+        reyes_options o = render_options(a, options, &v, 64, 64);
         reyes_error error;
-        if (reyes_renderer_create(&o, &renderers[v], &error) != REYES_OK)
-            printf("reyes: %s: n/a: %s\n", label, error.message);
+        if (reyes_renderer_create(&o, &renderers[i], &error) != REYES_OK)
+            printf("reyes: %s: n/a: %s\n", v.label, error.message);
     }
 }
 
@@ -351,15 +351,16 @@ static void create_renderers(const reyes_bench_args *a, const bench_options *opt
 static void warm_up(const reyes_scene *scene, const reyes_bench_args *a, const bench_options *options,
                     reyes_renderer *renderers[VARIANT_COUNT])
 {
-    for (unsigned v = 0; v < VARIANT_COUNT; ++v) {
-        if (!renderers[v])
+    for (unsigned i = 0; i < VARIANT_COUNT; ++i) {
+        bench_variant v;
+        if (!renderers[i] || bench_variant_parse(reyes_variants[i], &v, NULL) != PERMA_OK)
             continue;
-        reyes_options o = render_options(a, options, &reyes_variants[v], 64, 64);
+        reyes_options o = render_options(a, options, &v, 64, 64);
         reyes_camera camera;
         reyes_image image;
         reyes_error error;
         if (reyes_camera_frame(scene, 40.0f, 1.0f, &camera, &error) == REYES_OK
-            && reyes_render(renderers[v], scene, &camera, &o, &image, NULL, &error) == REYES_OK)
+            && reyes_render(renderers[i], scene, &camera, &o, &image, NULL, &error) == REYES_OK)
             reyes_image_free(&image);
     }
 }
@@ -377,22 +378,28 @@ static void run_workload(bench_report *report, const char *model, const reyes_sc
         printf("reyes: %s: %s\n", workload, error.message);
         return;
     }
-    reyes_options base = render_options(a, options, &reyes_variants[0], width, height);
+    bench_variant first;
+    perma_error parse_error;
+    if (bench_variant_parse(reyes_variants[0], &first, &parse_error) != PERMA_OK) {
+        printf("reyes: %s\n", parse_error.message);
+        return;
+    }
+    reyes_options base = render_options(a, options, &first, width, height);
     reyes_reference_counts reference;
     double reference_seconds[2];
     measure_reference(report, workload, scene, &camera, base, options, &reference, reference_seconds);
     variant_times times[VARIANT_COUNT];
     memset(times, 0, sizeof times);
     for (unsigned v = 0; v < VARIANT_COUNT; ++v) {
-        if (!renderers[v])
+        bench_variant variant;
+        if (!renderers[v] || bench_variant_parse(reyes_variants[v], &variant, NULL) != PERMA_OK)
             continue;
-        char variant[96], label[128];
-        bench_variant_label(&reyes_variants[v], variant, sizeof variant);
-        reyes_options o = render_options(a, options, &reyes_variants[v], width, height);
+        char label[128];
+        reyes_options o = render_options(a, options, &variant, width, height);
         times[v].ran = 1;
         for (int m = 0; m < STAGE_MODES; ++m) {
             o.stages = stage_modes[m];
-            snprintf(label, sizeof label, "%s %s", variant, stage_names[m]);
+            snprintf(label, sizeof label, "%s %s", variant.label, stage_names[m]);
             times[v].seconds[m] = measure_stage(report, workload, renderers[v], label, scene, &camera, &o,
                                                 options, &reference);
             times[v].ran &= times[v].seconds[m] > 0.0;

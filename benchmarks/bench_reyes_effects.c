@@ -71,11 +71,11 @@ static reyes_options effect_options(const reyes_bench_args *a, const bench_optio
     o.height = height;
     o.bound_px = a->bound_px;
     o.work_groups = options->groups;
-    o.technique = v->technique;
-    o.strategy = v->strategy;
-    o.victim = v->victim;
-    o.local_queue_items = v->local_queue_items;
-    o.batch_limit = v->batch_limit;
+    o.technique = v->schedule.technique;
+    o.strategy = v->schedule.strategy;
+    o.victim = v->schedule.victim;
+    o.local_queue_items = v->schedule.local_queue_items;
+    o.batch_limit = v->schedule.batch_limit;
     return o;
 }
 
@@ -222,13 +222,11 @@ static float scene_radius(const reyes_scene *scene)
 static reyes_renderer *create_renderer(const reyes_bench_args *a, const bench_options *options,
                                        const bench_variant *v)
 {
-    char label[96];
-    bench_variant_label(v, label, sizeof label);
     reyes_options o = effect_options(a, options, v, 64, 64);
     reyes_renderer *renderer;
     reyes_error error;
     if (reyes_renderer_create(&o, &renderer, &error) != REYES_OK) {
-        printf("reyes: %s: n/a: %s\n", label, error.message);
+        printf("reyes: %s: n/a: %s\n", v->label, error.message);
         return NULL;
     }
     reyes_scene scene;
@@ -243,13 +241,14 @@ static reyes_renderer *create_renderer(const reyes_bench_args *a, const bench_op
     return renderer;
 }
 
-/* The first variant --only selects (megakernel/shared by default). */
-static const bench_variant *first_selected(const bench_options *options)
+/* The first variant --only selects (megakernel/shared by default) into
+ * *out; 0 if none. */
+static int first_selected(const bench_options *options, bench_variant *out)
 {
     for (unsigned v = 0; v < bench_variant_count; ++v)
-        if (bench_variant_selected(options, &bench_variants[v]))
-            return &bench_variants[v];
-    return NULL;
+        if (bench_variant_select(options, bench_variants[v], out))
+            return 1;
+    return 0;
 }
 
 static int frame(comparison *c, unsigned width, unsigned height)
@@ -363,10 +362,8 @@ static void bucket_comparison(bench_report *report, const reyes_bench_args *a,
                               unsigned width, unsigned height)
 {
     const unsigned sides[BUCKET_SIZES] = {0, 256, 128, 64, 32};
-    char variant[96];
-    bench_variant_label(v, variant, sizeof variant);
     comparison c = { .renderer = renderer, .scene = scene };
-    snprintf(c.title, sizeof c.title, "buckets: %s %ux%u %s", model, width, height, variant);
+    snprintf(c.title, sizeof c.title, "buckets: %s %ux%u %s", model, width, height, v->label);
     if (!frame(&c, width, height))
         return;
     for (unsigned k = 0; k < BUCKET_SIZES; ++k) {
@@ -433,7 +430,8 @@ static int per_model_and_size(bench_report *report, const reyes_bench_args *a, c
 int reyes_bench_effects(bench_report *report, const reyes_bench_args *a, const bench_options *options)
 {
     int status = 0;
-    const bench_variant *primary = first_selected(options);
+    bench_variant selected;
+    const bench_variant *primary = first_selected(options, &selected) ? &selected : NULL;
     if (a->workloads & (REYES_BENCH_DISPLACE | REYES_BENCH_BLUR) && !primary)
         printf("reyes: --only '%s' selects no variant: no displace or blur rows\n", options->only);
     reyes_renderer *renderer = NULL;
@@ -454,14 +452,19 @@ int reyes_bench_effects(bench_report *report, const reyes_bench_args *a, const b
     if (a->workloads & REYES_BENCH_BUCKETS) {
         /* Megakernel/shared keeps its queues small anyway; kernel-per-
          * procedure holds a breadth-first level, which buckets bound. */
-        const bench_variant *variants[2] = { &bench_variants[0], NULL };
-        for (unsigned v = 0; v < bench_variant_count; ++v)
-            if (bench_variants[v].technique == PERMA_TECHNIQUE_KERNEL_PER_PROCEDURE)
-                variants[1] = &bench_variants[v];
+        const char *labels[2] = { bench_variants[0], NULL };
+        for (unsigned v = 0; v < bench_variant_count; ++v) {
+            perma_schedule s;
+            if (perma_schedule_parse(bench_variants[v], &s, NULL) == PERMA_OK
+                && s.technique == PERMA_TECHNIQUE_KERNEL_PER_PROCEDURE)
+                labels[1] = bench_variants[v];
+        }
+        bench_variant parsed[2];
+        const bench_variant *variants[2] = { &parsed[0], &parsed[1] };
         reyes_renderer *renderers[2] = { NULL, NULL };
         for (unsigned v = 0; v < 2; ++v)
-            if (variants[v] && bench_variant_selected(options, variants[v]))
-                renderers[v] = create_renderer(a, options, variants[v]);
+            if (labels[v] && bench_variant_select(options, labels[v], &parsed[v]))
+                renderers[v] = create_renderer(a, options, &parsed[v]);
         status |= per_model_and_size(report, a, options, variants, renderers, 2, bucket_comparison);
         for (unsigned v = 0; v < 2; ++v)
             reyes_renderer_destroy(renderers[v]);

@@ -143,9 +143,7 @@ static void run_perma_variant(const bench_options *o, const bench_variant *v, tr
                               unsigned group_size, const char *title, bench_report *report)
 {
     bench_row row;
-    char label[96];
-    bench_variant_label(v, label, sizeof label);
-    bench_row_init(&row, title, label, "nodes");
+    bench_row_init(&row, title, v->label, "nodes");
     row.group_size = group_size;
     row.work_groups = o->groups;
     perma_runtime *rt = bench_perma_create(v, group_size, o->groups, &row);
@@ -258,9 +256,11 @@ static int run_tree(const bench_options *o, const uts_tree *t, unsigned group_si
         fprintf(stderr, "perma-bench: out of memory\n");
         return 1;
     }
-    for (unsigned i = 0; i < bench_variant_count; ++i)
-        if (bench_variant_selected(o, &bench_variants[i]))
-            run_perma_variant(o, &bench_variants[i], s, source, group_size, title, report);
+    for (unsigned i = 0; i < bench_variant_count; ++i) {
+        bench_variant v;
+        if (bench_variant_select(o, bench_variants[i], &v))
+            run_perma_variant(o, &v, s, source, group_size, title, report);
+    }
     free(s->seeds);
     free(s);
     free(source);

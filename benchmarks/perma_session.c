@@ -8,11 +8,7 @@ perma_runtime *bench_perma_create(const bench_variant *v, unsigned group_size, u
 {
     perma_config config;
     perma_config_init(&config);
-    config.technique = v->technique;
-    config.strategy = v->strategy;
-    config.victim = v->victim;
-    config.local_queue_items = v->local_queue_items;
-    config.batch_limit = v->batch_limit;
+    perma_schedule_apply(&v->schedule, &config);
     config.group_size = group_size;
     config.work_groups = work_groups;
     config.time_limit = 120; /* a broken variant fails its row, not the whole benchmark */
@@ -87,8 +83,8 @@ void bench_perma_measure(perma_runtime *rt, const bench_variant *variant, const 
         row->group_size = st.group_size;
         row->work_groups = st.work_groups;
         row->peak_item_bytes = peak_item_bytes(rt, w);
-        if (st.technique != variant->technique ||
-            (st.technique == PERMA_TECHNIQUE_MEGAKERNEL && st.strategy != variant->strategy))
+        if (st.technique != variant->schedule.technique ||
+            (st.technique == PERMA_TECHNIQUE_MEGAKERNEL && st.strategy != variant->schedule.strategy))
             snprintf(row->message, sizeof row->message, "runtime ran %s/%s instead",
                      perma_technique_name(st.technique) ? perma_technique_name(st.technique) : "?",
                      perma_strategy_name(st.strategy) ? perma_strategy_name(st.strategy) : "?");

@@ -11,14 +11,33 @@
 
 #include "bfs.h"
 
-static const bfs_run_options variants[] = {
-    { PERMA_TECHNIQUE_MEGAKERNEL, PERMA_STRATEGY_SHARED, 0 },
-    { PERMA_TECHNIQUE_MEGAKERNEL, PERMA_STRATEGY_STEALING, 0 },
-    { PERMA_TECHNIQUE_MEGAKERNEL, PERMA_STRATEGY_DONATION, 0 },
-    { PERMA_TECHNIQUE_MEGAKERNEL, PERMA_STRATEGY_STEALING_DONATION, 0 },
-    { PERMA_TECHNIQUE_KERNEL_PER_PROCEDURE, PERMA_STRATEGY_SHARED, 0 },
-    { PERMA_TECHNIQUE_BOUNDED_BATCHES, PERMA_STRATEGY_SHARED, 0 },
+/* Schedule labels (perma_schedule_parse); the run options take the
+ * technique and strategy (the stealing victim stays the default). */
+static const char *const variants[] = {
+    "megakernel/shared",
+    "megakernel/stealing",
+    "megakernel/donation",
+    "megakernel/stealing-donation",
+    "kernel-per-procedure",
+    "bounded-batches",
 };
+
+/* The run options of variant `index`; BFS_ERR_RUNTIME with the parser's
+ * message for a bad label. */
+static bfs_status variant_options(size_t index, unsigned work_groups, bfs_run_options *out,
+                                  char *message, size_t size)
+{
+    perma_schedule schedule;
+    perma_error error;
+    if (perma_schedule_parse(variants[index], &schedule, &error) != PERMA_OK) {
+        snprintf(message, size, "bfs: --compare: %s", error.message);
+        return BFS_ERR_RUNTIME;
+    }
+    out->technique = schedule.technique;
+    out->strategy = schedule.strategy;
+    out->work_groups = work_groups;
+    return BFS_OK;
+}
 
 static double now(void)
 {
@@ -78,8 +97,10 @@ bfs_status bfs_compare(const bfs_graph *g, uint32_t source, unsigned work_groups
     fprintf(out, "%-36s %10.4f %12.2f %10s %10u %s\n", "sequential C (FIFO queue)", sequential, 1.0, "-",
             g->vertices, "reference");
     for (size_t i = 0; i < sizeof variants / sizeof variants[0] && st == BFS_OK; ++i) {
-        bfs_run_options v = variants[i];
-        v.work_groups = work_groups;
+        bfs_run_options v;
+        st = variant_options(i, work_groups, &v, message, size);
+        if (st != BFS_OK)
+            break;
         double build, seconds;
         uint64_t items;
         st = time_variant(g, &v, source, levels, repeats, &build, &seconds, &items, message, size);

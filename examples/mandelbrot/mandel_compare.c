@@ -11,14 +11,33 @@
 
 #include "mandel.h"
 
-static const mandel_run_options variants[] = {
-    { PERMA_TECHNIQUE_MEGAKERNEL, PERMA_STRATEGY_SHARED, 0 },
-    { PERMA_TECHNIQUE_MEGAKERNEL, PERMA_STRATEGY_STEALING, 0 },
-    { PERMA_TECHNIQUE_MEGAKERNEL, PERMA_STRATEGY_DONATION, 0 },
-    { PERMA_TECHNIQUE_MEGAKERNEL, PERMA_STRATEGY_STEALING_DONATION, 0 },
-    { PERMA_TECHNIQUE_KERNEL_PER_PROCEDURE, PERMA_STRATEGY_SHARED, 0 },
-    { PERMA_TECHNIQUE_BOUNDED_BATCHES, PERMA_STRATEGY_SHARED, 0 },
+/* Schedule labels (perma_schedule_parse); the run options take the
+ * technique and strategy (the stealing victim stays the default). */
+static const char *const variants[] = {
+    "megakernel/shared",
+    "megakernel/stealing",
+    "megakernel/donation",
+    "megakernel/stealing-donation",
+    "kernel-per-procedure",
+    "bounded-batches",
 };
+
+/* The run options of variant `index`; MANDEL_ERR_RUNTIME with the parser's
+ * message for a bad label. */
+static mandel_status variant_options(size_t index, unsigned work_groups, mandel_run_options *out,
+                                     char *message, size_t size)
+{
+    perma_schedule schedule;
+    perma_error error;
+    if (perma_schedule_parse(variants[index], &schedule, &error) != PERMA_OK) {
+        snprintf(message, size, "mandelbrot: --compare: %s", error.message);
+        return MANDEL_ERR_RUNTIME;
+    }
+    out->technique = schedule.technique;
+    out->strategy = schedule.strategy;
+    out->work_groups = work_groups;
+    return MANDEL_OK;
+}
 
 static double now(void)
 {
@@ -94,8 +113,10 @@ mandel_status mandel_compare(const mandel_params *p, unsigned work_groups, unsig
             memcmp(counts, expected, pixels * sizeof *counts) == 0 ? "identical" : "DIFFERS");
     mandel_status st = MANDEL_OK;
     for (size_t i = 0; i < sizeof variants / sizeof variants[0] && st == MANDEL_OK; ++i) {
-        mandel_run_options v = variants[i];
-        v.work_groups = work_groups;
+        mandel_run_options v;
+        st = variant_options(i, work_groups, &v, message, size);
+        if (st != MANDEL_OK)
+            break;
         double build, seconds;
         st = time_variant(p, &v, counts, repeats, &build, &seconds, message, size);
         if (st != MANDEL_OK)

@@ -348,6 +348,21 @@ static int on_victim(reyes_cli *cli, const char *value, char *message, size_t si
     return REYES_CLI_OK;
 }
 
+/* A whole schedule label (perma_schedule_parse); the message is the parser's. */
+static int on_schedule(reyes_cli *cli, const char *value, char *message, size_t size)
+{
+    perma_schedule schedule;
+    perma_error error;
+    if (perma_schedule_parse(value, &schedule, &error) != PERMA_OK)
+        return usage_error(message, size, "--schedule: %s%s", error.message, "");
+    cli->render.technique = schedule.technique;
+    cli->render.strategy = schedule.strategy;
+    cli->render.victim = schedule.victim;
+    cli->render.local_queue_items = schedule.local_queue_items;
+    cli->render.batch_limit = schedule.batch_limit;
+    return REYES_CLI_OK;
+}
+
 static int on_local_queue(reyes_cli *cli, const char *value, char *message, size_t size)
 {
     if (!parse_unsigned(value, 65536, &cli->render.local_queue_items))
@@ -427,6 +442,8 @@ static const cli_option options[] = {
     { "max-depth", 0, "D", on_max_depth, "splits after which a patch is diced anyway (default 20)" },
     { "camera", 0, "ex,ey,ez,ax,ay,az", on_camera, "eye and target (default: frame the scene)" },
     { "fov", 0, "DEG", on_fov, "vertical field of view (default 40)" },
+    { "schedule", 0, "LABEL", on_schedule,
+      "the five options below as one label, e.g. megakernel/stealing/round-robin+local32" },
     { "technique", 0, "NAME", on_technique,
       "megakernel (default), kernel-per-procedure or bounded-batches" },
     { "strategy", 0, "NAME", on_strategy,

@@ -44,26 +44,15 @@ void reyes_test_expect_reference_counts(const reyes_scene *scene, const reyes_ca
  * 1..2) with default grid; destroyed at exit. */
 reyes_renderer *reyes_test_renderer(unsigned work_groups);
 
-/* One scheduling configuration of the runtime (perma_config fields). */
-typedef struct reyes_test_schedule {
-    perma_technique technique;
-    perma_strategy strategy;
-    perma_victim victim;
-    unsigned local_queue_items;
-    unsigned batch_limit;
-} reyes_test_schedule;
-
-/* Every technique, every megakernel strategy, both victims, a local front
- * queue and a small batch limit. */
-extern const reyes_test_schedule reyes_test_schedules[];
+/* Schedule labels (perma_schedule_parse): every technique, every
+ * megakernel strategy, both victims, a local front queue and a small batch
+ * limit.  "megakernel/stealing/round-robin", "bounded-batches/p=64", ... */
+extern const char *const reyes_test_schedules[];
 extern const unsigned reyes_test_schedule_count;
 
-/* "megakernel/stealing/round-robin", "bounded-batches/p=64", ... */
-void reyes_test_schedule_label(const reyes_test_schedule *schedule, char *out, size_t size);
-
-/* Set the scheduling fields of *options from a schedule and a group count. */
-void reyes_test_apply_schedule(const reyes_test_schedule *schedule, unsigned work_groups,
-                               reyes_options *options);
+/* Set the scheduling fields of *options from a schedule label and a group
+ * count; fails the test with the parser's message if the label is bad. */
+void reyes_test_apply_schedule(const char *label, unsigned work_groups, reyes_options *options);
 
 /* Create a renderer for options (its scheduling fields), render once,
  * destroy it; fails the test with the library's message. */

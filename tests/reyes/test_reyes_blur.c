@@ -465,10 +465,10 @@ START_TEST(test_schedules_identical)
     o.aperture = 0.1f;
     o.focus = 3.0f;
     reyes_image a, b;
-    reyes_test_apply_schedule(&reyes_test_schedules[1], 2, &o);
+    reyes_test_apply_schedule(reyes_test_schedules[1], 2, &o);
     ck_assert_int_eq(o.strategy, PERMA_STRATEGY_STEALING);
     reyes_test_render_once(&scene, &top, &o, &a, NULL);
-    reyes_test_apply_schedule(&reyes_test_schedules[6], 1, &o);
+    reyes_test_apply_schedule(reyes_test_schedules[6], 1, &o);
     ck_assert_int_eq(o.technique, PERMA_TECHNIQUE_KERNEL_PER_PROCEDURE);
     reyes_test_render_once(&scene, &top, &o, &b, NULL);
     ck_assert_uint_gt(reyes_test_covered_samples(&a), 0);

@@ -135,6 +135,31 @@ START_TEST(test_scheduling_names)
 }
 END_TEST
 
+/* --schedule sets every scheduling field from one label; a later option
+ * overrides one of them. */
+START_TEST(test_schedule_label)
+{
+    reyes_cli cli;
+    char message[512];
+    ck_assert_int_eq(PARSE(&cli, message, "--batch-limit", "512", "--schedule",
+                           "megakernel/stealing/round-robin+local32"),
+                     REYES_CLI_OK);
+    ck_assert_int_eq(cli.render.technique, PERMA_TECHNIQUE_MEGAKERNEL);
+    ck_assert_int_eq(cli.render.strategy, PERMA_STRATEGY_STEALING);
+    ck_assert_int_eq(cli.render.victim, PERMA_VICTIM_ROUND_ROBIN);
+    ck_assert_uint_eq(cli.render.local_queue_items, 32);
+    ck_assert_uint_eq(cli.render.batch_limit, 0);
+    reyes_cli_free(&cli);
+    ck_assert_int_eq(PARSE(&cli, message, "--schedule", "bounded-batches/p=64", "--local-queue", "8"),
+                     REYES_CLI_OK);
+    ck_assert_int_eq(cli.render.technique, PERMA_TECHNIQUE_BOUNDED_BATCHES);
+    ck_assert_int_eq(cli.render.strategy, PERMA_STRATEGY_SHARED);
+    ck_assert_uint_eq(cli.render.batch_limit, 64);
+    ck_assert_uint_eq(cli.render.local_queue_items, 8);
+    reyes_cli_free(&cli);
+}
+END_TEST
+
 /* The subdivision criterion and its parameters; flatness options without
  * it, and wedges without it, are refused with a message naming them. */
 START_TEST(test_subdivision_options)
@@ -198,6 +223,11 @@ START_TEST(test_bad_usage)
         { COUNT("--strategy", "steal"), ARGS("--strategy", "steal"),
           "valid: shared stealing donation stealing-donation" },
         { COUNT("--victim", "any"), ARGS("--victim", "any"), "valid: random round-robin" },
+        { COUNT("--schedule", "megakernel/stealng"), ARGS("--schedule", "megakernel/stealng"),
+          "--schedule: schedule 'megakernel/stealng': unknown strategy 'stealng' (shared, stealing, "
+          "donation, stealing-donation)" },
+        { COUNT("--schedule", "kernel-per-procedure/shared"),
+          ARGS("--schedule", "kernel-per-procedure/shared"), "a strategy is only valid with megakernel" },
         { COUNT("--local-queue", "-3"), ARGS("--local-queue", "-3"), "--local-queue" },
         { COUNT("--batch-limit", "0"), ARGS("--batch-limit", "0"), "--batch-limit" },
         { COUNT("--size", "100"), ARGS("--size", "100"), "WxH" },
@@ -310,6 +340,7 @@ static Suite *cli_suite(void)
     tcase_add_test(tc, test_defaults);
     tcase_add_test(tc, test_all_options);
     tcase_add_test(tc, test_scheduling_names);
+    tcase_add_test(tc, test_schedule_label);
     tcase_add_test(tc, test_subdivision_options);
     tcase_add_test(tc, test_blur_algorithms);
     tcase_add_test(tc, test_bad_usage);

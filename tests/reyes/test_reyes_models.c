@@ -83,9 +83,8 @@ START_TEST(test_teapot_counts_every_schedule)
     reyes_stats first;
     memset(&first, 0, sizeof first);
     for (unsigned s = 0; s < reyes_test_schedule_count; ++s) {
-        char label[128];
-        reyes_test_schedule_label(&reyes_test_schedules[s], label, sizeof label);
-        reyes_test_apply_schedule(&reyes_test_schedules[s], 2, &o);
+        const char *label = reyes_test_schedules[s];
+        reyes_test_apply_schedule(label, 2, &o);
         reyes_image image;
         reyes_stats stats;
         reyes_test_render_once(&scene, &camera, &o, &image, &stats);

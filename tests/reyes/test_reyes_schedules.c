@@ -51,9 +51,8 @@ START_TEST(test_every_schedule_identical)
     for (unsigned s = 0; s < reyes_test_schedule_count; ++s) {
         for (unsigned groups = 1; groups <= 2; ++groups) {
             char label[128];
-            reyes_test_schedule_label(&reyes_test_schedules[s], label, sizeof label);
-            snprintf(label + strlen(label), sizeof label - strlen(label), " groups=%u", groups);
-            reyes_test_apply_schedule(&reyes_test_schedules[s], groups, &o);
+            snprintf(label, sizeof label, "%s groups=%u", reyes_test_schedules[s], groups);
+            reyes_test_apply_schedule(reyes_test_schedules[s], groups, &o);
             reyes_image image;
             reyes_stats stats;
             reyes_test_render_once(&scene, &camera, &o, &image, &stats);

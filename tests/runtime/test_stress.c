@@ -33,21 +33,27 @@ static const shape shapes[] = {
 };
 enum { SHAPES = sizeof shapes / sizeof shapes[0] };
 
-static const struct {
-    perma_technique technique;
-    perma_strategy strategy;
-    unsigned local_queue;
-    const char *name;
-} variants[] = {
-    { PERMA_TECHNIQUE_MEGAKERNEL, PERMA_STRATEGY_SHARED, 0, "megakernel/shared" },
-    { PERMA_TECHNIQUE_MEGAKERNEL, PERMA_STRATEGY_STEALING, 0, "megakernel/stealing" },
-    { PERMA_TECHNIQUE_MEGAKERNEL, PERMA_STRATEGY_DONATION, 0, "megakernel/donation" },
-    { PERMA_TECHNIQUE_MEGAKERNEL, PERMA_STRATEGY_STEALING_DONATION, 0, "megakernel/stealing-donation" },
-    { PERMA_TECHNIQUE_MEGAKERNEL, PERMA_STRATEGY_SHARED, 32, "megakernel/shared+local32" },
-    { PERMA_TECHNIQUE_MEGAKERNEL, PERMA_STRATEGY_STEALING, 32, "megakernel/stealing+local32" },
-    { PERMA_TECHNIQUE_KERNEL_PER_PROCEDURE, PERMA_STRATEGY_SHARED, 0, "kernel-per-procedure" },
-    { PERMA_TECHNIQUE_BOUNDED_BATCHES, PERMA_STRATEGY_SHARED, 0, "bounded-batches" },
+/* Schedule labels (perma_schedule_parse; the stealing victim is the
+ * default, random).  Failure messages name them and PERMA_STRESS_VARIANT=N
+ * indexes this list: keep the order. */
+static const char *const variants[] = {
+    "megakernel/shared",
+    "megakernel/stealing",
+    "megakernel/donation",
+    "megakernel/stealing-donation",
+    "megakernel/shared+local32",
+    "megakernel/stealing+local32",
+    "kernel-per-procedure",
+    "bounded-batches",
 };
+
+static perma_schedule variant_schedule(unsigned variant)
+{
+    perma_schedule schedule;
+    perma_error error;
+    ck_assert_msg(perma_schedule_parse(variants[variant], &schedule, &error) == PERMA_OK, "%s", error.message);
+    return schedule;
+}
 
 /* The hash both sides use; kept in sync with MIX_SOURCE. */
 static uint32_t mix(uint32_t x)
@@ -197,9 +203,8 @@ static void open_shape(stress_runtime *s, unsigned shape_index, unsigned variant
     const shape *sh = &shapes[shape_index];
     perma_config config;
     perma_config_init(&config);
-    config.technique = variants[variant].technique;
-    config.strategy = variants[variant].strategy;
-    config.local_queue_items = variants[variant].local_queue;
+    perma_schedule schedule = variant_schedule(variant);
+    perma_schedule_apply(&schedule, &config);
     config.queue_capacity = sh->capacity;
     config.batch_limit = 50;
     config.time_limit = 60;
@@ -245,16 +250,16 @@ static void run_graph(stress_runtime *s, unsigned index, const graph *g, unsigne
         ck_assert_perma_ok(s->rt, perma_seed(s->rt, s->ids[g->root_proc[r]], item, 1));
     }
     perma_status st = perma_run(s->rt);
-    ck_assert_msg(st == PERMA_OK, "graph %u (shape %u) under %s: %s", index, g->shape, variants[variant].name,
+    ck_assert_msg(st == PERMA_OK, "graph %u (shape %u) under %s: %s", index, g->shape, variants[variant],
                   perma_errmsg(s->rt));
     totals expected;
     simulate_graph(g, &expected);
-    ck_assert_msg(s->errors[0] == 0, "graph %u under %s: %u items arrived corrupted", index, variants[variant].name,
+    ck_assert_msg(s->errors[0] == 0, "graph %u under %s: %u items arrived corrupted", index, variants[variant],
                   s->errors[0]);
     for (unsigned p = 0; p < sh->procs; ++p) {
         ck_assert_msg(s->counts[p] == expected.counts[p] && s->sums[p] == expected.sums[p],
                       "graph %u (shape %u) under %s: procedure %u ran %u items (id sum %llu), the simulation %u (%llu)",
-                      index, g->shape, variants[variant].name, p, s->counts[p], (unsigned long long)s->sums[p],
+                      index, g->shape, variants[variant], p, s->counts[p], (unsigned long long)s->sums[p],
                       expected.counts[p], (unsigned long long)expected.sums[p]);
     }
 }
@@ -292,7 +297,7 @@ START_TEST(local_queue_stalls_lose_nothing)
     const unsigned local_variants[] = { 4, 5 }; /* shared+local32, stealing+local32 */
     enum { REPEATS = 12 };
     unsigned variant = local_variants[_i];
-    ck_assert_uint_eq(variants[variant].local_queue, 32);
+    ck_assert_uint_eq(variant_schedule(variant).local_queue_items, 32);
     stress_runtime s;
     open_shape(&s, 0, variant);
     unsigned runs = 0, launches = 0;
