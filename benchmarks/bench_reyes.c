@@ -168,8 +168,8 @@ static int parse_args(int argc, char **argv, const bench_options *options, reyes
     return 0;
 }
 
-static reyes_options render_options(const reyes_bench_args *a, const bench_options *options,
-                                    const bench_variant *v, unsigned width, unsigned height)
+reyes_options reyes_bench_render_options(const reyes_bench_args *a, const bench_options *options,
+                                         const bench_variant *v, unsigned width, unsigned height)
 {
     reyes_options o;
     reyes_options_init(&o);
@@ -177,11 +177,7 @@ static reyes_options render_options(const reyes_bench_args *a, const bench_optio
     o.height = height;
     o.bound_px = a->bound_px;
     o.work_groups = options->groups;
-    o.technique = v->schedule.technique;
-    o.strategy = v->schedule.strategy;
-    o.victim = v->schedule.victim;
-    o.local_queue_items = v->schedule.local_queue_items;
-    o.batch_limit = v->schedule.batch_limit;
+    reyes_options_set_schedule(&o, &v->schedule);
     return o;
 }
 
@@ -339,7 +335,7 @@ static void create_renderers(const reyes_bench_args *a, const bench_options *opt
         bench_variant v;
         if (!bench_variant_select(options, reyes_variants[i], &v))
             continue;
-        reyes_options o = render_options(a, options, &v, 64, 64);
+        reyes_options o = reyes_bench_render_options(a, options, &v, 64, 64);
         reyes_error error;
         if (reyes_renderer_create(&o, &renderers[i], &error) != REYES_OK)
             printf("reyes: %s: n/a: %s\n", v.label, error.message);
@@ -355,7 +351,7 @@ static void warm_up(const reyes_scene *scene, const reyes_bench_args *a, const b
         bench_variant v;
         if (!renderers[i] || bench_variant_parse(reyes_variants[i], &v, NULL) != PERMA_OK)
             continue;
-        reyes_options o = render_options(a, options, &v, 64, 64);
+        reyes_options o = reyes_bench_render_options(a, options, &v, 64, 64);
         reyes_camera camera;
         reyes_image image;
         reyes_error error;
@@ -384,7 +380,7 @@ static void run_workload(bench_report *report, const char *model, const reyes_sc
         printf("reyes: %s\n", parse_error.message);
         return;
     }
-    reyes_options base = render_options(a, options, &first, width, height);
+    reyes_options base = reyes_bench_render_options(a, options, &first, width, height);
     reyes_reference_counts reference;
     double reference_seconds[2];
     measure_reference(report, workload, scene, &camera, base, options, &reference, reference_seconds);
@@ -395,7 +391,7 @@ static void run_workload(bench_report *report, const char *model, const reyes_sc
         if (!renderers[v] || bench_variant_parse(reyes_variants[v], &variant, NULL) != PERMA_OK)
             continue;
         char label[128];
-        reyes_options o = render_options(a, options, &variant, width, height);
+        reyes_options o = reyes_bench_render_options(a, options, &variant, width, height);
         times[v].ran = 1;
         for (int m = 0; m < STAGE_MODES; ++m) {
             o.stages = stage_modes[m];

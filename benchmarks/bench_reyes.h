@@ -4,6 +4,7 @@
 #define BENCH_REYES_H
 
 #include "bench.h"
+#include "reyes.h"
 
 #define REYES_BENCH_MAX_SIZES 4
 
@@ -26,6 +27,10 @@ typedef struct reyes_bench_args {
 
 /* 1 if the file can be read. */
 int reyes_bench_file_exists(const char *path);
+/* Render options for a variant (its scheduling fields) at an image size,
+ * with the arguments' bound and the common options' work-groups. */
+reyes_options reyes_bench_render_options(const reyes_bench_args *a, const bench_options *options,
+                                         const bench_variant *v, unsigned width, unsigned height);
 
 /* The displace, blur and buckets workloads selected in a->workloads, rows
  * into report.  Returns 0, or 1 when a model could not be loaded. */

@@ -61,24 +61,6 @@ static uint64_t image_hash(const reyes_image *image)
     return h;
 }
 
-/* Render options for a variant (scheduling fields) and an image size. */
-static reyes_options effect_options(const reyes_bench_args *a, const bench_options *options,
-                                    const bench_variant *v, unsigned width, unsigned height)
-{
-    reyes_options o;
-    reyes_options_init(&o);
-    o.width = width;
-    o.height = height;
-    o.bound_px = a->bound_px;
-    o.work_groups = options->groups;
-    o.technique = v->schedule.technique;
-    o.strategy = v->schedule.strategy;
-    o.victim = v->schedule.victim;
-    o.local_queue_items = v->schedule.local_queue_items;
-    o.batch_limit = v->schedule.batch_limit;
-    return o;
-}
-
 static effect_config *add_config(comparison *c, const char *label, const reyes_options *o)
 {
     effect_config *config = &c->configs[c->count++];
@@ -222,7 +204,7 @@ static float scene_radius(const reyes_scene *scene)
 static reyes_renderer *create_renderer(const reyes_bench_args *a, const bench_options *options,
                                        const bench_variant *v)
 {
-    reyes_options o = effect_options(a, options, v, 64, 64);
+    reyes_options o = reyes_bench_render_options(a, options, v, 64, 64);
     reyes_renderer *renderer;
     reyes_error error;
     if (reyes_renderer_create(&o, &renderer, &error) != REYES_OK) {
@@ -275,7 +257,7 @@ static void displace_comparison(bench_report *report, const reyes_bench_args *a,
              (double)amplitude);
     if (!frame(&c, width, height))
         return;
-    reyes_options o = effect_options(a, options, v, width, height);
+    reyes_options o = reyes_bench_render_options(a, options, v, width, height);
     add_config(&c, "plain", &o);
     o.displace_mode = REYES_DISPLACE_BUMPS;
     o.displace_amplitude = amplitude;
@@ -330,7 +312,7 @@ static void blur_comparisons(bench_report *report, const reyes_bench_args *a,
         if (!frame(&c, width, height))
             return;
         pixels = motion_pixels(scene, &c.camera, width, height, motion);
-        reyes_options o = effect_options(a, options, v, width, height);
+        reyes_options o = reyes_bench_render_options(a, options, v, width, height);
         o.spp = spp;
         add_config(&c, "unblurred", &o);
         memcpy(o.motion, motion, sizeof o.motion);
@@ -370,7 +352,7 @@ static void bucket_comparison(bench_report *report, const reyes_bench_args *a,
         /* A bucket as large as the image is no bucket. */
         if (sides[k] >= width && sides[k] >= height)
             continue;
-        reyes_options o = effect_options(a, options, v, width, height);
+        reyes_options o = reyes_bench_render_options(a, options, v, width, height);
         o.bucket_width = o.bucket_height = sides[k];
         char label[64];
         if (sides[k])

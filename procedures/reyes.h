@@ -190,6 +190,9 @@ typedef struct reyes_options {
 } reyes_options;
 
 void reyes_options_init(reyes_options *options);
+/* Set the scheduling fields (technique, strategy, victim, local_queue_items,
+ * batch_limit) from a parsed schedule label (perma_schedule_parse). */
+void reyes_options_set_schedule(reyes_options *options, const perma_schedule *schedule);
 
 /* Limits the options are checked against. */
 #define REYES_MAX_SIZE 16384u

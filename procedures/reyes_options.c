@@ -29,6 +29,15 @@ void reyes_options_init(reyes_options *options)
     options->blur_permutations = 8;
 }
 
+void reyes_options_set_schedule(reyes_options *options, const perma_schedule *schedule)
+{
+    options->technique = schedule->technique;
+    options->strategy = schedule->strategy;
+    options->victim = schedule->victim;
+    options->local_queue_items = schedule->local_queue_items;
+    options->batch_limit = schedule->batch_limit;
+}
+
 static const char *const blur_algo_names[] = { "simple", "interleaved", "bbox" };
 
 const char *reyes_blur_algo_name(unsigned algo)

@@ -355,11 +355,7 @@ static int on_schedule(reyes_cli *cli, const char *value, char *message, size_t 
     perma_error error;
     if (perma_schedule_parse(value, &schedule, &error) != PERMA_OK)
         return usage_error(message, size, "--schedule: %s%s", error.message, "");
-    cli->render.technique = schedule.technique;
-    cli->render.strategy = schedule.strategy;
-    cli->render.victim = schedule.victim;
-    cli->render.local_queue_items = schedule.local_queue_items;
-    cli->render.batch_limit = schedule.batch_limit;
+    reyes_options_set_schedule(&cli->render, &schedule);
     return REYES_CLI_OK;
 }
 

@@ -22,11 +22,7 @@ void reyes_test_apply_schedule(const char *label, unsigned work_groups, reyes_op
     perma_schedule s;
     perma_error error;
     ck_assert_msg(perma_schedule_parse(label, &s, &error) == PERMA_OK, "%s", error.message);
-    o->technique = s.technique;
-    o->strategy = s.strategy;
-    o->victim = s.victim;
-    o->local_queue_items = s.local_queue_items;
-    o->batch_limit = s.batch_limit;
+    reyes_options_set_schedule(o, &s);
     o->work_groups = work_groups;
 }
 
