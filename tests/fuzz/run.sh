@@ -56,7 +56,9 @@ if ! "$cc" -fsanitize=fuzzer,address,undefined "$probe" -o "$work/probe" >"$work
 fi
 
 # ---- Build.  Only host-side sources: no OpenCL library is linked. ----
-cflags="-std=c11 -g -O1 -Wall -Wextra -fsanitize=fuzzer,address,undefined
+# The same feature macros as meson.build's project arguments.
+cflags="-std=c11 -D_POSIX_C_SOURCE=200809L -DCL_TARGET_OPENCL_VERSION=120
+ -g -O1 -Wall -Wextra -fsanitize=fuzzer,address,undefined
  -fno-sanitize-recover=all -fno-omit-frame-pointer
  -I$source/procedures -I$source/examples/reyes -I$source/runtime/include -I$source/runtime/src"
 # The sources and the longest input (-max_len) of a target.
@@ -66,7 +68,7 @@ target_sources() {
                   "$source/procedures/reyes_scene.c $source/procedures/reyes_error.c" ;;
         cli) echo "$here/fuzz_cli.c $source/examples/reyes/reyes_cli.c"\
                   "$source/procedures/reyes_options.c $source/procedures/reyes_error.c"\
-                  "$source/runtime/src/names.c" ;;
+                  "$source/runtime/src/names.c $source/runtime/src/schedule.c" ;;
     esac
 }
 target_max_len() {
