@@ -98,6 +98,19 @@ int reyes_blur_box(__global const struct reyes_params *p, const struct reyes_qua
     return 1;
 }
 
+/* 0 if a blurred quad's box over the shutter and lens, widened by a pixel
+ * against rounding (the moved boxes lie inside it), misses the tile:
+ * none of its samples there can be covered.  1 if it may reach the near
+ * plane (rasterize then decides per tuple). */
+int reyes_blur_meets_tile(__global const struct reyes_params *p, const struct reyes_quad *q)
+{
+    float2 lo, hi;
+    if (!reyes_blur_box(p, q, 4, &lo, &hi))
+        return 1;
+    return hi.x + 1.0f >= p->tile_x0 && hi.y + 1.0f >= p->tile_y0 && lo.x - 1.0f <= p->tile_x1
+           && lo.y - 1.0f <= p->tile_y1;
+}
+
 /* Pixels (x0, y0)..(x1, y1) of screen box lo..hi inside the tile; 0 if
  * the box misses the tile.  Clamped in float first: the box may lie far
  * outside int range. */

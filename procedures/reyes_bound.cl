@@ -24,11 +24,12 @@ float reyes_displacement_radius(__global const struct reyes_params *p)
 
 /* 1 when every hull point lies outside the same side plane of the tile's
  * sub-frustum, widened by `margin` (a fraction of the half-viewport), even
- * if displaced by up to `radius` in any direction.  For the whole image
- * (-1, 1, -1, 1) and no displacement the planes are x = +-(1 + margin) w
- * exactly, as without buckets. */
+ * if displaced by up to `radius` in any direction and, with a lens
+ * (defocus not 0), moved by up to defocus[k] * (lens_x, lens_y) in clip x
+ * and y.  For the whole image (-1, 1, -1, 1), no displacement and no lens
+ * the planes are x = +-(1 + margin) w exactly, as without buckets. */
 int reyes_outside_frustum(__global const struct reyes_params *p, const float4 *clip, int count,
-                          float margin, float radius)
+                          float margin, float radius, const float *defocus)
 {
     float left_ndc = p->ndc_left - margin, right_ndc = p->ndc_right + margin;
     float bottom_ndc = p->ndc_bottom - margin, top_ndc = p->ndc_top + margin;
@@ -42,7 +43,13 @@ int reyes_outside_frustum(__global const struct reyes_params *p, const float4 *c
     int left = 1, right = 1, bottom = 1, top = 1;
     for (int k = 0; k < count; ++k) {
         float w = clip[k].w;
-        if (radius > 0.0f) {
+        if (defocus) {
+            float lens_x = defocus[k] * p->lens_x, lens_y = defocus[k] * p->lens_y;
+            left &= clip[k].x - w * left_ndc + left_pad + lens_x < 0.0f;
+            right &= clip[k].x - w * right_ndc - right_pad - lens_x > 0.0f;
+            bottom &= clip[k].y - w * bottom_ndc + bottom_pad + lens_y < 0.0f;
+            top &= clip[k].y - w * top_ndc - top_pad - lens_y > 0.0f;
+        } else if (radius > 0.0f) {
             left &= clip[k].x - w * left_ndc + left_pad < 0.0f;
             right &= clip[k].x - w * right_ndc - right_pad > 0.0f;
             bottom &= clip[k].y - w * bottom_ndc + bottom_pad < 0.0f;
@@ -193,26 +200,83 @@ void reyes_record_leaf(perma_ctx *ctx, const struct reyes_subpatch *sp, float2 l
     leaf->hi_y = hi.y;
 }
 
-/* Blurred: the hull sweeps from clip to clip + motion over the shutter,
- * so it is culled only if all 32 points are behind the eye or outside one
- * plane; with a lens, only if behind (defocus can move it anywhere). */
-int reyes_blur_culled(__global const struct reyes_params *p, const float4 clip[16], float radius)
+/* How far the lens can move a point at clip depth w, in units of
+ * (lens_x, lens_y): |w / focus - 1| (the thin lens' offset), plus what a
+ * displacement of up to `radius` can add to it by changing w (w_pad). */
+float reyes_defocus_factor(__global const struct reyes_params *p, float w, float w_pad)
 {
-    float4 swept[32];
+    return (fabs(w - p->focus) + w_pad) / p->focus;
+}
+
+/* The hull's 16 points at t = 0 (swept[0..15]) and t = 1 (swept[16..31]).
+ * Motion is linear, so the hull over the shutter lies in their hull. */
+void reyes_sweep_hull(__global const struct reyes_params *p, const float4 clip[16], float4 swept[32])
+{
     float4 motion = (float4)(p->motion_x, p->motion_y, 0.0f, p->motion_w);
-    __global const float *m = p->view_proj;
-    float w_pad = radius * length((float3)(m[12], m[13], m[14]));
-    int behind = 1;
     for (int k = 0; k < 16; ++k) {
         swept[k] = clip[k];
         swept[16 + k] = clip[k] + motion;
-        behind &= swept[k].w + w_pad <= p->near_w && swept[16 + k].w + w_pad <= p->near_w;
     }
+}
+
+/* Blurred: culled only if all 32 swept points are behind the eye or
+ * outside one plane.  A lens moves a point by (w / focus - 1) L (lens_x,
+ * lens_y), L in the unit disk; the plane test is linear in the point and
+ * |w / focus - 1| convex in w, so growing each swept point by its own
+ * largest offset bounds the whole hull over the shutter and the lens. */
+int reyes_blur_culled(__global const struct reyes_params *p, const float4 clip[16], float radius)
+{
+    float4 swept[32];
+    reyes_sweep_hull(p, clip, swept);
+    __global const float *m = p->view_proj;
+    float w_pad = radius * length((float3)(m[12], m[13], m[14]));
+    int behind = 1;
+    for (int k = 0; k < 32; ++k)
+        behind &= swept[k].w + w_pad <= p->near_w;
     if (behind)
         return 1;
-    if (p->lens_x > 0.0f || p->lens_y > 0.0f)
-        return 0;
-    return reyes_outside_frustum(p, swept, 32, p->cull_margin, radius);
+    if (p->lens_x == 0.0f && p->lens_y == 0.0f)
+        return reyes_outside_frustum(p, swept, 32, p->cull_margin, radius, 0);
+    float defocus[32];
+    for (int k = 0; k < 32; ++k)
+        defocus[k] = reyes_defocus_factor(p, swept[k].w, w_pad);
+    return reyes_outside_frustum(p, swept, 32, p->cull_margin, radius, defocus);
+}
+
+/* Screen box of a blurred leaf for the buckets' selection: every swept
+ * point (reyes_sweep_hull) moved by up to its lens offset and a
+ * displacement of up to `radius` (x by radius |r0|, y by radius |r1|, w
+ * by w_pad = radius |r3|, which also grows the lens offset).  The
+ * blurred surface lies in the convex hull of those boxes; x / w over a
+ * box with w > 0 is extreme at its corners.  Infinite if a corner may
+ * reach the near plane. */
+void reyes_blur_leaf_box(__global const struct reyes_params *p, const float4 clip[16], float radius,
+                         float2 *lo, float2 *hi)
+{
+    __global const float *m = p->view_proj;
+    float pad_x = radius * length((float3)(m[0], m[1], m[2]));
+    float pad_y = radius * length((float3)(m[4], m[5], m[6]));
+    float w_pad = radius * length((float3)(m[12], m[13], m[14]));
+    float4 swept[32];
+    reyes_sweep_hull(p, clip, swept);
+    *lo = (float2)(INFINITY, INFINITY);
+    *hi = (float2)(-INFINITY, -INFINITY);
+    for (int k = 0; k < 32; ++k) {
+        float defocus = reyes_defocus_factor(p, swept[k].w, w_pad);
+        float2 grow = (float2)(pad_x + defocus * p->lens_x, pad_y + defocus * p->lens_y);
+        if (swept[k].w - w_pad <= p->near_w) {
+            *lo = (float2)(-INFINITY, -INFINITY);
+            *hi = (float2)(INFINITY, INFINITY);
+            return;
+        }
+        for (int c = 0; c < 4; ++c) {
+            float2 xy = swept[k].xy + ((c & 1) ? grow : -grow);
+            float w = swept[k].w + ((c & 2) ? w_pad : -w_pad);
+            float2 s = reyes_to_screen(p, (float4)(xy, 0.0f, w));
+            *lo = fmin(*lo, s);
+            *hi = fmax(*hi, s);
+        }
+    }
 }
 
 void reyes_bound(perma_ctx *ctx, __local const struct reyes_subpatch *item)
@@ -234,7 +298,7 @@ void reyes_bound(perma_ctx *ctx, __local const struct reyes_subpatch *item)
         all_behind &= radius > 0.0f ? clip[k].w + w_pad <= p->near_w : behind;
         any_behind |= behind;
     }
-    int culled = all_behind || reyes_outside_frustum(p, clip, 16, p->cull_margin, radius);
+    int culled = all_behind || reyes_outside_frustum(p, clip, 16, p->cull_margin, radius, 0);
     if (p->blur)
         culled = reyes_blur_culled(p, clip, radius);
     if (culled) {
@@ -275,7 +339,10 @@ void reyes_bound(perma_ctx *ctx, __local const struct reyes_subpatch *item)
         if (forced)
             atomic_inc(&counters[REYES_COUNT_FORCED_DICE]);
         if (p->record_leaves) {
-            reyes_grow_box(p, clip, radius, &lo, &hi);
+            if (p->blur)
+                reyes_blur_leaf_box(p, clip, radius, &lo, &hi);
+            else
+                reyes_grow_box(p, clip, radius, &lo, &hi);
             reyes_record_leaf(ctx, &sp, lo, hi);
         }
         else

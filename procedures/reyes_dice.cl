@@ -29,9 +29,13 @@ int reyes_emit_quad(perma_ctx *ctx, const struct reyes_vertex corners[4], int fu
         hi = fmax(hi, s);
     }
     /* Quads through the near plane or wholly off the tile (the image
-     * without buckets) are dropped. */
-    visible &= p->blur || (hi.x >= p->tile_x0 && hi.y >= p->tile_y0 && lo.x <= p->tile_x1
-                           && lo.y <= p->tile_y1);
+     * without buckets) are dropped; blurred ones when their box over the
+     * shutter and lens misses it. */
+    if (p->blur)
+        visible = visible && reyes_blur_meets_tile(p, &quad);
+    else
+        visible &= hi.x >= p->tile_x0 && hi.y >= p->tile_y0 && lo.x <= p->tile_x1
+                   && lo.y <= p->tile_y1;
     if (visible && full)
         emit_rasterize(ctx, &quad);
     return visible;

@@ -119,8 +119,6 @@ reyes_status reyes_options_check(const reyes_options *o, reyes_error *error)
                           "within 1e6", (double)o->displace_amplitude);
     if (o->displace_mode == REYES_DISPLACE_MAP && !o->displace_map)
         return reyes_fail(error, REYES_ERR_ARGUMENT, "map displacement needs a PNG file");
-    int blurred = o->motion[0] != 0.0f || o->motion[1] != 0.0f || o->motion[2] != 0.0f
-                  || o->aperture != 0.0f;
     for (int k = 0; k < 3; ++k)
         if (!isfinite(o->motion[k]) || fabsf(o->motion[k]) > 1e6f)
             return reyes_fail(error, REYES_ERR_ARGUMENT, "motion %g is not finite and within 1e6",
@@ -134,9 +132,6 @@ reyes_status reyes_options_check(const reyes_options *o, reyes_error *error)
     reyes_status blur_status = check_blur_algo(o, error);
     if (blur_status != REYES_OK)
         return blur_status;
-    if (blurred && o->bucket_width > 0)
-        return reyes_fail(error, REYES_ERR_ARGUMENT,
-                          "buckets cannot be combined with motion blur or depth of field yet");
     if (o->crack_fix > REYES_CRACK_FIX_WEDGE)
         return reyes_fail(error, REYES_ERR_ARGUMENT,
                           "crack fix %u is not %u (none), %u (stitch) or %u (wedge)", o->crack_fix,
