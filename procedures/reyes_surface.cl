@@ -50,6 +50,15 @@ float3 reyes_safe_normal(const float3 cp[16], float u, float v)
     return n;
 }
 
+/* The Blinn-Phong highlight cos_h^shininess.  pow() is PoCL's
+ * full-precision library call and took about a fifth of a teapot render
+ * (perf, 1280x1024); exp2(s log2 c) at native precision is plenty for an
+ * 8-bit colour (the teapot's bytes did not change). */
+float reyes_highlight(float cos_h, float shininess)
+{
+    return cos_h > 0.0f ? native_exp2(shininess * native_log2(cos_h)) : 0.0f;
+}
+
 /* Lambert plus Blinn-Phong, two-sided, one directional light plus ambient. */
 uint reyes_shade(__global const struct reyes_params *p, float3 x, float3 n, float3 base)
 {
@@ -60,7 +69,7 @@ uint reyes_shade(__global const struct reyes_params *p, float3 x, float3 n, floa
     float3 light = vload3(0, p->light_dir);
     float lambert = fmax(dot(normal, light), 0.0f);
     float3 half_vector = normalize(light + view);
-    float highlight = lambert > 0.0f ? pow(fmax(dot(normal, half_vector), 0.0f), p->shininess) : 0.0f;
+    float highlight = lambert > 0.0f ? reyes_highlight(dot(normal, half_vector), p->shininess) : 0.0f;
     float3 color = base * (p->ambient + p->diffuse * lambert) + (float3)(p->specular * highlight);
     return reyes_pack_rgba(color);
 }
