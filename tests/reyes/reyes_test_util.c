@@ -167,3 +167,13 @@ size_t reyes_test_holes_from_random_views(reyes_renderer *renderer, const reyes_
     }
     return holes;
 }
+
+int reyes_test_run_suite(Suite *suite)
+{
+    SRunner *runner = srunner_create(suite);
+    srunner_set_fork_status(runner, CK_NOFORK);
+    srunner_run_all(runner, CK_NORMAL);
+    int failed = srunner_ntests_failed(runner);
+    srunner_free(runner);
+    return failed;
+}

@@ -2,6 +2,8 @@
 #ifndef REYES_TEST_UTIL_H
 #define REYES_TEST_UTIL_H
 
+#include <check.h>
+
 #include "reyes.h"
 
 /* Sum of the covered samples over all pixels. */
@@ -58,5 +60,9 @@ void reyes_test_apply_schedule(const char *label, unsigned work_groups, reyes_op
  * destroy it; fails the test with the library's message. */
 void reyes_test_render_once(const reyes_scene *scene, const reyes_camera *camera,
                             const reyes_options *options, reyes_image *image, reyes_stats *stats);
+
+/* Run a suite in this process (no fork per test, so one OpenCL runtime and
+ * its compiled programs serve all tests) and return its failure count. */
+int reyes_test_run_suite(Suite *suite);
 
 #endif

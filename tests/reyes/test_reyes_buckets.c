@@ -161,10 +161,5 @@ int main(void)
     tcase_add_test(tc, test_buckets_identical_displaced);
     tcase_add_test(tc, test_bucket_arguments);
     suite_add_tcase(s, tc);
-    SRunner *runner = srunner_create(s);
-    srunner_set_fork_status(runner, CK_NOFORK);
-    srunner_run_all(runner, CK_NORMAL);
-    int failed = srunner_ntests_failed(runner);
-    srunner_free(runner);
-    return failed ? EXIT_FAILURE : EXIT_SUCCESS;
+    return reyes_test_run_suite(s) ? EXIT_FAILURE : EXIT_SUCCESS;
 }

@@ -239,10 +239,5 @@ static Suite *models_suite(void)
 
 int main(void)
 {
-    SRunner *runner = srunner_create(models_suite());
-    srunner_set_fork_status(runner, CK_NOFORK);
-    srunner_run_all(runner, CK_NORMAL);
-    int failed = srunner_ntests_failed(runner);
-    srunner_free(runner);
-    return failed ? EXIT_FAILURE : EXIT_SUCCESS;
+    return reyes_test_run_suite(models_suite()) ? EXIT_FAILURE : EXIT_SUCCESS;
 }

@@ -312,11 +312,5 @@ static Suite *render_suite(void)
 
 int main(void)
 {
-    SRunner *runner = srunner_create(render_suite());
-    /* One OpenCL runtime serves all tests: no fork per test. */
-    srunner_set_fork_status(runner, CK_NOFORK);
-    srunner_run_all(runner, CK_NORMAL);
-    int failed = srunner_ntests_failed(runner);
-    srunner_free(runner);
-    return failed ? EXIT_FAILURE : EXIT_SUCCESS;
+    return reyes_test_run_suite(render_suite()) ? EXIT_FAILURE : EXIT_SUCCESS;
 }

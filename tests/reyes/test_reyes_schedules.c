@@ -91,10 +91,5 @@ static Suite *schedules_suite(void)
 
 int main(void)
 {
-    SRunner *runner = srunner_create(schedules_suite());
-    srunner_set_fork_status(runner, CK_NOFORK);
-    srunner_run_all(runner, CK_NORMAL);
-    int failed = srunner_ntests_failed(runner);
-    srunner_free(runner);
-    return failed ? EXIT_FAILURE : EXIT_SUCCESS;
+    return reyes_test_run_suite(schedules_suite()) ? EXIT_FAILURE : EXIT_SUCCESS;
 }

@@ -282,10 +282,5 @@ int main(void)
     tcase_add_test(tc, test_inner_tier);
     tcase_add_test(tc, test_epsilon_on_sphere);
     suite_add_tcase(s, tc);
-    SRunner *runner = srunner_create(s);
-    srunner_set_fork_status(runner, CK_NOFORK);
-    srunner_run_all(runner, CK_NORMAL);
-    int failed = srunner_ntests_failed(runner);
-    srunner_free(runner);
-    return failed ? EXIT_FAILURE : EXIT_SUCCESS;
+    return reyes_test_run_suite(s) ? EXIT_FAILURE : EXIT_SUCCESS;
 }
