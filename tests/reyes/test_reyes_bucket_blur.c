@@ -188,8 +188,8 @@ static void expect_blur_only_beyond(const reyes_image *whole, const reyes_option
 }
 
 /* Square over x in [-0.6, -0.2] (pixels 44..57, inside bucket column
- * 32..63 and 40..79 with its margin) moving by 0.9 (30 px): columns 64..
- * and 80.. are reached by the blur only. */
+ * 32..63 and 40..79 with its margin; about 33 px per unit) moving by 1.1
+ * (about 36 px): columns 64.. and 80.. are reached by the blur only. */
 START_TEST(test_square_motion_crosses_buckets)
 {
     const float x0 = -0.6f, x1 = -0.2f;
@@ -208,9 +208,9 @@ START_TEST(test_square_motion_crosses_buckets)
 }
 END_TEST
 
-/* The same square through a lens of radius 0.6 focused at half its
- * distance: a circle of confusion of about 20 px spreads it into the
- * bucket columns on both sides. */
+/* The same square through a lens of radius 0.9 focused at half its
+ * distance: the lens moves it by up to (4/2 - 1) * 0.9 units, a circle of
+ * confusion of about 30 px, into the bucket columns on both sides. */
 START_TEST(test_square_defocus_crosses_buckets)
 {
     const float x0 = -0.6f, x1 = -0.2f;
