@@ -28,13 +28,16 @@ void reyes_rasterize(perma_ctx *ctx, __local const struct reyes_quad *item)
     int y1 = (int)floor(clamp(max_y, p->tile_y0, p->tile_y1 - 1.0f));
     uint tile_x = (uint)p->tile_x0, tile_y = (uint)p->tile_y0;
     uint tile_width = (uint)p->tile_x1 - tile_x, spp = p->spp;
+    uint columns = reyes_sample_columns(spp), rows = (spp + columns - 1u) / columns;
+    struct reyes_triangle first = reyes_triangle_setup(&q, 0, 1, 2);
+    struct reyes_triangle second = reyes_triangle_setup(&q, 0, 2, 3);
     for (int py = y0; py <= y1; ++py) {
         for (int px = x0; px <= x1; ++px) {
             for (uint s = 0; s < spp; ++s) {
-                float2 pos = reyes_sample_position((uint)px, (uint)py, s, spp);
+                float2 pos = reyes_sample_position_on((uint)px, (uint)py, s, columns, rows);
                 uint index = (((uint)py - tile_y) * tile_width + ((uint)px - tile_x)) * spp + s;
-                reyes_sample_triangle(samples, index, pos, &q, 0, 1, 2);
-                reyes_sample_triangle(samples, index, pos, &q, 0, 2, 3);
+                reyes_sample_in_triangle(samples, index, pos, &q, &first);
+                reyes_sample_in_triangle(samples, index, pos, &q, &second);
             }
         }
     }
