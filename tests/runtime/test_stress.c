@@ -45,6 +45,9 @@ static const char *const variants[] = {
     "megakernel/stealing+local32",
     "kernel-per-procedure",
     "bounded-batches",
+    "megakernel/donation+local32",
+    "megakernel/stealing-donation+local32",
+    "megakernel/stealing/round-robin+local32",
 };
 
 static perma_schedule variant_schedule(unsigned variant)
