@@ -441,7 +441,7 @@ static const cli_option options[] = {
       "bumps:AMPLITUDE or png:FILE:AMPLITUDE (gray PNG at the patch's u,v)" },
     { "motion", 0, "dx,dy,dz", on_motion, "move every vertex by this over the shutter (motion blur)" },
     { "motion-rotate", 0, "ax,ay,az,DEG", on_motion_rotate,
-      "rotate by DEG degrees about the axis through the camera target over the shutter (after it --motion)" },
+      "rotate by DEG (-360..360) about the axis through the camera target over the shutter, then --motion" },
     { "aperture", 0, "R", on_aperture, "thin-lens radius in world units (depth of field; default 0)" },
     { "focus", 0, "D", on_focus, "view depth in focus (default: distance to the camera target)" },
     { "blur-algo", 0, "NAME", on_blur_algo,
