@@ -165,8 +165,16 @@ typedef struct reyes_options {
      * moves by motion[] (world units) over the shutter; a thin lens of
      * radius `aperture` (world units) focused at view depth `focus` (0:
      * the camera's target).  time_samples: time strata per pixel (0: spp).
-     * Zero motion and aperture render exactly as without the feature. */
+     * Zero motion and aperture render exactly as without the feature.
+     * motion_angle_deg (|angle| <= 360) rotates the scene about
+     * motion_axis (right-handed, any length but 0) through the camera's
+     * target over the shutter, before the translation: each vertex moves
+     * linearly from p to R (p - target) + target + motion, its own motion
+     * vector.  Needs a renderer created with a rotation (per-vertex motion
+     * items, reyes_renderer_create). */
     float motion[3];
+    float motion_axis[3];
+    float motion_angle_deg;
     float aperture;
     float focus;
     unsigned time_samples;
@@ -202,6 +210,7 @@ void reyes_options_set_schedule(reyes_options *options, const perma_schedule *sc
 #define REYES_MAX_BUCKETS 1048576u
 #define REYES_MAX_BLUR_TILE 8u
 #define REYES_MAX_BLUR_PERMUTATIONS 64u
+#define REYES_MAX_MOTION_ANGLE 360.0f
 
 reyes_status reyes_options_check(const reyes_options *options, reyes_error *error);
 
@@ -253,7 +262,10 @@ void reyes_stats_free(reyes_stats *stats);
 /* A perma runtime with the Reyes procedures registered (for options->grid
  * and the scheduling fields: group_size, work_groups, technique, strategy,
  * victim, local_queue_items, batch_limit, time_limit; the other options may
- * change per render). */
+ * change per render).  With options->motion_angle_deg not 0 the renderer
+ * carries a clip-space motion per micropolygon vertex (112-byte items
+ * instead of 64), which renders with a rotation need; it renders
+ * everything else too, to the same bytes. */
 typedef struct reyes_renderer reyes_renderer;
 
 reyes_status reyes_renderer_create(const reyes_options *options, reyes_renderer **out,

@@ -35,33 +35,48 @@ struct reyes_blur {
     __global ulong *samples;
 };
 
-/* Clip position of a vertex (clip x, y, w) at time t and lens position.
- * (A product with 1/focus rather than a quotient: the reciprocal is
- * hoisted out of the callers' loops.) */
-float3 reyes_blur_clip(__global const struct reyes_params *p, float x, float y, float w, float t,
-                       float2 lens)
+/* A blurred quad whose vertices all move by the parameters' one motion
+ * (renderers without per-vertex motion: translation only). */
+struct reyes_moving_quad reyes_moving_uniform(__global const struct reyes_params *p,
+                                              const struct reyes_quad *q)
 {
-    float wt = w + t * p->motion_w;
+    struct reyes_moving_quad m;
+    m.quad = *q;
+    for (int k = 0; k < 4; ++k) {
+        m.mx[k] = p->motion_x;
+        m.my[k] = p->motion_y;
+        m.mw[k] = p->motion_w;
+    }
+    return m;
+}
+
+/* Clip position of vertex k (clip x, y, w plus its own motion times t) at
+ * time t and lens position.  (A product with 1/focus rather than a
+ * quotient: the reciprocal is hoisted out of the callers' loops.) */
+float3 reyes_blur_clip(__global const struct reyes_params *p, const struct reyes_moving_quad *q, int k,
+                       float t, float2 lens)
+{
+    float wt = q->quad.z[k] + t * q->mw[k];
     float defocus = wt * (1.0f / p->focus) - 1.0f;
-    return (float3)(x + t * p->motion_x + defocus * lens.x * p->lens_x,
-                    y + t * p->motion_y + defocus * lens.y * p->lens_y, wt);
+    return (float3)(q->quad.x[k] + t * q->mx[k] + defocus * lens.x * p->lens_x,
+                    q->quad.y[k] + t * q->my[k] + defocus * lens.y * p->lens_y, wt);
 }
 
 /* The quad (clip x, y, w) moved to tuple `index`, in pixels with z the
  * clip w, and its screen box.  0 if a vertex is at or behind the near
  * plane (the tuple's samples then see nothing of this quad). */
-int reyes_blur_move(const struct reyes_blur *b, const struct reyes_quad *q, uint index,
+int reyes_blur_move(const struct reyes_blur *b, const struct reyes_moving_quad *q, uint index,
                     struct reyes_quad *moved, float2 *lo, float2 *hi)
 {
     __global const struct reyes_params *p = b->p;
     float4 tuple = b->tuples[index];
     float t = tuple.x;
     float2 lens = tuple.yz;
-    *moved = *q;
+    *moved = q->quad;
     *lo = (float2)(INFINITY, INFINITY);
     *hi = (float2)(-INFINITY, -INFINITY);
     for (int k = 0; k < 4; ++k) {
-        float3 clip = reyes_blur_clip(p, q->x[k], q->y[k], q->z[k], t, lens);
+        float3 clip = reyes_blur_clip(p, q, k, t, lens);
         if (clip.z <= p->near_w)
             return 0;
         float2 sc = reyes_to_screen(p, (float4)(clip.x, clip.y, 0.0f, clip.z));
@@ -78,7 +93,7 @@ int reyes_blur_move(const struct reyes_blur *b, const struct reyes_quad *q, uint
  * vertices at t = 0 and 1 and the four corners of the lens square
  * (offsets are linear in t and in the lens position).  0 if a vertex can
  * reach the near plane (then the tile). */
-int reyes_blur_box(__global const struct reyes_params *p, const struct reyes_quad *q, int corners,
+int reyes_blur_box(__global const struct reyes_params *p, const struct reyes_moving_quad *q, int corners,
                    float2 *lo, float2 *hi)
 {
     *lo = (float2)(INFINITY, INFINITY);
@@ -87,7 +102,7 @@ int reyes_blur_box(__global const struct reyes_params *p, const struct reyes_qua
         for (int c = 0; c < 8; ++c) {
             float t = (float)(c & 1);
             float2 lens = (float2)((c & 2) ? 1.0f : -1.0f, (c & 4) ? 1.0f : -1.0f);
-            float3 clip = reyes_blur_clip(p, q->x[k], q->y[k], q->z[k], t, lens);
+            float3 clip = reyes_blur_clip(p, q, k, t, lens);
             if (clip.z <= p->near_w)
                 return 0;
             float2 s = reyes_to_screen(p, (float4)(clip.x, clip.y, 0.0f, clip.z));
@@ -102,7 +117,7 @@ int reyes_blur_box(__global const struct reyes_params *p, const struct reyes_qua
  * against rounding (the moved boxes lie inside it), misses the tile:
  * none of its samples there can be covered.  1 if it may reach the near
  * plane (rasterize then decides per tuple). */
-int reyes_blur_meets_tile(__global const struct reyes_params *p, const struct reyes_quad *q)
+int reyes_blur_meets_tile(__global const struct reyes_params *p, const struct reyes_moving_quad *q)
 {
     float2 lo, hi;
     if (!reyes_blur_box(p, q, 4, &lo, &hi))
@@ -143,7 +158,7 @@ void reyes_blur_sample(const struct reyes_blur *b, const struct reyes_quad *move
 
 /* simple: one pass per sample index s with tuple s, the same in every
  * pixel (cheap, but every pixel sees the same N copies of the quad). */
-void reyes_blur_simple(const struct reyes_blur *b, const struct reyes_quad *q, int triangles)
+void reyes_blur_simple(const struct reyes_blur *b, const struct reyes_moving_quad *q, int triangles)
 {
     for (uint s = 0; s < b->p->spp; ++s) {
         struct reyes_quad moved;
@@ -197,7 +212,7 @@ int reyes_pixel_in(uint2 pixel, int4 r)
 
 /* One interleaved pass, tuple block * N + s: in the moved box, each
  * tile's pixel whose slot uses the block tests sample s. */
-void reyes_blur_interleaved_pass(const struct reyes_blur *b, const struct reyes_quad *q, int triangles,
+void reyes_blur_interleaved_pass(const struct reyes_blur *b, const struct reyes_moving_quad *q, int triangles,
                                  uint block, uint s)
 {
     uint k = b->p->blur_tile;
@@ -236,7 +251,7 @@ int reyes_block_used(__global const struct reyes_params *p, uint block, int4 r)
  * instead of in every pass.  A pixel of the block is tested in a pass
  * exactly when the moved box holds it, as in the pass above (the moved
  * box lies inside the swept one). */
-void reyes_blur_interleaved_cached(const struct reyes_blur *b, const struct reyes_quad *q,
+void reyes_blur_interleaved_cached(const struct reyes_blur *b, const struct reyes_moving_quad *q,
                                    int triangles, int4 swept)
 {
     __global const struct reyes_params *p = b->p;
@@ -272,7 +287,7 @@ void reyes_blur_interleaved_cached(const struct reyes_blur *b, const struct reye
  * shutter and lens (widened by 1/20 pixel against rounding) bounds every
  * moved box, so a block none of whose pixels lies in it cannot cover
  * anything and is skipped: with boxes smaller than a tile most are. */
-void reyes_blur_interleaved(const struct reyes_blur *b, const struct reyes_quad *q, int triangles)
+void reyes_blur_interleaved(const struct reyes_blur *b, const struct reyes_moving_quad *q, int triangles)
 {
     __global const struct reyes_params *p = b->p;
     uint k = p->blur_tile;
@@ -299,7 +314,7 @@ void reyes_blur_interleaved(const struct reyes_blur *b, const struct reyes_quad 
 /* bbox: every sample of every pixel in the box swept over the shutter and
  * the lens, each with the quad moved to its own tuple (the pattern
  * repeats every REYES_BLUR_BBOX_PERIOD pixels). */
-void reyes_blur_bbox(const struct reyes_blur *b, const struct reyes_quad *q, int triangles)
+void reyes_blur_bbox(const struct reyes_blur *b, const struct reyes_moving_quad *q, int triangles)
 {
     __global const struct reyes_params *p = b->p;
     float2 lo, hi;
@@ -325,10 +340,11 @@ void reyes_blur_bbox(const struct reyes_blur *b, const struct reyes_quad *q, int
     }
 }
 
-/* Rasterize a blurred quad (clip x, y, w; triangles == 1: a stitch
- * triangle, vertex 3 = vertex 0) with the configured algorithm. */
+/* Rasterize a blurred quad (clip x, y, w and each vertex's motion;
+ * triangles == 1: a stitch triangle, vertex 3 = vertex 0) with the
+ * configured algorithm. */
 void reyes_rasterize_blurred(__global const struct reyes_params *p, __global const float4 *tuples,
-                             __global ulong *samples, const struct reyes_quad *q, int triangles)
+                             __global ulong *samples, const struct reyes_moving_quad *q, int triangles)
 {
     struct reyes_blur b = { p, tuples, samples };
     if (p->blur_algo == REYES_BLUR_SIMPLE)

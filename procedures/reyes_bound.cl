@@ -208,14 +208,18 @@ float reyes_defocus_factor(__global const struct reyes_params *p, float w, float
     return (fabs(w - p->focus) + w_pad) / p->focus;
 }
 
-/* The hull's 16 points at t = 0 (swept[0..15]) and t = 1 (swept[16..31]).
- * Motion is linear, so the hull over the shutter lies in their hull. */
-void reyes_sweep_hull(__global const struct reyes_params *p, const float4 clip[16], float4 swept[32])
+/* The hull's 16 points at t = 0 (swept[0..15]) and t = 1 (swept[16..31],
+ * each control point moved by its own motion).  The motion is an affine
+ * map of the position (a rotation and a translation), so the patch at
+ * time t is the patch of the control points moved to t, and those lie
+ * on the segments between the 32 points: the hull over the shutter lies
+ * in their hull. */
+void reyes_sweep_hull(__global const struct reyes_params *p, const float3 cp[16], const float4 clip[16],
+                      float4 swept[32])
 {
-    float4 motion = (float4)(p->motion_x, p->motion_y, 0.0f, p->motion_w);
     for (int k = 0; k < 16; ++k) {
         swept[k] = clip[k];
-        swept[16 + k] = clip[k] + motion;
+        swept[16 + k] = clip[k] + reyes_motion_at(p, cp[k]);
     }
 }
 
@@ -224,10 +228,11 @@ void reyes_sweep_hull(__global const struct reyes_params *p, const float4 clip[1
  * lens_y), L in the unit disk; the plane test is linear in the point and
  * |w / focus - 1| convex in w, so growing each swept point by its own
  * largest offset bounds the whole hull over the shutter and the lens. */
-int reyes_blur_culled(__global const struct reyes_params *p, const float4 clip[16], float radius)
+int reyes_blur_culled(__global const struct reyes_params *p, const float3 cp[16], const float4 clip[16],
+                      float radius)
 {
     float4 swept[32];
-    reyes_sweep_hull(p, clip, swept);
+    reyes_sweep_hull(p, cp, clip, swept);
     __global const float *m = p->view_proj;
     float w_pad = radius * length((float3)(m[12], m[13], m[14]));
     int behind = 1;
@@ -250,15 +255,15 @@ int reyes_blur_culled(__global const struct reyes_params *p, const float4 clip[1
  * blurred surface lies in the convex hull of those boxes; x / w over a
  * box with w > 0 is extreme at its corners.  Infinite if a corner may
  * reach the near plane. */
-void reyes_blur_leaf_box(__global const struct reyes_params *p, const float4 clip[16], float radius,
-                         float2 *lo, float2 *hi)
+void reyes_blur_leaf_box(__global const struct reyes_params *p, const float3 cp[16], const float4 clip[16],
+                         float radius, float2 *lo, float2 *hi)
 {
     __global const float *m = p->view_proj;
     float pad_x = radius * length((float3)(m[0], m[1], m[2]));
     float pad_y = radius * length((float3)(m[4], m[5], m[6]));
     float w_pad = radius * length((float3)(m[12], m[13], m[14]));
     float4 swept[32];
-    reyes_sweep_hull(p, clip, swept);
+    reyes_sweep_hull(p, cp, clip, swept);
     *lo = (float2)(INFINITY, INFINITY);
     *hi = (float2)(-INFINITY, -INFINITY);
     for (int k = 0; k < 32; ++k) {
@@ -300,7 +305,7 @@ void reyes_bound(perma_ctx *ctx, __local const struct reyes_subpatch *item)
     }
     int culled = all_behind || reyes_outside_frustum(p, clip, 16, p->cull_margin, radius, 0);
     if (p->blur)
-        culled = reyes_blur_culled(p, clip, radius);
+        culled = reyes_blur_culled(p, cp, clip, radius);
     if (culled) {
         atomic_inc(&counters[REYES_COUNT_CULLED]);
         return;
@@ -340,7 +345,7 @@ void reyes_bound(perma_ctx *ctx, __local const struct reyes_subpatch *item)
             atomic_inc(&counters[REYES_COUNT_FORCED_DICE]);
         if (p->record_leaves) {
             if (p->blur)
-                reyes_blur_leaf_box(p, clip, radius, &lo, &hi);
+                reyes_blur_leaf_box(p, cp, clip, radius, &lo, &hi);
             else
                 reyes_grow_box(p, clip, radius, &lo, &hi);
             reyes_record_leaf(ctx, &sp, lo, hi);

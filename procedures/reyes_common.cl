@@ -73,6 +73,19 @@ float4 reyes_to_clip(__global const struct reyes_params *p, float3 x)
                     dot((float4)(m[12], m[13], m[14], m[15]), h));
 }
 
+/* Clip-space motion (x, y, 0, w) over the shutter of a vertex at world
+ * point x: the affine map motion_rows, or the one motion of every vertex
+ * when nothing rotates (exactly the uniform values then). */
+float4 reyes_motion_at(__global const struct reyes_params *p, float3 x)
+{
+    if (!p->motion_rotates)
+        return (float4)(p->motion_x, p->motion_y, 0.0f, p->motion_w);
+    __global const float *r = p->motion_rows;
+    float4 h = (float4)(x, 1.0f);
+    return (float4)(dot((float4)(r[0], r[1], r[2], r[3]), h), dot((float4)(r[4], r[5], r[6], r[7]), h),
+                    0.0f, dot((float4)(r[8], r[9], r[10], r[11]), h));
+}
+
 /* Pixel coordinates (y down) of a clip-space point with w > 0. */
 float2 reyes_to_screen(__global const struct reyes_params *p, float4 clip)
 {

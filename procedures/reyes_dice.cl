@@ -9,6 +9,25 @@
  * reyes_surface.cl.
  */
 
+/* Hand a visible quad to rasterize: with per-vertex motion rasterize
+ * takes the quad with its vertices' motions (blurred or not). */
+void reyes_emit_raster(perma_ctx *ctx, const struct reyes_quad *quad, const struct reyes_moving_quad *moving,
+                       const struct reyes_vertex corners[4])
+{
+#ifdef REYES_VERTEX_MOTION
+    if (moving) {
+        emit_rasterize(ctx, moving);
+        return;
+    }
+    struct reyes_moving_quad item = reyes_vertex_moving(ctx->buf.params, quad, corners, 4);
+    emit_rasterize(ctx, &item);
+#else
+    (void)moving;
+    (void)corners;
+    emit_rasterize(ctx, quad);
+#endif
+}
+
 /* Send one quad (vertices around it) to rasterize if it is in front of
  * the near plane and on the tile; returns whether it was visible. */
 int reyes_emit_quad(perma_ctx *ctx, const struct reyes_vertex corners[4], int full)
@@ -31,13 +50,19 @@ int reyes_emit_quad(perma_ctx *ctx, const struct reyes_vertex corners[4], int fu
     /* Quads through the near plane or wholly off the tile (the image
      * without buckets) are dropped; blurred ones when their box over the
      * shutter and lens misses it. */
-    if (p->blur)
-        visible = visible && reyes_blur_meets_tile(p, &quad);
-    else
-        visible &= hi.x >= p->tile_x0 && hi.y >= p->tile_y0 && lo.x <= p->tile_x1
-                   && lo.y <= p->tile_y1;
+    if (p->blur) {
+        /* Each vertex moves by its own motion (one for all without a
+         * rotation). */
+        struct reyes_moving_quad moving = reyes_vertex_moving(p, &quad, corners, 4);
+        visible = visible && reyes_blur_meets_tile(p, &moving);
+        if (visible && full)
+            reyes_emit_raster(ctx, &quad, &moving, corners);
+        return visible;
+    }
+    visible &= hi.x >= p->tile_x0 && hi.y >= p->tile_y0 && lo.x <= p->tile_x1
+               && lo.y <= p->tile_y1;
     if (visible && full)
-        emit_rasterize(ctx, &quad);
+        reyes_emit_raster(ctx, &quad, 0, corners);
     return visible;
 }
 
@@ -59,7 +84,7 @@ void reyes_emit_wedge(perma_ctx *ctx, const struct reyes_chord *c, const struct 
         float t = (float)step / last;
         float s = a * (1.0f - t) + b * t; /* as reyes_grid_vertex */
         struct reyes_vertex on_grid = grid[gj * n + gi], on_chord;
-        on_chord.clip = reyes_to_clip(p, reyes_chord_at(c, s));
+        reyes_vertex_place(p, reyes_chord_at(c, s), &on_chord);
         on_chord.rgba = on_grid.rgba;
         corners[k] = on_grid;
         corners[3 - k] = on_chord;

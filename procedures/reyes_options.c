@@ -27,6 +27,7 @@ void reyes_options_init(reyes_options *options)
     options->blur_algo = REYES_BLUR_INTERLEAVED;
     options->blur_tile = 4;
     options->blur_permutations = 8;
+    options->motion_axis[2] = 1.0f;
 }
 
 void reyes_options_set_schedule(reyes_options *options, const perma_schedule *schedule)
@@ -69,6 +70,29 @@ static reyes_status check_blur_algo(const reyes_options *o, reyes_error *error)
     if (o->blur_permutations < 1 || o->blur_permutations > REYES_MAX_BLUR_PERMUTATIONS)
         return reyes_fail(error, REYES_ERR_ARGUMENT, "blur_permutations %u is not in 1..%u",
                           o->blur_permutations, REYES_MAX_BLUR_PERMUTATIONS);
+    return REYES_OK;
+}
+
+/* The rotation over the shutter: a finite axis, not zero-length when
+ * anything rotates, and an angle within a turn (a vertex moves linearly
+ * between its open and close positions, so more turns add nothing). */
+static reyes_status check_rotation(const reyes_options *o, reyes_error *error)
+{
+    const float *a = o->motion_axis;
+    double length = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        if (!isfinite(a[k]) || fabsf(a[k]) > 1e6f)
+            return reyes_fail(error, REYES_ERR_ARGUMENT,
+                              "motion rotation axis %g is not finite and within 1e6", (double)a[k]);
+        length += (double)a[k] * a[k];
+    }
+    float angle = o->motion_angle_deg;
+    if (!isfinite(angle) || fabsf(angle) > REYES_MAX_MOTION_ANGLE)
+        return reyes_fail(error, REYES_ERR_ARGUMENT,
+                          "motion rotation angle %g is not finite and within -%g..%g degrees",
+                          (double)angle, (double)REYES_MAX_MOTION_ANGLE, (double)REYES_MAX_MOTION_ANGLE);
+    if (angle != 0.0f && !(length > 0.0))
+        return reyes_fail(error, REYES_ERR_ARGUMENT, "motion rotation axis is zero-length");
     return REYES_OK;
 }
 
@@ -123,6 +147,9 @@ reyes_status reyes_options_check(const reyes_options *o, reyes_error *error)
         if (!isfinite(o->motion[k]) || fabsf(o->motion[k]) > 1e6f)
             return reyes_fail(error, REYES_ERR_ARGUMENT, "motion %g is not finite and within 1e6",
                               (double)o->motion[k]);
+    reyes_status rotation_status = check_rotation(o, error);
+    if (rotation_status != REYES_OK)
+        return rotation_status;
     if (!(o->aperture >= 0.0f && o->aperture <= 1e6f) || !(o->focus >= 0.0f && o->focus <= 1e9f))
         return reyes_fail(error, REYES_ERR_ARGUMENT, "aperture %g and focus %g must be >= 0 and finite",
                           (double)o->aperture, (double)o->focus);

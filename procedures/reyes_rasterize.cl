@@ -7,15 +7,41 @@
  * may be written twice, which the min makes harmless, and none is lost.
  */
 
-void reyes_rasterize(perma_ctx *ctx, __local const struct reyes_quad *item)
+/* The item type (reyes_renderer.c): with per-vertex motion every quad
+ * carries its vertices' motions. */
+#ifdef REYES_VERTEX_MOTION
+#define REYES_RASTER_ITEM struct reyes_moving_quad
+#else
+#define REYES_RASTER_ITEM struct reyes_quad
+#endif
+
+/* A blurred item: each vertex moves by its own motion, or by the
+ * parameters' one motion when the items carry none. */
+void reyes_rasterize_moving(perma_ctx *ctx, __local const REYES_RASTER_ITEM *item)
+{
+    __global const struct reyes_params *p = ctx->buf.params;
+#ifdef REYES_VERTEX_MOTION
+    struct reyes_moving_quad m = *item;
+#else
+    struct reyes_quad q = *item;
+    struct reyes_moving_quad m = reyes_moving_uniform(p, &q);
+#endif
+    reyes_rasterize_blurred(p, ctx->buf.blur_tuples, ctx->buf.samples, &m, 2);
+}
+
+void reyes_rasterize(perma_ctx *ctx, __local const REYES_RASTER_ITEM *item)
 {
     __global const struct reyes_params *p = ctx->buf.params;
     __global ulong *samples = ctx->buf.samples;
-    struct reyes_quad q = *item;
     if (p->blur) {
-        reyes_rasterize_blurred(p, ctx->buf.blur_tuples, samples, &q, 2);
+        reyes_rasterize_moving(ctx, item);
         return;
     }
+#ifdef REYES_VERTEX_MOTION
+    struct reyes_quad q = item->quad;
+#else
+    struct reyes_quad q = *item;
+#endif
     float min_x = fmin(fmin(q.x[0], q.x[1]), fmin(q.x[2], q.x[3]));
     float max_x = fmax(fmax(q.x[0], q.x[1]), fmax(q.x[2], q.x[3]));
     float min_y = fmin(fmin(q.y[0], q.y[1]), fmin(q.y[2], q.y[3]));

@@ -83,19 +83,65 @@ typedef struct tile {
  * delta (the matrix without translation) and the lens radius in clip x
  * and y units (rows 0 and 1 scale the camera's right and up vectors).
  * Off, and the unblurred code path, when both are zero. */
+/* (R - I) for the rotation by `deg` degrees about `axis` (Rodrigues),
+ * in double: the part of a vertex's motion that depends on its position. */
+static void rotation_minus_identity(const float axis[3], float deg, double out[9])
+{
+    double a[3], length = 0.0;
+    for (int k = 0; k < 3; ++k)
+        length += (double)axis[k] * axis[k];
+    length = sqrt(length);
+    for (int k = 0; k < 3; ++k)
+        a[k] = axis[k] / length;
+    double theta = deg * (3.14159265358979323846 / 180.0), c = cos(theta), s = sin(theta);
+    const double cross[9] = {0.0, -a[2], a[1], a[2], 0.0, -a[0], -a[1], a[0], 0.0};
+    for (int r = 0; r < 3; ++r)
+        for (int k = 0; k < 3; ++k)
+            out[r * 3 + k] = (c - 1.0) * (r == k) + s * cross[r * 3 + k] + (1.0 - c) * a[r] * a[k];
+}
+
+/* A vertex at world p moves by (R - I)(p - target) + motion over the
+ * shutter, clip-space motion M3 (R - I) p + M3 (motion - (R - I) target)
+ * (M3 the matrix without translation; rows x, y, w): an affine map of p,
+ * motion_rows.  Without a rotation its linear part is 0 and the constant
+ * is the uniform motion_x, _y, _w, computed as before. */
+static void set_motion(const reyes_camera *camera, const reyes_options *o, struct reyes_params *p)
+{
+    const float *m = p->view_proj;
+    double rot[9] = {0};
+    p->motion_rotates = o->motion_angle_deg != 0.0f;
+    if (p->motion_rotates)
+        rotation_minus_identity(o->motion_axis, o->motion_angle_deg, rot);
+    float d[3];
+    for (int k = 0; k < 3; ++k) {
+        double moved = rot[k * 3] * camera->at[0] + rot[k * 3 + 1] * camera->at[1]
+                       + rot[k * 3 + 2] * camera->at[2];
+        d[k] = (float)(o->motion[k] - moved);
+    }
+    const int rows[3] = {0, 1, 3};
+    for (int r = 0; r < 3; ++r) {
+        const float *row = m + rows[r] * 4;
+        for (int k = 0; k < 3; ++k)
+            p->motion_rows[r * 4 + k] = (float)(row[0] * rot[k] + row[1] * rot[3 + k] + row[2] * rot[6 + k]);
+        p->motion_rows[r * 4 + 3] = row[0] * d[0] + row[1] * d[1] + row[2] * d[2];
+    }
+    p->motion_x = p->motion_rows[3];
+    p->motion_y = p->motion_rows[7];
+    p->motion_w = p->motion_rows[11];
+}
+
 static void set_blur(const reyes_camera *camera, const reyes_options *o, struct reyes_params *p)
 {
     const float *m = p->view_proj, *d = o->motion;
-    p->blur = d[0] != 0.0f || d[1] != 0.0f || d[2] != 0.0f || o->aperture != 0.0f;
+    p->blur = d[0] != 0.0f || d[1] != 0.0f || d[2] != 0.0f || o->aperture != 0.0f
+              || o->motion_angle_deg != 0.0f;
     if (!p->blur)
         return;
     p->time_samples = o->time_samples ? o->time_samples : o->spp;
     p->blur_algo = o->blur_algo;
     p->blur_tile = o->blur_tile;
     p->blur_permutations = o->blur_permutations;
-    p->motion_x = m[0] * d[0] + m[1] * d[1] + m[2] * d[2];
-    p->motion_y = m[4] * d[0] + m[5] * d[1] + m[6] * d[2];
-    p->motion_w = m[12] * d[0] + m[13] * d[1] + m[14] * d[2];
+    set_motion(camera, o, p);
     p->lens_x = o->aperture * sqrtf(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
     p->lens_y = o->aperture * sqrtf(m[4] * m[4] + m[5] * m[5] + m[6] * m[6]);
     float target = 0.0f;
@@ -513,6 +559,10 @@ reyes_status reyes_render(reyes_renderer *r, const reyes_scene *scene, const rey
         return reyes_fail(error, REYES_ERR_ARGUMENT,
                           "grid %u differs from the renderer's grid %u (create a new renderer)",
                           options->grid, r->grid);
+    if (options->motion_angle_deg != 0.0f && !r->vertex_motion)
+        return reyes_fail(error, REYES_ERR_ARGUMENT,
+                          "a motion rotation needs a renderer created with one (per-vertex motion; "
+                          "create a new renderer)");
     render_buffers b = {0};
     status = fill_params(scene, camera, options, r->dice_threads, &b.params, error);
     if (status == REYES_OK)

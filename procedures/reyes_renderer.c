@@ -22,6 +22,11 @@ static perma_status register_all(struct reyes_renderer *r)
     const size_t item_size = sizeof(struct reyes_subpatch);
     /* Dice emits its grid's quads and, with wedges, a strip per edge. */
     unsigned quads = (r->grid - 1) * (r->grid - 1) + 4 * (r->grid - 1);
+    /* Per-vertex motion: larger micropolygons and dice vertices, chosen
+     * here because item types are fixed when the program is built. */
+    const char *raster_item = r->vertex_motion ? "struct reyes_moving_quad" : "struct reyes_quad";
+    size_t raster_size = r->vertex_motion ? sizeof(struct reyes_moving_quad) : sizeof(struct reyes_quad);
+    size_t vertex_bytes = r->vertex_motion ? REYES_DICE_MOVING_VERTEX_BYTES : REYES_DICE_VERTEX_BYTES;
     /* Bound and split emit into each other: bound is served before split
      * (it culls and dices, split doubles), and consumers before producers
      * keeps the queues short. */
@@ -41,10 +46,10 @@ static perma_status register_all(struct reyes_renderer *r)
         [REYES_PROC_DICE] = { .name = "dice", .item_type = item, .item_size = item_size,
             .threads_per_item = r->dice_threads, .source = reyes_dice_cl_source,
             .source_file = "reyes_dice.cl", .function = "reyes_dice",
-            .local_bytes_per_item = (size_t)r->grid * r->grid * REYES_DICE_VERTEX_BYTES,
+            .local_bytes_per_item = (size_t)r->grid * r->grid * vertex_bytes,
             .cooperative = 1, .emits = { { "rasterize", quads } }, .priority = 3 },
-        [REYES_PROC_RASTERIZE] = { .name = "rasterize", .item_type = "struct reyes_quad",
-            .item_size = sizeof(struct reyes_quad), .threads_per_item = 1,
+        [REYES_PROC_RASTERIZE] = { .name = "rasterize", .item_type = raster_item,
+            .item_size = raster_size, .threads_per_item = 1,
             .source = reyes_rasterize_cl_source, .source_file = "reyes_rasterize.cl",
             .function = "reyes_rasterize", .priority = 4 },
         [REYES_PROC_STITCH] = { .name = "stitch", .item_type = "struct reyes_stitch",
@@ -52,7 +57,11 @@ static perma_status register_all(struct reyes_renderer *r)
             .source = reyes_stitch_cl_source, .source_file = "reyes_stitch.cl",
             .function = "reyes_stitch", .priority = 4 },
     };
-    perma_status status = perma_add_source(r->rt, reyes_shared_h_source, "reyes_shared.h");
+    perma_status status = PERMA_OK;
+    if (r->vertex_motion)
+        status = perma_add_source(r->rt, "#define REYES_VERTEX_MOTION 1\n", "reyes_vertex_motion.h");
+    if (status == PERMA_OK)
+        status = perma_add_source(r->rt, reyes_shared_h_source, "reyes_shared.h");
     if (status == PERMA_OK)
         status = perma_add_source(r->rt, reyes_common_cl_source, "reyes_common.cl");
     if (status == PERMA_OK)
@@ -82,6 +91,7 @@ reyes_status reyes_renderer_create(const reyes_options *options, reyes_renderer 
         return reyes_fail(error, REYES_ERR_NO_MEMORY, "out of memory");
     unsigned group_size = options->group_size ? options->group_size : DEFAULT_GROUP_SIZE;
     r->grid = options->grid;
+    r->vertex_motion = options->motion_angle_deg != 0.0f;
     r->dice_threads = group_size < DICE_THREADS_MAX ? group_size : DICE_THREADS_MAX;
 
     perma_config config;

@@ -35,6 +35,18 @@ struct reyes_quad {
     REYES_U32 rgba[4];
 };
 
+/* A micropolygon of a renderer made for per-vertex motion (a rotation
+ * over the shutter, reyes_renderer_create): the quad (clip x, y, w when
+ * blurred) and each vertex's own clip-space motion (x, y, w) from shutter
+ * open to close.  A separate, larger item type so that every other
+ * renderer keeps the 64-byte reyes_quad. */
+struct reyes_moving_quad {
+    struct reyes_quad quad;
+    float mx[4];
+    float my[4];
+    float mw[4];
+};
+
 /* A diced sub-patch as recorded by bound when cracks are stitched (first
  * pass): the sub-patch and its control hull's screen box, for culling per
  * bucket on the host. */
@@ -73,6 +85,9 @@ struct reyes_stitch {
 /* __local bytes per grid vertex of dice (struct reyes_vertex: float4 + uint,
  * padded to the float4 alignment). */
 #define REYES_DICE_VERTEX_BYTES 32
+/* The same with the vertex's clip-space motion (a float4 more), in a
+ * renderer made for per-vertex motion. */
+#define REYES_DICE_MOVING_VERTEX_BYTES 48
 
 /* Indices into the statistics counter buffer. */
 #define REYES_COUNT_SPLITS 0
@@ -166,10 +181,17 @@ struct reyes_params {
      * blur is 1, quads carry clip-space x, y, w and each sample has its
      * own time t in [0,1) (time_samples strata) and lens position; a
      * vertex at time t and lens (lx, ly) in the unit disk is at
-     * clip + t * motion_clip + (w_t / focus - 1) * (lx * lens_x, ly * lens_y). */
+     * clip + t * motion_clip + (w_t / focus - 1) * (lx * lens_x, ly * lens_y).
+     * motion_clip is the vertex's own: motion_rows (rows x, y, w of a 3x4
+     * affine map, row-major) applied to its world position (x y z 1).
+     * Without a rotation the map is constant, (motion_x, motion_y,
+     * motion_w), the same for every vertex. */
     REYES_U32 blur;
     REYES_U32 time_samples;
     float motion_x, motion_y, motion_z, motion_w;  /* clip-space motion over the shutter */
+    float motion_rows[12]; /* world position -> clip-space motion (x, y, w) */
+    REYES_U32 motion_rotates; /* 1: motion_rows depends on the position */
+    REYES_U32 pad4;
     float lens_x, lens_y;  /* aperture radius in clip x and y units per unit w */
     float focus;           /* view depth in focus */
     float pad2;

@@ -72,6 +72,8 @@ reyes_status reyes_write_stats_json(FILE *out, const reyes_stats *s, const reyes
             o->displace_mode, (double)o->displace_amplitude, (double)o->motion[0],
             (double)o->motion[1], (double)o->motion[2], (double)o->aperture, (double)o->focus,
             o->time_samples);
+    fprintf(out, "  \"motion_axis\": [%g, %g, %g], \"motion_angle_deg\": %g,\n", (double)o->motion_axis[0],
+            (double)o->motion_axis[1], (double)o->motion_axis[2], (double)o->motion_angle_deg);
     fprintf(out, "  \"blur_algo\": \"%s\", \"blur_tile\": %u, \"blur_permutations\": %u,\n",
             name_or_unknown(reyes_blur_algo_name(o->blur_algo)), o->blur_tile, o->blur_permutations);
     write_buckets(out, s, o);

@@ -74,7 +74,8 @@ int reyes_fill_triangle(perma_ctx *ctx, struct reyes_vertex a, struct reyes_vert
     q.z[3] = q.z[0];
     q.rgba[3] = q.rgba[0];
     if (p->blur) {
-        reyes_rasterize_blurred(p, ctx->buf.blur_tuples, ctx->buf.samples, &q, 1);
+        struct reyes_moving_quad moving = reyes_vertex_moving(p, &q, v, 3);
+        reyes_rasterize_blurred(p, ctx->buf.blur_tuples, ctx->buf.samples, &moving, 1);
         return 1;
     }
     float min_x = fmin(fmin(q.x[0], q.x[1]), q.x[2]), max_x = fmax(fmax(q.x[0], q.x[1]), q.x[2]);

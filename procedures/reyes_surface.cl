@@ -8,7 +8,44 @@
 struct reyes_vertex {      /* REYES_DICE_VERTEX_BYTES (32) bytes */
     float4 clip;
     uint rgba;
+#ifdef REYES_VERTEX_MOTION /* REYES_DICE_MOVING_VERTEX_BYTES (48) */
+    float4 motion;         /* clip-space motion over the shutter */
+#endif
 };
+
+/* Set a vertex's clip position (and, with per-vertex motion, its motion)
+ * from its world position. */
+void reyes_vertex_place(__global const struct reyes_params *p, float3 x, struct reyes_vertex *v)
+{
+    v->clip = reyes_to_clip(p, x);
+#ifdef REYES_VERTEX_MOTION
+    v->motion = reyes_motion_at(p, x);
+#endif
+}
+
+/* A blurred quad of `count` vertices (clip x, y, w in q) with its
+ * vertices' motions: their own with per-vertex motion, else the one
+ * motion of the parameters. */
+struct reyes_moving_quad reyes_vertex_moving(__global const struct reyes_params *p,
+                                             const struct reyes_quad *q,
+                                             const struct reyes_vertex *v, int count)
+{
+#ifdef REYES_VERTEX_MOTION
+    struct reyes_moving_quad m;
+    m.quad = *q;
+    for (int k = 0; k < 4; ++k) {
+        float4 motion = v[k < count ? k : 0].motion;
+        m.mx[k] = motion.x;
+        m.my[k] = motion.y;
+        m.mw[k] = motion.w;
+    }
+    return m;
+#else
+    (void)v;
+    (void)count;
+    return reyes_moving_uniform(p, q);
+#endif
+}
 
 /* Unnormalised surface normal at (u,v). */
 float3 reyes_patch_normal(const float3 cp[16], float u, float v)
@@ -115,11 +152,11 @@ struct reyes_vertex reyes_grid_vertex(const struct reyes_displacement *d, const 
     struct reyes_vertex out;
     if (p->displace_mode == REYES_DISPLACE_NONE) {
         float3 x = reyes_patch_point(cp, u, v);
-        out.clip = reyes_to_clip(p, x);
+        reyes_vertex_place(p, x, &out);
         out.rgba = shade ? reyes_shade(p, x, reyes_safe_normal(cp, u, v), base) : 0u;
     } else {
         float3 x = reyes_displaced_point(d, cp, u, v);
-        out.clip = reyes_to_clip(p, x);
+        reyes_vertex_place(p, x, &out);
         out.rgba = shade ? reyes_shade(p, x, reyes_displaced_normal(d, cp, u, v), base) : 0u;
     }
     return out;

@@ -196,6 +196,28 @@ static int on_motion(reyes_cli *cli, const char *value, char *message, size_t si
     return parse_float_list("--motion", value, cli->render.motion, 3, "dx,dy,dz", message, size);
 }
 
+/* ax,ay,az,DEG: a rotation about the axis through the camera target over
+ * the shutter; the axis must have a length and the angle be within a turn
+ * (each vertex moves linearly between its open and close positions). */
+static int on_motion_rotate(reyes_cli *cli, const char *value, char *message, size_t size)
+{
+    float v[4];
+    int status = parse_float_list("--motion-rotate", value, v, 4, "ax,ay,az,DEG", message, size);
+    if (status != REYES_CLI_OK)
+        return status;
+    double length = (double)v[0] * v[0] + (double)v[1] * v[1] + (double)v[2] * v[2];
+    if (!(length > 0.0) || !isfinite(length))
+        return usage_error(message, size, "--motion-rotate '%s': the axis must be finite and not zero%s",
+                           value, "");
+    if (!isfinite(v[3]) || fabsf(v[3]) > REYES_MAX_MOTION_ANGLE)
+        return usage_error(message, size, "--motion-rotate '%s': the angle must be in -360..360 degrees%s",
+                           value, "");
+    for (int k = 0; k < 3; ++k)
+        cli->render.motion_axis[k] = v[k];
+    cli->render.motion_angle_deg = v[3];
+    return REYES_CLI_OK;
+}
+
 static int on_aperture(reyes_cli *cli, const char *value, char *message, size_t size)
 {
     if (!parse_float(value, &cli->render.aperture) || cli->render.aperture < 0.0f)
@@ -418,6 +440,8 @@ static const cli_option options[] = {
     { "displace", 0, "KIND", on_displace,
       "bumps:AMPLITUDE or png:FILE:AMPLITUDE (gray PNG at the patch's u,v)" },
     { "motion", 0, "dx,dy,dz", on_motion, "move every vertex by this over the shutter (motion blur)" },
+    { "motion-rotate", 0, "ax,ay,az,DEG", on_motion_rotate,
+      "rotate by DEG (-360..360) about the axis through the camera target over the shutter, then --motion" },
     { "aperture", 0, "R", on_aperture, "thin-lens radius in world units (depth of field; default 0)" },
     { "focus", 0, "D", on_focus, "view depth in focus (default: distance to the camera target)" },
     { "blur-algo", 0, "NAME", on_blur_algo,

@@ -82,18 +82,20 @@ void reyes_test_render(reyes_renderer *renderer, const reyes_scene *scene,
     ck_assert_msg(status == REYES_OK, "render failed: %s", error.message);
 }
 
-static reyes_renderer *renderers[3];
+/* [rotating][work_groups] */
+static reyes_renderer *renderers[2][3];
 
 static void destroy_renderers(void)
 {
-    for (int k = 0; k < 3; ++k)
-        reyes_renderer_destroy(renderers[k]);
+    for (int k = 0; k < 6; ++k)
+        reyes_renderer_destroy(renderers[k / 3][k % 3]);
 }
 
-reyes_renderer *reyes_test_renderer(unsigned work_groups)
+static reyes_renderer *cached_renderer(unsigned work_groups, int rotating)
 {
     ck_assert_uint_le(work_groups, 2);
-    if (!renderers[work_groups]) {
+    reyes_renderer **r = &renderers[rotating][work_groups];
+    if (!*r) {
         static int registered;
         if (!registered++)
             atexit(destroy_renderers);
@@ -101,10 +103,26 @@ reyes_renderer *reyes_test_renderer(unsigned work_groups)
         reyes_error error;
         reyes_options_init(&options);
         options.work_groups = work_groups;
-        reyes_status status = reyes_renderer_create(&options, &renderers[work_groups], &error);
+        options.motion_angle_deg = rotating ? 90.0f : 0.0f;
+        reyes_status status = reyes_renderer_create(&options, r, &error);
         ck_assert_msg(status == REYES_OK, "renderer: %s", error.message);
     }
-    return renderers[work_groups];
+    return *r;
+}
+
+reyes_renderer *reyes_test_renderer(unsigned work_groups)
+{
+    return cached_renderer(work_groups, 0);
+}
+
+reyes_renderer *reyes_test_moving_renderer(unsigned work_groups)
+{
+    return cached_renderer(work_groups, 1);
+}
+
+reyes_renderer *reyes_test_renderer_for(const reyes_options *options, unsigned work_groups)
+{
+    return cached_renderer(work_groups, options->motion_angle_deg != 0.0f);
 }
 
 void reyes_test_expect_reference_counts(const reyes_scene *scene, const reyes_camera *camera,

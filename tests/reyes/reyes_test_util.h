@@ -45,6 +45,10 @@ void reyes_test_expect_reference_counts(const reyes_scene *scene, const reyes_ca
 /* A renderer created once per process for `work_groups` groups (0 or
  * 1..2) with default grid; destroyed at exit. */
 reyes_renderer *reyes_test_renderer(unsigned work_groups);
+/* The same made for per-vertex motion (created with a rotation). */
+reyes_renderer *reyes_test_moving_renderer(unsigned work_groups);
+/* reyes_test_moving_renderer if options rotate, else reyes_test_renderer. */
+reyes_renderer *reyes_test_renderer_for(const reyes_options *options, unsigned work_groups);
 
 /* Schedule labels (perma_schedule_parse): every technique, every
  * megakernel strategy, both victims, a local front queue and a small batch

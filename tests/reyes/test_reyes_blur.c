@@ -93,8 +93,19 @@ START_TEST(test_zero_motion_and_aperture_identical)
     reyes_test_render(reyes_test_renderer(0), &scene, &camera, &o, &zero, NULL);
     ck_assert_mem_eq(plain.rgb, zero.rgb, (size_t)96 * 72 * 3);
     ck_assert_mem_eq(plain.coverage, zero.coverage, (size_t)96 * 72);
-    reyes_image_free(&plain);
     reyes_image_free(&zero);
+    /* A rotation by 0 about some axis, on a renderer made for per-vertex
+     * motion (its larger items) and on the plain one. */
+    o.motion_axis[0] = 0.3f;
+    o.motion_axis[1] = -1.0f;
+    for (int moving = 0; moving < 2; ++moving) {
+        reyes_renderer *r = moving ? reyes_test_moving_renderer(0) : reyes_test_renderer(0);
+        reyes_test_render(r, &scene, &camera, &o, &zero, NULL);
+        ck_assert_mem_eq(plain.rgb, zero.rgb, (size_t)96 * 72 * 3);
+        ck_assert_mem_eq(plain.coverage, zero.coverage, (size_t)96 * 72);
+        reyes_image_free(&zero);
+    }
+    reyes_image_free(&plain);
     reyes_scene_free(&scene);
 }
 END_TEST
@@ -450,6 +461,80 @@ START_TEST(test_interleaved_k1_is_simple)
 }
 END_TEST
 
+/* A bar of half-width BAR_H from the target (the origin) along +x to
+ * BAR_L, seen from `top` (straight down the rotation axis z: world x right,
+ * world y up on screen) and rotated by 90 degrees about z over the
+ * shutter.  Each vertex moves linearly from p to R p, so the bar sweeps
+ * the hull of its start and end positions: the quarter disk's triangle
+ * (0,0), (L,0), (0,L) grown by the half-width, hexagon bar_hull. */
+#define BAR_L 1.2f
+#define BAR_H 0.09f
+static const float bar_hull[6][2] = { {0.0f, -BAR_H}, {BAR_L, -BAR_H}, {BAR_L, BAR_H},
+                                      {BAR_H, BAR_L}, {-BAR_H, BAR_L}, {-BAR_H, 0.0f} };
+
+/* Distance from (x, y) to convex polygon poly (counter-clockwise), 0 inside. */
+static float polygon_distance(const float poly[][2], int n, float x, float y)
+{
+    int inside = 1;
+    float nearest = INFINITY;
+    for (int k = 0; k < n; ++k) {
+        const float *a = poly[k], *b = poly[(k + 1) % n];
+        float ex = b[0] - a[0], ey = b[1] - a[1], px = x - a[0], py = y - a[1];
+        inside &= ex * py - ey * px >= 0.0f;
+        float t = fminf(fmaxf((ex * px + ey * py) / (ex * ex + ey * ey), 0.0f), 1.0f);
+        nearest = fminf(nearest, hypotf(px - t * ex, py - t * ey));
+    }
+    return inside ? 0.0f : nearest;
+}
+
+/* World (x, y) of pixel (px, py)'s center on z = 0 seen from `top`;
+ * *scale: pixels per world unit. */
+static void bar_world(unsigned px, unsigned py, unsigned size, float *x, float *y, float *scale)
+{
+    *scale = pixel_x_at(size, size, 1.0f) - pixel_x_at(size, size, 0.0f);
+    *x = ((float)px + 0.5f - 0.5f * (float)size) / *scale;
+    *y = (0.5f * (float)size - ((float)py + 0.5f)) / *scale;
+}
+
+START_TEST(test_rotating_bar_sweep)
+{
+    const unsigned size = 96;
+    reyes_scene scene;
+    reyes_scene_init(&scene);
+    add_rectangle(&scene, 0.0f, BAR_L, -BAR_H, BAR_H, 0.0f, REYES_RGBA(255, 255, 255));
+    reyes_options o;
+    options(&o, (unsigned)_i);
+    o.width = o.height = size;
+    o.spp = 32;
+    o.motion_angle_deg = 90.0f;
+    reyes_image image;
+    reyes_test_render(reyes_test_moving_renderer(0), &scene, &top, &o, &image, NULL);
+    unsigned outside = 0, inner = 0, inner_covered = 0;
+    for (unsigned py = 0; py < size; ++py) {
+        for (unsigned px = 0; px < size; ++px) {
+            float x, y, scale;
+            bar_world(px, py, size, &x, &y, &scale);
+            int covered = image.coverage[py * size + px] > 0;
+            /* Covered: within 1.5 px of the swept hull (a pixel's samples
+             * spread over it), so in the 90 degree sector and the radius. */
+            if (covered && polygon_distance(bar_hull, 6, x, y) * scale > 1.5f)
+                ++outside;
+            /* The triangle's pixels a pixel away from its edges. */
+            int in_triangle = x > 1.0f / scale && y > 1.0f / scale && x + y < BAR_L - 1.5f / scale;
+            inner += (unsigned)in_triangle;
+            inner_covered += (unsigned)(in_triangle && covered);
+        }
+    }
+    printf("%s: rotating bar covers %u of %u pixels of its swept triangle, %u pixels outside\n",
+           algo_name(o.blur_algo), inner_covered, inner, outside);
+    ck_assert_uint_eq(outside, 0);
+    ck_assert_uint_gt(inner, 500);
+    ck_assert_uint_ge(inner_covered * 10, inner * 8);
+    reyes_image_free(&image);
+    reyes_scene_free(&scene);
+}
+END_TEST
+
 /* The same image under two very different schedules (megakernel with
  * stealing on 2 groups, kernel-per-procedure on 1), per algorithm. */
 START_TEST(test_schedules_identical)
@@ -480,6 +565,51 @@ START_TEST(test_schedules_identical)
 }
 END_TEST
 
+/* A renderer made without a rotation (64-byte micropolygons, no motion
+ * per vertex) refuses to render one, saying why. */
+START_TEST(test_rotation_needs_moving_renderer)
+{
+    reyes_scene scene;
+    square_scene(&scene);
+    reyes_options o;
+    options(&o, REYES_BLUR_SIMPLE);
+    o.motion_angle_deg = 10.0f;
+    reyes_image image;
+    reyes_error error;
+    ck_assert_int_eq(reyes_render(reyes_test_renderer(0), &scene, &top, &o, &image, NULL, &error),
+                     REYES_ERR_ARGUMENT);
+    ck_assert_msg(strstr(error.message, "needs a renderer created with one") != NULL, "%s", error.message);
+    reyes_scene_free(&scene);
+}
+END_TEST
+
+/* The same with a rotation (per-vertex motion) and a translation. */
+START_TEST(test_rotation_schedules_identical)
+{
+    reyes_scene scene;
+    square_scene(&scene);
+    reyes_options o;
+    options(&o, (unsigned)_i);
+    o.width = 64;
+    o.height = 48;
+    o.spp = 4;
+    o.motion[0] = 0.2f;
+    o.motion_axis[0] = 0.2f;
+    o.motion_angle_deg = 40.0f;
+    reyes_image a, b;
+    reyes_test_apply_schedule(reyes_test_schedules[1], 2, &o);
+    reyes_test_render_once(&scene, &top, &o, &a, NULL);
+    reyes_test_apply_schedule(reyes_test_schedules[6], 1, &o);
+    reyes_test_render_once(&scene, &top, &o, &b, NULL);
+    ck_assert_uint_gt(reyes_test_covered_samples(&a), 0);
+    ck_assert_mem_eq(a.rgb, b.rgb, (size_t)64 * 48 * 3);
+    ck_assert_mem_eq(a.coverage, b.coverage, (size_t)64 * 48);
+    reyes_image_free(&a);
+    reyes_image_free(&b);
+    reyes_scene_free(&scene);
+}
+END_TEST
+
 int main(void)
 {
     Suite *s = suite_create("reyes_blur");
@@ -496,6 +626,9 @@ int main(void)
     tcase_add_loop_test(tc, test_time_strata, 0, ALGORITHMS);
     tcase_add_test(tc, test_interleaved_k1_is_simple);
     tcase_add_loop_test(tc, test_schedules_identical, 0, ALGORITHMS);
+    tcase_add_loop_test(tc, test_rotating_bar_sweep, 0, ALGORITHMS);
+    tcase_add_loop_test(tc, test_rotation_schedules_identical, 0, ALGORITHMS);
+    tcase_add_test(tc, test_rotation_needs_moving_renderer);
     suite_add_tcase(s, tc);
     return reyes_test_run_suite(s) ? EXIT_FAILURE : EXIT_SUCCESS;
 }

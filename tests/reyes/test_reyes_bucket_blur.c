@@ -94,7 +94,7 @@ static reyes_image expect_buckets_identical(const reyes_scene *scene, const reye
     reyes_image whole, tiled;
     reyes_stats whole_stats, tiled_stats;
     o.bucket_width = o.bucket_height = 0;
-    reyes_test_render(reyes_test_renderer(0), scene, camera, &o, &whole, &whole_stats);
+    reyes_test_render(reyes_test_renderer_for(&o, 0), scene, camera, &o, &whole, &whole_stats);
     ck_assert_uint_gt(whole_stats.samples_written, 0);
     for (int k = 0; k < 2; ++k) {
         char label[160];
@@ -102,7 +102,7 @@ static reyes_image expect_buckets_identical(const reyes_scene *scene, const reye
                  reyes_blur_algo_name(o.blur_algo), o.crack_fix, bucket_sizes[k][0], bucket_sizes[k][1]);
         o.bucket_width = bucket_sizes[k][0];
         o.bucket_height = bucket_sizes[k][1];
-        reyes_test_render(reyes_test_renderer(0), scene, camera, &o, &tiled, &tiled_stats);
+        reyes_test_render(reyes_test_renderer_for(&o, 0), scene, camera, &o, &tiled, &tiled_stats);
         expect_same_image(&whole, &tiled, label);
         ck_assert_msg(tiled_stats.samples_written == whole_stats.samples_written,
                       "%s: %llu covered samples, unbucketed %llu", label,
@@ -230,6 +230,46 @@ START_TEST(test_square_defocus_crosses_buckets)
 }
 END_TEST
 
+/* The built-in scene rotating by 25 degrees about z through the camera
+ * target, then moving a little (per-vertex motion), stitched and not. */
+START_TEST(test_builtin_rotation)
+{
+    reyes_scene scene;
+    reyes_camera camera;
+    builtin_scene(&scene, &camera);
+    for (unsigned fix = REYES_CRACK_FIX_NONE; fix <= REYES_CRACK_FIX_STITCH; ++fix) {
+        reyes_options o;
+        blur_options(&o, (unsigned)_i, fix);
+        o.motion_angle_deg = 25.0f;
+        o.motion[2] = 0.1f;
+        reyes_image whole = expect_buckets_identical(&scene, &camera, o, "built-in scene, rotation");
+        reyes_image_free(&whole);
+    }
+    reyes_scene_free(&scene);
+}
+END_TEST
+
+/* The square of test_square_motion_crosses_buckets rotating by 90 degrees
+ * about z through the target (the origin): it ends over x in [-0.2, 0.2]
+ * (pixels 57..70), reaching bucket column 64.. by its own motions only
+ * (a uniform motion would not move it at all). */
+START_TEST(test_square_rotation_crosses_buckets)
+{
+    const float x0 = -0.6f, x1 = -0.2f;
+    reyes_scene scene;
+    square_scene(&scene, x0, x1, -0.2f, 0.2f);
+    for (unsigned fix = REYES_CRACK_FIX_NONE; fix <= REYES_CRACK_FIX_STITCH; ++fix) {
+        reyes_options o;
+        blur_options(&o, (unsigned)_i, fix);
+        o.motion_angle_deg = 90.0f;
+        reyes_image whole = expect_buckets_identical(&scene, &top, o, "rotating square");
+        expect_blur_only_beyond(&whole, &o, x0, x1, 40, 64);
+        reyes_image_free(&whole);
+    }
+    reyes_scene_free(&scene);
+}
+END_TEST
+
 /* Wedges (tiered subdivision): each bucket runs bound and split with its
  * sub-frustum, moving and defocused at once. */
 START_TEST(test_wedges_motion_and_defocus)
@@ -258,6 +298,8 @@ int main(void)
     tcase_add_loop_test(tc, test_square_motion_crosses_buckets, 0, ALGORITHMS);
     tcase_add_loop_test(tc, test_square_defocus_crosses_buckets, 0, ALGORITHMS);
     tcase_add_test(tc, test_wedges_motion_and_defocus);
+    tcase_add_loop_test(tc, test_builtin_rotation, 0, ALGORITHMS);
+    tcase_add_loop_test(tc, test_square_rotation_crosses_buckets, 0, ALGORITHMS);
     suite_add_tcase(s, tc);
     return reyes_test_run_suite(s) ? EXIT_FAILURE : EXIT_SUCCESS;
 }

@@ -43,7 +43,7 @@ START_TEST(test_all_options)
                            "1,2,3,-4.5,0,1e1", "--fov", "30", "--technique", "megakernel",
                            "--strategy", "shared", "--stats", "s.json", "--groups", "2", "b.bpt",
                            "--backface", "--bucket", "32x16", "--crack-fix", "none", "--displace",
-                           "png:dir/a:b.png:0.25", "--motion", "0.5,0,-1", "--aperture", "0.1",
+                           "png:dir/a:b.png:0.25", "--motion", "0.5,0,-1", "--motion-rotate", "0,1,2,-45", "--aperture", "0.1",
                            "--focus", "7", "--blur-algo", "bbox", "--blur-tile", "3",
                            "--blur-permutations", "64", "--time-samples", "8", "--",
                            "-c.bpt"),
@@ -74,6 +74,9 @@ START_TEST(test_all_options)
     ck_assert_float_eq(cli.render.displace_amplitude, 0.25f);
     ck_assert_float_eq(cli.render.motion[0], 0.5f);
     ck_assert_float_eq(cli.render.motion[2], -1.0f);
+    ck_assert_float_eq(cli.render.motion_axis[0], 0.0f);
+    ck_assert_float_eq(cli.render.motion_axis[2], 2.0f);
+    ck_assert_float_eq(cli.render.motion_angle_deg, -45.0f);
     ck_assert_float_eq(cli.render.aperture, 0.1f);
     ck_assert_float_eq(cli.render.focus, 7.0f);
     ck_assert_uint_eq(cli.render.time_samples, 8);
@@ -241,6 +244,16 @@ START_TEST(test_bad_usage)
         { COUNT("--displace", "png:0.1"), ARGS("--displace", "png:0.1"), "png:FILE:AMPLITUDE" },
         { COUNT("--displace", "waves:1"), ARGS("--displace", "waves:1"), "--displace 'waves:1'" },
         { COUNT("--motion", "1,2"), ARGS("--motion", "1,2"), "3 numbers" },
+        { COUNT("--motion-rotate", "0,0,1"), ARGS("--motion-rotate", "0,0,1"),
+          "--motion-rotate '0,0,1': expected 4 numbers ax,ay,az,DEG" },
+        { COUNT("--motion-rotate", "0,0,1,x"), ARGS("--motion-rotate", "0,0,1,x"),
+          "--motion-rotate: 'x' is not a number" },
+        { COUNT("--motion-rotate", "0,0,0,30"), ARGS("--motion-rotate", "0,0,0,30"),
+          "--motion-rotate '0,0,0,30': the axis must be finite and not zero" },
+        { COUNT("--motion-rotate", "0,0,1,361"), ARGS("--motion-rotate", "0,0,1,361"),
+          "--motion-rotate '0,0,1,361': the angle must be in -360..360 degrees" },
+        { COUNT("--motion-rotate", "0,0,1,inf"), ARGS("--motion-rotate", "0,0,1,inf"),
+          "--motion-rotate: 'inf' is not a number" },
         { COUNT("--aperture", "-1"), ARGS("--aperture", "-1"), "--aperture" },
         { COUNT("--focus", "0"), ARGS("--focus", "0"), "--focus" },
         { COUNT("--blur-algo", "fancy"), ARGS("--blur-algo", "fancy"),

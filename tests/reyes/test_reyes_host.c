@@ -147,6 +147,30 @@ START_TEST(test_options_check)
     o.blur_tile = 8;
     o.blur_permutations = 64;
     ck_assert_int_eq(reyes_options_check(&o, &error), REYES_OK);
+    /* The rotation over the shutter: default axis z, angle 0; a zero axis
+     * only matters when something rotates. */
+    reyes_options_init(&o);
+    ck_assert_float_eq(o.motion_axis[2], 1.0f);
+    ck_assert_float_eq(o.motion_angle_deg, 0.0f);
+    o.motion_angle_deg = -360.0f;
+    ck_assert_int_eq(reyes_options_check(&o, &error), REYES_OK);
+    const struct { float axis[3], deg; const char *needle; } rotations[] = {
+        { {0, 0, 1}, 360.5f, "motion rotation angle 360.5" },
+        { {0, 0, 1}, NAN, "motion rotation angle nan" },
+        { {0, 0, 0}, 10.0f, "motion rotation axis is zero-length" },
+        { {INFINITY, 0, 1}, 10.0f, "motion rotation axis inf" },
+        { {0, 2e6f, 1}, 0.0f, "motion rotation axis 2e+06" },
+    };
+    for (size_t k = 0; k < sizeof rotations / sizeof rotations[0]; ++k) {
+        memcpy(o.motion_axis, rotations[k].axis, sizeof o.motion_axis);
+        o.motion_angle_deg = rotations[k].deg;
+        ck_assert_int_eq(reyes_options_check(&o, &error), REYES_ERR_ARGUMENT);
+        ck_assert_msg(strstr(error.message, rotations[k].needle) != NULL, "'%s' lacks '%s'",
+                      error.message, rotations[k].needle);
+    }
+    o.motion_axis[0] = o.motion_axis[1] = o.motion_axis[2] = 0.0f;
+    o.motion_angle_deg = 0.0f;
+    ck_assert_int_eq(reyes_options_check(&o, &error), REYES_OK);
     unsigned algo = 99;
     ck_assert(reyes_blur_algo_parse("simple", &algo) && algo == REYES_BLUR_SIMPLE);
     ck_assert(!reyes_blur_algo_parse("uvt", &algo) && algo == REYES_BLUR_SIMPLE);
@@ -204,7 +228,8 @@ START_TEST(test_stats_json)
                           "\"grids\": 1267", "\"micropolygons\"", "\"samples_written\"",
                           "\"peak_queue_bytes\"", "\"seconds\"", "\"procedures\"",
                           "\"bound\": {\"items\": 0", "\"emitted\": [0, 0, 1267]",
-                          "\"blur_algo\": \"interleaved\", \"blur_tile\": 4, \"blur_permutations\": 8"};
+                          "\"blur_algo\": \"interleaved\", \"blur_tile\": 4, \"blur_permutations\": 8",
+                          "\"motion_axis\": [0, 0, 1], \"motion_angle_deg\": 0"};
     for (size_t k = 0; k < sizeof keys / sizeof keys[0]; ++k)
         ck_assert_msg(strstr(text, keys[k]) != NULL, "missing %s in\n%s", keys[k], text);
     free(text);
