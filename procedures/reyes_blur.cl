@@ -126,20 +126,6 @@ int reyes_blur_meets_tile(__global const struct reyes_params *p, const struct re
            && lo.y - 1.0f <= p->tile_y1;
 }
 
-/* Pixels (x0, y0)..(x1, y1) of screen box lo..hi inside the tile; 0 if
- * the box misses the tile.  Clamped in float first: the box may lie far
- * outside int range. */
-int reyes_blur_pixels(__global const struct reyes_params *p, float2 lo, float2 hi, int4 *range)
-{
-    if (hi.x < p->tile_x0 || hi.y < p->tile_y0 || lo.x > p->tile_x1 || lo.y > p->tile_y1)
-        return 0;
-    *range = (int4)((int)floor(clamp(lo.x, p->tile_x0, p->tile_x1 - 1.0f)),
-                    (int)floor(clamp(lo.y, p->tile_y0, p->tile_y1 - 1.0f)),
-                    (int)floor(clamp(hi.x, p->tile_x0, p->tile_x1 - 1.0f)),
-                    (int)floor(clamp(hi.y, p->tile_y0, p->tile_y1 - 1.0f)));
-    return 1;
-}
-
 /* Test sample s of global pixel (px, py) against the moved quad's
  * triangles (one for a stitch triangle, two for a quad). */
 void reyes_blur_sample(const struct reyes_blur *b, const struct reyes_quad *moved, int triangles,
@@ -164,7 +150,7 @@ void reyes_blur_simple(const struct reyes_blur *b, const struct reyes_moving_qua
         struct reyes_quad moved;
         float2 lo, hi;
         int4 r;
-        if (!reyes_blur_move(b, q, s, &moved, &lo, &hi) || !reyes_blur_pixels(b->p, lo, hi, &r))
+        if (!reyes_blur_move(b, q, s, &moved, &lo, &hi) || !reyes_tile_pixels(b->p, lo, hi, &r))
             continue;
         for (int py = r.y; py <= r.w; ++py)
             for (int px = r.x; px <= r.z; ++px)
@@ -220,7 +206,7 @@ void reyes_blur_interleaved_pass(const struct reyes_blur *b, const struct reyes_
     float2 lo, hi;
     int4 r;
     if (!reyes_blur_move(b, q, block * b->p->spp + s, &moved, &lo, &hi)
-        || !reyes_blur_pixels(b->p, lo, hi, &r))
+        || !reyes_tile_pixels(b->p, lo, hi, &r))
         return;
     for (uint ty = (uint)r.y / k; ty <= (uint)r.w / k; ++ty) {
         for (uint tx = (uint)r.x / k; tx <= (uint)r.z / k; ++tx) {
@@ -274,7 +260,7 @@ void reyes_blur_interleaved_cached(const struct reyes_blur *b, const struct reye
             struct reyes_quad moved;
             float2 lo, hi;
             int4 r;
-            if (!reyes_blur_move(b, q, block * n + s, &moved, &lo, &hi) || !reyes_blur_pixels(p, lo, hi, &r))
+            if (!reyes_blur_move(b, q, block * n + s, &moved, &lo, &hi) || !reyes_tile_pixels(p, lo, hi, &r))
                 continue;
             for (uint c = 0; c < count; ++c)
                 if (reyes_pixel_in(pixel[c], r))
@@ -295,7 +281,7 @@ void reyes_blur_interleaved(const struct reyes_blur *b, const struct reyes_movin
     int4 swept;
     int bounded = reyes_blur_box(p, q, triangles == 2 ? 4 : 3, &swept_lo, &swept_hi);
     if (bounded) {
-        if (!reyes_blur_pixels(p, swept_lo - 0.05f, swept_hi + 0.05f, &swept))
+        if (!reyes_tile_pixels(p, swept_lo - 0.05f, swept_hi + 0.05f, &swept))
             return;
         uint tiles = ((uint)swept.z / k - (uint)swept.x / k + 1u) * ((uint)swept.w / k - (uint)swept.y / k + 1u);
         if (tiles <= REYES_BLUR_CACHED_TILES) {
@@ -323,7 +309,7 @@ void reyes_blur_bbox(const struct reyes_blur *b, const struct reyes_moving_quad 
         lo = (float2)(p->tile_x0, p->tile_y0);
         hi = (float2)(p->tile_x1, p->tile_y1);
     }
-    if (!reyes_blur_pixels(p, lo, hi, &r))
+    if (!reyes_tile_pixels(p, lo, hi, &r))
         return;
     const uint period = REYES_BLUR_BBOX_PERIOD;
     uint n = p->spp;

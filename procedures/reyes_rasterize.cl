@@ -32,7 +32,6 @@ void reyes_rasterize_moving(perma_ctx *ctx, __local const REYES_RASTER_ITEM *ite
 void reyes_rasterize(perma_ctx *ctx, __local const REYES_RASTER_ITEM *item)
 {
     __global const struct reyes_params *p = ctx->buf.params;
-    __global ulong *samples = ctx->buf.samples;
     if (p->blur) {
         reyes_rasterize_moving(ctx, item);
         return;
@@ -42,29 +41,11 @@ void reyes_rasterize(perma_ctx *ctx, __local const REYES_RASTER_ITEM *item)
 #else
     struct reyes_quad q = *item;
 #endif
-    float min_x = fmin(fmin(q.x[0], q.x[1]), fmin(q.x[2], q.x[3]));
-    float max_x = fmax(fmax(q.x[0], q.x[1]), fmax(q.x[2], q.x[3]));
-    float min_y = fmin(fmin(q.y[0], q.y[1]), fmin(q.y[2], q.y[3]));
-    float max_y = fmax(fmax(q.y[0], q.y[1]), fmax(q.y[2], q.y[3]));
-    /* Clamp to the tile in float first: the box may lie far outside int
-     * range.  Pixels are global; the sample buffer holds the tile's. */
-    int x0 = (int)floor(clamp(min_x, p->tile_x0, p->tile_x1 - 1.0f));
-    int x1 = (int)floor(clamp(max_x, p->tile_x0, p->tile_x1 - 1.0f));
-    int y0 = (int)floor(clamp(min_y, p->tile_y0, p->tile_y1 - 1.0f));
-    int y1 = (int)floor(clamp(max_y, p->tile_y0, p->tile_y1 - 1.0f));
-    uint tile_x = (uint)p->tile_x0, tile_y = (uint)p->tile_y0;
-    uint tile_width = (uint)p->tile_x1 - tile_x, spp = p->spp;
-    uint columns = reyes_sample_columns(spp), rows = (spp + columns - 1u) / columns;
-    struct reyes_triangle first = reyes_triangle_setup(&q, 0, 1, 2);
-    struct reyes_triangle second = reyes_triangle_setup(&q, 0, 2, 3);
-    for (int py = y0; py <= y1; ++py) {
-        for (int px = x0; px <= x1; ++px) {
-            for (uint s = 0; s < spp; ++s) {
-                float2 pos = reyes_sample_position_on((uint)px, (uint)py, s, columns, rows);
-                uint index = (((uint)py - tile_y) * tile_width + ((uint)px - tile_x)) * spp + s;
-                reyes_sample_in_triangle(samples, index, pos, &q, &first);
-                reyes_sample_in_triangle(samples, index, pos, &q, &second);
-            }
-        }
-    }
+    float2 lo = (float2)(fmin(fmin(q.x[0], q.x[1]), fmin(q.x[2], q.x[3])),
+                         fmin(fmin(q.y[0], q.y[1]), fmin(q.y[2], q.y[3])));
+    float2 hi = (float2)(fmax(fmax(q.x[0], q.x[1]), fmax(q.x[2], q.x[3])),
+                         fmax(fmax(q.y[0], q.y[1]), fmax(q.y[2], q.y[3])));
+    const struct reyes_triangle triangles[2] = { reyes_triangle_setup(&q, 0, 1, 2),
+                                                 reyes_triangle_setup(&q, 0, 2, 3) };
+    reyes_sample_box(p, ctx->buf.samples, lo, hi, &q, triangles, 2);
 }

@@ -126,3 +126,41 @@ void reyes_sample_triangle(__global ulong *samples, uint index, float2 p,
     struct reyes_triangle t = reyes_triangle_setup(q, a, b, c);
     reyes_sample_in_triangle(samples, index, p, q, &t);
 }
+
+/* Pixels (x0, y0)..(x1, y1) of screen box lo..hi inside the tile; 0 if
+ * the box misses the tile.  Clamped in float first: the box may lie far
+ * outside int range. */
+int reyes_tile_pixels(__global const struct reyes_params *p, float2 lo, float2 hi, int4 *range)
+{
+    if (hi.x < p->tile_x0 || hi.y < p->tile_y0 || lo.x > p->tile_x1 || lo.y > p->tile_y1)
+        return 0;
+    *range = (int4)((int)floor(clamp(lo.x, p->tile_x0, p->tile_x1 - 1.0f)),
+                    (int)floor(clamp(lo.y, p->tile_y0, p->tile_y1 - 1.0f)),
+                    (int)floor(clamp(hi.x, p->tile_x0, p->tile_x1 - 1.0f)),
+                    (int)floor(clamp(hi.y, p->tile_y0, p->tile_y1 - 1.0f)));
+    return 1;
+}
+
+/* Test every sample of the pixels of screen box lo..hi inside the tile
+ * against `count` triangles set up once (reyes_triangle_setup) — the
+ * unblurred rasterization of micropolygons and crack-filling triangles. */
+void reyes_sample_box(__global const struct reyes_params *p, __global ulong *samples, float2 lo, float2 hi,
+                      const struct reyes_quad *q, const struct reyes_triangle *triangles, int count)
+{
+    int4 r;
+    if (!reyes_tile_pixels(p, lo, hi, &r))
+        return;
+    uint tile_x = (uint)p->tile_x0, tile_y = (uint)p->tile_y0;
+    uint tile_width = (uint)p->tile_x1 - tile_x, spp = p->spp;
+    uint columns = reyes_sample_columns(spp), rows = (spp + columns - 1u) / columns;
+    for (int py = r.y; py <= r.w; ++py) {
+        for (int px = r.x; px <= r.z; ++px) {
+            for (uint s = 0; s < spp; ++s) {
+                float2 pos = reyes_sample_position_on((uint)px, (uint)py, s, columns, rows);
+                uint index = (((uint)py - tile_y) * tile_width + ((uint)px - tile_x)) * spp + s;
+                for (int k = 0; k < count; ++k)
+                    reyes_sample_in_triangle(samples, index, pos, q, &triangles[k]);
+            }
+        }
+    }
+}

@@ -78,25 +78,10 @@ int reyes_fill_triangle(perma_ctx *ctx, struct reyes_vertex a, struct reyes_vert
         reyes_rasterize_blurred(p, ctx->buf.blur_tuples, ctx->buf.samples, &moving, 1);
         return 1;
     }
-    float min_x = fmin(fmin(q.x[0], q.x[1]), q.x[2]), max_x = fmax(fmax(q.x[0], q.x[1]), q.x[2]);
-    float min_y = fmin(fmin(q.y[0], q.y[1]), q.y[2]), max_y = fmax(fmax(q.y[0], q.y[1]), q.y[2]);
-    if (max_x < p->tile_x0 || max_y < p->tile_y0 || min_x > p->tile_x1 || min_y > p->tile_y1)
-        return 1;
-    int x0 = (int)floor(clamp(min_x, p->tile_x0, p->tile_x1 - 1.0f));
-    int x1 = (int)floor(clamp(max_x, p->tile_x0, p->tile_x1 - 1.0f));
-    int y0 = (int)floor(clamp(min_y, p->tile_y0, p->tile_y1 - 1.0f));
-    int y1 = (int)floor(clamp(max_y, p->tile_y0, p->tile_y1 - 1.0f));
-    uint tile_x = (uint)p->tile_x0, tile_y = (uint)p->tile_y0;
-    uint tile_width = (uint)p->tile_x1 - tile_x, spp = p->spp;
-    for (int py = y0; py <= y1; ++py) {
-        for (int px = x0; px <= x1; ++px) {
-            for (uint s = 0; s < spp; ++s) {
-                float2 pos = reyes_sample_position((uint)px, (uint)py, s, spp);
-                uint index = (((uint)py - tile_y) * tile_width + ((uint)px - tile_x)) * spp + s;
-                reyes_sample_triangle(ctx->buf.samples, index, pos, &q, 0, 1, 2);
-            }
-        }
-    }
+    float2 lo = (float2)(fmin(fmin(q.x[0], q.x[1]), q.x[2]), fmin(fmin(q.y[0], q.y[1]), q.y[2]));
+    float2 hi = (float2)(fmax(fmax(q.x[0], q.x[1]), q.x[2]), fmax(fmax(q.y[0], q.y[1]), q.y[2]));
+    const struct reyes_triangle triangle = reyes_triangle_setup(&q, 0, 1, 2);
+    reyes_sample_box(p, ctx->buf.samples, lo, hi, &q, &triangle, 1);
     return 1;
 }
 
