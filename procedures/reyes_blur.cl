@@ -43,9 +43,9 @@ struct reyes_moving_quad reyes_moving_uniform(__global const struct reyes_params
     struct reyes_moving_quad m;
     m.quad = *q;
     for (int k = 0; k < 4; ++k) {
-        m.mx[k] = p->motion_x;
-        m.my[k] = p->motion_y;
-        m.mw[k] = p->motion_w;
+        m.mx[k] = p->motion_rows[3];
+        m.my[k] = p->motion_rows[7];
+        m.mw[k] = p->motion_rows[11];
     }
     return m;
 }

@@ -79,7 +79,7 @@ float4 reyes_to_clip(__global const struct reyes_params *p, float3 x)
 float4 reyes_motion_at(__global const struct reyes_params *p, float3 x)
 {
     if (!p->motion_rotates)
-        return (float4)(p->motion_x, p->motion_y, 0.0f, p->motion_w);
+        return (float4)(p->motion_rows[3], p->motion_rows[7], 0.0f, p->motion_rows[11]);
     __global const float *r = p->motion_rows;
     float4 h = (float4)(x, 1.0f);
     return (float4)(dot((float4)(r[0], r[1], r[2], r[3]), h), dot((float4)(r[4], r[5], r[6], r[7]), h),

@@ -104,7 +104,7 @@ static void rotation_minus_identity(const float axis[3], float deg, double out[9
  * shutter, clip-space motion M3 (R - I) p + M3 (motion - (R - I) target)
  * (M3 the matrix without translation; rows x, y, w): an affine map of p,
  * motion_rows.  Without a rotation its linear part is 0 and the constant
- * is the uniform motion_x, _y, _w, computed as before. */
+ * column is the uniform motion, computed as before. */
 static void set_motion(const reyes_camera *camera, const reyes_options *o, struct reyes_params *p)
 {
     const float *m = p->view_proj;
@@ -125,9 +125,6 @@ static void set_motion(const reyes_camera *camera, const reyes_options *o, struc
             p->motion_rows[r * 4 + k] = (float)(row[0] * rot[k] + row[1] * rot[3 + k] + row[2] * rot[6 + k]);
         p->motion_rows[r * 4 + 3] = row[0] * d[0] + row[1] * d[1] + row[2] * d[2];
     }
-    p->motion_x = p->motion_rows[3];
-    p->motion_y = p->motion_rows[7];
-    p->motion_w = p->motion_rows[11];
 }
 
 static void set_blur(const reyes_camera *camera, const reyes_options *o, struct reyes_params *p)

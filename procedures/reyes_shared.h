@@ -184,11 +184,10 @@ struct reyes_params {
      * clip + t * motion_clip + (w_t / focus - 1) * (lx * lens_x, ly * lens_y).
      * motion_clip is the vertex's own: motion_rows (rows x, y, w of a 3x4
      * affine map, row-major) applied to its world position (x y z 1).
-     * Without a rotation the map is constant, (motion_x, motion_y,
-     * motion_w), the same for every vertex. */
+     * Without a rotation the map is constant, its last column (entries
+     * 3, 7, 11), the same for every vertex. */
     REYES_U32 blur;
     REYES_U32 time_samples;
-    float motion_x, motion_y, motion_z, motion_w;  /* clip-space motion over the shutter */
     float motion_rows[12]; /* world position -> clip-space motion (x, y, w) */
     REYES_U32 motion_rotates; /* 1: motion_rows depends on the position */
     REYES_U32 pad4;
