@@ -70,7 +70,7 @@ typedef struct perma_group_mem {
     __local uint *edge_base;    /* per edge: first reserved target position */
     __local uint *stats;        /* the group's statistics record */
     __local uint *error_code;   /* emit errors of the batch */
-    __local uint *copy_failed;  /* a bounded wait ran out */
+    __local uint *copy_failed;  /* a copy-in wait gave up: the batch's items are not run */
     __local uint *lq;           /* local front queue: a stack per procedure */
     __local uint *lq_count;     /* items on each procedure's stack */
     __local uint *edge_keep;    /* per edge: emits kept on the local stack */
@@ -88,10 +88,9 @@ inline uint perma_local_flush(__global uint *ctl, __global uint *queue_data, __g
     uint words = perma_item_words[q];
     uint base = atomic_add(queue + PERMA_Q_TAIL, n);
     perma_queue_note_peak(queue, base + n);
-    for (uint i = 0; i < n; ++i)
-        if (!perma_queue_write_item(ctl, queue, queue_data, queue_seq, base + i, words,
-                                    mem.lq + perma_lq_off[q] + i * words, abort_flag))
-            perma_fail(ctl, *abort_flag ? PERMA_KSTATUS_ABORTED : PERMA_KSTATUS_SPIN_LIMIT, q, 0);
+    for (uint i = 0; i < n; ++i) /* a failed write has stopped the launch (perma_queue_wait_failed) */
+        perma_queue_write_item(ctl, queue, queue_data, queue_seq, base + i, words,
+                               mem.lq + perma_lq_off[q] + i * words, abort_flag);
     mem.lq_count[q] = 0;
     return n;
 }
@@ -113,12 +112,10 @@ inline void perma_publish_edge(__global uint *ctl, __global uint *queue_data, __
     for (uint i = lid; i < keep; i += PERMA_GROUP_SIZE)
         for (uint w = 0; w < target_words; ++w)
             stack[i * target_words + w] = src[i * target_words + w];
-    for (uint i = keep + lid; i < k; i += PERMA_GROUP_SIZE) {
-        if (!perma_queue_write_item(ctl, target, queue_data, queue_seq,
-                                    mem.edge_base[PERMA_MAX_EDGES + e] + i - keep,
-                                    target_words, src + i * target_words, abort_flag))
-            *mem.copy_failed = 1;
-    }
+    /* A write that gives up has stopped the launch (perma_queue_wait_failed). */
+    for (uint i = keep + lid; i < k; i += PERMA_GROUP_SIZE)
+        perma_queue_write_item(ctl, target, queue_data, queue_seq, mem.edge_base[PERMA_MAX_EDGES + e] + i - keep,
+                               target_words, src + i * target_words, abort_flag);
 }
 
 /* Run `count` items of `proc` (command RUN) or move them to `donee`
@@ -238,11 +235,9 @@ inline void perma_run_batch(__global uint *ctl, __global uint *queue_data, __glo
     }
     /* A donation publishes the batch itself in the other group's queue. */
     const uint donated = command == PERMA_CMD_DONATE ? count : 0u;
-    for (uint i = lid; i < donated; i += PERMA_GROUP_SIZE) {
-        if (!perma_queue_write_item(ctl, donee, queue_data, queue_seq, mem.edge_base[0] + i, words,
-                                    items + i * words, abort_flag))
-            *mem.copy_failed = 1;
-    }
+    for (uint i = lid; i < donated; i += PERMA_GROUP_SIZE)
+        perma_queue_write_item(ctl, donee, queue_data, queue_seq, mem.edge_base[0] + i, words, items + i * words,
+                               abort_flag);
     barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
     if (lid == 0) {
         for (uint e = 0; e < edges; ++e) {
@@ -253,7 +248,5 @@ inline void perma_run_batch(__global uint *ctl, __global uint *queue_data, __glo
         }
         if (count)
             atomic_inc(ctl + PERMA_CTL_PROGRESS); /* stalled groups must look again */
-        if (*mem.copy_failed)
-            perma_fail(ctl, *abort_flag ? PERMA_KSTATUS_ABORTED : PERMA_KSTATUS_SPIN_LIMIT, 0xffffffffu, 0);
     }
 }

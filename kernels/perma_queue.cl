@@ -66,26 +66,40 @@ inline uint perma_queue_claim(__global uint *queue, uint wanted, uint *start)
     }
 }
 
+/* Whether the launch has failed for good (not merely stopped for bigger
+ * queues, after which the batches still running must finish). */
+inline int perma_launch_failed(__global uint *ctl)
+{
+    uint status = perma_load(ctl + PERMA_CTL_STATUS);
+    return status != PERMA_KSTATUS_DONE && status != PERMA_KSTATUS_NEEDS_ROOM;
+}
+
 /* Wait until the sequence word of a slot reaches `expected`.  Returns 0 if the
- * wait ran out or the host asked to abort. */
-inline int perma_wait_seq(__global uint *seq, uint expected, volatile __global uint *abort_flag)
+ * wait ran out, the host asked to abort or the launch failed meanwhile (so
+ * after one wait runs out the group's other waits do not each spin to the
+ * limit too). */
+inline int perma_wait_seq(__global uint *ctl, __global uint *seq, uint expected,
+                          volatile __global uint *abort_flag)
 {
     for (ulong spins = 0; spins < PERMA_SPIN_LIMIT; ++spins) {
         if (perma_load(seq) == expected)
             return 1;
-        if ((spins & 1023u) == 1023u && *abort_flag)
+        if ((spins & 1023u) == 1023u && (*abort_flag || perma_launch_failed(ctl)))
             return 0;
     }
     return 0;
 }
 
-/* A wait on a slot of `queue` ran out: record which queue, which position
- * and which side waited (the first failure wins), unless the host aborted. */
+/* A wait on a slot of `queue` gave up: report the abort, or which queue,
+ * which position and which side waited (the first failure wins, so a wait
+ * that gave up because the launch had already failed changes nothing). */
 inline void perma_queue_wait_failed(__global uint *ctl, __global uint *queue, uint pos, uint writing,
                                     volatile __global uint *abort_flag)
 {
-    if (*abort_flag)
-        return; /* the caller reports the abort */
+    if (*abort_flag) {
+        perma_fail(ctl, PERMA_KSTATUS_ABORTED, 0xffffffffu, 0);
+        return;
+    }
     uint index = (uint)(queue - (ctl + PERMA_CTL_HEADER_WORDS)) / PERMA_QUEUE_WORDS;
     perma_fail(ctl, PERMA_KSTATUS_SPIN_LIMIT, index | (writing ? PERMA_WAIT_WRITING : 0u), pos);
 }
@@ -98,7 +112,7 @@ inline int perma_queue_read_item(__global uint *ctl, __global uint *queue, __glo
     uint cap = queue[PERMA_Q_CAP];
     uint slot = pos & (cap - 1u);
     __global uint *seq = seqs + queue[PERMA_Q_SEQ] + slot;
-    if (!perma_wait_seq(seq, pos + 1u, abort_flag)) {
+    if (!perma_wait_seq(ctl, seq, pos + 1u, abort_flag)) {
         perma_queue_wait_failed(ctl, queue, pos, 0u, abort_flag);
         return 0;
     }
@@ -119,7 +133,7 @@ inline int perma_queue_write_item(__global uint *ctl, __global uint *queue, __gl
     uint cap = queue[PERMA_Q_CAP];
     uint slot = pos & (cap - 1u);
     __global uint *seq = seqs + queue[PERMA_Q_SEQ] + slot;
-    if (!perma_wait_seq(seq, pos, abort_flag)) {
+    if (!perma_wait_seq(ctl, seq, pos, abort_flag)) {
         perma_queue_wait_failed(ctl, queue, pos, 1u, abort_flag);
         return 0;
     }
