@@ -222,11 +222,12 @@ static void measure_reference(bench_report *report, const char *workload, const 
     }
 }
 
-static size_t peak_item_bytes(const reyes_stats *stats)
+static size_t peak_item_bytes(const reyes_stats *stats, const reyes_options *o)
 {
     size_t total = 0;
     for (int p = 0; p < REYES_PROC_COUNT; ++p) {
-        size_t size = p == REYES_PROC_RASTERIZE ? sizeof(struct reyes_quad) : sizeof(struct reyes_subpatch);
+        size_t size = p == REYES_PROC_RASTERIZE ? reyes_grid_item_bytes(o->grid, o->motion_angle_deg != 0.0f)
+                    : p == REYES_PROC_STITCH ? sizeof(struct reyes_stitch) : sizeof(struct reyes_subpatch);
         total += (size_t)stats->procedures[p].peak_queue_items * size;
     }
     return total;
@@ -270,7 +271,7 @@ static double measure_stage(bench_report *report, const char *workload, reyes_re
                    && (o->stages == REYES_STAGES_SUBDIVIDE || stats.micropolygons == reference->micropolygons);
         row.check = same ? BENCH_CHECK_PASS : BENCH_CHECK_FAIL;
         row.peak_queue_bytes = stats.peak_queue_bytes;
-        row.peak_item_bytes = peak_item_bytes(&stats);
+        row.peak_item_bytes = peak_item_bytes(&stats, o);
         row.steals = stats.run.steals;
         row.donations = stats.run.donations;
         row.spills = stats.run.spills;

@@ -272,6 +272,11 @@ reyes_status reyes_renderer_create(const reyes_options *options, reyes_renderer 
                                    reyes_error *error);
 void reyes_renderer_destroy(reyes_renderer *renderer);
 
+/* Bytes of a rasterize item (one diced grid of shaded vertices, struct
+ * reyes_grid of reyes_grid.cl) for a grid size, with or without the
+ * per-vertex motion of a renderer made for a rotation. */
+size_t reyes_grid_item_bytes(unsigned grid, int vertex_motion);
+
 /* One line describing the OpenCL device and groups. */
 const char *reyes_renderer_device(const reyes_renderer *renderer);
 

@@ -7,15 +7,20 @@
 #pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
 #pragma OPENCL EXTENSION cl_khr_int64_extended_atomics : enable
 
+/* Small helpers that the vectorisable stretches of dice and rasterize call:
+ * PoCL vectorises a work-group loop across work-items only when its body
+ * has no calls left, so these are always inlined. */
+#define REYES_INLINE inline __attribute__((always_inline))
+
 /* Cubic Bernstein weights at t. */
-float4 reyes_bernstein(float t)
+REYES_INLINE float4 reyes_bernstein(float t)
 {
     float s = 1.0f - t;
     return (float4)(s * s * s, 3.0f * t * s * s, 3.0f * t * t * s, t * t * t);
 }
 
 /* Derivatives of the cubic Bernstein weights at t. */
-float4 reyes_bernstein_deriv(float t)
+REYES_INLINE float4 reyes_bernstein_deriv(float t)
 {
     float s = 1.0f - t;
     return (float4)(-3.0f * s * s, 3.0f * s * s - 6.0f * t * s,
@@ -23,7 +28,7 @@ float4 reyes_bernstein_deriv(float t)
 }
 
 /* Load the 16 control points of a base patch. */
-void reyes_load_patch(__global const float4 *patches, uint patch, float3 cp[16])
+REYES_INLINE void reyes_load_patch(__global const float4 *patches, uint patch, float3 cp[16])
 {
     for (int k = 0; k < 16; ++k)
         cp[k] = patches[patch * 16u + (uint)k].xyz;
@@ -63,7 +68,7 @@ void reyes_subpatch_points(__global const float4 *patches, const struct reyes_su
 }
 
 /* Clip-space position of a world point. */
-float4 reyes_to_clip(__global const struct reyes_params *p, float3 x)
+REYES_INLINE float4 reyes_to_clip(__global const struct reyes_params *p, float3 x)
 {
     float4 h = (float4)(x, 1.0f);
     __global const float *m = p->view_proj;
@@ -76,7 +81,7 @@ float4 reyes_to_clip(__global const struct reyes_params *p, float3 x)
 /* Clip-space motion (x, y, 0, w) over the shutter of a vertex at world
  * point x: the affine map motion_rows, or the one motion of every vertex
  * when nothing rotates (exactly the uniform values then). */
-float4 reyes_motion_at(__global const struct reyes_params *p, float3 x)
+REYES_INLINE float4 reyes_motion_at(__global const struct reyes_params *p, float3 x)
 {
     if (!p->motion_rotates)
         return (float4)(p->motion_rows[3], p->motion_rows[7], 0.0f, p->motion_rows[11]);
@@ -87,21 +92,35 @@ float4 reyes_motion_at(__global const struct reyes_params *p, float3 x)
 }
 
 /* Pixel coordinates (y down) of a clip-space point with w > 0. */
-float2 reyes_to_screen(__global const struct reyes_params *p, float4 clip)
+REYES_INLINE float2 reyes_to_screen(__global const struct reyes_params *p, float4 clip)
 {
     float inv_w = 1.0f / clip.w;
     return (float2)((clip.x * inv_w * 0.5f + 0.5f) * p->width,
                     (0.5f - clip.y * inv_w * 0.5f) * p->height);
 }
 
-/* Pack a color in [0,1]^3 as RGBA8 (alpha 255, red in the low byte). */
-uint reyes_pack_rgba(float3 c)
+/* A colour channel in [0,1] as a byte: clamped (NaN as 0), scaled and
+ * rounded to nearest, ties to even (adding and subtracting 2^23 rounds a
+ * float in [0, 2^23) so), as convert_uint_sat_rte would. */
+REYES_INLINE uint reyes_channel_byte(float c)
 {
-    uint3 q = convert_uint3_sat_rte(clamp(c, 0.0f, 1.0f) * 255.0f);
-    return q.x | (q.y << 8) | (q.z << 16) | (255u << 24);
+    float scaled = clamp(c, 0.0f, 1.0f) * 255.0f;
+    float rounded = (scaled + 8388608.0f) - 8388608.0f;
+    return (uint)rounded;
 }
 
-float3 reyes_unpack_rgb(uint rgba)
+/* Pack a color in [0,1]^3 as RGBA8 (alpha 255, red in the low byte). */
+REYES_INLINE uint reyes_pack_channels(float r, float g, float b)
+{
+    return reyes_channel_byte(r) | (reyes_channel_byte(g) << 8) | (reyes_channel_byte(b) << 16) | (255u << 24);
+}
+
+REYES_INLINE uint reyes_pack_rgba(float3 c)
+{
+    return reyes_pack_channels(c.x, c.y, c.z);
+}
+
+REYES_INLINE float3 reyes_unpack_rgb(uint rgba)
 {
     return (float3)((float)(rgba & 255u), (float)((rgba >> 8) & 255u),
                     (float)((rgba >> 16) & 255u)) * (1.0f / 255.0f);

@@ -1,4 +1,5 @@
 /* Create a perma runtime and register the Reyes procedures on it. */
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -16,17 +17,43 @@ reyes_status reyes_runtime_error(const struct reyes_renderer *r, const char *cal
                       perma_status_name(status), r->rt ? perma_errmsg(r->rt) : "");
 }
 
+/* Bytes of the rasterize item for the renderer's grid. */
+size_t reyes_grid_item_bytes(unsigned grid, int vertex_motion)
+{
+    size_t words = vertex_motion ? REYES_GRID_MOVING_VERTEX_WORDS : REYES_GRID_VERTEX_WORDS;
+    return 4 * (REYES_GRID_HEADER_WORDS + words * REYES_GRID_CAPACITY(grid));
+}
+
+/* Bytes of dice's scratch (struct reyes_dice_scratch, reyes_dice.cl): the
+ * grid and the wedge strips as rasterize items, two counters per
+ * work-item and a byte per vertex. */
+static size_t dice_scratch_bytes(const struct reyes_renderer *r)
+{
+    size_t flags = (REYES_GRID_CAPACITY(r->grid) + 3) / 4 * 4;
+    return 2 * reyes_grid_item_bytes(r->grid, r->vertex_motion) + 2 * 4 * (size_t)r->dice_threads + flags;
+}
+
+/* The definitions the procedures' sources take from the renderer. */
+static perma_status add_definitions(struct reyes_renderer *r)
+{
+    unsigned pow2 = 1;
+    while (pow2 < r->dice_threads)
+        pow2 *= 2;
+    char text[256];
+    snprintf(text, sizeof text,
+             "#define REYES_GRID_VERTICES %uu\n"
+             "#define REYES_ITEM_THREADS %u\n"
+             "#define REYES_ITEM_THREADS_POW2 %u\n"
+             "%s",
+             REYES_GRID_CAPACITY(r->grid), r->dice_threads, pow2,
+             r->vertex_motion ? "#define REYES_VERTEX_MOTION 1\n" : "");
+    return perma_add_source(r->rt, text, "reyes_renderer.h");
+}
+
 static perma_status register_all(struct reyes_renderer *r)
 {
     const char *item = "struct reyes_subpatch";
     const size_t item_size = sizeof(struct reyes_subpatch);
-    /* Dice emits its grid's quads and, with wedges, a strip per edge. */
-    unsigned quads = (r->grid - 1) * (r->grid - 1) + 4 * (r->grid - 1);
-    /* Per-vertex motion: larger micropolygons and dice vertices, chosen
-     * here because item types are fixed when the program is built. */
-    const char *raster_item = r->vertex_motion ? "struct reyes_moving_quad" : "struct reyes_quad";
-    size_t raster_size = r->vertex_motion ? sizeof(struct reyes_moving_quad) : sizeof(struct reyes_quad);
-    size_t vertex_bytes = r->vertex_motion ? REYES_DICE_MOVING_VERTEX_BYTES : REYES_DICE_VERTEX_BYTES;
     /* Bound and split emit into each other: bound is served before split
      * (it culls and dices, split doubles), and consumers before producers
      * keeps the queues short. */
@@ -46,10 +73,11 @@ static perma_status register_all(struct reyes_renderer *r)
         [REYES_PROC_DICE] = { .name = "dice", .item_type = item, .item_size = item_size,
             .threads_per_item = r->dice_threads, .source = reyes_dice_cl_source,
             .source_file = "reyes_dice.cl", .function = "reyes_dice",
-            .local_bytes_per_item = (size_t)r->grid * r->grid * vertex_bytes,
-            .cooperative = 1, .emits = { { "rasterize", quads } }, .priority = 3 },
-        [REYES_PROC_RASTERIZE] = { .name = "rasterize", .item_type = raster_item,
-            .item_size = raster_size, .threads_per_item = 1,
+            .local_bytes_per_item = dice_scratch_bytes(r),
+            .cooperative = 1, .emits = { { "rasterize", 2 } }, .priority = 3 },
+        [REYES_PROC_RASTERIZE] = { .name = "rasterize", .item_type = "struct reyes_grid",
+            .item_size = reyes_grid_item_bytes(r->grid, r->vertex_motion),
+            .threads_per_item = r->dice_threads, .cooperative = 1,
             .source = reyes_rasterize_cl_source, .source_file = "reyes_rasterize.cl",
             .function = "reyes_rasterize", .priority = 4 },
         [REYES_PROC_STITCH] = { .name = "stitch", .item_type = "struct reyes_stitch",
@@ -57,9 +85,7 @@ static perma_status register_all(struct reyes_renderer *r)
             .source = reyes_stitch_cl_source, .source_file = "reyes_stitch.cl",
             .function = "reyes_stitch", .priority = 4 },
     };
-    perma_status status = PERMA_OK;
-    if (r->vertex_motion)
-        status = perma_add_source(r->rt, "#define REYES_VERTEX_MOTION 1\n", "reyes_vertex_motion.h");
+    perma_status status = add_definitions(r);
     if (status == PERMA_OK)
         status = perma_add_source(r->rt, reyes_shared_h_source, "reyes_shared.h");
     if (status == PERMA_OK)
@@ -74,6 +100,8 @@ static perma_status register_all(struct reyes_renderer *r)
         status = perma_add_source(r->rt, reyes_displace_cl_source, "reyes_displace.cl");
     if (status == PERMA_OK)
         status = perma_add_source(r->rt, reyes_surface_cl_source, "reyes_surface.cl");
+    if (status == PERMA_OK)
+        status = perma_add_source(r->rt, reyes_grid_cl_source, "reyes_grid.cl");
     for (int p = 0; p < REYES_PROC_COUNT && status == PERMA_OK; ++p)
         status = perma_register(r->rt, &procedures[p], &r->procs[p]);
     return status;

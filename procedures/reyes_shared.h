@@ -82,12 +82,14 @@ struct reyes_stitch {
     REYES_U32 pad;
 };
 
-/* __local bytes per grid vertex of dice (struct reyes_vertex: float4 + uint,
- * padded to the float4 alignment). */
-#define REYES_DICE_VERTEX_BYTES 32
-/* The same with the vertex's clip-space motion (a float4 more), in a
- * renderer made for per-vertex motion. */
-#define REYES_DICE_MOVING_VERTEX_BYTES 48
+/* The rasterize item (struct reyes_grid, reyes_grid.cl): REYES_GRID_HEADER_WORDS
+ * words, then arrays of REYES_GRID_CAPACITY(grid) vertices: x, y, z and
+ * rgba, and with per-vertex motion also mx, my and mw.  The capacity holds
+ * a grid x grid lattice or the four wedge strips of 2 x grid vertices. */
+#define REYES_GRID_HEADER_WORDS 4u
+#define REYES_GRID_CAPACITY(n) ((n) >= 8u ? (n) * (n) : 8u * (n))
+#define REYES_GRID_VERTEX_WORDS 4u
+#define REYES_GRID_MOVING_VERTEX_WORDS 7u
 
 /* Indices into the statistics counter buffer. */
 #define REYES_COUNT_SPLITS 0

@@ -5,17 +5,17 @@
  * bit-identical.
  */
 
-struct reyes_vertex {      /* REYES_DICE_VERTEX_BYTES (32) bytes */
+struct reyes_vertex {
     float4 clip;
     uint rgba;
-#ifdef REYES_VERTEX_MOTION /* REYES_DICE_MOVING_VERTEX_BYTES (48) */
+#ifdef REYES_VERTEX_MOTION
     float4 motion;         /* clip-space motion over the shutter */
 #endif
 };
 
 /* Set a vertex's clip position (and, with per-vertex motion, its motion)
  * from its world position. */
-void reyes_vertex_place(__global const struct reyes_params *p, float3 x, struct reyes_vertex *v)
+REYES_INLINE void reyes_vertex_place(__global const struct reyes_params *p, float3 x, struct reyes_vertex *v)
 {
     v->clip = reyes_to_clip(p, x);
 #ifdef REYES_VERTEX_MOTION
@@ -48,7 +48,7 @@ struct reyes_moving_quad reyes_vertex_moving(__global const struct reyes_params 
 }
 
 /* Unnormalised surface normal at (u,v). */
-float3 reyes_patch_normal(const float3 cp[16], float u, float v)
+REYES_INLINE float3 reyes_patch_normal(const float3 cp[16], float u, float v)
 {
     float4 bu = reyes_bernstein(u), bv = reyes_bernstein(v);
     float4 du = reyes_bernstein_deriv(u), dv = reyes_bernstein_deriv(v);
@@ -64,7 +64,7 @@ float3 reyes_patch_normal(const float3 cp[16], float u, float v)
     return cross(tu, tv);
 }
 
-float3 reyes_patch_point(const float3 cp[16], float u, float v)
+REYES_INLINE float3 reyes_patch_point(const float3 cp[16], float u, float v)
 {
     float4 bu = reyes_bernstein(u), bv = reyes_bernstein(v);
     float bu_a[4] = {bu.x, bu.y, bu.z, bu.w}, bv_a[4] = {bv.x, bv.y, bv.z, bv.w};
@@ -91,13 +91,13 @@ float3 reyes_safe_normal(const float3 cp[16], float u, float v)
  * full-precision library call and took about a fifth of a teapot render
  * (perf, 1280x1024); exp2(s log2 c) at native precision is plenty for an
  * 8-bit colour (the teapot's bytes did not change). */
-float reyes_highlight(float cos_h, float shininess)
+REYES_INLINE float reyes_highlight(float cos_h, float shininess)
 {
     return cos_h > 0.0f ? native_exp2(shininess * native_log2(cos_h)) : 0.0f;
 }
 
 /* Lambert plus Blinn-Phong, two-sided, one directional light plus ambient. */
-uint reyes_shade(__global const struct reyes_params *p, float3 x, float3 n, float3 base)
+REYES_INLINE uint reyes_shade(__global const struct reyes_params *p, float3 x, float3 n, float3 base)
 {
     float3 view = normalize(vload3(0, p->eye) - x);
     float3 normal = dot(n, n) > 0.0f ? normalize(n) : view;
@@ -137,6 +137,44 @@ float3 reyes_displaced_normal(const struct reyes_displacement *d, const float3 c
     return dot(n, n) > 1e-30f ? n : reyes_safe_normal(cp, u, v);
 }
 
+/* Base-patch parameters (u,v) of grid vertex (i,j) of a sub-patch. */
+REYES_INLINE float2 reyes_grid_uv(__global const struct reyes_params *p, const struct reyes_subpatch *sp, int i,
+                                  int j)
+{
+    float last = (float)(p->grid - 1u);
+    /* mix(a, b, 1) == b exactly, so shared patch edges get equal u, v. */
+    float tu = (float)i / last, tv = (float)j / last;
+    return (float2)(sp->u0 * (1.0f - tu) + sp->u1 * tu, sp->v0 * (1.0f - tv) + sp->v1 * tv);
+}
+
+/* Grid vertex (i,j) of an undisplaced surface without the pole fix-up of
+ * reyes_safe_normal (no loop, so the work-items' vertices can run as SIMD
+ * lanes): *degenerate is 1 when the normal vanished, and then the colour
+ * must come from reyes_grid_vertex_color instead.  Otherwise the vertex
+ * is reyes_grid_vertex's, bit for bit. */
+REYES_INLINE struct reyes_vertex reyes_plain_vertex(__global const struct reyes_params *p, const float3 cp[16],
+                                                    const struct reyes_subpatch *sp, float3 base, int i, int j,
+                                                    int shade, int *degenerate)
+{
+    float2 uv = reyes_grid_uv(p, sp, i, j);
+    float3 x = reyes_patch_point(cp, uv.x, uv.y);
+    float3 n = reyes_patch_normal(cp, uv.x, uv.y);
+    struct reyes_vertex out;
+    reyes_vertex_place(p, x, &out);
+    *degenerate = dot(n, n) < 1e-24f;
+    out.rgba = shade ? reyes_shade(p, x, n, base) : 0u;
+    return out;
+}
+
+/* The colour of undisplaced grid vertex (i,j), the normal taken
+ * slightly inside where it vanishes (reyes_safe_normal). */
+uint reyes_grid_vertex_color(__global const struct reyes_params *p, const float3 cp[16],
+                             const struct reyes_subpatch *sp, float3 base, int i, int j)
+{
+    float2 uv = reyes_grid_uv(p, sp, i, j);
+    return reyes_shade(p, reyes_patch_point(cp, uv.x, uv.y), reyes_safe_normal(cp, uv.x, uv.y), base);
+}
+
 /* Position (clip space) of grid vertex (i,j), and its color when `shade`;
  * displaced when the parameters ask for it. */
 struct reyes_vertex reyes_grid_vertex(const struct reyes_displacement *d, const float3 cp[16],
@@ -144,11 +182,8 @@ struct reyes_vertex reyes_grid_vertex(const struct reyes_displacement *d, const 
                                       int shade)
 {
     __global const struct reyes_params *p = d->params;
-    float last = (float)(p->grid - 1u);
-    /* mix(a, b, 1) == b exactly, so shared patch edges get equal u, v. */
-    float tu = (float)i / last, tv = (float)j / last;
-    float u = sp->u0 * (1.0f - tu) + sp->u1 * tu;
-    float v = sp->v0 * (1.0f - tv) + sp->v1 * tv;
+    float2 uv = reyes_grid_uv(p, sp, i, j);
+    float u = uv.x, v = uv.y;
     struct reyes_vertex out;
     if (p->displace_mode == REYES_DISPLACE_NONE) {
         float3 x = reyes_patch_point(cp, u, v);

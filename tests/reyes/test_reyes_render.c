@@ -129,7 +129,9 @@ START_TEST(test_builtin_no_holes)
     /* Every split makes one patch two; every patch ends culled or diced. */
     ck_assert_uint_eq(stats.patches_in + stats.splits, stats.grids + stats.culled);
     ck_assert_uint_eq(stats.procedures[REYES_PROC_DICE].items, stats.grids);
-    ck_assert_uint_eq(stats.procedures[REYES_PROC_RASTERIZE].items, stats.micropolygons);
+    /* One rasterize item per diced grid, all of which are in view. */
+    ck_assert_uint_eq(stats.procedures[REYES_PROC_RASTERIZE].items, stats.grids);
+    ck_assert_uint_eq(stats.procedures[REYES_PROC_DICE].emitted[0], stats.grids);
     ck_assert_uint_eq(stats.procedures[REYES_PROC_SPLIT_U].items + stats.procedures[REYES_PROC_SPLIT_V].items,
                       stats.splits);
     ck_assert_uint_gt(stats.samples_written, 0);
