@@ -7,25 +7,9 @@
 #pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
 #pragma OPENCL EXTENSION cl_khr_int64_extended_atomics : enable
 
-/* Small helpers that the vectorisable stretches of dice and rasterize call:
- * PoCL vectorises a work-group loop across work-items only when its body
- * has no calls left, so these are always inlined. */
+/* Small helpers of the per-vertex and per-sample code: always inlined
+ * (PoCL otherwise keeps many of them as calls made once per work-item). */
 #define REYES_INLINE inline __attribute__((always_inline))
-
-/* Cubic Bernstein weights at t. */
-REYES_INLINE float4 reyes_bernstein(float t)
-{
-    float s = 1.0f - t;
-    return (float4)(s * s * s, 3.0f * t * s * s, 3.0f * t * t * s, t * t * t);
-}
-
-/* Derivatives of the cubic Bernstein weights at t. */
-REYES_INLINE float4 reyes_bernstein_deriv(float t)
-{
-    float s = 1.0f - t;
-    return (float4)(-3.0f * s * s, 3.0f * s * s - 6.0f * t * s,
-                    6.0f * t * s - 3.0f * t * t, 3.0f * t * t);
-}
 
 /* Load the 16 control points of a base patch. */
 REYES_INLINE void reyes_load_patch(__global const float4 *patches, uint patch, float3 cp[16])
@@ -67,36 +51,80 @@ void reyes_subpatch_points(__global const float4 *patches, const struct reyes_su
         reyes_restrict_curve(cp, col, 4, sp->v0, sp->v1);
 }
 
-/* Clip-space position of a world point. */
-REYES_INLINE float4 reyes_to_clip(__global const struct reyes_params *p, float3 x)
+/* a . b as PoCL's dot(float3): the products, then (x + y) + z, each
+ * rounded (separate statements, so nothing is contracted into an fma). */
+REYES_INLINE float reyes_dot3(float ax, float ay, float az, float bx, float by, float bz)
 {
-    float4 h = (float4)(x, 1.0f);
-    __global const float *m = p->view_proj;
-    return (float4)(dot((float4)(m[0], m[1], m[2], m[3]), h),
-                    dot((float4)(m[4], m[5], m[6], m[7]), h),
-                    dot((float4)(m[8], m[9], m[10], m[11]), h),
-                    dot((float4)(m[12], m[13], m[14], m[15]), h));
+    float x = ax * bx;
+    float y = ay * by;
+    float z = az * bz;
+    float xy = x + y;
+    return xy + z;
 }
 
-/* Clip-space motion (x, y, 0, w) over the shutter of a vertex at world
- * point x: the affine map motion_rows, or the one motion of every vertex
- * when nothing rotates (exactly the uniform values then). */
+/* a . b of 4-vectors as PoCL's dot(float4): (x + y) + (z + w). */
+REYES_INLINE float reyes_dot4(float ax, float ay, float az, float aw, float bx, float by, float bz, float bw)
+{
+    float x = ax * bx;
+    float y = ay * by;
+    float z = az * bz;
+    float w = aw * bw;
+    float xy = x + y;
+    float zw = z + w;
+    return xy + zw;
+}
+
+/* Clip-space position of world point (x, y, z). */
+REYES_INLINE void reyes_clip_of(__global const struct reyes_params *p, float x, float y, float z, float clip[4])
+{
+    __global const float *m = p->view_proj;
+    #pragma unroll
+    for (int r = 0; r < 4; ++r)
+        clip[r] = reyes_dot4(m[4 * r], m[4 * r + 1], m[4 * r + 2], m[4 * r + 3], x, y, z, 1.0f);
+}
+
+REYES_INLINE float4 reyes_to_clip(__global const struct reyes_params *p, float3 x)
+{
+    float c[4];
+    reyes_clip_of(p, x.x, x.y, x.z, c);
+    return (float4)(c[0], c[1], c[2], c[3]);
+}
+
+/* Clip-space motion (x, y, w) over the shutter of a vertex at world point
+ * (x, y, z): the affine map motion_rows, or the one motion of every
+ * vertex when nothing rotates (exactly the uniform values then). */
+REYES_INLINE void reyes_motion_of(__global const struct reyes_params *p, float x, float y, float z, float m[3])
+{
+    __global const float *r = p->motion_rows;
+    const int rows[3] = {0, 4, 8};
+    #pragma unroll
+    for (int k = 0; k < 3; ++k) {
+        int o = rows[k];
+        m[k] = p->motion_rotates ? reyes_dot4(r[o], r[o + 1], r[o + 2], r[o + 3], x, y, z, 1.0f) : r[o + 3];
+    }
+}
+
 REYES_INLINE float4 reyes_motion_at(__global const struct reyes_params *p, float3 x)
 {
-    if (!p->motion_rotates)
-        return (float4)(p->motion_rows[3], p->motion_rows[7], 0.0f, p->motion_rows[11]);
-    __global const float *r = p->motion_rows;
-    float4 h = (float4)(x, 1.0f);
-    return (float4)(dot((float4)(r[0], r[1], r[2], r[3]), h), dot((float4)(r[4], r[5], r[6], r[7]), h),
-                    0.0f, dot((float4)(r[8], r[9], r[10], r[11]), h));
+    float m[3];
+    reyes_motion_of(p, x.x, x.y, x.z, m);
+    return (float4)(m[0], m[1], 0.0f, m[2]);
 }
 
 /* Pixel coordinates (y down) of a clip-space point with w > 0. */
+REYES_INLINE void reyes_screen_of(__global const struct reyes_params *p, float x, float y, float w, float *sx,
+                                  float *sy)
+{
+    float inv_w = 1.0f / w;
+    *sx = (x * inv_w * 0.5f + 0.5f) * p->width;
+    *sy = (0.5f - y * inv_w * 0.5f) * p->height;
+}
+
 REYES_INLINE float2 reyes_to_screen(__global const struct reyes_params *p, float4 clip)
 {
-    float inv_w = 1.0f / clip.w;
-    return (float2)((clip.x * inv_w * 0.5f + 0.5f) * p->width,
-                    (0.5f - clip.y * inv_w * 0.5f) * p->height);
+    float sx, sy;
+    reyes_screen_of(p, clip.x, clip.y, clip.w, &sx, &sy);
+    return (float2)(sx, sy);
 }
 
 /* A colour channel in [0,1] as a byte: clamped (NaN as 0), scaled and

@@ -2,18 +2,12 @@
  * dice: evaluate a sub-patch on a grid x grid vertex lattice, shade each
  * vertex, count the (grid-1)^2 quads that are visible as micropolygons and
  * hand the lattice to rasterize as one item (struct reyes_grid,
- * reyes_grid.cl).  The item's REYES_ITEM_THREADS work-items share the
- * vertices (vertex v is work-item v % threads's in pass v / threads) in
- * __local scratch laid out as the rasterize item.  Vertices are evaluated
- * on the base patch at global (u,v), so a vertex shared by two sub-patches
- * is bit-identical wherever it is computed.  The evaluation and shading
- * are in reyes_surface.cl.
- *
- * Each pass ends with a barrier although the work-items share nothing
- * within it: PoCL runs the work-items of a group in a loop per stretch
- * between barriers, and a stretch without inner loops or calls (one
- * vertex per work-item) is one its vectoriser turns into SIMD code across
- * work-items.  The trip counts are the same in every work-item.
+ * reyes_grid.cl).  The item's REYES_ITEM_THREADS work-items (the whole
+ * group) share the vertices, REYES_LANES consecutive ones at a time in
+ * SIMD lanes, in __local scratch laid out as the rasterize item.  Vertices
+ * are evaluated on the base patch at global (u,v), so a vertex shared by
+ * two sub-patches is bit-identical wherever it is computed.  The
+ * evaluation and shading are in reyes_surface.cl.
  */
 
 /* The scratch of one dice item. */
@@ -22,7 +16,6 @@ struct reyes_dice_scratch {
     struct reyes_grid strips;                 /* wedge crack fix */
     uint quads[REYES_ITEM_THREADS];           /* visible quads, per work-item */
     uint fillers[REYES_ITEM_THREADS];         /* visible wedge quads, per work-item */
-    uchar degenerate[REYES_GRID_VERTICES];    /* 1: the first normal vanished (a pole) */
 };
 
 /* Wedge crack fix: the strips along the settled edges, from the grid's
@@ -57,19 +50,102 @@ void reyes_dice_strip_vertex(perma_ctx *ctx, const struct reyes_subpatch *sp, __
     reyes_grid_store(p, &s->strips, (2 * edge + 1) * n + step, &on_chord);
 }
 
-/* Visible quads of lattice g, counted by the work-items in passes over
- * its slots and summed over them by a tree of barriers (a loop in thread
- * 0 alone is what PoCL mishandles); returns the total. */
-uint reyes_dice_count(__global const struct reyes_params *p, __local const struct reyes_grid *g, int active,
+/* Vertices v0 .. v0 + REYES_LANES - 1 of an undisplaced grid n vertices
+ * wide into g, shaded with base colour `base` when `shade` (else colour
+ * 0), in SIMD lanes.  The lanes past the grid write into the lattice's
+ * padding.  The normal is not fixed up at poles here: the returned mask
+ * has the lanes whose normal vanished, for reyes_grid_vertex_color;
+ * otherwise each vertex is reyes_grid_vertex's, bit for bit. */
+REYES_INLINE reyes_lane_mask reyes_dice_lanes(__global const struct reyes_params *p, const struct reyes_hull *h,
+                                              const struct reyes_lighting *light, float u0, float v0, float u1,
+                                              float v1, uint base, __local struct reyes_grid *g, int first, int n,
+                                              int shade)
+{
+    const int8 lane = (int8)(0, 1, 2, 3, 4, 5, 6, 7);
+    int8 v = first + lane;
+    int8 j = reyes_lattice_row_lanes(v, n), i = v - j * n;
+    float last = (float)(n - 1);
+    reyes_lanes tu = convert_float8(i) / last, tv = convert_float8(j) / last;
+    /* mix(a, b, 1) == b exactly, so shared patch edges get equal u, v. */
+    reyes_lanes u = u0 * (1.0f - tu) + u1 * tu;
+    reyes_lanes w = v0 * (1.0f - tv) + v1 * tv;
+    reyes_lanes x[3], normal[3];
+    reyes_hull_point_lanes(h, u, w, x);
+    reyes_hull_normal_lanes(h, u, w, normal);
+    __global const float *m = p->view_proj;
+    reyes_lanes clip[4];
+    for (int r = 0; r < 4; ++r)
+        clip[r] = reyes_dot4_lanes(m[4 * r], m[4 * r + 1], m[4 * r + 2], m[4 * r + 3], x[0], x[1], x[2]);
+    reyes_lanes inv_w = 1.0f / clip[3];
+    reyes_lanes sx = (clip[0] * inv_w * 0.5f + 0.5f) * p->width;
+    reyes_lanes sy = (0.5f - clip[1] * inv_w * 0.5f) * p->height;
+    vstore8(p->blur ? clip[0] : sx, 0, g->x + first);
+    vstore8(p->blur ? clip[1] : sy, 0, g->y + first);
+    vstore8(clip[3], 0, g->z + first);
+#ifdef REYES_VERTEX_MOTION
+    __global const float *mr = p->motion_rows;
+    for (int k = 0; k < 3; ++k) {
+        reyes_lanes motion = (reyes_lanes)mr[4 * k + 3];
+        if (p->motion_rotates)
+            motion = reyes_dot4_lanes(mr[4 * k], mr[4 * k + 1], mr[4 * k + 2], mr[4 * k + 3], x[0], x[1], x[2]);
+        vstore8(motion, 0, (k == 0 ? g->mx : k == 1 ? g->my : g->mw) + first);
+    }
+#endif
+    uint8 rgba = (uint8)0u;
+    if (shade) {
+        reyes_lanes diffuse, specular;
+        reyes_light_lanes(light, x, normal, &diffuse, &specular);
+        rgba = reyes_light_color_lanes(base, diffuse, specular);
+    }
+    vstore8(rgba, 0, g->rgba + first);
+    return reyes_dot3_lanes(normal[0], normal[1], normal[2], normal[0], normal[1], normal[2]) < 1e-24f;
+}
+
+/* The visible quads among the eight slots from `first` of lattice g, as
+ * a count: vector loads of the corners (the lattice's padding covers the
+ * last slots' reads) and the tests of reyes_sharp_visible lane by lane. */
+REYES_INLINE uint reyes_dice_visible_lanes(__global const struct reyes_params *p, __local const struct reyes_grid *g,
+                                           int first)
+{
+    const int8 lane = (int8)(0, 1, 2, 3, 4, 5, 6, 7);
+    int c = (int)g->columns;
+    int8 k = first + lane;
+    int8 row = reyes_lattice_row_lanes(k, c);
+    int8 has = (row + 1 < (int)g->rows) & (k - row * c != c - 1)
+               & (convert_int8((uint8)g->quad_rows >> convert_uint8(row)) & 1) != 0;
+    const int corner[4] = { 0, 1, c + 1, c };
+    reyes_lanes lo_x = (reyes_lanes)INFINITY, lo_y = lo_x, hi_x = -lo_x, hi_y = -lo_x;
+    int8 front = (int8)(-1);
+    for (int i = 0; i < 4; ++i) {
+        reyes_lanes x = vload8(0, g->x + first + corner[i]), y = vload8(0, g->y + first + corner[i]);
+        reyes_lanes z = vload8(0, g->z + first + corner[i]);
+        lo_x = fmin(lo_x, x);
+        lo_y = fmin(lo_y, y);
+        hi_x = fmax(hi_x, x);
+        hi_y = fmax(hi_y, y);
+        front &= z > p->near_w;
+    }
+    int8 visible = has & front & (hi_x >= p->tile_x0) & (hi_y >= p->tile_y0) & (lo_x <= p->tile_x1)
+                   & (lo_y <= p->tile_y1);
+    int8 ones = visible & 1;
+    return (uint)(ones.s0 + ones.s1 + ones.s2 + ones.s3 + ones.s4 + ones.s5 + ones.s6 + ones.s7);
+}
+
+/* Visible quads of lattice g, counted by the work-items and summed over
+ * them by a tree of barriers (a loop in thread 0 alone is what PoCL
+ * mishandles); returns the total. */
+uint reyes_dice_count(__global const struct reyes_params *p, __local const struct reyes_grid *g,
                       __local uint *partial, int thread)
 {
     const int threads = REYES_ITEM_THREADS;
-    const int passes = (REYES_GRID_SLOTS + threads - 1) / threads;
+    int slots = (int)(g->rows - 1u) * (int)g->columns;
     uint visible = 0;
-    for (int pass = 0; pass < passes; ++pass) {
-        int k = pass * threads + thread;
-        visible += active && k < REYES_GRID_SLOTS && reyes_grid_visible(p, g, k);
-        barrier(CLK_LOCAL_MEM_FENCE);
+    if (p->blur) {
+        for (int k = thread; k < slots; k += threads)
+            visible += reyes_grid_visible(p, g, k);
+    } else {
+        for (int first = thread * REYES_LANES; first < slots; first += threads * REYES_LANES)
+            visible += reyes_dice_visible_lanes(p, g, first);
     }
     partial[thread] = visible;
     barrier(CLK_LOCAL_MEM_FENCE);
@@ -88,19 +164,61 @@ void reyes_dice_emit(perma_ctx *ctx, __local const struct reyes_grid *g)
     emit_rasterize(ctx, &item);
 }
 
-/* Cooperative: every work-item of the group calls it. */
+/* The vertices of an undisplaced grid, REYES_LANES at a time per
+ * work-item, and the poles' colours. */
+void reyes_dice_plain(perma_ctx *ctx, __local const struct reyes_subpatch *item, __local struct reyes_grid *g,
+                      int shade)
+{
+    __global const struct reyes_params *p = ctx->buf.params;
+    int n = (int)p->grid;
+    struct reyes_hull h;
+    reyes_load_hull(ctx->buf.patches, item->patch, &h);
+    struct reyes_lighting light = reyes_lighting_of(p);
+    uint base = ctx->buf.colors[item->patch];
+    float u0 = item->u0, v0 = item->v0, u1 = item->u1, v1 = item->v1;
+    for (int first = (int)ctx->thread * REYES_LANES; first < n * n; first += REYES_ITEM_THREADS * REYES_LANES) {
+        reyes_lane_mask degenerate = reyes_dice_lanes(p, &h, &light, u0, v0, u1, v1, base, g, first, n, shade);
+        if (shade && any(degenerate)) {
+            struct reyes_subpatch sp = *item;
+            float3 cp[16];
+            reyes_load_patch(ctx->buf.patches, sp.patch, cp);
+            for (int k = 0; k < REYES_LANES; ++k) {
+                int v = first + k;
+                if (v < n * n && ((int *)&degenerate)[k])
+                    g->rgba[v] = reyes_grid_vertex_color(p, cp, &sp, reyes_unpack_rgb(base), v % n, v / n);
+            }
+        }
+    }
+}
+
+/* The vertices of a displaced grid (scalar). */
+void reyes_dice_displaced(perma_ctx *ctx, __local const struct reyes_subpatch *item,
+                          __local struct reyes_dice_scratch *s, int shade)
+{
+    __global const struct reyes_params *p = ctx->buf.params;
+    struct reyes_displacement d = { p, ctx->buf.displacement_map };
+    int n = (int)p->grid;
+    for (int v = (int)ctx->thread; v < n * n; v += REYES_ITEM_THREADS) {
+        struct reyes_subpatch sp = *item;
+        float3 cp[16];
+        reyes_load_patch(ctx->buf.patches, sp.patch, cp);
+        float3 base = reyes_unpack_rgb(ctx->buf.colors[sp.patch]);
+        struct reyes_vertex vertex = reyes_grid_vertex(&d, cp, &sp, base, v % n, v / n, shade);
+        reyes_grid_store(p, &s->grid, v, &vertex);
+    }
+}
+
+/* Cooperative: every work-item of the group calls it.  Its
+ * threads_per_item is the group size, so a batch is one item and every
+ * branch around a barrier below takes the same way in all work-items. */
 void reyes_dice(perma_ctx *ctx, __local const struct reyes_subpatch *item)
 {
     __global const struct reyes_params *p = ctx->buf.params;
     __global uint *counters = ctx->buf.counters;
     __local struct reyes_dice_scratch *s = (__local struct reyes_dice_scratch *)ctx->scratch;
-    const int threads = REYES_ITEM_THREADS;
     const int thread = (int)ctx->thread;
-    const int passes = (REYES_GRID_VERTICES + threads - 1) / threads;
     int n = (int)p->grid;
-    int diced = ctx->active && p->stages != REYES_STAGES_SUBDIVIDE;
     int full = p->stages == REYES_STAGES_ALL;
-    struct reyes_subpatch sp = *item;
     if (ctx->active && thread == 0) {
         atomic_inc(&counters[REYES_COUNT_GRIDS]);
         s->grid.columns = (uint)n;
@@ -108,63 +226,42 @@ void reyes_dice(perma_ctx *ctx, __local const struct reyes_subpatch *item)
         s->grid.quad_rows = (1u << (n - 1)) - 1u;
         s->grid.pad = 0u;
     }
-    float3 base = reyes_unpack_rgb(ctx->buf.colors[sp.patch]);
-    struct reyes_displacement d = { p, ctx->buf.displacement_map };
-    if (p->displace_mode == REYES_DISPLACE_NONE) {
-        for (int pass = 0; pass < passes; ++pass) {
-            int v = pass * threads + thread;
-            if (diced && v < n * n) {
-                float3 cp[16];
-                reyes_load_patch(ctx->buf.patches, sp.patch, cp);
-                int degenerate;
-                struct reyes_vertex vertex = reyes_plain_vertex(p, cp, &sp, base, v % n, v / n, full, &degenerate);
-                reyes_grid_store(p, &s->grid, v, &vertex);
-                s->degenerate[v] = (uchar)degenerate;
+    if (ctx->active && p->stages != REYES_STAGES_SUBDIVIDE) {
+        if (p->displace_mode == REYES_DISPLACE_NONE) {
+            reyes_dice_plain(ctx, item, &s->grid, full);
+        } else {
+            reyes_dice_displaced(ctx, item, s, full);
+        }
+        barrier(CLK_LOCAL_MEM_FENCE);
+        uint quads = reyes_dice_count(p, &s->grid, s->quads, thread);
+        if (thread == 0 && quads > 0u) {
+            atomic_add(&counters[REYES_COUNT_MICROPOLYGONS], quads);
+            if (full)
+                reyes_dice_emit(ctx, &s->grid);
+        }
+        if (p->wedges) {
+            if (thread == 0) {
+                s->strips.columns = (uint)n;
+                s->strips.rows = 8u;
+                uint rows = 0;
+                for (int edge = 0; edge < 4; ++edge)
+                    if (((item->edge_levels >> (8 * edge)) & 0xffu) != REYES_EDGE_UNSETTLED)
+                        rows |= 1u << (2 * edge);
+                s->strips.quad_rows = rows;
+                s->strips.pad = 0u;
+            }
+            for (int v = thread; v < 4 * n; v += REYES_ITEM_THREADS) {
+                struct reyes_subpatch sp = *item;
+                reyes_dice_strip_vertex(ctx, &sp, s, v);
             }
             barrier(CLK_LOCAL_MEM_FENCE);
-        }
-        /* Poles: the normal slightly inside (rare; scalar). */
-        for (int v = thread; full && diced && v < n * n; v += threads) {
-            if (s->degenerate[v]) {
-                float3 cp[16];
-                reyes_load_patch(ctx->buf.patches, sp.patch, cp);
-                s->grid.rgba[v] = reyes_grid_vertex_color(p, cp, &sp, base, v % n, v / n);
+            uint strip_quads = reyes_dice_count(p, &s->strips, s->fillers, thread);
+            if (thread == 0 && strip_quads > 0u) {
+                atomic_add(&counters[REYES_COUNT_FILLERS], 2u * strip_quads); /* two triangles each */
+                if (full)
+                    reyes_dice_emit(ctx, &s->strips);
             }
-        }
-    } else {
-        for (int v = thread; diced && v < n * n; v += threads) {
-            float3 cp[16];
-            reyes_load_patch(ctx->buf.patches, sp.patch, cp);
-            struct reyes_vertex vertex = reyes_grid_vertex(&d, cp, &sp, base, v % n, v / n, full);
-            reyes_grid_store(p, &s->grid, v, &vertex);
-        }
-    }
-    barrier(CLK_LOCAL_MEM_FENCE);
-    uint quads = reyes_dice_count(p, &s->grid, diced, s->quads, thread);
-    if (thread == 0 && quads > 0u) {
-        atomic_add(&counters[REYES_COUNT_MICROPOLYGONS], quads);
-        if (full)
-            reyes_dice_emit(ctx, &s->grid);
-    }
-    if (p->wedges) {
-        if (ctx->active && thread == 0) {
-            s->strips.columns = (uint)n;
-            s->strips.rows = 8u;
-            uint rows = 0;
-            for (int edge = 0; edge < 4; ++edge)
-                if (((sp.edge_levels >> (8 * edge)) & 0xffu) != REYES_EDGE_UNSETTLED)
-                    rows |= 1u << (2 * edge);
-            s->strips.quad_rows = rows;
-            s->strips.pad = 0u;
-        }
-        for (int v = thread; diced && v < 4 * n; v += threads)
-            reyes_dice_strip_vertex(ctx, &sp, s, v);
-        barrier(CLK_LOCAL_MEM_FENCE);
-        uint strip_quads = reyes_dice_count(p, &s->strips, diced, s->fillers, thread);
-        if (thread == 0 && strip_quads > 0u) {
-            atomic_add(&counters[REYES_COUNT_FILLERS], 2u * strip_quads); /* two triangles each */
-            if (full)
-                reyes_dice_emit(ctx, &s->strips);
+            barrier(CLK_LOCAL_MEM_FENCE); /* see below */
         }
         /* A uniform branch with barriers ends with one: without it PoCL
          * ran the stretch above in every work-item as if thread were 0. */

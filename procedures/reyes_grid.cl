@@ -2,8 +2,8 @@
  * The rasterize item: a lattice of shaded vertices diced from one
  * sub-patch (or the wedge strips along its edges), in screen space.
  * REYES_GRID_VERTICES and REYES_ITEM_THREADS come from the renderer
- * (reyes_renderer.c: the grid's vertex capacity, reyes_shared.h's
- * REYES_GRID_CAPACITY, and the work-items that share a dice or rasterize
+ * (reyes_renderer.c: the length of the vertex arrays, reyes_shared.h's
+ * REYES_GRID_ARRAY, and the work-items that share a dice or rasterize
  * item).
  *
  * Vertex k of the lattice is (k % columns, k / columns); the quad whose
@@ -33,12 +33,17 @@ struct reyes_grid {
 #endif
 };
 
-/* k / columns for 0 <= k < 2^20 and 1 <= columns <= 64, in float (SIMD
- * has no integer division): (k + 1/2) / columns lies at least 1/128 from
- * an integer, far more than the rounding error. */
+/* k / columns for 0 <= k < 2^20 and 1 <= columns <= 64, in float (the
+ * SIMD lanes have no integer division): (k + 1/2) / columns lies at least
+ * 1/128 from an integer, far more than the rounding error. */
 REYES_INLINE int reyes_lattice_row(int k, int columns)
 {
     return (int)(((float)k + 0.5f) / (float)columns);
+}
+
+REYES_INLINE int8 reyes_lattice_row_lanes(int8 k, int columns)
+{
+    return convert_int8((convert_float8(k) + 0.5f) / (float)columns);
 }
 
 /* Whether quad slot k (its first corner's vertex index) is a quad of g. */
@@ -47,9 +52,6 @@ REYES_INLINE int reyes_grid_has_quad(__local const struct reyes_grid *g, int k)
     int columns = (int)g->columns, row = reyes_lattice_row(k, columns);
     return row + 1 < (int)g->rows && k - row * columns != columns - 1 && ((g->quad_rows >> row) & 1u);
 }
-
-/* Quad slots to visit for any item: one per vertex of the capacity. */
-#define REYES_GRID_SLOTS REYES_GRID_VERTICES
 
 /* The quad at slot k of a lattice of c columns, corners around it
  * (k = c = 0 reads vertices 0 and 1 only, whatever the item holds). */

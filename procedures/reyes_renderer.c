@@ -8,7 +8,6 @@
 #include "reyes_sources.h"
 
 #define DEFAULT_GROUP_SIZE 64u
-#define DICE_THREADS_MAX 64u
 
 reyes_status reyes_runtime_error(const struct reyes_renderer *r, const char *call,
                                  perma_status status, reyes_error *error)
@@ -21,16 +20,15 @@ reyes_status reyes_runtime_error(const struct reyes_renderer *r, const char *cal
 size_t reyes_grid_item_bytes(unsigned grid, int vertex_motion)
 {
     size_t words = vertex_motion ? REYES_GRID_MOVING_VERTEX_WORDS : REYES_GRID_VERTEX_WORDS;
-    return 4 * (REYES_GRID_HEADER_WORDS + words * REYES_GRID_CAPACITY(grid));
+    return 4 * (REYES_GRID_HEADER_WORDS + words * REYES_GRID_ARRAY(grid));
 }
 
 /* Bytes of dice's scratch (struct reyes_dice_scratch, reyes_dice.cl): the
- * grid and the wedge strips as rasterize items, two counters per
- * work-item and a byte per vertex. */
+ * grid and the wedge strips as rasterize items and two counters per
+ * work-item. */
 static size_t dice_scratch_bytes(const struct reyes_renderer *r)
 {
-    size_t flags = (REYES_GRID_CAPACITY(r->grid) + 3) / 4 * 4;
-    return 2 * reyes_grid_item_bytes(r->grid, r->vertex_motion) + 2 * 4 * (size_t)r->dice_threads + flags;
+    return 2 * reyes_grid_item_bytes(r->grid, r->vertex_motion) + 2 * 4 * (size_t)r->dice_threads;
 }
 
 /* The definitions the procedures' sources take from the renderer. */
@@ -45,7 +43,7 @@ static perma_status add_definitions(struct reyes_renderer *r)
              "#define REYES_ITEM_THREADS %u\n"
              "#define REYES_ITEM_THREADS_POW2 %u\n"
              "%s",
-             REYES_GRID_CAPACITY(r->grid), r->dice_threads, pow2,
+             REYES_GRID_ARRAY(r->grid), r->dice_threads, pow2,
              r->vertex_motion ? "#define REYES_VERTEX_MOTION 1\n" : "");
     return perma_add_source(r->rt, text, "reyes_renderer.h");
 }
@@ -120,7 +118,9 @@ reyes_status reyes_renderer_create(const reyes_options *options, reyes_renderer 
     unsigned group_size = options->group_size ? options->group_size : DEFAULT_GROUP_SIZE;
     r->grid = options->grid;
     r->vertex_motion = options->motion_angle_deg != 0.0f;
-    r->dice_threads = group_size < DICE_THREADS_MAX ? group_size : DICE_THREADS_MAX;
+    /* Dice and rasterize share an item among all the group's work-items:
+     * one item per batch, the same in every work-item. */
+    r->dice_threads = group_size;
 
     perma_config config;
     perma_config_init(&config);

@@ -83,11 +83,16 @@ struct reyes_stitch {
 };
 
 /* The rasterize item (struct reyes_grid, reyes_grid.cl): REYES_GRID_HEADER_WORDS
- * words, then arrays of REYES_GRID_CAPACITY(grid) vertices: x, y, z and
- * rgba, and with per-vertex motion also mx, my and mw.  The capacity holds
- * a grid x grid lattice or the four wedge strips of 2 x grid vertices. */
+ * words, then arrays of REYES_GRID_ARRAY(grid) vertices: x, y, z and
+ * rgba, and with per-vertex motion also mx, my and mw.  An array holds a
+ * grid x grid lattice or the four wedge strips of 2 x grid vertices,
+ * rounded up to whole vectors of REYES_GRID_LANES, plus one vector of
+ * padding that the SIMD code may read past the last vertex. */
 #define REYES_GRID_HEADER_WORDS 4u
+#define REYES_GRID_LANES 8u
 #define REYES_GRID_CAPACITY(n) ((n) >= 8u ? (n) * (n) : 8u * (n))
+#define REYES_GRID_ARRAY(n) \
+    ((REYES_GRID_CAPACITY(n) + REYES_GRID_LANES - 1u) / REYES_GRID_LANES * REYES_GRID_LANES + REYES_GRID_LANES)
 #define REYES_GRID_VERTEX_WORDS 4u
 #define REYES_GRID_MOVING_VERTEX_WORDS 7u
 

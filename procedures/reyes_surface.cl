@@ -47,32 +47,170 @@ struct reyes_moving_quad reyes_vertex_moving(__global const struct reyes_params 
 #endif
 }
 
-/* Unnormalised surface normal at (u,v). */
-REYES_INLINE float3 reyes_patch_normal(const float3 cp[16], float u, float v)
+/* The patch arithmetic below evaluates REYES_LANES points at once, in
+ * OpenCL vector types (float8): dice fills a grid eight vertices at a time
+ * with it, in SIMD code whatever the OpenCL compiler does across
+ * work-items, and every other caller (stitch, displacement, the poles)
+ * takes lane 0 of the same code, so a vertex gets the same bits wherever it
+ * is computed.  It rounds as the float3 code it replaced did, lane by lane
+ * (PoCL's dot, cross and normalize take no fused multiply-add; see
+ * reyes_dot3), except that native_exp2 of a vector may differ from the
+ * scalar one in the last bit (docs/reyes.md, *Speed*). */
+#define REYES_LANES 8
+typedef float8 reyes_lanes;
+typedef int8 reyes_lane_mask;
+
+/* Cubic Bernstein weights at t and their derivatives. */
+REYES_INLINE void reyes_bernstein_lanes(reyes_lanes t, reyes_lanes b[4])
 {
-    float4 bu = reyes_bernstein(u), bv = reyes_bernstein(v);
-    float4 du = reyes_bernstein_deriv(u), dv = reyes_bernstein_deriv(v);
-    float bu_a[4] = {bu.x, bu.y, bu.z, bu.w}, bv_a[4] = {bv.x, bv.y, bv.z, bv.w};
-    float du_a[4] = {du.x, du.y, du.z, du.w}, dv_a[4] = {dv.x, dv.y, dv.z, dv.w};
-    float3 tu = (float3)(0.0f), tv = (float3)(0.0f);
+    reyes_lanes s = 1.0f - t;
+    b[0] = s * s * s;
+    b[1] = 3.0f * t * s * s;
+    b[2] = 3.0f * t * t * s;
+    b[3] = t * t * t;
+}
+
+REYES_INLINE void reyes_bernstein_deriv_lanes(reyes_lanes t, reyes_lanes d[4])
+{
+    reyes_lanes s = 1.0f - t;
+    d[0] = -3.0f * s * s;
+    d[1] = 3.0f * s * s - 6.0f * t * s;
+    d[2] = 6.0f * t * s - 3.0f * t * t;
+    d[3] = 3.0f * t * t;
+}
+
+/* Control points of a base patch as three arrays of scalars. */
+struct reyes_hull {
+    float x[16], y[16], z[16];
+};
+
+REYES_INLINE void reyes_load_hull(__global const float4 *patches, uint patch, struct reyes_hull *h)
+{
+    __global const float *f = (__global const float *)(patches + patch * 16u);
+    for (int k = 0; k < 16; ++k) {
+        h->x[k] = f[4 * k];
+        h->y[k] = f[4 * k + 1];
+        h->z[k] = f[4 * k + 2];
+    }
+}
+
+REYES_INLINE struct reyes_hull reyes_hull_of(const float3 cp[16])
+{
+    struct reyes_hull h;
+    for (int k = 0; k < 16; ++k) {
+        h.x[k] = cp[k].x;
+        h.y[k] = cp[k].y;
+        h.z[k] = cp[k].z;
+    }
+    return h;
+}
+
+/* a . b, lane by lane, as reyes_dot3. */
+REYES_INLINE reyes_lanes reyes_dot3_lanes(reyes_lanes ax, reyes_lanes ay, reyes_lanes az, reyes_lanes bx,
+                                          reyes_lanes by, reyes_lanes bz)
+{
+    reyes_lanes x = ax * bx;
+    reyes_lanes y = ay * by;
+    reyes_lanes z = az * bz;
+    reyes_lanes xy = x + y;
+    return xy + z;
+}
+
+/* a . (x, y, z, 1), lane by lane, as reyes_dot4. */
+REYES_INLINE reyes_lanes reyes_dot4_lanes(float ax, float ay, float az, float aw, reyes_lanes x, reyes_lanes y,
+                                          reyes_lanes z)
+{
+    reyes_lanes px = ax * x;
+    reyes_lanes py = ay * y;
+    reyes_lanes pz = az * z;
+    float pw = aw * 1.0f;
+    reyes_lanes xy = px + py;
+    reyes_lanes zw = pz + pw;
+    return xy + zw;
+}
+
+/* normalize() as PoCL computes it for finite vectors, lane by lane: the
+ * zero vector unchanged, tiny ones scaled up by 2^86 (huge ones down by
+ * 2^-66) first, then each component times 1 / sqrt(length squared). */
+REYES_INLINE void reyes_normalize_lanes(reyes_lanes *x, reyes_lanes *y, reyes_lanes *z)
+{
+    reyes_lanes ax = *x, ay = *y, az = *z;
+    reyes_lane_mask zero = ax == 0.0f & ay == 0.0f & az == 0.0f;
+    reyes_lanes l2 = reyes_dot3_lanes(ax, ay, az, ax, ay, az);
+    reyes_lanes scale = select(select((reyes_lanes)1.0f, (reyes_lanes)0x1.0p-66f, l2 == INFINITY),
+                               (reyes_lanes)0x1.0p86f, l2 < FLT_MIN);
+    reyes_lanes sx = ax * scale, sy = ay * scale, sz = az * scale;
+    reyes_lanes ls = reyes_dot3_lanes(sx, sy, sz, sx, sy, sz);
+    reyes_lanes inv = 1.0f / sqrt(ls);
+    *x = select(sx * inv, ax, zero);
+    *y = select(sy * inv, ay, zero);
+    *z = select(sz * inv, az, zero);
+}
+
+/* Points and unnormalised normals (cross products of the derivatives) at
+ * (u,v) of a hull. */
+REYES_INLINE void reyes_hull_point_lanes(const struct reyes_hull *h, reyes_lanes u, reyes_lanes v,
+                                         reyes_lanes x[3])
+{
+    reyes_lanes bu[4], bv[4];
+    reyes_bernstein_lanes(u, bu);
+    reyes_bernstein_lanes(v, bv);
+    x[0] = x[1] = x[2] = (reyes_lanes)0.0f;
     for (int r = 0; r < 4; ++r) {
         for (int c = 0; c < 4; ++c) {
-            tu += (bv_a[r] * du_a[c]) * cp[r * 4 + c];
-            tv += (dv_a[r] * bu_a[c]) * cp[r * 4 + c];
+            reyes_lanes w = bv[r] * bu[c];
+            x[0] += w * h->x[r * 4 + c];
+            x[1] += w * h->y[r * 4 + c];
+            x[2] += w * h->z[r * 4 + c];
         }
     }
-    return cross(tu, tv);
+}
+
+REYES_INLINE void reyes_hull_normal_lanes(const struct reyes_hull *h, reyes_lanes u, reyes_lanes v,
+                                          reyes_lanes n[3])
+{
+    reyes_lanes bu[4], bv[4], du[4], dv[4];
+    reyes_bernstein_lanes(u, bu);
+    reyes_bernstein_lanes(v, bv);
+    reyes_bernstein_deriv_lanes(u, du);
+    reyes_bernstein_deriv_lanes(v, dv);
+    reyes_lanes tu[3], tv[3];
+    tu[0] = tu[1] = tu[2] = tv[0] = tv[1] = tv[2] = (reyes_lanes)0.0f;
+    for (int r = 0; r < 4; ++r) {
+        for (int c = 0; c < 4; ++c) {
+            reyes_lanes a = bv[r] * du[c], b = dv[r] * bu[c];
+            tu[0] += a * h->x[r * 4 + c];
+            tu[1] += a * h->y[r * 4 + c];
+            tu[2] += a * h->z[r * 4 + c];
+            tv[0] += b * h->x[r * 4 + c];
+            tv[1] += b * h->y[r * 4 + c];
+            tv[2] += b * h->z[r * 4 + c];
+        }
+    }
+    /* cross(tu, tv), products rounded apart as PoCL's cross. */
+    reyes_lanes yz = tu[1] * tv[2], zy = tu[2] * tv[1];
+    reyes_lanes zx = tu[2] * tv[0], xz = tu[0] * tv[2];
+    reyes_lanes xy = tu[0] * tv[1], yx = tu[1] * tv[0];
+    n[0] = yz - zy;
+    n[1] = zx - xz;
+    n[2] = xy - yx;
+}
+
+/* Unnormalised surface normal and point at (u,v) (lane 0 of the above). */
+REYES_INLINE float3 reyes_patch_normal(const float3 cp[16], float u, float v)
+{
+    struct reyes_hull h = reyes_hull_of(cp);
+    reyes_lanes n[3];
+    reyes_hull_normal_lanes(&h, (reyes_lanes)u, (reyes_lanes)v, n);
+    return (float3)(n[0].s0, n[1].s0, n[2].s0);
 }
 
 REYES_INLINE float3 reyes_patch_point(const float3 cp[16], float u, float v)
 {
-    float4 bu = reyes_bernstein(u), bv = reyes_bernstein(v);
-    float bu_a[4] = {bu.x, bu.y, bu.z, bu.w}, bv_a[4] = {bv.x, bv.y, bv.z, bv.w};
-    float3 x = (float3)(0.0f);
-    for (int r = 0; r < 4; ++r)
-        for (int c = 0; c < 4; ++c)
-            x += (bv_a[r] * bu_a[c]) * cp[r * 4 + c];
-    return x;
+    struct reyes_hull h = reyes_hull_of(cp);
+    reyes_lanes x[3];
+    reyes_hull_point_lanes(&h, (reyes_lanes)u, (reyes_lanes)v, x);
+    return (float3)(x[0].s0, x[1].s0, x[2].s0);
 }
 
 /* Normal at (u,v); where a patch edge collapses to a point (a pole) the
@@ -87,28 +225,82 @@ float3 reyes_safe_normal(const float3 cp[16], float u, float v)
     return n;
 }
 
-/* The Blinn-Phong highlight cos_h^shininess.  pow() is PoCL's
- * full-precision library call and took about a fifth of a teapot render
- * (perf, 1280x1024); exp2(s log2 c) at native precision is plenty for an
- * 8-bit colour (the teapot's bytes did not change). */
-REYES_INLINE float reyes_highlight(float cos_h, float shininess)
+/* The light's parameters, loaded once per grid. */
+struct reyes_lighting {
+    float eye[3], light[3];
+    float ambient, diffuse, specular, shininess;
+};
+
+REYES_INLINE struct reyes_lighting reyes_lighting_of(__global const struct reyes_params *p)
 {
-    return cos_h > 0.0f ? native_exp2(shininess * native_log2(cos_h)) : 0.0f;
+    struct reyes_lighting l;
+    for (int k = 0; k < 3; ++k) {
+        l.eye[k] = p->eye[k];
+        l.light[k] = p->light_dir[k];
+    }
+    l.ambient = p->ambient;
+    l.diffuse = p->diffuse;
+    l.specular = p->specular;
+    l.shininess = p->shininess;
+    return l;
 }
 
-/* Lambert plus Blinn-Phong, two-sided, one directional light plus ambient. */
+/* Lambert plus Blinn-Phong, two-sided, one directional light plus
+ * ambient, at points x with normals n: a colour c shades to
+ * c * diffuse + specular (reyes_light_color).  The highlight cos_h^s is
+ * exp2(s log2 cos_h) at native precision: pow() is PoCL's full-precision
+ * library call and took about a fifth of a teapot render. */
+REYES_INLINE void reyes_light_lanes(const struct reyes_lighting *l, const reyes_lanes x[3], const reyes_lanes n[3],
+                                    reyes_lanes *diffuse, reyes_lanes *specular)
+{
+    reyes_lanes vx = l->eye[0] - x[0], vy = l->eye[1] - x[1], vz = l->eye[2] - x[2];
+    reyes_normalize_lanes(&vx, &vy, &vz);
+    reyes_lanes mx = n[0], my = n[1], mz = n[2];
+    reyes_normalize_lanes(&mx, &my, &mz);
+    reyes_lane_mask has_normal = reyes_dot3_lanes(n[0], n[1], n[2], n[0], n[1], n[2]) > 0.0f;
+    mx = select(vx, mx, has_normal);
+    my = select(vy, my, has_normal);
+    mz = select(vz, mz, has_normal);
+    reyes_lane_mask away = reyes_dot3_lanes(mx, my, mz, vx, vy, vz) < 0.0f;
+    mx = select(mx, -mx, away);
+    my = select(my, -my, away);
+    mz = select(mz, -mz, away);
+    float lx = l->light[0], ly = l->light[1], lz = l->light[2];
+    reyes_lanes lambert = fmax(reyes_dot3_lanes(mx, my, mz, (reyes_lanes)lx, (reyes_lanes)ly, (reyes_lanes)lz), 0.0f);
+    reyes_lanes hx = lx + vx, hy = ly + vy, hz = lz + vz;
+    reyes_normalize_lanes(&hx, &hy, &hz);
+    reyes_lanes cos_h = reyes_dot3_lanes(mx, my, mz, hx, hy, hz);
+    reyes_lanes power = native_exp2(l->shininess * native_log2(cos_h));
+    reyes_lanes highlight = select((reyes_lanes)0.0f, power, lambert > 0.0f & cos_h > 0.0f);
+    *diffuse = l->ambient + l->diffuse * lambert;
+    *specular = l->specular * highlight;
+}
+
+/* A colour channel in [0,1] as a byte, lane by lane, as reyes_channel_byte. */
+REYES_INLINE uint8 reyes_channel_byte_lanes(reyes_lanes c)
+{
+    reyes_lanes scaled = clamp(c, 0.0f, 1.0f) * 255.0f;
+    reyes_lanes rounded = (scaled + 8388608.0f) - 8388608.0f;
+    return convert_uint8(rounded);
+}
+
+/* The shaded colours of base colour rgba (its alpha ignored), packed. */
+REYES_INLINE uint8 reyes_light_color_lanes(uint rgba, reyes_lanes diffuse, reyes_lanes specular)
+{
+    float r = reyes_channel(rgba, 0u), g = reyes_channel(rgba, 8u), b = reyes_channel(rgba, 16u);
+    return reyes_channel_byte_lanes(r * diffuse + specular) | (reyes_channel_byte_lanes(g * diffuse + specular) << 8)
+           | (reyes_channel_byte_lanes(b * diffuse + specular) << 16) | (uint8)(255u << 24);
+}
+
 REYES_INLINE uint reyes_shade(__global const struct reyes_params *p, float3 x, float3 n, float3 base)
 {
-    float3 view = normalize(vload3(0, p->eye) - x);
-    float3 normal = dot(n, n) > 0.0f ? normalize(n) : view;
-    if (dot(normal, view) < 0.0f)
-        normal = -normal;
-    float3 light = vload3(0, p->light_dir);
-    float lambert = fmax(dot(normal, light), 0.0f);
-    float3 half_vector = normalize(light + view);
-    float highlight = lambert > 0.0f ? reyes_highlight(dot(normal, half_vector), p->shininess) : 0.0f;
-    float3 color = base * (p->ambient + p->diffuse * lambert) + (float3)(p->specular * highlight);
-    return reyes_pack_rgba(color);
+    const reyes_lanes xs[3] = {(reyes_lanes)x.x, (reyes_lanes)x.y, (reyes_lanes)x.z};
+    const reyes_lanes ns[3] = {(reyes_lanes)n.x, (reyes_lanes)n.y, (reyes_lanes)n.z};
+    struct reyes_lighting l = reyes_lighting_of(p);
+    reyes_lanes diffuse, specular;
+    reyes_light_lanes(&l, xs, ns, &diffuse, &specular);
+    return reyes_pack_channels(base.x * diffuse.s0 + specular.s0, base.y * diffuse.s0 + specular.s0,
+                               base.z * diffuse.s0 + specular.s0);
 }
 
 /* The displaced surface point at (u,v): the patch point moved along its
@@ -137,33 +329,24 @@ float3 reyes_displaced_normal(const struct reyes_displacement *d, const float3 c
     return dot(n, n) > 1e-30f ? n : reyes_safe_normal(cp, u, v);
 }
 
-/* Base-patch parameters (u,v) of grid vertex (i,j) of a sub-patch. */
-REYES_INLINE float2 reyes_grid_uv(__global const struct reyes_params *p, const struct reyes_subpatch *sp, int i,
-                                  int j)
+/* Base-patch parameters (u,v) of grid vertex (i,j) of the sub-patch
+ * [u0,u1] x [v0,v1]. */
+REYES_INLINE void reyes_grid_uv_of(__global const struct reyes_params *p, float u0, float v0, float u1, float v1,
+                                   int i, int j, float *u, float *v)
 {
     float last = (float)(p->grid - 1u);
     /* mix(a, b, 1) == b exactly, so shared patch edges get equal u, v. */
     float tu = (float)i / last, tv = (float)j / last;
-    return (float2)(sp->u0 * (1.0f - tu) + sp->u1 * tu, sp->v0 * (1.0f - tv) + sp->v1 * tv);
+    *u = u0 * (1.0f - tu) + u1 * tu;
+    *v = v0 * (1.0f - tv) + v1 * tv;
 }
 
-/* Grid vertex (i,j) of an undisplaced surface without the pole fix-up of
- * reyes_safe_normal (no loop, so the work-items' vertices can run as SIMD
- * lanes): *degenerate is 1 when the normal vanished, and then the colour
- * must come from reyes_grid_vertex_color instead.  Otherwise the vertex
- * is reyes_grid_vertex's, bit for bit. */
-REYES_INLINE struct reyes_vertex reyes_plain_vertex(__global const struct reyes_params *p, const float3 cp[16],
-                                                    const struct reyes_subpatch *sp, float3 base, int i, int j,
-                                                    int shade, int *degenerate)
+REYES_INLINE float2 reyes_grid_uv(__global const struct reyes_params *p, const struct reyes_subpatch *sp, int i,
+                                  int j)
 {
-    float2 uv = reyes_grid_uv(p, sp, i, j);
-    float3 x = reyes_patch_point(cp, uv.x, uv.y);
-    float3 n = reyes_patch_normal(cp, uv.x, uv.y);
-    struct reyes_vertex out;
-    reyes_vertex_place(p, x, &out);
-    *degenerate = dot(n, n) < 1e-24f;
-    out.rgba = shade ? reyes_shade(p, x, n, base) : 0u;
-    return out;
+    float u, v;
+    reyes_grid_uv_of(p, sp->u0, sp->v0, sp->u1, sp->v1, i, j, &u, &v);
+    return (float2)(u, v);
 }
 
 /* The colour of undisplaced grid vertex (i,j), the normal taken
