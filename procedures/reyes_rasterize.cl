@@ -19,13 +19,7 @@
  * with the same arithmetic.
  */
 
-/* Lane l of the fast path: pixel (x0 + l / 4 % 2, y0 + l / 8) of the
- * footprint, sample s0 + l % 4. */
-#define REYES_FOOTPRINT_DX ((int16)(0, 0, 0, 0, 1, 1, 1, 1, 0, 0, 0, 0, 1, 1, 1, 1))
-#define REYES_FOOTPRINT_DY ((int16)(0, 0, 0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 1, 1, 1, 1))
-#define REYES_FOOTPRINT_DS ((uint16)(0, 1, 2, 3, 0, 1, 2, 3, 0, 1, 2, 3, 0, 1, 2, 3))
-
-REYES_INLINE uint16 reyes_hash_lanes(uint16 x)
+REYES_INLINE uint8 reyes_hash8(uint8 x)
 {
     x ^= x >> 16;
     x *= 0x7feb352du;
@@ -35,63 +29,232 @@ REYES_INLINE uint16 reyes_hash_lanes(uint16 x)
     return x;
 }
 
-/* Edge function of a set-up edge at sixteen points, as reyes_edge_at. */
-REYES_INLINE float16 reyes_edge_lanes(const struct reyes_edge_setup *e, float16 px, float16 py)
+/* Sixteen quads (slots first .. first + 15 of a lattice), set up in SIMD
+ * lanes as reyes_triangle_setup and reyes_tile_pixels would one by one:
+ * whether each is a visible quad on the tile, its pixel box and its
+ * triangles (0,1,2) and (0,2,3) (edge e of a triangle: the lower end
+ * point, the difference to the upper one and whether they were swapped;
+ * the signed area). */
+struct reyes_quad_lanes {
+    int16 live;
+    int16 x0, y0, x1, y1;
+    float16 lo_x[2][3], lo_y[2][3], dx[2][3], dy[2][3];
+    int16 swap[2][3];
+    float16 area[2];
+};
+
+REYES_INLINE void reyes_edge_order_lanes(float16 ax, float16 ay, float16 bx, float16 by, float16 *lo_x,
+                                         float16 *lo_y, float16 *dx, float16 *dy, int16 *swap)
 {
-    float16 v = (e->hi_x - e->lo_x) * (py - e->lo_y) - (e->hi_y - e->lo_y) * (px - e->lo_x);
-    return e->swap ? -v : v;
+    *swap = (ax > bx) | ((ax == bx) & (ay > by));
+    *lo_x = select(ax, bx, *swap);
+    *lo_y = select(ay, by, *swap);
+    *dx = select(bx, ax, *swap) - *lo_x;
+    *dy = select(by, ay, *swap) - *lo_y;
 }
 
-/* Lanes inside the triangle, as reyes_triangle_covers. */
-REYES_INLINE int16 reyes_triangle_covers_lanes(const struct reyes_triangle *t, float16 x, float16 y)
+REYES_INLINE float16 reyes_edge_value_lanes(float16 lo_x, float16 lo_y, float16 dx, float16 dy, int16 swap, float16 x,
+                                            float16 y)
 {
-    float area = t->area;
-    float16 wa = reyes_edge_lanes(&t->edge[0], x, y), wb = reyes_edge_lanes(&t->edge[1], x, y);
-    float16 wc = reyes_edge_lanes(&t->edge[2], x, y);
-    int16 inside = area > 0.0f ? (wa >= 0.0f & wb >= 0.0f & wc >= 0.0f) : (wa <= 0.0f & wb <= 0.0f & wc <= 0.0f);
-    return area != 0.0f ? inside : (int16)0;
+    float16 v = dx * (y - lo_y) - dy * (x - lo_x);
+    return select(v, -v, swap);
 }
 
-/* Samples s0 .. s0 + 3 (those below spp) of the pixels of box (x0, y0,
- * x1, y1) of at most 2 x 2 pixels: coverage in sixteen lanes, then the
- * covered samples written one by one. */
-void reyes_quad_footprint(__global const struct reyes_params *p, __global ulong *samples,
-                          const struct reyes_quad *q, const struct reyes_triangle t[2], int4 r, uint s0,
-                          uint columns, uint rows)
+REYES_INLINE struct reyes_quad_lanes reyes_quad_setup_lanes(__global const struct reyes_params *p,
+                                                            __local const struct reyes_grid *g, int first, int slots)
 {
-    uint spp = p->spp;
-    int16 px = r.x + REYES_FOOTPRINT_DX, py = r.y + REYES_FOOTPRINT_DY;
-    uint16 s = s0 + REYES_FOOTPRINT_DS;
-    uint16 h = reyes_hash_lanes(as_uint16(px) * 0x9e3779b9u
-                                ^ reyes_hash_lanes(as_uint16(py) * 0x85ebca6bu ^ reyes_hash_lanes(s)));
-    float16 jx = convert_float16(h & 0xffffu) * (1.0f / 65536.0f);
-    float16 jy = convert_float16(h >> 16) * (1.0f / 65536.0f);
-    /* The lattice cell of each sample index (integer division per index,
-     * not per lane). */
-    float4 cell_x, cell_y;
-    for (uint k = 0; k < 4u; ++k) {
-        ((float *)&cell_x)[k] = (float)((s0 + k) % columns);
-        ((float *)&cell_y)[k] = (float)((s0 + k) / columns);
+    const int16 lane = (int16)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+    int c = (int)g->columns;
+    int16 k = first + lane;
+    int16 row = convert_int16((convert_float16(k) + 0.5f) / (float)c); /* reyes_lattice_row */
+    int16 has = (k < slots) & (row + 1 < (int)g->rows) & (k - row * c != c - 1)
+                & (convert_int16((uint16)g->quad_rows >> convert_uint16(row)) & 1) != 0;
+    const int corner[4] = { 0, 1, c + 1, c };
+    float16 x[4], y[4];
+    int16 front = (int16)(-1);
+    for (int i = 0; i < 4; ++i) {
+        x[i] = vload16(0, g->x + first + corner[i]);
+        y[i] = vload16(0, g->y + first + corner[i]);
+        front &= vload16(0, g->z + first + corner[i]) > p->near_w;
     }
-    float16 cx = (float16)(cell_x, cell_x, cell_x, cell_x), cy = (float16)(cell_y, cell_y, cell_y, cell_y);
-    float16 x = convert_float16(px) + (cx + jx) / (float)columns;
-    float16 y = convert_float16(py) + (cy + jy) / (float)rows;
-    int16 valid = (s < spp) & (px <= r.z) & (py <= r.w);
-    int16 first = reyes_triangle_covers_lanes(&t[0], x, y) & valid;
-    int16 second = reyes_triangle_covers_lanes(&t[1], x, y) & valid;
-    if (!any(first | second))
-        return;
-    uint tile_x = (uint)p->tile_x0, tile_y = (uint)p->tile_y0;
+    float16 lo_x = fmin(fmin(x[0], x[1]), fmin(x[2], x[3])), lo_y = fmin(fmin(y[0], y[1]), fmin(y[2], y[3]));
+    float16 hi_x = fmax(fmax(x[0], x[1]), fmax(x[2], x[3])), hi_y = fmax(fmax(y[0], y[1]), fmax(y[2], y[3]));
+    struct reyes_quad_lanes q;
+    q.live = has & front & (hi_x >= p->tile_x0) & (hi_y >= p->tile_y0) & (lo_x <= p->tile_x1)
+             & (lo_y <= p->tile_y1);
+    /* floor of the clamped box, which is at least the tile's corner (>= 0). */
+    q.x0 = convert_int16(clamp(lo_x, p->tile_x0, p->tile_x1 - 1.0f));
+    q.y0 = convert_int16(clamp(lo_y, p->tile_y0, p->tile_y1 - 1.0f));
+    q.x1 = convert_int16(clamp(hi_x, p->tile_x0, p->tile_x1 - 1.0f));
+    q.y1 = convert_int16(clamp(hi_y, p->tile_y0, p->tile_y1 - 1.0f));
+    const int vertices[2][3] = { {0, 1, 2}, {0, 2, 3} };
+    for (int t = 0; t < 2; ++t) {
+        int a = vertices[t][0], b = vertices[t][1], cc = vertices[t][2];
+        reyes_edge_order_lanes(x[b], y[b], x[cc], y[cc], &q.lo_x[t][0], &q.lo_y[t][0], &q.dx[t][0], &q.dy[t][0],
+                               &q.swap[t][0]);
+        reyes_edge_order_lanes(x[cc], y[cc], x[a], y[a], &q.lo_x[t][1], &q.lo_y[t][1], &q.dx[t][1], &q.dy[t][1],
+                               &q.swap[t][1]);
+        reyes_edge_order_lanes(x[a], y[a], x[b], y[b], &q.lo_x[t][2], &q.lo_y[t][2], &q.dx[t][2], &q.dy[t][2],
+                               &q.swap[t][2]);
+        q.area[t] = reyes_edge_value_lanes(q.lo_x[t][2], q.lo_y[t][2], q.dx[t][2], q.dy[t][2], q.swap[t][2], x[cc],
+                                           y[cc]);
+    }
+    return q;
+}
+
+REYES_INLINE float8 reyes_edge_value8(float8 lo_x, float8 lo_y, float8 dx, float8 dy, int8 swap, float8 x, float8 y)
+{
+    float8 v = dx * (y - lo_y) - dy * (x - lo_x);
+    return select(v, -v, swap);
+}
+
+#define REYES_LANE_F(v, l) (((const float *)&(v))[l])
+#define REYES_LANE_I(v, l) (((const int *)&(v))[l])
+
+/* A value of triangle 0 in lanes 0-3 and of triangle 1 in lanes 4-7. */
+REYES_INLINE float8 reyes_pair(float first, float second)
+{
+    return (float8)((float4)first, (float4)second);
+}
+
+/* The sample indices s0 .. s0 + 3 of a chunk in eight lanes (twice, for
+ * the two triangles): which are below spp, their hash and their lattice
+ * cell; the same for every quad, so made once per item. */
+struct reyes_sample_chunk {
+    int8 valid;
+    uint8 index_hash;
+    float8 cell_x, cell_y;
+};
+
+struct reyes_sample_chunks {
+    struct reyes_sample_chunk chunk[REYES_MAX_SPP_CHUNKS];
+    uint count, spp;
+    float columns, rows;
+    /* 1 / columns and 1 / rows when they are powers of two (then a
+     * product is the quotient exactly), else 0. */
+    float inv_columns, inv_rows;
+};
+
+REYES_INLINE float reyes_exact_inverse(uint n)
+{
+    return (n & (n - 1u)) == 0u ? 1.0f / (float)n : 0.0f;
+}
+
+void reyes_sample_chunks_init(struct reyes_sample_chunks *c, uint spp)
+{
+    uint columns = reyes_sample_columns(spp), rows = (spp + columns - 1u) / columns;
+    const uint8 index = (uint8)(0, 1, 2, 3, 0, 1, 2, 3);
+    c->count = (spp + 3u) / 4u;
+    c->spp = spp;
+    c->columns = (float)columns;
+    c->rows = (float)rows;
+    c->inv_columns = reyes_exact_inverse(columns);
+    c->inv_rows = reyes_exact_inverse(rows);
+    for (uint k = 0; k < c->count; ++k) {
+        uint8 s = 4u * k + index;
+        c->chunk[k].valid = s < spp;
+        c->chunk[k].index_hash = reyes_hash8(s);
+        for (uint i = 0; i < 8u; ++i) {
+            ((float *)&c->chunk[k].cell_x)[i] = (float)((4u * k + i % 4u) % columns);
+            ((float *)&c->chunk[k].cell_y)[i] = (float)((4u * k + i % 4u) / columns);
+        }
+    }
+}
+
+/* (cell + jitter) / n, as a product when that is exact. */
+REYES_INLINE float8 reyes_cell_offset(float8 cell, float8 jitter, float n, float inverse)
+{
+    return inverse != 0.0f ? (cell + jitter) * inverse : (cell + jitter) / n;
+}
+
+REYES_INLINE int reyes_any8(int8 m)
+{
+    int4 a = m.lo | m.hi;
+    int2 b = a.lo | a.hi;
+    return (b.x | b.y) != 0;
+}
+
+/* Quad l of the lanes (its slot k), over its pixel box: per pixel, four
+ * sample indices against both triangles in eight SIMD lanes (triangle 0
+ * in lanes 0-3, triangle 1 in 4-7), with the tests and values of
+ * reyes_triangle_sample; the nearer of the two triangles' values of each
+ * covered sample is merged into the samples. */
+void reyes_quad_pixels(__global const struct reyes_params *p, __global ulong *samples,
+                       __local const struct reyes_grid *g, const struct reyes_quad_lanes *ql, int l, int k,
+                       const struct reyes_sample_chunks *chunks)
+{
+    uint spp = chunks->spp, tile_x = (uint)p->tile_x0, tile_y = (uint)p->tile_y0;
     uint tile_width = (uint)p->tile_x1 - tile_x;
-    for (int l = 0; l < 16; ++l) {
-        int a = ((int *)&first)[l], b = ((int *)&second)[l];
-        if (!(a | b))
-            continue;
-        float sx = ((float *)&x)[l], sy = ((float *)&y)[l];
-        ulong value = min(a ? reyes_triangle_sample(sx, sy, q, &t[0]) : REYES_EMPTY_SAMPLE,
-                          b ? reyes_triangle_sample(sx, sy, q, &t[1]) : REYES_EMPTY_SAMPLE);
-        uint pxl = (uint)((int *)&px)[l], pyl = (uint)((int *)&py)[l], sl = ((uint *)&s)[l];
-        reyes_sample_merge(samples, ((pyl - tile_y) * tile_width + (pxl - tile_x)) * spp + sl, value);
+    int x0 = REYES_LANE_I(ql->x0, l), y0 = REYES_LANE_I(ql->y0, l);
+    int x1 = REYES_LANE_I(ql->x1, l), y1 = REYES_LANE_I(ql->y1, l);
+    float8 lo_x[3], lo_y[3], dx[3], dy[3];
+    int8 swap[3];
+    for (int e = 0; e < 3; ++e) {
+        lo_x[e] = reyes_pair(REYES_LANE_F(ql->lo_x[0][e], l), REYES_LANE_F(ql->lo_x[1][e], l));
+        lo_y[e] = reyes_pair(REYES_LANE_F(ql->lo_y[0][e], l), REYES_LANE_F(ql->lo_y[1][e], l));
+        dx[e] = reyes_pair(REYES_LANE_F(ql->dx[0][e], l), REYES_LANE_F(ql->dx[1][e], l));
+        dy[e] = reyes_pair(REYES_LANE_F(ql->dy[0][e], l), REYES_LANE_F(ql->dy[1][e], l));
+        swap[e] = (int8)((int4)REYES_LANE_I(ql->swap[0][e], l), (int4)REYES_LANE_I(ql->swap[1][e], l));
+    }
+    float area0 = REYES_LANE_F(ql->area[0], l), area1 = REYES_LANE_F(ql->area[1], l);
+    float8 area = reyes_pair(area0, area1);
+    int8 inside_positive = area > 0.0f, has_area = area != 0.0f;
+    /* The vertices' depths and colours, once a sample is covered. */
+    int c = (int)g->columns;
+    const int corner[4] = { k, k + 1, k + c + 1, k + c };
+    int loaded = 0;
+    float8 inv_area, za, zb, zc, ca[3], cb[3], cc[3];
+    for (uint chunk = 0; chunk < chunks->count; ++chunk) {
+        const struct reyes_sample_chunk *sc = &chunks->chunk[chunk];
+        uint s0 = 4u * chunk;
+        for (int py = y0; py <= y1; ++py) {
+            uint8 row_hash = reyes_hash8((uint)py * 0x85ebca6bu ^ sc->index_hash);
+            for (int px = x0; px <= x1; ++px) {
+                uint8 h = reyes_hash8((uint)px * 0x9e3779b9u ^ row_hash);
+                float8 jx = convert_float8(h & 0xffffu) * (1.0f / 65536.0f);
+                float8 jy = convert_float8(h >> 16) * (1.0f / 65536.0f);
+                float8 x = (float)px + reyes_cell_offset(sc->cell_x, jx, chunks->columns, chunks->inv_columns);
+                float8 y = (float)py + reyes_cell_offset(sc->cell_y, jy, chunks->rows, chunks->inv_rows);
+                float8 wa = reyes_edge_value8(lo_x[0], lo_y[0], dx[0], dy[0], swap[0], x, y);
+                float8 wb = reyes_edge_value8(lo_x[1], lo_y[1], dx[1], dy[1], swap[1], x, y);
+                float8 wc = reyes_edge_value8(lo_x[2], lo_y[2], dx[2], dy[2], swap[2], x, y);
+                int8 inside = select((wa <= 0.0f) & (wb <= 0.0f) & (wc <= 0.0f),
+                                     (wa >= 0.0f) & (wb >= 0.0f) & (wc >= 0.0f), inside_positive);
+                int8 covered = inside & has_area & sc->valid;
+                if (!reyes_any8(covered))
+                    continue;
+                if (!loaded) {
+                    loaded = 1;
+                    inv_area = reyes_pair(1.0f / area0, 1.0f / area1);
+                    za = (float8)g->z[corner[0]];
+                    zb = reyes_pair(g->z[corner[1]], g->z[corner[2]]);
+                    zc = reyes_pair(g->z[corner[2]], g->z[corner[3]]);
+                    for (int ch = 0; ch < 3; ++ch) {
+                        uint shift = 8u * (uint)ch;
+                        ca[ch] = (float8)reyes_channel(g->rgba[corner[0]], shift);
+                        cb[ch] = reyes_pair(reyes_channel(g->rgba[corner[1]], shift),
+                                            reyes_channel(g->rgba[corner[2]], shift));
+                        cc[ch] = reyes_pair(reyes_channel(g->rgba[corner[2]], shift),
+                                            reyes_channel(g->rgba[corner[3]], shift));
+                    }
+                }
+                float8 ba = wa * inv_area, bb = wb * inv_area, bc = wc * inv_area;
+                float8 depth = fmax(ba * za + bb * zb + bc * zc, 0.0f);
+                uint8 rgba = reyes_channel_byte_lanes(ba * ca[0] + bb * cb[0] + bc * cc[0])
+                             | (reyes_channel_byte_lanes(ba * ca[1] + bb * cb[1] + bc * cc[1]) << 8)
+                             | (reyes_channel_byte_lanes(ba * ca[2] + bb * cb[2] + bc * cc[2]) << 16)
+                             | (uint8)(255u << 24);
+                ulong8 packed = convert_ulong8(as_uint8(depth)) << 32 | convert_ulong8(rgba);
+                packed = select((ulong8)REYES_EMPTY_SAMPLE, packed, convert_long8(covered));
+                ulong4 nearest = min(packed.lo, packed.hi);
+                uint base = (((uint)py - tile_y) * tile_width + ((uint)px - tile_x)) * spp + s0;
+                for (int i = 0; i < 4; ++i) {
+                    ulong value = ((ulong *)&nearest)[i];
+                    if (value != REYES_EMPTY_SAMPLE)
+                        reyes_sample_merge(samples, base + (uint)i, value);
+                }
+            }
+        }
     }
 }
 
@@ -109,7 +272,8 @@ void reyes_rasterize_blurred_grid(perma_ctx *ctx, __local const struct reyes_gri
 }
 
 /* Cooperative: every work-item of the group calls it (it has no
- * barrier; its threads_per_item is the group size). */
+ * barrier; its threads_per_item is the group size).  Each work-item sets
+ * up sixteen quads at a time in SIMD lanes and samples their visible ones. */
 void reyes_rasterize(perma_ctx *ctx, __local const struct reyes_grid *item)
 {
     __global const struct reyes_params *p = ctx->buf.params;
@@ -120,25 +284,15 @@ void reyes_rasterize(perma_ctx *ctx, __local const struct reyes_grid *item)
         return;
     }
     __global ulong *samples = ctx->buf.samples;
-    const uint spp = p->spp, columns = reyes_sample_columns(spp), rows = (spp + columns - 1u) / columns;
+    struct reyes_sample_chunks chunks;
+    reyes_sample_chunks_init(&chunks, p->spp);
     int slots = (int)(item->rows - 1u) * (int)item->columns;
-    for (int k = (int)ctx->thread; k < slots; k += REYES_ITEM_THREADS) {
-        if (!reyes_grid_has_quad(item, k))
+    for (int first = (int)ctx->thread * 16; first < slots; first += REYES_ITEM_THREADS * 16) {
+        struct reyes_quad_lanes quads = reyes_quad_setup_lanes(p, item, first, slots);
+        if (!any(quads.live))
             continue;
-        struct reyes_quad q = reyes_grid_quad(item, k);
-        if (!reyes_sharp_visible(p, &q))
-            continue;
-        float2 lo, hi;
-        reyes_quad_box(&q, &lo, &hi);
-        int4 r;
-        if (!reyes_tile_pixels(p, lo, hi, &r))
-            continue;
-        const struct reyes_triangle t[2] = { reyes_triangle_setup(&q, 0, 1, 2), reyes_triangle_setup(&q, 0, 2, 3) };
-        if (r.z - r.x < 2 && r.w - r.y < 2) {
-            for (uint s0 = 0; s0 < spp; s0 += 4u)
-                reyes_quad_footprint(p, samples, &q, t, r, s0, columns, rows);
-        } else {
-            reyes_sample_box(p, samples, lo, hi, &q, t, 2);
-        }
+        for (int l = 0; l < 16; ++l)
+            if (REYES_LANE_I(quads.live, l))
+                reyes_quad_pixels(p, samples, item, &quads, l, first + l, &chunks);
     }
 }

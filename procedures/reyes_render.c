@@ -6,19 +6,9 @@
 #include "reyes_blur_tuples.h"
 #include "reyes_render_stats.h"
 #include "reyes_renderer_internal.h"
+#include "reyes_look.h"
 #include "reyes_stitch_plan.h"
 #include "reyes_shared.h"
-
-#define EMPTY_SAMPLE UINT64_MAX
-
-void reyes_image_free(reyes_image *image)
-{
-    if (!image)
-        return;
-    free(image->rgb);
-    free(image->coverage);
-    memset(image, 0, sizeof *image);
-}
 
 /* The per-render buffers handed to perma_bind_host. */
 typedef struct render_buffers {
@@ -177,11 +167,7 @@ static reyes_status fill_params(const reyes_scene *scene, const reyes_camera *ca
         return status;
     for (int k = 0; k < 3; ++k)
         p->eye[k] = camera->eye[k];
-    /* Light from the upper left behind the viewer, in world space (z up). */
-    const float light[3] = {-0.4f, -0.5f, 0.77f};
-    float length = sqrtf(light[0] * light[0] + light[1] * light[1] + light[2] * light[2]);
-    for (int k = 0; k < 3; ++k)
-        p->light_dir[k] = light[k] / length;
+    reyes_light_direction(p->light_dir);
     p->width = (float)o->width;
     p->height = (float)o->height;
     p->bound_px = o->bound_px;
@@ -191,10 +177,10 @@ static reyes_status fill_params(const reyes_scene *scene, const reyes_camera *ca
     p->flat_cap_px = o->flat_bound_px > 0.0f ? o->flat_bound_px : (float)(o->grid - 1u);
     p->wedges = o->crack_fix == REYES_CRACK_FIX_WEDGE ? 1u : 0u;
     p->cull_margin = o->cull_margin;
-    p->ambient = 0.18f;
-    p->diffuse = 0.82f;
-    p->specular = 0.35f;
-    p->shininess = 40.0f;
+    p->ambient = REYES_AMBIENT;
+    p->diffuse = REYES_DIFFUSE;
+    p->specular = REYES_SPECULAR;
+    p->shininess = REYES_SHININESS;
     p->max_depth = o->max_depth;
     p->grid = o->grid;
     p->spp = o->spp;
@@ -314,36 +300,6 @@ static perma_status seed(reyes_renderer *r, const reyes_scene *scene, render_buf
     if (s == PERMA_OK && b->stitch_seed_count)
         s = perma_seed(r->rt, r->procs[REYES_PROC_STITCH], b->stitch_seeds, b->stitch_seed_count);
     return s;
-}
-
-/* Average the samples of each pixel of the tile; empty samples show the
- * background.  Returns the covered samples. */
-static uint64_t resolve(const uint64_t *samples, const reyes_options *o, tile t,
-                        reyes_image *image)
-{
-    uint64_t written = 0;
-    size_t tile_width = t.x1 - t.x0;
-    for (unsigned y = t.y0; y < t.y1; ++y) {
-        for (unsigned x = t.x0; x < t.x1; ++x) {
-            const uint64_t *pixel = samples + ((y - t.y0) * tile_width + (x - t.x0)) * o->spp;
-            size_t px = (size_t)y * o->width + x;
-            unsigned sum[3] = {0, 0, 0}, hits = 0;
-            for (unsigned s = 0; s < o->spp; ++s) {
-                uint32_t rgba = o->background;
-                if (pixel[s] != EMPTY_SAMPLE) {
-                    rgba = (uint32_t)pixel[s];
-                    ++hits;
-                }
-                for (int c = 0; c < 3; ++c)
-                    sum[c] += (rgba >> (8 * c)) & 255u;
-            }
-            for (int c = 0; c < 3; ++c)
-                image->rgb[px * 3 + c] = (uint8_t)((sum[c] + o->spp / 2) / o->spp);
-            image->coverage[px] = (uint8_t)hits;
-            written += hits;
-        }
-    }
-    return written;
 }
 
 /* Add the last run's runtime statistics to *stats; *peak_bytes: its peak
@@ -494,7 +450,7 @@ static perma_status render_tile(reyes_renderer *r, const reyes_scene *scene, con
     if (work)
         ps = run_tile(r, scene, o, t, b, stats, peak_bytes, call);
     if (ps == PERMA_OK)
-        stats->samples_written += resolve(b->samples, o, t, image);
+        stats->samples_written += reyes_resolve(b->samples, o->spp, o->background, t.x0, t.y0, t.x1, t.y1, image);
     return ps;
 }
 

@@ -42,8 +42,9 @@ static perma_status add_definitions(struct reyes_renderer *r)
              "#define REYES_GRID_VERTICES %uu\n"
              "#define REYES_ITEM_THREADS %u\n"
              "#define REYES_ITEM_THREADS_POW2 %u\n"
+             "#define REYES_MAX_SPP_CHUNKS %u\n"
              "%s",
-             REYES_GRID_ARRAY(r->grid), r->dice_threads, pow2,
+             REYES_GRID_ARRAY(r->grid), r->dice_threads, pow2, (REYES_MAX_SPP + 3) / 4,
              r->vertex_motion ? "#define REYES_VERTEX_MOTION 1\n" : "");
     return perma_add_source(r->rt, text, "reyes_renderer.h");
 }

@@ -89,7 +89,7 @@ struct reyes_stitch {
  * rounded up to whole vectors of REYES_GRID_LANES, plus one vector of
  * padding that the SIMD code may read past the last vertex. */
 #define REYES_GRID_HEADER_WORDS 4u
-#define REYES_GRID_LANES 8u
+#define REYES_GRID_LANES 16u
 #define REYES_GRID_CAPACITY(n) ((n) >= 8u ? (n) * (n) : 8u * (n))
 #define REYES_GRID_ARRAY(n) \
     ((REYES_GRID_CAPACITY(n) + REYES_GRID_LANES - 1u) / REYES_GRID_LANES * REYES_GRID_LANES + REYES_GRID_LANES)

@@ -135,7 +135,7 @@ REYES_INLINE reyes_lanes reyes_dot4_lanes(float ax, float ay, float az, float aw
 REYES_INLINE void reyes_normalize_lanes(reyes_lanes *x, reyes_lanes *y, reyes_lanes *z)
 {
     reyes_lanes ax = *x, ay = *y, az = *z;
-    reyes_lane_mask zero = ax == 0.0f & ay == 0.0f & az == 0.0f;
+    reyes_lane_mask zero = (ax == 0.0f) & (ay == 0.0f) & (az == 0.0f);
     reyes_lanes l2 = reyes_dot3_lanes(ax, ay, az, ax, ay, az);
     reyes_lanes scale = select(select((reyes_lanes)1.0f, (reyes_lanes)0x1.0p-66f, l2 == INFINITY),
                                (reyes_lanes)0x1.0p86f, l2 < FLT_MIN);
