@@ -186,7 +186,9 @@ typedef struct reyes_options {
     unsigned blur_tile;
     unsigned blur_permutations;
     /* Scheduling, passed to perma_config when the renderer is created;
-     * 0 = the runtime's default. */
+     * 0 = the runtime's default, except group_size: 0 = 8 work-items on a
+     * CPU device (one runs a group's work-items one after another, and the
+     * dice and rasterize procedures do their own SIMD), else 64. */
     unsigned work_groups;
     unsigned group_size;
     perma_technique technique;

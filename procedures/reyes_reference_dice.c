@@ -82,45 +82,43 @@ static void eval_one_normal(const float hull[3][16], float u, float v, float x[3
 }
 
 /* Points (and, when `normals`, the cross products of the derivatives) of
- * grid row j, from the row's Bernstein weights in v and the columns'
- * weights in u. */
+ * grid row j: the row's curve in u (and its derivative in v), four control
+ * points made once from the hull, then evaluated at each column with the
+ * columns' weights bu and derivative weights du. */
 static void eval_row(reference_grid *g, unsigned j, const float hull[3][16], const float (*bu)[REYES_MAX_GRID],
                      const float (*du)[REYES_MAX_GRID], float v, int normals)
 {
     unsigned n = g->n, o = j * n;
-    float bv[4], dv[4];
+    float bv[4], dv[4], q[3][4], qv[3][4];
     bernstein(v, bv);
     bernstein_deriv(v, dv);
-    float tu[3][REYES_MAX_GRID], tv[3][REYES_MAX_GRID];
     for (int d = 0; d < 3; ++d) {
-        float *restrict x = g->x[d] + o;
-        for (unsigned i = 0; i < n; ++i)
-            x[i] = tu[d][i] = tv[d][i] = 0.0f;
-    }
-    for (int r = 0; r < 4; ++r) {
         for (int c = 0; c < 4; ++c) {
-            const float *restrict wu = bu[c], *restrict wd = du[c];
-            for (int d = 0; d < 3; ++d) {
-                float p = hull[d][r * 4 + c];
-                float *restrict x = g->x[d] + o, *restrict su = tu[d], *restrict sv = tv[d];
-                for (unsigned i = 0; i < n; ++i)
-                    x[i] += bv[r] * wu[i] * p;
-                if (!normals)
-                    continue;
-                for (unsigned i = 0; i < n; ++i) {
-                    su[i] += bv[r] * wd[i] * p;
-                    sv[i] += dv[r] * wu[i] * p;
-                }
-            }
+            q[d][c] = bv[0] * hull[d][c] + bv[1] * hull[d][4 + c] + bv[2] * hull[d][8 + c] + bv[3] * hull[d][12 + c];
+            qv[d][c] = dv[0] * hull[d][c] + dv[1] * hull[d][4 + c] + dv[2] * hull[d][8 + c] + dv[3] * hull[d][12 + c];
         }
+    }
+    const float *restrict b0 = bu[0], *restrict b1 = bu[1], *restrict b2 = bu[2], *restrict b3 = bu[3];
+    const float *restrict d0 = du[0], *restrict d1 = du[1], *restrict d2 = du[2], *restrict d3 = du[3];
+    float *restrict x = g->x[0] + o, *restrict y = g->x[1] + o, *restrict z = g->x[2] + o;
+    float *restrict nx = g->normal[0] + o, *restrict ny = g->normal[1] + o, *restrict nz = g->normal[2] + o;
+    for (unsigned i = 0; i < n; ++i) {
+        x[i] = b0[i] * q[0][0] + b1[i] * q[0][1] + b2[i] * q[0][2] + b3[i] * q[0][3];
+        y[i] = b0[i] * q[1][0] + b1[i] * q[1][1] + b2[i] * q[1][2] + b3[i] * q[1][3];
+        z[i] = b0[i] * q[2][0] + b1[i] * q[2][1] + b2[i] * q[2][2] + b3[i] * q[2][3];
     }
     if (!normals)
         return;
-    float *restrict nx = g->normal[0] + o, *restrict ny = g->normal[1] + o, *restrict nz = g->normal[2] + o;
     for (unsigned i = 0; i < n; ++i) {
-        nx[i] = tu[1][i] * tv[2][i] - tu[2][i] * tv[1][i];
-        ny[i] = tu[2][i] * tv[0][i] - tu[0][i] * tv[2][i];
-        nz[i] = tu[0][i] * tv[1][i] - tu[1][i] * tv[0][i];
+        float ux = d0[i] * q[0][0] + d1[i] * q[0][1] + d2[i] * q[0][2] + d3[i] * q[0][3];
+        float uy = d0[i] * q[1][0] + d1[i] * q[1][1] + d2[i] * q[1][2] + d3[i] * q[1][3];
+        float uz = d0[i] * q[2][0] + d1[i] * q[2][1] + d2[i] * q[2][2] + d3[i] * q[2][3];
+        float vx = b0[i] * qv[0][0] + b1[i] * qv[0][1] + b2[i] * qv[0][2] + b3[i] * qv[0][3];
+        float vy = b0[i] * qv[1][0] + b1[i] * qv[1][1] + b2[i] * qv[1][2] + b3[i] * qv[1][3];
+        float vz = b0[i] * qv[2][0] + b1[i] * qv[2][1] + b2[i] * qv[2][2] + b3[i] * qv[2][3];
+        nx[i] = uy * vz - uz * vy;
+        ny[i] = uz * vx - ux * vz;
+        nz[i] = ux * vy - uy * vx;
     }
 }
 
@@ -182,8 +180,8 @@ static void light(const reference_context *c, reference_grid *g, unsigned count)
         float inv_h = 1.0f / sqrtf(hx * hx + hy * hy + hz * hz);
         float cos_h = (mx * hx + my * hy + mz * hz) * inv_h;
         diffuse[k] = REYES_AMBIENT + REYES_DIFFUSE * lambert;
-        float lit = (lambert > 0.0f) & (cos_h > 0.0f) ? 1.0f : 0.0f;
-        specular[k] = lit * (REYES_SPECULAR * highlight(cos_h));
+        float lit = lambert > 0.0f ? REYES_SPECULAR : 0.0f;
+        specular[k] = cos_h > 0.0f ? lit * highlight(cos_h) : 0.0f;
     }
 }
 

@@ -72,28 +72,12 @@ static float edge_at(const edge *e, float x, float y)
     return e->sign * (e->dx * (y - e->lo_y) - e->dy * (x - e->lo_x));
 }
 
-/* Triangle (a, b, c) of a quad (vertex indices into the grid): its edges
- * (b,c), (c,a), (a,b) and the reciprocal of its signed area. */
+/* A triangle of a quad: the grid indices of its vertices a, b, c and its
+ * signed area (its edges are the quad's). */
 typedef struct triangle {
-    edge e[3];
-    float area, inv_area;
+    float area;
     unsigned v[3];
 } triangle;
-
-static triangle triangle_setup(const reference_grid *g, const unsigned corner[4], int a, int b, int c)
-{
-    triangle t;
-    unsigned va = corner[a], vb = corner[b], vc = corner[c];
-    t.e[0] = edge_setup(g->sx[vb], g->sy[vb], g->sx[vc], g->sy[vc]);
-    t.e[1] = edge_setup(g->sx[vc], g->sy[vc], g->sx[va], g->sy[va]);
-    t.e[2] = edge_setup(g->sx[va], g->sy[va], g->sx[vb], g->sy[vb]);
-    t.area = edge_at(&t.e[2], g->sx[vc], g->sy[vc]);
-    t.inv_area = 1.0f / t.area;
-    t.v[0] = va;
-    t.v[1] = vb;
-    t.v[2] = vc;
-    return t;
-}
 
 /* fminf and fmaxf would be library calls (their NaN rules); these are not. */
 static float min_f(float a, float b)
@@ -112,15 +96,12 @@ static uint32_t channel_byte(float value)
     return (uint32_t)(int32_t)((scaled + 8388608.0f) - 8388608.0f);
 }
 
-/* Keep the nearer of the sample's value and the triangle's at (x, y), if
- * the point is inside (edges inclusive). */
-static void sample_triangle(const reference_grid *g, const triangle *t, float x, float y, uint64_t *value)
+/* The nearer of the sample's value and triangle t's at a covered point
+ * with edge values wa, wb, wc. */
+static void keep_nearer(const reference_grid *g, const triangle *t, float wa, float wb, float wc, uint64_t *value)
 {
-    float wa = edge_at(&t->e[0], x, y), wb = edge_at(&t->e[1], x, y), wc = edge_at(&t->e[2], x, y);
-    int inside = t->area > 0.0f ? (wa >= 0.0f && wb >= 0.0f && wc >= 0.0f) : (wa <= 0.0f && wb <= 0.0f && wc <= 0.0f);
-    if (!inside || t->area == 0.0f)
-        return;
-    float ba = wa * t->inv_area, bb = wb * t->inv_area, bc = wc * t->inv_area;
+    float inv_area = 1.0f / t->area;
+    float ba = wa * inv_area, bb = wb * inv_area, bc = wc * inv_area;
     unsigned a = t->v[0], b = t->v[1], c = t->v[2];
     float depth = max_f(ba * g->w[a] + bb * g->w[b] + bc * g->w[c], 0.0f);
     uint32_t rgba = 255u << 24;
@@ -134,20 +115,55 @@ static void sample_triangle(const reference_grid *g, const triangle *t, float x,
         *value = packed;
 }
 
-/* Sample one quad over its pixel box. */
+static int inside(float area, float wa, float wb, float wc)
+{
+    return area > 0.0f ? (wa >= 0.0f && wb >= 0.0f && wc >= 0.0f) : (wa <= 0.0f && wb <= 0.0f && wc <= 0.0f);
+}
+
+/* Samples further than this outside a quad's screen box are not tested:
+ * rounding never puts a covered sample anywhere near that far out, so the
+ * result is that of testing every sample of the box's pixels. */
+#define BOX_MARGIN (1.0f / 64.0f)
+
+/* Sample one quad (corners 0-3 around it) as its triangles (0,1,2) and
+ * (0,2,3) over its pixel box.  Their five edges in canonical order: the
+ * diagonal (2,0) serves both triangles, negated for the second's (0,2). */
 static void sample_quad(const reference_samples *s, const reference_grid *g, const unsigned corner[4], float lo_x,
                         float lo_y, float hi_x, float hi_y)
 {
     int x0 = (int)floorf(max_f(lo_x, 0.0f)), y0 = (int)floorf(max_f(lo_y, 0.0f));
     int x1 = (int)floorf(min_f(hi_x, (float)s->width - 1.0f)), y1 = (int)floorf(min_f(hi_y, (float)s->height - 1.0f));
-    triangle t[2] = { triangle_setup(g, corner, 0, 1, 2), triangle_setup(g, corner, 0, 2, 3) };
+    float vx[4], vy[4];
+    for (int k = 0; k < 4; ++k) {
+        vx[k] = g->sx[corner[k]];
+        vy[k] = g->sy[corner[k]];
+    }
+    edge e12 = edge_setup(vx[1], vy[1], vx[2], vy[2]), e20 = edge_setup(vx[2], vy[2], vx[0], vy[0]);
+    edge e01 = edge_setup(vx[0], vy[0], vx[1], vy[1]), e23 = edge_setup(vx[2], vy[2], vx[3], vy[3]);
+    edge e30 = edge_setup(vx[3], vy[3], vx[0], vy[0]);
+    triangle t0 = { edge_at(&e01, vx[2], vy[2]), { corner[0], corner[1], corner[2] } };
+    triangle t1 = { -edge_at(&e20, vx[3], vy[3]), { corner[0], corner[2], corner[3] } };
+    lo_x -= BOX_MARGIN;
+    lo_y -= BOX_MARGIN;
+    hi_x += BOX_MARGIN;
+    hi_y += BOX_MARGIN;
     for (int py = y0; py <= y1; ++py) {
         size_t first = ((size_t)py * s->width + (size_t)x0) * s->spp, count = (size_t)(x1 - x0 + 1) * s->spp;
         const float *at = s->positions + first * 2;
         uint64_t *values = s->values + first;
         for (size_t k = 0; k < count; ++k) {
-            sample_triangle(g, &t[0], at[2 * k], at[2 * k + 1], &values[k]);
-            sample_triangle(g, &t[1], at[2 * k], at[2 * k + 1], &values[k]);
+            float x = at[2 * k], y = at[2 * k + 1];
+            if (!((x >= lo_x) & (x <= hi_x) & (y >= lo_y) & (y <= hi_y)))
+                continue;
+            float diagonal = edge_at(&e20, x, y);
+            float w12 = edge_at(&e12, x, y), w01 = edge_at(&e01, x, y);
+            float w23 = edge_at(&e23, x, y), w30 = edge_at(&e30, x, y);
+            uint64_t value = values[k];
+            if (t0.area != 0.0f && inside(t0.area, w12, diagonal, w01))
+                keep_nearer(g, &t0, w12, diagonal, w01, &value);
+            if (t1.area != 0.0f && inside(t1.area, w23, w30, -diagonal))
+                keep_nearer(g, &t1, w23, w30, -diagonal, &value);
+            values[k] = value;
         }
     }
 }
