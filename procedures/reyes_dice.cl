@@ -2,20 +2,20 @@
  * dice: evaluate a sub-patch on a grid x grid vertex lattice, shade each
  * vertex, count the (grid-1)^2 quads that are visible as micropolygons and
  * hand the lattice to rasterize as one item (struct reyes_grid,
- * reyes_grid.cl).  The item's REYES_ITEM_THREADS work-items (the whole
- * group) share the vertices, REYES_LANES consecutive ones at a time in
- * SIMD lanes, in __local scratch laid out as the rasterize item.  Vertices
- * are evaluated on the base patch at global (u,v), so a vertex shared by
- * two sub-patches is bit-identical wherever it is computed.  The
- * evaluation and shading are in reyes_surface.cl.
+ * reyes_grid.cl).  One work-item dices one sub-patch, REYES_LANES
+ * consecutive vertices at a time in SIMD lanes (OpenCL vector types), into
+ * __local scratch laid out as the rasterize item; a batch holds as many
+ * sub-patches as the group has work-items, so the runtime's cost per batch
+ * is shared by that many grids.  Vertices are evaluated on the base patch
+ * at global (u,v), so a vertex shared by two sub-patches is bit-identical
+ * wherever it is computed.  The evaluation and shading are in
+ * reyes_surface.cl.
  */
 
 /* The scratch of one dice item. */
 struct reyes_dice_scratch {
     struct reyes_grid grid;
-    struct reyes_grid strips;                 /* wedge crack fix */
-    uint quads[REYES_ITEM_THREADS];           /* visible quads, per work-item */
-    uint fillers[REYES_ITEM_THREADS];         /* visible wedge quads, per work-item */
+    struct reyes_grid strips; /* wedge crack fix */
 };
 
 /* Wedge crack fix: the strips along the settled edges, from the grid's
@@ -131,41 +131,30 @@ REYES_INLINE uint reyes_dice_visible_lanes(__global const struct reyes_params *p
     return (uint)(ones.s0 + ones.s1 + ones.s2 + ones.s3 + ones.s4 + ones.s5 + ones.s6 + ones.s7);
 }
 
-/* Visible quads of lattice g, counted by the work-items and summed over
- * them by a tree of barriers (a loop in thread 0 alone is what PoCL
- * mishandles); returns the total. */
-uint reyes_dice_count(__global const struct reyes_params *p, __local const struct reyes_grid *g,
-                      __local uint *partial, int thread)
+/* Visible quads of lattice g, eight slots at a time. */
+uint reyes_dice_count(__global const struct reyes_params *p, __local const struct reyes_grid *g)
 {
-    const int threads = REYES_ITEM_THREADS;
     int slots = (int)(g->rows - 1u) * (int)g->columns;
     uint visible = 0;
     if (p->blur) {
-        for (int k = thread; k < slots; k += threads)
+        for (int k = 0; k < slots; ++k)
             visible += reyes_grid_visible(p, g, k);
     } else {
-        for (int first = thread * REYES_LANES; first < slots; first += threads * REYES_LANES)
+        for (int first = 0; first < slots; first += REYES_LANES)
             visible += reyes_dice_visible_lanes(p, g, first);
     }
-    partial[thread] = visible;
-    barrier(CLK_LOCAL_MEM_FENCE);
-    for (int stride = REYES_ITEM_THREADS_POW2 / 2; stride > 0; stride /= 2) {
-        if (thread < stride && thread + stride < threads)
-            partial[thread] += partial[thread + stride];
-        barrier(CLK_LOCAL_MEM_FENCE);
-    }
-    return partial[0];
+    return visible;
 }
 
-/* Hand a lattice to rasterize (thread 0 of a full render). */
+/* Hand a lattice to rasterize (a full render). */
 void reyes_dice_emit(perma_ctx *ctx, __local const struct reyes_grid *g)
 {
     struct reyes_grid item = *g;
     emit_rasterize(ctx, &item);
 }
 
-/* The vertices of an undisplaced grid, REYES_LANES at a time per
- * work-item, and the poles' colours. */
+/* The vertices of an undisplaced grid, REYES_LANES at a time, and the
+ * poles' colours. */
 void reyes_dice_plain(perma_ctx *ctx, __local const struct reyes_subpatch *item, __local struct reyes_grid *g,
                       int shade)
 {
@@ -176,7 +165,7 @@ void reyes_dice_plain(perma_ctx *ctx, __local const struct reyes_subpatch *item,
     struct reyes_lighting light = reyes_lighting_of(p);
     uint base = ctx->buf.colors[item->patch];
     float u0 = item->u0, v0 = item->v0, u1 = item->u1, v1 = item->v1;
-    for (int first = (int)ctx->thread * REYES_LANES; first < n * n; first += REYES_ITEM_THREADS * REYES_LANES) {
+    for (int first = 0; first < n * n; first += REYES_LANES) {
         reyes_lane_mask degenerate = reyes_dice_lanes(p, &h, &light, u0, v0, u1, v1, base, g, first, n, shade);
         if (shade && any(degenerate)) {
             struct reyes_subpatch sp = *item;
@@ -198,73 +187,57 @@ void reyes_dice_displaced(perma_ctx *ctx, __local const struct reyes_subpatch *i
     __global const struct reyes_params *p = ctx->buf.params;
     struct reyes_displacement d = { p, ctx->buf.displacement_map };
     int n = (int)p->grid;
-    for (int v = (int)ctx->thread; v < n * n; v += REYES_ITEM_THREADS) {
-        struct reyes_subpatch sp = *item;
-        float3 cp[16];
-        reyes_load_patch(ctx->buf.patches, sp.patch, cp);
-        float3 base = reyes_unpack_rgb(ctx->buf.colors[sp.patch]);
+    struct reyes_subpatch sp = *item;
+    float3 cp[16];
+    reyes_load_patch(ctx->buf.patches, sp.patch, cp);
+    float3 base = reyes_unpack_rgb(ctx->buf.colors[sp.patch]);
+    for (int v = 0; v < n * n; ++v) {
         struct reyes_vertex vertex = reyes_grid_vertex(&d, cp, &sp, base, v % n, v / n, shade);
         reyes_grid_store(p, &s->grid, v, &vertex);
     }
 }
 
-/* Cooperative: every work-item of the group calls it.  Its
- * threads_per_item is the group size, so a batch is one item and every
- * branch around a barrier below takes the same way in all work-items. */
 void reyes_dice(perma_ctx *ctx, __local const struct reyes_subpatch *item)
 {
     __global const struct reyes_params *p = ctx->buf.params;
     __global uint *counters = ctx->buf.counters;
     __local struct reyes_dice_scratch *s = (__local struct reyes_dice_scratch *)ctx->scratch;
-    const int thread = (int)ctx->thread;
     int n = (int)p->grid;
     int full = p->stages == REYES_STAGES_ALL;
-    if (ctx->active && thread == 0) {
-        atomic_inc(&counters[REYES_COUNT_GRIDS]);
-        s->grid.columns = (uint)n;
-        s->grid.rows = (uint)n;
-        s->grid.quad_rows = (1u << (n - 1)) - 1u;
-        s->grid.pad = 0u;
+    atomic_inc(&counters[REYES_COUNT_GRIDS]);
+    if (p->stages == REYES_STAGES_SUBDIVIDE)
+        return;
+    s->grid.columns = (uint)n;
+    s->grid.rows = (uint)n;
+    s->grid.quad_rows = (1u << (n - 1)) - 1u;
+    s->grid.pad = 0u;
+    if (p->displace_mode == REYES_DISPLACE_NONE)
+        reyes_dice_plain(ctx, item, &s->grid, full);
+    else
+        reyes_dice_displaced(ctx, item, s, full);
+    uint quads = reyes_dice_count(p, &s->grid);
+    if (quads > 0u) {
+        atomic_add(&counters[REYES_COUNT_MICROPOLYGONS], quads);
+        if (full)
+            reyes_dice_emit(ctx, &s->grid);
     }
-    if (ctx->active && p->stages != REYES_STAGES_SUBDIVIDE) {
-        if (p->displace_mode == REYES_DISPLACE_NONE) {
-            reyes_dice_plain(ctx, item, &s->grid, full);
-        } else {
-            reyes_dice_displaced(ctx, item, s, full);
-        }
-        barrier(CLK_LOCAL_MEM_FENCE);
-        uint quads = reyes_dice_count(p, &s->grid, s->quads, thread);
-        if (thread == 0 && quads > 0u) {
-            atomic_add(&counters[REYES_COUNT_MICROPOLYGONS], quads);
-            if (full)
-                reyes_dice_emit(ctx, &s->grid);
-        }
-        if (p->wedges) {
-            if (thread == 0) {
-                s->strips.columns = (uint)n;
-                s->strips.rows = 8u;
-                uint rows = 0;
-                for (int edge = 0; edge < 4; ++edge)
-                    if (((item->edge_levels >> (8 * edge)) & 0xffu) != REYES_EDGE_UNSETTLED)
-                        rows |= 1u << (2 * edge);
-                s->strips.quad_rows = rows;
-                s->strips.pad = 0u;
-            }
-            for (int v = thread; v < 4 * n; v += REYES_ITEM_THREADS) {
-                struct reyes_subpatch sp = *item;
-                reyes_dice_strip_vertex(ctx, &sp, s, v);
-            }
-            barrier(CLK_LOCAL_MEM_FENCE);
-            uint strip_quads = reyes_dice_count(p, &s->strips, s->fillers, thread);
-            if (thread == 0 && strip_quads > 0u) {
-                atomic_add(&counters[REYES_COUNT_FILLERS], 2u * strip_quads); /* two triangles each */
-                if (full)
-                    reyes_dice_emit(ctx, &s->strips);
-            }
-            barrier(CLK_LOCAL_MEM_FENCE); /* see below */
-        }
-        /* A uniform branch with barriers ends with one: without it PoCL
-         * ran the stretch above in every work-item as if thread were 0. */
-        barrier(CLK_LOCAL_MEM_FENCE);
+    if (!p->wedges)
+        return;
+    s->strips.columns = (uint)n;
+    s->strips.rows = 8u;
+    uint rows = 0;
+    for (int edge = 0; edge < 4; ++edge)
+        if (((item->edge_levels >> (8 * edge)) & 0xffu) != REYES_EDGE_UNSETTLED)
+            rows |= 1u << (2 * edge);
+    s->strips.quad_rows = rows;
+    s->strips.pad = 0u;
+    struct reyes_subpatch sp = *item;
+    for (int v = 0; v < 4 * n; ++v)
+        reyes_dice_strip_vertex(ctx, &sp, s, v);
+    uint strip_quads = reyes_dice_count(p, &s->strips);
+    if (strip_quads > 0u) {
+        atomic_add(&counters[REYES_COUNT_FILLERS], 2u * strip_quads); /* two triangles each */
+        if (full)
+            reyes_dice_emit(ctx, &s->strips);
     }
 }

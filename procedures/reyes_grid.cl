@@ -1,10 +1,8 @@
 /*
  * The rasterize item: a lattice of shaded vertices diced from one
  * sub-patch (or the wedge strips along its edges), in screen space.
- * REYES_GRID_VERTICES and REYES_ITEM_THREADS come from the renderer
- * (reyes_renderer.c: the length of the vertex arrays, reyes_shared.h's
- * REYES_GRID_ARRAY, and the work-items that share a dice or rasterize
- * item).
+ * REYES_GRID_VERTICES comes from the renderer (reyes_renderer.c: the
+ * length of the vertex arrays, reyes_shared.h's REYES_GRID_ARRAY).
  *
  * Vertex k of the lattice is (k % columns, k / columns); the quad whose
  * first corner is vertex k has the corners k, k + 1, k + columns + 1,

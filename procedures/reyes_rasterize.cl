@@ -1,7 +1,7 @@
 /*
  * rasterize: one diced grid (or a sub-patch's wedge strips) per item,
- * struct reyes_grid of reyes_grid.cl, its quads shared among the item's
- * REYES_ITEM_THREADS work-items (quad slot k is work-item k % threads's).
+ * struct reyes_grid of reyes_grid.cl, taken by one work-item (a batch holds
+ * as many grids as the group has work-items).
  * Every sample in a quad's pixel box is tested against both of its
  * triangles; a covered sample stores (depth, color) with a 64-bit atomic
  * min, so the nearest surface wins whatever order work-items and
@@ -263,7 +263,7 @@ void reyes_rasterize_blurred_grid(perma_ctx *ctx, __local const struct reyes_gri
 {
     __global const struct reyes_params *p = ctx->buf.params;
     int slots = (int)(item->rows - 1u) * (int)item->columns;
-    for (int k = (int)ctx->thread; k < slots; k += REYES_ITEM_THREADS) {
+    for (int k = 0; k < slots; ++k) {
         if (!reyes_grid_visible(p, item, k))
             continue;
         struct reyes_moving_quad m = reyes_grid_moving(p, item, k);
@@ -271,14 +271,9 @@ void reyes_rasterize_blurred_grid(perma_ctx *ctx, __local const struct reyes_gri
     }
 }
 
-/* Cooperative: every work-item of the group calls it (it has no
- * barrier; its threads_per_item is the group size).  Each work-item sets
- * up sixteen quads at a time in SIMD lanes and samples their visible ones. */
 void reyes_rasterize(perma_ctx *ctx, __local const struct reyes_grid *item)
 {
     __global const struct reyes_params *p = ctx->buf.params;
-    if (!ctx->active)
-        return;
     if (p->blur) {
         reyes_rasterize_blurred_grid(ctx, item);
         return;
@@ -287,7 +282,9 @@ void reyes_rasterize(perma_ctx *ctx, __local const struct reyes_grid *item)
     struct reyes_sample_chunks chunks;
     reyes_sample_chunks_init(&chunks, p->spp);
     int slots = (int)(item->rows - 1u) * (int)item->columns;
-    for (int first = (int)ctx->thread * 16; first < slots; first += REYES_ITEM_THREADS * 16) {
+    /* Sixteen quads at a time set up in SIMD lanes, then the visible ones
+     * sampled one by one. */
+    for (int first = 0; first < slots; first += 16) {
         struct reyes_quad_lanes quads = reyes_quad_setup_lanes(p, item, first, slots);
         if (!any(quads.live))
             continue;

@@ -155,7 +155,7 @@ static reyes_status make_blur_tuples(const reyes_options *o, render_buffers *b, 
 }
 
 static reyes_status fill_params(const reyes_scene *scene, const reyes_camera *camera,
-                                const reyes_options *o, unsigned dice_threads,
+                                const reyes_options *o,
                                 struct reyes_params *p, reyes_error *error)
 {
     memset(p, 0, sizeof *p);
@@ -185,7 +185,6 @@ static reyes_status fill_params(const reyes_scene *scene, const reyes_camera *ca
     p->grid = o->grid;
     p->spp = o->spp;
     p->backface_cull = o->backface_cull ? 1u : 0u;
-    p->dice_threads = dice_threads;
     p->stages = o->stages;
     set_blur(camera, o, p);
     return REYES_OK;
@@ -517,7 +516,7 @@ reyes_status reyes_render(reyes_renderer *r, const reyes_scene *scene, const rey
                           "a motion rotation needs a renderer created with one (per-vertex motion; "
                           "create a new renderer)");
     render_buffers b = {0};
-    status = fill_params(scene, camera, options, r->dice_threads, &b.params, error);
+    status = fill_params(scene, camera, options, &b.params, error);
     if (status == REYES_OK)
         status = set_displacement(scene, options, &b, error);
     if (status == REYES_OK)

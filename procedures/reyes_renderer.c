@@ -25,27 +25,21 @@ size_t reyes_grid_item_bytes(unsigned grid, int vertex_motion)
 }
 
 /* Bytes of dice's scratch (struct reyes_dice_scratch, reyes_dice.cl): the
- * grid and the wedge strips as rasterize items and two counters per
- * work-item. */
+ * grid and the wedge strips as rasterize items. */
 static size_t dice_scratch_bytes(const struct reyes_renderer *r)
 {
-    return 2 * reyes_grid_item_bytes(r->grid, r->vertex_motion) + 2 * 4 * (size_t)r->dice_threads;
+    return 2 * reyes_grid_item_bytes(r->grid, r->vertex_motion);
 }
 
 /* The definitions the procedures' sources take from the renderer. */
 static perma_status add_definitions(struct reyes_renderer *r)
 {
-    unsigned pow2 = 1;
-    while (pow2 < r->dice_threads)
-        pow2 *= 2;
     char text[256];
     snprintf(text, sizeof text,
              "#define REYES_GRID_VERTICES %uu\n"
-             "#define REYES_ITEM_THREADS %u\n"
-             "#define REYES_ITEM_THREADS_POW2 %u\n"
              "#define REYES_MAX_SPP_CHUNKS %u\n"
              "%s",
-             REYES_GRID_ARRAY(r->grid), r->dice_threads, pow2, (REYES_MAX_SPP + 3) / 4,
+             REYES_GRID_ARRAY(r->grid), (REYES_MAX_SPP + 3) / 4,
              r->vertex_motion ? "#define REYES_VERTEX_MOTION 1\n" : "");
     return perma_add_source(r->rt, text, "reyes_renderer.h");
 }
@@ -70,14 +64,17 @@ static perma_status register_all(struct reyes_renderer *r)
             .threads_per_item = 1, .source = reyes_split_v_cl_source,
             .source_file = "reyes_split_v.cl", .function = "reyes_split_v",
             .emits = { { "bound", 2 } }, .priority = 1 },
+        /* Dice and rasterize take a whole grid per work-item (their SIMD is
+         * in vector types), so a batch shares the runtime's cost among
+         * as many grids as the group has work-items. */
         [REYES_PROC_DICE] = { .name = "dice", .item_type = item, .item_size = item_size,
-            .threads_per_item = r->dice_threads, .source = reyes_dice_cl_source,
+            .threads_per_item = 1, .source = reyes_dice_cl_source,
             .source_file = "reyes_dice.cl", .function = "reyes_dice",
             .local_bytes_per_item = dice_scratch_bytes(r),
-            .cooperative = 1, .emits = { { "rasterize", 2 } }, .priority = 3 },
+            .emits = { { "rasterize", 2 } }, .priority = 3 },
         [REYES_PROC_RASTERIZE] = { .name = "rasterize", .item_type = "struct reyes_grid",
             .item_size = reyes_grid_item_bytes(r->grid, r->vertex_motion),
-            .threads_per_item = r->dice_threads, .cooperative = 1,
+            .threads_per_item = 1,
             .source = reyes_rasterize_cl_source, .source_file = "reyes_rasterize.cl",
             .function = "reyes_rasterize", .priority = 4 },
         [REYES_PROC_STITCH] = { .name = "stitch", .item_type = "struct reyes_stitch",
@@ -163,9 +160,6 @@ reyes_status reyes_renderer_create(const reyes_options *options, reyes_renderer 
     }
     r->grid = options->grid;
     r->vertex_motion = options->motion_angle_deg != 0.0f;
-    /* Dice and rasterize share an item among all the group's work-items:
-     * one item per batch, the same in every work-item. */
-    r->dice_threads = group_size;
     /* The program is built by the first run, once the buffers are bound. */
     status = register_all(r);
     if (status != PERMA_OK) {

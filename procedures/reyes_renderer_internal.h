@@ -8,7 +8,6 @@ struct reyes_renderer {
     perma_runtime *rt;
     perma_proc procs[REYES_PROC_COUNT];
     unsigned grid;          /* the dice procedure's emit maximum depends on it */
-    unsigned dice_threads;  /* threads_per_item of dice */
     /* Micropolygons carry a motion per vertex (struct reyes_moving_quad):
      * created with a rotation over the shutter. */
     int vertex_motion;

@@ -158,7 +158,6 @@ struct reyes_params {
     REYES_U32 grid;        /* vertices per grid side */
     REYES_U32 spp;         /* samples per pixel */
     REYES_U32 backface_cull; /* 1: drop patches facing away entirely */
-    REYES_U32 dice_threads;  /* threads_per_item of the dice procedure */
     REYES_U32 stages;        /* REYES_STAGES_* */
     /* 1: bound records the sub-patches to dice in the leaves buffer (up
      * to leaf_capacity, counted in REYES_COUNT_LEAVES) instead of emitting
