@@ -5,6 +5,7 @@
 
 #include <string.h>
 
+extern const char perma_kernel_abi[];
 extern const char perma_kernel_prelude[];
 extern const char perma_kernel_queue[];
 extern const char perma_kernel_emit[];
@@ -147,18 +148,6 @@ static void append_emit_helpers(perma_runtime *rt, perma_strbuf *sb)
     }
 }
 
-/* sizeof(item_type) on the device must equal the declared item_size. */
-static void append_size_checks(perma_runtime *rt, perma_strbuf *sb)
-{
-    for (unsigned i = 0; i < rt->proc_count; ++i) {
-        const perma_proc_info *p = &rt->procs[i];
-        perma_strbuf_printf(sb,
-                            "typedef char perma_item_size_of_%s_must_equal_sizeof_its_item_type_%zu"
-                            "[(sizeof(%s) == %zu) ? 1 : -1];\n",
-                            p->name, p->item_size, p->item_type, p->item_size);
-    }
-}
-
 /* Procedure sources, each once even if several procedures share it. */
 static void append_procedure_sources(perma_runtime *rt, perma_strbuf *sb)
 {
@@ -212,6 +201,9 @@ perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *sb)
                         rt->config.victim == PERMA_VICTIM_ROUND_ROBIN, rt->config.donation_threshold,
                         rt->local_queue_items, rt->lq_words ? rt->lq_words : 1u,
                         rt->config.trace_path && rt->config.technique == PERMA_TECHNIQUE_MEGAKERNEL ? rt->trace_events : 0u);
+    perma_strbuf_append(sb, perma_kernel_abi);
+    perma_abi_append_struct_checks(sb);
+    resume_generated(sb);
     perma_strbuf_append(sb, perma_kernel_prelude);
     resume_generated(sb);
     perma_strbuf_append(sb, perma_kernel_queue);
@@ -224,7 +216,8 @@ perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *sb)
     resume_generated(sb);
     append_emit_helpers(rt, sb);
     append_procedure_sources(rt, sb);
-    append_size_checks(rt, sb);
+    perma_abi_append_item_checks(rt, sb);
+    resume_generated(sb);
     append_dispatch(rt, sb);
     append_kernel_params(rt, sb);
     perma_strbuf_append(sb, perma_kernel_batch);

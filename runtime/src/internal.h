@@ -3,11 +3,31 @@
 #define PERMA_INTERNAL_H
 
 #include "perma.h"
-#include "control.h"
+#include "perma_abi.h"
 #include "strbuf.h"
 
 #include <stdarg.h>
 #include <stdbool.h>
+
+/* The host's view of a control block (kernels/perma_abi.h): the header and
+ * the queue records, which follow it without a gap; the group records after
+ * them stay the kernels' business. */
+typedef struct perma_ctl_block {
+    perma_ctl_header header;
+    perma_queue_record queues[];
+} perma_ctl_block;
+
+/* Bytes of the header and the first `queues` queue records. */
+static inline size_t perma_ctl_block_bytes(size_t queues)
+{
+    return sizeof(perma_ctl_block) + queues * sizeof(perma_queue_record);
+}
+
+/* Words of the statistics buffer: one record per group. */
+static inline size_t perma_stats_words(unsigned groups, unsigned procs, unsigned max_edges)
+{
+    return (size_t)groups * PERMA_STAT_GROUP_WORDS_FOR(procs, max_edges);
+}
 
 /* A block of OpenCL C with the name compiler messages use for it. */
 typedef struct perma_source_text {
@@ -157,7 +177,13 @@ void perma_device_close(perma_runtime *rt);
 perma_status perma_read_text_file(perma_runtime *rt, const char *path, char **out);
 bool perma_is_identifier(const char *s);
 
-/* build.c */
+/* abi.c: the generated program's layout checks, and the sentence for a
+ * build log in which one failed (false when none did). */
+void perma_abi_append_struct_checks(perma_strbuf *sb);
+void perma_abi_append_item_checks(const perma_runtime *rt, perma_strbuf *sb);
+bool perma_abi_explain_log(const perma_runtime *rt, const char *log, char *out, size_t size);
+
+/* layout.c, codegen.c, program.c */
 perma_status perma_build_layout(perma_runtime *rt);
 perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *out);
 void perma_release_program(perma_runtime *rt);
@@ -175,7 +201,7 @@ perma_status perma_ensure_buffer(perma_runtime *rt, cl_mem *mem, size_t *have_wo
 perma_status perma_queues_make_room(perma_runtime *rt, const size_t *needed);
 
 /* launch.c */
-perma_status perma_launch_megakernel(perma_runtime *rt, double deadline, uint32_t *kernel_status);
+perma_status perma_launch_megakernel(perma_runtime *rt, double deadline, perma_ctl_header *outcome);
 perma_status perma_set_common_args(perma_runtime *rt, cl_kernel kernel, cl_uint first_user_arg);
 
 /* steps.c: the host-driven techniques. */
@@ -183,7 +209,7 @@ perma_status perma_run_steps(perma_runtime *rt, double deadline);
 perma_status perma_warm_up_steps(perma_runtime *rt);
 
 /* run.c */
-perma_status perma_kernel_status_error(perma_runtime *rt, const uint32_t *kernel_status);
+perma_status perma_kernel_status_error(perma_runtime *rt, const perma_ctl_header *outcome);
 
 /* stats.c */
 void perma_stats_reset(perma_runtime *rt);

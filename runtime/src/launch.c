@@ -12,8 +12,9 @@ static void sleep_seconds(double s)
     nanosleep(&ts, NULL);
 }
 
-/* The control block, queues, statistics, watchdog flag and trace
- * (arguments 0-5) and the user buffers from `first_user_arg` on. */
+/* The arguments PERMA_COMMON_ARGS lists (control block, queues,
+ * statistics, watchdog flag, trace) and the user buffers from
+ * `first_user_arg` on. */
 perma_status perma_set_common_args(perma_runtime *rt, cl_kernel kernel, cl_uint first_user_arg)
 {
     if (!rt->abort_mem) {
@@ -25,9 +26,15 @@ perma_status perma_set_common_args(perma_runtime *rt, cl_kernel kernel, cl_uint 
     perma_status st = perma_trace_prepare(rt);
     if (st != PERMA_OK)
         return st;
-    cl_mem fixed[] = { rt->ctl_mem, rt->data_mem, rt->seq_mem, rt->stats_mem, rt->abort_mem, rt->trace_mem };
-    for (cl_uint i = 0; i < 6; ++i)
-        PERMA_CL_CHECK(rt, "clSetKernelArg", clSetKernelArg(kernel, i, sizeof(cl_mem), &fixed[i]));
+    cl_mem common[PERMA_MEGAKERNEL_USER_ARGS];
+    common[PERMA_ARG_CTL] = rt->ctl_mem;
+    common[PERMA_ARG_QUEUE_DATA] = rt->data_mem;
+    common[PERMA_ARG_QUEUE_SEQ] = rt->seq_mem;
+    common[PERMA_ARG_GROUP_STATS] = rt->stats_mem;
+    common[PERMA_ARG_ABORT_FLAG] = rt->abort_mem;
+    common[PERMA_ARG_TRACE] = rt->trace_mem;
+    for (cl_uint i = 0; i < PERMA_MEGAKERNEL_USER_ARGS; ++i)
+        PERMA_CL_CHECK(rt, "clSetKernelArg", clSetKernelArg(kernel, i, sizeof(cl_mem), &common[i]));
     for (unsigned b = 0; b < rt->buffer_count; ++b) {
         if (!rt->buffers[b].mem)
             return perma_set_error(rt, PERMA_ERR_STATE, "buffer '%s' has no memory bound", rt->buffers[b].name);
@@ -71,11 +78,11 @@ static perma_status watch(perma_runtime *rt, cl_event done, double deadline)
     }
 }
 
-perma_status perma_launch_megakernel(perma_runtime *rt, double deadline, uint32_t *kernel_status)
+perma_status perma_launch_megakernel(perma_runtime *rt, double deadline, perma_ctl_header *outcome)
 {
     cl_int err;
     __atomic_store_n(rt->abort_flag, 0u, __ATOMIC_SEQ_CST);
-    perma_status st = perma_set_common_args(rt, rt->kernel, 6);
+    perma_status st = perma_set_common_args(rt, rt->kernel, PERMA_MEGAKERNEL_USER_ARGS);
     if (st != PERMA_OK)
         return st;
     size_t local = rt->group_size;
@@ -89,12 +96,7 @@ perma_status perma_launch_megakernel(perma_runtime *rt, double deadline, uint32_
         clReleaseEvent(done);
     if (st != PERMA_OK)
         return st;
-    uint32_t header[PERMA_CTL_HEADER_WORDS];
     PERMA_CL_CHECK(rt, "clEnqueueReadBuffer (control block)",
-                   clEnqueueReadBuffer(rt->queue, rt->ctl_mem, CL_TRUE, 0, sizeof header, header, 0, NULL, NULL));
-    kernel_status[0] = header[PERMA_CTL_STATUS];
-    kernel_status[1] = header[PERMA_CTL_DETAIL_PROC];
-    kernel_status[2] = header[PERMA_CTL_DETAIL_EDGE];
-    kernel_status[3] = header[PERMA_CTL_OUTSTANDING];
+                   clEnqueueReadBuffer(rt->queue, rt->ctl_mem, CL_TRUE, 0, sizeof *outcome, outcome, 0, NULL, NULL));
     return PERMA_OK;
 }

@@ -53,7 +53,8 @@ static perma_status report_build_failure(perma_runtime *rt, cl_int code)
     if (getenv("PERMA_BUILD_LOG"))
         fprintf(stderr, "perma: build log:\n%s\n", log);
     char summary[PERMA_MESSAGE_MAX - 64];
-    summarize_log(log, summary, sizeof summary);
+    if (!perma_abi_explain_log(rt, log, summary, sizeof summary))
+        summarize_log(log, summary, sizeof summary);
     free(log);
     return perma_set_error(rt, PERMA_ERR_BUILD, "building the megakernel failed:\n%s", summary);
 }
@@ -65,8 +66,8 @@ static perma_status report_build_failure(perma_runtime *rt, cl_int code)
 static perma_status warm_up(perma_runtime *rt)
 {
     unsigned queues = rt->queue_sets * rt->proc_count;
-    size_t ctl_words = perma_ctl_words(queues, rt->work_groups);
-    size_t stats_words = (size_t)rt->work_groups * perma_stat_group_words(rt->proc_count, rt->max_edges);
+    size_t ctl_words = PERMA_CTL_WORDS_FOR(queues, rt->work_groups);
+    size_t stats_words = perma_stats_words(rt->work_groups, rt->proc_count, rt->max_edges);
     perma_status st = perma_ensure_buffer(rt, &rt->ctl_mem, &(size_t){ 0 }, ctl_words, "control block");
     size_t stats_have = 0, data_have = rt->data_mem_words, seq_have = rt->seq_mem_words;
     if (st == PERMA_OK)
@@ -85,7 +86,7 @@ static perma_status warm_up(perma_runtime *rt)
     size_t local = rt->group_size;
     if (rt->config.technique == PERMA_TECHNIQUE_MEGAKERNEL) {
         __atomic_store_n(rt->abort_flag, 0u, __ATOMIC_SEQ_CST);
-        st = perma_set_common_args(rt, rt->kernel, 6);
+        st = perma_set_common_args(rt, rt->kernel, PERMA_MEGAKERNEL_USER_ARGS);
         if (st != PERMA_OK)
             return st;
         size_t global = (size_t)rt->work_groups * local;

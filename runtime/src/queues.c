@@ -169,9 +169,9 @@ perma_status perma_queues_upload(perma_runtime *rt)
     if (bytes > rt->stats.peak_queue_bytes)
         rt->stats.peak_queue_bytes = bytes;
 
-    size_t ctl_words = perma_ctl_words(rt->image_count, rt->work_groups);
-    size_t stats_words = (size_t)rt->work_groups * perma_stat_group_words(rt->proc_count, rt->max_edges);
-    uint32_t *ctl = calloc(ctl_words, 4);
+    size_t ctl_words = PERMA_CTL_WORDS_FOR(rt->image_count, rt->work_groups);
+    size_t stats_words = perma_stats_words(rt->work_groups, rt->proc_count, rt->max_edges);
+    perma_ctl_block *ctl = calloc(ctl_words, 4);
     uint32_t *data = calloc(data_words ? data_words : 1, 4);
     uint32_t *seq = calloc(seq_words ? seq_words : 1, 4);
     perma_status st = PERMA_OK;
@@ -179,19 +179,19 @@ perma_status perma_queues_upload(perma_runtime *rt)
         st = perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory laying out %zu bytes of queues", bytes);
         goto done;
     }
-    ctl[PERMA_CTL_OUTSTANDING] = (uint32_t)outstanding;
+    ctl->header.outstanding = (uint32_t)outstanding;
     size_t data_off = 0, seq_off = 0;
     for (unsigned qi = 0; qi < rt->image_count; ++qi) {
         const perma_queue_image *img = &rt->images[qi];
         size_t words = item_words(proc_of(rt, qi));
-        uint32_t *rec = ctl + PERMA_CTL_HEADER_WORDS + qi * PERMA_QUEUE_WORDS;
-        rec[PERMA_Q_HEAD] = 0;
-        rec[PERMA_Q_TAIL] = (uint32_t)img->count;
-        rec[PERMA_Q_ROOM] = (uint32_t)(img->capacity - img->count);
-        rec[PERMA_Q_CAP] = (uint32_t)img->capacity;
-        rec[PERMA_Q_DATA] = (uint32_t)data_off;
-        rec[PERMA_Q_SEQ] = (uint32_t)seq_off;
-        rec[PERMA_Q_PEAK] = (uint32_t)img->count;
+        perma_queue_record *rec = &ctl->queues[qi];
+        rec->head = 0;
+        rec->tail = (uint32_t)img->count;
+        rec->room = (uint32_t)(img->capacity - img->count);
+        rec->cap = (uint32_t)img->capacity;
+        rec->data = (uint32_t)data_off;
+        rec->seq = (uint32_t)seq_off;
+        rec->peak = (uint32_t)img->count;
         memcpy(data + data_off, img->words, img->count * words * 4);
         for (size_t i = 0; i < img->capacity; ++i)
             seq[seq_off + i] = (uint32_t)(i < img->count ? i + 1 : i); /* published : free */
@@ -237,13 +237,13 @@ done:
 /* Read the queues back after a launch stopped with no batch running. */
 perma_status perma_queues_download(perma_runtime *rt)
 {
-    size_t ctl_words = perma_ctl_words(rt->image_count, rt->work_groups);
+    size_t ctl_bytes = perma_ctl_block_bytes(rt->image_count);
     size_t data_words = 0, seq_words = 0;
     for (unsigned qi = 0; qi < rt->image_count; ++qi) {
         data_words += rt->images[qi].capacity * item_words(proc_of(rt, qi));
         seq_words += rt->images[qi].capacity;
     }
-    uint32_t *ctl = malloc(ctl_words * 4);
+    perma_ctl_block *ctl = malloc(ctl_bytes);
     uint32_t *data = malloc(data_words * 4 + 4);
     uint32_t *seq = malloc(seq_words * 4 + 4);
     perma_status st = PERMA_OK;
@@ -251,7 +251,7 @@ perma_status perma_queues_download(perma_runtime *rt)
         st = perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory reading the queues back");
         goto done;
     }
-    cl_int err = clEnqueueReadBuffer(rt->queue, rt->ctl_mem, CL_TRUE, 0, ctl_words * 4, ctl, 0, NULL, NULL);
+    cl_int err = clEnqueueReadBuffer(rt->queue, rt->ctl_mem, CL_TRUE, 0, ctl_bytes, ctl, 0, NULL, NULL);
     if (err == CL_SUCCESS && data_words)
         err = clEnqueueReadBuffer(rt->queue, rt->data_mem, CL_TRUE, 0, data_words * 4, data, 0, NULL, NULL);
     if (err == CL_SUCCESS && seq_words)
@@ -262,22 +262,20 @@ perma_status perma_queues_download(perma_runtime *rt)
         goto done;
     }
     size_t queued = 0;
-    for (unsigned qi = 0; qi < rt->image_count; ++qi) {
-        const uint32_t *rec = ctl + PERMA_CTL_HEADER_WORDS + qi * PERMA_QUEUE_WORDS;
-        queued += (uint32_t)(rec[PERMA_Q_TAIL] - rec[PERMA_Q_HEAD]);
-    }
+    for (unsigned qi = 0; qi < rt->image_count; ++qi)
+        queued += (uint32_t)(ctl->queues[qi].tail - ctl->queues[qi].head);
     /* Every item the kernel counts as outstanding must be in a queue: one
      * left in a group's local memory would be lost by the next launch. */
-    if (queued != (size_t)(int32_t)ctl[PERMA_CTL_OUTSTANDING]) {
+    if (queued != (size_t)(int32_t)ctl->header.outstanding) {
         st = perma_set_error(rt, PERMA_ERR_DEVICE, "items were lost: the kernel stopped with %d items outstanding "
-                             "but its queues hold %zu", (int)(int32_t)ctl[PERMA_CTL_OUTSTANDING], queued);
+                             "but its queues hold %zu", (int)(int32_t)ctl->header.outstanding, queued);
         goto done;
     }
     for (unsigned qi = 0; qi < rt->image_count; ++qi) {
         perma_queue_image *img = &rt->images[qi];
-        const uint32_t *rec = ctl + PERMA_CTL_HEADER_WORDS + qi * PERMA_QUEUE_WORDS;
-        uint32_t head = rec[PERMA_Q_HEAD], tail = rec[PERMA_Q_TAIL];
-        uint32_t cap = rec[PERMA_Q_CAP];
+        const perma_queue_record *rec = &ctl->queues[qi];
+        uint32_t head = rec->head, tail = rec->tail;
+        uint32_t cap = rec->cap;
         size_t words = item_words(proc_of(rt, qi));
         size_t count = (uint32_t)(tail - head);
         if (cap != img->capacity || count > cap) {
@@ -288,12 +286,12 @@ perma_status perma_queues_download(perma_runtime *rt)
         for (size_t i = 0; i < count; ++i) {
             uint32_t pos = head + (uint32_t)i;
             uint32_t slot = pos & (cap - 1);
-            if (seq[rec[PERMA_Q_SEQ] + slot] != pos + 1) {
+            if (seq[rec->seq + slot] != pos + 1) {
                 st = perma_set_error(rt, PERMA_ERR_DEVICE,
                                      "queue '%s': item at position %u was never published", proc_of(rt, qi)->name, pos);
                 goto done;
             }
-            memcpy(img->words + i * words, data + rec[PERMA_Q_DATA] + (size_t)slot * words, words * 4);
+            memcpy(img->words + i * words, data + rec->data + (size_t)slot * words, words * 4);
         }
         img->count = count;
     }

@@ -28,12 +28,12 @@ static perma_status emit_limit_error(perma_runtime *rt, uint32_t proc, uint32_t 
         return perma_set_error(rt, PERMA_ERR_EMIT_LIMIT, "a procedure emitted more than it declared");
     const perma_proc_info *p = &rt->procs[proc];
     if (code & PERMA_EMIT_ERROR_UNDECLARED) {
-        uint32_t t = code & 0xffffu;
+        uint32_t t = code & PERMA_EMIT_ERROR_DETAIL;
         return perma_set_error(rt, PERMA_ERR_EMIT_LIMIT,
                                "procedure '%s' emitted into '%s', which is not listed in its .emits",
                                p->name, t < rt->proc_count ? rt->procs[t].name : "?");
     }
-    uint32_t e = code & 0xffffu;
+    uint32_t e = code & PERMA_EMIT_ERROR_DETAIL;
     if (e >= p->emit_count)
         return perma_set_error(rt, PERMA_ERR_EMIT_LIMIT, "procedure '%s' emitted more than it declared", p->name);
     return perma_set_error(rt, PERMA_ERR_EMIT_LIMIT,
@@ -46,7 +46,7 @@ static perma_status emit_limit_error(perma_runtime *rt, uint32_t proc, uint32_t 
 static perma_status spin_limit_error(perma_runtime *rt, uint32_t detail, uint32_t pos)
 {
     uint32_t index = detail & ~(uint32_t)PERMA_WAIT_WRITING;
-    if (detail == 0xffffffffu || rt->proc_count == 0 || index >= rt->image_count)
+    if (detail == PERMA_DETAIL_NONE || rt->proc_count == 0 || index >= rt->image_count)
         return perma_set_error(rt, PERMA_ERR_DEVICE,
                                "a bounded wait in the kernel ran out (a queue slot was never published or freed)");
     const char *name = rt->procs[index % rt->proc_count].name;
@@ -62,31 +62,31 @@ static perma_status spin_limit_error(perma_runtime *rt, uint32_t detail, uint32_
 }
 
 /* The error for a failure status of a kernel (not DONE or NEEDS_ROOM). */
-perma_status perma_kernel_status_error(perma_runtime *rt, const uint32_t *ks)
+perma_status perma_kernel_status_error(perma_runtime *rt, const perma_ctl_header *outcome)
 {
-    switch (ks[0]) {
+    switch (outcome->status) {
     case PERMA_KSTATUS_EMIT_LIMIT:
-        return emit_limit_error(rt, ks[1], ks[2]);
+        return emit_limit_error(rt, outcome->detail_proc, outcome->detail_edge);
     case PERMA_KSTATUS_SPIN_LIMIT:
-        return spin_limit_error(rt, ks[1], ks[2]);
+        return spin_limit_error(rt, outcome->detail_proc, outcome->detail_edge);
     case PERMA_KSTATUS_ABORTED:
         return perma_set_error(rt, PERMA_ERR_TIMEOUT, "the run passed its time limit of %g s and was stopped",
                                rt->config.time_limit > 0 ? rt->config.time_limit : DEFAULT_TIME_LIMIT);
     case PERMA_KSTATUS_NEEDS_ROOM:
         return perma_set_error(rt, PERMA_ERR_DEVICE, "a step kernel found a queue without the room the host reserved");
     }
-    return perma_set_error(rt, PERMA_ERR_DEVICE, "the kernel ended with unknown status %u", ks[0]);
+    return perma_set_error(rt, PERMA_ERR_DEVICE, "the kernel ended with unknown status %u", outcome->status);
 }
 
 /* Turn the status a launch ended with into the next step or an error. */
-static perma_status interpret(perma_runtime *rt, const uint32_t *ks, bool *again)
+static perma_status interpret(perma_runtime *rt, const perma_ctl_header *outcome, bool *again)
 {
     *again = false;
-    switch (ks[0]) {
+    switch (outcome->status) {
     case PERMA_KSTATUS_DONE:
-        if (ks[3] != 0)
+        if (outcome->outstanding != 0)
             return perma_set_error(rt, PERMA_ERR_DEVICE, "the kernel stopped with %d items outstanding",
-                                   (int)ks[3]);
+                                   (int)outcome->outstanding);
         return PERMA_OK;
     case PERMA_KSTATUS_NEEDS_ROOM: {
         perma_status st = perma_queues_download(rt);
@@ -96,7 +96,7 @@ static perma_status interpret(perma_runtime *rt, const uint32_t *ks, bool *again
         return st;
     }
     }
-    return perma_kernel_status_error(rt, ks);
+    return perma_kernel_status_error(rt, outcome);
 }
 
 perma_status perma_run(perma_runtime *rt)
@@ -129,10 +129,10 @@ perma_status perma_run(perma_runtime *rt)
         st = perma_run_steps(rt, deadline);
     }
     while (again) {
-        uint32_t ks[4];
+        perma_ctl_header outcome;
         st = perma_queues_upload(rt);
         if (st == PERMA_OK)
-            st = perma_launch_megakernel(rt, deadline, ks);
+            st = perma_launch_megakernel(rt, deadline, &outcome);
         if (st != PERMA_OK)
             break;
         rt->stats.launches++;
@@ -140,7 +140,7 @@ perma_status perma_run(perma_runtime *rt)
         if (st == PERMA_OK)
             st = perma_trace_collect(rt);
         if (st == PERMA_OK)
-            st = interpret(rt, ks, &again);
+            st = interpret(rt, &outcome, &again);
         if (st != PERMA_OK)
             break;
     }

@@ -8,25 +8,26 @@
  *     hold O(N + p * k) items. */
 #include "internal.h"
 
+#include <stddef.h>
+#include <stdlib.h>
 #include <string.h>
 
 #define DEFAULT_BATCH_LIMIT 4096
 
-static perma_status read_control(perma_runtime *rt, uint32_t *ctl, size_t words)
+static perma_status read_control(perma_runtime *rt, perma_ctl_block *ctl, size_t bytes)
 {
     PERMA_CL_CHECK(rt, "clEnqueueReadBuffer (control block)",
-                   clEnqueueReadBuffer(rt->queue, rt->ctl_mem, CL_TRUE, 0, words * 4, ctl, 0, NULL, NULL));
+                   clEnqueueReadBuffer(rt->queue, rt->ctl_mem, CL_TRUE, 0, bytes, ctl, 0, NULL, NULL));
     return PERMA_OK;
 }
 
-static uint32_t queued(const uint32_t *ctl, unsigned q)
+static uint32_t queued(const perma_ctl_block *ctl, unsigned q)
 {
-    const uint32_t *rec = ctl + PERMA_CTL_HEADER_WORDS + q * PERMA_QUEUE_WORDS;
-    return rec[PERMA_Q_TAIL] - rec[PERMA_Q_HEAD];
+    return ctl->queues[q].tail - ctl->queues[q].head;
 }
 
 /* The queue to serve next, or -1 when all are empty. */
-static int choose_queue(perma_runtime *rt, const uint32_t *ctl, unsigned *cursor)
+static int choose_queue(perma_runtime *rt, const perma_ctl_block *ctl, unsigned *cursor)
 {
     unsigned n = rt->proc_count;
     for (unsigned i = 0; i < n; ++i) {
@@ -40,15 +41,14 @@ static int choose_queue(perma_runtime *rt, const uint32_t *ctl, unsigned *cursor
 }
 
 /* Grow the targets of q if a step over `take` of its items could overflow them. */
-static perma_status ensure_room(perma_runtime *rt, const uint32_t *ctl, unsigned q, uint32_t take, bool *grew)
+static perma_status ensure_room(perma_runtime *rt, const perma_ctl_block *ctl, unsigned q, uint32_t take, bool *grew)
 {
     const perma_proc_info *p = &rt->procs[q];
     size_t needed[PERMA_MAX_PROCEDURES] = { 0 };
     *grew = false;
     for (unsigned e = 0; e < p->emit_count; ++e) {
         unsigned t = (unsigned)p->emit_target[e];
-        const uint32_t *rec = ctl + PERMA_CTL_HEADER_WORDS + t * PERMA_QUEUE_WORDS;
-        int64_t room = (int32_t)rec[PERMA_Q_ROOM] + (t == q ? (int64_t)take : 0);
+        int64_t room = (int32_t)ctl->queues[t].room + (t == q ? (int64_t)take : 0);
         needed[t] += (size_t)take * p->emit_max[e];
         if ((int64_t)needed[t] > room)
             *grew = true;
@@ -62,23 +62,37 @@ static perma_status ensure_room(perma_runtime *rt, const uint32_t *ctl, unsigned
 
 static perma_status set_take_args(perma_runtime *rt, cl_uint qi, cl_uint first, cl_uint take, cl_uint from_tail)
 {
-    cl_mem fixed[] = { rt->ctl_mem, rt->data_mem, rt->seq_mem, rt->input_mem };
-    for (cl_uint i = 0; i < 4; ++i)
-        PERMA_CL_CHECK(rt, "clSetKernelArg (take)", clSetKernelArg(rt->take_kernel, i, sizeof(cl_mem), &fixed[i]));
-    cl_uint values[] = { qi, first, take, from_tail };
-    for (cl_uint i = 0; i < 4; ++i)
-        PERMA_CL_CHECK(rt, "clSetKernelArg (take)", clSetKernelArg(rt->take_kernel, 4 + i, sizeof values[i], &values[i]));
+    const struct {
+        cl_uint index;
+        size_t size;
+        const void *value;
+    } args[] = {
+        { PERMA_TAKE_ARG_CTL, sizeof(cl_mem), &rt->ctl_mem },
+        { PERMA_TAKE_ARG_QUEUE_DATA, sizeof(cl_mem), &rt->data_mem },
+        { PERMA_TAKE_ARG_QUEUE_SEQ, sizeof(cl_mem), &rt->seq_mem },
+        { PERMA_TAKE_ARG_INPUT, sizeof(cl_mem), &rt->input_mem },
+        { PERMA_TAKE_ARG_QUEUE, sizeof qi, &qi },
+        { PERMA_TAKE_ARG_FIRST, sizeof first, &first },
+        { PERMA_TAKE_ARG_COUNT, sizeof take, &take },
+        { PERMA_TAKE_ARG_FROM_TAIL, sizeof from_tail, &from_tail },
+    };
+    _Static_assert(sizeof args / sizeof args[0] == PERMA_TAKE_ARG_TOTAL, "every argument of perma_take_kernel");
+    for (size_t i = 0; i < sizeof args / sizeof args[0]; ++i)
+        PERMA_CL_CHECK(rt, "clSetKernelArg (take)",
+                       clSetKernelArg(rt->take_kernel, args[i].index, args[i].size, args[i].value));
     return PERMA_OK;
 }
 
 static perma_status set_step_args(perma_runtime *rt, cl_uint proc, cl_uint count)
 {
-    perma_status st = perma_set_common_args(rt, rt->step_kernel, 9);
+    perma_status st = perma_set_common_args(rt, rt->step_kernel, PERMA_STEP_USER_ARGS);
     if (st != PERMA_OK)
         return st;
-    PERMA_CL_CHECK(rt, "clSetKernelArg (step)", clSetKernelArg(rt->step_kernel, 6, sizeof(cl_mem), &rt->input_mem));
-    PERMA_CL_CHECK(rt, "clSetKernelArg (step)", clSetKernelArg(rt->step_kernel, 7, sizeof proc, &proc));
-    PERMA_CL_CHECK(rt, "clSetKernelArg (step)", clSetKernelArg(rt->step_kernel, 8, sizeof count, &count));
+    PERMA_CL_CHECK(rt, "clSetKernelArg (step)",
+                   clSetKernelArg(rt->step_kernel, PERMA_STEP_ARG_INPUT, sizeof(cl_mem), &rt->input_mem));
+    PERMA_CL_CHECK(rt, "clSetKernelArg (step)", clSetKernelArg(rt->step_kernel, PERMA_STEP_ARG_PROC, sizeof proc, &proc));
+    PERMA_CL_CHECK(rt, "clSetKernelArg (step)",
+                   clSetKernelArg(rt->step_kernel, PERMA_STEP_ARG_COUNT, sizeof count, &count));
     return PERMA_OK;
 }
 
@@ -129,8 +143,10 @@ perma_status perma_warm_up_steps(perma_runtime *rt)
 perma_status perma_run_steps(perma_runtime *rt, double deadline)
 {
     unsigned n = rt->proc_count;
-    size_t ctl_words = PERMA_CTL_HEADER_WORDS + (size_t)n * PERMA_QUEUE_WORDS;
-    uint32_t ctl[PERMA_CTL_HEADER_WORDS + PERMA_MAX_PROCEDURES * PERMA_QUEUE_WORDS];
+    size_t ctl_bytes = perma_ctl_block_bytes(n);
+    perma_ctl_block *ctl = malloc(ctl_bytes);
+    if (!ctl)
+        return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory for the control block");
     uint32_t limit = rt->config.batch_limit ? rt->config.batch_limit : DEFAULT_BATCH_LIMIT;
     bool bounded = rt->config.technique == PERMA_TECHNIQUE_BOUNDED_BATCHES;
     unsigned cursor = 0;
@@ -140,15 +156,14 @@ perma_status perma_run_steps(perma_runtime *rt, double deadline)
     __atomic_store_n(rt->abort_flag, 0u, __ATOMIC_SEQ_CST);
     perma_status st = perma_queues_upload(rt);
     while (st == PERMA_OK) {
-        st = read_control(rt, ctl, ctl_words); /* waits for the previous step */
+        st = read_control(rt, ctl, ctl_bytes); /* waits for the previous step */
         if (st == PERMA_OK && traced_proc >= 0 && rt->config.trace_path)
             st = perma_trace_host_step(rt, (unsigned)traced_proc, traced_items, traced_start, perma_now());
         traced_proc = -1;
         if (st != PERMA_OK)
             break;
-        if (ctl[PERMA_CTL_STATUS] != PERMA_KSTATUS_DONE) {
-            uint32_t ks[4] = { ctl[PERMA_CTL_STATUS], ctl[PERMA_CTL_DETAIL_PROC], ctl[PERMA_CTL_DETAIL_EDGE], 0 };
-            st = perma_kernel_status_error(rt, ks);
+        if (ctl->header.status != PERMA_KSTATUS_DONE) {
+            st = perma_kernel_status_error(rt, &ctl->header);
             break;
         }
         if (perma_now() > deadline) {
@@ -168,18 +183,20 @@ perma_status perma_run_steps(perma_runtime *rt, double deadline)
             continue; /* re-read the relaid-out queues */
 
         /* Move HEAD (breadth-first) or TAIL (LIFO) past the taken items. */
-        uint32_t *rec = ctl + PERMA_CTL_HEADER_WORDS + q * PERMA_QUEUE_WORDS;
+        perma_queue_record *rec = &ctl->queues[q];
         uint32_t first;
         if (bounded) {
-            first = rec[PERMA_Q_TAIL] - take;
-            rec[PERMA_Q_TAIL] = first;
+            first = rec->tail - take;
+            rec->tail = first;
         } else {
-            first = rec[PERMA_Q_HEAD];
-            rec[PERMA_Q_HEAD] += take;
+            first = rec->head;
+            rec->head += take;
         }
-        rec[PERMA_Q_ROOM] += take;
-        size_t offset = (PERMA_CTL_HEADER_WORDS + (size_t)q * PERMA_QUEUE_WORDS) * 4;
-        cl_int err = clEnqueueWriteBuffer(rt->queue, rt->ctl_mem, CL_FALSE, offset, 3 * 4, rec, 0, NULL, NULL);
+        rec->room += take;
+        /* HEAD, TAIL and ROOM: the words the step does not touch itself. */
+        size_t offset = perma_ctl_block_bytes(q);
+        cl_int err = clEnqueueWriteBuffer(rt->queue, rt->ctl_mem, CL_FALSE, offset,
+                                          offsetof(perma_queue_record, cap), rec, 0, NULL, NULL);
         if (err != CL_SUCCESS) {
             st = perma_set_error(rt, PERMA_ERR_OPENCL, "clEnqueueWriteBuffer (queue record) failed: %s (%d)",
                                  perma_cl_error_name(err), (int)err);
@@ -190,6 +207,9 @@ perma_status perma_run_steps(perma_runtime *rt, double deadline)
         traced_proc = (int)q;
         traced_items = take;
     }
+    if (st != PERMA_OK)
+        clFinish(rt->queue); /* a queue record write may still read *ctl */
+    free(ctl);
     if (st == PERMA_OK)
         st = perma_stats_collect(rt);
     return st;

@@ -36,7 +36,7 @@ static perma_status push_event(perma_runtime *rt, const perma_trace_event *event
 
 perma_status perma_trace_prepare(perma_runtime *rt)
 {
-    size_t words = tracing_on_device(rt) ? (size_t)rt->work_groups * (1 + 4 * (size_t)rt->trace_events) : 1;
+    size_t words = tracing_on_device(rt) ? (size_t)rt->work_groups * PERMA_TRACE_GROUP_WORDS_FOR(rt->trace_events) : 1;
     return perma_ensure_buffer(rt, &rt->trace_mem, &rt->trace_mem_words, words, "trace");
 }
 
@@ -44,7 +44,7 @@ perma_status perma_trace_collect(perma_runtime *rt)
 {
     if (!tracing_on_device(rt))
         return PERMA_OK;
-    size_t per_group = 1 + 4 * (size_t)rt->trace_events;
+    size_t per_group = PERMA_TRACE_GROUP_WORDS_FOR((size_t)rt->trace_events);
     size_t words = rt->work_groups * per_group;
     uint32_t *buffer = malloc(words * 4);
     if (!buffer)
@@ -61,10 +61,11 @@ perma_status perma_trace_collect(perma_runtime *rt)
         const uint32_t *group = buffer + g * per_group;
         uint32_t count = group[0] < rt->trace_events ? group[0] : rt->trace_events;
         for (uint32_t i = 0; i < count && st == PERMA_OK; ++i) {
-            const uint32_t *r = group + 1 + 4 * i;
-            perma_trace_event event = { g, r[0] & 0xffu, (r[0] >> 8) & 0xffu, r[1],
-                                        rt->trace_clock_base + r[2], rt->trace_clock_base + r[3] };
-            if (event.proc >= rt->proc_count || event.kind > 3)
+            perma_trace_record r;
+            memcpy(&r, group + 1 + PERMA_TRACE_RECORD_WORDS * i, sizeof r);
+            perma_trace_event event = { g, r.proc_kind & 0xffu, (r.proc_kind >> 8) & 0xffu, r.items,
+                                        rt->trace_clock_base + r.start, rt->trace_clock_base + r.end };
+            if (event.proc >= rt->proc_count || event.kind >= PERMA_TRACE_KINDS)
                 continue;
             if (event.end > last)
                 last = event.end;
