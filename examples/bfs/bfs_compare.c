@@ -11,8 +11,7 @@
 
 #include "bfs.h"
 
-/* Schedule labels (perma_schedule_parse); the run options take the
- * technique and strategy (the stealing victim stays the default). */
+/* Schedule labels (perma_schedule_parse). */
 static const char *const variants[] = {
     "megakernel/shared",
     "megakernel/stealing",
@@ -33,8 +32,7 @@ static bfs_status variant_options(size_t index, unsigned work_groups, bfs_run_op
         snprintf(message, size, "bfs: --compare: %s", error.message);
         return BFS_ERR_RUNTIME;
     }
-    out->technique = schedule.technique;
-    out->strategy = schedule.strategy;
+    out->schedule = schedule;
     out->work_groups = work_groups;
     return BFS_OK;
 }
@@ -107,11 +105,11 @@ bfs_status bfs_compare(const bfs_graph *g, uint32_t source, unsigned work_groups
         if (st != BFS_OK)
             break;
         char name[64];
-        if (v.technique == PERMA_TECHNIQUE_MEGAKERNEL)
-            snprintf(name, sizeof name, "perma %s / %s", perma_technique_name(v.technique),
-                     perma_strategy_name(v.strategy));
+        if (v.schedule.technique == PERMA_TECHNIQUE_MEGAKERNEL)
+            snprintf(name, sizeof name, "perma %s / %s", perma_technique_name(v.schedule.technique),
+                     perma_strategy_name(v.schedule.strategy));
         else
-            snprintf(name, sizeof name, "perma %s", perma_technique_name(v.technique));
+            snprintf(name, sizeof name, "perma %s", perma_technique_name(v.schedule.technique));
         fprintf(out, "%-36s %10.4f %12.2f %10.2f %10llu %s\n", name, seconds, seconds / sequential, build,
                 (unsigned long long)items, memcmp(levels, expected, bytes) == 0 ? "identical" : "DIFFER");
         fflush(out);

@@ -11,8 +11,7 @@
 
 #include "mandel.h"
 
-/* Schedule labels (perma_schedule_parse); the run options take the
- * technique and strategy (the stealing victim stays the default). */
+/* Schedule labels (perma_schedule_parse). */
 static const char *const variants[] = {
     "megakernel/shared",
     "megakernel/stealing",
@@ -33,8 +32,7 @@ static mandel_status variant_options(size_t index, unsigned work_groups, mandel_
         snprintf(message, size, "mandelbrot: --compare: %s", error.message);
         return MANDEL_ERR_RUNTIME;
     }
-    out->technique = schedule.technique;
-    out->strategy = schedule.strategy;
+    out->schedule = schedule;
     out->work_groups = work_groups;
     return MANDEL_OK;
 }
@@ -122,11 +120,11 @@ mandel_status mandel_compare(const mandel_params *p, unsigned work_groups, unsig
         if (st != MANDEL_OK)
             break;
         char name[64];
-        if (v.technique == PERMA_TECHNIQUE_MEGAKERNEL)
-            snprintf(name, sizeof name, "perma %s / %s", perma_technique_name(v.technique),
-                     perma_strategy_name(v.strategy));
+        if (v.schedule.technique == PERMA_TECHNIQUE_MEGAKERNEL)
+            snprintf(name, sizeof name, "perma %s / %s", perma_technique_name(v.schedule.technique),
+                     perma_strategy_name(v.schedule.strategy));
         else
-            snprintf(name, sizeof name, "perma %s", perma_technique_name(v.technique));
+            snprintf(name, sizeof name, "perma %s", perma_technique_name(v.schedule.technique));
         fprintf(out, "%-36s %10.4f %12.2f %10.2f %s\n", name, seconds, seconds / sequential, build,
                 memcmp(counts, expected, pixels * sizeof *counts) == 0 ? "identical" : "DIFFERS");
         fflush(out);

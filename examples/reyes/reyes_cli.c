@@ -351,21 +351,21 @@ static int on_camera(reyes_cli *cli, const char *value, char *message, size_t si
 
 static int on_technique(reyes_cli *cli, const char *value, char *message, size_t size)
 {
-    if (perma_technique_parse(value, &cli->render.technique) != PERMA_OK)
+    if (perma_technique_parse(value, &cli->render.schedule.technique) != PERMA_OK)
         return unknown_name(technique_name, "technique", value, message, size);
     return REYES_CLI_OK;
 }
 
 static int on_strategy(reyes_cli *cli, const char *value, char *message, size_t size)
 {
-    if (perma_strategy_parse(value, &cli->render.strategy) != PERMA_OK)
+    if (perma_strategy_parse(value, &cli->render.schedule.strategy) != PERMA_OK)
         return unknown_name(strategy_name, "strategy", value, message, size);
     return REYES_CLI_OK;
 }
 
 static int on_victim(reyes_cli *cli, const char *value, char *message, size_t size)
 {
-    if (perma_victim_parse(value, &cli->render.victim) != PERMA_OK)
+    if (perma_victim_parse(value, &cli->render.schedule.victim) != PERMA_OK)
         return unknown_name(victim_name, "victim", value, message, size);
     return REYES_CLI_OK;
 }
@@ -377,20 +377,20 @@ static int on_schedule(reyes_cli *cli, const char *value, char *message, size_t 
     perma_error error;
     if (perma_schedule_parse(value, &schedule, &error) != PERMA_OK)
         return usage_error(message, size, "--schedule: %s%s", error.message, "");
-    reyes_options_set_schedule(&cli->render, &schedule);
+    cli->render.schedule = schedule;
     return REYES_CLI_OK;
 }
 
 static int on_local_queue(reyes_cli *cli, const char *value, char *message, size_t size)
 {
-    if (!parse_unsigned(value, 65536, &cli->render.local_queue_items))
+    if (!parse_unsigned(value, 65536, &cli->render.schedule.local_queue_items))
         return usage_error(message, size, "--local-queue '%s': expected items 0..%s", value, "65536");
     return REYES_CLI_OK;
 }
 
 static int on_batch_limit(reyes_cli *cli, const char *value, char *message, size_t size)
 {
-    if (!parse_unsigned(value, 1u << 24, &cli->render.batch_limit) || cli->render.batch_limit < 1)
+    if (!parse_unsigned(value, 1u << 24, &cli->render.schedule.batch_limit) || cli->render.schedule.batch_limit < 1)
         return usage_error(message, size, "--batch-limit '%s': expected items 1..%s", value, "16777216");
     return REYES_CLI_OK;
 }

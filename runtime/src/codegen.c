@@ -194,13 +194,13 @@ perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *sb)
                             "#define PERMA_TRACE_EVENTS %uu\n",
                         rt->proc_count, rt->group_size, rt->proc_count, rt->max_edges, rt->arena_words,
                         rt->queue_sets,
-                        rt->queue_sets > 1 && (rt->config.strategy == PERMA_STRATEGY_STEALING ||
-                                               rt->config.strategy == PERMA_STRATEGY_STEALING_DONATION),
-                        rt->queue_sets > 1 && (rt->config.strategy == PERMA_STRATEGY_DONATION ||
-                                               rt->config.strategy == PERMA_STRATEGY_STEALING_DONATION),
-                        rt->config.victim == PERMA_VICTIM_ROUND_ROBIN, rt->config.donation_threshold,
+                        rt->queue_sets > 1 && (rt->config.schedule.strategy == PERMA_STRATEGY_STEALING ||
+                                               rt->config.schedule.strategy == PERMA_STRATEGY_STEALING_DONATION),
+                        rt->queue_sets > 1 && (rt->config.schedule.strategy == PERMA_STRATEGY_DONATION ||
+                                               rt->config.schedule.strategy == PERMA_STRATEGY_STEALING_DONATION),
+                        rt->config.schedule.victim == PERMA_VICTIM_ROUND_ROBIN, rt->config.donation_threshold,
                         rt->local_queue_items, rt->lq_words ? rt->lq_words : 1u,
-                        rt->config.trace_path && rt->config.technique == PERMA_TECHNIQUE_MEGAKERNEL ? rt->trace_events : 0u);
+                        rt->config.trace_path && rt->config.schedule.technique == PERMA_TECHNIQUE_MEGAKERNEL ? rt->trace_events : 0u);
     perma_strbuf_append(sb, perma_kernel_abi);
     perma_abi_append_struct_checks(sb);
     resume_generated(sb);

@@ -216,8 +216,8 @@ perma_status perma_build_layout(perma_runtime *rt)
         return st;
     compute_depths(rt);
     compute_order(rt);
-    bool distributed = rt->config.technique == PERMA_TECHNIQUE_MEGAKERNEL &&
-                       rt->config.strategy != PERMA_STRATEGY_SHARED;
+    bool distributed = rt->config.schedule.technique == PERMA_TECHNIQUE_MEGAKERNEL &&
+                       rt->config.schedule.strategy != PERMA_STRATEGY_SHARED;
     rt->queue_sets = distributed ? rt->work_groups : 1;
 
     rt->max_edges = 1;
@@ -230,9 +230,9 @@ perma_status perma_build_layout(perma_runtime *rt)
         limit = rt->config.local_memory_limit;
     /* The kernel's other __local words: statistics, edge counters, batch. */
     /* The local front queue: a stack of local_queue_items per procedure. */
-    rt->local_queue_items = distributed || rt->config.strategy == PERMA_STRATEGY_SHARED
-                                ? rt->config.local_queue_items : 0;
-    if (rt->config.technique != PERMA_TECHNIQUE_MEGAKERNEL)
+    rt->local_queue_items = distributed || rt->config.schedule.strategy == PERMA_STRATEGY_SHARED
+                                ? rt->config.schedule.local_queue_items : 0;
+    if (rt->config.schedule.technique != PERMA_TECHNIQUE_MEGAKERNEL)
         rt->local_queue_items = 0; /* step kernels' groups do not live on */
     rt->lq_words = 0;
     for (unsigned i = 0; i < rt->proc_count; ++i) {
@@ -243,7 +243,7 @@ perma_status perma_build_layout(perma_runtime *rt)
                         (size_t)rt->lq_words);
     if (fixed >= limit)
         return perma_set_error(rt, PERMA_ERR_ARGUMENT,
-                               "config.local_queue_items %u needs %u bytes of __local memory, more than the "
+                               "config.schedule.local_queue_items %u needs %u bytes of __local memory, more than the "
                                "%zu bytes available", rt->local_queue_items, 4 * rt->lq_words, limit);
     size_t budget_words = (limit - fixed) / 4;
 

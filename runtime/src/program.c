@@ -84,7 +84,7 @@ static perma_status warm_up(perma_runtime *rt)
     PERMA_CL_CHECK(rt, "clEnqueueFillBuffer (warm-up control block)",
                    clEnqueueFillBuffer(rt->queue, rt->ctl_mem, &zero, sizeof zero, 0, ctl_words * 4, 0, NULL, NULL));
     size_t local = rt->group_size;
-    if (rt->config.technique == PERMA_TECHNIQUE_MEGAKERNEL) {
+    if (rt->config.schedule.technique == PERMA_TECHNIQUE_MEGAKERNEL) {
         __atomic_store_n(rt->abort_flag, 0u, __ATOMIC_SEQ_CST);
         st = perma_set_common_args(rt, rt->kernel, PERMA_MEGAKERNEL_USER_ARGS);
         if (st != PERMA_OK)

@@ -124,7 +124,7 @@ perma_status perma_run(perma_runtime *rt)
     if (st == PERMA_OK)
         st = copy_host_buffers(rt, PERMA_READ);
     bool again = st == PERMA_OK;
-    if (again && rt->config.technique != PERMA_TECHNIQUE_MEGAKERNEL) {
+    if (again && rt->config.schedule.technique != PERMA_TECHNIQUE_MEGAKERNEL) {
         again = false;
         st = perma_run_steps(rt, deadline);
     }

@@ -10,7 +10,7 @@ void perma_config_init(perma_config *config)
     memset(config, 0, sizeof *config);
     config->platform_index = -1;
     config->device_index = -1;
-    config->technique = PERMA_TECHNIQUE_MEGAKERNEL;
+    config->schedule.technique = PERMA_TECHNIQUE_MEGAKERNEL;
 }
 
 double perma_now(void)
@@ -32,20 +32,20 @@ static perma_status check_config(perma_runtime *rt, const perma_config *c)
     if (c->queue_capacity > ((size_t)1 << 30))
         return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.queue_capacity %zu is above 2^30 items",
                                c->queue_capacity);
-    if (!perma_technique_name(c->technique))
-        return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.technique %d is not a known technique",
-                               (int)c->technique);
-    if (!perma_strategy_name(c->strategy))
-        return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.strategy %d is not a known strategy",
-                               (int)c->strategy);
-    if (!perma_victim_name(c->victim))
-        return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.victim %d is not a known victim policy",
-                               (int)c->victim);
+    if (!perma_technique_name(c->schedule.technique))
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.schedule.technique %d is not a known technique",
+                               (int)c->schedule.technique);
+    if (!perma_strategy_name(c->schedule.strategy))
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.schedule.strategy %d is not a known strategy",
+                               (int)c->schedule.strategy);
+    if (!perma_victim_name(c->schedule.victim))
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.schedule.victim %d is not a known victim policy",
+                               (int)c->schedule.victim);
     if (c->trace_events > (1u << 24))
         return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.trace_events %u is above 2^24", c->trace_events);
-    if (c->local_queue_items > 4096)
-        return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.local_queue_items %u is above 4096",
-                               c->local_queue_items);
+    if (c->schedule.local_queue_items > 4096)
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.schedule.local_queue_items %u is above 4096",
+                               c->schedule.local_queue_items);
     return PERMA_OK;
 }
 

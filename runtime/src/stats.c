@@ -8,8 +8,8 @@
 void perma_stats_reset(perma_runtime *rt)
 {
     memset(&rt->stats, 0, sizeof rt->stats);
-    rt->stats.technique = rt->config.technique;
-    rt->stats.strategy = rt->config.strategy;
+    rt->stats.technique = rt->config.schedule.technique;
+    rt->stats.strategy = rt->config.schedule.strategy;
     if (rt->group_stats)
         memset(rt->group_stats, 0, rt->work_groups * sizeof *rt->group_stats);
     rt->stats.work_groups = rt->work_groups;

@@ -31,7 +31,7 @@ static int choose_queue(perma_runtime *rt, const perma_ctl_block *ctl, unsigned 
 {
     unsigned n = rt->proc_count;
     for (unsigned i = 0; i < n; ++i) {
-        unsigned q = rt->config.technique == PERMA_TECHNIQUE_BOUNDED_BATCHES ? rt->order[i] : (*cursor + i) % n;
+        unsigned q = rt->config.schedule.technique == PERMA_TECHNIQUE_BOUNDED_BATCHES ? rt->order[i] : (*cursor + i) % n;
         if (queued(ctl, q) > 0) {
             *cursor = (q + 1) % n;
             return (int)q;
@@ -147,8 +147,8 @@ perma_status perma_run_steps(perma_runtime *rt, double deadline)
     perma_ctl_block *ctl = malloc(ctl_bytes);
     if (!ctl)
         return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory for the control block");
-    uint32_t limit = rt->config.batch_limit ? rt->config.batch_limit : DEFAULT_BATCH_LIMIT;
-    bool bounded = rt->config.technique == PERMA_TECHNIQUE_BOUNDED_BATCHES;
+    uint32_t limit = rt->config.schedule.batch_limit ? rt->config.schedule.batch_limit : DEFAULT_BATCH_LIMIT;
+    bool bounded = rt->config.schedule.technique == PERMA_TECHNIQUE_BOUNDED_BATCHES;
     unsigned cursor = 0;
     int traced_proc = -1;          /* the step in flight, for the trace */
     uint32_t traced_items = 0;

@@ -10,7 +10,7 @@ static const char *const kind_names[] = { "run", "steal", "local", "donate" };
 
 static bool tracing_on_device(const perma_runtime *rt)
 {
-    return rt->config.trace_path && rt->config.technique == PERMA_TECHNIQUE_MEGAKERNEL;
+    return rt->config.trace_path && rt->config.schedule.technique == PERMA_TECHNIQUE_MEGAKERNEL;
 }
 
 void perma_trace_release(perma_runtime *rt)
@@ -94,11 +94,11 @@ perma_status perma_trace_write(perma_runtime *rt)
     if (!f)
         return perma_set_error(rt, PERMA_ERR_IO, "cannot write the trace '%s': %s", rt->config.trace_path,
                                strerror(errno));
-    bool host = rt->config.technique != PERMA_TECHNIQUE_MEGAKERNEL;
+    bool host = rt->config.schedule.technique != PERMA_TECHNIQUE_MEGAKERNEL;
     fprintf(f, "{\"displayTimeUnit\":\"ns\",\"otherData\":{\"runtime\":\"perma %s\",\"technique\":\"%s\","
                "\"strategy\":\"%s\",\"clock\":\"%s\"},\n\"traceEvents\":[\n",
-            PERMA_VERSION_STRING, perma_technique_name(rt->config.technique),
-            perma_strategy_name(rt->config.strategy),
+            PERMA_VERSION_STRING, perma_technique_name(rt->config.schedule.technique),
+            perma_strategy_name(rt->config.schedule.strategy),
             host ? "host microseconds" : "logical: one tick per batch start or end");
     if (host) {
         fprintf(f, "{\"name\":\"thread_name\",\"ph\":\"M\",\"pid\":1,\"tid\":0,\"args\":{\"name\":\"host steps\"}}");

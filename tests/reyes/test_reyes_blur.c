@@ -547,10 +547,10 @@ static void expect_schedules_identical(reyes_options o)
     o.spp = 4;
     reyes_image a, b;
     reyes_test_apply_schedule(reyes_test_schedules[1], 2, &o);
-    ck_assert_int_eq(o.strategy, PERMA_STRATEGY_STEALING);
+    ck_assert_int_eq(o.schedule.strategy, PERMA_STRATEGY_STEALING);
     reyes_test_render_once(&scene, &top, &o, &a, NULL);
     reyes_test_apply_schedule(reyes_test_schedules[6], 1, &o);
-    ck_assert_int_eq(o.technique, PERMA_TECHNIQUE_KERNEL_PER_PROCEDURE);
+    ck_assert_int_eq(o.schedule.technique, PERMA_TECHNIQUE_KERNEL_PER_PROCEDURE);
     reyes_test_render_once(&scene, &top, &o, &b, NULL);
     ck_assert_uint_gt(reyes_test_covered_samples(&a), 0);
     ck_assert_mem_eq(a.rgb, b.rgb, (size_t)64 * 48 * 3);

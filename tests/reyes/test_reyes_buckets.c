@@ -78,7 +78,7 @@ START_TEST(test_buckets_bound_queue_memory)
     o.width = 192;
     o.height = 144;
     o.spp = 1;
-    o.technique = PERMA_TECHNIQUE_KERNEL_PER_PROCEDURE;
+    o.schedule.technique = PERMA_TECHNIQUE_KERNEL_PER_PROCEDURE;
     reyes_image whole, tiled;
     reyes_stats whole_stats, tiled_stats;
     reyes_test_render_once(&scene, &camera, &o, &whole, &whole_stats);

@@ -89,7 +89,7 @@ START_TEST(test_teapot_counts_every_schedule)
         reyes_stats stats;
         reyes_test_render_once(&scene, &camera, &o, &image, &stats);
         reyes_image_free(&image);
-        ck_assert_msg(stats.run.technique == o.technique, "%s: ran another technique", label);
+        ck_assert_msg(stats.run.technique == o.schedule.technique, "%s: ran another technique", label);
         if (s == 0) {
             first = stats;
             ck_assert_uint_gt(stats.splits, 1000);

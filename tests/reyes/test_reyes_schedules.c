@@ -57,8 +57,9 @@ START_TEST(test_every_schedule_identical)
             reyes_stats stats;
             reyes_test_render_once(&scene, &camera, &o, &image, &stats);
             /* The runtime ran what was asked for. */
-            ck_assert_msg(stats.run.technique == o.technique, "%s: ran another technique", label);
-            ck_assert_msg(o.technique != PERMA_TECHNIQUE_MEGAKERNEL || stats.run.strategy == o.strategy,
+            ck_assert_msg(stats.run.technique == o.schedule.technique, "%s: ran another technique", label);
+            ck_assert_msg(o.schedule.technique != PERMA_TECHNIQUE_MEGAKERNEL
+                              || stats.run.strategy == o.schedule.strategy,
                           "%s: ran another strategy", label);
             ck_assert_msg(stats.run.work_groups == groups, "%s: ran %u groups", label,
                           stats.run.work_groups);

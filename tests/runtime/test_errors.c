@@ -363,7 +363,7 @@ START_TEST(bounded_wait_names_queue_and_position)
     for (unsigned c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
         perma_config config;
         perma_config_init(&config);
-        config.technique = cases[c].technique;
+        config.schedule.technique = cases[c].technique;
         config.build_options = "-DPERMA_SPIN_LIMIT=0ul";
         perma_runtime *rt = test_runtime_config(&config);
         perma_procedure producer = {
