@@ -1,7 +1,7 @@
 /* Generating the megakernel's OpenCL C from the registered procedures:
  * constants and tables, the user's sources with #line directives, typed
  * emit helpers, the dispatch switch and the scheduler loop. */
-#include "internal.h"
+#include "executor.h"
 
 #include <string.h>
 
@@ -200,7 +200,7 @@ perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *sb)
                                                rt->config.schedule.strategy == PERMA_STRATEGY_STEALING_DONATION),
                         rt->config.schedule.victim == PERMA_VICTIM_ROUND_ROBIN, rt->config.donation_threshold,
                         rt->local_queue_items, rt->lq_words ? rt->lq_words : 1u,
-                        rt->config.trace_path && rt->config.schedule.technique == PERMA_TECHNIQUE_MEGAKERNEL ? rt->trace_events : 0u);
+                        rt->config.trace_path && rt->executor->persistent ? rt->trace_events : 0u);
     perma_strbuf_append(sb, perma_kernel_abi);
     perma_abi_append_struct_checks(sb);
     resume_generated(sb);

@@ -84,8 +84,20 @@ typedef struct perma_queue_image {
     unsigned regrowths;
 } perma_queue_image;
 
+struct perma_executor;
+
+/* What the host-driven techniques keep between launches of a run
+ * (steps.c). */
+typedef struct perma_steps_state {
+    unsigned cursor;         /* kernel-per-procedure: where the round-robin goes on */
+    int traced_proc;         /* the step in flight, for the trace; -1: none */
+    uint32_t traced_items;
+    double traced_start;
+} perma_steps_state;
+
 struct perma_runtime {
     perma_config config;
+    const struct perma_executor *executor; /* the technique (executor.h) */
     char message[PERMA_MESSAGE_MAX];
     char summary[512];
 
@@ -133,6 +145,7 @@ struct perma_runtime {
     bool debug;                     /* PERMA_DEBUG: one group, -DPERMA_DEBUG */
 
     perma_stats stats;
+    perma_steps_state steps;
 
     /* Trace of the current run (trace.c). */
     unsigned trace_events;          /* per group and launch */
@@ -188,41 +201,50 @@ perma_status perma_build_layout(perma_runtime *rt);
 perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *out);
 void perma_release_program(perma_runtime *rt);
 
+/* buffers.c: copy the host memory of perma_bind_host buffers to the
+ * device (PERMA_READ) or back (PERMA_WRITE). */
+perma_status perma_buffers_copy(perma_runtime *rt, unsigned flag);
+
 /* queues.c */
 perma_status perma_queues_prepare(perma_runtime *rt);
 perma_status perma_queues_upload(perma_runtime *rt);
 perma_status perma_queues_download(perma_runtime *rt);
+/* After a launch stalled: grow every target that lacks room for one
+ * waiting item's emits. */
 perma_status perma_queues_grow(perma_runtime *rt);
+/* Grow every queue qi whose free slots are fewer than needed[qi] (set 0
+ * only); only between launches. */
+perma_status perma_queues_fit(perma_runtime *rt, const size_t *needed);
 void perma_queues_release(perma_runtime *rt);
 /* Make *mem a buffer of at least `words` words (keeps a big enough one). */
 perma_status perma_ensure_buffer(perma_runtime *rt, cl_mem *mem, size_t *have_words, size_t words, const char *what);
-/* Grow queue qi (set 0 only) to hold `needed` more items, relaying out all
- * queues; only between launches. */
-perma_status perma_queues_make_room(perma_runtime *rt, const size_t *needed);
 
 /* launch.c */
-perma_status perma_launch_megakernel(perma_runtime *rt, double deadline, perma_ctl_header *outcome);
 perma_status perma_set_common_args(perma_runtime *rt, cl_kernel kernel, cl_uint first_user_arg);
+/* Launch `kernel` and wait for it; past the deadline raise the abort flag,
+ * which every group polls.  PERMA_ERR_TIMEOUT only if the kernel ignores
+ * it (the runtime is then unusable: rt->hung). */
+perma_status perma_launch_watched(perma_runtime *rt, cl_kernel kernel, size_t global, size_t local, double deadline);
 
-/* steps.c: the host-driven techniques. */
-perma_status perma_run_steps(perma_runtime *rt, double deadline);
-perma_status perma_warm_up_steps(perma_runtime *rt);
-
-/* run.c */
-perma_status perma_kernel_status_error(perma_runtime *rt, const perma_ctl_header *outcome);
+/* outcome.c: the error of a launch's failure status (not DONE or
+ * NEEDS_ROOM). */
+perma_status perma_outcome_error(perma_runtime *rt, const perma_ctl_header *outcome);
 
 /* stats.c */
 void perma_stats_reset(perma_runtime *rt);
-perma_status perma_stats_collect(perma_runtime *rt);
+perma_status perma_stats_collect(perma_runtime *rt);  /* after each launch */
+void perma_stats_finish(perma_runtime *rt);           /* at the end of a run */
 
 /* trace.c */
+void perma_trace_reset(perma_runtime *rt, double start); /* at the start of a run */
 perma_status perma_trace_prepare(perma_runtime *rt);       /* buffer for a launch */
-perma_status perma_trace_collect(perma_runtime *rt);       /* after a megakernel launch */
+perma_status perma_trace_collect(perma_runtime *rt);       /* after each launch */
 perma_status perma_trace_host_step(perma_runtime *rt, unsigned proc, uint32_t items, double start, double end);
 perma_status perma_trace_write(perma_runtime *rt);         /* at the end of a run */
 void perma_trace_release(perma_runtime *rt);
 
-/* time */
+/* clock.c */
 double perma_now(void);
+double perma_time_limit(const perma_runtime *rt);
 
 #endif

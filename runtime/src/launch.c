@@ -1,4 +1,5 @@
-/* Launching the megakernel once, under the watchdog. */
+/* Binding a kernel's common arguments, and waiting for a launch under the
+ * watchdog. */
 #include "internal.h"
 
 #include <time.h>
@@ -70,7 +71,7 @@ static perma_status watch(perma_runtime *rt, cl_event done, double deadline)
             return perma_set_error(rt, PERMA_ERR_TIMEOUT,
                                    "the run passed its time limit of %g s and the kernel did not stop within "
                                    "%g s after being told to (a procedure that never returns?); this runtime "
-                                   "can no longer be used", rt->config.time_limit, ABORT_GRACE_SECONDS);
+                                   "can no longer be used", perma_time_limit(rt), ABORT_GRACE_SECONDS);
         }
         sleep_seconds(pause);
         if (pause < 2e-3)
@@ -78,25 +79,14 @@ static perma_status watch(perma_runtime *rt, cl_event done, double deadline)
     }
 }
 
-perma_status perma_launch_megakernel(perma_runtime *rt, double deadline, perma_ctl_header *outcome)
+perma_status perma_launch_watched(perma_runtime *rt, cl_kernel kernel, size_t global, size_t local, double deadline)
 {
-    cl_int err;
-    __atomic_store_n(rt->abort_flag, 0u, __ATOMIC_SEQ_CST);
-    perma_status st = perma_set_common_args(rt, rt->kernel, PERMA_MEGAKERNEL_USER_ARGS);
-    if (st != PERMA_OK)
-        return st;
-    size_t local = rt->group_size;
-    size_t global = (size_t)rt->work_groups * local;
     cl_event done = NULL;
-    err = clEnqueueNDRangeKernel(rt->queue, rt->kernel, 1, NULL, &global, &local, 0, NULL, &done);
-    PERMA_CL_CHECK(rt, "clEnqueueNDRangeKernel (megakernel)", err);
+    PERMA_CL_CHECK(rt, "clEnqueueNDRangeKernel (megakernel)",
+                   clEnqueueNDRangeKernel(rt->queue, kernel, 1, NULL, &global, &local, 0, NULL, &done));
     clFlush(rt->queue);
-    st = watch(rt, done, deadline);
+    perma_status st = watch(rt, done, deadline);
     if (!rt->hung)
         clReleaseEvent(done);
-    if (st != PERMA_OK)
-        return st;
-    PERMA_CL_CHECK(rt, "clEnqueueReadBuffer (control block)",
-                   clEnqueueReadBuffer(rt->queue, rt->ctl_mem, CL_TRUE, 0, sizeof *outcome, outcome, 0, NULL, NULL));
-    return PERMA_OK;
+    return st;
 }

@@ -1,5 +1,5 @@
 /* Compiling the generated megakernel. */
-#include "internal.h"
+#include "executor.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -83,20 +83,9 @@ static perma_status warm_up(perma_runtime *rt)
     cl_uint zero = 0;
     PERMA_CL_CHECK(rt, "clEnqueueFillBuffer (warm-up control block)",
                    clEnqueueFillBuffer(rt->queue, rt->ctl_mem, &zero, sizeof zero, 0, ctl_words * 4, 0, NULL, NULL));
-    size_t local = rt->group_size;
-    if (rt->config.schedule.technique == PERMA_TECHNIQUE_MEGAKERNEL) {
-        __atomic_store_n(rt->abort_flag, 0u, __ATOMIC_SEQ_CST);
-        st = perma_set_common_args(rt, rt->kernel, PERMA_MEGAKERNEL_USER_ARGS);
-        if (st != PERMA_OK)
-            return st;
-        size_t global = (size_t)rt->work_groups * local;
-        PERMA_CL_CHECK(rt, "clEnqueueNDRangeKernel (warm-up)",
-                       clEnqueueNDRangeKernel(rt->queue, rt->kernel, 1, NULL, &global, &local, 0, NULL, NULL));
-    } else {
-        st = perma_warm_up_steps(rt);
-        if (st != PERMA_OK)
-            return st;
-    }
+    st = rt->executor->warm_up(rt);
+    if (st != PERMA_OK)
+        return st;
     PERMA_CL_CHECK(rt, "clFinish (warm-up)", clFinish(rt->queue));
     return PERMA_OK;
 }

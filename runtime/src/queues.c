@@ -386,12 +386,9 @@ done:
 }
 
 /* Between launches of the host-driven techniques: grow every queue qi with
- * needed[qi] > free slots to a capacity that fits, and relay the queues out. */
-perma_status perma_queues_make_room(perma_runtime *rt, const size_t *needed)
+ * needed[qi] > free slots to a capacity that fits. */
+perma_status perma_queues_fit(perma_runtime *rt, const size_t *needed)
 {
-    perma_status st = perma_queues_download(rt);
-    if (st != PERMA_OK)
-        return st;
     size_t *capacities = calloc(rt->image_count, sizeof *capacities);
     if (!capacities)
         return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory growing queues");
@@ -400,9 +397,7 @@ perma_status perma_queues_make_room(perma_runtime *rt, const size_t *needed)
         while (capacities[qi] - rt->images[qi].count < needed[qi])
             capacities[qi] *= 2;
     }
-    st = apply_capacities(rt, capacities);
+    perma_status st = apply_capacities(rt, capacities);
     free(capacities);
-    if (st != PERMA_OK)
-        return st;
-    return perma_queues_upload(rt);
+    return st;
 }

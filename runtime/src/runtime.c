@@ -1,9 +1,8 @@
 /* Creating and destroying a runtime. */
-#include "internal.h"
+#include "executor.h"
 
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 void perma_config_init(perma_config *config)
 {
@@ -11,13 +10,6 @@ void perma_config_init(perma_config *config)
     config->platform_index = -1;
     config->device_index = -1;
     config->schedule.technique = PERMA_TECHNIQUE_MEGAKERNEL;
-}
-
-double perma_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
 }
 
 static perma_status check_config(perma_runtime *rt, const perma_config *c)
@@ -32,7 +24,7 @@ static perma_status check_config(perma_runtime *rt, const perma_config *c)
     if (c->queue_capacity > ((size_t)1 << 30))
         return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.queue_capacity %zu is above 2^30 items",
                                c->queue_capacity);
-    if (!perma_technique_name(c->schedule.technique))
+    if (!perma_executor_for(c->schedule.technique))
         return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.schedule.technique %d is not a known technique",
                                (int)c->schedule.technique);
     if (!perma_strategy_name(c->schedule.strategy))
@@ -76,6 +68,7 @@ perma_status perma_create(const perma_config *config, perma_runtime **out, perma
     rt->config.build_options = NULL; /* copied below */
     rt->config.trace_path = NULL;
     rt->group_size = config->group_size ? config->group_size : 64;
+    rt->executor = perma_executor_for(config->schedule.technique);
     perma_status st = out ? check_config(rt, config)
                           : perma_set_error(rt, PERMA_ERR_ARGUMENT, "perma_create: out is NULL");
     if (st == PERMA_OK && config->build_options) {

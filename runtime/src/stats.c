@@ -90,6 +90,22 @@ perma_status perma_stats_collect(perma_runtime *rt)
     return PERMA_OK;
 }
 
+/* Each procedure's final queue capacity (summed over queue sets) and most
+ * regrowths of one of its queues. */
+void perma_stats_finish(perma_runtime *rt)
+{
+    for (unsigned q = 0; q < rt->proc_count; ++q) {
+        rt->procs[q].stats.queue_capacity = 0;
+        rt->procs[q].stats.regrowths = 0;
+    }
+    for (unsigned qi = 0; qi < rt->image_count; ++qi) {
+        perma_procedure_stats *ps = &rt->procs[qi % rt->proc_count].stats;
+        ps->queue_capacity += rt->images[qi].capacity;
+        if (rt->images[qi].regrowths > ps->regrowths)
+            ps->regrowths = rt->images[qi].regrowths;
+    }
+}
+
 perma_status perma_get_stats(perma_runtime *rt, perma_stats *out)
 {
     if (!rt)

@@ -1,6 +1,6 @@
 /* Trace mode: each work-group's batches as Chrome trace events (JSON),
  * viewable in Perfetto (ui.perfetto.dev) or chrome://tracing. */
-#include "internal.h"
+#include "executor.h"
 
 #include <errno.h>
 #include <stdlib.h>
@@ -8,9 +8,18 @@
 
 static const char *const kind_names[] = { "run", "steal", "local", "donate" };
 
+/* Persistent groups record their own batches; the host records the steps
+ * of the others. */
 static bool tracing_on_device(const perma_runtime *rt)
 {
-    return rt->config.trace_path && rt->config.schedule.technique == PERMA_TECHNIQUE_MEGAKERNEL;
+    return rt->config.trace_path && rt->executor->persistent;
+}
+
+void perma_trace_reset(perma_runtime *rt, double start)
+{
+    rt->trace_count = 0;
+    rt->trace_clock_base = 0.0;
+    rt->trace_start_time = start;
 }
 
 void perma_trace_release(perma_runtime *rt)
@@ -81,6 +90,8 @@ perma_status perma_trace_collect(perma_runtime *rt)
 
 perma_status perma_trace_host_step(perma_runtime *rt, unsigned proc, uint32_t items, double start, double end)
 {
+    if (!rt->config.trace_path)
+        return PERMA_OK;
     perma_trace_event event = { UINT32_MAX, proc, 0, items, (start - rt->trace_start_time) * 1e6,
                                 (end - rt->trace_start_time) * 1e6 };
     return push_event(rt, &event);
@@ -94,7 +105,7 @@ perma_status perma_trace_write(perma_runtime *rt)
     if (!f)
         return perma_set_error(rt, PERMA_ERR_IO, "cannot write the trace '%s': %s", rt->config.trace_path,
                                strerror(errno));
-    bool host = rt->config.schedule.technique != PERMA_TECHNIQUE_MEGAKERNEL;
+    bool host = !rt->executor->persistent;
     fprintf(f, "{\"displayTimeUnit\":\"ns\",\"otherData\":{\"runtime\":\"perma %s\",\"technique\":\"%s\","
                "\"strategy\":\"%s\",\"clock\":\"%s\"},\n\"traceEvents\":[\n",
             PERMA_VERSION_STRING, perma_technique_name(rt->config.schedule.technique),
