@@ -93,6 +93,8 @@ typedef struct perma_group_record {
 #define PERMA_KSTATUS_SPIN_LIMIT 3 /* a bounded wait ran out: DETAIL_PROC = queue index
                                       (| PERMA_WAIT_WRITING), DETAIL_EDGE = position */
 #define PERMA_KSTATUS_ABORTED 4    /* the host watchdog asked the kernel to stop */
+#define PERMA_KSTATUS_UNPUBLISHED 5 /* a regrowth found a queued item that was never published:
+                                       DETAIL_PROC = queue index, DETAIL_EDGE = position */
 
 /* PERMA_KSTATUS_SPIN_LIMIT: set in DETAIL_PROC when a writer waited for its
  * slot to be freed (clear: a reader waited for the item to be published). */
@@ -153,6 +155,25 @@ typedef struct perma_trace_record {
 
 #define PERMA_TRACE_GROUP_WORDS_FOR(events) (1u + PERMA_TRACE_RECORD_WORDS * (events))
 
+/* ---- Regrowth ----------------------------------------------------------
+ * Between launches the host grows queues on the device: it lays the queues
+ * out again in fresh data and sequence buffers and gives
+ * perma_relayout_kernel one record per queue saying where its items are
+ * and where they go (kernels/perma_relayout.cl). */
+
+typedef struct perma_relayout_record {
+    perma_word head;     /* position of the first queued item */
+    perma_word count;    /* items queued */
+    perma_word old_cap;  /* capacity before, a power of two */
+    perma_word old_data; /* offsets before, in words */
+    perma_word old_seq;
+    perma_word new_data; /* offsets after: slot i holds the item at head + i */
+    perma_word new_seq;
+    perma_word words;    /* words per item */
+} perma_relayout_record;
+
+#define PERMA_RELAYOUT_RECORD_WORDS 8
+
 /* ---- Kernel arguments --------------------------------------------------
  * Each list gives (host index name, OpenCL C type, parameter name) in
  * argument order.  The host numbers the arguments from the lists
@@ -186,6 +207,19 @@ typedef struct perma_trace_record {
     X(PERMA_TAKE_ARG_COUNT, uint, count),                    \
     X(PERMA_TAKE_ARG_FROM_TAIL, uint, from_tail)
 
+/* perma_relayout_kernel's arguments: the records, how many, the slots of
+ * the new layout, the (new) control block for a failure status, and the
+ * buffers before and after. */
+#define PERMA_RELAYOUT_ARGS(X)                                                 \
+    X(PERMA_RELAYOUT_ARG_MAP, __global const perma_relayout_record *, map),    \
+    X(PERMA_RELAYOUT_ARG_QUEUES, uint, queues),                                \
+    X(PERMA_RELAYOUT_ARG_SLOTS, uint, slots),                                  \
+    X(PERMA_RELAYOUT_ARG_CTL, __global uint *, ctl),                           \
+    X(PERMA_RELAYOUT_ARG_OLD_DATA, __global const uint *, old_data),           \
+    X(PERMA_RELAYOUT_ARG_OLD_SEQ, __global const uint *, old_seq),             \
+    X(PERMA_RELAYOUT_ARG_NEW_DATA, __global uint *, new_data),                 \
+    X(PERMA_RELAYOUT_ARG_NEW_SEQ, __global uint *, new_seq)
+
 #define PERMA_ARG_PARAM(index, type, name) type name
 #define PERMA_ARG_INDEX(index, type, name) index
 
@@ -197,6 +231,7 @@ enum perma_step_arg {
     PERMA_STEP_USER_ARGS
 };
 enum perma_take_arg { PERMA_TAKE_ARGS(PERMA_ARG_INDEX), PERMA_TAKE_ARG_TOTAL };
+enum perma_relayout_arg { PERMA_RELAYOUT_ARGS(PERMA_ARG_INDEX), PERMA_RELAYOUT_ARG_TOTAL };
 #endif
 
 /* ---- Layout checks -----------------------------------------------------
@@ -230,14 +265,23 @@ enum perma_take_arg { PERMA_TAKE_ARGS(PERMA_ARG_INDEX), PERMA_TAKE_ARG_TOTAL };
     X(perma_trace_record, proc_kind, 0)                              \
     X(perma_trace_record, items, 1)                                  \
     X(perma_trace_record, start, 2)                                  \
-    X(perma_trace_record, end, 3)
+    X(perma_trace_record, end, 3)                                    \
+    X(perma_relayout_record, head, 0)                                \
+    X(perma_relayout_record, count, 1)                               \
+    X(perma_relayout_record, old_cap, 2)                             \
+    X(perma_relayout_record, old_data, 3)                            \
+    X(perma_relayout_record, old_seq, 4)                             \
+    X(perma_relayout_record, new_data, 5)                            \
+    X(perma_relayout_record, new_seq, 6)                             \
+    X(perma_relayout_record, words, 7)
 
 #define PERMA_ABI_STRUCTS(X)                           \
     X(perma_ctl_header, PERMA_CTL_HEADER_WORDS)        \
     X(perma_queue_record, PERMA_QUEUE_WORDS)           \
     X(perma_group_record, PERMA_GROUP_WORDS)           \
     X(perma_group_counters, PERMA_GSTAT_WORDS)         \
-    X(perma_trace_record, PERMA_TRACE_RECORD_WORDS)
+    X(perma_trace_record, PERMA_TRACE_RECORD_WORDS)    \
+    X(perma_relayout_record, PERMA_RELAYOUT_RECORD_WORDS)
 
 #ifdef __OPENCL_VERSION__
 /* Fails the build unless host_bytes == device_bytes; the compiler's message

@@ -12,6 +12,7 @@ extern const char perma_kernel_emit[];
 extern const char perma_kernel_batch[];
 extern const char perma_kernel_scheduler[];
 extern const char perma_kernel_host_steps[];
+extern const char perma_kernel_relayout[];
 
 #define GENERATED_NAME "perma-generated.cl"
 
@@ -200,7 +201,7 @@ perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *sb)
                                                rt->config.schedule.strategy == PERMA_STRATEGY_STEALING_DONATION),
                         rt->config.schedule.victim == PERMA_VICTIM_ROUND_ROBIN, rt->config.donation_threshold,
                         rt->local_queue_items, rt->lq_words ? rt->lq_words : 1u,
-                        rt->config.trace_path && rt->executor->persistent ? rt->trace_events : 0u);
+                        rt->device_trace_events);
     perma_strbuf_append(sb, perma_kernel_abi);
     perma_abi_append_struct_checks(sb);
     resume_generated(sb);
@@ -225,6 +226,8 @@ perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *sb)
     perma_strbuf_append(sb, perma_kernel_scheduler);
     resume_generated(sb);
     perma_strbuf_append(sb, perma_kernel_host_steps);
+    resume_generated(sb);
+    perma_strbuf_append(sb, perma_kernel_relayout);
     if (sb->failed)
         return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory generating the program");
     return PERMA_OK;

@@ -3,12 +3,6 @@
  * work is done or no group can start anything. */
 #include "executor.h"
 
-static perma_status set_args(perma_runtime *rt)
-{
-    __atomic_store_n(rt->abort_flag, 0u, __ATOMIC_SEQ_CST);
-    return perma_set_common_args(rt, rt->kernel, PERMA_MEGAKERNEL_USER_ARGS);
-}
-
 static size_t global_size(const perma_runtime *rt)
 {
     return (size_t)rt->work_groups * rt->group_size;
@@ -17,7 +11,7 @@ static size_t global_size(const perma_runtime *rt)
 /* On an empty state (nothing outstanding) every group leaves at once. */
 static perma_status warm_up(perma_runtime *rt)
 {
-    perma_status st = set_args(rt);
+    perma_status st = perma_state_bind(rt, rt->kernel, PERMA_MEGAKERNEL_USER_ARGS);
     if (st != PERMA_OK)
         return st;
     size_t local = rt->group_size, global = global_size(rt);
@@ -34,16 +28,13 @@ static perma_status prepare(perma_runtime *rt)
 
 static perma_status launch(perma_runtime *rt, double deadline, perma_launch_outcome *outcome)
 {
-    perma_status st = set_args(rt);
+    perma_status st = perma_state_bind(rt, rt->kernel, PERMA_MEGAKERNEL_USER_ARGS);
     if (st == PERMA_OK)
         st = perma_launch_watched(rt, rt->kernel, global_size(rt), rt->group_size, deadline);
     if (st != PERMA_OK)
         return st;
     outcome->launches = 1;
-    PERMA_CL_CHECK(rt, "clEnqueueReadBuffer (control block)",
-                   clEnqueueReadBuffer(rt->queue, rt->ctl_mem, CL_TRUE, 0, sizeof outcome->header, &outcome->header,
-                                       0, NULL, NULL));
-    return PERMA_OK;
+    return perma_state_read_header(rt, &outcome->header);
 }
 
 const perma_executor perma_megakernel_executor = {

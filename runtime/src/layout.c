@@ -220,6 +220,7 @@ perma_status perma_build_layout(perma_runtime *rt)
      * only when the groups live for the whole launch. */
     bool persistent = rt->executor->persistent;
     rt->queue_sets = persistent && rt->config.schedule.strategy != PERMA_STRATEGY_SHARED ? rt->work_groups : 1;
+    rt->device_trace_events = persistent && rt->config.trace_path ? rt->trace_events : 0;
 
     rt->max_edges = 1;
     for (unsigned i = 0; i < rt->proc_count; ++i)

@@ -27,7 +27,7 @@ static perma_status emit_limit_error(perma_runtime *rt, uint32_t proc, uint32_t 
 static perma_status spin_limit_error(perma_runtime *rt, uint32_t detail, uint32_t pos)
 {
     uint32_t index = detail & ~(uint32_t)PERMA_WAIT_WRITING;
-    if (detail == PERMA_DETAIL_NONE || rt->proc_count == 0 || index >= rt->image_count)
+    if (detail == PERMA_DETAIL_NONE || rt->proc_count == 0 || index >= rt->state.queue_count)
         return perma_set_error(rt, PERMA_ERR_DEVICE,
                                "a bounded wait in the kernel ran out (a queue slot was never published or freed)");
     const char *name = rt->procs[index % rt->proc_count].name;

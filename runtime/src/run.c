@@ -11,16 +11,49 @@
  * are queues.c's. */
 #include "executor.h"
 
+#include <stdlib.h>
 #include <string.h>
 
-/* Grow the queues a launch stopped for, as the outcome says. */
+/* Grow the queues a launch stopped for, as the outcome says, on the
+ * device. */
 static perma_status grow_queues(perma_runtime *rt, const perma_launch_outcome *outcome)
 {
-    perma_status st = perma_queues_download(rt);
+    unsigned queues = perma_queues_count(rt);
+    perma_ctl_block *ctl = malloc(perma_ctl_block_bytes(queues));
+    size_t *capacities = malloc(queues * sizeof *capacities);
+    perma_status st = ctl && capacities ? perma_state_read_control(rt, ctl, queues)
+                                        : perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory growing queues");
     if (st == PERMA_OK)
-        st = outcome->needed_given ? perma_queues_fit(rt, outcome->needed) : perma_queues_grow(rt);
+        st = outcome->needed_given ? perma_queues_grow_to_fit(rt, ctl, outcome->needed, capacities)
+                                   : perma_queues_grow_stalled(rt, ctl, capacities);
     if (st == PERMA_OK)
-        st = perma_queues_upload(rt);
+        st = perma_state_grow(rt, ctl, capacities);
+    if (st == PERMA_OK)
+        rt->stats.regrowths++;
+    free(ctl);
+    free(capacities);
+    return st;
+}
+
+/* The first launch state: the seeds in queues of their initial capacities.
+ * The seeds are consumed whether the run succeeds or not. */
+static perma_status upload_seeds(perma_runtime *rt)
+{
+    unsigned queues = perma_queues_count(rt);
+    size_t *capacities = malloc(queues * sizeof *capacities);
+    perma_status st = capacities ? perma_queues_initial(rt, capacities)
+                                 : perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory for %u queues", queues);
+    if (st == PERMA_OK)
+        st = perma_state_upload(rt, capacities);
+    free(capacities);
+    for (unsigned q = 0; q < rt->proc_count; ++q) {
+        perma_proc_info *p = &rt->procs[q];
+        if (st == PERMA_OK) {
+            p->stats.seeded = p->seed_count;
+            p->stats.peak_queue_items = p->seed_count;
+        }
+        p->seed_count = 0;
+    }
     return st;
 }
 
@@ -53,7 +86,9 @@ static perma_status launch_until_done(perma_runtime *rt, double deadline)
     while (again) {
         perma_launch_outcome outcome;
         memset(&outcome, 0, sizeof outcome);
-        st = executor->launch(rt, deadline, &outcome);
+        st = perma_state_begin_launch(rt);
+        if (st == PERMA_OK)
+            st = executor->launch(rt, deadline, &outcome);
         if (st != PERMA_OK)
             break;
         rt->stats.launches += outcome.launches;
@@ -101,9 +136,7 @@ perma_status perma_run(perma_runtime *rt)
     perma_trace_reset(rt, start);
     double deadline = start + perma_time_limit(rt);
 
-    st = perma_queues_prepare(rt);
-    if (st == PERMA_OK)
-        st = perma_queues_upload(rt);
+    st = upload_seeds(rt);
     if (st == PERMA_OK)
         st = perma_buffers_copy(rt, PERMA_READ);
     if (st == PERMA_OK)

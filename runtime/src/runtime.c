@@ -85,13 +85,8 @@ perma_status perma_create(const perma_config *config, perma_runtime **out, perma
     }
     if (st == PERMA_OK)
         st = perma_device_open(rt);
-    if (st == PERMA_OK) {
-        rt->abort_flag = aligned_alloc(4096, 4096);
-        if (!rt->abort_flag)
-            st = perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory for the watchdog flag");
-        else
-            memset(rt->abort_flag, 0, 4096);
-    }
+    if (st == PERMA_OK)
+        st = perma_state_open(rt);
     if (error) {
         error->status = st;
         snprintf(error->message, sizeof error->message, "%s", st == PERMA_OK ? "" : rt->message);
@@ -127,7 +122,7 @@ void perma_destroy(perma_runtime *rt)
     }
     if (rt->queue)
         clFinish(rt->queue);
-    perma_queues_release(rt);
+    perma_state_close(rt);
     perma_release_program(rt);
     for (unsigned i = 0; i < rt->buffer_count; ++i) {
         if (rt->buffers[i].mem)
@@ -145,7 +140,6 @@ void perma_destroy(perma_runtime *rt)
     free((char *)rt->config.build_options);
     free((char *)rt->config.trace_path);
     perma_trace_release(rt);
-    free(rt->abort_flag);
     free(rt->group_stats);
     free(rt);
 }

@@ -29,7 +29,8 @@ perma_status perma_stats_collect(perma_runtime *rt)
     unsigned n = rt->proc_count, stride = PERMA_STAT_PROC_WORDS_FOR(rt->max_edges);
     unsigned group_words = PERMA_STAT_GROUP_WORDS_FOR(n, rt->max_edges);
     size_t stats_words = (size_t)rt->work_groups * group_words;
-    size_t ctl_bytes = perma_ctl_block_bytes(rt->image_count);
+    unsigned queues = rt->state.queue_count;
+    size_t ctl_bytes = perma_ctl_block_bytes(queues);
     if (!rt->group_stats) {
         rt->group_stats = calloc(rt->work_groups, sizeof *rt->group_stats);
         if (!rt->group_stats)
@@ -42,14 +43,13 @@ perma_status perma_stats_collect(perma_runtime *rt)
         free(ctl);
         return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory reading statistics");
     }
-    cl_int err = clEnqueueReadBuffer(rt->queue, rt->stats_mem, CL_TRUE, 0, stats_words * 4, words, 0, NULL, NULL);
-    if (err == CL_SUCCESS)
-        err = clEnqueueReadBuffer(rt->queue, rt->ctl_mem, CL_TRUE, 0, ctl_bytes, ctl, 0, NULL, NULL);
-    if (err != CL_SUCCESS) {
+    perma_status st = perma_state_read_stats(rt, words, stats_words);
+    if (st == PERMA_OK)
+        st = perma_state_read_control(rt, ctl, queues);
+    if (st != PERMA_OK) {
         free(words);
         free(ctl);
-        return perma_set_error(rt, PERMA_ERR_OPENCL, "clEnqueueReadBuffer (statistics) failed: %s (%d)",
-                               perma_cl_error_name(err), (int)err);
+        return st;
     }
     for (unsigned g = 0; g < rt->work_groups; ++g) {
         const uint32_t *record = words + (size_t)g * group_words;
@@ -98,11 +98,11 @@ void perma_stats_finish(perma_runtime *rt)
         rt->procs[q].stats.queue_capacity = 0;
         rt->procs[q].stats.regrowths = 0;
     }
-    for (unsigned qi = 0; qi < rt->image_count; ++qi) {
+    for (unsigned qi = 0; qi < rt->state.queue_count; ++qi) {
         perma_procedure_stats *ps = &rt->procs[qi % rt->proc_count].stats;
-        ps->queue_capacity += rt->images[qi].capacity;
-        if (rt->images[qi].regrowths > ps->regrowths)
-            ps->regrowths = rt->images[qi].regrowths;
+        ps->queue_capacity += rt->state.queues[qi].capacity;
+        if (rt->state.queues[qi].regrowths > ps->regrowths)
+            ps->regrowths = rt->state.queues[qi].regrowths;
     }
 }
 

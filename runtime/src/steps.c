@@ -5,16 +5,8 @@
  * deadline passes. */
 #include "steps.h"
 
-#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
-
-static perma_status read_control(perma_runtime *rt, perma_ctl_block *ctl, size_t bytes)
-{
-    PERMA_CL_CHECK(rt, "clEnqueueReadBuffer (control block)",
-                   clEnqueueReadBuffer(rt->queue, rt->ctl_mem, CL_TRUE, 0, bytes, ctl, 0, NULL, NULL));
-    return PERMA_OK;
-}
 
 /* Whether the targets of q have room for the worst-case emits of `take` of
  * its items; if not, needed[] says how many free slots each queue needs.
@@ -42,10 +34,10 @@ static perma_status set_take_args(perma_runtime *rt, cl_uint qi, cl_uint first, 
         size_t size;
         const void *value;
     } args[] = {
-        { PERMA_TAKE_ARG_CTL, sizeof(cl_mem), &rt->ctl_mem },
-        { PERMA_TAKE_ARG_QUEUE_DATA, sizeof(cl_mem), &rt->data_mem },
-        { PERMA_TAKE_ARG_QUEUE_SEQ, sizeof(cl_mem), &rt->seq_mem },
-        { PERMA_TAKE_ARG_INPUT, sizeof(cl_mem), &rt->input_mem },
+        { PERMA_TAKE_ARG_CTL, sizeof(cl_mem), &rt->state.ctl.mem },
+        { PERMA_TAKE_ARG_QUEUE_DATA, sizeof(cl_mem), &rt->state.data.mem },
+        { PERMA_TAKE_ARG_QUEUE_SEQ, sizeof(cl_mem), &rt->state.seq.mem },
+        { PERMA_TAKE_ARG_INPUT, sizeof(cl_mem), &rt->state.input.mem },
         { PERMA_TAKE_ARG_QUEUE, sizeof qi, &qi },
         { PERMA_TAKE_ARG_FIRST, sizeof first, &first },
         { PERMA_TAKE_ARG_COUNT, sizeof take, &take },
@@ -60,11 +52,11 @@ static perma_status set_take_args(perma_runtime *rt, cl_uint qi, cl_uint first, 
 
 static perma_status set_step_args(perma_runtime *rt, cl_uint proc, cl_uint count)
 {
-    perma_status st = perma_set_common_args(rt, rt->step_kernel, PERMA_STEP_USER_ARGS);
+    perma_status st = perma_state_bind(rt, rt->step_kernel, PERMA_STEP_USER_ARGS);
     if (st != PERMA_OK)
         return st;
     PERMA_CL_CHECK(rt, "clSetKernelArg (step)",
-                   clSetKernelArg(rt->step_kernel, PERMA_STEP_ARG_INPUT, sizeof(cl_mem), &rt->input_mem));
+                   clSetKernelArg(rt->step_kernel, PERMA_STEP_ARG_INPUT, sizeof(cl_mem), &rt->state.input.mem));
     PERMA_CL_CHECK(rt, "clSetKernelArg (step)", clSetKernelArg(rt->step_kernel, PERMA_STEP_ARG_PROC, sizeof proc, &proc));
     PERMA_CL_CHECK(rt, "clSetKernelArg (step)",
                    clSetKernelArg(rt->step_kernel, PERMA_STEP_ARG_COUNT, sizeof count, &count));
@@ -75,7 +67,7 @@ static perma_status launch_step(perma_runtime *rt, unsigned q, uint32_t first, u
 {
     const perma_proc_info *p = &rt->procs[q];
     size_t words = (size_t)take * (p->item_size / 4);
-    perma_status st = perma_ensure_buffer(rt, &rt->input_mem, &rt->input_mem_words, words, "step input");
+    perma_status st = perma_state_ensure_input(rt, words);
     if (st == PERMA_OK)
         st = set_take_args(rt, q, first, take, from_tail);
     if (st != PERMA_OK)
@@ -97,7 +89,7 @@ static perma_status launch_step(perma_runtime *rt, unsigned q, uint32_t first, u
  * 0 runs one empty batch. */
 perma_status perma_steps_warm_up(perma_runtime *rt)
 {
-    perma_status st = perma_ensure_buffer(rt, &rt->input_mem, &rt->input_mem_words, 1, "step input");
+    perma_status st = perma_state_ensure_input(rt, 1);
     if (st == PERMA_OK)
         st = set_take_args(rt, 0, 0, 0, 0);
     if (st != PERMA_OK)
@@ -118,7 +110,6 @@ perma_status perma_steps_prepare(perma_runtime *rt)
 {
     rt->steps.cursor = 0;
     rt->steps.traced_proc = -1;
-    __atomic_store_n(rt->abort_flag, 0u, __ATOMIC_SEQ_CST);
     return PERMA_OK;
 }
 
@@ -138,19 +129,15 @@ static perma_status take_items(perma_runtime *rt, perma_ctl_block *ctl, unsigned
         rec->head += take;
     }
     rec->room += take;
-    PERMA_CL_CHECK(rt, "clEnqueueWriteBuffer (queue record)",
-                   clEnqueueWriteBuffer(rt->queue, rt->ctl_mem, CL_FALSE, perma_ctl_block_bytes(q),
-                                        offsetof(perma_queue_record, cap), rec, 0, NULL, NULL));
-    return PERMA_OK;
+    return perma_state_write_queue_heads(rt, q, rec);
 }
 
 static perma_status run_steps(perma_runtime *rt, const perma_step_policy *policy, double deadline,
                               perma_ctl_block *ctl, perma_launch_outcome *outcome)
 {
     perma_steps_state *s = &rt->steps;
-    size_t ctl_bytes = perma_ctl_block_bytes(rt->proc_count);
     for (;;) {
-        perma_status st = read_control(rt, ctl, ctl_bytes); /* waits for the previous step */
+        perma_status st = perma_state_read_control(rt, ctl, rt->proc_count); /* waits for the previous step */
         if (st == PERMA_OK && s->traced_proc >= 0)
             st = perma_trace_host_step(rt, (unsigned)s->traced_proc, s->traced_items, s->traced_start, perma_now());
         s->traced_proc = -1;

@@ -1,5 +1,6 @@
-/* Binding a kernel's common arguments, and waiting for a launch under the
- * watchdog. */
+/* Waiting for a launch under the watchdog: past the run's deadline the
+ * host raises the abort flag every group polls, and gives up on a kernel
+ * that does not stop. */
 #include "internal.h"
 
 #include <time.h>
@@ -11,40 +12,6 @@ static void sleep_seconds(double s)
 {
     struct timespec ts = { (time_t)s, (long)((s - (double)(time_t)s) * 1e9) };
     nanosleep(&ts, NULL);
-}
-
-/* The arguments PERMA_COMMON_ARGS lists (control block, queues,
- * statistics, watchdog flag, trace) and the user buffers from
- * `first_user_arg` on. */
-perma_status perma_set_common_args(perma_runtime *rt, cl_kernel kernel, cl_uint first_user_arg)
-{
-    if (!rt->abort_mem) {
-        cl_int err;
-        rt->abort_mem = clCreateBuffer(rt->context, CL_MEM_READ_WRITE | CL_MEM_USE_HOST_PTR, 4096,
-                                       rt->abort_flag, &err);
-        PERMA_CL_CHECK(rt, "clCreateBuffer (watchdog flag)", err);
-    }
-    perma_status st = perma_trace_prepare(rt);
-    if (st != PERMA_OK)
-        return st;
-    cl_mem common[PERMA_MEGAKERNEL_USER_ARGS];
-    common[PERMA_ARG_CTL] = rt->ctl_mem;
-    common[PERMA_ARG_QUEUE_DATA] = rt->data_mem;
-    common[PERMA_ARG_QUEUE_SEQ] = rt->seq_mem;
-    common[PERMA_ARG_GROUP_STATS] = rt->stats_mem;
-    common[PERMA_ARG_ABORT_FLAG] = rt->abort_mem;
-    common[PERMA_ARG_TRACE] = rt->trace_mem;
-    for (cl_uint i = 0; i < PERMA_MEGAKERNEL_USER_ARGS; ++i)
-        PERMA_CL_CHECK(rt, "clSetKernelArg", clSetKernelArg(kernel, i, sizeof(cl_mem), &common[i]));
-    for (unsigned b = 0; b < rt->buffer_count; ++b) {
-        if (!rt->buffers[b].mem)
-            return perma_set_error(rt, PERMA_ERR_STATE, "buffer '%s' has no memory bound", rt->buffers[b].name);
-        cl_int err = clSetKernelArg(kernel, first_user_arg + b, sizeof(cl_mem), &rt->buffers[b].mem);
-        if (err != CL_SUCCESS)
-            return perma_set_error(rt, PERMA_ERR_OPENCL, "clSetKernelArg (buffer '%s') failed: %s (%d)",
-                                   rt->buffers[b].name, perma_cl_error_name(err), (int)err);
-    }
-    return PERMA_OK;
 }
 
 /* Wait for the launch; past the deadline raise the abort flag, which every
@@ -63,7 +30,7 @@ static perma_status watch(perma_runtime *rt, cl_event done, double deadline)
             return PERMA_OK;
         double now = perma_now();
         if (aborted_at == 0.0 && now > deadline) {
-            __atomic_store_n(rt->abort_flag, 1u, __ATOMIC_SEQ_CST);
+            perma_state_raise_abort(rt);
             aborted_at = now;
         }
         if (aborted_at != 0.0 && now > aborted_at + ABORT_GRACE_SECONDS) {
