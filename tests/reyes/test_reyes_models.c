@@ -20,6 +20,16 @@ static void load(reyes_scene *scene, const char *file)
     ck_assert_msg(status == REYES_OK, "%s", error.message);
 }
 
+/* A model and a camera framing it at 40 degrees for a width x height
+ * image. */
+static void load_framed(reyes_scene *scene, reyes_camera *camera, const char *file, unsigned width,
+                        unsigned height)
+{
+    reyes_error error;
+    load(scene, file);
+    ck_assert_int_eq(reyes_camera_frame(scene, 40.0f, (float)width / (float)height, camera, &error), REYES_OK);
+}
+
 START_TEST(test_load_all_models)
 {
     const struct { const char *file; size_t patches; } models[] = {
@@ -40,14 +50,12 @@ END_TEST
 START_TEST(test_teapot_groups_and_holes)
 {
     reyes_scene scene;
-    reyes_error error;
     reyes_camera camera;
-    load(&scene, "teapot.bpt");
+    load_framed(&scene, &camera, "teapot.bpt", 192, 144);
     reyes_options o;
     reyes_options_init(&o);
     o.width = 192;
     o.height = 144;
-    ck_assert_int_eq(reyes_camera_frame(&scene, 40.0f, 192.0f / 144.0f, &camera, &error), REYES_OK);
     reyes_image one, two;
     reyes_stats stats_one, stats_two;
     reyes_test_render(reyes_test_renderer(1), &scene, &camera, &o, &one, &stats_one);
@@ -69,15 +77,13 @@ END_TEST
 START_TEST(test_teapot_counts_every_schedule)
 {
     reyes_scene scene;
-    reyes_error error;
     reyes_camera camera;
-    load(&scene, "teapot.bpt");
+    load_framed(&scene, &camera, "teapot.bpt", 256, 192);
     reyes_options o;
     reyes_options_init(&o);
     o.width = 256;
     o.height = 192;
     o.spp = 1;
-    ck_assert_int_eq(reyes_camera_frame(&scene, 40.0f, 256.0f / 192.0f, &camera, &error), REYES_OK);
     reyes_stats first;
     memset(&first, 0, sizeof first);
     for (unsigned s = 0; s < reyes_test_schedule_count; ++s) {
@@ -94,18 +100,7 @@ START_TEST(test_teapot_counts_every_schedule)
             reyes_test_expect_reference_counts(&scene, &camera, &o, &stats);
             continue;
         }
-        ck_assert_msg(stats.splits == first.splits && stats.grids == first.grids,
-                      "%s: %llu splits and %llu grids, expected %llu and %llu", label,
-                      (unsigned long long)stats.splits, (unsigned long long)stats.grids,
-                      (unsigned long long)first.splits, (unsigned long long)first.grids);
-        ck_assert_msg(stats.culled == first.culled && stats.micropolygons == first.micropolygons
-                          && stats.samples_written == first.samples_written,
-                      "%s: culled, micropolygon or sample counts differ", label);
-        for (int p = 0; p < REYES_PROC_COUNT; ++p)
-            ck_assert_msg(stats.procedures[p].items == first.procedures[p].items,
-                          "%s: %s ran %llu items, expected %llu", label, stats.procedures[p].name,
-                          (unsigned long long)stats.procedures[p].items,
-                          (unsigned long long)first.procedures[p].items);
+        reyes_test_expect_same_counts(&first, &stats, label);
     }
     reyes_scene_free(&scene);
 }
@@ -115,14 +110,12 @@ END_TEST
 START_TEST(test_killeroo)
 {
     reyes_scene scene;
-    reyes_error error;
     reyes_camera camera;
-    load(&scene, "killeroo.bpt");
+    load_framed(&scene, &camera, "killeroo.bpt", 128, 128);
     reyes_options o;
     reyes_options_init(&o);
     o.width = 128;
     o.height = 128;
-    ck_assert_int_eq(reyes_camera_frame(&scene, 40.0f, 1.0f, &camera, &error), REYES_OK);
     reyes_image image;
     reyes_stats stats;
     reyes_test_render(reyes_test_renderer(0), &scene, &camera, &o, &image, &stats);
