@@ -1,0 +1,198 @@
+/* The item pool and the farm of device threads (reyes_farm.h). */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "reyes_farm.h"
+
+reyes_status reyes_pool_init(reyes_pool *pool, const reyes_job *job, reyes_error *error)
+{
+    memset(pool, 0, sizeof *pool);
+    pool->job = job;
+    pthread_mutex_init(&pool->lock, NULL);
+    if (job->frames)
+        return REYES_OK;
+    size_t pixels = (size_t)job->options.width * job->options.height;
+    pool->image.width = job->options.width;
+    pool->image.height = job->options.height;
+    pool->image.rgb = calloc(pixels, 3);
+    pool->image.coverage = calloc(pixels, 1);
+    if (!pool->image.rgb || !pool->image.coverage) {
+        reyes_pool_free(pool);
+        return reyes_fail(error, REYES_ERR_NO_MEMORY, "out of memory for a %ux%u image",
+                          job->options.width, job->options.height);
+    }
+    return REYES_OK;
+}
+
+void reyes_pool_free(reyes_pool *pool)
+{
+    reyes_image_free(&pool->image);
+    pthread_mutex_destroy(&pool->lock);
+}
+
+int reyes_pool_take(reyes_pool *pool, unsigned *item)
+{
+    pthread_mutex_lock(&pool->lock);
+    int have = !pool->failed && pool->next < pool->job->items;
+    if (have)
+        *item = pool->next++;
+    pthread_mutex_unlock(&pool->lock);
+    return have;
+}
+
+void reyes_image_pack_rect(const reyes_image *image, const unsigned rect[4], uint8_t *rgb,
+                           uint8_t *coverage)
+{
+    size_t width = rect[2] - rect[0];
+    for (unsigned y = rect[1]; y < rect[3]; ++y) {
+        size_t from = (size_t)y * image->width + rect[0], row = y - rect[1];
+        memcpy(rgb + row * width * 3, image->rgb + from * 3, width * 3);
+        memcpy(coverage + row * width, image->coverage + from, width);
+    }
+}
+
+reyes_status reyes_pool_deliver(reyes_pool *pool, unsigned item, const unsigned rect[4],
+                                const uint8_t *rgb, const uint8_t *coverage, reyes_error *error)
+{
+    const reyes_job *job = pool->job;
+    reyes_status status = REYES_OK;
+    if (job->frames) {
+        /* A whole frame: write it (outside the lock; files differ). */
+        reyes_image frame = { rect[2] - rect[0], rect[3] - rect[1], (uint8_t *)rgb, (uint8_t *)coverage };
+        char path[4200];
+        reyes_job_frame_path(job, item, path, sizeof path);
+        status = reyes_write_png(path, &frame, error);
+    } else {
+        /* Tiles are disjoint: no lock needed for the pixels. */
+        size_t width = rect[2] - rect[0];
+        reyes_image *image = &pool->image;
+        for (unsigned y = rect[1]; y < rect[3]; ++y) {
+            size_t to = (size_t)y * image->width + rect[0], row = y - rect[1];
+            memcpy(image->rgb + to * 3, rgb + row * width * 3, width * 3);
+            memcpy(image->coverage + to, coverage + row * width, width);
+        }
+    }
+    if (status == REYES_OK) {
+        pthread_mutex_lock(&pool->lock);
+        pool->delivered++;
+        pthread_mutex_unlock(&pool->lock);
+    }
+    return status;
+}
+
+void reyes_pool_fail(reyes_pool *pool, const char *who, reyes_status status, const char *message)
+{
+    pthread_mutex_lock(&pool->lock);
+    if (!pool->failed) {
+        pool->failed = 1;
+        pool->status = status;
+        snprintf(pool->message, sizeof pool->message, "%s: %s", who, message);
+    }
+    pthread_mutex_unlock(&pool->lock);
+}
+
+reyes_status reyes_pool_finish(reyes_pool *pool, reyes_error *error)
+{
+    pthread_mutex_lock(&pool->lock);
+    int failed = pool->failed;
+    unsigned delivered = pool->delivered, items = pool->job->items;
+    pthread_mutex_unlock(&pool->lock);
+    if (failed)
+        return reyes_fail(error, pool->status, "%s", pool->message);
+    if (delivered != items)
+        return reyes_fail(error, REYES_ERR_RUNTIME, "%u of %u %s were delivered", delivered, items,
+                          pool->job->frames ? "frames" : "buckets");
+    return REYES_OK;
+}
+
+/* The bucket source of a renderer on the pool's own process. */
+static int source_next(void *user, unsigned *item)
+{
+    return reyes_pool_take(user, item);
+}
+
+static reyes_status source_done(void *user, unsigned item, const reyes_image *image, unsigned x0,
+                                unsigned y0, unsigned x1, unsigned y1, reyes_error *error)
+{
+    reyes_pool *pool = user;
+    const reyes_job *job = pool->job;
+    if (job->frames) {
+        const unsigned rect[4] = { 0, 0, image->width, image->height };
+        return reyes_pool_deliver(pool, item, rect, image->rgb, image->coverage, error);
+    }
+    /* Straight from the renderer's image into the pool's. */
+    reyes_image_copy_rect(&pool->image, image, x0, y0, x1, y1);
+    pthread_mutex_lock(&pool->lock);
+    pool->delivered++;
+    pthread_mutex_unlock(&pool->lock);
+    return REYES_OK;
+}
+
+reyes_bucket_source reyes_pool_source(reyes_pool *pool)
+{
+    return (reyes_bucket_source){ source_next, source_done, pool };
+}
+
+static void *farm_thread(void *arg)
+{
+    reyes_farm_worker *w = arg;
+    reyes_pool *pool = w->pool;
+    reyes_options options = pool->job->options;
+    options.device = &w->device;
+    char who[96];
+    snprintf(who, sizeof who, "device %s", w->report.device);
+    reyes_renderer *renderer = NULL;
+    reyes_error error;
+    reyes_status status = reyes_renderer_create(&options, &renderer, &error);
+    if (status == REYES_OK) {
+        snprintf(w->report.summary, sizeof w->report.summary, "%s", reyes_renderer_device(renderer));
+        reyes_bucket_source source = reyes_pool_source(pool);
+        status = reyes_job_work(pool->job, renderer, &source, &w->report, &error);
+    }
+    if (status != REYES_OK)
+        reyes_pool_fail(pool, who, status, error.message);
+    reyes_renderer_destroy(renderer);
+    return NULL;
+}
+
+reyes_status reyes_farm_start(reyes_pool *pool, const perma_device_ref *devices, unsigned count,
+                              reyes_farm_worker *workers, reyes_error *error)
+{
+    for (unsigned k = 0; k < count; ++k) {
+        reyes_farm_worker *w = &workers[k];
+        memset(w, 0, sizeof *w);
+        w->pool = pool;
+        w->device = devices[k];
+        perma_device_ref_format(&devices[k], w->report.device, sizeof w->report.device);
+    }
+    for (unsigned k = 0; k < count; ++k) {
+        if (pthread_create(&workers[k].thread, NULL, farm_thread, &workers[k]) != 0) {
+            reyes_pool_fail(pool, "farm", REYES_ERR_NO_MEMORY, "cannot start a render thread");
+            reyes_farm_join(workers, k);
+            return reyes_fail(error, REYES_ERR_NO_MEMORY, "cannot start a render thread for device %s",
+                              workers[k].report.device);
+        }
+        workers[k].started = 1;
+    }
+    return REYES_OK;
+}
+
+void reyes_farm_join(reyes_farm_worker *workers, unsigned count)
+{
+    for (unsigned k = 0; k < count; ++k) {
+        if (workers[k].started)
+            pthread_join(workers[k].thread, NULL);
+        workers[k].started = 0;
+    }
+}
+
+reyes_status reyes_farm_run(reyes_pool *pool, const perma_device_ref *devices, unsigned count,
+                            reyes_farm_worker *workers, reyes_error *error)
+{
+    reyes_status status = reyes_farm_start(pool, devices, count, workers, error);
+    if (status != REYES_OK)
+        return status;
+    reyes_farm_join(workers, count);
+    return reyes_pool_finish(pool, error);
+}

@@ -1,0 +1,20 @@
+/* What a scale-out render prints and writes (--stats): the image or
+ * frames, then one line (one JSON object) per renderer. */
+#ifndef REYES_REPORT_H
+#define REYES_REPORT_H
+
+#include <stdio.h>
+
+#include "reyes_job.h"
+
+/* "out.png: 512x512, 38 patches, 64 buckets on 2 devices, ..." and a line
+ * per renderer; `where` is "device" or "rank". */
+void reyes_report_print(FILE *out, const reyes_job *job, const reyes_work_report *reports,
+                        unsigned count, const char *where, double seconds);
+
+/* {"width": ..., "items": ..., "seconds": ..., "renderers": [{...}, ...]} */
+reyes_status reyes_report_save_json(const char *path, const reyes_job *job,
+                                    const reyes_work_report *reports, unsigned count,
+                                    double seconds, reyes_error *error);
+
+#endif
