@@ -419,6 +419,22 @@ static int on_orbit(reyes_cli *cli, const char *value, char *message, size_t siz
     return REYES_CLI_OK;
 }
 
+static int on_rank_timeout(reyes_cli *cli, const char *value, char *message, size_t size)
+{
+    if (!parse_float(value, &cli->rank_timeout) || !(cli->rank_timeout >= 1.0f && cli->rank_timeout <= 1e6f))
+        return usage_error(message, size, "--rank-timeout '%s': expected seconds in 1..1e6%s", value, "");
+    return REYES_CLI_OK;
+}
+
+static int on_coordinator_only(reyes_cli *cli, const char *value, char *message, size_t size)
+{
+    (void)value;
+    (void)message;
+    (void)size;
+    cli->coordinator_only = 1;
+    return REYES_CLI_OK;
+}
+
 static int on_backface(reyes_cli *cli, const char *value, char *message, size_t size)
 {
     (void)value;
@@ -501,6 +517,10 @@ static const cli_option options[] = {
     { "frames", 0, "N", on_frames, "render N frames NAME-0001.png ... (an orbit, or the motion)" },
     { "orbit", 0, "DEG", on_orbit,
       "frames: turn the camera DEG about the vertical through the target (default 360, 0 with motion)" },
+    { "rank-timeout", 0, "S", on_rank_timeout,
+      "mpirun: abort the job when a rank holds a bucket or frame S seconds (default 660)" },
+    { "coordinator-only", 0, NULL, on_coordinator_only,
+      "mpirun: rank 0 hands out and gathers but renders nothing (a head node)" },
     { "backface", 0, NULL, on_backface, "cull patches that face away entirely" },
     { "stats", 0, "FILE", on_stats, "write statistics as JSON" },
     { "reference", 0, NULL, on_reference, "also run the single-threaded C bound/split/dice and print its counts" },

@@ -29,6 +29,12 @@ typedef struct reyes_cli {
     unsigned frames;
     float orbit_deg;
     int orbit_given;
+    /* MPI: rank 0 aborts the job when a rank holds an item this long
+     * (seconds; 0: 660, the runtime's watchdog and a minute). */
+    float rank_timeout;
+    /* MPI: rank 0 only hands out and gathers (a head node); the others
+     * render. */
+    int coordinator_only;
     int help, version;
     char displace_map[4096]; /* --displace png:FILE:A (render.displace_map points here) */
 } reyes_cli;

@@ -11,6 +11,7 @@
 
 #include "reyes_cli.h"
 #include "reyes_farm.h"
+#include "reyes_mpi.h"
 #include "reyes_reference.h"
 #include "reyes_report.h"
 
@@ -129,16 +130,24 @@ int main(int argc, char **argv)
     const char *program = argc > 0 ? argv[0] : "reyes-render";
     reyes_cli cli;
     char message[512];
+    /* Under mpirun every rank parses the same line; rank 0 speaks. */
+    int quiet = reyes_mpi_launched() && reyes_mpi_launched_rank() != 0;
     if (reyes_cli_parse(argc, argv, &cli, message, sizeof message) != REYES_CLI_OK) {
-        fprintf(stderr, "%s: %s\n", program, message);
+        if (!quiet)
+            fprintf(stderr, "%s: %s\n", program, message);
         reyes_cli_free(&cli);
         return EXIT_USAGE;
     }
     int code = EXIT_SUCCESS;
     if (cli.help) {
-        reyes_cli_usage(stdout, program);
+        if (!quiet)
+            reyes_cli_usage(stdout, program);
     } else if (cli.version) {
-        printf("reyes-render %s (perma %s)\n", REYES_VERSION_STRING, PERMA_VERSION_STRING);
+        if (!quiet)
+            printf("reyes-render %s (perma %s%s)\n", REYES_VERSION_STRING, PERMA_VERSION_STRING,
+                   reyes_mpi_available() ? ", MPI" : "");
+    } else if (reyes_mpi_launched()) {
+        code = reyes_mpi_main(&cli, program);
     } else {
         reyes_error error;
         reyes_status status = cli.devices || cli.frames ? run_farm(&cli, &error) : run(&cli, &error);

@@ -31,8 +31,11 @@ void reyes_report_print(FILE *out, const reyes_job *job, const reyes_work_report
         char rank[32] = "";
         if (strcmp(where, "rank") == 0)
             snprintf(rank, sizeof rank, "rank %d, ", r->rank);
-        fprintf(out, "  %sdevice %s: %u %s in %.3f s (%s)\n", rank, r->device, r->items, kind,
-                r->seconds, r->summary);
+        if (strcmp(r->device, "none") == 0)
+            fprintf(out, "  %scoordinator: handed out and gathered\n", rank);
+        else
+            fprintf(out, "  %sdevice %s: %u %s in %.3f s (%s)\n", rank, r->device, r->items, kind,
+                    r->seconds, r->summary);
     }
 }
 

@@ -93,8 +93,11 @@ START_TEST(test_scale_out_options)
 {
     reyes_cli cli;
     char message[512];
-    ck_assert_int_eq(PARSE(&cli, message, "--devices", "0:0/2,1:0", "--frames", "24", "--orbit", "-90"),
+    ck_assert_int_eq(PARSE(&cli, message, "--devices", "0:0/2,1:0", "--frames", "24", "--orbit", "-90",
+                           "--rank-timeout", "30", "--coordinator-only"),
                      REYES_CLI_OK);
+    ck_assert_float_eq(cli.rank_timeout, 30.0f);
+    ck_assert(cli.coordinator_only);
     ck_assert_str_eq(cli.devices, "0:0/2,1:0");
     ck_assert_uint_eq(cli.frames, 24);
     ck_assert_float_eq(cli.orbit_deg, -90.0f);
@@ -104,6 +107,8 @@ START_TEST(test_scale_out_options)
     ck_assert_ptr_null(cli.devices);
     ck_assert_uint_eq(cli.frames, 0);
     ck_assert(!cli.orbit_given);
+    ck_assert(!cli.coordinator_only);
+    ck_assert_float_eq(cli.rank_timeout, 0.0f);
     reyes_cli_free(&cli);
 }
 END_TEST
@@ -308,6 +313,8 @@ START_TEST(test_bad_usage)
           "--orbit 'x': expected degrees" },
         { COUNT("--orbit", "90"), ARGS("--orbit", "90"), "--orbit needs --frames" },
         { COUNT("--devices", ""), ARGS("--devices", ""), "--devices: expected a device list" },
+        { COUNT("--rank-timeout", "0.5"), ARGS("--rank-timeout", "0.5"),
+          "--rank-timeout '0.5': expected seconds in 1..1e6" },
         { COUNT("--frobnicate"), ARGS("--frobnicate"), "unknown option '--frobnicate'" },
         { COUNT("-o"), ARGS("-o"), "needs a value" },
         { COUNT("--help=yes"), ARGS("--help=yes"), "takes no value" },
