@@ -20,28 +20,17 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "mpi_launch.h"
 #include "reyes_mpi.h"
 
 int reyes_mpi_launched(void)
 {
-    const char *names[] = { "OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "MV2_COMM_WORLD_SIZE" };
-    for (size_t k = 0; k < sizeof names / sizeof names[0]; ++k) {
-        const char *value = getenv(names[k]);
-        if (value && atoi(value) > 0)
-            return atoi(value);
-    }
-    return getenv("PMIX_RANK") ? 1 : 0;
+    return mpi_launch_size();
 }
 
 int reyes_mpi_launched_rank(void)
 {
-    const char *names[] = { "OMPI_COMM_WORLD_RANK", "PMI_RANK", "MV2_COMM_WORLD_RANK", "PMIX_RANK" };
-    for (size_t k = 0; k < sizeof names / sizeof names[0]; ++k) {
-        const char *value = getenv(names[k]);
-        if (value)
-            return atoi(value);
-    }
-    return 0;
+    return mpi_launch_rank();
 }
 
 #if !REYES_HAVE_MPI

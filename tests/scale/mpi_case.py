@@ -15,8 +15,10 @@ Cases:
   bad-device   rank 1 on a missing device: exit 1, rank 0 names rank 1's error
   killed-rank  rank 1 killed mid-render: the job ends, rank 0 says so
   stuck-rank   rank 1 stopped mid-render: rank 0's --rank-timeout ends the job
-  queens       perma-queens over N ranks, work stolen between ranks: the
-               sequential count, and every rank took some work
+  queens       perma-queens over N ranks, all work starting on rank 0: the
+               known and the sequential count, every other rank stole work
+  queens-bad-device  a rank of perma-queens on a missing device: exit 1,
+               rank 0 names it
 """
 import os
 import re
@@ -25,7 +27,7 @@ import sys
 import tempfile
 
 SKIP = 77
-LIMIT = 240  # seconds for one mpirun: the whole job, kill included
+LIMIT = 120  # seconds for one mpirun: the whole job, kill included
 
 
 def mpirun_command(mpirun, ranks):
@@ -142,21 +144,35 @@ def case_stuck_rank(args, tmp):
 
 
 def case_queens(args, tmp):
-    command = mpirun_command(args.mpirun, args.ranks) + [args.program, '--n', '10', '--depth', '3',
+    # Rank 0 starts with every subtree: the others only get work by asking.
+    command = mpirun_command(args.mpirun, args.ranks) + [args.program, '--n', '12', '--depth', '3',
                                                          '--chunk', '4', '--start', 'rank0']
     status, out = run(command, tmp)
     expect(status == 0, 'mpirun -n %d perma-queens failed' % args.ranks, out)
-    expect(re.search(r'^10-queens: 724 solutions, 35538 nodes .* sequential count agrees', out, re.M),
-           'wrong count', out)
-    units = [int(n) for n in re.findall(r'^  rank \d+: (\d+) subtrees', out, re.M)]
-    expect(len(units) == args.ranks, 'not one line per rank', out)
-    expect(all(u > 0 for u in units), 'a rank took no work (no stealing?)', out)
-    expect(re.search(r'steals: [1-9]', out), 'no steal succeeded', out)
+    expect(re.search(r'^12-queens: 14200 solutions, 856189 nodes in .* on %d ranks .*sequential count agrees'
+                     % args.ranks, out, re.M), 'wrong count', out)
+    ranks = re.findall(r'^  rank \d+: (\d+) subtrees, (\d+) solutions, .* stole (\d+) times', out, re.M)
+    expect(len(ranks) == args.ranks, 'not one line per rank', out)
+    expect(sum(int(r[0]) for r in ranks) == 756, 'the ranks did not count the 756 subtrees', out)
+    expect(sum(int(r[1]) for r in ranks) == 14200, 'the ranks\' solutions do not add up', out)
+    expect(all(int(r[0]) > 0 for r in ranks), 'a rank counted no subtree (no stealing?)', out)
+    expect(all(int(r[2]) > 0 for r in ranks[1:]), 'a rank other than 0 never stole', out)
+    print(out)
+
+
+def case_queens_bad_device(args, tmp):
+    queens = [args.program, '--n', '10']
+    command = mpirun_command(args.mpirun, 1) + queens + [':', '-n', '1'] + queens + ['--devices', '8:8']
+    status, out = run(command, tmp)
+    expect(status == 1, 'exit status %d, expected 1' % status, out)
+    expect(re.search(r"rank 1: --devices: device list '8:8': OpenCL platform 8 requested", out),
+           "rank 0 did not report rank 1's error", out)
     print(out)
 
 
 CASES = {'buckets': case_buckets, 'frames': case_frames, 'bad-device': case_bad_device,
-         'killed-rank': case_killed_rank, 'stuck-rank': case_stuck_rank, 'queens': case_queens}
+         'killed-rank': case_killed_rank, 'stuck-rank': case_stuck_rank, 'queens': case_queens,
+         'queens-bad-device': case_queens_bad_device}
 
 
 class Args:
