@@ -2,6 +2,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "reyes_farm.h"
 
@@ -10,6 +11,17 @@ reyes_status reyes_pool_init(reyes_pool *pool, const reyes_job *job, reyes_error
     memset(pool, 0, sizeof *pool);
     pool->job = job;
     pthread_mutex_init(&pool->lock, NULL);
+    size_t items = job->items ? job->items : 1;
+    pool->renderer = malloc(items * sizeof *pool->renderer);
+    pool->taken_at = calloc(items, sizeof *pool->taken_at);
+    pool->render_seconds = calloc(items, sizeof *pool->render_seconds);
+    pool->turnaround = calloc(items, sizeof *pool->turnaround);
+    if (!pool->renderer || !pool->taken_at || !pool->render_seconds || !pool->turnaround) {
+        reyes_pool_free(pool);
+        return reyes_fail(error, REYES_ERR_NO_MEMORY, "out of memory for %u items", job->items);
+    }
+    for (size_t k = 0; k < items; ++k)
+        pool->renderer[k] = -1;
     if (job->frames)
         return REYES_OK;
     size_t pixels = (size_t)job->options.width * job->options.height;
@@ -28,17 +40,43 @@ reyes_status reyes_pool_init(reyes_pool *pool, const reyes_job *job, reyes_error
 void reyes_pool_free(reyes_pool *pool)
 {
     reyes_image_free(&pool->image);
+    free(pool->renderer);
+    free(pool->taken_at);
+    free(pool->render_seconds);
+    free(pool->turnaround);
+    pool->renderer = NULL;
+    pool->taken_at = pool->render_seconds = pool->turnaround = NULL;
     pthread_mutex_destroy(&pool->lock);
 }
 
-int reyes_pool_take(reyes_pool *pool, unsigned *item)
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+int reyes_pool_take(reyes_pool *pool, int renderer, unsigned *item)
 {
     pthread_mutex_lock(&pool->lock);
     int have = !pool->failed && pool->next < pool->job->items;
-    if (have)
+    if (have) {
         *item = pool->next++;
+        pool->renderer[*item] = renderer;
+        pool->taken_at[*item] = now();
+    }
     pthread_mutex_unlock(&pool->lock);
     return have;
+}
+
+/* Count a delivery and its times. */
+static void delivered(reyes_pool *pool, unsigned item, double seconds)
+{
+    pthread_mutex_lock(&pool->lock);
+    pool->delivered++;
+    pool->turnaround[item] = now() - pool->taken_at[item];
+    pool->render_seconds[item] = seconds >= 0.0 ? seconds : pool->turnaround[item];
+    pthread_mutex_unlock(&pool->lock);
 }
 
 void reyes_image_pack_rect(const reyes_image *image, const unsigned rect[4], uint8_t *rgb,
@@ -53,7 +91,8 @@ void reyes_image_pack_rect(const reyes_image *image, const unsigned rect[4], uin
 }
 
 reyes_status reyes_pool_deliver(reyes_pool *pool, unsigned item, const unsigned rect[4],
-                                const uint8_t *rgb, const uint8_t *coverage, reyes_error *error)
+                                const uint8_t *rgb, const uint8_t *coverage, double seconds,
+                                reyes_error *error)
 {
     const reyes_job *job = pool->job;
     reyes_status status = REYES_OK;
@@ -73,11 +112,8 @@ reyes_status reyes_pool_deliver(reyes_pool *pool, unsigned item, const unsigned 
             memcpy(image->coverage + to, coverage + row * width, width);
         }
     }
-    if (status == REYES_OK) {
-        pthread_mutex_lock(&pool->lock);
-        pool->delivered++;
-        pthread_mutex_unlock(&pool->lock);
-    }
+    if (status == REYES_OK)
+        delivered(pool, item, seconds);
     return status;
 }
 
@@ -109,35 +145,33 @@ reyes_status reyes_pool_finish(reyes_pool *pool, reyes_error *error)
 /* The bucket source of a renderer on the pool's own process. */
 static int source_next(void *user, unsigned *item)
 {
-    return reyes_pool_take(user, item);
+    reyes_pool_client *client = user;
+    return reyes_pool_take(client->pool, client->renderer, item);
 }
 
 static reyes_status source_done(void *user, unsigned item, const reyes_image *image, unsigned x0,
                                 unsigned y0, unsigned x1, unsigned y1, reyes_error *error)
 {
-    reyes_pool *pool = user;
-    const reyes_job *job = pool->job;
-    if (job->frames) {
+    reyes_pool *pool = ((reyes_pool_client *)user)->pool;
+    if (pool->job->frames) {
         const unsigned rect[4] = { 0, 0, image->width, image->height };
-        return reyes_pool_deliver(pool, item, rect, image->rgb, image->coverage, error);
+        return reyes_pool_deliver(pool, item, rect, image->rgb, image->coverage, -1.0, error);
     }
     /* Straight from the renderer's image into the pool's. */
     reyes_image_copy_rect(&pool->image, image, x0, y0, x1, y1);
-    pthread_mutex_lock(&pool->lock);
-    pool->delivered++;
-    pthread_mutex_unlock(&pool->lock);
+    delivered(pool, item, -1.0);
     return REYES_OK;
 }
 
-reyes_bucket_source reyes_pool_source(reyes_pool *pool)
+reyes_bucket_source reyes_pool_source(reyes_pool_client *client)
 {
-    return (reyes_bucket_source){ source_next, source_done, pool };
+    return (reyes_bucket_source){ source_next, source_done, client };
 }
 
 static void *farm_thread(void *arg)
 {
     reyes_farm_worker *w = arg;
-    reyes_pool *pool = w->pool;
+    reyes_pool *pool = w->client.pool;
     reyes_options options = pool->job->options;
     options.device = &w->device;
     char who[96];
@@ -147,7 +181,7 @@ static void *farm_thread(void *arg)
     reyes_status status = reyes_renderer_create(&options, &renderer, &error);
     if (status == REYES_OK) {
         snprintf(w->report.summary, sizeof w->report.summary, "%s", reyes_renderer_device(renderer));
-        reyes_bucket_source source = reyes_pool_source(pool);
+        reyes_bucket_source source = reyes_pool_source(&w->client);
         status = reyes_job_work(pool->job, renderer, &source, &w->report, &error);
     }
     if (status != REYES_OK)
@@ -162,7 +196,7 @@ reyes_status reyes_farm_start(reyes_pool *pool, const perma_device_ref *devices,
     for (unsigned k = 0; k < count; ++k) {
         reyes_farm_worker *w = &workers[k];
         memset(w, 0, sizeof *w);
-        w->pool = pool;
+        w->client = (reyes_pool_client){ pool, (int)k };
         w->device = devices[k];
         perma_device_ref_format(&devices[k], w->report.device, sizeof w->report.device);
     }

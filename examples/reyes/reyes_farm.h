@@ -23,19 +23,28 @@ typedef struct reyes_pool {
     reyes_status status;       /* the first failure */
     char message[REYES_MESSAGE_MAX]; /* "device 0:0/2.1: ..." */
     reyes_image image;         /* bucket jobs: the image being assembled */
+    /* Per item: the renderer that took it (-1: not handed out), the
+     * seconds its renderer spent on it, and the seconds from handing out
+     * to delivery as the pool saw them (a remote rank's messages included). */
+    int *renderer;
+    double *taken_at, *render_seconds, *turnaround;
 } reyes_pool;
 
 reyes_status reyes_pool_init(reyes_pool *pool, const reyes_job *job, reyes_error *error);
 void reyes_pool_free(reyes_pool *pool);
 
-/* The next item into *item; 0 when all are handed out or after a failure. */
-int reyes_pool_take(reyes_pool *pool, unsigned *item);
+/* The next item for renderer `renderer` (an index the caller chooses:
+ * device or rank) into *item; 0 when all are handed out or after a
+ * failure. */
+int reyes_pool_take(reyes_pool *pool, int renderer, unsigned *item);
 
 /* Item `item` is done: its pixels rect = {x0, y0, x1, y1} in rows of
- * (x1 - x0) pixels, rgb (3 bytes each) and coverage.  Buckets go into
- * pool->image, frames are written to their PNG file. */
+ * (x1 - x0) pixels, rgb (3 bytes each) and coverage, rendered in
+ * `seconds` (< 0: unknown, the time since it was handed out).  Buckets go
+ * into pool->image, frames are written to their PNG file. */
 reyes_status reyes_pool_deliver(reyes_pool *pool, unsigned item, const unsigned rect[4],
-                                const uint8_t *rgb, const uint8_t *coverage, reyes_error *error);
+                                const uint8_t *rgb, const uint8_t *coverage, double seconds,
+                                reyes_error *error);
 
 /* Record a failure of `who` ("device 0:0/2.1", "rank 2") unless one is
  * recorded already, and stop handing out. */
@@ -49,12 +58,18 @@ reyes_status reyes_pool_finish(reyes_pool *pool, reyes_error *error);
 void reyes_image_pack_rect(const reyes_image *image, const unsigned rect[4], uint8_t *rgb,
                            uint8_t *coverage);
 
-/* A bucket source taking from and delivering to a pool. */
-reyes_bucket_source reyes_pool_source(reyes_pool *pool);
+/* A renderer in the pool's process: a bucket source taking from and
+ * delivering to the pool as renderer `renderer`. */
+typedef struct reyes_pool_client {
+    reyes_pool *pool;
+    int renderer;
+} reyes_pool_client;
+
+reyes_bucket_source reyes_pool_source(reyes_pool_client *client);
 
 /* One farm thread: a renderer on `device` working from the pool. */
 typedef struct reyes_farm_worker {
-    reyes_pool *pool;
+    reyes_pool_client client;  /* renderer index: its place in the array */
     perma_device_ref device;
     reyes_work_report report;
     pthread_t thread;

@@ -62,6 +62,7 @@ enum { TAG_RESULT = 1, TAG_ITEM, TAG_REPORT, TAG_FAIL, TAG_RELEASE };
 typedef struct result_header {
     int32_t item;
     uint32_t rect[4];
+    float seconds;             /* the worker's time for the item */
 } result_header;
 
 /* A failure message: status, then the text. */
@@ -165,14 +166,14 @@ typedef struct worker {
     rank_setup *setup;
     uint8_t *pending;          /* the result message being built */
     size_t pending_bytes, capacity;
-    double started;
+    double started;            /* when the item being rendered came */
 } worker;
 
 static int worker_next(void *user, unsigned *item)
 {
     worker *w = user;
     if (w->pending_bytes == 0) {
-        result_header none = { -1, { 0, 0, 0, 0 } };
+        result_header none = { -1, { 0, 0, 0, 0 }, 0.0f };
         memcpy(w->pending, &none, sizeof none);
         w->pending_bytes = sizeof none;
     }
@@ -183,6 +184,7 @@ static int worker_next(void *user, unsigned *item)
     if (next < 0)
         return 0;
     *item = (unsigned)next;
+    w->started = now();
     return 1;
 }
 
@@ -199,7 +201,7 @@ static reyes_status worker_done(void *user, unsigned item, const reyes_image *im
         w->pending = grown;
         w->capacity = bytes;
     }
-    result_header header = { (int32_t)item, { x0, y0, x1, y1 } };
+    result_header header = { (int32_t)item, { x0, y0, x1, y1 }, (float)(now() - w->started) };
     memcpy(w->pending, &header, sizeof header);
     reyes_image_pack_rect(image, header.rect, w->pending + sizeof header, w->pending + sizeof header + pixels * 3);
     w->pending_bytes = bytes;
@@ -313,11 +315,12 @@ static void handle_message(reyes_pool *pool, MPI_Status *probe, holding *held, r
             if ((size_t)bytes != sizeof header + pixels * 4 || header.item != held[source].item)
                 reyes_pool_fail(pool, "rank 0", REYES_ERR_RUNTIME, "a malformed result message");
             else if (reyes_pool_deliver(pool, (unsigned)header.item, header.rect, message + sizeof header,
-                                        message + sizeof header + pixels * 3, &error) != REYES_OK)
+                                        message + sizeof header + pixels * 3, header.seconds, &error)
+                     != REYES_OK)
                 reyes_pool_fail(pool, "rank 0", error.status, error.message);
         }
         unsigned item;
-        int32_t next = reyes_pool_take(pool, &item) ? (int32_t)item : -1;
+        int32_t next = reyes_pool_take(pool, source, &item) ? (int32_t)item : -1;
         held[source].item = next;
         MPI_Send(&next, sizeof next, MPI_BYTE, source, TAG_ITEM, MPI_COMM_WORLD);
     } else if (probe->MPI_TAG == TAG_REPORT && (size_t)bytes == sizeof(reyes_work_report)) {
@@ -383,7 +386,7 @@ static int run_coordinator(rank_setup *s, const reyes_cli *cli, const char *prog
     pthread_t thread;
     int local_running = 0;
     if (status == REYES_OK && !cli->coordinator_only) {
-        local.worker.pool = &pool;
+        local.worker.client = (reyes_pool_client){ &pool, 0 };
         local.worker.device = s->device;
         perma_device_ref_format(&s->device, local.worker.report.device, sizeof local.worker.report.device);
         local_running = pthread_create(&thread, NULL, local_thread, &local) == 0;
@@ -432,7 +435,7 @@ static int run_coordinator(rank_setup *s, const reyes_cli *cli, const char *prog
     if (status == REYES_OK)
         reyes_report_print(stdout, &s->job, reports, (unsigned)size, "rank", seconds);
     if (status == REYES_OK && cli->stats_path)
-        status = reyes_report_save_json(cli->stats_path, &s->job, reports, (unsigned)size, seconds, &error);
+        status = reyes_report_save_json(cli->stats_path, &pool, reports, (unsigned)size, seconds, &error);
     if (status != REYES_OK)
         fprintf(stderr, "%s: %s\n", program, error.message);
     reyes_pool_free(&pool);
@@ -445,7 +448,7 @@ static void *local_thread(void *arg)
 {
     local_render *local = arg;
     reyes_farm_worker *w = &local->worker;
-    reyes_pool *pool = w->pool;
+    reyes_pool *pool = w->client.pool;
     reyes_options options = pool->job->options;
     options.device = &w->device;
     reyes_renderer *renderer = NULL;
@@ -453,7 +456,7 @@ static void *local_thread(void *arg)
     reyes_status status = reyes_renderer_create(&options, &renderer, &error);
     if (status == REYES_OK) {
         snprintf(w->report.summary, sizeof w->report.summary, "%s", reyes_renderer_device(renderer));
-        reyes_bucket_source source = reyes_pool_source(pool);
+        reyes_bucket_source source = reyes_pool_source(&w->client);
         status = reyes_job_work(pool->job, renderer, &source, &w->report, &error);
     }
     if (status != REYES_OK) {

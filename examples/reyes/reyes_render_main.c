@@ -117,7 +117,7 @@ static reyes_status run_farm(const reyes_cli *cli, reyes_error *error)
     if (status == REYES_OK)
         reyes_report_print(stdout, &job, reports, count, "device", seconds);
     if (status == REYES_OK && cli->stats_path)
-        status = reyes_report_save_json(cli->stats_path, &job, reports, count, seconds, error);
+        status = reyes_report_save_json(cli->stats_path, &pool, reports, count, seconds, error);
     if (status == REYES_OK && cli->reference && !job.frames)
         status = run_reference(cli, &job.scene, &job.camera, error);
     reyes_pool_free(&pool);

@@ -53,10 +53,23 @@ static void json_string(FILE *out, const char *s)
     fputc('"', out);
 }
 
-reyes_status reyes_report_save_json(const char *path, const reyes_job *job,
+static void json_numbers(FILE *out, const char *name, const double *values, const int *ints, unsigned count)
+{
+    fprintf(out, ",\n  \"%s\": [", name);
+    for (unsigned k = 0; k < count; ++k) {
+        if (values)
+            fprintf(out, "%s%.6f", k ? ", " : "", values[k]);
+        else
+            fprintf(out, "%s%d", k ? ", " : "", ints[k]);
+    }
+    fprintf(out, "]");
+}
+
+reyes_status reyes_report_save_json(const char *path, const reyes_pool *pool,
                                     const reyes_work_report *reports, unsigned count,
                                     double seconds, reyes_error *error)
 {
+    const reyes_job *job = pool->job;
     FILE *out = fopen(path, "w");
     if (!out)
         return reyes_fail(error, REYES_ERR_IO, "cannot write '%s': %s", path, strerror(errno));
@@ -76,7 +89,11 @@ reyes_status reyes_report_save_json(const char *path, const reyes_job *job,
                 r->items, r->seconds, r->grids, r->micropolygons, r->samples_written,
                 k + 1 < count ? "," : "");
     }
-    fprintf(out, "  ]\n}\n");
+    fprintf(out, "  ]");
+    json_numbers(out, "item_renderer", NULL, pool->renderer, job->items);
+    json_numbers(out, "item_seconds", pool->render_seconds, NULL, job->items);
+    json_numbers(out, "item_turnaround", pool->turnaround, NULL, job->items);
+    fprintf(out, "\n}\n");
     if (fclose(out) != 0)
         return reyes_fail(error, REYES_ERR_IO, "cannot write '%s': %s", path, strerror(errno));
     return REYES_OK;

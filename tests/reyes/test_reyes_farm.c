@@ -69,6 +69,16 @@ START_TEST(test_farm_buckets_identical)
         samples += workers[k].report.samples_written;
     }
     ck_assert_uint_eq(items, 12);
+    /* Each bucket's renderer and times are recorded, and they agree. */
+    unsigned per_renderer[PERMA_MAX_DEVICES] = {0};
+    for (unsigned b = 0; b < 12; ++b) {
+        ck_assert_int_ge(pool.renderer[b], 0);
+        ck_assert_int_lt(pool.renderer[b], (int)count);
+        per_renderer[pool.renderer[b]]++;
+        ck_assert(pool.render_seconds[b] > 0.0 && pool.render_seconds[b] <= pool.turnaround[b]);
+    }
+    for (unsigned k = 0; k < count; ++k)
+        ck_assert_uint_eq(per_renderer[k], workers[k].report.items);
     ck_assert_uint_eq(grids, stats.grids);
     ck_assert_uint_eq(micropolygons, stats.micropolygons);
     ck_assert_uint_eq(samples, stats.samples_written);
