@@ -12,7 +12,8 @@ of its rounds.  Every image is compared with the one-device render, byte
 for byte.  `wall` is the whole process (start, MPI start-up, runtime
 creation with the kernel from PoCL's cache, the crack-stitching pass,
 buckets, PNG); `render` is what reyes-render reports (its start to the
-last bucket).  Then the model's inputs from the one-device run's --stats:
+last bucket); `CPU` is the user + system seconds of all its processes,
+which a busy machine changes less than wall time.  Then the model's inputs from the one-device run's --stats:
 bucket count, per-bucket render times, the fixed part (wall - sum of the
 bucket times), the bytes of one tile message, and the per-bucket message
 overhead a remote rank sees (turnaround at rank 0 - its render time).
@@ -20,6 +21,7 @@ overhead a remote rank sees (turnaround at rank 0 - its render time).
 import json
 import os
 import re
+import resource
 import statistics
 import subprocess
 import sys
@@ -86,6 +88,7 @@ def main(argv):
     rows = configurations(args)
     wall = {r[0]: [] for r in rows}
     render = {r[0]: [] for r in rows}
+    cpu = {r[0]: [] for r in rows}
     with tempfile.TemporaryDirectory(prefix='perma-scale-') as tmp:
         reference = os.path.join(tmp, 'reference.png')
         subprocess.run([program, '-o', reference] + common, check=True, capture_output=True)
@@ -93,10 +96,11 @@ def main(argv):
         for _ in range(args['repeat']):
             for label, _, prefix, extra in rows:
                 out_png = os.path.join(tmp, 'out.png')
-                start = time.monotonic()
+                start, before = time.monotonic(), resource.getrusage(resource.RUSAGE_CHILDREN)
                 result = subprocess.run(prefix + [program, '-o', out_png] + common + extra,
                                         capture_output=True, text=True)
-                elapsed = time.monotonic() - start
+                elapsed, after = time.monotonic() - start, resource.getrusage(resource.RUSAGE_CHILDREN)
+                cpu[label].append(after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime)
                 if result.returncode != 0:
                     sys.exit('scale_out.py: %s failed:\n%s%s' % (label, result.stdout, result.stderr))
                 wall[label].append(elapsed)
@@ -122,12 +126,14 @@ def main(argv):
     base = min(wall[rows[0][0]])
     print('%s, %s buckets, spp %s; best of %d interleaved rounds\n' % (args['size'], args['bucket'],
                                                                     args['spp'], args['repeat']))
-    print('| configuration | renderers | wall s | render s | wall vs one device | image |')
-    print('| --- | ---: | ---: | ---: | ---: | --- |')
+    base_cpu = min(cpu[rows[0][0]])
+    print('| configuration | renderers | wall s | render s | wall vs one device | CPU s | CPU vs one device | image |')
+    print('| --- | ---: | ---: | ---: | ---: | ---: | ---: | --- |')
     for label, renderers, _, _ in rows:
-        w, r = min(wall[label]), min(render[label])
-        print('| %s | %d | %.2f | %.2f | %.2fx | %s |' % (label, renderers, w, r, base / w,
-                                                          'identical' if identical[label] else 'DIFFERS'))
+        w, r, c = min(wall[label]), min(render[label]), min(cpu[label])
+        print('| %s | %d | %.2f | %.2f | %.2fx | %.2f | %.2fx | %s |'
+              % (label, renderers, w, r, base / w, c, c / base_cpu,
+                 'identical' if identical[label] else 'DIFFERS'))
     times = one['item_seconds']
     width, height = (int(v) for v in args['bucket'].split('x'))
     tile_bytes = 24 + 4 * width * height
@@ -135,7 +141,10 @@ def main(argv):
     print('  buckets B = %d, per-bucket render time: mean %.1f ms, median %.1f ms, max %.1f ms, sum %.2f s'
           % (len(times), 1e3 * statistics.mean(times), 1e3 * statistics.median(times), 1e3 * max(times),
              sum(times)))
-    print('  wall %.2f s, fixed part (wall - sum of buckets) %.2f s' % (one_wall, one_wall - sum(times)))
+    renderer = one['renderers'][0]
+    print('  wall %.2f s, fixed part (wall - sum of buckets) %.2f s, of which making the renderer %.2f s '
+          'and the stitching pass (start to first bucket) %.2f s'
+          % (one_wall, one_wall - sum(times), renderer['create_seconds'], renderer['first_seconds']))
     print('  tile message: %d bytes (24-byte header + 4 bytes per pixel), request/answer 4 bytes each'
           % tile_bytes)
     if remote:

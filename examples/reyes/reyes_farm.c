@@ -178,7 +178,9 @@ static void *farm_thread(void *arg)
     snprintf(who, sizeof who, "device %s", w->report.device);
     reyes_renderer *renderer = NULL;
     reyes_error error;
+    double start = now();
     reyes_status status = reyes_renderer_create(&options, &renderer, &error);
+    w->report.create_seconds = now() - start;
     if (status == REYES_OK) {
         snprintf(w->report.summary, sizeof w->report.summary, "%s", reyes_renderer_device(renderer));
         reyes_bucket_source source = reyes_pool_source(&w->client);

@@ -197,6 +197,8 @@ typedef struct counting_source {
 static int counting_next(void *user, unsigned *bucket)
 {
     counting_source *c = user;
+    if (c->report->first_seconds == 0.0)
+        c->report->first_seconds = now() - c->start;
     return c->inner->next(c->inner->user, bucket);
 }
 

@@ -231,8 +231,10 @@ static int run_worker(rank_setup *s)
     worker w = { s, malloc(sizeof(result_header)), 0, sizeof(result_header), 0.0 };
     if (status == REYES_OK && !w.pending)
         status = reyes_fail(&error, REYES_ERR_NO_MEMORY, "out of memory");
+    double start = now();
     if (status == REYES_OK)
         status = reyes_renderer_create(&s->job.options, &renderer, &error);
+    report.create_seconds = now() - start;
     if (status == REYES_OK) {
         snprintf(report.summary, sizeof report.summary, "%s", reyes_renderer_device(renderer));
         reyes_bucket_source source = { worker_next, worker_done, &w };
@@ -453,7 +455,9 @@ static void *local_thread(void *arg)
     options.device = &w->device;
     reyes_renderer *renderer = NULL;
     reyes_error error;
+    double start = now();
     reyes_status status = reyes_renderer_create(&options, &renderer, &error);
+    w->report.create_seconds = now() - start;
     if (status == REYES_OK) {
         snprintf(w->report.summary, sizeof w->report.summary, "%s", reyes_renderer_device(renderer));
         reyes_bucket_source source = reyes_pool_source(&w->client);

@@ -84,10 +84,10 @@ reyes_status reyes_report_save_json(const char *path, const reyes_pool *pool,
         json_string(out, r->device);
         fprintf(out, ", \"summary\": ");
         json_string(out, r->summary);
-        fprintf(out, ", \"items\": %u, \"seconds\": %.6f, \"grids\": %" PRIu64 ", \"micropolygons\": %" PRIu64
-                     ", \"samples_written\": %" PRIu64 "}%s\n",
-                r->items, r->seconds, r->grids, r->micropolygons, r->samples_written,
-                k + 1 < count ? "," : "");
+        fprintf(out, ", \"items\": %u, \"seconds\": %.6f, \"create_seconds\": %.6f, \"first_seconds\": %.6f, "
+                     "\"grids\": %" PRIu64 ", \"micropolygons\": %" PRIu64 ", \"samples_written\": %" PRIu64 "}%s\n",
+                r->items, r->seconds, r->create_seconds, r->first_seconds, r->grids, r->micropolygons,
+                r->samples_written, k + 1 < count ? "," : "");
     }
     fprintf(out, "  ]");
     json_numbers(out, "item_renderer", NULL, pool->renderer, job->items);
