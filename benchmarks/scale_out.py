@@ -116,7 +116,7 @@ def main(argv):
         one_wall = time.monotonic() - start
         with open(stats) as f:
             one = json.load(f)
-        remote = None
+        remote, gaps = None, []
         if args['mpirun'] != 'none':
             subprocess.run(mpirun(args, 2) + [program, '-o', os.path.join(tmp, 'r.png'), '--coordinator-only',
                                               '--stats', stats] + common, check=True, capture_output=True)
@@ -148,11 +148,30 @@ def main(argv):
     print('  tile message: %d bytes (24-byte header + 4 bytes per pixel), request/answer 4 bytes each'
           % tile_bytes)
     if remote:
-        gaps = [t - s for t, s, r in zip(remote['item_turnaround'], remote['item_seconds'],
-                                         remote['item_renderer']) if r > 0]
+        gaps = [t - r for t, r, who in zip(remote['item_turnaround'], remote['item_seconds'],
+                                           remote['item_renderer']) if who > 0]
         if gaps:
             print('  remote rank, per bucket: turnaround - render time: mean %.2f ms, median %.2f ms'
                   % (1e3 * statistics.mean(gaps), 1e3 * statistics.median(gaps)))
+    # The model (docs/benchmarks.md): N nodes with one such device each,
+    # buckets handed out one at a time.  T(1) = F + S; T(N) between
+    # F + max((S + B m) / N, t_max) and F + (S + B m) / N + t_max.
+    fixed, total, longest = one_wall - sum(times), sum(times), max(times)
+    links = [('m measured here (shared memory): %.2f ms' % (1e3 * statistics.mean(gaps)) if gaps
+              else 'm = 1 ms (not measured)', statistics.mean(gaps) if gaps else 1e-3),
+             ('1 GbE: m = 2 x 50 us + %d B at 117 MB/s' % tile_bytes, 2 * 50e-6 + tile_bytes / 117e6),
+             ('InfiniBand: m = 2 x 2 us + %d B at 10 GB/s' % tile_bytes, 2 * 2e-6 + tile_bytes / 10e9)]
+    print('\npredicted speedup T(1) / T(N), lower - upper bound:\n')
+    print('| N | ' + ' | '.join(name for name, _ in links) + ' |')
+    print('| ---: | ' + ' | '.join('---' for _ in links) + ' |')
+    for n in (1, 2, 4, 8, 16, 32, 64):
+        cells = []
+        for _, m in links:
+            spread = (total + len(times) * m) / n
+            best = fixed + max(spread, longest)
+            worst = fixed + spread + (longest if n > 1 else 0.0)
+            cells.append('%.1f - %.1f' % ((fixed + total) / worst, (fixed + total) / best))
+        print('| %d | %s |' % (n, ' | '.join(cells)))
     return 0 if all(identical.values()) else 1
 
 

@@ -168,14 +168,22 @@ reyes_bucket_source reyes_pool_source(reyes_pool_client *client)
     return (reyes_bucket_source){ source_next, source_done, client };
 }
 
-static void *farm_thread(void *arg)
+void reyes_farm_worker_init(reyes_farm_worker *w, reyes_pool *pool, int renderer,
+                            const perma_device_ref *device, const char *who)
 {
-    reyes_farm_worker *w = arg;
+    memset(w, 0, sizeof *w);
+    w->client = (reyes_pool_client){ pool, renderer };
+    w->device = *device;
+    perma_device_ref_format(device, w->report.device, sizeof w->report.device);
+    snprintf(w->who, sizeof w->who, "%s%s", who ? who : "device ", who ? "" : w->report.device);
+}
+
+void *reyes_farm_worker_run(void *worker)
+{
+    reyes_farm_worker *w = worker;
     reyes_pool *pool = w->client.pool;
     reyes_options options = pool->job->options;
     options.device = &w->device;
-    char who[96];
-    snprintf(who, sizeof who, "device %s", w->report.device);
     reyes_renderer *renderer = NULL;
     reyes_error error;
     double start = now();
@@ -187,23 +195,19 @@ static void *farm_thread(void *arg)
         status = reyes_job_work(pool->job, renderer, &source, &w->report, &error);
     }
     if (status != REYES_OK)
-        reyes_pool_fail(pool, who, status, error.message);
+        reyes_pool_fail(pool, w->who, status, error.message);
     reyes_renderer_destroy(renderer);
+    w->finished = 1;
     return NULL;
 }
 
 reyes_status reyes_farm_start(reyes_pool *pool, const perma_device_ref *devices, unsigned count,
                               reyes_farm_worker *workers, reyes_error *error)
 {
+    for (unsigned k = 0; k < count; ++k)
+        reyes_farm_worker_init(&workers[k], pool, (int)k, &devices[k], NULL);
     for (unsigned k = 0; k < count; ++k) {
-        reyes_farm_worker *w = &workers[k];
-        memset(w, 0, sizeof *w);
-        w->client = (reyes_pool_client){ pool, (int)k };
-        w->device = devices[k];
-        perma_device_ref_format(&devices[k], w->report.device, sizeof w->report.device);
-    }
-    for (unsigned k = 0; k < count; ++k) {
-        if (pthread_create(&workers[k].thread, NULL, farm_thread, &workers[k]) != 0) {
+        if (pthread_create(&workers[k].thread, NULL, reyes_farm_worker_run, &workers[k]) != 0) {
             reyes_pool_fail(pool, "farm", REYES_ERR_NO_MEMORY, "cannot start a render thread");
             reyes_farm_join(workers, k);
             return reyes_fail(error, REYES_ERR_NO_MEMORY, "cannot start a render thread for device %s",

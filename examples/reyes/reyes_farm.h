@@ -71,10 +71,20 @@ reyes_bucket_source reyes_pool_source(reyes_pool_client *client);
 typedef struct reyes_farm_worker {
     reyes_pool_client client;  /* renderer index: its place in the array */
     perma_device_ref device;
+    char who[96];              /* how failures name it: "device 0:0/2.1" */
     reyes_work_report report;
     pthread_t thread;
     int started;
+    volatile int finished;     /* set when the thread is done */
 } reyes_farm_worker;
+
+/* Set up worker w as renderer `renderer` of the pool on `device`; `who`
+ * names it in failures (NULL: "device P:D"). */
+void reyes_farm_worker_init(reyes_farm_worker *w, reyes_pool *pool, int renderer,
+                            const perma_device_ref *device, const char *who);
+/* The thread body: make the renderer, render what the pool hands out,
+ * record a failure in the pool, set w->finished. */
+void *reyes_farm_worker_run(void *worker);
 
 /* Start a thread per device (workers[0..count)). */
 reyes_status reyes_farm_start(reyes_pool *pool, const perma_device_ref *devices, unsigned count,

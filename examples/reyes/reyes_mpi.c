@@ -289,11 +289,6 @@ static void update_term_text(const char *program, const char *kind, const holdin
     term_current = next;
 }
 
-typedef struct local_render {
-    reyes_farm_worker worker;
-    volatile int finished;
-} local_render;
-
 /* Receive and handle one message from a worker: a result is delivered
  * and answered with the next item; a report or failure ends the rank. */
 static void handle_message(reyes_pool *pool, MPI_Status *probe, holding *held, reyes_work_report *reports,
@@ -348,8 +343,6 @@ static void handle_message(reyes_pool *pool, MPI_Status *probe, holding *held, r
     free(message);
 }
 
-static void *local_thread(void *arg);
-
 static int run_coordinator(rank_setup *s, const reyes_cli *cli, const char *program)
 {
     double start = now();
@@ -383,15 +376,15 @@ static int run_coordinator(rank_setup *s, const reyes_cli *cli, const char *prog
     const char *kind = s->job.frames ? "frame" : "bucket";
 
     update_term_text(program, kind, held, size);
-    local_render local;
-    memset(&local, 0, sizeof local);
-    pthread_t thread;
+    /* Rank 0 renders too, in a thread, as renderer 0 of the pool. */
+    reyes_farm_worker local;
+    char device[64], who[96];
+    perma_device_ref_format(&s->device, device, sizeof device);
+    snprintf(who, sizeof who, "rank 0 (device %s)", device);
+    reyes_farm_worker_init(&local, &pool, 0, &s->device, who);
     int local_running = 0;
     if (status == REYES_OK && !cli->coordinator_only) {
-        local.worker.client = (reyes_pool_client){ &pool, 0 };
-        local.worker.device = s->device;
-        perma_device_ref_format(&s->device, local.worker.report.device, sizeof local.worker.report.device);
-        local_running = pthread_create(&thread, NULL, local_thread, &local) == 0;
+        local_running = pthread_create(&local.thread, NULL, reyes_farm_worker_run, &local) == 0;
         if (!local_running)
             reyes_pool_fail(&pool, "rank 0", REYES_ERR_NO_MEMORY, "cannot start the render thread");
     }
@@ -421,7 +414,7 @@ static int run_coordinator(rank_setup *s, const reyes_cli *cli, const char *prog
         nap();
     }
     if (local_running)
-        pthread_join(thread, NULL);
+        pthread_join(local.thread, NULL);
     char release = 0;
     for (int r = 1; r < size; ++r)
         MPI_Send(&release, 1, MPI_BYTE, r, TAG_RELEASE, MPI_COMM_WORLD);
@@ -431,7 +424,7 @@ static int run_coordinator(rank_setup *s, const reyes_cli *cli, const char *prog
     if (status == REYES_OK && !s->job.frames)
         status = reyes_write_png(s->job.output, &pool.image, &error);
     double seconds = now() - start;
-    reports[0] = local.worker.report;
+    reports[0] = local.report;
     if (cli->coordinator_only)
         snprintf(reports[0].device, sizeof reports[0].device, "none");
     if (status == REYES_OK)
@@ -444,33 +437,6 @@ static int run_coordinator(rank_setup *s, const reyes_cli *cli, const char *prog
     free(held);
     free(reports);
     return status == REYES_OK ? 0 : status == REYES_ERR_ARGUMENT ? 2 : 1;
-}
-
-static void *local_thread(void *arg)
-{
-    local_render *local = arg;
-    reyes_farm_worker *w = &local->worker;
-    reyes_pool *pool = w->client.pool;
-    reyes_options options = pool->job->options;
-    options.device = &w->device;
-    reyes_renderer *renderer = NULL;
-    reyes_error error;
-    double start = now();
-    reyes_status status = reyes_renderer_create(&options, &renderer, &error);
-    w->report.create_seconds = now() - start;
-    if (status == REYES_OK) {
-        snprintf(w->report.summary, sizeof w->report.summary, "%s", reyes_renderer_device(renderer));
-        reyes_bucket_source source = reyes_pool_source(&w->client);
-        status = reyes_job_work(pool->job, renderer, &source, &w->report, &error);
-    }
-    if (status != REYES_OK) {
-        char who[96];
-        snprintf(who, sizeof who, "rank 0 (device %s)", w->report.device);
-        reyes_pool_fail(pool, who, status, error.message);
-    }
-    reyes_renderer_destroy(renderer);
-    local->finished = 1;
-    return NULL;
 }
 
 int reyes_mpi_main(const reyes_cli *cli, const char *program)

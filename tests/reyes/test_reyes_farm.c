@@ -28,6 +28,17 @@ static void make_job(reyes_job *job, reyes_cli *cli, int argc, char **argv)
     ck_assert_msg(reyes_job_init(job, cli, &error) == REYES_OK, "%s", error.message);
 }
 
+/* Run the job on two devices (two_devices()); returns the status and
+ * leaves the pool (free it) and the workers' reports. */
+static reyes_status run_on_two(const reyes_job *job, reyes_pool *pool, reyes_farm_worker *workers,
+                               unsigned *count, reyes_error *error)
+{
+    perma_device_ref devices[PERMA_MAX_DEVICES];
+    ck_assert_int_eq(perma_device_list(two_devices(), devices, PERMA_MAX_DEVICES, count, NULL), PERMA_OK);
+    ck_assert_int_eq(reyes_pool_init(pool, job, error), REYES_OK);
+    return reyes_farm_run(pool, devices, *count, workers, error);
+}
+
 static void expect_same_image(const reyes_image *a, const reyes_image *b)
 {
     size_t pixels = (size_t)a->width * a->height;
@@ -50,14 +61,11 @@ START_TEST(test_farm_buckets_identical)
     reyes_stats stats;
     reyes_test_render(reyes_test_renderer(0), &job.scene, &job.camera, &job.options, &single, &stats);
 
-    perma_device_ref devices[PERMA_MAX_DEVICES];
     unsigned count;
-    ck_assert_int_eq(perma_device_list(two_devices(), devices, PERMA_MAX_DEVICES, &count, NULL), PERMA_OK);
     reyes_pool pool;
     reyes_farm_worker workers[PERMA_MAX_DEVICES];
     reyes_error error;
-    ck_assert_int_eq(reyes_pool_init(&pool, &job, &error), REYES_OK);
-    ck_assert_msg(reyes_farm_run(&pool, devices, count, workers, &error) == REYES_OK, "%s", error.message);
+    ck_assert_msg(run_on_two(&job, &pool, workers, &count, &error) == REYES_OK, "%s", error.message);
     expect_same_image(&single, &pool.image);
     unsigned items = 0;
     uint64_t grids = 0, micropolygons = 0, samples = 0;
@@ -288,14 +296,11 @@ START_TEST(test_farm_frames_identical)
     reyes_cli cli;
     reyes_job job;
     make_job(&job, &cli, 9, argv);
-    perma_device_ref devices[PERMA_MAX_DEVICES];
     unsigned count;
-    ck_assert_int_eq(perma_device_list(two_devices(), devices, PERMA_MAX_DEVICES, &count, NULL), PERMA_OK);
     reyes_pool pool;
     reyes_farm_worker workers[PERMA_MAX_DEVICES];
     reyes_error error;
-    ck_assert_int_eq(reyes_pool_init(&pool, &job, &error), REYES_OK);
-    ck_assert_msg(reyes_farm_run(&pool, devices, count, workers, &error) == REYES_OK, "%s", error.message);
+    ck_assert_msg(run_on_two(&job, &pool, workers, &count, &error) == REYES_OK, "%s", error.message);
     reyes_pool_free(&pool);
     for (unsigned f = 0; f < 3; ++f) {
         reyes_scene scene;
@@ -332,14 +337,11 @@ START_TEST(test_farm_failure_names_device)
     reyes_cli cli;
     reyes_job job;
     make_job(&job, &cli, 7, argv);
-    perma_device_ref devices[PERMA_MAX_DEVICES];
     unsigned count;
-    ck_assert_int_eq(perma_device_list(two_devices(), devices, PERMA_MAX_DEVICES, &count, NULL), PERMA_OK);
     reyes_pool pool;
     reyes_farm_worker workers[PERMA_MAX_DEVICES];
     reyes_error error;
-    ck_assert_int_eq(reyes_pool_init(&pool, &job, &error), REYES_OK);
-    ck_assert_int_eq(reyes_farm_run(&pool, devices, count, workers, &error), REYES_ERR_IO);
+    ck_assert_int_eq(run_on_two(&job, &pool, workers, &count, &error), REYES_ERR_IO);
     ck_assert_msg(strncmp(error.message, "device 0:0", 10) == 0, "%s", error.message);
     ck_assert_msg(strstr(error.message, ": frame ") != NULL, "%s", error.message);
     ck_assert_msg(strstr(error.message, "/nonexistent/dir/f-000") != NULL, "%s", error.message);
