@@ -49,8 +49,9 @@ typedef struct reyes_work_report {
     int rank;                  /* MPI rank; 0 in one process */
     unsigned items;            /* buckets or frames rendered */
     double seconds;            /* wall time from its start to its last item */
-    double create_seconds;     /* making its renderer (the kernel from PoCL's cache, or compiled) */
-    double first_seconds;      /* from its start to its first request: buckets, the stitching pass */
+    double create_seconds;     /* making its renderer (registering the procedures) */
+    double first_seconds;      /* from its start to its first bucket request: building the
+                                  program (from the OpenCL cache) and the stitching pass */
     uint64_t grids, micropolygons, samples_written;
 } reyes_work_report;
 
