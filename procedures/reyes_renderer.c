@@ -104,6 +104,8 @@ reyes_status reyes_renderer_create(const reyes_options *options, reyes_renderer 
     config.local_queue_items = options->local_queue_items;
     config.batch_limit = options->batch_limit;
     config.time_limit = options->time_limit;
+    if (options->device)
+        perma_config_set_device(&config, options->device);
     perma_error perr;
     perma_status status = perma_create(&config, &r->rt, &perr);
     if (status != PERMA_OK) {
