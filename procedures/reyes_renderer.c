@@ -100,6 +100,8 @@ reyes_status reyes_renderer_create(const reyes_options *options, reyes_renderer 
     config.group_size = group_size;
     config.schedule = options->schedule;
     config.time_limit = options->time_limit;
+    if (options->device)
+        perma_config_set_device(&config, options->device);
     perma_error perr;
     perma_status status = perma_create(&config, &r->rt, &perr);
     if (status != PERMA_OK) {

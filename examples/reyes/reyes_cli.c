@@ -15,6 +15,7 @@
 #include "reyes_cli.h"
 
 #define COUNT_OF(a) (sizeof(a) / sizeof((a)[0]))
+#define REYES_MAX_FRAMES 100000u
 
 typedef int (*option_handler)(reyes_cli *cli, const char *value, char *message, size_t size);
 
@@ -392,6 +393,36 @@ static int on_batch_limit(reyes_cli *cli, const char *value, char *message, size
     return REYES_CLI_OK;
 }
 
+static int on_devices(reyes_cli *cli, const char *value, char *message, size_t size)
+{
+    if (!value[0])
+        return usage_error(message, size, "--devices: expected a device list, e.g. %s%s", "0:0/2 or 0:0,1:0", "");
+    cli->devices = value;
+    return REYES_CLI_OK;
+}
+
+static int on_frames(reyes_cli *cli, const char *value, char *message, size_t size)
+{
+    if (!parse_unsigned(value, REYES_MAX_FRAMES, &cli->frames) || cli->frames < 1)
+        return usage_error(message, size, "--frames '%s': expected 1..%s", value, "100000");
+    return REYES_CLI_OK;
+}
+
+static int on_orbit(reyes_cli *cli, const char *value, char *message, size_t size)
+{
+    if (!parse_float(value, &cli->orbit_deg) || fabsf(cli->orbit_deg) > 36000.0f)
+        return usage_error(message, size, "--orbit '%s': expected degrees in -36000..36000%s", value, "");
+    cli->orbit_given = 1;
+    return REYES_CLI_OK;
+}
+
+static int on_rank_timeout(reyes_cli *cli, const char *value, char *message, size_t size)
+{
+    if (!parse_float(value, &cli->rank_timeout) || !(cli->rank_timeout >= 1.0f && cli->rank_timeout <= 1e6f))
+        return usage_error(message, size, "--rank-timeout '%s': expected seconds in 1..1e6%s", value, "");
+    return REYES_CLI_OK;
+}
+
 static const cli_option options[] = {
     { "output", 'o', "FILE", on_output, "PNG to write (default reyes.png)", NULL },
     { "size", 0, "WxH", on_size, "image size in pixels (default 512x512)", NULL },
@@ -437,6 +468,15 @@ static const cli_option options[] = {
       NULL },
     { "batch-limit", 0, "N", on_batch_limit, "bounded-batches: items per host iteration (default 4096)", NULL },
     { "groups", 0, "N", on_groups, "persistent work-groups (default: as many as fit)", NULL },
+    { "devices", 0, "LIST", on_devices,
+      "spread buckets (or frames) over devices: 0:0,1:0, 0:0/2 (2 equal sub-devices), all", NULL },
+    { "frames", 0, "N", on_frames, "render N frames NAME-0001.png ... (an orbit, or the motion)", NULL },
+    { "orbit", 0, "DEG", on_orbit,
+      "frames: turn the camera DEG about the vertical through the target (default 360, 0 with motion)", NULL },
+    { "rank-timeout", 0, "S", on_rank_timeout,
+      "mpirun: abort the job when a rank holds a bucket or frame S seconds (default 660)", NULL },
+    { "coordinator-only", 0, NULL, NULL, "mpirun: rank 0 hands out and gathers but renders nothing (a head node)",
+      FLAG(coordinator_only) },
     { "backface", 0, NULL, NULL, "cull patches that face away entirely", FLAG(render.backface_cull) },
     { "stats", 0, "FILE", on_stats, "write statistics as JSON", NULL },
     { "reference", 0, NULL, NULL, "also run the single-threaded C bound/split/dice and print its counts",
@@ -540,6 +580,8 @@ int reyes_cli_parse(int argc, char **argv, reyes_cli *cli, char *message, size_t
         if (result != REYES_CLI_OK)
             return result;
     }
+    if (cli->orbit_given && !cli->frames)
+        return usage_error(message, size, "--orbit needs --frames%s%s", "", "");
     return check_subdivision_options(cli, message, size);
 }
 

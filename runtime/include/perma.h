@@ -179,10 +179,17 @@ perma_status perma_schedule_parse(const char *label, perma_schedule *out, perma_
 int perma_schedule_format(const perma_schedule *schedule, char *buf, size_t size);
 
 typedef struct perma_config {
-    /* OpenCL device, by index.  -1 (default): the PERMA_DEVICE environment
-     * variable "platform:device" if set, else 0:0. */
+    /* OpenCL device, by index.  -1 (default): the first device of the
+     * PERMA_DEVICE environment variable (a device list, see
+     * perma_device_list) if set, else 0:0. */
     int platform_index;
     int device_index;
+    /* Sub-device: with sub_devices >= 2 the device is split into that many
+     * equal parts (clCreateSubDevices, CL_DEVICE_PARTITION_EQUALLY) and the
+     * runtime runs on part sub_device (0..sub_devices-1); 0 (default): the
+     * whole device, or the part PERMA_DEVICE names when the indexes are -1. */
+    unsigned sub_devices;
+    unsigned sub_device;
     /* Persistent work-groups; 0 = as many as can be co-resident (compute
      * units; on a CPU device the physical core count from hwloc). */
     unsigned work_groups;
@@ -221,6 +228,42 @@ typedef struct perma_config {
 
 /* Fill *config with the defaults described above. */
 void perma_config_init(perma_config *config);
+
+/* Several devices.  One runtime drives one device; a program that uses
+ * several creates a runtime per device (each in its own thread if they
+ * are to run at once: perma_run blocks).  A device is named by its
+ * platform and device index, or as one of N equal sub-devices of one
+ * (clCreateSubDevices with CL_DEVICE_PARTITION_EQUALLY, compute units / N
+ * each; PoCL and Intel's CPU runtime support it), which lets one CPU act
+ * as N devices.  Written "P:D" or "P:D/N.K" (part K of N). */
+typedef struct perma_device_ref {
+    int platform_index;
+    int device_index;
+    unsigned sub_devices;   /* 0: the whole device; N >= 2: one of N equal parts */
+    unsigned sub_device;    /* that part, 0..N-1 */
+} perma_device_ref;
+
+/* Most devices a list may expand to. */
+#define PERMA_MAX_DEVICES 64
+
+/* Expand a device list, comma-separated entries of
+ *     P:D       device D of platform P (perma-info lists them)
+ *     P:D/N     that device split into N equal sub-devices: all N parts
+ *     P:D/N.K   the K-th (from 0) of those parts
+ *     all       every device of every platform
+ * into out[0..*count) (at most `max`), in the order given.  NULL or ""
+ * means the PERMA_DEVICE environment variable, or "0:0" if it is unset.
+ * The devices must exist and split as asked (OpenCL is queried; no
+ * sub-device is created); a device named twice is an error.  On failure
+ * *count is 0 and *error (if not NULL) names the list and the entry:
+ * PERMA_ERR_ARGUMENT (malformed, duplicate, too many), PERMA_ERR_NO_DEVICE
+ * (missing, or cannot be split so), PERMA_ERR_NO_PLATFORM. */
+perma_status perma_device_list(const char *list, perma_device_ref *out, unsigned max,
+                               unsigned *count, perma_error *error);
+/* Write "P:D" or "P:D/N.K"; returns the length like snprintf. */
+int perma_device_ref_format(const perma_device_ref *ref, char *buf, size_t size);
+/* Point config at a device (its platform, device and sub-device fields). */
+void perma_config_set_device(perma_config *config, const perma_device_ref *ref);
 
 /* Create a runtime on the configured device.  On failure *out is NULL and
  * *error (if not NULL) holds the status and message. */
