@@ -214,11 +214,7 @@ typedef struct reyes_options {
      * 0 = the runtime's default. */
     unsigned work_groups;
     unsigned group_size;
-    perma_technique technique;
-    perma_strategy strategy;        /* megakernel only */
-    perma_victim victim;            /* stealing strategies */
-    unsigned local_queue_items;     /* per-group front queue; 0 = none */
-    unsigned batch_limit;           /* bounded batches: items per host iteration */
+    perma_schedule schedule;        /* perma_config.schedule; zero = megakernel/shared */
     double time_limit;
     /* The OpenCL device (reyes_renderer_create); NULL (default): the
      * first of PERMA_DEVICE, or 0:0. */
@@ -226,9 +222,6 @@ typedef struct reyes_options {
 } reyes_options;
 
 void reyes_options_init(reyes_options *options);
-/* Set the scheduling fields (technique, strategy, victim, local_queue_items,
- * batch_limit) from a parsed schedule label (perma_schedule_parse). */
-void reyes_options_set_schedule(reyes_options *options, const perma_schedule *schedule);
 
 /* Limits the options are checked against. */
 #define REYES_MAX_SIZE 16384u
@@ -288,9 +281,8 @@ typedef struct reyes_stats {
 void reyes_stats_free(reyes_stats *stats);
 
 /* A perma runtime with the Reyes procedures registered (for options->grid
- * and the scheduling fields: group_size, work_groups, technique, strategy,
- * victim, local_queue_items, batch_limit, time_limit; the other options may
- * change per render).  With options->motion_angle_deg not 0 the renderer
+ * and the scheduling fields: group_size, work_groups, schedule,
+ * time_limit; the other options may change per render).  With options->motion_angle_deg not 0 the renderer
  * carries a clip-space motion per micropolygon vertex (112-byte items
  * instead of 64), which renders with a rotation need; it renders
  * everything else too, to the same bytes. */

@@ -57,7 +57,7 @@ static reyes_status run(const reyes_cli *cli, reyes_error *error)
                cli->output, image.width, image.height, scene.patch_count,
                (unsigned long long)stats.splits, (unsigned long long)stats.grids,
                (unsigned long long)stats.micropolygons, stats.seconds,
-               perma_technique_name(cli->render.technique), perma_strategy_name(cli->render.strategy),
+               perma_technique_name(cli->render.schedule.technique), perma_strategy_name(cli->render.schedule.strategy),
                reyes_renderer_device(renderer));
     if (status == REYES_OK && cli->reference)
         status = run_reference(cli, &scene, &camera, error);

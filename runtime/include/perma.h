@@ -136,6 +136,48 @@ perma_status perma_technique_parse(const char *name, perma_technique *out);
 perma_status perma_strategy_parse(const char *name, perma_strategy *out);
 perma_status perma_victim_parse(const char *name, perma_victim *out);
 
+/* A schedule: how the work runs (perma_config.schedule), written as one
+ * label on command lines, in tables and in reports:
+ *
+ *     megakernel[/STRATEGY[/VICTIM]][+localN]
+ *     kernel-per-procedure
+ *     bounded-batches[/p=N]
+ *
+ * e.g. "megakernel/shared", "megakernel/stealing/round-robin",
+ * "megakernel/shared+local32", "bounded-batches/p=64".  STRATEGY and VICTIM
+ * are the names above; STRATEGY defaults to shared, VICTIM (only after a
+ * stealing strategy: stealing, stealing-donation) to random.  +localN sets
+ * local_queue_items, /p=N batch_limit; N is a decimal number >= 1 (leave
+ * the part out for the default).  All fields zero (what perma_config_init
+ * sets) is megakernel/shared. */
+typedef struct perma_schedule {
+    perma_technique technique;
+    perma_strategy strategy;        /* megakernel only: where the queues live */
+    perma_victim victim;            /* stealing strategies only: how a thief picks */
+    /* Megakernel only: items per procedure in a per-group front queue in
+     * __local memory, in front of the global queues (spilling when full);
+     * 0 = none. */
+    unsigned local_queue_items;
+    /* Bounded batches only: most items taken per host iteration; 0 = 4096. */
+    unsigned batch_limit;
+} perma_schedule;
+
+/* Parse a label into *out (set only on success).  PERMA_ERR_ARGUMENT for
+ * a NULL, empty or malformed label; *error (if not NULL) then holds the
+ * status and a message quoting the label and naming the bad part, e.g.
+ * "schedule 'megakernel/stealng': unknown strategy 'stealng' (shared,
+ * stealing, donation, stealing-donation)". */
+perma_status perma_schedule_parse(const char *label, perma_schedule *out, perma_error *error);
+/* Write the canonical label of *schedule into buf (always terminated when
+ * size > 0): a megakernel's strategy is always named, and so is the victim
+ * of a stealing strategy ("megakernel/stealing/random"); +localN and /p=N
+ * only when not 0.  Fields the technique does not use are left out.  The
+ * label parses back to the same schedule, and formatting a parsed
+ * canonical label gives the same text.  Returns the label's length like
+ * snprintf (>= size: truncated), or -1 (buf "") when the technique,
+ * strategy or victim has no name. */
+int perma_schedule_format(const perma_schedule *schedule, char *buf, size_t size);
+
 typedef struct perma_config {
     /* OpenCL device, by index.  -1 (default): the first device of the
      * PERMA_DEVICE environment variable (a device list, see
@@ -166,17 +208,13 @@ typedef struct perma_config {
     size_t local_memory_limit;
     /* Extra options for clBuildProgram, e.g. "-DTHRESHOLD=8"; may be NULL. */
     const char *build_options;
-    perma_technique technique;
-    perma_strategy strategy;        /* megakernel only */
-    perma_victim victim;            /* stealing strategies */
+    /* How the work runs: technique, strategy, victim, local front queue,
+     * batch limit (perma_schedule_parse fills one from a label); all zero
+     * = megakernel/shared. */
+    perma_schedule schedule;
     /* Donation: a group whose queue of a procedure holds more than this many
      * items gives a share to the emptiest group; 0 = 4 batches. */
     unsigned donation_threshold;
-    /* Items per procedure in a per-group front queue in __local memory,
-     * in front of the global queues (spilling when full); 0 = none. */
-    unsigned local_queue_items;
-    /* Bounded batches: most items taken per host iteration; 0 = 4096. */
-    unsigned batch_limit;
     /* Trace: if set (or the PERMA_TRACE environment variable names a file),
      * every run writes its batches as Chrome trace events (JSON, viewable
      * in Perfetto or chrome://tracing): one track per work-group, one event
@@ -190,47 +228,6 @@ typedef struct perma_config {
 
 /* Fill *config with the defaults described above. */
 void perma_config_init(perma_config *config);
-
-/* A schedule: the perma_config fields that say how the work runs, written
- * as one label on command lines, in tables and in reports:
- *
- *     megakernel[/STRATEGY[/VICTIM]][+localN]
- *     kernel-per-procedure
- *     bounded-batches[/p=N]
- *
- * e.g. "megakernel/shared", "megakernel/stealing/round-robin",
- * "megakernel/shared+local32", "bounded-batches/p=64".  STRATEGY and VICTIM
- * are the names above; STRATEGY defaults to shared, VICTIM (only after a
- * stealing strategy: stealing, stealing-donation) to random.  +localN sets
- * local_queue_items, /p=N batch_limit; N is a decimal number >= 1 (leave
- * the part out for the default).  Zero fields are the defaults of
- * perma_config_init. */
-typedef struct perma_schedule {
-    perma_technique technique;
-    perma_strategy strategy;        /* megakernel only */
-    perma_victim victim;            /* stealing strategies only */
-    unsigned local_queue_items;     /* megakernel only; 0 = none */
-    unsigned batch_limit;           /* bounded batches only; 0 = default */
-} perma_schedule;
-
-/* Parse a label into *out (set only on success).  PERMA_ERR_ARGUMENT for
- * a NULL, empty or malformed label; *error (if not NULL) then holds the
- * status and a message quoting the label and naming the bad part, e.g.
- * "schedule 'megakernel/stealng': unknown strategy 'stealng' (shared,
- * stealing, donation, stealing-donation)". */
-perma_status perma_schedule_parse(const char *label, perma_schedule *out, perma_error *error);
-/* Write the canonical label of *schedule into buf (always terminated when
- * size > 0): a megakernel's strategy is always named, and so is the victim
- * of a stealing strategy ("megakernel/stealing/random"); +localN and /p=N
- * only when not 0.  Fields the technique does not use are left out.  The
- * label parses back to the same schedule, and formatting a parsed
- * canonical label gives the same text.  Returns the label's length like
- * snprintf (>= size: truncated), or -1 (buf "") when the technique,
- * strategy or victim has no name. */
-int perma_schedule_format(const perma_schedule *schedule, char *buf, size_t size);
-/* Set the technique, strategy, victim, local_queue_items and batch_limit
- * fields of *config from *schedule; the other fields are left alone. */
-void perma_schedule_apply(const perma_schedule *schedule, perma_config *config);
 
 /* Several devices.  One runtime drives one device; a program that uses
  * several creates a runtime per device (each in its own thread if they

@@ -54,7 +54,7 @@ static void choose_work_groups(perma_runtime *rt, const char *device_name)
         groups = rt->config.work_groups;
         snprintf(why, sizeof why, rt->debug ? "PERMA_DEBUG" : "configured");
     }
-    if (rt->config.strategy == PERMA_STRATEGY_DONATION && groups > rt->compute_units) {
+    if (rt->config.schedule.strategy == PERMA_STRATEGY_DONATION && groups > rt->compute_units) {
         /* Without stealing, only a running group serves its own queues. */
         groups = rt->compute_units;
         snprintf(why, sizeof why, "donation without stealing: at most the %u compute units",

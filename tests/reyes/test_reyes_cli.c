@@ -153,11 +153,11 @@ START_TEST(test_scheduling_names)
                                    (char *)strategies[s], "--victim", "round-robin", "--local-queue",
                                    "128", "--batch-limit", "512"),
                              REYES_CLI_OK);
-            ck_assert_str_eq(perma_technique_name(cli.render.technique), techniques[t]);
-            ck_assert_str_eq(perma_strategy_name(cli.render.strategy), strategies[s]);
-            ck_assert_int_eq(cli.render.victim, PERMA_VICTIM_ROUND_ROBIN);
-            ck_assert_uint_eq(cli.render.local_queue_items, 128);
-            ck_assert_uint_eq(cli.render.batch_limit, 512);
+            ck_assert_str_eq(perma_technique_name(cli.render.schedule.technique), techniques[t]);
+            ck_assert_str_eq(perma_strategy_name(cli.render.schedule.strategy), strategies[s]);
+            ck_assert_int_eq(cli.render.schedule.victim, PERMA_VICTIM_ROUND_ROBIN);
+            ck_assert_uint_eq(cli.render.schedule.local_queue_items, 128);
+            ck_assert_uint_eq(cli.render.schedule.batch_limit, 512);
             reyes_cli_free(&cli);
         }
     }
@@ -173,18 +173,18 @@ START_TEST(test_schedule_label)
     ck_assert_int_eq(PARSE(&cli, message, "--batch-limit", "512", "--schedule",
                            "megakernel/stealing/round-robin+local32"),
                      REYES_CLI_OK);
-    ck_assert_int_eq(cli.render.technique, PERMA_TECHNIQUE_MEGAKERNEL);
-    ck_assert_int_eq(cli.render.strategy, PERMA_STRATEGY_STEALING);
-    ck_assert_int_eq(cli.render.victim, PERMA_VICTIM_ROUND_ROBIN);
-    ck_assert_uint_eq(cli.render.local_queue_items, 32);
-    ck_assert_uint_eq(cli.render.batch_limit, 0);
+    ck_assert_int_eq(cli.render.schedule.technique, PERMA_TECHNIQUE_MEGAKERNEL);
+    ck_assert_int_eq(cli.render.schedule.strategy, PERMA_STRATEGY_STEALING);
+    ck_assert_int_eq(cli.render.schedule.victim, PERMA_VICTIM_ROUND_ROBIN);
+    ck_assert_uint_eq(cli.render.schedule.local_queue_items, 32);
+    ck_assert_uint_eq(cli.render.schedule.batch_limit, 0);
     reyes_cli_free(&cli);
     ck_assert_int_eq(PARSE(&cli, message, "--schedule", "bounded-batches/p=64", "--local-queue", "8"),
                      REYES_CLI_OK);
-    ck_assert_int_eq(cli.render.technique, PERMA_TECHNIQUE_BOUNDED_BATCHES);
-    ck_assert_int_eq(cli.render.strategy, PERMA_STRATEGY_SHARED);
-    ck_assert_uint_eq(cli.render.batch_limit, 64);
-    ck_assert_uint_eq(cli.render.local_queue_items, 8);
+    ck_assert_int_eq(cli.render.schedule.technique, PERMA_TECHNIQUE_BOUNDED_BATCHES);
+    ck_assert_int_eq(cli.render.schedule.strategy, PERMA_STRATEGY_SHARED);
+    ck_assert_uint_eq(cli.render.schedule.batch_limit, 64);
+    ck_assert_uint_eq(cli.render.schedule.local_queue_items, 8);
     reyes_cli_free(&cli);
 }
 END_TEST
