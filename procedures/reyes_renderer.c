@@ -113,12 +113,10 @@ static perma_status create_runtime(const reyes_options *options, unsigned group_
     perma_config_init(&config);
     config.work_groups = options->work_groups;
     config.group_size = group_size;
-    config.technique = options->technique;
-    config.strategy = options->strategy;
-    config.victim = options->victim;
-    config.local_queue_items = options->local_queue_items;
-    config.batch_limit = options->batch_limit;
+    config.schedule = options->schedule;
     config.time_limit = options->time_limit;
+    if (options->device)
+        perma_config_set_device(&config, options->device);
     return perma_create(&config, rt, perr);
 }
 

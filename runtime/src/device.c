@@ -1,27 +1,27 @@
 /* Choosing the OpenCL device and the number of persistent work-groups. */
+#include "device_list.h"
 #include "internal.h"
 
 #include <hwloc.h>
 #include <stdlib.h>
 #include <string.h>
 
-/* Parse PERMA_DEVICE="platform:device". */
-static perma_status parse_device_env(perma_runtime *rt, const char *value, int *platform, int *device)
+/* Parse PERMA_DEVICE: a device list (device_list.h) of which the runtime
+ * takes the first device ("all": 0:0; "P:D/N": part 0). */
+static perma_status parse_device_env(perma_runtime *rt, const char *value, perma_device_ref *ref)
 {
-    char *end = NULL;
-    long p = strtol(value, &end, 10);
-    if (end == value || *end != ':' || p < 0 || p > 1000000)
-        goto bad;
-    const char *second = end + 1;
-    long d = strtol(second, &end, 10);
-    if (end == second || *end != '\0' || d < 0 || d > 1000000)
-        goto bad;
-    *platform = (int)p;
-    *device = (int)d;
+    perma_device_entry first;
+    size_t bad_offset, bad_length;
+    if (!perma_device_list_first(value, &first, &bad_offset, &bad_length)) {
+        if (bad_length == strlen(value))
+            return perma_set_error(rt, PERMA_ERR_ARGUMENT, "PERMA_DEVICE='%s' is not of the form %s",
+                                   value, PERMA_DEVICE_FORMS);
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT, "PERMA_DEVICE='%s': entry '%.*s' is not of the "
+                               "form %s", value, (int)bad_length, value + bad_offset, PERMA_DEVICE_FORMS);
+    }
+    *ref = (perma_device_ref){ first.all ? 0 : first.platform, first.all ? 0 : first.device,
+                               first.parts, first.part < 0 ? 0 : (unsigned)first.part };
     return PERMA_OK;
-bad:
-    return perma_set_error(rt, PERMA_ERR_ARGUMENT,
-                           "PERMA_DEVICE='%s' is not of the form platform:device (e.g. 0:0)", value);
 }
 
 /* Physical cores from hwloc; 0 if hwloc cannot tell. */
@@ -54,7 +54,7 @@ static void choose_work_groups(perma_runtime *rt, const char *device_name)
         groups = rt->config.work_groups;
         snprintf(why, sizeof why, rt->debug ? "PERMA_DEBUG" : "configured");
     }
-    if (rt->config.strategy == PERMA_STRATEGY_DONATION && groups > rt->compute_units) {
+    if (rt->config.schedule.strategy == PERMA_STRATEGY_DONATION && groups > rt->compute_units) {
         /* Without stealing, only a running group serves its own queues. */
         groups = rt->compute_units;
         snprintf(why, sizeof why, "donation without stealing: at most the %u compute units",
@@ -69,18 +69,23 @@ perma_status perma_device_open(perma_runtime *rt)
 {
     int platform_index = rt->config.platform_index;
     int device_index = rt->config.device_index;
+    unsigned parts = rt->config.sub_devices, part = rt->config.sub_device;
     if (platform_index < 0 || device_index < 0) {
         const char *env = getenv("PERMA_DEVICE");
-        int p = 0, d = 0;
+        perma_device_ref ref = { 0, 0, 0, 0 };
         if (env && *env) {
-            perma_status st = parse_device_env(rt, env, &p, &d);
+            perma_status st = parse_device_env(rt, env, &ref);
             if (st != PERMA_OK)
                 return st;
         }
         if (platform_index < 0)
-            platform_index = p;
+            platform_index = ref.platform_index;
         if (device_index < 0)
-            device_index = d;
+            device_index = ref.device_index;
+        if (parts < 2) {
+            parts = ref.sub_devices;
+            part = ref.sub_device;
+        }
     }
 
     cl_uint platform_count = 0;
@@ -118,6 +123,11 @@ perma_status perma_device_open(perma_runtime *rt)
     rt->device = devices[device_index];
     free(devices);
     PERMA_CL_CHECK(rt, "clGetDeviceIDs", err);
+    if (parts >= 2) {
+        perma_status st = perma_open_sub_device(rt, platform_index, device_index, parts, part);
+        if (st != PERMA_OK)
+            return st;
+    }
 
     cl_device_type type = 0;
     cl_ulong local_mem = 0;
@@ -137,6 +147,10 @@ perma_status perma_device_open(perma_runtime *rt)
                    clGetDeviceInfo(rt->device, CL_DEVICE_MAX_WORK_GROUP_SIZE, sizeof max_group, &max_group, NULL));
     PERMA_CL_CHECK(rt, "clGetDeviceInfo(CL_DEVICE_NAME)",
                    clGetDeviceInfo(rt->device, CL_DEVICE_NAME, sizeof name - 1, name, NULL));
+    if (parts >= 2) {
+        size_t used = strlen(name);
+        snprintf(name + used, sizeof name - used, " (sub-device %u of %u)", part, parts);
+    }
     rt->device_is_cpu = (type & CL_DEVICE_TYPE_CPU) != 0;
     rt->local_mem_size = (size_t)local_mem;
     if (rt->group_size > max_group)

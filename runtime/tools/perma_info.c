@@ -1,10 +1,14 @@
 /*
  * perma-info: the OpenCL platforms and devices perma can use, and for each
  * device the persistent work-group count the runtime would choose and why,
- * its local memory, atomics support and the driver (PoCL) version.
+ * its local memory, atomics support, how it splits into equal sub-devices
+ * and the driver (PoCL) version.
  *
- *   perma-info [--json]
- * Exit codes: 0 ok, 1 no OpenCL platform or an OpenCL failure, 2 bad usage.
+ *   perma-info [--json] [--devices LIST]
+ * LIST is a device list (perma_device_list: "0:0,1:0", "0:0/2", "all");
+ * the default is every device.
+ * Exit codes: 0 ok, 1 no OpenCL platform, a bad device list or an OpenCL
+ * failure, 2 bad usage.
  */
 #include <perma.h>
 
@@ -14,12 +18,14 @@
 #include <string.h>
 
 typedef struct device_info {
+    char label[64];  /* "P:D" or "P:D/N.K" */
     char platform[256], platform_version[256], name[256], version[256], driver[256];
     char summary[PERMA_MESSAGE_MAX];
     const char *type;
     cl_uint compute_units;
     cl_ulong local_mem, global_mem, max_alloc;
     size_t max_group;
+    cl_uint max_sub_devices;  /* 0: no equal partitions */
     bool int32_atomics, int64_base, int64_extended;
     perma_status runtime_status;
 } device_info;
@@ -39,9 +45,50 @@ static bool has_extension(const char *extensions, const char *name)
     return false;
 }
 
-static void describe(cl_platform_id platform, cl_device_id device, int p, int d, device_info *info)
+/* Most equal sub-devices the device splits into; 0 if it does not. */
+static cl_uint equal_partitions(cl_device_id device)
+{
+    cl_device_partition_property props[16];
+    size_t size = 0;
+    cl_uint most = 0;
+    if (clGetDeviceInfo(device, CL_DEVICE_PARTITION_PROPERTIES, sizeof props, props, &size) != CL_SUCCESS)
+        return 0;
+    for (size_t i = 0; i < size / sizeof props[0]; ++i)
+        if (props[i] == CL_DEVICE_PARTITION_EQUALLY
+            && clGetDeviceInfo(device, CL_DEVICE_PARTITION_MAX_SUB_DEVICES, sizeof most, &most, NULL)
+                   == CL_SUCCESS)
+            return most;
+    return 0;
+}
+
+/* The device the list names: a whole device, or (through a runtime on it)
+ * the sub-device the runtime made. */
+static void describe(const perma_device_ref *ref, device_info *info)
 {
     memset(info, 0, sizeof *info);
+    perma_device_ref_format(ref, info->label, sizeof info->label);
+    cl_platform_id platforms[64];
+    cl_device_id devices[64];
+    cl_uint count = 0;
+    clGetPlatformIDs(64, platforms, NULL);
+    cl_platform_id platform = platforms[ref->platform_index];
+    clGetDeviceIDs(platform, CL_DEVICE_TYPE_ALL, 64, devices, &count);
+    cl_device_id device = devices[ref->device_index];
+
+    /* What the runtime itself would choose on this device. */
+    perma_config config;
+    perma_config_init(&config);
+    perma_config_set_device(&config, ref);
+    perma_runtime *rt;
+    perma_error error;
+    info->runtime_status = perma_create(&config, &rt, &error);
+    if (info->runtime_status == PERMA_OK) {
+        snprintf(info->summary, sizeof info->summary, "%s", perma_device_summary(rt));
+        device = perma_cl_device(rt);
+    } else {
+        snprintf(info->summary, sizeof info->summary, "%s", error.message);
+    }
+
     clGetPlatformInfo(platform, CL_PLATFORM_NAME, sizeof info->platform - 1, info->platform, NULL);
     clGetPlatformInfo(platform, CL_PLATFORM_VERSION, sizeof info->platform_version - 1, info->platform_version, NULL);
     text(device, CL_DEVICE_NAME, info->name, sizeof info->name);
@@ -56,6 +103,7 @@ static void describe(cl_platform_id platform, cl_device_id device, int p, int d,
     clGetDeviceInfo(device, CL_DEVICE_GLOBAL_MEM_SIZE, sizeof info->global_mem, &info->global_mem, NULL);
     clGetDeviceInfo(device, CL_DEVICE_MAX_MEM_ALLOC_SIZE, sizeof info->max_alloc, &info->max_alloc, NULL);
     clGetDeviceInfo(device, CL_DEVICE_MAX_WORK_GROUP_SIZE, sizeof info->max_group, &info->max_group, NULL);
+    info->max_sub_devices = ref->sub_devices >= 2 ? 0 : equal_partitions(device);
     size_t size = 0;
     clGetDeviceInfo(device, CL_DEVICE_EXTENSIONS, 0, NULL, &size);
     char *extensions = calloc(1, size + 1);
@@ -67,20 +115,8 @@ static void describe(cl_platform_id platform, cl_device_id device, int p, int d,
         info->int64_extended = has_extension(extensions, "cl_khr_int64_extended_atomics");
         free(extensions);
     }
-    /* What the runtime itself would choose on this device. */
-    perma_config config;
-    perma_config_init(&config);
-    config.platform_index = p;
-    config.device_index = d;
-    perma_runtime *rt;
-    perma_error error;
-    info->runtime_status = perma_create(&config, &rt, &error);
-    if (info->runtime_status == PERMA_OK) {
-        snprintf(info->summary, sizeof info->summary, "%s", perma_device_summary(rt));
+    if (info->runtime_status == PERMA_OK)
         perma_destroy(rt);
-    } else {
-        snprintf(info->summary, sizeof info->summary, "%s", error.message);
-    }
 }
 
 static void json_string(const char *s)
@@ -97,9 +133,9 @@ static void json_string(const char *s)
     putchar('"');
 }
 
-static void print_text(const device_info *i, int p, int d)
+static void print_text(const device_info *i)
 {
-    printf("device %d:%d  %s (%s)\n", p, d, i->name, i->type);
+    printf("device %s  %s (%s)\n", i->label, i->name, i->type);
     printf("  platform        %s, %s\n", i->platform, i->platform_version);
     printf("  device version  %s, driver %s\n", i->version, i->driver);
     printf("  compute units   %u, max work-group size %zu\n", (unsigned)i->compute_units, i->max_group);
@@ -108,12 +144,20 @@ static void print_text(const device_info *i, int p, int d)
            (unsigned long long)(i->max_alloc >> 20));
     printf("  atomics         32-bit global+local: %s, 64-bit base: %s, 64-bit extended (atom_min): %s\n",
            i->int32_atomics ? "yes" : "no", i->int64_base ? "yes" : "no", i->int64_extended ? "yes" : "no");
+    if (i->max_sub_devices >= 2)
+        printf("  sub-devices     equal parts, 2..%u (PERMA_DEVICE=%s/2 lists 2 of them)\n",
+               (unsigned)i->max_sub_devices, i->label);
+    else
+        printf("  sub-devices     %s\n", strchr(i->label, '/') ? "this is one" : "no equal partitions");
     printf("  perma would use %s\n", i->summary);
 }
 
-static void print_json(const device_info *i, int p, int d, bool first)
+static void print_json(const device_info *i, const perma_device_ref *ref, bool first)
 {
-    printf("%s    {\"platform_index\": %d, \"device_index\": %d, \"name\": ", first ? "" : ",\n", p, d);
+    printf("%s    {\"device\": \"%s\", \"platform_index\": %d, \"device_index\": %d, "
+           "\"sub_devices\": %u, \"sub_device\": %u, \"max_sub_devices\": %u, \"name\": ",
+           first ? "" : ",\n", i->label, ref->platform_index, ref->device_index, ref->sub_devices,
+           ref->sub_device, (unsigned)i->max_sub_devices);
     json_string(i->name);
     printf(", \"type\": \"%s\", \"platform\": ", i->type);
     json_string(i->platform);
@@ -137,52 +181,43 @@ static void print_json(const device_info *i, int p, int d, bool first)
 int main(int argc, char **argv)
 {
     bool json = false;
+    const char *list = "all";
     for (int i = 1; i < argc; ++i) {
         if (strcmp(argv[i], "--json") == 0) {
             json = true;
+        } else if (strcmp(argv[i], "--devices") == 0 && i + 1 < argc) {
+            list = argv[++i];
         } else if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
-            printf("usage: perma-info [--json]\n"
-                   "Lists the OpenCL devices perma can use and how it would use them.\n");
+            printf("usage: perma-info [--json] [--devices LIST]\n"
+                   "Lists the OpenCL devices perma can use and how it would use them.\n"
+                   "LIST: comma-separated P:D (a device), P:D/N (it split into N equal\n"
+                   "sub-devices), P:D/N.K (the K-th of them) or 'all' (the default).\n");
             return 0;
         } else if (strcmp(argv[i], "--version") == 0) {
             printf("perma-info %s\n", PERMA_VERSION_STRING);
             return 0;
         } else {
-            fprintf(stderr, "perma-info: unknown option '%s' (try --help)\n", argv[i]);
+            fprintf(stderr, "perma-info: %s '%s' (try --help)\n",
+                    strcmp(argv[i], "--devices") == 0 ? "missing the list after" : "unknown option", argv[i]);
             return 2;
         }
     }
-    cl_uint platform_count = 0;
-    cl_int err = clGetPlatformIDs(0, NULL, &platform_count);
-    if (err != CL_SUCCESS || platform_count == 0) {
-        fprintf(stderr, "perma-info: no OpenCL platform found; install an OpenCL driver, e.g. "
-                        "'apt-get install pocl-opencl-icd'\n");
+    perma_device_ref refs[PERMA_MAX_DEVICES];
+    unsigned count = 0;
+    perma_error error;
+    if (perma_device_list(list, refs, PERMA_MAX_DEVICES, &count, &error) != PERMA_OK) {
+        fprintf(stderr, "perma-info: %s\n", error.message);
         return 1;
     }
-    cl_platform_id platforms[64];
-    if (platform_count > 64)
-        platform_count = 64;
-    clGetPlatformIDs(platform_count, platforms, NULL);
     if (json)
         printf("{\"perma_version\": \"%s\", \"devices\": [\n", PERMA_VERSION_STRING);
-    bool first = true;
-    for (cl_uint p = 0; p < platform_count; ++p) {
-        cl_uint device_count = 0;
-        if (clGetDeviceIDs(platforms[p], CL_DEVICE_TYPE_ALL, 0, NULL, &device_count) != CL_SUCCESS)
-            continue;
-        cl_device_id devices[64];
-        if (device_count > 64)
-            device_count = 64;
-        clGetDeviceIDs(platforms[p], CL_DEVICE_TYPE_ALL, device_count, devices, NULL);
-        for (cl_uint d = 0; d < device_count; ++d) {
-            device_info info;
-            describe(platforms[p], devices[d], (int)p, (int)d, &info);
-            if (json)
-                print_json(&info, (int)p, (int)d, first);
-            else
-                print_text(&info, (int)p, (int)d);
-            first = false;
-        }
+    for (unsigned k = 0; k < count; ++k) {
+        device_info info;
+        describe(&refs[k], &info);
+        if (json)
+            print_json(&info, &refs[k], k == 0);
+        else
+            print_text(&info);
     }
     if (json)
         printf("\n]}\n");
