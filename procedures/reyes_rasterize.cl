@@ -9,14 +9,15 @@
  * inclusive: a sample on an edge shared by two triangles may be written
  * twice, which the min makes harmless, and none is lost.
  *
- * A sharp quad whose pixel box is at most 2 x 2 pixels (nearly all of
- * them with the default bound and grid) takes the fast path: four sample
- * indices of the four pixels at once, sixteen SIMD lanes (OpenCL vector
+ * Sharp quads are set up sixteen at a time in SIMD lanes (OpenCL vector
  * types, so the code is SIMD whatever the compiler does across
- * work-items), test the coverage of both triangles; the few covered
- * samples are then written one by one.  Larger quads and blurred ones
- * take the general loops.  Every path tests the same samples of a quad
- * with the same arithmetic.
+ * work-items).  Those whose pixel box is at most 2 x 2 pixels (nearly all
+ * of them with the default bound and grid) are then sampled side by side,
+ * one quad per lane, stepping through the pixels of the boxes and the
+ * sample indices; the few larger ones one by one, four sample indices of
+ * both triangles per pixel in eight lanes.  Blurred quads take the
+ * general loops.  Every path tests the same samples of a quad with the
+ * same arithmetic.
  */
 
 REYES_INLINE uint8 reyes_hash8(uint8 x)
@@ -258,6 +259,157 @@ void reyes_quad_pixels(__global const struct reyes_params *p, __global ulong *sa
     }
 }
 
+REYES_INLINE uint16 reyes_hash16(uint16 x)
+{
+    x ^= x >> 16;
+    x *= 0x7feb352du;
+    x ^= x >> 15;
+    x *= 0x846ca68bu;
+    x ^= x >> 16;
+    return x;
+}
+
+REYES_INLINE int reyes_any16(int16 m)
+{
+    return reyes_any8(m.lo | m.hi);
+}
+
+/* Bit l set where lane l of m is set. */
+REYES_INLINE uint reyes_lane_bits16(int16 m)
+{
+    const uint16 bit = (uint16)(1u, 2u, 4u, 8u, 16u, 32u, 64u, 128u, 256u, 512u, 1024u, 2048u, 4096u, 8192u,
+                                16384u, 32768u);
+    uint16 b = as_uint16(m) & bit;
+    uint8 a = b.lo | b.hi;
+    uint4 c = a.lo | a.hi;
+    uint2 d = c.lo | c.hi;
+    return d.x | d.y;
+}
+
+/* The edge function of an edge in canonical order (its sign not yet
+ * applied), as reyes_edge_value_lanes. */
+REYES_INLINE float16 reyes_edge_raw16(const struct reyes_quad_lanes *q, int t, int e, float16 x, float16 y)
+{
+    return q->dx[t][e] * (y - q->lo_y[t][e]) - q->dy[t][e] * (x - q->lo_x[t][e]);
+}
+
+/* (cell + jitter) / n in sixteen lanes, as reyes_cell_offset. */
+REYES_INLINE float16 reyes_cell_offset16(float cell, float16 jitter, float n, float inverse)
+{
+    return inverse != 0.0f ? (cell + jitter) * inverse : (cell + jitter) / n;
+}
+
+/* A colour channel in [0,1] as a byte, as reyes_channel_byte. */
+REYES_INLINE uint16 reyes_channel_byte16(float16 c)
+{
+    float16 scaled = clamp(c, 0.0f, 1.0f) * 255.0f;
+    float16 rounded = (scaled + 8388608.0f) - 8388608.0f;
+    return convert_uint16(rounded);
+}
+
+/* The packed (depth, colour) of a triangle with corners a, b, c in
+ * sixteen lanes from its barycentric weights' numerators (edge values
+ * with the sign of the area folded in, so inv_area is 1 / |area| with the
+ * same products as wa / area), REYES_EMPTY_SAMPLE where not covered. */
+REYES_INLINE ulong16 reyes_triangle_values16(float16 wa, float16 wb, float16 wc, float16 inv_area,
+                                             const float16 z[4], const float16 color[4][3], int a, int b, int c,
+                                             int16 covered)
+{
+    float16 ba = wa * inv_area, bb = wb * inv_area, bc = wc * inv_area;
+    float16 depth = fmax(ba * z[a] + bb * z[b] + bc * z[c], 0.0f);
+    uint16 rgba = reyes_channel_byte16(ba * color[a][0] + bb * color[b][0] + bc * color[c][0])
+                  | (reyes_channel_byte16(ba * color[a][1] + bb * color[b][1] + bc * color[c][1]) << 8)
+                  | (reyes_channel_byte16(ba * color[a][2] + bb * color[b][2] + bc * color[c][2]) << 16)
+                  | (uint16)(255u << 24);
+    ulong16 packed = convert_ulong16(as_uint16(depth)) << 32 | convert_ulong16(rgba);
+    return select((ulong16)REYES_EMPTY_SAMPLE, packed, convert_long16(covered));
+}
+
+/* The quads of the lanes set in `small` (pixel boxes of at most 2 x 2),
+ * sampled side by side: one lane per quad, the pixels of its box and the
+ * sample indices in turn, both triangles tested in every step, with the
+ * tests and values of reyes_triangle_sample; each covered sample's nearer
+ * value is merged into the samples. */
+void reyes_small_quads(__global const struct reyes_params *p, __global ulong *samples,
+                       __local const struct reyes_grid *g, const struct reyes_quad_lanes *q, int16 small, int first,
+                       const struct reyes_sample_chunks *chunks)
+{
+    uint spp = chunks->spp, tile_x = (uint)p->tile_x0, tile_y = (uint)p->tile_y0;
+    uint tile_width = (uint)p->tile_x1 - tile_x;
+    uint columns = (uint)chunks->columns;
+    int c = (int)g->columns;
+    const int corner[4] = { 0, 1, c + 1, c };
+    float16 z[4], color[4][3];
+    for (int i = 0; i < 4; ++i) {
+        z[i] = vload16(0, g->z + first + corner[i]);
+        uint16 rgba = vload16(0, g->rgba + first + corner[i]);
+        for (int ch = 0; ch < 3; ++ch)
+            color[i][ch] = convert_float16((rgba >> (uint)(8 * ch)) & 255u) * (1.0f / 255.0f);
+    }
+    /* Each edge value's sign: the edge's own (canonical order) and, where
+     * the area is not positive, the flip that makes "inside" every value
+     * >= 0, as for a positive area. */
+    uint16 flip[2][3];
+    float16 inv_area[2];
+    int16 has_area[2];
+    for (int t = 0; t < 2; ++t) {
+        uint16 negative = as_uint16(~(q->area[t] > 0.0f)) & 0x80000000u;
+        for (int e = 0; e < 3; ++e)
+            flip[t][e] = (as_uint16(q->swap[t][e]) & 0x80000000u) ^ negative;
+        inv_area[t] = as_float16(as_uint16(1.0f / q->area[t]) ^ negative);
+        has_area[t] = q->area[t] != 0.0f;
+    }
+    for (int dy = 0; dy < 2; ++dy) {
+        int16 py = q->y0 + dy;
+        int16 row = small & (py <= q->y1);
+        if (!reyes_any16(row))
+            break;
+        float16 fy = convert_float16(py);
+        uint16 row_index = (as_uint16(py) - tile_y) * tile_width - tile_x;
+        for (uint s = 0; s < spp; ++s) {
+            float cell_x = (float)(s % columns), cell_y = (float)(s / columns);
+            uint16 row_hash = reyes_hash16(as_uint16(py) * 0x85ebca6bu ^ reyes_hash(s));
+            for (int dx = 0; dx < 2; ++dx) {
+                int16 px = q->x0 + dx;
+                int16 lanes = row & (px <= q->x1);
+                if (!reyes_any16(lanes))
+                    continue;
+                uint16 h = reyes_hash16(as_uint16(px) * 0x9e3779b9u ^ row_hash);
+                float16 jx = convert_float16(h & 0xffffu) * (1.0f / 65536.0f);
+                float16 jy = convert_float16(h >> 16) * (1.0f / 65536.0f);
+                float16 x = convert_float16(px) + reyes_cell_offset16(cell_x, jx, chunks->columns, chunks->inv_columns);
+                float16 y = fy + reyes_cell_offset16(cell_y, jy, chunks->rows, chunks->inv_rows);
+                /* Triangle 1's edge (0, 2) is triangle 0's (2, 0): the same
+                 * canonical value. */
+                float16 diagonal = reyes_edge_raw16(q, 0, 1, x, y);
+                float16 w0a = as_float16(as_uint16(reyes_edge_raw16(q, 0, 0, x, y)) ^ flip[0][0]);
+                float16 w0b = as_float16(as_uint16(diagonal) ^ flip[0][1]);
+                float16 w0c = as_float16(as_uint16(reyes_edge_raw16(q, 0, 2, x, y)) ^ flip[0][2]);
+                float16 w1a = as_float16(as_uint16(reyes_edge_raw16(q, 1, 0, x, y)) ^ flip[1][0]);
+                float16 w1b = as_float16(as_uint16(reyes_edge_raw16(q, 1, 1, x, y)) ^ flip[1][1]);
+                float16 w1c = as_float16(as_uint16(diagonal) ^ flip[1][2]);
+                int16 covered0 = lanes & has_area[0] & (w0a >= 0.0f) & (w0b >= 0.0f) & (w0c >= 0.0f);
+                int16 covered1 = lanes & has_area[1] & (w1a >= 0.0f) & (w1b >= 0.0f) & (w1c >= 0.0f);
+                uint bits = reyes_lane_bits16(covered0 | covered1);
+                if (!bits)
+                    continue;
+                ulong16 nearest = (ulong16)REYES_EMPTY_SAMPLE;
+                if (reyes_any16(covered0))
+                    nearest = reyes_triangle_values16(w0a, w0b, w0c, inv_area[0], z, color, 0, 1, 2, covered0);
+                if (reyes_any16(covered1))
+                    nearest = min(nearest, reyes_triangle_values16(w1a, w1b, w1c, inv_area[1], z, color, 0, 2, 3,
+                                                                   covered1));
+                uint16 index = (row_index + as_uint16(px)) * spp + s;
+                while (bits) {
+                    uint l = 31u - clz(bits & (0u - bits));
+                    bits &= bits - 1u;
+                    reyes_sample_merge(samples, ((uint *)&index)[l], ((ulong *)&nearest)[l]);
+                }
+            }
+        }
+    }
+}
+
 /* Blurred items: each visible quad with the configured algorithm. */
 void reyes_rasterize_blurred_grid(perma_ctx *ctx, __local const struct reyes_grid *item)
 {
@@ -282,14 +434,20 @@ void reyes_rasterize(perma_ctx *ctx, __local const struct reyes_grid *item)
     struct reyes_sample_chunks chunks;
     reyes_sample_chunks_init(&chunks, p->spp);
     int slots = (int)(item->rows - 1u) * (int)item->columns;
-    /* Sixteen quads at a time set up in SIMD lanes, then the visible ones
-     * sampled one by one. */
+    /* Sixteen quads at a time set up in SIMD lanes, then the small ones
+     * sampled side by side and the larger ones one by one. */
     for (int first = 0; first < slots; first += 16) {
         struct reyes_quad_lanes quads = reyes_quad_setup_lanes(p, item, first, slots);
-        if (!any(quads.live))
+        if (!reyes_any16(quads.live))
             continue;
-        for (int l = 0; l < 16; ++l)
-            if (REYES_LANE_I(quads.live, l))
-                reyes_quad_pixels(p, samples, item, &quads, l, first + l, &chunks);
+        int16 small = quads.live & (quads.x1 - quads.x0 <= 1) & (quads.y1 - quads.y0 <= 1);
+        if (reyes_any16(small))
+            reyes_small_quads(p, samples, item, &quads, small, first, &chunks);
+        uint large = reyes_lane_bits16(quads.live & ~small);
+        while (large) {
+            int l = 31 - (int)clz(large & (0u - large));
+            large &= large - 1u;
+            reyes_quad_pixels(p, samples, item, &quads, l, first + l, &chunks);
+        }
     }
 }

@@ -24,8 +24,8 @@ REYES_INLINE uint reyes_sample_columns(uint spp)
 /* Jittered sample position inside pixel (px, py): stratified on a
  * columns x rows lattice (reyes_sample_columns, rows = ceil(spp /
  * columns)) with a hashed offset in each cell.  Callers that test many
- * samples compute the lattice once.  (rasterize's fast path computes the
- * same in sixteen lanes, reyes_quad_footprint.) */
+ * samples compute the lattice once.  (rasterize computes the same in SIMD
+ * lanes: reyes_quad_pixels, reyes_small_quads.) */
 REYES_INLINE void reyes_sample_xy(uint px, uint py, uint s, uint columns, uint rows, float *x, float *y)
 {
     uint h = reyes_hash(px * 0x9e3779b9u ^ reyes_hash(py * 0x85ebca6bu ^ reyes_hash(s)));
