@@ -286,6 +286,19 @@ REYES_INLINE uint reyes_lane_bits16(int16 m)
     return d.x | d.y;
 }
 
+/* Bit l set where lane l of a is set, bit 16 + l where lane l of b is:
+ * both masks in one reduction. */
+REYES_INLINE uint reyes_lane_bits_pair16(int16 a, int16 b)
+{
+    const uint16 bit = (uint16)(1u, 2u, 4u, 8u, 16u, 32u, 64u, 128u, 256u, 512u, 1024u, 2048u, 4096u, 8192u,
+                                16384u, 32768u);
+    uint16 m = (as_uint16(a) & bit) | (as_uint16(b) & (bit << 16));
+    uint8 c = m.lo | m.hi;
+    uint4 d = c.lo | c.hi;
+    uint2 e = d.lo | d.hi;
+    return e.x | e.y;
+}
+
 /* The edge function of an edge in canonical order (its sign not yet
  * applied), as reyes_edge_value_lanes. */
 REYES_INLINE float16 reyes_edge_raw16(const struct reyes_quad_lanes *q, int t, int e, float16 x, float16 y)
@@ -359,21 +372,19 @@ void reyes_small_quads(__global const struct reyes_params *p, __global ulong *sa
         inv_area[t] = as_float16(as_uint16(1.0f / q->area[t]) ^ negative);
         has_area[t] = q->area[t] != 0.0f;
     }
-    for (int dy = 0; dy < 2; ++dy) {
+    /* The boxes' widths and heights, 1 or 2 pixels. */
+    int width = 1 + reyes_any16(small & (q->x1 > q->x0)), height = 1 + reyes_any16(small & (q->y1 > q->y0));
+    for (int dy = 0; dy < height; ++dy) {
         int16 py = q->y0 + dy;
         int16 row = small & (py <= q->y1);
-        if (!reyes_any16(row))
-            break;
         float16 fy = convert_float16(py);
         uint16 row_index = (as_uint16(py) - tile_y) * tile_width - tile_x;
         for (uint s = 0; s < spp; ++s) {
             float cell_x = (float)(s % columns), cell_y = (float)(s / columns);
             uint16 row_hash = reyes_hash16(as_uint16(py) * 0x85ebca6bu ^ reyes_hash(s));
-            for (int dx = 0; dx < 2; ++dx) {
+            for (int dx = 0; dx < width; ++dx) {
                 int16 px = q->x0 + dx;
                 int16 lanes = row & (px <= q->x1);
-                if (!reyes_any16(lanes))
-                    continue;
                 uint16 h = reyes_hash16(as_uint16(px) * 0x9e3779b9u ^ row_hash);
                 float16 jx = convert_float16(h & 0xffffu) * (1.0f / 65536.0f);
                 float16 jy = convert_float16(h >> 16) * (1.0f / 65536.0f);
@@ -390,13 +401,14 @@ void reyes_small_quads(__global const struct reyes_params *p, __global ulong *sa
                 float16 w1c = as_float16(as_uint16(diagonal) ^ flip[1][2]);
                 int16 covered0 = lanes & has_area[0] & (w0a >= 0.0f) & (w0b >= 0.0f) & (w0c >= 0.0f);
                 int16 covered1 = lanes & has_area[1] & (w1a >= 0.0f) & (w1b >= 0.0f) & (w1c >= 0.0f);
-                uint bits = reyes_lane_bits16(covered0 | covered1);
-                if (!bits)
+                uint both = reyes_lane_bits_pair16(covered0, covered1);
+                if (!both)
                     continue;
+                uint bits0 = both & 0xffffu, bits1 = both >> 16, bits = bits0 | bits1;
                 ulong16 nearest = (ulong16)REYES_EMPTY_SAMPLE;
-                if (reyes_any16(covered0))
+                if (bits0)
                     nearest = reyes_triangle_values16(w0a, w0b, w0c, inv_area[0], z, color, 0, 1, 2, covered0);
-                if (reyes_any16(covered1))
+                if (bits1)
                     nearest = min(nearest, reyes_triangle_values16(w1a, w1b, w1c, inv_area[1], z, color, 0, 2, 3,
                                                                    covered1));
                 uint16 index = (row_index + as_uint16(px)) * spp + s;

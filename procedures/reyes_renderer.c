@@ -173,6 +173,8 @@ void reyes_renderer_destroy(reyes_renderer *renderer)
 {
     if (!renderer)
         return;
+    if (renderer->samples)
+        clReleaseMemObject(renderer->samples);
     perma_destroy(renderer->rt);
     free(renderer);
 }
