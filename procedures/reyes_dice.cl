@@ -50,28 +50,28 @@ void reyes_dice_strip_vertex(perma_ctx *ctx, const struct reyes_subpatch *sp, __
     reyes_grid_store(p, &s->strips, (2 * edge + 1) * n + step, &on_chord);
 }
 
-/* Vertices v0 .. v0 + REYES_LANES - 1 of an undisplaced grid n vertices
- * wide into g, shaded with base colour `base` when `shade` (else colour
- * 0), in SIMD lanes.  The lanes past the grid write into the lattice's
- * padding.  The normal is not fixed up at poles here: the returned mask
- * has the lanes whose normal vanished, for reyes_grid_vertex_color;
- * otherwise each vertex is reyes_grid_vertex's, bit for bit. */
-REYES_INLINE reyes_lane_mask reyes_dice_lanes(__global const struct reyes_params *p, const struct reyes_hull *h,
-                                              const struct reyes_lighting *light, float u0, float v0, float u1,
-                                              float v1, uint base, __local struct reyes_grid *g, int first, int n,
-                                              int shade)
+/* Vertices i0 .. i0 + REYES_LANES - 1 of row j of an undisplaced grid n
+ * vertices wide into g, from the row's curves, at parameters u0 .. u1
+ * across the grid, shaded with base colour `base` when `shade` (else
+ * colour 0), in SIMD lanes.  The lanes past the row write into the next
+ * row (made after this one) or the lattice's padding.  The normal is not
+ * fixed up at poles here: the returned mask has the lanes whose normal
+ * vanished, for reyes_grid_vertex_color; otherwise each vertex is
+ * reyes_grid_vertex's, bit for bit. */
+REYES_INLINE reyes_lane_mask reyes_dice_lanes(__global const struct reyes_params *p,
+                                              const struct reyes_row_curves *rc,
+                                              const struct reyes_lighting *light, float u0, float u1, uint base,
+                                              __local struct reyes_grid *g, int j, int i0, int n, int shade)
 {
     const int8 lane = (int8)(0, 1, 2, 3, 4, 5, 6, 7);
-    int8 v = first + lane;
-    int8 j = reyes_lattice_row_lanes(v, n), i = v - j * n;
+    int8 i = i0 + lane;
     float last = (float)(n - 1);
-    reyes_lanes tu = convert_float8(i) / last, tv = convert_float8(j) / last;
-    /* mix(a, b, 1) == b exactly, so shared patch edges get equal u, v. */
+    reyes_lanes tu = convert_float8(i) / last;
+    /* mix(a, b, 1) == b exactly, so shared patch edges get equal u. */
     reyes_lanes u = u0 * (1.0f - tu) + u1 * tu;
-    reyes_lanes w = v0 * (1.0f - tv) + v1 * tv;
     reyes_lanes x[3], normal[3];
-    reyes_hull_point_lanes(h, u, w, x);
-    reyes_hull_normal_lanes(h, u, w, normal);
+    reyes_row_point_lanes(rc, u, x);
+    reyes_row_normal_lanes(rc, u, normal);
     __global const float *m = p->view_proj;
     reyes_lanes clip[4];
     for (int r = 0; r < 4; ++r)
@@ -79,6 +79,7 @@ REYES_INLINE reyes_lane_mask reyes_dice_lanes(__global const struct reyes_params
     reyes_lanes inv_w = 1.0f / clip[3];
     reyes_lanes sx = (clip[0] * inv_w * 0.5f + 0.5f) * p->width;
     reyes_lanes sy = (0.5f - clip[1] * inv_w * 0.5f) * p->height;
+    int first = j * n + i0;
     vstore8(p->blur ? clip[0] : sx, 0, g->x + first);
     vstore8(p->blur ? clip[1] : sy, 0, g->y + first);
     vstore8(clip[3], 0, g->z + first);
@@ -153,8 +154,8 @@ void reyes_dice_emit(perma_ctx *ctx, __local const struct reyes_grid *g)
     emit_rasterize(ctx, &item);
 }
 
-/* The vertices of an undisplaced grid, REYES_LANES at a time, and the
- * poles' colours. */
+/* The vertices of an undisplaced grid, row by row (the row's curves made
+ * once) and REYES_LANES at a time, and the poles' colours. */
 void reyes_dice_plain(perma_ctx *ctx, __local const struct reyes_subpatch *item, __local struct reyes_grid *g,
                       int shade)
 {
@@ -165,16 +166,22 @@ void reyes_dice_plain(perma_ctx *ctx, __local const struct reyes_subpatch *item,
     struct reyes_lighting light = reyes_lighting_of(p);
     uint base = ctx->buf.colors[item->patch];
     float u0 = item->u0, v0 = item->v0, u1 = item->u1, v1 = item->v1;
-    for (int first = 0; first < n * n; first += REYES_LANES) {
-        reyes_lane_mask degenerate = reyes_dice_lanes(p, &h, &light, u0, v0, u1, v1, base, g, first, n, shade);
-        if (shade && any(degenerate)) {
-            struct reyes_subpatch sp = *item;
-            float3 cp[16];
-            reyes_load_patch(ctx->buf.patches, sp.patch, cp);
-            for (int k = 0; k < REYES_LANES; ++k) {
-                int v = first + k;
-                if (v < n * n && ((int *)&degenerate)[k])
-                    g->rgba[v] = reyes_grid_vertex_color(p, cp, &sp, reyes_unpack_rgb(base), v % n, v / n);
+    float last = (float)(n - 1);
+    for (int j = 0; j < n; ++j) {
+        float tv = (float)j / last;
+        float v = v0 * (1.0f - tv) + v1 * tv; /* as reyes_grid_uv_of */
+        struct reyes_row_curves rc;
+        reyes_row_curves_lanes(&h, (reyes_lanes)v, &rc);
+        for (int i0 = 0; i0 < n; i0 += REYES_LANES) {
+            reyes_lane_mask degenerate = reyes_dice_lanes(p, &rc, &light, u0, u1, base, g, j, i0, n, shade);
+            if (shade && any(degenerate)) {
+                struct reyes_subpatch sp = *item;
+                float3 cp[16];
+                reyes_load_patch(ctx->buf.patches, sp.patch, cp);
+                for (int k = 0; k < REYES_LANES && i0 + k < n; ++k)
+                    if (((int *)&degenerate)[k])
+                        g->rgba[j * n + i0 + k] = reyes_grid_vertex_color(p, cp, &sp, reyes_unpack_rgb(base),
+                                                                           i0 + k, j);
             }
         }
     }

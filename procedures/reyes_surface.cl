@@ -147,45 +147,54 @@ REYES_INLINE void reyes_normalize_lanes(reyes_lanes *x, reyes_lanes *y, reyes_la
     *z = select(sz * inv, az, zero);
 }
 
-/* Points and unnormalised normals (cross products of the derivatives) at
- * (u,v) of a hull. */
-REYES_INLINE void reyes_hull_point_lanes(const struct reyes_hull *h, reyes_lanes u, reyes_lanes v,
-                                         reyes_lanes x[3])
+/* A patch is evaluated separably, the same way for every caller: at
+ * parameter v its four rows of control points collapse to a cubic curve
+ * in u (q) and the derivative curve in v (qv), whose four control points
+ * are then weighted by the Bernstein weights of u.  dice makes the curves
+ * once per grid row and shares them by every vertex of the row. */
+struct reyes_row_curves {
+    reyes_lanes q[3][4], qv[3][4];
+};
+
+REYES_INLINE void reyes_row_curves_lanes(const struct reyes_hull *h, reyes_lanes v, struct reyes_row_curves *rc)
 {
-    reyes_lanes bu[4], bv[4];
-    reyes_bernstein_lanes(u, bu);
+    reyes_lanes bv[4], dv[4];
     reyes_bernstein_lanes(v, bv);
-    x[0] = x[1] = x[2] = (reyes_lanes)0.0f;
-    for (int r = 0; r < 4; ++r) {
-        for (int c = 0; c < 4; ++c) {
-            reyes_lanes w = bv[r] * bu[c];
-            x[0] += w * h->x[r * 4 + c];
-            x[1] += w * h->y[r * 4 + c];
-            x[2] += w * h->z[r * 4 + c];
-        }
+    reyes_bernstein_deriv_lanes(v, dv);
+    for (int c = 0; c < 4; ++c) {
+        rc->q[0][c] = bv[0] * h->x[c] + bv[1] * h->x[4 + c] + bv[2] * h->x[8 + c] + bv[3] * h->x[12 + c];
+        rc->q[1][c] = bv[0] * h->y[c] + bv[1] * h->y[4 + c] + bv[2] * h->y[8 + c] + bv[3] * h->y[12 + c];
+        rc->q[2][c] = bv[0] * h->z[c] + bv[1] * h->z[4 + c] + bv[2] * h->z[8 + c] + bv[3] * h->z[12 + c];
+        rc->qv[0][c] = dv[0] * h->x[c] + dv[1] * h->x[4 + c] + dv[2] * h->x[8 + c] + dv[3] * h->x[12 + c];
+        rc->qv[1][c] = dv[0] * h->y[c] + dv[1] * h->y[4 + c] + dv[2] * h->y[8 + c] + dv[3] * h->y[12 + c];
+        rc->qv[2][c] = dv[0] * h->z[c] + dv[1] * h->z[4 + c] + dv[2] * h->z[8 + c] + dv[3] * h->z[12 + c];
     }
 }
 
-REYES_INLINE void reyes_hull_normal_lanes(const struct reyes_hull *h, reyes_lanes u, reyes_lanes v,
-                                          reyes_lanes n[3])
+/* w[0] q[0] + w[1] q[1] + w[2] q[2] + w[3] q[3]. */
+REYES_INLINE reyes_lanes reyes_curve_at(const reyes_lanes w[4], const reyes_lanes q[4])
 {
-    reyes_lanes bu[4], bv[4], du[4], dv[4];
+    return w[0] * q[0] + w[1] * q[1] + w[2] * q[2] + w[3] * q[3];
+}
+
+/* Points, and unnormalised normals (cross products of the derivatives),
+ * at u on the row curves. */
+REYES_INLINE void reyes_row_point_lanes(const struct reyes_row_curves *rc, reyes_lanes u, reyes_lanes x[3])
+{
+    reyes_lanes bu[4];
     reyes_bernstein_lanes(u, bu);
-    reyes_bernstein_lanes(v, bv);
+    for (int d = 0; d < 3; ++d)
+        x[d] = reyes_curve_at(bu, rc->q[d]);
+}
+
+REYES_INLINE void reyes_row_normal_lanes(const struct reyes_row_curves *rc, reyes_lanes u, reyes_lanes n[3])
+{
+    reyes_lanes bu[4], du[4], tu[3], tv[3];
+    reyes_bernstein_lanes(u, bu);
     reyes_bernstein_deriv_lanes(u, du);
-    reyes_bernstein_deriv_lanes(v, dv);
-    reyes_lanes tu[3], tv[3];
-    tu[0] = tu[1] = tu[2] = tv[0] = tv[1] = tv[2] = (reyes_lanes)0.0f;
-    for (int r = 0; r < 4; ++r) {
-        for (int c = 0; c < 4; ++c) {
-            reyes_lanes a = bv[r] * du[c], b = dv[r] * bu[c];
-            tu[0] += a * h->x[r * 4 + c];
-            tu[1] += a * h->y[r * 4 + c];
-            tu[2] += a * h->z[r * 4 + c];
-            tv[0] += b * h->x[r * 4 + c];
-            tv[1] += b * h->y[r * 4 + c];
-            tv[2] += b * h->z[r * 4 + c];
-        }
+    for (int d = 0; d < 3; ++d) {
+        tu[d] = reyes_curve_at(du, rc->q[d]);
+        tv[d] = reyes_curve_at(bu, rc->qv[d]);
     }
     /* cross(tu, tv), products rounded apart as PoCL's cross. */
     reyes_lanes yz = tu[1] * tv[2], zy = tu[2] * tv[1];
@@ -194,6 +203,23 @@ REYES_INLINE void reyes_hull_normal_lanes(const struct reyes_hull *h, reyes_lane
     n[0] = yz - zy;
     n[1] = zx - xz;
     n[2] = xy - yx;
+}
+
+/* Points and unnormalised normals at (u,v) of a hull. */
+REYES_INLINE void reyes_hull_point_lanes(const struct reyes_hull *h, reyes_lanes u, reyes_lanes v,
+                                         reyes_lanes x[3])
+{
+    struct reyes_row_curves rc;
+    reyes_row_curves_lanes(h, v, &rc);
+    reyes_row_point_lanes(&rc, u, x);
+}
+
+REYES_INLINE void reyes_hull_normal_lanes(const struct reyes_hull *h, reyes_lanes u, reyes_lanes v,
+                                          reyes_lanes n[3])
+{
+    struct reyes_row_curves rc;
+    reyes_row_curves_lanes(h, v, &rc);
+    reyes_row_normal_lanes(&rc, u, n);
 }
 
 /* Unnormalised surface normal and point at (u,v) (lane 0 of the above). */
