@@ -52,10 +52,8 @@ struct reyes_moving_quad reyes_vertex_moving(__global const struct reyes_params 
  * with it, in SIMD code whatever the OpenCL compiler does across
  * work-items, and every other caller (stitch, displacement, the poles)
  * takes lane 0 of the same code, so a vertex gets the same bits wherever it
- * is computed.  It rounds as the float3 code it replaced did, lane by lane
- * (PoCL's dot, cross and normalize take no fused multiply-add; see
- * reyes_dot3), except that native_exp2 of a vector may differ from the
- * scalar one in the last bit (docs/reyes.md, *Speed*). */
+ * is computed.  Dot products, cross products and normalize round as
+ * PoCL's built-ins (no fused multiply-add; see reyes_dot3). */
 #define REYES_LANES 8
 typedef float8 reyes_lanes;
 typedef int8 reyes_lane_mask;
@@ -271,11 +269,28 @@ REYES_INLINE struct reyes_lighting reyes_lighting_of(__global const struct reyes
     return l;
 }
 
+/* x^s: by squaring for a whole exponent up to 64 (the look's is 40: six
+ * products, as the C reference), else exp2(s log2 x) at native precision
+ * (pow() is PoCL's full-precision library call and took about a fifth of
+ * a teapot render; native_log2 looks a table up lane by lane). */
+REYES_INLINE reyes_lanes reyes_power_lanes(reyes_lanes x, float s)
+{
+    uint n = (uint)s;
+    if (s >= 0.0f && s <= 64.0f && (float)n == s) {
+        reyes_lanes result = (reyes_lanes)1.0f, base = x;
+        for (; n != 0u; n >>= 1) {
+            if (n & 1u)
+                result *= base;
+            base *= base;
+        }
+        return result;
+    }
+    return native_exp2(s * native_log2(x));
+}
+
 /* Lambert plus Blinn-Phong, two-sided, one directional light plus
  * ambient, at points x with normals n: a colour c shades to
- * c * diffuse + specular (reyes_light_color).  The highlight cos_h^s is
- * exp2(s log2 cos_h) at native precision: pow() is PoCL's full-precision
- * library call and took about a fifth of a teapot render. */
+ * c * diffuse + specular (reyes_light_color). */
 REYES_INLINE void reyes_light_lanes(const struct reyes_lighting *l, const reyes_lanes x[3], const reyes_lanes n[3],
                                     reyes_lanes *diffuse, reyes_lanes *specular)
 {
@@ -296,7 +311,7 @@ REYES_INLINE void reyes_light_lanes(const struct reyes_lighting *l, const reyes_
     reyes_lanes hx = lx + vx, hy = ly + vy, hz = lz + vz;
     reyes_normalize_lanes(&hx, &hy, &hz);
     reyes_lanes cos_h = reyes_dot3_lanes(mx, my, mz, hx, hy, hz);
-    reyes_lanes power = native_exp2(l->shininess * native_log2(cos_h));
+    reyes_lanes power = reyes_power_lanes(cos_h, l->shininess);
     reyes_lanes highlight = select((reyes_lanes)0.0f, power, lambert > 0.0f & cos_h > 0.0f);
     *diffuse = l->ambient + l->diffuse * lambert;
     *specular = l->specular * highlight;
