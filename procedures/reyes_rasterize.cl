@@ -11,13 +11,17 @@
  *
  * Sharp quads are set up sixteen at a time in SIMD lanes (OpenCL vector
  * types, so the code is SIMD whatever the compiler does across
- * work-items).  Those whose pixel box is at most 2 x 2 pixels (nearly all
- * of them with the default bound and grid) are then sampled side by side,
- * one quad per lane, stepping through the pixels of the boxes and the
- * sample indices; the few larger ones one by one, four sample indices of
- * both triangles per pixel in eight lanes.  Blurred quads take the
- * general loops.  Every path tests the same samples of a quad with the
- * same arithmetic.
+ * work-items).  A sample lies in its own stratum of the pixel (a cell of
+ * the columns x rows lattice of reyes_sample_xy), so the strata that a
+ * quad's screen box reaches are the only places its covered samples can
+ * be: a micropolygon of the default bound and grid reaches two or three
+ * of them across and down, where its pixel box holds up to sixteen
+ * samples.  The quads whose box reaches at most 3 x 3 strata (nearly all)
+ * are sampled side by side, one quad per lane, stepping through the
+ * strata; the few larger ones one by one, four sample indices of both
+ * triangles per pixel in eight lanes.  Blurred quads take the general
+ * loops.  Every path tests the same samples of a quad with the same
+ * arithmetic.
  */
 
 REYES_INLINE uint8 reyes_hash8(uint8 x)
@@ -38,7 +42,8 @@ REYES_INLINE uint8 reyes_hash8(uint8 x)
  * the signed area). */
 struct reyes_quad_lanes {
     int16 live;
-    int16 x0, y0, x1, y1;
+    float16 box_lo_x, box_lo_y, box_hi_x, box_hi_y; /* screen box */
+    int16 x0, y0, x1, y1;           /* pixel box on the tile */
     float16 lo_x[2][3], lo_y[2][3], dx[2][3], dy[2][3];
     int16 swap[2][3];
     float16 area[2];
@@ -81,6 +86,10 @@ REYES_INLINE struct reyes_quad_lanes reyes_quad_setup_lanes(__global const struc
     float16 lo_x = fmin(fmin(x[0], x[1]), fmin(x[2], x[3])), lo_y = fmin(fmin(y[0], y[1]), fmin(y[2], y[3]));
     float16 hi_x = fmax(fmax(x[0], x[1]), fmax(x[2], x[3])), hi_y = fmax(fmax(y[0], y[1]), fmax(y[2], y[3]));
     struct reyes_quad_lanes q;
+    q.box_lo_x = lo_x;
+    q.box_lo_y = lo_y;
+    q.box_hi_x = hi_x;
+    q.box_hi_y = hi_y;
     q.live = has & front & (hi_x >= p->tile_x0) & (hi_y >= p->tile_y0) & (lo_x <= p->tile_x1)
              & (lo_y <= p->tile_y1);
     /* floor of the clamped box, which is at least the tile's corner (>= 0). */
@@ -338,18 +347,64 @@ REYES_INLINE ulong16 reyes_triangle_values16(float16 wa, float16 wb, float16 wc,
     return select((ulong16)REYES_EMPTY_SAMPLE, packed, convert_long16(covered));
 }
 
-/* The quads of the lanes set in `small` (pixel boxes of at most 2 x 2),
- * sampled side by side: one lane per quad, the pixels of its box and the
- * sample indices in turn, both triangles tested in every step, with the
- * tests and values of reyes_triangle_sample; each covered sample's nearer
- * value is merged into the samples. */
+/* Samples further than this outside a quad's screen box are not tested:
+ * rounding never puts a covered sample anywhere near that far out (the
+ * edge functions' errors are millionths of a pixel), so the samples
+ * covered are those of testing every sample of the pixel box. */
+#define REYES_BOX_MARGIN (1.0f / 64.0f)
+
+/* n / d for 0 <= n < 2^20 and 1 <= d <= 64, in float lanes (exact, as
+ * reyes_lattice_row). */
+REYES_INLINE int16 reyes_quotient16(int16 n, float d)
+{
+    return convert_int16((convert_float16(n) + 0.5f) / d);
+}
+
+/* The strata a quad's samples may lie in: sample s of pixel (px, py) lies
+ * in column px * columns + s % columns and row py * rows + s / columns of
+ * the image's lattice of strata (reyes_sample_xy), so only the strata that
+ * the screen box (with the margin) reaches, inside the pixel box, can hold
+ * covered samples. */
+struct reyes_strata_lanes {
+    int16 x0, y0, x1, y1;
+};
+
+REYES_INLINE struct reyes_strata_lanes reyes_strata_of(const struct reyes_quad_lanes *q,
+                                                       const struct reyes_sample_chunks *chunks)
+{
+    int columns = (int)chunks->columns, rows = (int)chunks->rows;
+    struct reyes_strata_lanes b;
+    b.x0 = max(convert_int16(floor((q->box_lo_x - REYES_BOX_MARGIN) * chunks->columns)), q->x0 * columns);
+    b.y0 = max(convert_int16(floor((q->box_lo_y - REYES_BOX_MARGIN) * chunks->rows)), q->y0 * rows);
+    b.x1 = min(convert_int16(floor((q->box_hi_x + REYES_BOX_MARGIN) * chunks->columns)), q->x1 * columns + columns - 1);
+    b.y1 = min(convert_int16(floor((q->box_hi_y + REYES_BOX_MARGIN) * chunks->rows)), q->y1 * rows + rows - 1);
+    return b;
+}
+
+/* Largest lane of m. */
+REYES_INLINE int reyes_max16(int16 m)
+{
+    int8 a = max(m.lo, m.hi);
+    int4 b = max(a.lo, a.hi);
+    int2 c = max(b.lo, b.hi);
+    return max(c.x, c.y);
+}
+
+/* The quads of the lanes set in `small` (at most REYES_SMALL_STRATA
+ * strata across and down), sampled side by side: one lane per quad,
+ * stepping through the strata of its box (one sample each), both
+ * triangles tested in every step, with the tests and values of
+ * reyes_triangle_sample; each covered sample's nearer value is merged
+ * into the samples. */
+#define REYES_SMALL_STRATA 3
 void reyes_small_quads(__global const struct reyes_params *p, __global ulong *samples,
-                       __local const struct reyes_grid *g, const struct reyes_quad_lanes *q, int16 small, int first,
+                       __local const struct reyes_grid *g, const struct reyes_quad_lanes *q,
+                       const struct reyes_strata_lanes *strata, int16 small, int first,
                        const struct reyes_sample_chunks *chunks)
 {
     uint spp = chunks->spp, tile_x = (uint)p->tile_x0, tile_y = (uint)p->tile_y0;
     uint tile_width = (uint)p->tile_x1 - tile_x;
-    uint columns = (uint)chunks->columns;
+    int columns = (int)chunks->columns, rows = (int)chunks->rows;
     int c = (int)g->columns;
     const int corner[4] = { 0, 1, c + 1, c };
     float16 z[4], color[4][3];
@@ -372,51 +427,57 @@ void reyes_small_quads(__global const struct reyes_params *p, __global ulong *sa
         inv_area[t] = as_float16(as_uint16(1.0f / q->area[t]) ^ negative);
         has_area[t] = q->area[t] != 0.0f;
     }
-    /* The boxes' widths and heights, 1 or 2 pixels. */
-    int width = 1 + reyes_any16(small & (q->x1 > q->x0)), height = 1 + reyes_any16(small & (q->y1 > q->y0));
+    int width = reyes_max16(select((int16)0, strata->x1 - strata->x0 + 1, small));
+    int height = reyes_max16(select((int16)0, strata->y1 - strata->y0 + 1, small));
     for (int dy = 0; dy < height; ++dy) {
-        int16 py = q->y0 + dy;
-        int16 row = small & (py <= q->y1);
-        float16 fy = convert_float16(py);
+        int16 sy = strata->y0 + dy;
+        int16 row = small & (sy <= strata->y1);
+        int16 py = reyes_quotient16(sy, chunks->rows);
+        int16 cy = sy - py * rows;
+        float16 y_cell = convert_float16(py);
+        float16 cell_y = convert_float16(cy);
         uint16 row_index = (as_uint16(py) - tile_y) * tile_width - tile_x;
-        for (uint s = 0; s < spp; ++s) {
-            float cell_x = (float)(s % columns), cell_y = (float)(s / columns);
-            uint16 row_hash = reyes_hash16(as_uint16(py) * 0x85ebca6bu ^ reyes_hash(s));
-            for (int dx = 0; dx < width; ++dx) {
-                int16 px = q->x0 + dx;
-                int16 lanes = row & (px <= q->x1);
-                uint16 h = reyes_hash16(as_uint16(px) * 0x9e3779b9u ^ row_hash);
-                float16 jx = convert_float16(h & 0xffffu) * (1.0f / 65536.0f);
-                float16 jy = convert_float16(h >> 16) * (1.0f / 65536.0f);
-                float16 x = convert_float16(px) + reyes_cell_offset16(cell_x, jx, chunks->columns, chunks->inv_columns);
-                float16 y = fy + reyes_cell_offset16(cell_y, jy, chunks->rows, chunks->inv_rows);
-                /* Triangle 1's edge (0, 2) is triangle 0's (2, 0): the same
-                 * canonical value. */
-                float16 diagonal = reyes_edge_raw16(q, 0, 1, x, y);
-                float16 w0a = as_float16(as_uint16(reyes_edge_raw16(q, 0, 0, x, y)) ^ flip[0][0]);
-                float16 w0b = as_float16(as_uint16(diagonal) ^ flip[0][1]);
-                float16 w0c = as_float16(as_uint16(reyes_edge_raw16(q, 0, 2, x, y)) ^ flip[0][2]);
-                float16 w1a = as_float16(as_uint16(reyes_edge_raw16(q, 1, 0, x, y)) ^ flip[1][0]);
-                float16 w1b = as_float16(as_uint16(reyes_edge_raw16(q, 1, 1, x, y)) ^ flip[1][1]);
-                float16 w1c = as_float16(as_uint16(diagonal) ^ flip[1][2]);
-                int16 covered0 = lanes & has_area[0] & (w0a >= 0.0f) & (w0b >= 0.0f) & (w0c >= 0.0f);
-                int16 covered1 = lanes & has_area[1] & (w1a >= 0.0f) & (w1b >= 0.0f) & (w1c >= 0.0f);
-                uint both = reyes_lane_bits_pair16(covered0, covered1);
-                if (!both)
-                    continue;
-                uint bits0 = both & 0xffffu, bits1 = both >> 16, bits = bits0 | bits1;
-                ulong16 nearest = (ulong16)REYES_EMPTY_SAMPLE;
-                if (bits0)
-                    nearest = reyes_triangle_values16(w0a, w0b, w0c, inv_area[0], z, color, 0, 1, 2, covered0);
-                if (bits1)
-                    nearest = min(nearest, reyes_triangle_values16(w1a, w1b, w1c, inv_area[1], z, color, 0, 2, 3,
-                                                                   covered1));
-                uint16 index = (row_index + as_uint16(px)) * spp + s;
-                while (bits) {
-                    uint l = 31u - clz(bits & (0u - bits));
-                    bits &= bits - 1u;
-                    reyes_sample_merge(samples, ((uint *)&index)[l], ((ulong *)&nearest)[l]);
-                }
+        for (int dx = 0; dx < width; ++dx) {
+            int16 sx = strata->x0 + dx;
+            int16 px = reyes_quotient16(sx, chunks->columns);
+            int16 cx = sx - px * columns;
+            int16 sample = cy * columns + cx;
+            int16 lanes = row & (sx <= strata->x1) & (sample < (int)spp);
+            uint16 row_hash = reyes_hash16(as_uint16(py) * 0x85ebca6bu ^ reyes_hash16(as_uint16(sample)));
+            uint16 h = reyes_hash16(as_uint16(px) * 0x9e3779b9u ^ row_hash);
+            float16 jx = convert_float16(h & 0xffffu) * (1.0f / 65536.0f);
+            float16 jy = convert_float16(h >> 16) * (1.0f / 65536.0f);
+            float16 x = convert_float16(px)
+                        + (chunks->inv_columns != 0.0f ? (convert_float16(cx) + jx) * chunks->inv_columns
+                                                        : (convert_float16(cx) + jx) / chunks->columns);
+            float16 y = y_cell
+                        + (chunks->inv_rows != 0.0f ? (cell_y + jy) * chunks->inv_rows : (cell_y + jy) / chunks->rows);
+            /* Triangle 1's edge (0, 2) is triangle 0's (2, 0): the same
+             * canonical value. */
+            float16 diagonal = reyes_edge_raw16(q, 0, 1, x, y);
+            float16 w0a = as_float16(as_uint16(reyes_edge_raw16(q, 0, 0, x, y)) ^ flip[0][0]);
+            float16 w0b = as_float16(as_uint16(diagonal) ^ flip[0][1]);
+            float16 w0c = as_float16(as_uint16(reyes_edge_raw16(q, 0, 2, x, y)) ^ flip[0][2]);
+            float16 w1a = as_float16(as_uint16(reyes_edge_raw16(q, 1, 0, x, y)) ^ flip[1][0]);
+            float16 w1b = as_float16(as_uint16(reyes_edge_raw16(q, 1, 1, x, y)) ^ flip[1][1]);
+            float16 w1c = as_float16(as_uint16(diagonal) ^ flip[1][2]);
+            int16 covered0 = lanes & has_area[0] & (w0a >= 0.0f) & (w0b >= 0.0f) & (w0c >= 0.0f);
+            int16 covered1 = lanes & has_area[1] & (w1a >= 0.0f) & (w1b >= 0.0f) & (w1c >= 0.0f);
+            uint both = reyes_lane_bits_pair16(covered0, covered1);
+            if (!both)
+                continue;
+            uint bits0 = both & 0xffffu, bits1 = both >> 16, bits = bits0 | bits1;
+            ulong16 nearest = (ulong16)REYES_EMPTY_SAMPLE;
+            if (bits0)
+                nearest = reyes_triangle_values16(w0a, w0b, w0c, inv_area[0], z, color, 0, 1, 2, covered0);
+            if (bits1)
+                nearest = min(nearest,
+                              reyes_triangle_values16(w1a, w1b, w1c, inv_area[1], z, color, 0, 2, 3, covered1));
+            uint16 index = (row_index + as_uint16(px)) * spp + as_uint16(sample);
+            while (bits) {
+                uint l = 31u - clz(bits & (0u - bits));
+                bits &= bits - 1u;
+                reyes_sample_merge(samples, ((uint *)&index)[l], ((ulong *)&nearest)[l]);
             }
         }
     }
@@ -447,14 +508,17 @@ void reyes_rasterize(perma_ctx *ctx, __local const struct reyes_grid *item)
     reyes_sample_chunks_init(&chunks, p->spp);
     int slots = (int)(item->rows - 1u) * (int)item->columns;
     /* Sixteen quads at a time set up in SIMD lanes, then the small ones
-     * sampled side by side and the larger ones one by one. */
+     * sampled side by side stratum by stratum and the larger ones one by
+     * one. */
     for (int first = 0; first < slots; first += 16) {
         struct reyes_quad_lanes quads = reyes_quad_setup_lanes(p, item, first, slots);
         if (!reyes_any16(quads.live))
             continue;
-        int16 small = quads.live & (quads.x1 - quads.x0 <= 1) & (quads.y1 - quads.y0 <= 1);
+        struct reyes_strata_lanes strata = reyes_strata_of(&quads, &chunks);
+        int16 small = quads.live & (strata.x1 - strata.x0 < REYES_SMALL_STRATA)
+                      & (strata.y1 - strata.y0 < REYES_SMALL_STRATA);
         if (reyes_any16(small))
-            reyes_small_quads(p, samples, item, &quads, small, first, &chunks);
+            reyes_small_quads(p, samples, item, &quads, &strata, small, first, &chunks);
         uint large = reyes_lane_bits16(quads.live & ~small);
         while (large) {
             int l = 31 - (int)clz(large & (0u - large));
