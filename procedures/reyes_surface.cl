@@ -127,22 +127,16 @@ REYES_INLINE reyes_lanes reyes_dot4_lanes(float ax, float ay, float az, float aw
     return xy + zw;
 }
 
-/* normalize() as PoCL computes it for finite vectors, lane by lane: the
- * zero vector unchanged, tiny ones scaled up by 2^86 (huge ones down by
- * 2^-66) first, then each component times 1 / sqrt(length squared). */
+/* A vector over its length, lane by lane (the zero vector unchanged). */
 REYES_INLINE void reyes_normalize_lanes(reyes_lanes *x, reyes_lanes *y, reyes_lanes *z)
 {
     reyes_lanes ax = *x, ay = *y, az = *z;
-    reyes_lane_mask zero = (ax == 0.0f) & (ay == 0.0f) & (az == 0.0f);
     reyes_lanes l2 = reyes_dot3_lanes(ax, ay, az, ax, ay, az);
-    reyes_lanes scale = select(select((reyes_lanes)1.0f, (reyes_lanes)0x1.0p-66f, l2 == INFINITY),
-                               (reyes_lanes)0x1.0p86f, l2 < FLT_MIN);
-    reyes_lanes sx = ax * scale, sy = ay * scale, sz = az * scale;
-    reyes_lanes ls = reyes_dot3_lanes(sx, sy, sz, sx, sy, sz);
-    reyes_lanes inv = 1.0f / sqrt(ls);
-    *x = select(sx * inv, ax, zero);
-    *y = select(sy * inv, ay, zero);
-    *z = select(sz * inv, az, zero);
+    reyes_lanes inv = 1.0f / sqrt(l2);
+    reyes_lane_mask zero = l2 == 0.0f;
+    *x = select(ax * inv, ax, zero);
+    *y = select(ay * inv, ay, zero);
+    *z = select(az * inv, az, zero);
 }
 
 /* A patch is evaluated separably, the same way for every caller: at
