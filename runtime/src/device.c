@@ -54,12 +54,6 @@ static void choose_work_groups(perma_runtime *rt, const char *device_name)
         groups = rt->config.work_groups;
         snprintf(why, sizeof why, rt->debug ? "PERMA_DEBUG" : "configured");
     }
-    if (rt->config.strategy == PERMA_STRATEGY_DONATION && groups > rt->compute_units) {
-        /* Without stealing, only a running group serves its own queues. */
-        groups = rt->compute_units;
-        snprintf(why, sizeof why, "donation without stealing: at most the %u compute units",
-                 (unsigned)rt->compute_units);
-    }
     rt->work_groups = groups;
     snprintf(rt->summary, sizeof rt->summary, "%s: %u work-groups (%s) of %u work-items",
              device_name, rt->work_groups, why, rt->group_size);

@@ -88,6 +88,11 @@ START_TEST(tree_counts_exact)
         ck_assert_perma_ok(rt, perma_get_stats(rt, &st));
         ck_assert_uint_eq(st.items, (2u << d) - 1);
         ck_assert_uint_eq(st.group_size, gs);
+        /* Every strategy takes the groups asked for, donation too: groups
+         * that start late (or never while others run) cannot hold up the
+         * ones that run (perma_try_adopt). */
+        if (configs[_i].work_groups)
+            ck_assert_uint_eq(st.work_groups, configs[_i].work_groups);
         /* Growing 1024-item queues to a level of 2^d nodes takes at most
          * d - 8 doublings per queue set: more means stalls were declared
          * while work was available (a false stall). */
