@@ -137,10 +137,19 @@ perma_status perma_strategy_parse(const char *name, perma_strategy *out);
 perma_status perma_victim_parse(const char *name, perma_victim *out);
 
 typedef struct perma_config {
-    /* OpenCL device, by index.  -1 (default): the PERMA_DEVICE environment
-     * variable "platform:device" if set, else 0:0. */
+    /* OpenCL device.  platform_index >= 0 picks the platform by index;
+     * else platform_name, if not NULL, picks the first platform whose name
+     * or vendor contains it (any case: "intel", "pocl", "oclgrind"); else
+     * the PERMA_DEVICE environment variable decides, which is either
+     * "P:D" (indices) or "NAME" or "NAME:D" (a platform name as above),
+     * e.g. PERMA_DEVICE=intel or PERMA_DEVICE=pocl:0; else 0:0.
+     * device_index >= 0 picks the platform's device, else the one
+     * PERMA_DEVICE names (when it is consulted), else 0.  platform_name is
+     * read only by perma_create.  `perma-info` lists the platforms and
+     * devices. */
     int platform_index;
     int device_index;
+    const char *platform_name;
     /* Persistent work-groups; 0 = as many as can be co-resident (compute
      * units; on a CPU device the physical core count from hwloc). */
     unsigned work_groups;

@@ -1,27 +1,96 @@
 /* Choosing the OpenCL device and the number of persistent work-groups. */
 #include "internal.h"
 
+#include <ctype.h>
 #include <hwloc.h>
 #include <stdlib.h>
 #include <string.h>
 
-/* Parse PERMA_DEVICE="platform:device". */
-static perma_status parse_device_env(perma_runtime *rt, const char *value, int *platform, int *device)
+/* Which device PERMA_DEVICE (or the config) asks for: a platform by index
+ * (platform >= 0) or by a substring of its name or vendor (name[0] != 0),
+ * and a device index on it. */
+typedef struct device_spec {
+    int platform;
+    char name[64];
+    int device;
+} device_spec;
+
+/* Parse "P:D" (indices), "NAME" or "NAME:D" (NAME: letters, digits, spaces
+ * and "()._-", not starting with a digit; D defaults to 0). */
+static perma_status parse_device_spec(perma_runtime *rt, const char *value, device_spec *out)
 {
+    device_spec spec = { -1, "", 0 };
+    const char *colon = strchr(value, ':');
+    size_t head = colon ? (size_t)(colon - value) : strlen(value);
     char *end = NULL;
-    long p = strtol(value, &end, 10);
-    if (end == value || *end != ':' || p < 0 || p > 1000000)
+    if (head == 0 || head >= sizeof spec.name)
         goto bad;
-    const char *second = end + 1;
-    long d = strtol(second, &end, 10);
-    if (end == second || *end != '\0' || d < 0 || d > 1000000)
-        goto bad;
-    *platform = (int)p;
-    *device = (int)d;
+    if (value[0] >= '0' && value[0] <= '9') {
+        long p = strtol(value, &end, 10);
+        if (end != value + head || !colon || p > 1000000)
+            goto bad;
+        spec.platform = (int)p;
+    } else {
+        for (size_t i = 0; i < head; ++i) {
+            char c = value[i];
+            if (!((c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+                  strchr(" ()._-", c)))
+                goto bad;
+        }
+        memcpy(spec.name, value, head);
+        spec.name[head] = '\0';
+    }
+    if (colon) {
+        const char *second = colon + 1;
+        long d = strtol(second, &end, 10);
+        if (end == second || *end != '\0' || d < 0 || d > 1000000 || *second == '-' || *second == '+')
+            goto bad;
+        spec.device = (int)d;
+    }
+    *out = spec;
     return PERMA_OK;
 bad:
     return perma_set_error(rt, PERMA_ERR_ARGUMENT,
-                           "PERMA_DEVICE='%s' is not of the form platform:device (e.g. 0:0)", value);
+                           "PERMA_DEVICE='%s' is not of the form platform:device (e.g. 0:0) or NAME[:device] "
+                           "(a platform's name or vendor, e.g. intel or pocl:0)", value);
+}
+
+static bool contains_ignoring_case(const char *text, const char *part)
+{
+    size_t n = strlen(part);
+    for (; *text; ++text) {
+        size_t i = 0;
+        while (i < n && tolower((unsigned char)text[i]) == tolower((unsigned char)part[i]))
+            ++i;
+        if (i == n)
+            return true;
+    }
+    return false;
+}
+
+/* The first platform whose name or vendor contains `name`; PERMA_ERR_NO_DEVICE
+ * listing the platforms if there is none. */
+static perma_status find_platform(perma_runtime *rt, const cl_platform_id *platforms, cl_uint count,
+                                  const char *name, int *index)
+{
+    char list[PERMA_MESSAGE_MAX / 2] = "";
+    size_t used = 0;
+    for (cl_uint p = 0; p < count; ++p) {
+        char platform[128] = "", vendor[128] = "";
+        clGetPlatformInfo(platforms[p], CL_PLATFORM_NAME, sizeof platform - 1, platform, NULL);
+        clGetPlatformInfo(platforms[p], CL_PLATFORM_VENDOR, sizeof vendor - 1, vendor, NULL);
+        if (contains_ignoring_case(platform, name) || contains_ignoring_case(vendor, name)) {
+            *index = (int)p;
+            return PERMA_OK;
+        }
+        int n = snprintf(list + used, sizeof list - used, "%s%u '%s' (%s)", p ? ", " : "", (unsigned)p,
+                         platform, vendor);
+        if (n > 0 && (size_t)n < sizeof list - used)
+            used += (size_t)n;
+    }
+    return perma_set_error(rt, PERMA_ERR_NO_DEVICE,
+                           "no OpenCL platform's name or vendor contains '%s' (PERMA_DEVICE or config); "
+                           "the platforms are: %s", name, list);
 }
 
 /* Physical cores from hwloc; 0 if hwloc cannot tell. */
@@ -61,21 +130,30 @@ static void choose_work_groups(perma_runtime *rt, const char *device_name)
 
 perma_status perma_device_open(perma_runtime *rt)
 {
-    int platform_index = rt->config.platform_index;
-    int device_index = rt->config.device_index;
-    if (platform_index < 0 || device_index < 0) {
-        const char *env = getenv("PERMA_DEVICE");
-        int p = 0, d = 0;
-        if (env && *env) {
-            perma_status st = parse_device_env(rt, env, &p, &d);
-            if (st != PERMA_OK)
-                return st;
+    device_spec spec = { rt->config.platform_index, "", rt->config.device_index };
+    const char *env = getenv("PERMA_DEVICE");
+    if (spec.platform < 0 && rt->config.platform_name) {
+        if (!*rt->config.platform_name || strlen(rt->config.platform_name) >= sizeof spec.name)
+            return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.platform_name '%s' is empty or too long",
+                                   rt->config.platform_name);
+        snprintf(spec.name, sizeof spec.name, "%s", rt->config.platform_name);
+    } else if (env && *env && (spec.platform < 0 || spec.device < 0)) {
+        device_spec asked = { -1, "", 0 };
+        perma_status st = parse_device_spec(rt, env, &asked);
+        if (st != PERMA_OK)
+            return st;
+        if (spec.platform < 0) {
+            spec.platform = asked.platform;
+            memcpy(spec.name, asked.name, sizeof spec.name);
         }
-        if (platform_index < 0)
-            platform_index = p;
-        if (device_index < 0)
-            device_index = d;
+        if (spec.device < 0)
+            spec.device = asked.device;
     }
+    rt->config.platform_name = NULL; /* the caller's string is not kept */
+    if (spec.platform < 0 && !spec.name[0])
+        spec.platform = 0;
+    if (spec.device < 0)
+        spec.device = 0;
 
     cl_uint platform_count = 0;
     cl_int err = clGetPlatformIDs(0, NULL, &platform_count);
@@ -84,17 +162,23 @@ perma_status perma_device_open(perma_runtime *rt)
                                "no OpenCL platform found; install an OpenCL driver, e.g. "
                                "'apt-get install pocl-opencl-icd'");
     PERMA_CL_CHECK(rt, "clGetPlatformIDs", err);
-    if ((cl_uint)platform_index >= platform_count)
+    if (!spec.name[0] && (cl_uint)spec.platform >= platform_count)
         return perma_set_error(rt, PERMA_ERR_NO_DEVICE,
                                "OpenCL platform %d requested (PERMA_DEVICE or config), but only %u "
-                               "platform(s) exist", platform_index, (unsigned)platform_count);
+                               "platform(s) exist", spec.platform, (unsigned)platform_count);
     cl_platform_id *platforms = calloc(platform_count, sizeof *platforms);
     if (!platforms)
         return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory listing platforms");
     err = clGetPlatformIDs(platform_count, platforms, NULL);
-    rt->platform = platforms[platform_index];
+    perma_status found = err == CL_SUCCESS && spec.name[0]
+                         ? find_platform(rt, platforms, platform_count, spec.name, &spec.platform) : PERMA_OK;
+    if (err == CL_SUCCESS && found == PERMA_OK)
+        rt->platform = platforms[spec.platform];
     free(platforms);
     PERMA_CL_CHECK(rt, "clGetPlatformIDs", err);
+    if (found != PERMA_OK)
+        return found;
+    int platform_index = spec.platform, device_index = spec.device;
 
     cl_uint device_count = 0;
     err = clGetDeviceIDs(rt->platform, CL_DEVICE_TYPE_ALL, 0, NULL, &device_count);
@@ -102,9 +186,10 @@ perma_status perma_device_open(perma_runtime *rt)
         PERMA_CL_CHECK(rt, "clGetDeviceIDs", err);
     if ((cl_uint)device_index >= device_count)
         return perma_set_error(rt, PERMA_ERR_NO_DEVICE,
-                               "OpenCL device %d:%d requested (PERMA_DEVICE or config), but platform "
-                               "%d has %u device(s)", platform_index, device_index, platform_index,
-                               (unsigned)device_count);
+                               "OpenCL device %d:%d requested (PERMA_DEVICE or config%s%s%s), but platform "
+                               "%d has %u device(s)", platform_index, device_index,
+                               spec.name[0] ? "; platform '" : "", spec.name, spec.name[0] ? "'" : "",
+                               platform_index, (unsigned)device_count);
     cl_device_id *devices = calloc(device_count, sizeof *devices);
     if (!devices)
         return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory listing devices");
