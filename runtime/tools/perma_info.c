@@ -1,10 +1,13 @@
 /*
- * perma-info: the OpenCL platforms and devices perma can use, and for each
- * device the persistent work-group count the runtime would choose and why,
- * its local memory, atomics support and the driver (PoCL) version.
+ * perma-info: every OpenCL platform and device, whether perma (and the
+ * Reyes renderer, which needs 64-bit atomics) can run on it and why not,
+ * the persistent work-group count the runtime would choose and why, its
+ * local memory, atomics support and the driver version.  --check builds
+ * and runs a small tree on each device that can run perma.
  *
- *   perma-info [--json]
- * Exit codes: 0 ok, 1 no OpenCL platform or an OpenCL failure, 2 bad usage.
+ *   perma-info [--json] [--check]
+ * Exit codes: 0 ok, 1 no OpenCL platform, an OpenCL failure or a failed
+ * check, 2 bad usage.
  */
 #include <perma.h>
 
@@ -12,17 +15,41 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
+
+/* Work-items per group perma uses unless configured otherwise. */
+#define DEFAULT_GROUP_SIZE 64
 
 typedef struct device_info {
-    char platform[256], platform_version[256], name[256], version[256], driver[256];
+    char platform[256], platform_version[256], name[256], version[256], driver[256], c_version[256];
     char summary[PERMA_MESSAGE_MAX];
+    char why_not[PERMA_MESSAGE_MAX];       /* empty: perma can run */
+    char reyes_why_not[256];               /* empty: reyes-render can run */
+    char check[PERMA_MESSAGE_MAX + 16];    /* --check: what happened */
     const char *type;
     cl_uint compute_units;
     cl_ulong local_mem, global_mem, max_alloc;
     size_t max_group;
-    bool int32_atomics, int64_base, int64_extended;
+    bool available, compiler, int32_atomics, int64_base, int64_extended, checked, check_ok;
     perma_status runtime_status;
 } device_info;
+
+/* Append a reason to a "; "-separated list. */
+static void add_reason(char *list, size_t size, const char *reason)
+{
+    size_t used = strlen(list);
+    snprintf(list + used, size - used, "%s%s", used ? "; " : "", reason);
+}
+
+/* The OpenCL C version a device compiles, as major * 10 + minor (0 if
+ * unknown): "OpenCL C 1.2 ..." gives 12. */
+static int c_version(const char *text)
+{
+    int major = 0, minor = 0;
+    if (sscanf(text, "OpenCL C %d.%d", &major, &minor) != 2)
+        return 0;
+    return major * 10 + minor;
+}
 
 static void text(cl_device_id d, cl_device_info what, char *out, size_t size)
 {
@@ -56,6 +83,13 @@ static void describe(cl_platform_id platform, cl_device_id device, int p, int d,
     clGetDeviceInfo(device, CL_DEVICE_GLOBAL_MEM_SIZE, sizeof info->global_mem, &info->global_mem, NULL);
     clGetDeviceInfo(device, CL_DEVICE_MAX_MEM_ALLOC_SIZE, sizeof info->max_alloc, &info->max_alloc, NULL);
     clGetDeviceInfo(device, CL_DEVICE_MAX_WORK_GROUP_SIZE, sizeof info->max_group, &info->max_group, NULL);
+    text(device, CL_DEVICE_OPENCL_C_VERSION, info->c_version, sizeof info->c_version);
+    cl_bool flag = CL_FALSE;
+    clGetDeviceInfo(device, CL_DEVICE_AVAILABLE, sizeof flag, &flag, NULL);
+    info->available = flag == CL_TRUE;
+    flag = CL_FALSE;
+    clGetDeviceInfo(device, CL_DEVICE_COMPILER_AVAILABLE, sizeof flag, &flag, NULL);
+    info->compiler = flag == CL_TRUE;
     size_t size = 0;
     clGetDeviceInfo(device, CL_DEVICE_EXTENSIONS, 0, NULL, &size);
     char *extensions = calloc(1, size + 1);
@@ -81,6 +115,98 @@ static void describe(cl_platform_id platform, cl_device_id device, int p, int d,
     } else {
         snprintf(info->summary, sizeof info->summary, "%s", error.message);
     }
+
+    /* What perma needs: a device that compiles OpenCL C 1.2 (the generated
+     * program is built with -cl-std=CL1.2), 32-bit global and local
+     * atomics, groups of 64 work-items; the Reyes procedures also need
+     * 64-bit atomics (atom_min of depth and color per sample). */
+    char reason[320];
+    if (!info->available)
+        add_reason(info->why_not, sizeof info->why_not, "the device reports itself unavailable");
+    if (!info->compiler)
+        add_reason(info->why_not, sizeof info->why_not, "no OpenCL C compiler");
+    if (c_version(info->c_version) < 12) {
+        snprintf(reason, sizeof reason, "OpenCL C 1.2 needed, the device has '%s'", info->c_version);
+        add_reason(info->why_not, sizeof info->why_not, reason);
+    }
+    if (!info->int32_atomics)
+        add_reason(info->why_not, sizeof info->why_not,
+                   "no 32-bit global and local atomics (cl_khr_global/local_int32_base_atomics)");
+    if (info->max_group < DEFAULT_GROUP_SIZE) {
+        snprintf(reason, sizeof reason, "work-groups of at most %zu work-items (set config.group_size)",
+                 info->max_group);
+        add_reason(info->why_not, sizeof info->why_not, reason);
+    }
+    if (info->runtime_status != PERMA_OK)
+        add_reason(info->why_not, sizeof info->why_not, info->summary);
+    if (info->why_not[0])
+        snprintf(info->reyes_why_not, sizeof info->reyes_why_not, "perma cannot run");
+    else if (!info->int64_base || !info->int64_extended)
+        snprintf(info->reyes_why_not, sizeof info->reyes_why_not,
+                 "no 64-bit atomics (cl_khr_int64_base_atomics and cl_khr_int64_extended_atomics)");
+}
+
+static double now_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+/* --check: a binary tree of depth CHECK_DEPTH built by one procedure. */
+#define CHECK_DEPTH 12u
+static const char *const check_source =
+    "void split(perma_ctx *ctx, __local const uint *depth)\n"
+    "{\n"
+    "    if (*depth == 0) { atomic_inc(&ctx->buf.leaves[0]); return; }\n"
+    "    uint child = *depth - 1u;\n"
+    "    emit_split(ctx, &child);\n"
+    "    emit_split(ctx, &child);\n"
+    "}\n";
+
+static void run_check(int p, int d, device_info *info)
+{
+    info->checked = true;
+    perma_config config;
+    perma_config_init(&config);
+    config.platform_index = p;
+    config.device_index = d;
+    config.time_limit = 60;
+    perma_runtime *rt;
+    perma_error error;
+    if (perma_create(&config, &rt, &error) != PERMA_OK) {
+        snprintf(info->check, sizeof info->check, "failed: %s", error.message);
+        return;
+    }
+    perma_procedure split = { .name = "split", .item_type = "uint", .item_size = 4, .source = check_source,
+                              .function = "split", .emits = { { "split", 2 } } };
+    perma_proc id;
+    unsigned leaves = 0, root = CHECK_DEPTH;
+    perma_stats stats;
+    double start = now_seconds();
+    perma_status st = perma_register(rt, &split, &id);
+    if (st == PERMA_OK)
+        st = perma_bind_host(rt, "leaves", "__global uint *", &leaves, sizeof leaves, PERMA_READ_WRITE);
+    if (st == PERMA_OK)
+        st = perma_build(rt);
+    double built = now_seconds();
+    if (st == PERMA_OK)
+        st = perma_seed(rt, id, &root, 1);
+    if (st == PERMA_OK)
+        st = perma_run(rt);
+    if (st == PERMA_OK)
+        st = perma_get_stats(rt, &stats);
+    if (st != PERMA_OK) {
+        snprintf(info->check, sizeof info->check, "failed: %s", perma_errmsg(rt));
+    } else if (leaves != 1u << CHECK_DEPTH) {
+        snprintf(info->check, sizeof info->check, "failed: %u leaves of a depth-%u tree, expected %u", leaves,
+                 CHECK_DEPTH, 1u << CHECK_DEPTH);
+    } else {
+        info->check_ok = true;
+        snprintf(info->check, sizeof info->check, "ok: %u leaves of a depth-%u tree in %.3f s (build %.2f s)",
+                 leaves, CHECK_DEPTH, stats.seconds, built - start);
+    }
+    perma_destroy(rt);
 }
 
 static void json_string(const char *s)
@@ -108,7 +234,15 @@ static void print_text(const device_info *i, int p, int d)
            (unsigned long long)(i->max_alloc >> 20));
     printf("  atomics         32-bit global+local: %s, 64-bit base: %s, 64-bit extended (atom_min): %s\n",
            i->int32_atomics ? "yes" : "no", i->int64_base ? "yes" : "no", i->int64_extended ? "yes" : "no");
-    printf("  perma would use %s\n", i->summary);
+    if (i->why_not[0]) {
+        printf("  perma           cannot run: %s\n", i->why_not);
+    } else {
+        printf("  perma           can run; would use %s\n", i->summary);
+        printf("  reyes-render    %s%s\n", i->reyes_why_not[0] ? "cannot run: " : "can run",
+               i->reyes_why_not);
+    }
+    if (i->checked)
+        printf("  check           %s\n", i->check);
 }
 
 static void print_json(const device_info *i, int p, int d, bool first)
@@ -123,6 +257,16 @@ static void print_json(const device_info *i, int p, int d, bool first)
     json_string(i->version);
     printf(", \"driver_version\": ");
     json_string(i->driver);
+    printf(", \"opencl_c_version\": ");
+    json_string(i->c_version);
+    printf(", \"can_run\": %s, \"why_not\": ", i->why_not[0] ? "false" : "true");
+    json_string(i->why_not);
+    printf(", \"reyes_can_run\": %s, \"reyes_why_not\": ", i->why_not[0] || i->reyes_why_not[0] ? "false" : "true");
+    json_string(i->reyes_why_not);
+    if (i->checked) {
+        printf(", \"check_ok\": %s, \"check\": ", i->check_ok ? "true" : "false");
+        json_string(i->check);
+    }
     printf(", \"compute_units\": %u, \"max_work_group_size\": %zu, \"local_mem_bytes\": %llu, "
            "\"global_mem_bytes\": %llu, \"max_alloc_bytes\": %llu, \"int32_atomics\": %s, "
            "\"int64_base_atomics\": %s, \"int64_extended_atomics\": %s, \"runtime_ok\": %s, \"runtime\": ",
@@ -136,13 +280,17 @@ static void print_json(const device_info *i, int p, int d, bool first)
 
 int main(int argc, char **argv)
 {
-    bool json = false;
+    bool json = false, check = false;
     for (int i = 1; i < argc; ++i) {
         if (strcmp(argv[i], "--json") == 0) {
             json = true;
+        } else if (strcmp(argv[i], "--check") == 0) {
+            check = true;
         } else if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
-            printf("usage: perma-info [--json]\n"
-                   "Lists the OpenCL devices perma can use and how it would use them.\n");
+            printf("usage: perma-info [--json] [--check]\n"
+                   "Lists every OpenCL platform and device, whether perma and reyes-render can run on\n"
+                   "it (and why not) and how perma would use it.  --check also builds and runs a\n"
+                   "small tree on each device perma can run on (exit status 1 if one fails).\n");
             return 0;
         } else if (strcmp(argv[i], "--version") == 0) {
             printf("perma-info %s\n", PERMA_VERSION_STRING);
@@ -165,11 +313,18 @@ int main(int argc, char **argv)
     clGetPlatformIDs(platform_count, platforms, NULL);
     if (json)
         printf("{\"perma_version\": \"%s\", \"devices\": [\n", PERMA_VERSION_STRING);
-    bool first = true;
+    bool first = true, failed = false;
     for (cl_uint p = 0; p < platform_count; ++p) {
         cl_uint device_count = 0;
-        if (clGetDeviceIDs(platforms[p], CL_DEVICE_TYPE_ALL, 0, NULL, &device_count) != CL_SUCCESS)
+        cl_int err = clGetDeviceIDs(platforms[p], CL_DEVICE_TYPE_ALL, 0, NULL, &device_count);
+        if (err != CL_SUCCESS || device_count == 0) {
+            /* A platform without devices is listed too (on stderr with --json). */
+            char name[256] = "";
+            clGetPlatformInfo(platforms[p], CL_PLATFORM_NAME, sizeof name - 1, name, NULL);
+            fprintf(json ? stderr : stdout, "platform %u  %s: no devices (%s)\n", (unsigned)p, name,
+                    err == CL_SUCCESS || err == CL_DEVICE_NOT_FOUND ? "none reported" : "clGetDeviceIDs failed");
             continue;
+        }
         cl_device_id devices[64];
         if (device_count > 64)
             device_count = 64;
@@ -177,6 +332,10 @@ int main(int argc, char **argv)
         for (cl_uint d = 0; d < device_count; ++d) {
             device_info info;
             describe(platforms[p], devices[d], (int)p, (int)d, &info);
+            if (check && !info.why_not[0]) {
+                run_check((int)p, (int)d, &info);
+                failed |= !info.check_ok;
+            }
             if (json)
                 print_json(&info, (int)p, (int)d, first);
             else
@@ -186,5 +345,5 @@ int main(int argc, char **argv)
     }
     if (json)
         printf("\n]}\n");
-    return 0;
+    return failed ? 1 : 0;
 }
