@@ -1,6 +1,7 @@
 /* Launching the megakernel once, under the watchdog. */
 #include "internal.h"
 
+#include <pthread.h>
 #include <time.h>
 
 /* Seconds a kernel gets to notice the abort flag before we give up on it. */
@@ -71,6 +72,19 @@ static perma_status watch(perma_runtime *rt, cl_event done, double deadline)
     }
 }
 
+/* Intel's CPU runtime runs the groups of a launch on its own worker
+ * threads plus any host thread blocked in a wait for it; with as many
+ * workers as cores minus one, a host that polls (the watchdog) leaves a
+ * core idle and a launch's second group does not start before its first
+ * has left.  A helper thread blocked in clWaitForEvents lends the runtime
+ * that thread; other implementations just wake it at the end. */
+static void *lend_thread(void *event)
+{
+    clWaitForEvents(1, (cl_event *)&event);
+    clReleaseEvent((cl_event)event);
+    return NULL;
+}
+
 perma_status perma_launch_megakernel(perma_runtime *rt, double deadline, uint32_t *kernel_status)
 {
     cl_int err;
@@ -84,7 +98,17 @@ perma_status perma_launch_megakernel(perma_runtime *rt, double deadline, uint32_
     err = clEnqueueNDRangeKernel(rt->queue, rt->kernel, 1, NULL, &global, &local, 0, NULL, &done);
     PERMA_CL_CHECK(rt, "clEnqueueNDRangeKernel (megakernel)", err);
     clFlush(rt->queue);
+    pthread_t helper;
+    bool lent = clRetainEvent(done) == CL_SUCCESS;
+    if (lent && pthread_create(&helper, NULL, lend_thread, done) != 0) {
+        clReleaseEvent(done);
+        lent = false;
+    }
     st = watch(rt, done, deadline);
+    if (lent && !rt->hung)
+        pthread_join(helper, NULL);
+    else if (lent)
+        pthread_detach(helper); /* waits for a kernel that may never end */
     if (!rt->hung)
         clReleaseEvent(done);
     if (st != PERMA_OK)
