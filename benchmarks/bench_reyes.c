@@ -180,7 +180,7 @@ reyes_options reyes_bench_render_options(const reyes_bench_args *a, const bench_
     o.height = height;
     o.bound_px = a->bound_px;
     o.work_groups = options->groups;
-    reyes_options_set_schedule(&o, &v->schedule);
+    o.schedule = v->schedule;
     return o;
 }
 

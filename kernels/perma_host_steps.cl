@@ -11,8 +11,7 @@
  * from_tail = 0: the items left from the head (consumed: seq = pos + cap);
  * from_tail = 1: the items left from the tail (the positions are reused:
  * seq = pos).  The host moves HEAD or TAIL itself. */
-__kernel void perma_take_kernel(__global uint *ctl, __global uint *queue_data, __global uint *queue_seq,
-                                __global uint *input, uint qi, uint first, uint count, uint from_tail)
+__kernel void perma_take_kernel(PERMA_TAKE_ARGS(PERMA_ARG_PARAM))
 {
     uint i = get_global_id(0);
     if (i >= count)
@@ -29,9 +28,7 @@ __kernel void perma_take_kernel(__global uint *ctl, __global uint *queue_data, _
 }
 
 __kernel __attribute__((reqd_work_group_size(PERMA_GROUP_SIZE, 1, 1)))
-void perma_step_kernel(__global uint *ctl, __global uint *queue_data, __global uint *queue_seq,
-                       __global uint *group_stats, volatile __global uint *abort_flag,
-                       __global uint *trace, __global const uint *input, uint proc, uint count
+void perma_step_kernel(PERMA_COMMON_ARGS(PERMA_ARG_PARAM), PERMA_STEP_ARGS(PERMA_ARG_PARAM)
                        PERMA_BUFFER_PARAMS)
 {
     PERMA_GROUP_LOCALS(mem);

@@ -97,7 +97,7 @@ inline void perma_queue_wait_failed(__global uint *ctl, __global uint *queue, ui
                                     volatile __global uint *abort_flag)
 {
     if (*abort_flag) {
-        perma_fail(ctl, PERMA_KSTATUS_ABORTED, 0xffffffffu, 0);
+        perma_fail(ctl, PERMA_KSTATUS_ABORTED, PERMA_DETAIL_NONE, 0);
         return;
     }
     uint index = (uint)(queue - (ctl + PERMA_CTL_HEADER_WORDS)) / PERMA_QUEUE_WORDS;

@@ -218,7 +218,7 @@ inline void perma_schedule(__global uint *ctl, __global uint *queue_data, __glob
         if (perma_load(ctl + PERMA_CTL_EXIT))
             break;
         if (*abort_flag) {
-            perma_fail(ctl, PERMA_KSTATUS_ABORTED, 0xffffffffu, 0);
+            perma_fail(ctl, PERMA_KSTATUS_ABORTED, PERMA_DETAIL_NONE, 0);
             break;
         }
         if (perma_load_int(ctl + PERMA_CTL_OUTSTANDING) <= 0)
@@ -307,7 +307,7 @@ inline void perma_schedule(__global uint *ctl, __global uint *queue_data, __glob
          * items are outstanding, only bigger queues can help. */
         perma_set_blocked(group_words, epoch + 1u);
         if (perma_all_blocked(ctl, epoch) && perma_load_int(ctl + PERMA_CTL_OUTSTANDING) > 0) {
-            perma_fail(ctl, PERMA_KSTATUS_NEEDS_ROOM, 0xffffffffu, 0);
+            perma_fail(ctl, PERMA_KSTATUS_NEEDS_ROOM, PERMA_DETAIL_NONE, 0);
             break;
         }
         (void)found;
@@ -344,9 +344,7 @@ inline void perma_schedule(__global uint *ctl, __global uint *queue_data, __glob
                             perma_lq, perma_lq_count, perma_edge_keep }
 
 __kernel __attribute__((reqd_work_group_size(PERMA_GROUP_SIZE, 1, 1)))
-void perma_megakernel(__global uint *ctl, __global uint *queue_data, __global uint *queue_seq,
-                      __global uint *group_stats, volatile __global uint *abort_flag,
-                      __global uint *trace PERMA_BUFFER_PARAMS)
+void perma_megakernel(PERMA_COMMON_ARGS(PERMA_ARG_PARAM) PERMA_BUFFER_PARAMS)
 {
     PERMA_GROUP_LOCALS(mem);
     __local uint batch[PERMA_BATCH_WORDS];

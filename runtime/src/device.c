@@ -1,96 +1,29 @@
 /* Choosing the OpenCL device and the number of persistent work-groups. */
+#include "device_list.h"
 #include "internal.h"
 
-#include <ctype.h>
 #include <hwloc.h>
 #include <stdlib.h>
 #include <string.h>
 
-/* Which device PERMA_DEVICE (or the config) asks for: a platform by index
- * (platform >= 0) or by a substring of its name or vendor (name[0] != 0),
- * and a device index on it. */
-typedef struct device_spec {
-    int platform;
-    char name[64];
-    int device;
-} device_spec;
-
-/* Parse "P:D" (indices), "NAME" or "NAME:D" (NAME: letters, digits, spaces
- * and "()._-", not starting with a digit; D defaults to 0). */
-static perma_status parse_device_spec(perma_runtime *rt, const char *value, device_spec *out)
+/* Parse PERMA_DEVICE: a device list (device_list.h) of which the runtime
+ * takes the first device ("all": 0:0; "P:D/N": part 0; "NAME": device 0 of
+ * the platform the name matches, resolved by the caller). */
+static perma_status parse_device_env(perma_runtime *rt, const char *value, perma_device_entry *entry)
 {
-    device_spec spec = { -1, "", 0 };
-    const char *colon = strchr(value, ':');
-    size_t head = colon ? (size_t)(colon - value) : strlen(value);
-    char *end = NULL;
-    if (head == 0 || head >= sizeof spec.name)
-        goto bad;
-    if (value[0] >= '0' && value[0] <= '9') {
-        long p = strtol(value, &end, 10);
-        if (end != value + head || !colon || p > 1000000)
-            goto bad;
-        spec.platform = (int)p;
-    } else {
-        for (size_t i = 0; i < head; ++i) {
-            char c = value[i];
-            if (!((c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
-                  strchr(" ()._-", c)))
-                goto bad;
-        }
-        memcpy(spec.name, value, head);
-        spec.name[head] = '\0';
+    perma_device_entry first;
+    size_t bad_offset, bad_length;
+    if (!perma_device_list_first(value, &first, &bad_offset, &bad_length)) {
+        if (bad_length == strlen(value))
+            return perma_set_error(rt, PERMA_ERR_ARGUMENT, "PERMA_DEVICE='%s' is not of the form %s",
+                                   value, PERMA_DEVICE_FORMS);
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT, "PERMA_DEVICE='%s': entry '%.*s' is not of the "
+                               "form %s", value, (int)bad_length, value + bad_offset, PERMA_DEVICE_FORMS);
     }
-    if (colon) {
-        const char *second = colon + 1;
-        long d = strtol(second, &end, 10);
-        if (end == second || *end != '\0' || d < 0 || d > 1000000 || *second == '-' || *second == '+')
-            goto bad;
-        spec.device = (int)d;
-    }
-    *out = spec;
+    if (first.all)
+        first.platform = first.device = 0;
+    *entry = first;
     return PERMA_OK;
-bad:
-    return perma_set_error(rt, PERMA_ERR_ARGUMENT,
-                           "PERMA_DEVICE='%s' is not of the form platform:device (e.g. 0:0) or NAME[:device] "
-                           "(a platform's name or vendor, e.g. intel or pocl:0)", value);
-}
-
-static bool contains_ignoring_case(const char *text, const char *part)
-{
-    size_t n = strlen(part);
-    for (; *text; ++text) {
-        size_t i = 0;
-        while (i < n && tolower((unsigned char)text[i]) == tolower((unsigned char)part[i]))
-            ++i;
-        if (i == n)
-            return true;
-    }
-    return false;
-}
-
-/* The first platform whose name or vendor contains `name`; PERMA_ERR_NO_DEVICE
- * listing the platforms if there is none. */
-static perma_status find_platform(perma_runtime *rt, const cl_platform_id *platforms, cl_uint count,
-                                  const char *name, int *index)
-{
-    char list[PERMA_MESSAGE_MAX / 2] = "";
-    size_t used = 0;
-    for (cl_uint p = 0; p < count; ++p) {
-        char platform[128] = "", vendor[128] = "";
-        clGetPlatformInfo(platforms[p], CL_PLATFORM_NAME, sizeof platform - 1, platform, NULL);
-        clGetPlatformInfo(platforms[p], CL_PLATFORM_VENDOR, sizeof vendor - 1, vendor, NULL);
-        if (contains_ignoring_case(platform, name) || contains_ignoring_case(vendor, name)) {
-            *index = (int)p;
-            return PERMA_OK;
-        }
-        int n = snprintf(list + used, sizeof list - used, "%s%u '%s' (%s)", p ? ", " : "", (unsigned)p,
-                         platform, vendor);
-        if (n > 0 && (size_t)n < sizeof list - used)
-            used += (size_t)n;
-    }
-    return perma_set_error(rt, PERMA_ERR_NO_DEVICE,
-                           "no OpenCL platform's name or vendor contains '%s' (PERMA_DEVICE or config); "
-                           "the platforms are: %s", name, list);
 }
 
 /* Physical cores from hwloc; 0 if hwloc cannot tell. */
@@ -130,30 +63,39 @@ static void choose_work_groups(perma_runtime *rt, const char *device_name)
 
 perma_status perma_device_open(perma_runtime *rt)
 {
-    device_spec spec = { rt->config.platform_index, "", rt->config.device_index };
-    const char *env = getenv("PERMA_DEVICE");
-    if (spec.platform < 0 && rt->config.platform_name) {
-        if (!*rt->config.platform_name || strlen(rt->config.platform_name) >= sizeof spec.name)
-            return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.platform_name '%s' is empty or too long",
+    int platform_index = rt->config.platform_index;
+    int device_index = rt->config.device_index;
+    unsigned parts = rt->config.sub_devices, part = rt->config.sub_device;
+    /* A platform by name: the config's, else PERMA_DEVICE's ("" : by index). */
+    char platform_name[sizeof ((perma_device_entry *)0)->name] = "";
+    if (platform_index < 0 && rt->config.platform_name) {
+        if (!perma_platform_name_valid(rt->config.platform_name, strlen(rt->config.platform_name)))
+            return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.platform_name '%s' is not a platform name "
+                                   "(letters, digits, spaces and \"()._-\", starting with a letter)",
                                    rt->config.platform_name);
-        snprintf(spec.name, sizeof spec.name, "%s", rt->config.platform_name);
-    } else if (env && *env && (spec.platform < 0 || spec.device < 0)) {
-        device_spec asked = { -1, "", 0 };
-        perma_status st = parse_device_spec(rt, env, &asked);
-        if (st != PERMA_OK)
-            return st;
-        if (spec.platform < 0) {
-            spec.platform = asked.platform;
-            memcpy(spec.name, asked.name, sizeof spec.name);
+        snprintf(platform_name, sizeof platform_name, "%s", rt->config.platform_name);
+    } else if (platform_index < 0 || device_index < 0) {
+        const char *env = getenv("PERMA_DEVICE");
+        perma_device_entry entry = { .part = -1 };
+        if (env && *env) {
+            perma_status st = parse_device_env(rt, env, &entry);
+            if (st != PERMA_OK)
+                return st;
         }
-        if (spec.device < 0)
-            spec.device = asked.device;
+        if (platform_index < 0) {
+            platform_index = entry.platform;
+            memcpy(platform_name, entry.name, sizeof platform_name);
+        }
+        if (device_index < 0)
+            device_index = entry.device;
+        if (parts < 2) {
+            parts = entry.parts;
+            part = entry.part < 0 ? 0 : (unsigned)entry.part;
+        }
     }
     rt->config.platform_name = NULL; /* the caller's string is not kept */
-    if (spec.platform < 0 && !spec.name[0])
-        spec.platform = 0;
-    if (spec.device < 0)
-        spec.device = 0;
+    if (device_index < 0)
+        device_index = 0;
 
     cl_uint platform_count = 0;
     cl_int err = clGetPlatformIDs(0, NULL, &platform_count);
@@ -162,23 +104,24 @@ perma_status perma_device_open(perma_runtime *rt)
                                "no OpenCL platform found; install an OpenCL driver, e.g. "
                                "'apt-get install pocl-opencl-icd'");
     PERMA_CL_CHECK(rt, "clGetPlatformIDs", err);
-    if (!spec.name[0] && (cl_uint)spec.platform >= platform_count)
+    if (!platform_name[0] && (cl_uint)platform_index >= platform_count)
         return perma_set_error(rt, PERMA_ERR_NO_DEVICE,
                                "OpenCL platform %d requested (PERMA_DEVICE or config), but only %u "
-                               "platform(s) exist", spec.platform, (unsigned)platform_count);
+                               "platform(s) exist", platform_index, (unsigned)platform_count);
     cl_platform_id *platforms = calloc(platform_count, sizeof *platforms);
     if (!platforms)
         return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory listing platforms");
     err = clGetPlatformIDs(platform_count, platforms, NULL);
-    perma_status found = err == CL_SUCCESS && spec.name[0]
-                         ? find_platform(rt, platforms, platform_count, spec.name, &spec.platform) : PERMA_OK;
-    if (err == CL_SUCCESS && found == PERMA_OK)
-        rt->platform = platforms[spec.platform];
+    char listing[PERMA_MESSAGE_MAX / 2];
+    if (err == CL_SUCCESS && platform_name[0])
+        platform_index = perma_platform_find(platforms, platform_count, platform_name, listing, sizeof listing);
+    if (err == CL_SUCCESS && platform_index >= 0)
+        rt->platform = platforms[platform_index];
     free(platforms);
     PERMA_CL_CHECK(rt, "clGetPlatformIDs", err);
-    if (found != PERMA_OK)
-        return found;
-    int platform_index = spec.platform, device_index = spec.device;
+    if (platform_index < 0)
+        return perma_set_error(rt, PERMA_ERR_NO_DEVICE, "no OpenCL platform's name or vendor contains '%s' "
+                               "(PERMA_DEVICE or config); the platforms are: %s", platform_name, listing);
 
     cl_uint device_count = 0;
     err = clGetDeviceIDs(rt->platform, CL_DEVICE_TYPE_ALL, 0, NULL, &device_count);
@@ -188,8 +131,8 @@ perma_status perma_device_open(perma_runtime *rt)
         return perma_set_error(rt, PERMA_ERR_NO_DEVICE,
                                "OpenCL device %d:%d requested (PERMA_DEVICE or config%s%s%s), but platform "
                                "%d has %u device(s)", platform_index, device_index,
-                               spec.name[0] ? "; platform '" : "", spec.name, spec.name[0] ? "'" : "",
-                               platform_index, (unsigned)device_count);
+                               platform_name[0] ? "; platform '" : "", platform_name,
+                               platform_name[0] ? "'" : "", platform_index, (unsigned)device_count);
     cl_device_id *devices = calloc(device_count, sizeof *devices);
     if (!devices)
         return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory listing devices");
@@ -197,6 +140,11 @@ perma_status perma_device_open(perma_runtime *rt)
     rt->device = devices[device_index];
     free(devices);
     PERMA_CL_CHECK(rt, "clGetDeviceIDs", err);
+    if (parts >= 2) {
+        perma_status st = perma_open_sub_device(rt, platform_index, device_index, parts, part);
+        if (st != PERMA_OK)
+            return st;
+    }
 
     cl_device_type type = 0;
     cl_ulong local_mem = 0;
@@ -216,6 +164,10 @@ perma_status perma_device_open(perma_runtime *rt)
                    clGetDeviceInfo(rt->device, CL_DEVICE_MAX_WORK_GROUP_SIZE, sizeof max_group, &max_group, NULL));
     PERMA_CL_CHECK(rt, "clGetDeviceInfo(CL_DEVICE_NAME)",
                    clGetDeviceInfo(rt->device, CL_DEVICE_NAME, sizeof name - 1, name, NULL));
+    if (parts >= 2) {
+        size_t used = strlen(name);
+        snprintf(name + used, sizeof name - used, " (sub-device %u of %u)", part, parts);
+    }
     rt->device_is_cpu = (type & CL_DEVICE_TYPE_CPU) != 0;
     rt->local_mem_size = (size_t)local_mem;
     if (rt->group_size > max_group)

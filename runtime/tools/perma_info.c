@@ -2,12 +2,16 @@
  * perma-info: every OpenCL platform and device, whether perma (and the
  * Reyes renderer, which needs 64-bit atomics) can run on it and why not,
  * the persistent work-group count the runtime would choose and why, its
- * local memory, atomics support and the driver version.  --check builds
- * and runs a small tree on each device that can run perma.
+ * local memory, atomics support, how it splits into equal sub-devices and
+ * the driver version.  --check builds and runs a small tree on each device
+ * that can run perma.
  *
- *   perma-info [--json] [--check]
- * Exit codes: 0 ok, 1 no OpenCL platform, an OpenCL failure or a failed
- * check, 2 bad usage.
+ *   perma-info [--json] [--devices LIST] [--check]
+ * LIST is a device list (perma_device_list: "0:0,1:0", "intel", "0:0/2",
+ * "all"); the default is every device, and then platforms without devices
+ * are listed too.
+ * Exit codes: 0 ok, 1 no OpenCL platform, a bad device list, an OpenCL
+ * failure or a failed check, 2 bad usage.
  */
 #include <perma.h>
 
@@ -21,6 +25,7 @@
 #define DEFAULT_GROUP_SIZE 64
 
 typedef struct device_info {
+    char label[64];  /* "P:D" or "P:D/N.K" */
     char platform[256], platform_version[256], name[256], version[256], driver[256], c_version[256];
     char summary[PERMA_MESSAGE_MAX];
     char why_not[PERMA_MESSAGE_MAX];       /* empty: perma can run */
@@ -30,6 +35,7 @@ typedef struct device_info {
     cl_uint compute_units;
     cl_ulong local_mem, global_mem, max_alloc;
     size_t max_group;
+    cl_uint max_sub_devices;  /* 0: no equal partitions */
     bool available, compiler, int32_atomics, int64_base, int64_extended, checked, check_ok;
     perma_status runtime_status;
 } device_info;
@@ -66,9 +72,50 @@ static bool has_extension(const char *extensions, const char *name)
     return false;
 }
 
-static void describe(cl_platform_id platform, cl_device_id device, int p, int d, device_info *info)
+/* Most equal sub-devices the device splits into; 0 if it does not. */
+static cl_uint equal_partitions(cl_device_id device)
+{
+    cl_device_partition_property props[16];
+    size_t size = 0;
+    cl_uint most = 0;
+    if (clGetDeviceInfo(device, CL_DEVICE_PARTITION_PROPERTIES, sizeof props, props, &size) != CL_SUCCESS)
+        return 0;
+    for (size_t i = 0; i < size / sizeof props[0]; ++i)
+        if (props[i] == CL_DEVICE_PARTITION_EQUALLY
+            && clGetDeviceInfo(device, CL_DEVICE_PARTITION_MAX_SUB_DEVICES, sizeof most, &most, NULL)
+                   == CL_SUCCESS)
+            return most;
+    return 0;
+}
+
+/* The device the list names: a whole device, or (through a runtime on it)
+ * the sub-device the runtime made. */
+static void describe(const perma_device_ref *ref, device_info *info)
 {
     memset(info, 0, sizeof *info);
+    perma_device_ref_format(ref, info->label, sizeof info->label);
+    cl_platform_id platforms[64];
+    cl_device_id devices[64];
+    cl_uint count = 0;
+    clGetPlatformIDs(64, platforms, NULL);
+    cl_platform_id platform = platforms[ref->platform_index];
+    clGetDeviceIDs(platform, CL_DEVICE_TYPE_ALL, 64, devices, &count);
+    cl_device_id device = devices[ref->device_index];
+
+    /* What the runtime itself would choose on this device. */
+    perma_config config;
+    perma_config_init(&config);
+    perma_config_set_device(&config, ref);
+    perma_runtime *rt;
+    perma_error error;
+    info->runtime_status = perma_create(&config, &rt, &error);
+    if (info->runtime_status == PERMA_OK) {
+        snprintf(info->summary, sizeof info->summary, "%s", perma_device_summary(rt));
+        device = perma_cl_device(rt);
+    } else {
+        snprintf(info->summary, sizeof info->summary, "%s", error.message);
+    }
+
     clGetPlatformInfo(platform, CL_PLATFORM_NAME, sizeof info->platform - 1, info->platform, NULL);
     clGetPlatformInfo(platform, CL_PLATFORM_VERSION, sizeof info->platform_version - 1, info->platform_version, NULL);
     text(device, CL_DEVICE_NAME, info->name, sizeof info->name);
@@ -83,6 +130,7 @@ static void describe(cl_platform_id platform, cl_device_id device, int p, int d,
     clGetDeviceInfo(device, CL_DEVICE_GLOBAL_MEM_SIZE, sizeof info->global_mem, &info->global_mem, NULL);
     clGetDeviceInfo(device, CL_DEVICE_MAX_MEM_ALLOC_SIZE, sizeof info->max_alloc, &info->max_alloc, NULL);
     clGetDeviceInfo(device, CL_DEVICE_MAX_WORK_GROUP_SIZE, sizeof info->max_group, &info->max_group, NULL);
+    info->max_sub_devices = ref->sub_devices >= 2 ? 0 : equal_partitions(device);
     text(device, CL_DEVICE_OPENCL_C_VERSION, info->c_version, sizeof info->c_version);
     cl_bool flag = CL_FALSE;
     clGetDeviceInfo(device, CL_DEVICE_AVAILABLE, sizeof flag, &flag, NULL);
@@ -101,20 +149,8 @@ static void describe(cl_platform_id platform, cl_device_id device, int p, int d,
         info->int64_extended = has_extension(extensions, "cl_khr_int64_extended_atomics");
         free(extensions);
     }
-    /* What the runtime itself would choose on this device. */
-    perma_config config;
-    perma_config_init(&config);
-    config.platform_index = p;
-    config.device_index = d;
-    perma_runtime *rt;
-    perma_error error;
-    info->runtime_status = perma_create(&config, &rt, &error);
-    if (info->runtime_status == PERMA_OK) {
-        snprintf(info->summary, sizeof info->summary, "%s", perma_device_summary(rt));
+    if (info->runtime_status == PERMA_OK)
         perma_destroy(rt);
-    } else {
-        snprintf(info->summary, sizeof info->summary, "%s", error.message);
-    }
 
     /* What perma needs: a device that compiles OpenCL C 1.2 (the generated
      * program is built with -cl-std=CL1.2), 32-bit global and local
@@ -164,13 +200,12 @@ static const char *const check_source =
     "    emit_split(ctx, &child);\n"
     "}\n";
 
-static void run_check(int p, int d, device_info *info)
+static void run_check(const perma_device_ref *ref, device_info *info)
 {
     info->checked = true;
     perma_config config;
     perma_config_init(&config);
-    config.platform_index = p;
-    config.device_index = d;
+    perma_config_set_device(&config, ref);
     config.time_limit = 60;
     perma_runtime *rt;
     perma_error error;
@@ -209,6 +244,26 @@ static void run_check(int p, int d, device_info *info)
     perma_destroy(rt);
 }
 
+/* With the default list, platforms that report no device (they are not in
+ * the list) are named too (on stderr with --json). */
+static void list_platforms_without_devices(bool json)
+{
+    cl_platform_id platforms[64];
+    cl_uint count = 0;
+    if (clGetPlatformIDs(64, platforms, &count) != CL_SUCCESS)
+        return;
+    for (cl_uint p = 0; p < count && p < 64; ++p) {
+        cl_uint devices = 0;
+        cl_int err = clGetDeviceIDs(platforms[p], CL_DEVICE_TYPE_ALL, 0, NULL, &devices);
+        if (err == CL_SUCCESS && devices > 0)
+            continue;
+        char name[256] = "";
+        clGetPlatformInfo(platforms[p], CL_PLATFORM_NAME, sizeof name - 1, name, NULL);
+        fprintf(json ? stderr : stdout, "platform %u  %s: no devices (%s)\n", (unsigned)p, name,
+                err == CL_SUCCESS || err == CL_DEVICE_NOT_FOUND ? "none reported" : "clGetDeviceIDs failed");
+    }
+}
+
 static void json_string(const char *s)
 {
     putchar('"');
@@ -223,9 +278,9 @@ static void json_string(const char *s)
     putchar('"');
 }
 
-static void print_text(const device_info *i, int p, int d)
+static void print_text(const device_info *i)
 {
-    printf("device %d:%d  %s (%s)\n", p, d, i->name, i->type);
+    printf("device %s  %s (%s)\n", i->label, i->name, i->type);
     printf("  platform        %s, %s\n", i->platform, i->platform_version);
     printf("  device version  %s, driver %s\n", i->version, i->driver);
     printf("  compute units   %u, max work-group size %zu\n", (unsigned)i->compute_units, i->max_group);
@@ -234,6 +289,11 @@ static void print_text(const device_info *i, int p, int d)
            (unsigned long long)(i->max_alloc >> 20));
     printf("  atomics         32-bit global+local: %s, 64-bit base: %s, 64-bit extended (atom_min): %s\n",
            i->int32_atomics ? "yes" : "no", i->int64_base ? "yes" : "no", i->int64_extended ? "yes" : "no");
+    if (i->max_sub_devices >= 2)
+        printf("  sub-devices     equal parts, 2..%u (PERMA_DEVICE=%s/2 lists 2 of them)\n",
+               (unsigned)i->max_sub_devices, i->label);
+    else
+        printf("  sub-devices     %s\n", strchr(i->label, '/') ? "this is one" : "no equal partitions");
     if (i->why_not[0]) {
         printf("  perma           cannot run: %s\n", i->why_not);
     } else {
@@ -245,9 +305,12 @@ static void print_text(const device_info *i, int p, int d)
         printf("  check           %s\n", i->check);
 }
 
-static void print_json(const device_info *i, int p, int d, bool first)
+static void print_json(const device_info *i, const perma_device_ref *ref, bool first)
 {
-    printf("%s    {\"platform_index\": %d, \"device_index\": %d, \"name\": ", first ? "" : ",\n", p, d);
+    printf("%s    {\"device\": \"%s\", \"platform_index\": %d, \"device_index\": %d, "
+           "\"sub_devices\": %u, \"sub_device\": %u, \"max_sub_devices\": %u, \"name\": ",
+           first ? "" : ",\n", i->label, ref->platform_index, ref->device_index, ref->sub_devices,
+           ref->sub_device, (unsigned)i->max_sub_devices);
     json_string(i->name);
     printf(", \"type\": \"%s\", \"platform\": ", i->type);
     json_string(i->platform);
@@ -261,7 +324,8 @@ static void print_json(const device_info *i, int p, int d, bool first)
     json_string(i->c_version);
     printf(", \"can_run\": %s, \"why_not\": ", i->why_not[0] ? "false" : "true");
     json_string(i->why_not);
-    printf(", \"reyes_can_run\": %s, \"reyes_why_not\": ", i->why_not[0] || i->reyes_why_not[0] ? "false" : "true");
+    printf(", \"reyes_can_run\": %s, \"reyes_why_not\": ",
+           i->why_not[0] || i->reyes_why_not[0] ? "false" : "true");
     json_string(i->reyes_why_not);
     if (i->checked) {
         printf(", \"check_ok\": %s, \"check\": ", i->check_ok ? "true" : "false");
@@ -281,67 +345,55 @@ static void print_json(const device_info *i, int p, int d, bool first)
 int main(int argc, char **argv)
 {
     bool json = false, check = false;
+    const char *list = "all";
     for (int i = 1; i < argc; ++i) {
         if (strcmp(argv[i], "--json") == 0) {
             json = true;
         } else if (strcmp(argv[i], "--check") == 0) {
             check = true;
+        } else if (strcmp(argv[i], "--devices") == 0 && i + 1 < argc) {
+            list = argv[++i];
         } else if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
-            printf("usage: perma-info [--json] [--check]\n"
+            printf("usage: perma-info [--json] [--devices LIST] [--check]\n"
                    "Lists every OpenCL platform and device, whether perma and reyes-render can run on\n"
                    "it (and why not) and how perma would use it.  --check also builds and runs a\n"
-                   "small tree on each device perma can run on (exit status 1 if one fails).\n");
+                   "small tree on each device perma can run on (exit status 1 if one fails).\n"
+                   "LIST: comma-separated P:D (a device), NAME[:D] (device D, default 0, of the\n"
+                   "platform whose name or vendor contains NAME: intel, pocl), P:D/N (it split into\n"
+                   "N equal sub-devices), P:D/N.K (the K-th of them) or 'all' (the default).\n");
             return 0;
         } else if (strcmp(argv[i], "--version") == 0) {
             printf("perma-info %s\n", PERMA_VERSION_STRING);
             return 0;
         } else {
-            fprintf(stderr, "perma-info: unknown option '%s' (try --help)\n", argv[i]);
+            fprintf(stderr, "perma-info: %s '%s' (try --help)\n",
+                    strcmp(argv[i], "--devices") == 0 ? "missing the list after" : "unknown option", argv[i]);
             return 2;
         }
     }
-    cl_uint platform_count = 0;
-    cl_int err = clGetPlatformIDs(0, NULL, &platform_count);
-    if (err != CL_SUCCESS || platform_count == 0) {
-        fprintf(stderr, "perma-info: no OpenCL platform found; install an OpenCL driver, e.g. "
-                        "'apt-get install pocl-opencl-icd'\n");
+    perma_device_ref refs[PERMA_MAX_DEVICES];
+    unsigned count = 0;
+    perma_error error;
+    if (perma_device_list(list, refs, PERMA_MAX_DEVICES, &count, &error) != PERMA_OK) {
+        fprintf(stderr, "perma-info: %s\n", error.message);
         return 1;
     }
-    cl_platform_id platforms[64];
-    if (platform_count > 64)
-        platform_count = 64;
-    clGetPlatformIDs(platform_count, platforms, NULL);
+    if (strcmp(list, "all") == 0)
+        list_platforms_without_devices(json);
     if (json)
         printf("{\"perma_version\": \"%s\", \"devices\": [\n", PERMA_VERSION_STRING);
-    bool first = true, failed = false;
-    for (cl_uint p = 0; p < platform_count; ++p) {
-        cl_uint device_count = 0;
-        cl_int err = clGetDeviceIDs(platforms[p], CL_DEVICE_TYPE_ALL, 0, NULL, &device_count);
-        if (err != CL_SUCCESS || device_count == 0) {
-            /* A platform without devices is listed too (on stderr with --json). */
-            char name[256] = "";
-            clGetPlatformInfo(platforms[p], CL_PLATFORM_NAME, sizeof name - 1, name, NULL);
-            fprintf(json ? stderr : stdout, "platform %u  %s: no devices (%s)\n", (unsigned)p, name,
-                    err == CL_SUCCESS || err == CL_DEVICE_NOT_FOUND ? "none reported" : "clGetDeviceIDs failed");
-            continue;
+    bool failed = false;
+    for (unsigned k = 0; k < count; ++k) {
+        device_info info;
+        describe(&refs[k], &info);
+        if (check && !info.why_not[0]) {
+            run_check(&refs[k], &info);
+            failed |= !info.check_ok;
         }
-        cl_device_id devices[64];
-        if (device_count > 64)
-            device_count = 64;
-        clGetDeviceIDs(platforms[p], CL_DEVICE_TYPE_ALL, device_count, devices, NULL);
-        for (cl_uint d = 0; d < device_count; ++d) {
-            device_info info;
-            describe(platforms[p], devices[d], (int)p, (int)d, &info);
-            if (check && !info.why_not[0]) {
-                run_check((int)p, (int)d, &info);
-                failed |= !info.check_ok;
-            }
-            if (json)
-                print_json(&info, (int)p, (int)d, first);
-            else
-                print_text(&info, (int)p, (int)d);
-            first = false;
-        }
+        if (json)
+            print_json(&info, &refs[k], k == 0);
+        else
+            print_text(&info);
     }
     if (json)
         printf("\n]}\n");

@@ -29,7 +29,7 @@ static perma_runtime *schedule_runtime(const char *label, unsigned work_groups, 
     ck_assert_msg(perma_schedule_parse(label, &schedule, &error) == PERMA_OK, "%s", error.message);
     perma_config config;
     perma_config_init(&config);
-    perma_schedule_apply(&schedule, &config);
+    config.schedule = schedule;
     config.work_groups = work_groups;
     config.queue_capacity = capacity;
     config.group_size = group_size;

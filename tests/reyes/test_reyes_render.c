@@ -83,11 +83,7 @@ END_TEST
 START_TEST(test_sphere_area_and_no_holes)
 {
     reyes_scene scene;
-    reyes_error error;
-    reyes_scene_init(&scene);
-    const float center[3] = {0, 0, 0};
-    ck_assert_int_eq(reyes_scene_add_sphere(&scene, center, 1.0f, REYES_RGBA(200, 200, 200), &error),
-                     REYES_OK);
+    reyes_test_sphere_scene(&scene);
     reyes_options o;
     small_options(&o, 160, 160);
     const float distance = 5.0f, fov = 35.0f;
@@ -114,13 +110,10 @@ END_TEST
 START_TEST(test_builtin_no_holes)
 {
     reyes_scene scene;
-    reyes_error error;
     reyes_camera camera;
-    reyes_scene_init(&scene);
-    ck_assert_int_eq(reyes_scene_add_builtin(&scene, &error), REYES_OK);
+    reyes_test_builtin_scene(&scene, &camera, 192, 144);
     reyes_options o;
     small_options(&o, 192, 144);
-    ck_assert_int_eq(reyes_camera_frame(&scene, 40.0f, 192.0f / 144.0f, &camera, &error), REYES_OK);
     reyes_image image;
     reyes_stats stats;
     reyes_test_render(reyes_test_renderer(0), &scene, &camera, &o, &image, &stats);
@@ -143,13 +136,10 @@ END_TEST
 START_TEST(test_groups_identical)
 {
     reyes_scene scene;
-    reyes_error error;
     reyes_camera camera;
-    reyes_scene_init(&scene);
-    ck_assert_int_eq(reyes_scene_add_builtin(&scene, &error), REYES_OK);
+    reyes_test_builtin_scene(&scene, &camera, 128, 96);
     reyes_options o;
     small_options(&o, 128, 96);
-    ck_assert_int_eq(reyes_camera_frame(&scene, 40.0f, 128.0f / 96.0f, &camera, &error), REYES_OK);
     reyes_image one, two;
     reyes_stats stats_one, stats_two;
     o.work_groups = 1;
@@ -158,12 +148,8 @@ START_TEST(test_groups_identical)
     reyes_test_render(reyes_test_renderer(2), &scene, &camera, &o, &two, &stats_two);
     ck_assert_uint_eq(stats_one.run.work_groups, 1);
     ck_assert_uint_eq(stats_two.run.work_groups, 2);
-    ck_assert_mem_eq(one.rgb, two.rgb, (size_t)128 * 96 * 3);
-    ck_assert_mem_eq(one.coverage, two.coverage, (size_t)128 * 96);
-    ck_assert_uint_eq(stats_one.splits, stats_two.splits);
-    ck_assert_uint_eq(stats_one.grids, stats_two.grids);
-    ck_assert_uint_eq(stats_one.micropolygons, stats_two.micropolygons);
-    ck_assert_uint_eq(stats_one.samples_written, stats_two.samples_written);
+    reyes_test_expect_same_image(&one, &two, "2 groups");
+    reyes_test_expect_same_counts(&stats_one, &stats_two, "2 groups");
     reyes_image_free(&one);
     reyes_image_free(&two);
     reyes_scene_free(&scene);
@@ -176,11 +162,7 @@ END_TEST
 START_TEST(test_camera_inside_and_behind)
 {
     reyes_scene scene;
-    reyes_error error;
-    reyes_scene_init(&scene);
-    const float center[3] = {0, 0, 0};
-    ck_assert_int_eq(reyes_scene_add_sphere(&scene, center, 1.0f, REYES_RGBA(200, 200, 200), &error),
-                     REYES_OK);
+    reyes_test_sphere_scene(&scene);
     reyes_options o;
     small_options(&o, 64, 64);
     reyes_image image;
@@ -207,13 +189,10 @@ END_TEST
 START_TEST(test_options_match_reference)
 {
     reyes_scene scene;
-    reyes_error error;
     reyes_camera camera;
-    reyes_scene_init(&scene);
-    ck_assert_int_eq(reyes_scene_add_builtin(&scene, &error), REYES_OK);
+    reyes_test_builtin_scene(&scene, &camera, 96, 64);
     reyes_options o;
     small_options(&o, 96, 64);
-    ck_assert_int_eq(reyes_camera_frame(&scene, 40.0f, 96.0f / 64.0f, &camera, &error), REYES_OK);
     o.backface_cull = 1;
     o.bound_px = 3.0f;
     o.max_depth = 4;
@@ -237,11 +216,9 @@ START_TEST(test_stages)
     reyes_scene scene;
     reyes_error error;
     reyes_camera camera;
-    reyes_scene_init(&scene);
-    ck_assert_int_eq(reyes_scene_add_builtin(&scene, &error), REYES_OK);
+    reyes_test_builtin_scene(&scene, &camera, 128, 96);
     reyes_options o;
     small_options(&o, 128, 96);
-    ck_assert_int_eq(reyes_camera_frame(&scene, 40.0f, 128.0f / 96.0f, &camera, &error), REYES_OK);
     reyes_image image;
     reyes_stats all, geometry, subdivide;
     reyes_test_render(reyes_test_renderer(0), &scene, &camera, &o, &image, &all);

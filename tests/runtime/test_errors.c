@@ -120,7 +120,9 @@ START_TEST(item_size_mismatch_is_a_build_error)
     perma_proc id;
     ck_assert_perma_ok(rt, perma_register(rt, &p, &id));
     ck_assert_int_eq(perma_build(rt), PERMA_ERR_BUILD);
-    ck_assert_contains(perma_errmsg(rt), "perma_item_size_of_noop_must_equal_sizeof_its_item_type_4");
+    /* Both sizes, the host's and the device's, in a sentence. */
+    ck_assert_contains(perma_errmsg(rt), "procedure 'noop': item_size is 4 bytes, but sizeof(uint2) is 8 bytes "
+                                         "on the device");
     perma_destroy(rt);
 }
 END_TEST
@@ -395,7 +397,7 @@ START_TEST(bounded_wait_names_queue_and_position)
     for (unsigned c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
         perma_config config;
         perma_config_init(&config);
-        config.technique = cases[c].technique;
+        config.schedule.technique = cases[c].technique;
         config.build_options = "-DPERMA_SPIN_LIMIT=0ul";
         perma_runtime *rt = test_runtime_config(&config);
         perma_procedure producer = {

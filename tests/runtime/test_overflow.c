@@ -87,8 +87,8 @@ START_TEST(memory_cap_is_a_clear_error)
 
     /* The same cap is enough for bounded batches: a stack of batches. */
     perma_destroy(rt);
-    config.technique = PERMA_TECHNIQUE_BOUNDED_BATCHES;
-    config.batch_limit = 64;
+    config.schedule.technique = PERMA_TECHNIQUE_BOUNDED_BATCHES;
+    config.schedule.batch_limit = 64;
     ck_assert_msg(perma_create(&config, &rt, &error) == PERMA_OK, "%s", error.message);
     id = add_tree(rt, counts, sums);
     ck_assert_perma_ok(rt, perma_seed(rt, id, &root, 1));
@@ -134,8 +134,8 @@ START_TEST(bounded_batches_bound_memory)
     for (int k = 0; k < 2; ++k) {
         perma_config config;
         perma_config_init(&config);
-        config.technique = techniques[k];
-        config.batch_limit = LIMIT;
+        config.schedule.technique = techniques[k];
+        config.schedule.batch_limit = LIMIT;
         config.queue_capacity = 16;
         perma_runtime *rt;
         perma_error error;

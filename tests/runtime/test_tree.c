@@ -16,7 +16,8 @@ static const struct {
 
 /* Per-group counters add up, and with one root (seeded into group 0's queue
  * set) any other group that ran items must have stolen them, or group 0
- * must have donated. */
+ * must have donated, or (donation) a group took over the set of group 0
+ * while it was not running, which counts as a steal. */
 static void check_group_stats(perma_runtime *rt, const perma_stats *st)
 {
     uint64_t items = 0, steals = 0, donations = 0, others = 0;
@@ -36,7 +37,7 @@ static void check_group_stats(perma_runtime *rt, const perma_stats *st)
     ck_assert_uint_eq(steals, st->steals);
     ck_assert_uint_eq(donations, st->donations);
     if (others > 0 && st->strategy == PERMA_STRATEGY_DONATION)
-        ck_assert_uint_gt(donations, 0);
+        ck_assert_uint_gt(donations + steals, 0);
     if (st->strategy == PERMA_STRATEGY_SHARED || st->work_groups == 1)
         ck_assert_uint_eq(steals + donations, 0);
     perma_group_stats none;
