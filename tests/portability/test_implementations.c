@@ -18,40 +18,17 @@ static void render_on(const char *platform, const char *schedule, unsigned group
                       reyes_stats *stats)
 {
     reyes_scene scene;
-    reyes_error error;
     reyes_camera camera;
-    reyes_scene_init(&scene);
-    ck_assert_int_eq(reyes_scene_add_builtin(&scene, &error), REYES_OK);
+    reyes_test_builtin_scene(&scene, &camera, WIDTH, HEIGHT);
     reyes_options o;
     reyes_options_init(&o);
     o.width = WIDTH;
     o.height = HEIGHT;
-    ck_assert_int_eq(reyes_camera_frame(&scene, 40.0f, (float)WIDTH / (float)HEIGHT, &camera, &error),
-                     REYES_OK);
     reyes_test_apply_schedule(schedule, groups, &o);
     ck_assert_int_eq(setenv("PERMA_DEVICE", platform, 1), 0);
     reyes_test_render_once(&scene, &camera, &o, image, stats);
     ck_assert_uint_eq(stats->run.work_groups, groups);
     reyes_scene_free(&scene);
-}
-
-static void expect_same_counts(const char *what, const reyes_stats *a, const reyes_stats *b)
-{
-    ck_assert_msg(a->splits == b->splits && a->culled == b->culled && a->grids == b->grids
-                      && a->micropolygons == b->micropolygons && a->stitches == b->stitches
-                      && a->fillers == b->fillers,
-                  "%s: counts differ: splits %llu/%llu, culled %llu/%llu, grids %llu/%llu, "
-                  "micropolygons %llu/%llu, stitches %llu/%llu, fillers %llu/%llu", what,
-                  (unsigned long long)a->splits, (unsigned long long)b->splits,
-                  (unsigned long long)a->culled, (unsigned long long)b->culled,
-                  (unsigned long long)a->grids, (unsigned long long)b->grids,
-                  (unsigned long long)a->micropolygons, (unsigned long long)b->micropolygons,
-                  (unsigned long long)a->stitches, (unsigned long long)b->stitches,
-                  (unsigned long long)a->fillers, (unsigned long long)b->fillers);
-    for (int p = 0; p < REYES_PROC_COUNT; ++p)
-        ck_assert_msg(a->procedures[p].items == b->procedures[p].items, "%s: %s ran %llu items, then %llu",
-                      what, a->procedures[p].name, (unsigned long long)a->procedures[p].items,
-                      (unsigned long long)b->procedures[p].items);
 }
 
 START_TEST(pocl_and_intel_agree)
@@ -60,7 +37,7 @@ START_TEST(pocl_and_intel_agree)
     reyes_stats pocl_stats, intel_stats;
     render_on("pocl", "megakernel/shared", 2, &pocl, &pocl_stats);
     render_on("intel", "megakernel/shared", 2, &intel, &intel_stats);
-    expect_same_counts("PoCL and Intel", &pocl_stats, &intel_stats);
+    reyes_test_expect_same_counts(&pocl_stats, &intel_stats, "PoCL and Intel");
     size_t pixels = (size_t)WIDTH * HEIGHT, off = 0;
     unsigned worst = 0;
     for (size_t i = 0; i < pixels; ++i) {
@@ -99,9 +76,8 @@ START_TEST(intel_schedules_identical)
     render_on("intel", "megakernel/shared", 2, &first, &first_stats);
     for (size_t s = 0; s < sizeof schedules / sizeof schedules[0]; ++s) {
         render_on("intel", schedules[s], 2, &image, &stats);
-        expect_same_counts(schedules[s], &first_stats, &stats);
-        ck_assert_msg(memcmp(first.rgb, image.rgb, (size_t)WIDTH * HEIGHT * 3) == 0, "%s: image differs",
-                      schedules[s]);
+        reyes_test_expect_same_counts(&first_stats, &stats, schedules[s]);
+        reyes_test_expect_same_image(&first, &image, schedules[s]);
         reyes_image_free(&image);
         reyes_stats_free(&stats);
     }

@@ -42,18 +42,9 @@ static void run_tree(const char *label, unsigned work_groups, size_t capacity, u
                      unsigned depth)
 {
     perma_runtime *rt = schedule_runtime(label, work_groups, capacity, 64);
-    ck_assert_perma_ok(rt, perma_add_source(rt, TREE_TYPES, "tree_types.cl"));
-    perma_procedure tree = {
-        .name = "tree", .item_type = "struct tree_node", .item_size = sizeof(struct tree_node),
-        .threads_per_item = threads_per_item, .source = TREE_SOURCE, .source_file = "tree_split.cl",
-        .function = "tree_split", .emits = { { "tree", 2 } },
-    };
-    perma_proc id;
-    ck_assert_perma_ok(rt, perma_register(rt, &tree, &id));
     uint32_t counts[2] = { 0, 0 };
     uint64_t sums[1] = { 0 };
-    ck_assert_perma_ok(rt, perma_bind_host(rt, "counts", "__global uint *", counts, sizeof counts, PERMA_READ_WRITE));
-    ck_assert_perma_ok(rt, perma_bind_host(rt, "sums", "__global ulong *", sums, sizeof sums, PERMA_READ_WRITE));
+    perma_proc id = tree_add(rt, threads_per_item, counts, sums);
     struct tree_node root = { 0, depth, 1, 0 };
     ck_assert_perma_ok(rt, perma_seed(rt, id, &root, 1));
     ck_assert_perma_ok(rt, perma_run(rt));
@@ -144,10 +135,8 @@ END_TEST
 START_TEST(reyes)
 {
     reyes_scene scene;
-    reyes_error error;
     reyes_camera camera;
-    reyes_scene_init(&scene);
-    ck_assert_int_eq(reyes_scene_add_builtin(&scene, &error), REYES_OK);
+    reyes_test_builtin_scene(&scene, &camera, 24, 24);
     reyes_options o;
     reyes_options_init(&o);
     o.width = 24;
@@ -156,7 +145,6 @@ START_TEST(reyes)
     o.bound_px = 2.0f;
     o.work_groups = 1;
     o.time_limit = 500;
-    ck_assert_int_eq(reyes_camera_frame(&scene, 40.0f, 1.0f, &camera, &error), REYES_OK);
     reyes_image image;
     reyes_stats stats;
     reyes_test_render_once(&scene, &camera, &o, &image, &stats);

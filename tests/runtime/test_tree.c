@@ -54,18 +54,9 @@ START_TEST(tree_counts_exact)
 {
     unsigned gs = configs[_i].group_size, tpi = configs[_i].threads_per_item;
     perma_runtime *rt = test_runtime(gs, configs[_i].work_groups, 0);
-    ck_assert_perma_ok(rt, perma_add_source(rt, TREE_TYPES, "tree_types.cl"));
-    perma_procedure tree = {
-        .name = "tree", .item_type = "struct tree_node", .item_size = sizeof(struct tree_node),
-        .threads_per_item = tpi, .source = TREE_SOURCE, .source_file = "tree_split.cl",
-        .function = "tree_split", .emits = { { "tree", 2 } },
-    };
-    perma_proc id;
-    ck_assert_perma_ok(rt, perma_register(rt, &tree, &id));
     uint32_t counts[2];
     uint64_t sums[1];
-    ck_assert_perma_ok(rt, perma_bind_host(rt, "counts", "__global uint *", counts, sizeof counts, PERMA_READ_WRITE));
-    ck_assert_perma_ok(rt, perma_bind_host(rt, "sums", "__global ulong *", sums, sizeof sums, PERMA_READ_WRITE));
+    perma_proc id = tree_add(rt, tpi, counts, sums);
 
     const unsigned depths[] = { 0, 1, 5, 12 };
     for (size_t k = 0; k < sizeof depths / sizeof depths[0]; ++k) {
@@ -109,17 +100,9 @@ END_TEST
 START_TEST(tree_many_roots)
 {
     perma_runtime *rt = test_runtime(64, 0, 256);
-    ck_assert_perma_ok(rt, perma_add_source(rt, TREE_TYPES, "tree_types.cl"));
-    perma_procedure tree = {
-        .name = "tree", .item_type = "struct tree_node", .item_size = sizeof(struct tree_node),
-        .source = TREE_SOURCE, .function = "tree_split", .emits = { { "tree", 2 } },
-    };
-    perma_proc id;
-    ck_assert_perma_ok(rt, perma_register(rt, &tree, &id));
     uint32_t counts[2] = { 0, 0 };
     uint64_t sums[1] = { 0 };
-    ck_assert_perma_ok(rt, perma_bind_host(rt, "counts", "__global uint *", counts, sizeof counts, PERMA_READ_WRITE));
-    ck_assert_perma_ok(rt, perma_bind_host(rt, "sums", "__global ulong *", sums, sizeof sums, PERMA_READ_WRITE));
+    perma_proc id = tree_add(rt, 1, counts, sums);
     enum { ROOTS = 1000, DEPTH = 6 };
     struct tree_node *roots = calloc(ROOTS, sizeof *roots);
     uint64_t expected = 0;
