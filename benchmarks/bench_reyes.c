@@ -41,6 +41,9 @@ static const char *const reyes_variants[] = {
     "bounded-batches/p=4096",
 };
 #define VARIANT_COUNT (sizeof reyes_variants / sizeof reyes_variants[0])
+/* A renderer per variant and device (--devices): slot v * BENCH_MAX_DEVICES + d. */
+#define SLOTS (VARIANT_COUNT * BENCH_MAX_DEVICES)
+#define SLOT(v, d) ((v) * BENCH_MAX_DEVICES + (d))
 
 /* Stage modes in the order the rows are printed. */
 static const unsigned stage_modes[STAGE_MODES] = { REYES_STAGES_ALL, REYES_STAGES_GEOMETRY,
@@ -330,30 +333,38 @@ static double ratio(double numerator, double denominator)
     return numerator > 0.0 && denominator > 0.0 ? numerator / denominator : 0.0;
 }
 
-/* The stage times by difference and the ratios against both targets. */
-static void print_summary(const double reference[STAGE_MODES], const variant_times times[VARIANT_COUNT])
+/* The stage times by difference and the ratios against both targets, per
+ * device. */
+static void print_summary(const bench_options *options, const double reference[STAGE_MODES],
+                          const variant_times times[SLOTS])
 {
-    const variant_times *mk = &times[0], *kpp = &times[4];
     printf("\n  stages (by difference, seconds):     subdivide   dice geometry   shade+sample   total\n");
     printf("  %-34s %9.4f %15.4f %14.4f %7.4f\n", "C reference (1 thread)", reference[2],
            reference[1] - reference[2], reference[0] - reference[1], reference[0]);
     for (unsigned v = 0; v < VARIANT_COUNT; ++v) {
-        if (!times[v].ran)
-            continue;
-        const double *s = times[v].seconds;
-        printf("  %-34s %9.4f %15.4f %14.4f %7.4f\n", reyes_variants[v], s[2], s[1] - s[2], s[0] - s[1],
-               s[0]);
+        for (unsigned d = 0; d < bench_device_passes(options); ++d) {
+            bench_variant variant;
+            if (!times[SLOT(v, d)].ran || bench_variant_parse(reyes_variants[v], &variant, NULL) != PERMA_OK)
+                continue;
+            bench_variant_use_device(options, d, &variant);
+            const double *s = times[SLOT(v, d)].seconds;
+            printf("  %-34s %9.4f %15.4f %14.4f %7.4f\n", variant.name, s[2], s[1] - s[2], s[0] - s[1], s[0]);
+        }
     }
-    if (!mk->ran)
-        return;
-    double geometry = ratio(reference[1], mk->seconds[1]), full = ratio(reference[0], mk->seconds[0]);
-    printf("  megakernel/shared vs C reference: full render %.2fx (target >= 1.6x: %s), geometry only "
-           "(bound/split/dice) %.2fx\n", full, full >= 1.6 ? "met" : "NOT met", geometry);
-    if (kpp->ran) {
-        double vs_kpp = ratio(kpp->seconds[0], mk->seconds[0]);
-        printf("  megakernel/shared vs kernel-per-procedure: full render %.2fx (target >= 2x: %s), "
-               "geometry only %.2fx\n", vs_kpp, vs_kpp >= 2.0 ? "met" : "NOT met",
-               ratio(kpp->seconds[1], mk->seconds[1]));
+    for (unsigned d = 0; d < bench_device_passes(options); ++d) {
+        const variant_times *mk = &times[SLOT(0, d)], *kpp = &times[SLOT(4, d)];
+        const char *on = options->device_count ? options->devices[d] : "";
+        if (!mk->ran)
+            continue;
+        double geometry = ratio(reference[1], mk->seconds[1]), full = ratio(reference[0], mk->seconds[0]);
+        printf("  %s%smegakernel/shared vs C reference: full render %.2fx (target >= 1.6x: %s), geometry only "
+               "(bound/split/dice) %.2fx\n", on, *on ? ": " : "", full, full >= 1.6 ? "met" : "NOT met", geometry);
+        if (kpp->ran) {
+            double vs_kpp = ratio(kpp->seconds[0], mk->seconds[0]);
+            printf("  %s%smegakernel/shared vs kernel-per-procedure: full render %.2fx (target >= 2x: %s), "
+                   "geometry only %.2fx\n", on, *on ? ": " : "", vs_kpp, vs_kpp >= 2.0 ? "met" : "NOT met",
+                   ratio(kpp->seconds[1], mk->seconds[1]));
+        }
     }
 }
 
@@ -362,31 +373,33 @@ int reyes_bench_file_exists(const char *path)
     return access(path, R_OK) == 0;
 }
 
-/* One renderer per variant, kept for every workload; NULL (with the
- * message printed) when the runtime refuses it. */
+/* One renderer per variant and device, kept for every workload; NULL
+ * (with the message printed) when the runtime refuses it. */
 static void create_renderers(const reyes_bench_args *a, const bench_options *options,
-                             reyes_renderer *renderers[VARIANT_COUNT])
+                             reyes_renderer *renderers[SLOTS])
 {
     for (unsigned i = 0; i < VARIANT_COUNT; ++i) {
-        renderers[i] = NULL;
         bench_variant v;
         if (!bench_variant_select(options, reyes_variants[i], &v))
             continue;
-        reyes_options o = reyes_bench_render_options(a, options, &v, 64, 64);
-        reyes_error error;
-        if (reyes_renderer_create(&o, &renderers[i], &error) != REYES_OK)
-            printf("reyes: %s: n/a: %s\n", v.label, error.message);
+        for (unsigned d = 0; d < bench_device_passes(options); ++d) {
+            bench_variant_use_device(options, d, &v);
+            reyes_options o = reyes_bench_render_options(a, options, &v, 64, 64);
+            reyes_error error;
+            if (reyes_renderer_create(&o, &renderers[SLOT(i, d)], &error) != REYES_OK)
+                printf("reyes: %s: n/a: %s\n", v.name, error.message);
+        }
     }
 }
 
 /* A small render per renderer compiles the program and its kernels
  * outside the timed runs. */
 static void warm_up(const reyes_scene *scene, const reyes_bench_args *a, const bench_options *options,
-                    reyes_renderer *renderers[VARIANT_COUNT])
+                    reyes_renderer *renderers[SLOTS])
 {
-    for (unsigned i = 0; i < VARIANT_COUNT; ++i) {
+    for (unsigned i = 0; i < SLOTS; ++i) {
         bench_variant v;
-        if (!renderers[i] || bench_variant_parse(reyes_variants[i], &v, NULL) != PERMA_OK)
+        if (!renderers[i] || bench_variant_parse(reyes_variants[i / BENCH_MAX_DEVICES], &v, NULL) != PERMA_OK)
             continue;
         reyes_options o = reyes_bench_render_options(a, options, &v, 64, 64);
         reyes_camera camera;
@@ -425,7 +438,7 @@ static int model_camera(const char *model, reyes_camera *camera)
  * the C reference has none, and both sides do the same work. */
 static void run_workload(bench_report *report, const char *model, const reyes_scene *scene,
                          unsigned width, unsigned height, const reyes_bench_args *a,
-                         const bench_options *options, reyes_renderer *renderers[VARIANT_COUNT])
+                         const bench_options *options, reyes_renderer *renderers[SLOTS])
 {
     char workload[64];
     snprintf(workload, sizeof workload, "%s %ux%u bound %g", model, width, height, (double)a->bound_px);
@@ -437,25 +450,29 @@ static void run_workload(bench_report *report, const char *model, const reyes_sc
         printf("reyes: %s: %s\n", workload, error.message);
         return;
     }
-    static stage_timing reference[STAGE_MODES], timings[VARIANT_COUNT][STAGE_MODES];
-    reyes_options options_of[VARIANT_COUNT];
-    int usable[VARIANT_COUNT] = {0};
+    static stage_timing reference[STAGE_MODES], timings[SLOTS][STAGE_MODES];
+    static char names[SLOTS][96];
+    reyes_options options_of[SLOTS];
+    int usable[SLOTS] = {0};
     for (int m = 0; m < STAGE_MODES; ++m) {
         memset(&reference[m], 0, sizeof reference[m]);
         reference[m].ran = 1;
-        for (unsigned v = 0; v < VARIANT_COUNT; ++v) {
-            reyes_stats_free(&timings[v][m].stats);
-            memset(&timings[v][m], 0, sizeof timings[v][m]);
-            timings[v][m].ran = 1;
+        for (unsigned i = 0; i < SLOTS; ++i) {
+            reyes_stats_free(&timings[i][m].stats);
+            memset(&timings[i][m], 0, sizeof timings[i][m]);
+            timings[i][m].ran = 1;
         }
     }
-    for (unsigned v = 0; v < VARIANT_COUNT; ++v) {
+    for (unsigned i = 0; i < SLOTS; ++i) {
+        unsigned v = i / BENCH_MAX_DEVICES, d = i % BENCH_MAX_DEVICES;
         bench_variant variant;
-        if (!renderers[v] || bench_variant_parse(reyes_variants[v], &variant, NULL) != PERMA_OK)
+        if (!renderers[i] || bench_variant_parse(reyes_variants[v], &variant, NULL) != PERMA_OK)
             continue;
-        options_of[v] = reyes_bench_render_options(a, options, &variant, width, height);
-        options_of[v].crack_fix = REYES_CRACK_FIX_NONE;
-        usable[v] = 1;
+        bench_variant_use_device(options, d, &variant);
+        snprintf(names[i], sizeof names[i], "%s", variant.name);
+        options_of[i] = reyes_bench_render_options(a, options, &variant, width, height);
+        options_of[i].crack_fix = REYES_CRACK_FIX_NONE;
+        usable[i] = 1;
     }
     bench_variant first;
     perma_error parse_error;
@@ -470,35 +487,35 @@ static void run_workload(bench_report *report, const char *model, const reyes_sc
         for (int m = 0; m < STAGE_MODES; ++m) {
             base.stages = stage_modes[m];
             time_reference(&reference[m], scene, &camera, &base);
-            for (unsigned v = 0; v < VARIANT_COUNT; ++v) {
-                if (!usable[v])
+            for (unsigned i = 0; i < SLOTS; ++i) {
+                if (!usable[i])
                     continue;
-                options_of[v].stages = stage_modes[m];
-                time_render(&timings[v][m], renderers[v], scene, &camera, &options_of[v]);
+                options_of[i].stages = stage_modes[m];
+                time_render(&timings[i][m], renderers[i], scene, &camera, &options_of[i]);
             }
         }
     }
     double reference_seconds[STAGE_MODES];
     for (int m = 0; m < STAGE_MODES; ++m)
         reference_seconds[m] = reference_row(report, workload, m, &reference[m]);
-    variant_times times[VARIANT_COUNT];
+    variant_times times[SLOTS];
     memset(times, 0, sizeof times);
-    for (unsigned v = 0; v < VARIANT_COUNT; ++v) {
-        if (!usable[v])
+    for (unsigned i = 0; i < SLOTS; ++i) {
+        if (!usable[i])
             continue;
-        times[v].ran = 1;
+        times[i].ran = 1;
         for (int m = 0; m < STAGE_MODES; ++m) {
             char label[128];
-            options_of[v].stages = stage_modes[m];
-            snprintf(label, sizeof label, "%s %s", reyes_variants[v], stage_names[m]);
-            times[v].seconds[m] = variant_row(report, workload, label, &timings[v][m], &options_of[v],
+            options_of[i].stages = stage_modes[m];
+            snprintf(label, sizeof label, "%s %s", names[i], stage_names[m]);
+            times[i].seconds[m] = variant_row(report, workload, label, &timings[i][m], &options_of[i],
                                               &reference[1].counts);
-            times[v].ran &= times[v].seconds[m] > 0.0;
+            times[i].ran &= times[i].seconds[m] > 0.0;
         }
         if (options->verbose)
-            printf("  (%s)\n", reyes_renderer_device(renderers[v]));
+            printf("  (%s)\n", reyes_renderer_device(renderers[i]));
     }
-    print_summary(reference_seconds, times);
+    print_summary(options, reference_seconds, times);
 }
 
 int bench_reyes(const bench_options *options, int argc, char **argv)
@@ -512,7 +529,7 @@ int bench_reyes(const bench_options *options, int argc, char **argv)
     bench_report *report;
     if (bench_report_open(&report, "reyes", options))
         return 1;
-    reyes_renderer *renderers[VARIANT_COUNT] = { NULL };
+    reyes_renderer *renderers[SLOTS] = { NULL };
     int created = 0, status = 0;
     for (unsigned m = 0; m < model_count && status == 0; ++m) {
         char path[1024];
@@ -537,7 +554,7 @@ int bench_reyes(const bench_options *options, int argc, char **argv)
         }
         reyes_scene_free(&scene);
     }
-    for (unsigned v = 0; v < VARIANT_COUNT; ++v)
+    for (unsigned v = 0; v < SLOTS; ++v)
         reyes_renderer_destroy(renderers[v]);
     if (status == 0 && reyes_bench_effects(report, &a, options))
         status = 1;

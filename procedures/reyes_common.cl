@@ -8,8 +8,16 @@
 #pragma OPENCL EXTENSION cl_khr_int64_extended_atomics : enable
 
 /* Small helpers of the per-vertex and per-sample code: always inlined
- * (PoCL otherwise keeps many of them as calls made once per work-item). */
+ * (PoCL otherwise keeps many of them as calls made once per work-item).
+ * Not under Oclgrind's race check (PERMA_RACE_CHECK, run_on.sh): inlining
+ * a function that returns a struct makes its compiler emit
+ * llvm.experimental.noalias.scope.decl, which Oclgrind 21.10 cannot run
+ * ("Undefined external function").  Inlining changes no result. */
+#ifdef PERMA_RACE_CHECK
+#define REYES_INLINE
+#else
 #define REYES_INLINE inline __attribute__((always_inline))
+#endif
 
 /* Load the 16 control points of a base patch. */
 REYES_INLINE void reyes_load_patch(__global const float4 *patches, uint patch, float3 cp[16])

@@ -180,8 +180,7 @@ void reyes_dice_plain(perma_ctx *ctx, __local const struct reyes_subpatch *item,
                 reyes_load_patch(ctx->buf.patches, sp.patch, cp);
                 for (int k = 0; k < REYES_LANES && i0 + k < n; ++k)
                     if (((int *)&degenerate)[k])
-                        g->rgba[j * n + i0 + k] = reyes_grid_vertex_color(p, cp, &sp, reyes_unpack_rgb(base),
-                                                                           i0 + k, j);
+                        g->rgba[j * n + i0 + k] = reyes_grid_vertex_color(p, cp, &sp, base, i0 + k, j);
             }
         }
     }
@@ -197,7 +196,7 @@ void reyes_dice_displaced(perma_ctx *ctx, __local const struct reyes_subpatch *i
     struct reyes_subpatch sp = *item;
     float3 cp[16];
     reyes_load_patch(ctx->buf.patches, sp.patch, cp);
-    float3 base = reyes_unpack_rgb(ctx->buf.colors[sp.patch]);
+    uint base = ctx->buf.colors[sp.patch];
     for (int v = 0; v < n * n; ++v) {
         struct reyes_vertex vertex = reyes_grid_vertex(&d, cp, &sp, base, v % n, v / n, shade);
         reyes_grid_store(p, &s->grid, v, &vertex);

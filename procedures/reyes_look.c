@@ -8,7 +8,7 @@
 
 void reyes_light_direction(float light[3])
 {
-    const float towards[3] = {-0.4f, -0.5f, 0.77f};
+    const float towards[3] = {REYES_LIGHT_X, REYES_LIGHT_Y, REYES_LIGHT_Z};
     float length = sqrtf(towards[0] * towards[0] + towards[1] * towards[1] + towards[2] * towards[2]);
     for (int k = 0; k < 3; ++k)
         light[k] = towards[k] / length;

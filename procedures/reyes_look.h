@@ -4,19 +4,15 @@
 #define REYES_LOOK_H
 
 #include "reyes.h"
+#include "reyes_shared.h"
 
 /* A sample nothing covered: the buffers start all ones, and a covered
  * sample holds its depth's bits above its packed colour. */
 #define REYES_EMPTY_SAMPLE_VALUE UINT64_MAX
 
-/* Blinn-Phong weights (reyes_params.ambient ... shininess). */
-#define REYES_AMBIENT 0.18f
-#define REYES_DIFFUSE 0.82f
-#define REYES_SPECULAR 0.35f
-#define REYES_SHININESS 40.0f
-
-/* The unit vector towards the light: from the upper left behind the
- * viewer, in world space (z up). */
+/* The unit vector towards the light (REYES_LIGHT_X, _Y, _Z of
+ * reyes_shared.h, with the shading weights REYES_AMBIENT ...
+ * REYES_SHININESS). */
 void reyes_light_direction(float light[3]);
 
 /* Average the spp samples of each pixel of the rectangle [x0,x1) x [y0,y1)

@@ -147,7 +147,10 @@ struct reyes_sample_chunks {
 
 REYES_INLINE float reyes_exact_inverse(uint n)
 {
-    return (n & (n - 1u)) == 0u ? 1.0f / (float)n : 0.0f;
+    /* A power of two (n small and positive) has no mantissa bits as a
+     * float.  Not (n & (n - 1)) == 0: LLVM turns that into llvm.ctpop,
+     * which Oclgrind 21.10 cannot run. */
+    return (as_uint((float)n) & 0x7fffffu) == 0u ? 1.0f / (float)n : 0.0f;
 }
 
 void reyes_sample_chunks_init(struct reyes_sample_chunks *c, uint spp)

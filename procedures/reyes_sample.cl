@@ -153,8 +153,8 @@ REYES_INLINE void reyes_sample_merge(__global ulong *samples, uint index, ulong 
 #else
     const uint high = 0u;
 #endif
-    volatile __global const uint *depth = (volatile __global const uint *)(samples + index) + high;
-    if ((uint)(value >> 32) <= *depth)
+    /* perma_load: a volatile load (an atomic under the race check). */
+    if ((uint)(value >> 32) <= perma_load((__global uint *)(samples + index) + high))
         atom_min(&samples[index], value);
 }
 

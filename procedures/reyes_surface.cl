@@ -327,15 +327,14 @@ REYES_INLINE uint8 reyes_light_color_lanes(uint rgba, reyes_lanes diffuse, reyes
            | (reyes_channel_byte_lanes(b * diffuse + specular) << 16) | (uint8)(255u << 24);
 }
 
-REYES_INLINE uint reyes_shade(__global const struct reyes_params *p, float3 x, float3 n, float3 base)
+REYES_INLINE uint reyes_shade(__global const struct reyes_params *p, float3 x, float3 n, uint rgba)
 {
     const reyes_lanes xs[3] = {(reyes_lanes)x.x, (reyes_lanes)x.y, (reyes_lanes)x.z};
     const reyes_lanes ns[3] = {(reyes_lanes)n.x, (reyes_lanes)n.y, (reyes_lanes)n.z};
     struct reyes_lighting l = reyes_lighting_of(p);
     reyes_lanes diffuse, specular;
     reyes_light_lanes(&l, xs, ns, &diffuse, &specular);
-    return reyes_pack_channels(base.x * diffuse.s0 + specular.s0, base.y * diffuse.s0 + specular.s0,
-                               base.z * diffuse.s0 + specular.s0);
+    return reyes_light_color_lanes(rgba, diffuse, specular).s0;
 }
 
 /* The displaced surface point at (u,v): the patch point moved along its
@@ -384,19 +383,29 @@ REYES_INLINE float2 reyes_grid_uv(__global const struct reyes_params *p, const s
     return (float2)(u, v);
 }
 
-/* The colour of undisplaced grid vertex (i,j), the normal taken
- * slightly inside where it vanishes (reyes_safe_normal). */
+/* The colour of undisplaced grid vertex (i,j) for the patch's packed base
+ * colour rgba, the normal taken slightly inside where it vanishes
+ * (reyes_safe_normal). */
 uint reyes_grid_vertex_color(__global const struct reyes_params *p, const float3 cp[16],
-                             const struct reyes_subpatch *sp, float3 base, int i, int j)
+                             const struct reyes_subpatch *sp, uint rgba, int i, int j)
 {
     float2 uv = reyes_grid_uv(p, sp, i, j);
-    return reyes_shade(p, reyes_patch_point(cp, uv.x, uv.y), reyes_safe_normal(cp, uv.x, uv.y), base);
+    return reyes_shade(p, reyes_patch_point(cp, uv.x, uv.y), reyes_safe_normal(cp, uv.x, uv.y), rgba);
 }
 
-/* Position (clip space) of grid vertex (i,j), and its color when `shade`;
- * displaced when the parameters ask for it. */
+/* Position (clip space) of grid vertex (i,j), and its color when `shade`
+ * (`rgba`: the patch's packed base color); displaced when the parameters
+ * ask for it.
+ *
+ * The base color comes in packed, not as a float3 argument: this function
+ * is too big to inline and is called from two procedures, so Intel's CPU
+ * compiler (2026.22) calls a 16-wide vector variant of it, and that variant
+ * reads a varying float3 argument with the wrong per-lane stride (lanes got
+ * the channels of their neighbours, some zeros: grey images with a black
+ * stripe per grid column).  A float3 passed by value or through a pointer
+ * to one is affected; float4, scalars, arrays and structs are not. */
 struct reyes_vertex reyes_grid_vertex(const struct reyes_displacement *d, const float3 cp[16],
-                                      const struct reyes_subpatch *sp, float3 base, int i, int j,
+                                      const struct reyes_subpatch *sp, uint rgba, int i, int j,
                                       int shade)
 {
     __global const struct reyes_params *p = d->params;
@@ -406,11 +415,11 @@ struct reyes_vertex reyes_grid_vertex(const struct reyes_displacement *d, const 
     if (p->displace_mode == REYES_DISPLACE_NONE) {
         float3 x = reyes_patch_point(cp, u, v);
         reyes_vertex_place(p, x, &out);
-        out.rgba = shade ? reyes_shade(p, x, reyes_safe_normal(cp, u, v), base) : 0u;
+        out.rgba = shade ? reyes_shade(p, x, reyes_safe_normal(cp, u, v), rgba) : 0u;
     } else {
         float3 x = reyes_displaced_point(d, cp, u, v);
         reyes_vertex_place(p, x, &out);
-        out.rgba = shade ? reyes_shade(p, x, reyes_displaced_normal(d, cp, u, v), base) : 0u;
+        out.rgba = shade ? reyes_shade(p, x, reyes_displaced_normal(d, cp, u, v), rgba) : 0u;
     }
     return out;
 }

@@ -195,6 +195,12 @@ const char *perma_cl_error_name(cl_int code);
                                    perma_cl_error_name(perma_code_), (int)perma_code_);     \
     } while (0)
 
+/* program_cache.c: a built program from the disk cache (NULL: none); store
+ * a program built from source when its build took long enough. */
+cl_program perma_cache_load(perma_runtime *rt, const char *source, const char *options);
+void perma_cache_store(perma_runtime *rt, cl_program program, const char *source, const char *options,
+                       double build_seconds);
+
 /* device.c */
 perma_status perma_device_open(perma_runtime *rt);
 void perma_device_close(perma_runtime *rt);

@@ -115,16 +115,23 @@ perma_status perma_build(perma_runtime *rt)
             fclose(f);
         }
     }
-    cl_int err;
+    cl_int err = CL_SUCCESS;
     const char *text = sb.data;
-    rt->program = clCreateProgramWithSource(rt->context, 1, &text, NULL, &err);
-    perma_strbuf_free(&sb);
-    PERMA_CL_CHECK(rt, "clCreateProgramWithSource", err);
-
     char options[1024];
     snprintf(options, sizeof options, "-cl-std=CL1.2 %s%s", rt->debug ? "-DPERMA_DEBUG=1 " : "",
              rt->config.build_options ? rt->config.build_options : "");
-    err = clBuildProgram(rt->program, 1, &rt->device, options, NULL, NULL);
+    rt->program = perma_cache_load(rt, text, options);
+    if (!rt->program) {
+        double start = perma_now();
+        rt->program = clCreateProgramWithSource(rt->context, 1, &text, NULL, &err);
+        if (err == CL_SUCCESS)
+            err = clBuildProgram(rt->program, 1, &rt->device, options, NULL, NULL);
+        if (err == CL_SUCCESS)
+            perma_cache_store(rt, rt->program, text, options, perma_now() - start);
+    }
+    perma_strbuf_free(&sb);
+    if (!rt->program)
+        PERMA_CL_CHECK(rt, "clCreateProgramWithSource", err);
     if (err == CL_BUILD_PROGRAM_FAILURE || err == CL_INVALID_BUILD_OPTIONS) {
         st = report_build_failure(rt, err);
         perma_release_program(rt);

@@ -3,6 +3,7 @@
  * that does not stop. */
 #include "internal.h"
 
+#include <pthread.h>
 #include <time.h>
 
 /* Seconds a kernel gets to notice the abort flag before we give up on it. */
@@ -46,13 +47,36 @@ static perma_status watch(perma_runtime *rt, cl_event done, double deadline)
     }
 }
 
+/* Intel's CPU runtime runs the groups of a launch on its own worker
+ * threads plus any host thread blocked in a wait for it; with as many
+ * workers as cores minus one, a host that polls (the watchdog) leaves a
+ * core idle and a launch's second group does not start before its first
+ * has left.  A helper thread blocked in clWaitForEvents lends the runtime
+ * that thread; other implementations just wake it at the end. */
+static void *lend_thread(void *event)
+{
+    clWaitForEvents(1, (cl_event *)&event);
+    clReleaseEvent((cl_event)event);
+    return NULL;
+}
+
 perma_status perma_launch_watched(perma_runtime *rt, cl_kernel kernel, size_t global, size_t local, double deadline)
 {
     cl_event done = NULL;
     PERMA_CL_CHECK(rt, "clEnqueueNDRangeKernel (megakernel)",
                    clEnqueueNDRangeKernel(rt->queue, kernel, 1, NULL, &global, &local, 0, NULL, &done));
     clFlush(rt->queue);
+    pthread_t helper;
+    bool lent = clRetainEvent(done) == CL_SUCCESS;
+    if (lent && pthread_create(&helper, NULL, lend_thread, done) != 0) {
+        clReleaseEvent(done);
+        lent = false;
+    }
     perma_status st = watch(rt, done, deadline);
+    if (lent && !rt->hung)
+        pthread_join(helper, NULL);
+    else if (lent)
+        pthread_detach(helper); /* waits for a kernel that may never end */
     if (!rt->hung)
         clReleaseEvent(done);
     return st;
