@@ -39,9 +39,9 @@ REYES_INLINE int reyes_lattice_row(int k, int columns)
     return (int)(((float)k + 0.5f) / (float)columns);
 }
 
-REYES_INLINE int8 reyes_lattice_row_lanes(int8 k, int columns)
+REYES_INLINE int16 reyes_lattice_row_lanes(int16 k, int columns)
 {
-    return convert_int8((convert_float8(k) + 0.5f) / (float)columns);
+    return convert_int16((convert_float16(k) + 0.5f) / (float)columns);
 }
 
 /* Whether quad slot k (its first corner's vertex index) is a quad of g. */

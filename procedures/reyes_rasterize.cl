@@ -72,7 +72,7 @@ REYES_INLINE struct reyes_quad_lanes reyes_quad_setup_lanes(__global const struc
     const int16 lane = (int16)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
     int c = (int)g->columns;
     int16 k = first + lane;
-    int16 row = convert_int16((convert_float16(k) + 0.5f) / (float)c); /* reyes_lattice_row */
+    int16 row = reyes_lattice_row_lanes(k, c);
     int16 has = (k < slots) & (row + 1 < (int)g->rows) & (k - row * c != c - 1)
                 & (convert_int16((uint16)g->quad_rows >> convert_uint16(row)) & 1) != 0;
     const int corner[4] = { 0, 1, c + 1, c };
@@ -180,6 +180,14 @@ REYES_INLINE float8 reyes_cell_offset(float8 cell, float8 jitter, float n, float
     return inverse != 0.0f ? (cell + jitter) * inverse : (cell + jitter) / n;
 }
 
+/* A colour channel in [0,1] as a byte in eight lanes, as reyes_channel_byte. */
+REYES_INLINE uint8 reyes_channel_byte8(float8 c)
+{
+    float8 scaled = clamp(c, 0.0f, 1.0f) * 255.0f;
+    float8 rounded = (scaled + 8388608.0f) - 8388608.0f;
+    return convert_uint8(rounded);
+}
+
 REYES_INLINE int reyes_any8(int8 m)
 {
     int4 a = m.lo | m.hi;
@@ -253,9 +261,9 @@ void reyes_quad_pixels(__global const struct reyes_params *p, __global ulong *sa
                 }
                 float8 ba = wa * inv_area, bb = wb * inv_area, bc = wc * inv_area;
                 float8 depth = fmax(ba * za + bb * zb + bc * zc, 0.0f);
-                uint8 rgba = reyes_channel_byte_lanes(ba * ca[0] + bb * cb[0] + bc * cc[0])
-                             | (reyes_channel_byte_lanes(ba * ca[1] + bb * cb[1] + bc * cc[1]) << 8)
-                             | (reyes_channel_byte_lanes(ba * ca[2] + bb * cb[2] + bc * cc[2]) << 16)
+                uint8 rgba = reyes_channel_byte8(ba * ca[0] + bb * cb[0] + bc * cc[0])
+                             | (reyes_channel_byte8(ba * ca[1] + bb * cb[1] + bc * cc[1]) << 8)
+                             | (reyes_channel_byte8(ba * ca[2] + bb * cb[2] + bc * cc[2]) << 16)
                              | (uint8)(255u << 24);
                 ulong8 packed = convert_ulong8(as_uint8(depth)) << 32 | convert_ulong8(rgba);
                 packed = select((ulong8)REYES_EMPTY_SAMPLE, packed, convert_long8(covered));
