@@ -219,16 +219,19 @@ void reyes_dice(perma_ctx *ctx, __local const struct reyes_subpatch *item)
     s->grid.columns = (uint)n;
     s->grid.rows = (uint)n;
     s->grid.quad_rows = (1u << (n - 1)) - 1u;
-    s->grid.pad = 0u;
+    s->grid.counted = full ? 1u : 0u;
     if (p->displace_mode == REYES_DISPLACE_NONE)
         reyes_dice_plain(ctx, item, &s->grid, full);
     else
         reyes_dice_displaced(ctx, item, s, full);
-    uint quads = reyes_dice_count(p, &s->grid);
-    if (quads > 0u) {
-        atomic_add(&counters[REYES_COUNT_MICROPOLYGONS], quads);
-        if (full)
-            reyes_dice_emit(ctx, &s->grid);
+    if (full) {
+        /* rasterize counts the visible quads: it tests each one anyway
+         * (reyes_quad_setup_lanes), so the grid is not tested twice. */
+        reyes_dice_emit(ctx, &s->grid);
+    } else {
+        uint quads = reyes_dice_count(p, &s->grid);
+        if (quads > 0u)
+            atomic_add(&counters[REYES_COUNT_MICROPOLYGONS], quads);
     }
     if (!p->wedges)
         return;
@@ -239,7 +242,7 @@ void reyes_dice(perma_ctx *ctx, __local const struct reyes_subpatch *item)
         if (((item->edge_levels >> (8 * edge)) & 0xffu) != REYES_EDGE_UNSETTLED)
             rows |= 1u << (2 * edge);
     s->strips.quad_rows = rows;
-    s->strips.pad = 0u;
+    s->strips.counted = 0u; /* fillers, counted here */
     struct reyes_subpatch sp = *item;
     for (int v = 0; v < 4 * n; ++v)
         reyes_dice_strip_vertex(ctx, &sp, s, v);

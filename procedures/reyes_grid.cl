@@ -17,7 +17,9 @@ struct reyes_grid {
     uint columns;    /* vertices per row */
     uint rows;       /* rows of vertices */
     uint quad_rows;  /* bit j: the quads between vertex rows j and j + 1 exist */
-    uint pad;
+    /* 1: rasterize adds the visible quads to REYES_COUNT_MICROPOLYGONS as
+     * it sets them up (a full render's grids; dice counts the others). */
+    uint counted;
     /* Pixels (y down), or clip x and y when blurred; z is the clip w. */
     float x[REYES_GRID_VERTICES];
     float y[REYES_GRID_VERTICES];

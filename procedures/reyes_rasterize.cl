@@ -499,12 +499,16 @@ void reyes_rasterize_blurred_grid(perma_ctx *ctx, __local const struct reyes_gri
 {
     __global const struct reyes_params *p = ctx->buf.params;
     int slots = (int)(item->rows - 1u) * (int)item->columns;
+    uint visible = 0;
     for (int k = 0; k < slots; ++k) {
         if (!reyes_grid_visible(p, item, k))
             continue;
+        ++visible;
         struct reyes_moving_quad m = reyes_grid_moving(p, item, k);
         reyes_rasterize_blurred(p, ctx->buf.blur_tuples, ctx->buf.samples, &m, 2);
     }
+    if (item->counted && visible > 0u)
+        atomic_add(&ctx->buf.counters[REYES_COUNT_MICROPOLYGONS], visible);
 }
 
 /* Ask for the cache lines of the samples under the grid's screen box
@@ -572,8 +576,10 @@ void reyes_rasterize(perma_ctx *ctx, __local const struct reyes_grid *item)
     /* Sixteen quads at a time set up in SIMD lanes, then the small ones
      * sampled side by side stratum by stratum and the larger ones one by
      * one. */
+    int16 visible = (int16)0;
     for (int first = 0; first < slots; first += 16) {
         struct reyes_quad_lanes quads = reyes_quad_setup_lanes(p, item, first, slots);
+        visible -= quads.live; /* live lanes are -1 */
         if (!reyes_any16(quads.live))
             continue;
         struct reyes_strata_lanes strata = reyes_strata_of(&quads, &chunks);
@@ -587,5 +593,15 @@ void reyes_rasterize(perma_ctx *ctx, __local const struct reyes_grid *item)
             large &= large - 1u;
             reyes_quad_pixels(p, samples, item, &quads, l, first + l, &chunks);
         }
+    }
+    if (item->counted) {
+        /* The micropolygons: the quads set up live, the tests of
+         * reyes_dice_count (which counts the grids of other renders). */
+        int8 a = visible.lo + visible.hi;
+        int4 b = a.lo + a.hi;
+        int2 c = b.lo + b.hi;
+        uint count = (uint)(c.x + c.y);
+        if (count > 0u)
+            atomic_add(&ctx->buf.counters[REYES_COUNT_MICROPOLYGONS], count);
     }
 }
