@@ -42,7 +42,11 @@
  *   - ctx->buf.NAME is the buffer bound under NAME (perma_bind_*).
  *   - ctx->scratch points to local_bytes_per_item bytes of __local memory
  *     for this item, shared by its threads.
- *   - ctx->slot is the item's index in the batch, ctx->group the work-group.
+ *   - ctx->slot is the item's index in the batch, ctx->group the work-group:
+ *     0..work_groups-1 under every technique (perma_get_work_groups), and
+ *     no two work-groups with the same ctx->group run at once, so an array
+ *     with one entry per group needs no atomics between groups (only
+ *     between the work-items of one group).
  * A procedure must not spin-wait on other work-items, must not call barrier()
  * unless it is declared .cooperative (then it is called by every work-item
  * of the group, ctx->active tells whether this one has an item, and every
@@ -55,7 +59,11 @@
 #include <stdint.h>
 #include <stdio.h>
 
+/* perma uses OpenCL 1.2 calls; a program that targets a later version
+ * defines CL_TARGET_OPENCL_VERSION itself before including this header. */
+#ifndef CL_TARGET_OPENCL_VERSION
 #define CL_TARGET_OPENCL_VERSION 120
+#endif
 #include <CL/cl.h>
 
 #ifdef __cplusplus
@@ -272,7 +280,9 @@ perma_status perma_create(const perma_config *config, perma_runtime **out, perma
 /* Release everything; NULL is fine. */
 void perma_destroy(perma_runtime *rt);
 
-/* The message of the last failed call on rt ("" after success). */
+/* The message of the last call on rt that returns a perma_status: "" if it
+ * succeeded.  After a run's kernel did not stop (PERMA_ERR_TIMEOUT saying
+ * so) every call that uses the device fails with PERMA_ERR_STATE. */
 const char *perma_errmsg(const perma_runtime *rt);
 
 /* The OpenCL context, device and queue the runtime uses (for user buffers). */
@@ -388,6 +398,12 @@ typedef struct perma_stats {
 
 perma_status perma_get_stats(perma_runtime *rt, perma_stats *out);
 perma_status perma_get_procedure_stats(perma_runtime *rt, perma_proc proc, perma_procedure_stats *out);
+/* The work-groups a run uses and the work-items in each, known from
+ * perma_create on (config.work_groups, or the device's choice): e.g. to
+ * size an array indexed by ctx->group.  Either pointer may be NULL, not
+ * both. */
+perma_status perma_get_work_groups(perma_runtime *rt, unsigned *work_groups, unsigned *group_size);
+
 /* Counters of persistent group `group` (0..work_groups-1) in the last run;
  * all zero for the host-driven techniques. */
 perma_status perma_get_group_stats(perma_runtime *rt, unsigned group, perma_group_stats *out);

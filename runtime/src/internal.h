@@ -183,6 +183,12 @@ perma_status perma_set_error(perma_runtime *rt, perma_status status, const char 
     __attribute__((format(printf, 3, 4)));
 perma_status perma_set_error_va(perma_runtime *rt, perma_status status, const char *fmt, va_list ap);
 
+/* The start of every public call on rt that returns a status: the message
+ * is "" until something fails (perma_errmsg).  A call that uses or changes
+ * the program or the device state (`uses_device`) is PERMA_ERR_STATE after
+ * a kernel did not stop (rt->hung); the message names `call`. */
+perma_status perma_call_begin(perma_runtime *rt, const char *call, bool uses_device);
+
 /* Name of an OpenCL error code, e.g. "CL_OUT_OF_RESOURCES". */
 const char *perma_cl_error_name(cl_int code);
 

@@ -93,8 +93,9 @@ perma_status perma_build(perma_runtime *rt)
 {
     if (!rt)
         return PERMA_ERR_ARGUMENT;
-    if (rt->built)
-        return PERMA_OK;
+    perma_status begun = perma_call_begin(rt, "perma_build", true);
+    if (begun != PERMA_OK || rt->built)
+        return begun;
     perma_release_program(rt);
     perma_status st = perma_build_layout(rt);
     if (st != PERMA_OK)

@@ -122,9 +122,9 @@ perma_status perma_run(perma_runtime *rt)
 {
     if (!rt)
         return PERMA_ERR_ARGUMENT;
-    if (rt->hung)
-        return perma_set_error(rt, PERMA_ERR_STATE, "a previous run did not stop; this runtime cannot run again");
-    perma_status st = perma_build(rt);
+    perma_status st = perma_call_begin(rt, "perma_run", true);
+    if (st == PERMA_OK)
+        st = perma_build(rt);
     if (st != PERMA_OK) {
         /* A run consumes its seeds whether it succeeds or not. */
         for (unsigned q = 0; q < rt->proc_count; ++q)

@@ -110,6 +110,7 @@ perma_status perma_get_stats(perma_runtime *rt, perma_stats *out)
 {
     if (!rt)
         return PERMA_ERR_ARGUMENT;
+    perma_call_begin(rt, "perma_get_stats", false);
     if (!out)
         return perma_set_error(rt, PERMA_ERR_ARGUMENT, "perma_get_stats: out is NULL");
     *out = rt->stats;
@@ -120,6 +121,7 @@ perma_status perma_get_procedure_stats(perma_runtime *rt, perma_proc proc, perma
 {
     if (!rt)
         return PERMA_ERR_ARGUMENT;
+    perma_call_begin(rt, "perma_get_procedure_stats", false);
     if (proc < 0 || (unsigned)proc >= rt->proc_count || !out)
         return perma_set_error(rt, PERMA_ERR_ARGUMENT, "perma_get_procedure_stats: %d is not a registered procedure",
                                proc);
@@ -129,10 +131,25 @@ perma_status perma_get_procedure_stats(perma_runtime *rt, perma_proc proc, perma
     return PERMA_OK;
 }
 
+perma_status perma_get_work_groups(perma_runtime *rt, unsigned *work_groups, unsigned *group_size)
+{
+    if (!rt)
+        return PERMA_ERR_ARGUMENT;
+    perma_call_begin(rt, "perma_get_work_groups", false);
+    if (!work_groups && !group_size)
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT, "perma_get_work_groups: both out pointers are NULL");
+    if (work_groups)
+        *work_groups = rt->work_groups;
+    if (group_size)
+        *group_size = rt->group_size;
+    return PERMA_OK;
+}
+
 perma_status perma_get_group_stats(perma_runtime *rt, unsigned group, perma_group_stats *out)
 {
     if (!rt)
         return PERMA_ERR_ARGUMENT;
+    perma_call_begin(rt, "perma_get_group_stats", false);
     if (group >= rt->work_groups || !out)
         return perma_set_error(rt, PERMA_ERR_ARGUMENT, "perma_get_group_stats: group %u is not in 0..%u",
                                group, rt->work_groups - 1);

@@ -78,8 +78,10 @@ static perma_status launch_step(perma_runtime *rt, unsigned q, uint32_t first, u
     st = set_step_args(rt, q, take);
     if (st != PERMA_OK)
         return st;
-    size_t local = rt->group_size;
-    size_t global = ((size_t)take + p->max_batch - 1) / p->max_batch * local;
+    /* At most work_groups groups, each running every work_groups-th batch
+     * (kernels/perma_host_steps.cl): ctx->group stays below work_groups. */
+    size_t local = rt->group_size, batches = ((size_t)take + p->max_batch - 1) / p->max_batch;
+    size_t global = (batches < rt->work_groups ? batches : rt->work_groups) * local;
     PERMA_CL_CHECK(rt, "clEnqueueNDRangeKernel (step)",
                    clEnqueueNDRangeKernel(rt->queue, rt->step_kernel, 1, NULL, &global, &local, 0, NULL, NULL));
     return PERMA_OK;
