@@ -79,6 +79,7 @@ extern "C" {
 #define PERMA_MAX_EMIT_ITEMS 4096 /* most items one input item may emit into one target */
 #define PERMA_MAX_PROCEDURES 64
 #define PERMA_MAX_BUFFERS 32
+#define PERMA_MAX_QUEUED_ITEMS ((size_t)1 << 30) /* most items one queue holds (seeds included) */
 #define PERMA_MESSAGE_MAX 1024
 
 typedef enum perma_status {
@@ -206,8 +207,11 @@ typedef struct perma_config {
     /* Initial capacity of each queue in items; 0 = 1024.  Rounded up to a
      * power of two; queues grow on demand. */
     size_t queue_capacity;
-    /* Cap on the bytes of all queues together; 0 = half the device's
-     * largest allocation.  Reaching it fails the run with PERMA_ERR_CAPACITY. */
+    /* Cap on the bytes of all queues together (item_size + 4 bytes per
+     * slot); 0 = half the device's largest allocation
+     * (CL_DEVICE_MAX_MEM_ALLOC_SIZE): growing a queue holds the old and the
+     * new items at once.  Reaching it fails the run with PERMA_ERR_CAPACITY;
+     * perma_seed already refuses seeds whose queue would not fit. */
     size_t queue_memory_limit;
     /* Watchdog: a run longer than this many seconds fails with
      * PERMA_ERR_TIMEOUT; 0 = 600. */
@@ -350,7 +354,11 @@ perma_status perma_bind_host(perma_runtime *rt, const char *name, const char *ty
  * declared in a shared source (perma_add_source). */
 perma_status perma_build(perma_runtime *rt);
 
-/* Queue `count` items of procedure `proc` (item_size bytes each) for the next run. */
+/* Queue `count` items of procedure `proc` (item_size bytes each) for the next
+ * run.  Checked before anything is copied: PERMA_ERR_ARGUMENT if the
+ * procedure's seeds would pass PERMA_MAX_QUEUED_ITEMS, PERMA_ERR_CAPACITY
+ * if the queue they start in would pass the queue memory limit (the message
+ * says how many bytes it would need); the seeds queued before stay. */
 perma_status perma_seed(perma_runtime *rt, perma_proc proc, const void *items, size_t count);
 
 /* Run until no work is left.  Queues grow as needed; the watchdog turns a
@@ -390,6 +398,7 @@ typedef struct perma_stats {
     unsigned group_size;
     unsigned procedure_count;
     size_t peak_queue_bytes;   /* largest total queue allocation */
+    size_t queue_memory_limit; /* the cap on it (config.queue_memory_limit or its default) */
     uint64_t items;            /* items executed, all procedures */
     uint64_t steals, donations, spills, idle_polls; /* sums over groups */
     perma_technique technique;

@@ -228,6 +228,14 @@ perma_status perma_buffers_copy(perma_runtime *rt, unsigned flag);
  * capacities[] (queue_sets * proc_count entries) and checks them against
  * the queue memory limit. */
 unsigned perma_queues_count(const perma_runtime *rt);
+/* Queue sets: one per persistent group with a distributed strategy, else 1. */
+unsigned perma_queues_sets(const perma_runtime *rt);
+/* The cap on the bytes of all queues (config.queue_memory_limit or its
+ * default). */
+size_t perma_queues_memory_limit(const perma_runtime *rt);
+/* Whether `count` more seeds of procedure `proc` stay within
+ * PERMA_MAX_QUEUED_ITEMS and the memory limit in the queues they start in. */
+perma_status perma_queues_check_seeds(perma_runtime *rt, unsigned proc, size_t count);
 /* Before a run: what the seeds and any producer's one item need. */
 perma_status perma_queues_initial(perma_runtime *rt, size_t *capacities);
 /* The seeds queue qi starts with: items [*first, *first + *count) of its

@@ -193,9 +193,9 @@ perma_status perma_seed(perma_runtime *rt, perma_proc proc, const void *items, s
         return PERMA_OK;
     if (!items)
         return perma_set_error(rt, PERMA_ERR_ARGUMENT, "perma_seed('%s'): items is NULL", p->name);
-    if (count > ((size_t)1 << 30) - p->seed_count)
-        return perma_set_error(rt, PERMA_ERR_ARGUMENT,
-                               "perma_seed('%s'): %zu items would exceed 2^30 queued items", p->name, count);
+    perma_status st = perma_queues_check_seeds(rt, (unsigned)proc, count);
+    if (st != PERMA_OK)
+        return st;
     size_t need = (p->seed_count + count) * p->item_size;
     if (need > p->seed_alloc) {
         size_t alloc = p->seed_alloc ? p->seed_alloc : 256;

@@ -15,6 +15,7 @@ void perma_stats_reset(perma_runtime *rt)
     rt->stats.work_groups = rt->work_groups;
     rt->stats.group_size = rt->group_size;
     rt->stats.procedure_count = rt->proc_count;
+    rt->stats.queue_memory_limit = perma_queues_memory_limit(rt);
     for (unsigned q = 0; q < rt->proc_count; ++q) {
         perma_proc_info *p = &rt->procs[q];
         memset(&p->stats, 0, sizeof p->stats);
@@ -166,9 +167,9 @@ void perma_print_stats(perma_runtime *rt, FILE *out)
         return;
     const perma_stats *s = &rt->stats;
     fprintf(out, "perma run (%s, %s): %.3f s, %u launch(es), %u regrowth(s), %u group(s) x %u work-items, "
-                 "peak queue memory %zu bytes\n",
+                 "peak queue memory %zu bytes (limit %zu)\n",
             perma_technique_name(s->technique), perma_strategy_name(s->strategy), s->seconds, s->launches,
-            s->regrowths, s->work_groups, s->group_size, s->peak_queue_bytes);
+            s->regrowths, s->work_groups, s->group_size, s->peak_queue_bytes, s->queue_memory_limit);
     if (s->steals || s->donations || s->spills)
         fprintf(out, "load balancing: %" PRIu64 " steal(s), %" PRIu64 " donation(s), %" PRIu64
                      " spill(s), %" PRIu64 " idle poll(s)\n",

@@ -98,6 +98,32 @@ START_TEST(out_pointers_are_checked)
 }
 END_TEST
 
+/* Run `count` items of value 1 through `count`, which adds each to the
+ * entry of its ctx->group in an array of work_groups entries plus one for
+ * any group number out of range; the items that ran, those in *stray. */
+static uint64_t run_ones(perma_runtime *rt, perma_proc id, size_t count, uint32_t *stray)
+{
+    unsigned work_groups;
+    ck_assert_perma_ok(rt, perma_get_work_groups(rt, &work_groups, NULL));
+    uint32_t *per_group = calloc(work_groups + 1, sizeof *per_group), groups[1] = { work_groups };
+    uint32_t *ones = malloc(count * sizeof *ones);
+    for (size_t i = 0; i < count; ++i)
+        ones[i] = 1;
+    ck_assert_perma_ok(rt, perma_bind_host(rt, "per_group", "__global uint *", per_group,
+                                           (work_groups + 1) * sizeof *per_group, PERMA_READ_WRITE));
+    ck_assert_perma_ok(rt, perma_bind_host(rt, "groups", "__global const uint *", groups, sizeof groups, PERMA_READ));
+    ck_assert_perma_ok(rt, perma_seed(rt, id, ones, count));
+    ck_assert_perma_ok(rt, perma_run(rt));
+    uint64_t total = 0;
+    for (unsigned g = 0; g <= work_groups; ++g)
+        total += per_group[g];
+    if (stray)
+        *stray = per_group[work_groups];
+    free(ones);
+    free(per_group);
+    return total;
+}
+
 /* An array with one entry per work-group, sized before the first run:
  * every item lands in an entry below work_groups, under every technique
  * (a host-driven step once ran a group per batch). */
@@ -112,32 +138,68 @@ START_TEST(work_groups_known_before_the_first_run)
     ck_assert_perma_ok(rt, perma_get_work_groups(rt, &work_groups, &group_size));
     ck_assert_uint_ge(work_groups, 1);
     ck_assert_uint_eq(group_size, 32);
-    uint32_t *per_group = calloc(work_groups + 1, sizeof *per_group); /* + 1: where a stray index lands */
-    uint32_t groups[1] = { work_groups };
     perma_procedure p = count_procedure();
     perma_proc id;
     ck_assert_perma_ok(rt, perma_register(rt, &p, &id));
-    ck_assert_perma_ok(rt, perma_bind_host(rt, "per_group", "__global uint *", per_group,
-                                           (work_groups + 1) * sizeof *per_group, PERMA_READ_WRITE));
-    ck_assert_perma_ok(rt, perma_bind_host(rt, "groups", "__global const uint *", groups, sizeof groups, PERMA_READ));
-    enum { N = 20000 };
-    uint32_t *ones = malloc(N * sizeof *ones);
-    for (unsigned i = 0; i < N; ++i)
-        ones[i] = 1;
-    ck_assert_perma_ok(rt, perma_seed(rt, id, ones, N));
-    ck_assert_perma_ok(rt, perma_run(rt));
-    uint64_t total = 0;
-    for (unsigned g = 0; g < work_groups; ++g)
-        total += per_group[g];
-    ck_assert_msg(per_group[work_groups] == 0, "%u items ran with ctx->group >= %u", per_group[work_groups],
-                  work_groups);
-    ck_assert_uint_eq(total, N);
+    uint32_t stray = 0;
+    ck_assert_uint_eq(run_ones(rt, id, 20000, &stray), 20000);
+    ck_assert_msg(stray == 0, "%u items ran with ctx->group >= %u", stray, work_groups);
     perma_stats stats;
     ck_assert_perma_ok(rt, perma_get_stats(rt, &stats));
     ck_assert_uint_eq(stats.work_groups, work_groups);
     ck_assert_uint_eq(stats.group_size, group_size);
-    free(ones);
-    free(per_group);
+    perma_destroy(rt);
+}
+END_TEST
+
+/* The default cap on all queues' memory is half the device's largest
+ * allocation, as perma.h says (a regrowth holds the old and the new queues
+ * at once); a configured cap is used as given. */
+START_TEST(default_queue_memory_limit_is_half_the_largest_allocation)
+{
+    perma_config config;
+    perma_config_init(&config);
+    config.time_limit = 120;
+    for (int configured = 0; configured < 2; ++configured) {
+        config.queue_memory_limit = configured ? 12345678 : 0;
+        perma_runtime *rt = test_runtime_config(&config);
+        cl_ulong max_alloc = 0;
+        ck_assert_int_eq(clGetDeviceInfo(perma_cl_device(rt), CL_DEVICE_MAX_MEM_ALLOC_SIZE, sizeof max_alloc,
+                                         &max_alloc, NULL), CL_SUCCESS);
+        perma_procedure p = count_procedure();
+        perma_proc id;
+        ck_assert_perma_ok(rt, perma_register(rt, &p, &id));
+        ck_assert_uint_eq(run_ones(rt, id, 10, NULL), 10);
+        perma_stats stats;
+        ck_assert_perma_ok(rt, perma_get_stats(rt, &stats));
+        ck_assert_uint_eq(stats.queue_memory_limit, configured ? 12345678 : max_alloc / 2);
+        perma_destroy(rt);
+    }
+}
+END_TEST
+
+/* Seeds whose queue could not fit are refused by perma_seed, which says
+ * what they would need, rather than by the run. */
+START_TEST(seeds_beyond_the_limits_are_refused_at_seed)
+{
+    perma_config config;
+    perma_config_init(&config);
+    config.queue_memory_limit = 1 << 20;
+    config.time_limit = 120;
+    perma_runtime *rt = test_runtime_config(&config);
+    perma_procedure p = count_procedure();
+    perma_proc id;
+    ck_assert_perma_ok(rt, perma_register(rt, &p, &id));
+    enum { TOO_MANY = 200000 }; /* 2^18 slots of 8 bytes: 2 MiB */
+    uint32_t *items = calloc(TOO_MANY, sizeof *items);
+    ck_assert_int_eq(perma_seed(rt, id, items, TOO_MANY), PERMA_ERR_CAPACITY);
+    ck_assert_contains(perma_errmsg(rt), "perma_seed('count'): 200000 items seeded would need");
+    ck_assert_contains(perma_errmsg(rt), "more than the queue memory limit of 1048576 bytes");
+    ck_assert_int_eq(perma_seed(rt, id, items, PERMA_MAX_QUEUED_ITEMS + 1), PERMA_ERR_ARGUMENT);
+    ck_assert_contains(perma_errmsg(rt), "more than a queue holds (PERMA_MAX_QUEUED_ITEMS, 2^30)");
+    /* The refused seeds were not queued; seeds that fit run. */
+    ck_assert_uint_eq(run_ones(rt, id, 1000, NULL), 1000);
+    free(items);
     perma_destroy(rt);
 }
 END_TEST
@@ -151,6 +213,8 @@ int main(void)
     tcase_add_test(tc, errmsg_is_empty_after_every_successful_call);
     tcase_add_test(tc, out_pointers_are_checked);
     tcase_add_test(tc, work_groups_known_before_the_first_run);
+    tcase_add_test(tc, default_queue_memory_limit_is_half_the_largest_allocation);
+    tcase_add_test(tc, seeds_beyond_the_limits_are_refused_at_seed);
     suite_add_tcase(s, tc);
     return test_run_suite(s) ? EXIT_FAILURE : EXIT_SUCCESS;
 }
