@@ -2,29 +2,66 @@
  * checking the targets' room before each step.  A launch runs steps until
  * every queue is empty, a step needs more room than its targets have
  * (NEEDS_ROOM with the room each queue needs), a kernel fails or the
- * deadline passes. */
+ * deadline passes.
+ *
+ * A step takes what the policy asks for only if the worst-case emits of all
+ * of it fit in the targets' room; otherwise it takes as many as fit, and
+ * only when not even STEP_MIN_BATCHES batches per work-group fit (or what a
+ * quarter of the memory limit can reserve) do the queues grow, and only for
+ * those.  So a breadth-first level is split into
+ * launches that fit rather than reserving its whole worst case at once
+ * (which failed at the memory limit where the other techniques succeed). */
 #include "steps.h"
 
 #include <stdlib.h>
 #include <string.h>
 
-/* Whether the targets of q have room for the worst-case emits of `take` of
- * its items; if not, needed[] says how many free slots each queue needs.
- * The taken items are still in q's queue: q needs room for them too. */
-static bool targets_have_room(const perma_runtime *rt, const perma_ctl_block *ctl, unsigned q, uint32_t take,
-                              size_t *needed)
+/* Batches per work-group below which a step grows the queues rather than
+ * run with fewer items: fewer would mostly pay launch overhead. */
+#define STEP_MIN_BATCHES 16
+
+/* The most of `want` items of q whose worst-case emits fit in the targets'
+ * room now (taken items free their slots in q's own queue). */
+static uint32_t items_that_fit(const perma_runtime *rt, const perma_ctl_block *ctl, unsigned q, uint32_t want)
 {
     const perma_proc_info *p = &rt->procs[q];
-    bool room_for_all = true;
+    uint64_t fit = want;
+    for (unsigned e = 0; e < p->emit_count; ++e) {
+        unsigned t = (unsigned)p->emit_target[e];
+        int64_t room = (int32_t)ctl->queues[t].room;
+        uint64_t per_item = p->emit_max[e] - (t == q ? 1u : 0u);
+        if (per_item > 0 && (uint64_t)(room > 0 ? room : 0) / per_item < fit)
+            fit = (uint64_t)(room > 0 ? room : 0) / per_item;
+    }
+    return (uint32_t)fit;
+}
+
+/* The fewest items of q worth a launch, of `want`: STEP_MIN_BATCHES
+ * batches per work-group, but no more than a quarter of the queue memory
+ * limit can reserve room for (at least one item). */
+static uint32_t least_worth_a_launch(const perma_runtime *rt, unsigned q, uint32_t want)
+{
+    const perma_proc_info *p = &rt->procs[q];
+    uint64_t least = (uint64_t)rt->work_groups * p->max_batch * STEP_MIN_BATCHES, reserved = 0;
+    for (unsigned e = 0; e < p->emit_count; ++e)
+        reserved += (uint64_t)p->emit_max[e] * (rt->procs[p->emit_target[e]].item_size + 4);
+    uint64_t affordable = reserved ? perma_queues_memory_limit(rt) / 4 / reserved : least;
+    if (least > affordable)
+        least = affordable > 0 ? affordable : 1;
+    return want < least ? want : (uint32_t)least;
+}
+
+/* How many free slots each queue needs (needed[]) before `take` items of q
+ * can run: their worst-case emits, counting that the taken items are still
+ * in q's queue. */
+static void room_needed(const perma_runtime *rt, unsigned q, uint32_t take, size_t *needed)
+{
+    const perma_proc_info *p = &rt->procs[q];
     memset(needed, 0, rt->proc_count * sizeof *needed);
     for (unsigned e = 0; e < p->emit_count; ++e) {
         unsigned t = (unsigned)p->emit_target[e];
-        int64_t room = (int32_t)ctl->queues[t].room + (t == q ? (int64_t)take : 0);
-        needed[t] += (size_t)take * p->emit_max[e];
-        if ((int64_t)needed[t] > room)
-            room_for_all = false;
+        needed[t] += (size_t)take * p->emit_max[e] - (t == q ? take : 0);
     }
-    return room_for_all;
 }
 
 static perma_status set_take_args(perma_runtime *rt, cl_uint qi, cl_uint first, cl_uint take, cl_uint from_tail)
@@ -159,8 +196,10 @@ static perma_status run_steps(perma_runtime *rt, const perma_step_policy *policy
         if (chosen < 0)
             return PERMA_OK;
         unsigned q = (unsigned)chosen;
-        uint32_t take = policy->take(rt, perma_steps_queued(ctl, q));
-        if (!targets_have_room(rt, ctl, q, take, outcome->needed)) {
+        uint32_t want = policy->take(rt, perma_steps_queued(ctl, q));
+        uint32_t take = items_that_fit(rt, ctl, q, want), least = least_worth_a_launch(rt, q, want);
+        if (take < least) {
+            room_needed(rt, q, least, outcome->needed);
             outcome->header.status = PERMA_KSTATUS_NEEDS_ROOM;
             outcome->needed_given = true;
             return PERMA_OK;
