@@ -205,7 +205,10 @@ typedef struct perma_config {
     /* Work-items per group; 0 = 64. */
     unsigned group_size;
     /* Initial capacity of each queue in items; 0 = 1024.  Rounded up to a
-     * power of two; queues grow on demand. */
+     * power of two; queues grow on demand, and a run starts each queue at
+     * the capacity the last successful run of the same program grew it to,
+     * if that is more and all queues fit queue_memory_limit
+     * (perma_stats.queues_kept counts them; perma_forget_capacities). */
     size_t queue_capacity;
     /* Cap on the bytes of all queues together (item_size + 4 bytes per
      * slot); 0 = half the device's largest allocation
@@ -361,6 +364,12 @@ perma_status perma_build(perma_runtime *rt);
  * says how many bytes it would need); the seeds queued before stay. */
 perma_status perma_seed(perma_runtime *rt, perma_proc proc, const void *items, size_t count);
 
+/* Let the next run start every queue from config.queue_capacity again
+ * rather than from what earlier runs grew it to: e.g. after a run much
+ * larger than the ones that follow, whose queue memory they need not keep
+ * (the device buffers keep their size until perma_destroy either way). */
+perma_status perma_forget_capacities(perma_runtime *rt);
+
 /* Run until no work is left.  Queues grow as needed; the watchdog turns a
  * run longer than the time limit into PERMA_ERR_TIMEOUT.  A run consumes the
  * seeded items whether it succeeds or fails: seed again before a retry. */
@@ -375,6 +384,7 @@ typedef struct perma_procedure_stats {
     unsigned emit_count;                /* entries used in emitted[] */
     uint64_t seeded;                    /* items seeded by the host */
     uint64_t peak_queue_items;          /* most items queued at once */
+    size_t initial_capacity;            /* capacity in items when the run started */
     size_t queue_capacity;              /* final capacity in items */
     unsigned regrowths;                 /* times this queue was grown */
 } perma_procedure_stats;
@@ -399,6 +409,9 @@ typedef struct perma_stats {
     unsigned procedure_count;
     size_t peak_queue_bytes;   /* largest total queue allocation */
     size_t queue_memory_limit; /* the cap on it (config.queue_memory_limit or its default) */
+    unsigned queues_kept;      /* queues that started at the capacity an earlier run of this
+                                  runtime grew them to (kept while the program is not rebuilt
+                                  and all queues fit the memory limit) */
     uint64_t items;            /* items executed, all procedures */
     uint64_t steals, donations, spills, idle_polls; /* sums over groups */
     perma_technique technique;

@@ -85,6 +85,7 @@ typedef struct perma_device_buffer {
 /* One queue of the launch state. */
 typedef struct perma_queue_state {
     size_t capacity;     /* items, a power of two */
+    size_t initial;      /* its capacity when this run started */
     unsigned regrowths;  /* times it grew in this run */
 } perma_queue_state;
 
@@ -102,6 +103,9 @@ typedef struct perma_device_state {
     uint32_t *abort_flag;         /* in this (page-aligned) host memory */
     perma_queue_state *queues;    /* queue_count entries, index set * procs + proc */
     unsigned queue_count;
+    /* queues[].capacity are what the last run of this build grew to, and it
+     * succeeded: the next run starts from them (memory permitting). */
+    bool capacities_learned;
 } perma_device_state;
 
 struct perma_executor;
@@ -236,7 +240,8 @@ size_t perma_queues_memory_limit(const perma_runtime *rt);
 /* Whether `count` more seeds of procedure `proc` stay within
  * PERMA_MAX_QUEUED_ITEMS and the memory limit in the queues they start in. */
 perma_status perma_queues_check_seeds(perma_runtime *rt, unsigned proc, size_t count);
-/* Before a run: what the seeds and any producer's one item need. */
+/* Before a run: what the seeds and any producer's one item need, or what
+ * the last run grew each queue to if more and the memory limit allows. */
 perma_status perma_queues_initial(perma_runtime *rt, size_t *capacities);
 /* The seeds queue qi starts with: items [*first, *first + *count) of its
  * procedure's seeds (with one queue set per group they are dealt out in

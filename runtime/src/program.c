@@ -97,6 +97,7 @@ perma_status perma_build(perma_runtime *rt)
     if (begun != PERMA_OK || rt->built)
         return begun;
     perma_release_program(rt);
+    rt->state.capacities_learned = false; /* queue i may mean another queue now */
     perma_status st = perma_build_layout(rt);
     if (st != PERMA_OK)
         return st;

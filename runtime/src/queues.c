@@ -4,6 +4,7 @@
 #include "executor.h"
 
 #include <stdlib.h>
+#include <string.h>
 
 #define DEFAULT_CAPACITY 1024
 
@@ -91,6 +92,35 @@ void perma_queues_seed_share(const perma_runtime *rt, unsigned qi, size_t *first
         *count = share;
 }
 
+/* Start from what the last successful run of this build grew the queues
+ * to, if that is more and all queues then fit the memory limit: a runtime
+ * that runs similar work again does not pay the same regrowths every time.
+ * Counts the queues that start higher in the statistics. */
+static void keep_learned_capacities(perma_runtime *rt, size_t *capacities)
+{
+    const perma_device_state *s = &rt->state;
+    unsigned count = perma_queues_count(rt);
+    rt->stats.queues_kept = 0;
+    if (!s->capacities_learned || s->queue_count != count)
+        return;
+    size_t *learned = malloc(count * sizeof *learned);
+    if (!learned)
+        return; /* an optimisation only */
+    unsigned kept = 0;
+    for (unsigned qi = 0; qi < count; ++qi) {
+        learned[qi] = capacities[qi];
+        if (s->queues[qi].capacity > capacities[qi]) {
+            learned[qi] = s->queues[qi].capacity;
+            kept++;
+        }
+    }
+    if (kept && perma_queues_bytes(rt, learned) <= perma_queues_memory_limit(rt)) {
+        memcpy(capacities, learned, count * sizeof *learned);
+        rt->stats.queues_kept = kept;
+    }
+    free(learned);
+}
+
 perma_status perma_queues_initial(perma_runtime *rt, size_t *capacities)
 {
     unsigned n = rt->proc_count, sets = rt->queue_sets;
@@ -108,6 +138,7 @@ perma_status perma_queues_initial(perma_runtime *rt, size_t *capacities)
                     cap = rt->procs[i].emit_max[e];
         capacities[qi] = next_pow2(cap);
     }
+    keep_learned_capacities(rt, capacities);
     size_t bytes = perma_queues_bytes(rt, capacities);
     if (bytes > perma_queues_memory_limit(rt))
         return perma_set_error(rt, PERMA_ERR_CAPACITY,

@@ -118,6 +118,15 @@ static perma_status write_trace(perma_runtime *rt, perma_status st)
     return st;
 }
 
+perma_status perma_forget_capacities(perma_runtime *rt)
+{
+    if (!rt)
+        return PERMA_ERR_ARGUMENT;
+    perma_call_begin(rt, "perma_forget_capacities", false);
+    rt->state.capacities_learned = false;
+    return PERMA_OK;
+}
+
 perma_status perma_run(perma_runtime *rt)
 {
     if (!rt)
@@ -144,6 +153,7 @@ perma_status perma_run(perma_runtime *rt)
     if (st == PERMA_OK)
         st = perma_buffers_copy(rt, PERMA_WRITE);
     rt->stats.seconds = perma_now() - start;
+    rt->state.capacities_learned = st == PERMA_OK;
     st = write_trace(rt, st);
     perma_stats_finish(rt);
     if (st == PERMA_OK)

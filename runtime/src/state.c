@@ -168,9 +168,10 @@ static perma_status set_queues(perma_runtime *rt, const size_t *capacities, bool
         s->queue_count = count;
     }
     for (unsigned qi = 0; qi < count; ++qi) {
-        if (fresh)
+        if (fresh) {
             s->queues[qi].regrowths = 0;
-        else if (capacities[qi] != s->queues[qi].capacity)
+            s->queues[qi].initial = capacities[qi];
+        } else if (capacities[qi] != s->queues[qi].capacity)
             s->queues[qi].regrowths++;
         s->queues[qi].capacity = capacities[qi];
     }

@@ -96,11 +96,13 @@ perma_status perma_stats_collect(perma_runtime *rt)
 void perma_stats_finish(perma_runtime *rt)
 {
     for (unsigned q = 0; q < rt->proc_count; ++q) {
+        rt->procs[q].stats.initial_capacity = 0;
         rt->procs[q].stats.queue_capacity = 0;
         rt->procs[q].stats.regrowths = 0;
     }
     for (unsigned qi = 0; qi < rt->state.queue_count; ++qi) {
         perma_procedure_stats *ps = &rt->procs[qi % rt->proc_count].stats;
+        ps->initial_capacity += rt->state.queues[qi].initial;
         ps->queue_capacity += rt->state.queues[qi].capacity;
         if (rt->state.queues[qi].regrowths > ps->regrowths)
             ps->regrowths = rt->state.queues[qi].regrowths;
@@ -170,6 +172,8 @@ void perma_print_stats(perma_runtime *rt, FILE *out)
                  "peak queue memory %zu bytes (limit %zu)\n",
             perma_technique_name(s->technique), perma_strategy_name(s->strategy), s->seconds, s->launches,
             s->regrowths, s->work_groups, s->group_size, s->peak_queue_bytes, s->queue_memory_limit);
+    if (s->queues_kept)
+        fprintf(out, "%u queue(s) started at the capacity an earlier run grew them to\n", s->queues_kept);
     if (s->steals || s->donations || s->spills)
         fprintf(out, "load balancing: %" PRIu64 " steal(s), %" PRIu64 " donation(s), %" PRIu64
                      " spill(s), %" PRIu64 " idle poll(s)\n",

@@ -51,13 +51,45 @@ START_TEST(tiny_queue_regrows_to_exact_result)
     ck_assert_uint_le(ps.peak_queue_items, ps.queue_capacity);
     ck_assert_uint_eq(ps.items, (2u << DEPTH) - 1);
 
-    /* The next run starts from the configured capacity again. */
+    /* The next run starts from the capacities this one grew to: the same
+     * work runs without the regrowths (at most one more where groups share
+     * the work differently from run to run: stealing, donation, local
+     * queues). */
+    size_t grown = ps.queue_capacity;
+    unsigned first_regrowths = st.regrowths;
     memset(counts, 0, sizeof counts);
     sums[0] = 0;
+    ck_assert_perma_ok(rt, perma_seed(rt, id, &root, 1));
+    ck_assert_perma_ok(rt, perma_run(rt));
+    ck_assert_uint_eq(counts[0], 1u << DEPTH);
+    ck_assert_perma_ok(rt, perma_get_stats(rt, &st));
+    ck_assert_uint_le(st.regrowths, 1);
+    ck_assert_uint_lt(st.regrowths, first_regrowths);
+    ck_assert_uint_ge(st.queues_kept, 1);
+    ck_assert_perma_ok(rt, perma_get_procedure_stats(rt, id, &ps));
+    ck_assert_uint_eq(ps.initial_capacity, grown);
+    if (st.technique == PERMA_TECHNIQUE_MEGAKERNEL)
+        ck_assert_uint_eq(st.launches, st.regrowths + 1);
+
+    /* perma_forget_capacities, and rebuilding the program (a new buffer),
+     * start from the configured capacity again. */
+    ck_assert_perma_ok(rt, perma_forget_capacities(rt));
+    ck_assert_perma_ok(rt, perma_seed(rt, id, &root, 1));
+    ck_assert_perma_ok(rt, perma_run(rt));
+    ck_assert_perma_ok(rt, perma_get_stats(rt, &st));
+    ck_assert_uint_eq(st.queues_kept, 0);
+    ck_assert_uint_gt(st.regrowths, 0);
+    uint32_t unused[1];
+    ck_assert_perma_ok(rt, perma_bind_host(rt, "unused", "__global uint *", unused, sizeof unused, PERMA_READ));
+    memset(counts, 0, sizeof counts);
     root.target = 3;
     ck_assert_perma_ok(rt, perma_seed(rt, id, &root, 1));
     ck_assert_perma_ok(rt, perma_run(rt));
     ck_assert_uint_eq(counts[0], 8);
+    ck_assert_perma_ok(rt, perma_get_stats(rt, &st));
+    ck_assert_uint_eq(st.queues_kept, 0);
+    ck_assert_perma_ok(rt, perma_get_procedure_stats(rt, id, &ps));
+    ck_assert_uint_lt(ps.initial_capacity, grown);
     perma_destroy(rt);
 }
 END_TEST
@@ -137,6 +169,55 @@ START_TEST(large_emit_maximum_fits_the_memory_cap)
 }
 END_TEST
 
+/* Capacities kept from an earlier run give way when they and the next
+ * run's seeds would pass the memory limit together: the run then starts
+ * from fresh capacities, and succeeds.  Built directly (megakernel/shared):
+ * the sizes are calibrated for it. */
+START_TEST(kept_capacities_give_way_to_the_memory_limit)
+{
+    perma_config config;
+    perma_config_init(&config);
+    config.queue_capacity = 16;
+    config.queue_memory_limit = 1 << 20;
+    config.time_limit = 120;
+    perma_runtime *rt;
+    perma_error error;
+    ck_assert_msg(perma_create(&config, &rt, &error) == PERMA_OK, "%s", error.message);
+    uint32_t counts[2] = { 0, 0 };
+    uint64_t sums[1] = { 0 };
+    perma_proc tree = add_tree(rt, counts, sums);
+    perma_procedure noop = { .name = "noop", .item_type = "uint", .item_size = 4, .function = "noop",
+                             .source = "void noop(perma_ctx *ctx, __local const uint *x) { (void)ctx; (void)x; }\n" };
+    perma_proc flat;
+    ck_assert_perma_ok(rt, perma_register(rt, &noop, &flat));
+    struct tree_node root = { 0, 14, 1, 0 };
+    ck_assert_perma_ok(rt, perma_seed(rt, tree, &root, 1));
+    ck_assert_perma_ok(rt, perma_run(rt));
+    perma_procedure_stats ps;
+    ck_assert_perma_ok(rt, perma_get_procedure_stats(rt, tree, &ps));
+    size_t learned = ps.queue_capacity * (sizeof root + 4);
+    ck_assert_msg(learned > (512 << 10) + 1024, "the tree grew its queue to only %zu bytes", learned);
+
+    /* 2^16 seeds of 4 bytes need 512 KiB: with the learned tree queue more
+     * than 1 MiB, with a fresh one less. */
+    enum { FLAT = 1 << 16 };
+    uint32_t *items = calloc(FLAT, sizeof *items);
+    ck_assert_perma_ok(rt, perma_seed(rt, flat, items, FLAT));
+    root.target = 3;
+    ck_assert_perma_ok(rt, perma_seed(rt, tree, &root, 1));
+    ck_assert_perma_ok(rt, perma_run(rt));
+    perma_stats st;
+    ck_assert_perma_ok(rt, perma_get_stats(rt, &st));
+    ck_assert_uint_eq(st.queues_kept, 0);
+    ck_assert_perma_ok(rt, perma_get_procedure_stats(rt, tree, &ps));
+    ck_assert_uint_eq(ps.initial_capacity, 16);
+    ck_assert_perma_ok(rt, perma_get_procedure_stats(rt, flat, &ps));
+    ck_assert_uint_eq(ps.items, FLAT);
+    free(items);
+    perma_destroy(rt);
+}
+END_TEST
+
 /* A procedure that always emits two copies of itself never finishes: the
  * queues grow until the cap, and the run ends with an error. */
 START_TEST(unbounded_recursion_hits_the_cap)
@@ -205,6 +286,7 @@ int main(void)
     tcase_add_test(tc, memory_cap_is_a_clear_error);
     tcase_add_test(tc, unbounded_recursion_hits_the_cap);
     tcase_add_test(tc, large_emit_maximum_fits_the_memory_cap);
+    tcase_add_test(tc, kept_capacities_give_way_to_the_memory_limit);
     tcase_add_test(tc, bounded_batches_bound_memory);
     suite_add_tcase(s, tc);
     return test_run_suite(s) ? EXIT_FAILURE : EXIT_SUCCESS;
