@@ -375,6 +375,15 @@ perma_status perma_forget_capacities(perma_runtime *rt);
  * seeded items whether it succeeds or fails: seed again before a retry. */
 perma_status perma_run(perma_runtime *rt);
 
+/* Why a procedure's batches held fewer items than a group could run. */
+typedef enum perma_batch_cut {
+    PERMA_BATCH_FULL = 0,         /* nothing cut them */
+    PERMA_BATCH_CUT_LOCAL_MEMORY, /* __local memory holds fewer items (their copies, scratch and
+                                     worst-case emits): batch_size is below group size / threads */
+    PERMA_BATCH_CUT_ROOM          /* a full batch's worst-case emits did not fit the target's queue,
+                                     so batches started with the few items whose worst case fit */
+} perma_batch_cut;
+
 /* Statistics of the last run. */
 typedef struct perma_procedure_stats {
     const char *name;
@@ -387,6 +396,9 @@ typedef struct perma_procedure_stats {
     size_t initial_capacity;            /* capacity in items when the run started */
     size_t queue_capacity;              /* final capacity in items */
     unsigned regrowths;                 /* times this queue was grown */
+    unsigned batch_size;                /* most items one batch holds (items / batches: the mean) */
+    perma_batch_cut batch_cut;          /* why batches were smaller, if they were */
+    int batch_cut_emit;                 /* the .emits entry responsible, or -1 */
 } perma_procedure_stats;
 
 /* Load-balancing counters of one persistent work-group. */
@@ -430,7 +442,9 @@ perma_status perma_get_work_groups(perma_runtime *rt, unsigned *work_groups, uns
  * all zero for the host-driven techniques. */
 perma_status perma_get_group_stats(perma_runtime *rt, unsigned group, perma_group_stats *out);
 
-/* Print the statistics of the last run as a readable table. */
+/* Print the statistics of the last run as a readable table, with a warning
+ * for each procedure whose batches were cut (perma_batch_cut) naming the
+ * declaration responsible. */
 void perma_print_stats(perma_runtime *rt, FILE *out);
 
 /* Description of the device and the chosen work-group count, one line. */

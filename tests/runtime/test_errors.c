@@ -3,6 +3,7 @@
  * targets, missing devices, emit limits, the watchdog. */
 #include "perma_test.h"
 
+#include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
@@ -389,6 +390,83 @@ START_TEST(bounded_wait_names_queue_and_position)
 }
 END_TEST
 
+/* A tree whose root has 1000 children and whose other nodes have 2, down
+ * to depth 4: 1 + 1000 + 2000 + 4000 + 8000 nodes. */
+#define FANOUT_TREE_NODES 15001u
+static const char *fanout_types = "struct fan { uint depth; uint pad; };\n";
+static const char *fanout_source =
+    "void node(perma_ctx *ctx, __local const struct fan *n)\n"
+    "{\n"
+    "    atomic_inc(&ctx->buf.nodes[0]);\n"
+    "    struct fan child = { n->depth + 1u, 0u };\n"
+    "    uint children = n->depth == 0u ? 1000u : n->depth < 4u ? 2u : 0u;\n"
+    "    for (uint i = 0; i < children; ++i)\n"
+    "        emit_node(ctx, &child);\n"
+    "}\n"
+    "void root(perma_ctx *ctx, __local const struct fan *n) { node(ctx, n); }\n";
+
+/* Run the fan-out tree, its root declared by procedure `root_name`; the
+ * statistics of `node` and what perma_print_stats printed. */
+static void run_fanout(const char *root_name, perma_procedure_stats *node_stats, char **printed)
+{
+    perma_runtime *rt = test_runtime(64, 0, 0);
+    bool separate = strcmp(root_name, "root") == 0;
+    ck_assert_perma_ok(rt, perma_add_source(rt, fanout_types, "fan_types.cl"));
+    perma_procedure node = { .name = "node", .item_type = "struct fan", .item_size = 8, .function = "node",
+                             .source = fanout_source, .source_file = "fan.cl",
+                             .emits = { { "node", separate ? 2 : 1000 } } };
+    perma_proc node_id, root_id;
+    ck_assert_perma_ok(rt, perma_register(rt, &node, &node_id));
+    root_id = node_id;
+    if (separate) {
+        perma_procedure root = node;
+        root.name = root.function = "root";
+        root.emits[0].max_items = 1000;
+        ck_assert_perma_ok(rt, perma_register(rt, &root, &root_id));
+    }
+    uint32_t nodes[1] = { 0 };
+    ck_assert_perma_ok(rt, perma_bind_host(rt, "nodes", "__global uint *", nodes, sizeof nodes, PERMA_READ_WRITE));
+    struct { uint32_t depth, pad; } top = { 0, 0 };
+    ck_assert_perma_ok(rt, perma_seed(rt, root_id, &top, 1));
+    ck_assert_perma_ok(rt, perma_run(rt));
+    ck_assert_uint_eq(nodes[0], FANOUT_TREE_NODES);
+    ck_assert_perma_ok(rt, perma_get_procedure_stats(rt, node_id, node_stats));
+    size_t size;
+    FILE *out = open_memstream(printed, &size);
+    perma_print_stats(rt, out);
+    fclose(out);
+    perma_destroy(rt);
+}
+
+/* One procedure for root and nodes declares the root's 1000 children for
+ * every node: a full batch's worst case never fits the queue, so batches
+ * run a few items each.  The statistics say so, naming the declaration;
+ * a separate root procedure (the fix the docs show) runs full batches. */
+START_TEST(cut_batches_are_explained)
+{
+    perma_procedure_stats ps;
+    char *printed = NULL;
+    run_fanout("node", &ps, &printed);
+    ck_assert_uint_eq(ps.batch_size, 64);
+    ck_assert_uint_lt(ps.items, ps.batches * 16); /* a few items per batch */
+    ck_assert_int_eq(ps.batch_cut, PERMA_BATCH_CUT_ROOM);
+    ck_assert_int_eq(ps.batch_cut_emit, 0);
+    ck_assert_contains(printed, "warning: procedure 'node' ran batches of ");
+    ck_assert_contains(printed, "instead of up to 64: a full batch must reserve room for 64 x 1000 items in 'node' "
+                                "(.emits[0].max_items = 1000)");
+    ck_assert_contains(printed, "give the large fan-out to a separate procedure");
+    free(printed);
+
+    printed = NULL;
+    run_fanout("root", &ps, &printed);
+    ck_assert_int_eq(ps.batch_cut, PERMA_BATCH_FULL);
+    ck_assert_int_eq(ps.batch_cut_emit, -1);
+    ck_assert_uint_ge(ps.items, ps.batches * 32);
+    ck_assert_msg(strstr(printed, "warning") == NULL, "unexpected warning: %s", printed);
+    free(printed);
+}
+END_TEST
+
 /* PERMA_DEBUG=1: one work-group and PERMA_DEBUG defined for procedures. */
 START_TEST(debug_mode)
 {
@@ -442,6 +520,7 @@ int main(void)
     tcase_add_test(tc, watchdog_stops_an_endless_run);
     tcase_add_test(tc, bounded_wait_names_queue_and_position);
     tcase_add_test(tc, debug_mode);
+    tcase_add_test(tc, cut_batches_are_explained);
     suite_add_tcase(s, tc);
     return test_run_suite(s) ? EXIT_FAILURE : EXIT_SUCCESS;
 }
