@@ -50,7 +50,9 @@
  * A procedure must not spin-wait on other work-items, must not call barrier()
  * unless it is declared .cooperative (then it is called by every work-item
  * of the group, ctx->active tells whether this one has an item, and every
- * barrier must be reached by all of them).
+ * barrier must be reached by all of them).  barrier() or a work_group_*()
+ * function in the source of a procedure that is not cooperative does not
+ * build: PERMA_ERR_BUILD naming the procedure, file and line.
  */
 #ifndef PERMA_H
 #define PERMA_H
@@ -223,6 +225,14 @@ typedef struct perma_config {
     size_t local_memory_limit;
     /* Extra options for clBuildProgram, e.g. "-DTHRESHOLD=8"; may be NULL. */
     const char *build_options;
+    /* Where compiler messages go: after a build that succeeded, its
+     * warnings ("FILE:LINE:COL: warning: TEXT", naming the procedures'
+     * files and lines), and with the PERMA_BUILD_LOG environment variable
+     * set the whole build log of every build, each as one text of whole
+     * lines.  NULL (default): stderr.  (A failed build's errors are in
+     * perma_errmsg either way.) */
+    void (*build_log)(void *user, const char *text);
+    void *build_log_user;
     /* How the work runs: technique, strategy, victim, local front queue,
      * batch limit (perma_schedule_parse fills one from a label); all zero
      * = megakernel/shared. */

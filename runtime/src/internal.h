@@ -219,6 +219,22 @@ void perma_abi_append_struct_checks(perma_strbuf *sb);
 void perma_abi_append_item_checks(const perma_runtime *rt, perma_strbuf *sb);
 bool perma_abi_explain_log(const perma_runtime *rt, const char *log, char *out, size_t size);
 
+/* barriers.c: around the source of a procedure that is not .cooperative,
+ * turn barrier() and work_group_*() into a compile error at the caller's
+ * line; the sentence for a build log that has one (false when none). */
+void perma_barriers_forbid(const perma_runtime *rt, unsigned proc, perma_strbuf *sb);
+void perma_barriers_allow(perma_strbuf *sb);
+bool perma_barriers_explain_log(const perma_runtime *rt, const char *log, char *out, size_t size);
+
+/* build_log.c: whether line[0..length) is a compiler diagnostic of `kind`
+ * ("error", "warning"); if so its location ("FILE:LINE:COL") in where[]
+ * and *text at its message, whichever form the compiler wrote it in. */
+bool perma_build_log_diagnostic(const char *line, size_t length, const char *kind, char *where, size_t where_size,
+                                const char **text);
+/* After a build: its warnings if it succeeded, or the whole log with
+ * PERMA_BUILD_LOG, to config.build_log or stderr. */
+void perma_build_log_show(perma_runtime *rt, const char *log, bool failed);
+
 /* layout.c, codegen.c, program.c */
 perma_status perma_build_layout(perma_runtime *rt);
 perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *out);

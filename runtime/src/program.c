@@ -55,19 +55,37 @@ static void summarize_log(const char *log, char *out, size_t size)
         out[used - 1] = '\0';
 }
 
-static perma_status report_build_failure(perma_runtime *rt, cl_int code)
+/* The program's build log ("" if there is none); NULL if out of memory. */
+static char *read_build_log(perma_runtime *rt)
 {
     size_t size = 0;
-    clGetProgramBuildInfo(rt->program, rt->device, CL_PROGRAM_BUILD_LOG, 0, NULL, &size);
+    if (clGetProgramBuildInfo(rt->program, rt->device, CL_PROGRAM_BUILD_LOG, 0, NULL, &size) != CL_SUCCESS)
+        size = 0;
     char *log = calloc(1, size + 1);
+    if (log && size)
+        clGetProgramBuildInfo(rt->program, rt->device, CL_PROGRAM_BUILD_LOG, size, log, NULL);
+    return log;
+}
+
+/* A build that succeeded: show its warnings (build_log.c). */
+static void report_build_warnings(perma_runtime *rt)
+{
+    char *log = read_build_log(rt);
+    if (log)
+        perma_build_log_show(rt, log, false);
+    free(log);
+}
+
+static perma_status report_build_failure(perma_runtime *rt, cl_int code)
+{
+    char *log = read_build_log(rt);
     if (!log)
         return perma_set_error(rt, PERMA_ERR_BUILD, "clBuildProgram failed (%s) and the log is too large",
                                perma_cl_error_name(code));
-    clGetProgramBuildInfo(rt->program, rt->device, CL_PROGRAM_BUILD_LOG, size, log, NULL);
-    if (getenv("PERMA_BUILD_LOG"))
-        fprintf(stderr, "perma: build log:\n%s\n", log);
+    perma_build_log_show(rt, log, true);
     char summary[PERMA_MESSAGE_MAX - 64];
-    if (!perma_abi_explain_log(rt, log, summary, sizeof summary))
+    if (!perma_abi_explain_log(rt, log, summary, sizeof summary) &&
+        !perma_barriers_explain_log(rt, log, summary, sizeof summary))
         summarize_log(log, summary, sizeof summary);
     free(log);
     return perma_set_error(rt, PERMA_ERR_BUILD, "building the megakernel failed:\n%s", summary);
@@ -136,6 +154,7 @@ perma_status perma_build(perma_runtime *rt)
         perma_release_program(rt);
         PERMA_CL_CHECK(rt, "clBuildProgram", err);
     }
+    report_build_warnings(rt);
     cl_kernel *kernels[KERNEL_COUNT];
     kernel_slots(rt, kernels);
     for (size_t i = 0; i < KERNEL_COUNT; ++i) {

@@ -101,11 +101,12 @@ static size_t target_capacity(const perma_runtime *rt, unsigned t)
     return cap;
 }
 
-/* Why q's batches held fewer items than a group runs at once, if they did:
- * the layout gave it a smaller batch for lack of __local memory, or (the
- * batches averaging under half of it while at least a batch was queued)
- * the worst-case emits of a full batch, batch_size * max_items, did not fit
- * the target's queue, so a batch could only reserve room for a few items.
+/* Why q's batches held fewer items than a group runs at once, if it
+ * mattered (more items were queued at once than a batch took): the layout
+ * gave it a smaller batch for lack of __local memory, or (the batches
+ * averaging under half of it) the worst-case emits of a full batch,
+ * batch_size * max_items, did not fit the target's queue, so a batch could
+ * only reserve room for a few items.
  * The .emits entry responsible: the one staging the most bytes, or
  * reserving the most for its target's capacity. */
 static void explain_batches(perma_runtime *rt, unsigned q)
@@ -115,6 +116,8 @@ static void explain_batches(perma_runtime *rt, unsigned q)
     ps->batch_size = p->max_batch;
     ps->batch_cut = PERMA_BATCH_FULL;
     ps->batch_cut_emit = -1;
+    if (ps->peak_queue_items <= p->max_batch)
+        return;
     if (p->max_batch < rt->group_size / p->threads_per_item) {
         ps->batch_cut = PERMA_BATCH_CUT_LOCAL_MEMORY;
         size_t own = p->item_size + 4 * (size_t)p->scratch_words, most = 0;
@@ -127,7 +130,7 @@ static void explain_batches(perma_runtime *rt, unsigned q)
         }
         return;
     }
-    if (ps->batches == 0 || ps->items * 2 >= ps->batches * p->max_batch || ps->peak_queue_items < p->max_batch)
+    if (ps->batches == 0 || ps->items * 2 >= ps->batches * p->max_batch)
         return;
     double worst = 1.0;
     for (unsigned e = 0; e < p->emit_count; ++e) {
