@@ -94,7 +94,8 @@ typedef enum perma_status {
     PERMA_ERR_NO_MEMORY,  /* a host allocation failed */
     PERMA_ERR_CAPACITY,   /* queues cannot grow enough for the run to progress */
     PERMA_ERR_EMIT_LIMIT, /* a procedure emitted more items than it declared */
-    PERMA_ERR_TIMEOUT,    /* the watchdog time limit passed */
+    PERMA_ERR_TIMEOUT,    /* the watchdog stopped the run: time_limit passed, or no item
+                             completed for stall_limit seconds (the message says which) */
     PERMA_ERR_STATE,      /* call not valid now (e.g. register after destroy) */
     PERMA_ERR_IO,         /* a file could not be read */
     PERMA_ERR_DEVICE      /* the kernel reported an internal failure */
@@ -221,6 +222,21 @@ typedef struct perma_config {
     /* Watchdog: a run longer than this many seconds fails with
      * PERMA_ERR_TIMEOUT; 0 = 600. */
     double time_limit;
+    /* Watchdog: a run in which no item completes anywhere for this many
+     * seconds (a procedure that never returns, say) fails with
+     * PERMA_ERR_TIMEOUT naming the procedures that had items in flight;
+     * 0 = 20.  Seen only on devices that share memory with the host (CPUs,
+     * integrated GPUs); elsewhere only time_limit applies.  One item taking
+     * longer than this counts as stuck: raise it for such procedures.
+     *
+     * When either limit passes, the watchdog asks every work-group to stop
+     * and gives the kernel 10 s (the grace period) to do so.  A procedure
+     * that never returns cannot be stopped: the run then fails saying so,
+     * and the runtime can no longer be used (every call that uses the
+     * device returns PERMA_ERR_STATE; perma_destroy frees what it can).
+     * OpenCL cannot end a running kernel, so the stuck kernel keeps its
+     * compute unit busy until the process exits. */
+    double stall_limit;
     /* Cap on the __local memory one group uses; 0 = the device's size. */
     size_t local_memory_limit;
     /* Extra options for clBuildProgram, e.g. "-DTHRESHOLD=8"; may be NULL. */
@@ -381,7 +397,9 @@ perma_status perma_seed(perma_runtime *rt, perma_proc proc, const void *items, s
 perma_status perma_forget_capacities(perma_runtime *rt);
 
 /* Run until no work is left.  Queues grow as needed; the watchdog turns a
- * run longer than the time limit into PERMA_ERR_TIMEOUT.  A run consumes the
+ * run longer than the time limit, or one in which nothing completes for
+ * the stall limit, into PERMA_ERR_TIMEOUT (config.time_limit,
+ * config.stall_limit).  A run consumes the
  * seeded items whether it succeeds or fails: seed again before a retry. */
 perma_status perma_run(perma_runtime *rt);
 

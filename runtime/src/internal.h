@@ -99,8 +99,8 @@ typedef struct perma_device_state {
     perma_device_buffer trace;    /* trace records per group */
     perma_device_buffer input;    /* the items a step kernel consumes */
     perma_device_buffer relayout; /* a regrowth's perma_relayout_records */
-    cl_mem abort_mem;             /* the watchdog flag the kernels poll, */
-    uint32_t *abort_flag;         /* in this (page-aligned) host memory */
+    cl_mem abort_mem;             /* the watch page (kernels/perma_abi.h): the abort */
+    uint32_t *abort_flag;         /* flag, each group's progress; page-aligned host memory */
     perma_queue_state *queues;    /* queue_count entries, index set * procs + proc */
     unsigned queue_count;
     /* queues[].capacity are what the last run of this build grew to, and it
@@ -109,12 +109,14 @@ typedef struct perma_device_state {
 } perma_device_state;
 
 struct perma_executor;
+typedef struct perma_watchdog perma_watchdog;
 
 /* What the host-driven techniques keep between launches of a run
  * (steps.c). */
 typedef struct perma_steps_state {
     unsigned cursor;         /* kernel-per-procedure: where the round-robin goes on */
     int traced_proc;         /* the step in flight, for the trace; -1: none */
+    cl_event running;        /* the step kernel in flight; NULL: none */
     uint32_t traced_items;
     double traced_start;
 } perma_steps_state;
@@ -130,6 +132,7 @@ struct perma_runtime {
     cl_context context;
     cl_command_queue queue;
     bool device_is_cpu;
+    bool watch_visible;        /* the host sees the watch page change while a kernel runs */
     cl_uint compute_units;
     size_t local_mem_size;
     cl_ulong max_alloc;
@@ -161,6 +164,7 @@ struct perma_runtime {
     perma_device_state state;
     perma_group_stats *group_stats; /* work_groups entries */
     bool hung;                      /* a kernel ignored the watchdog; do not wait on it */
+    perma_watchdog *watchdog;       /* watchdog.c */
     bool debug;                     /* PERMA_DEBUG: one group, -DPERMA_DEBUG */
 
     perma_stats stats;
@@ -301,11 +305,26 @@ perma_status perma_state_ensure_input(perma_runtime *rt, size_t words);
 perma_status perma_state_bind(perma_runtime *rt, cl_kernel kernel, cl_uint first_user_arg);
 /* Ask every group of a running kernel to stop (the watchdog). */
 void perma_state_raise_abort(perma_runtime *rt);
+/* What the watch page says while a kernel runs: the batches the groups
+ * finished so far (a sum that moves while items complete), and in
+ * running[0..procs) how many groups run a batch of each procedure. */
+uint64_t perma_state_watch(const perma_runtime *rt, unsigned *running, unsigned procs);
 
-/* watchdog.c: launch `kernel` and wait for it; past the deadline raise the
- * abort flag, which every group polls.  PERMA_ERR_TIMEOUT only if the
- * kernel ignores it (the runtime is then unusable: rt->hung). */
+/* watchdog.c: waiting for a kernel under the time limit and the stall
+ * limit.  Past the deadline, or when no item completed anywhere for the
+ * stall limit, the abort flag is raised (every group polls it) and the
+ * reason kept for perma_watchdog_stop_error; PERMA_ERR_TIMEOUT only if the
+ * kernel does not stop within the grace period (rt->hung: the runtime is
+ * then unusable). */
+perma_status perma_watchdog_open(perma_runtime *rt);
+void perma_watchdog_close(perma_runtime *rt);
+/* Launch `kernel` and wait for it. */
 perma_status perma_launch_watched(perma_runtime *rt, cl_kernel kernel, size_t global, size_t local, double deadline);
+/* Wait for the command of event `done` (enqueued and flushed). */
+perma_status perma_watch_event(perma_runtime *rt, cl_event done, double deadline);
+/* The error of a launch the watchdog stopped (status ABORTED): the time
+ * limit, or the stall with the procedures that had items in flight. */
+perma_status perma_watchdog_stop_error(perma_runtime *rt);
 
 /* outcome.c: the error of a launch's failure status (not DONE or
  * NEEDS_ROOM). */
@@ -326,5 +345,6 @@ void perma_trace_release(perma_runtime *rt);
 /* clock.c */
 double perma_now(void);
 double perma_time_limit(const perma_runtime *rt);
+double perma_stall_limit(const perma_runtime *rt);
 
 #endif

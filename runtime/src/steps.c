@@ -100,7 +100,9 @@ static perma_status set_step_args(perma_runtime *rt, cl_uint proc, cl_uint count
     return PERMA_OK;
 }
 
-static perma_status launch_step(perma_runtime *rt, unsigned q, uint32_t first, uint32_t take, uint32_t from_tail)
+/* Enqueue the take and step kernels; *done: the step's event. */
+static perma_status launch_step(perma_runtime *rt, unsigned q, uint32_t first, uint32_t take, uint32_t from_tail,
+                                cl_event *done)
 {
     const perma_proc_info *p = &rt->procs[q];
     size_t words = (size_t)take * (p->item_size / 4);
@@ -120,7 +122,8 @@ static perma_status launch_step(perma_runtime *rt, unsigned q, uint32_t first, u
     size_t local = rt->group_size, batches = ((size_t)take + p->max_batch - 1) / p->max_batch;
     size_t global = (batches < rt->work_groups ? batches : rt->work_groups) * local;
     PERMA_CL_CHECK(rt, "clEnqueueNDRangeKernel (step)",
-                   clEnqueueNDRangeKernel(rt->queue, rt->step_kernel, 1, NULL, &global, &local, 0, NULL, NULL));
+                   clEnqueueNDRangeKernel(rt->queue, rt->step_kernel, 1, NULL, &global, &local, 0, NULL, done));
+    clFlush(rt->queue);
     return PERMA_OK;
 }
 
@@ -149,7 +152,22 @@ perma_status perma_steps_prepare(perma_runtime *rt)
 {
     rt->steps.cursor = 0;
     rt->steps.traced_proc = -1;
+    rt->steps.running = NULL;
     return PERMA_OK;
+}
+
+/* Wait for the step in flight, if any, under the watchdog. */
+static perma_status wait_for_step(perma_runtime *rt, double deadline)
+{
+    perma_steps_state *s = &rt->steps;
+    if (!s->running)
+        return PERMA_OK;
+    perma_status st = perma_watch_event(rt, s->running, deadline);
+    if (!rt->hung) {
+        clReleaseEvent(s->running);
+        s->running = NULL;
+    }
+    return st;
 }
 
 /* Move HEAD (from the head) or TAIL (from the tail) past the `take` items
@@ -176,7 +194,9 @@ static perma_status run_steps(perma_runtime *rt, const perma_step_policy *policy
 {
     perma_steps_state *s = &rt->steps;
     for (;;) {
-        perma_status st = perma_state_read_control(rt, ctl, rt->proc_count); /* waits for the previous step */
+        perma_status st = wait_for_step(rt, deadline);
+        if (st == PERMA_OK)
+            st = perma_state_read_control(rt, ctl, rt->proc_count);
         if (st == PERMA_OK && s->traced_proc >= 0)
             st = perma_trace_host_step(rt, (unsigned)s->traced_proc, s->traced_items, s->traced_start, perma_now());
         s->traced_proc = -1;
@@ -209,7 +229,7 @@ static perma_status run_steps(perma_runtime *rt, const perma_step_policy *policy
         if (st != PERMA_OK)
             return st;
         s->traced_start = perma_now();
-        st = launch_step(rt, q, first, take, policy->from_tail ? 1u : 0u);
+        st = launch_step(rt, q, first, take, policy->from_tail ? 1u : 0u, &s->running);
         if (st != PERMA_OK)
             return st;
         outcome->launches++;
@@ -225,8 +245,12 @@ perma_status perma_steps_launch(perma_runtime *rt, double deadline, perma_launch
     if (!ctl)
         return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory for the control block");
     perma_status st = run_steps(rt, policy, deadline, ctl, outcome);
-    if (st != PERMA_OK)
+    if (st != PERMA_OK && !rt->hung) {
         clFinish(rt->queue); /* a queue record write may still read *ctl */
+        if (rt->steps.running)
+            clReleaseEvent(rt->steps.running);
+        rt->steps.running = NULL;
+    }
     free(ctl);
     return st;
 }

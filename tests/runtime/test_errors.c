@@ -406,6 +406,10 @@ START_TEST(bad_config_values)
     ck_assert_int_eq(perma_create(&config, &rt, &error), PERMA_ERR_ARGUMENT);
     ck_assert_contains(error.message, "config.time_limit -1");
     perma_config_init(&config);
+    config.stall_limit = -2;
+    ck_assert_int_eq(perma_create(&config, &rt, &error), PERMA_ERR_ARGUMENT);
+    ck_assert_contains(error.message, "config.stall_limit -2 is not a number of seconds");
+    perma_config_init(&config);
     config.group_size = 100000;
     ck_assert_int_eq(perma_create(&config, &rt, &error), PERMA_ERR_ARGUMENT);
     ck_assert_contains(error.message, "config.group_size 100000");
@@ -479,6 +483,7 @@ START_TEST(watchdog_stops_an_endless_run)
     perma_config config;
     perma_config_init(&config);
     config.time_limit = 1.0;
+    config.stall_limit = 0.5; /* items keep completing: the time limit stops it */
     perma_runtime *rt = test_runtime_config(&config);
     perma_procedure spin = {
         .name = "spin", .item_type = "uint", .item_size = 4,
@@ -490,11 +495,76 @@ START_TEST(watchdog_stops_an_endless_run)
     uint32_t zero = 0;
     ck_assert_perma_ok(rt, perma_seed(rt, id, &zero, 1));
     ck_assert_int_eq(perma_run(rt), PERMA_ERR_TIMEOUT);
-    ck_assert_contains(perma_errmsg(rt), "time limit of 1 s");
+    ck_assert_contains(perma_errmsg(rt), "the run passed its time limit of 1 s (config.time_limit) and was stopped");
     perma_stats st;
     ck_assert_perma_ok(rt, perma_get_stats(rt, &st));
     ck_assert_double_lt(st.seconds, 15.0);
+    /* The runtime is still usable. */
+    ck_assert_perma_ok(rt, perma_seed(rt, id, &zero, 1));
     perma_destroy(rt);
+}
+END_TEST
+
+/* A procedure that never returns: nothing completes, so the watchdog stops
+ * the run after config.stall_limit (1 s here) instead of the time limit
+ * (600 s), names the procedure in flight, and gives up on the kernel after
+ * the grace period.  The runtime is then unusable: every call that uses the
+ * device says so. */
+static void stuck_procedure(perma_technique technique)
+{
+    perma_config config;
+    perma_config_init(&config);
+    config.schedule.technique = technique;
+    config.stall_limit = 1.0;
+    perma_runtime *rt = test_runtime_config(&config);
+    perma_procedure fine = {
+        .name = "fine", .item_type = "uint", .item_size = 4, .source_file = "stuck.cl", .function = "fine",
+        .source = "void fine(perma_ctx *ctx, __local const uint *x) { if (*x == 0u) { uint v = 1u; emit_stuck(ctx, &v); } }\n"
+                  "void stuck(perma_ctx *ctx, __local const uint *x)\n"
+                  "{\n"
+                  "    while (atomic_add(&ctx->buf.release[0], 0u) == 0u)\n"
+                  "        ;\n"
+                  "    (void)x;\n"
+                  "}\n",
+        .emits = { { "stuck", 1 } },
+    };
+    perma_procedure stuck = fine;
+    stuck.name = stuck.function = "stuck";
+    memset(stuck.emits, 0, sizeof stuck.emits);
+    perma_proc f, s;
+    ck_assert_perma_ok(rt, perma_register(rt, &fine, &f));
+    ck_assert_perma_ok(rt, perma_register(rt, &stuck, &s));
+    uint32_t release[1] = { 0 };
+    ck_assert_perma_ok(rt, perma_bind_host(rt, "release", "__global uint *", release, sizeof release, PERMA_READ));
+    uint32_t values[100] = { 0 };
+    for (unsigned i = 1; i < 100; ++i)
+        values[i] = i;
+    ck_assert_perma_ok(rt, perma_build(rt));
+    ck_assert_perma_ok(rt, perma_seed(rt, f, values, 100)); /* 99 complete, one emits the stuck item */
+    double start = perma_test_now();
+    ck_assert_int_eq(perma_run(rt), PERMA_ERR_TIMEOUT);
+    double seconds = perma_test_now() - start;
+    ck_assert_contains(perma_errmsg(rt), "no item completed for 1 s (config.stall_limit): procedure 'stuck' "
+                                         "(1 work-group) had items in flight (a procedure that never returns?)");
+    ck_assert_contains(perma_errmsg(rt), "the kernel did not stop within 10 s after being told to; this runtime "
+                                         "can no longer be used");
+    ck_assert_msg(seconds < 25.0, "the stall took %.1f s to end the run", seconds);
+    ck_assert_int_eq(perma_seed(rt, f, values, 1), PERMA_ERR_STATE);
+    ck_assert_contains(perma_errmsg(rt), "perma_seed: a previous run's kernel did not stop");
+    ck_assert_int_eq(perma_run(rt), PERMA_ERR_STATE);
+    ck_assert_contains(perma_errmsg(rt), "perma_run: a previous run's kernel did not stop");
+    perma_destroy(rt); /* returns; the stuck kernel spins until the test process exits */
+}
+
+START_TEST(stuck_procedure_megakernel)
+{
+    stuck_procedure(PERMA_TECHNIQUE_MEGAKERNEL);
+}
+END_TEST
+
+START_TEST(stuck_procedure_kernel_per_procedure)
+{
+    stuck_procedure(PERMA_TECHNIQUE_KERNEL_PER_PROCEDURE);
 }
 END_TEST
 
@@ -681,6 +751,8 @@ int main(void)
     tcase_add_test(tc, emitting_beyond_the_declared_maximum);
     tcase_add_test(tc, emitting_into_an_undeclared_target);
     tcase_add_test(tc, watchdog_stops_an_endless_run);
+    tcase_add_test(tc, stuck_procedure_megakernel);
+    tcase_add_test(tc, stuck_procedure_kernel_per_procedure);
     tcase_add_test(tc, bounded_wait_names_queue_and_position);
     tcase_add_test(tc, debug_mode);
     tcase_add_test(tc, cut_batches_are_explained);
