@@ -32,10 +32,21 @@
     ((ctl) + PERMA_CTL_HEADER_WORDS + PERMA_QUEUE_SETS * PERMA_NUM_PROCS * PERMA_QUEUE_WORDS + \
      (g) * PERMA_GROUP_WORDS)
 
-/* A read that always goes to memory (another group may have written it). */
+/* A read that always goes to memory (another group may have written it).
+ * A word that other groups update with atomics is read with a plain
+ * volatile load: OpenCL 1.2 has no atomic load, an aligned 32-bit load is
+ * not torn, and every reader tolerates a stale value (it polls again, or
+ * the protocol re-checks with an atomic).  Oclgrind's race detector counts
+ * such a load against a concurrent atomic as a data race; under it
+ * (tests/portability/run_on.sh defines PERMA_RACE_CHECK) the load is an
+ * atomic that changes nothing, so the races it still reports are real. */
 inline uint perma_load(__global uint *p)
 {
+#ifdef PERMA_RACE_CHECK
+    return atomic_or(p, 0u);
+#else
     return *(volatile __global uint *)p;
+#endif
 }
 
 inline int perma_load_int(__global uint *p)

@@ -41,8 +41,15 @@ inline uint perma_try_take(__global uint *ctl, uint own, uint from, uint q, int 
     return got;
 }
 
+/* Whether group g is inside its loop (started, not left). */
+inline int perma_group_running(__global uint *ctl, uint g)
+{
+    return perma_load(PERMA_GROUP(ctl, g) + PERMA_G_STATE) == 1u;
+}
+
 /* Donation: if the own queue of a procedure holds more than the threshold,
- * claim up to a batch of it for the set that has the fewest. */
+ * claim up to a batch of it for the running group's set that has the
+ * fewest. */
 inline uint perma_try_donate(__global uint *ctl, uint own, uint *proc, uint *dest, uint *start)
 {
     for (uint i = 0; i < PERMA_NUM_PROCS; ++i) {
@@ -55,8 +62,10 @@ inline uint perma_try_donate(__global uint *ctl, uint own, uint *proc, uint *des
         uint poorest = own;
         int fewest = mine;
         for (uint s = 0; s < PERMA_QUEUE_SETS; ++s) {
+            if (s == own || !perma_group_running(ctl, s))
+                continue; /* nobody serves it now (perma_try_adopt) */
             int theirs = perma_queue_available(PERMA_QUEUE(ctl, PERMA_QINDEX(s, q)));
-            if (s != own && theirs < fewest) {
+            if (theirs < fewest) {
                 fewest = theirs;
                 poorest = s;
             }
@@ -79,21 +88,42 @@ inline uint perma_try_donate(__global uint *ctl, uint own, uint *proc, uint *des
     return 0;
 }
 
+#if PERMA_DONATION && !PERMA_STEALING
+/* Take a batch from the set of a group that is not running (not started
+ * yet, or left).  OpenCL does not promise that the groups of a launch run
+ * at the same time, and Intel's CPU runtime starts a launch's second group
+ * only when its first one has left (or a host thread waits for the launch):
+ * without stealing, items in such a set would wait for a group that waits
+ * for them.  So whoever runs serves it, as a thief would. */
+inline uint perma_try_adopt(__global uint *ctl, uint own, uint *proc, uint *from, uint *start)
+{
+    for (uint s = 0; s < PERMA_QUEUE_SETS; ++s) {
+        if (s == own || perma_group_running(ctl, s))
+            continue;
+        for (uint i = 0; i < PERMA_NUM_PROCS; ++i) {
+            int found = 0;
+            uint q = perma_order[i];
+            uint got = perma_try_take(ctl, own, s, q, 0, start, &found);
+            if (got) {
+                *proc = q;
+                *from = s;
+                return got;
+            }
+        }
+    }
+    return 0;
+}
+#endif
+
 /* True when every running group found nothing to start since `epoch` and
  * no batch finished since: nobody can make progress until the host grows
- * queues. */
+ * queues.  Groups that are not running count for nothing: every strategy
+ * lets the running groups take their items (stealing, or perma_try_adopt). */
 inline int perma_all_blocked(__global uint *ctl, uint epoch)
 {
     for (uint g = 0; g < get_num_groups(0); ++g) {
         __global uint *gw = PERMA_GROUP(ctl, g);
-        uint state = perma_load(gw + PERMA_G_STATE);
-#if PERMA_DONATION && !PERMA_STEALING
-        /* Nobody else can take the items of a group that has not started
-         * (the host keeps work_groups <= compute units for this strategy). */
-        if (state == 0u)
-            return 0;
-#endif
-        if (state == 1u && perma_load(gw + PERMA_G_BLOCKED) != epoch + 1u)
+        if (perma_load(gw + PERMA_G_STATE) == 1u && perma_load(gw + PERMA_G_BLOCKED) != epoch + 1u)
             return 0;
     }
     return perma_load(ctl + PERMA_CTL_PROGRESS) == epoch;
@@ -248,6 +278,17 @@ inline void perma_schedule(__global uint *ctl, __global uint *queue_data, __glob
                     return;
                 }
             }
+        }
+#endif
+#if PERMA_DONATION && !PERMA_STEALING
+        uint from = 0;
+        got = perma_try_adopt(ctl, own, &q, &from, &start);
+        if (got) {
+            group_stat[PERMA_GSTAT_STEALS] += 1u;
+            perma_set_blocked(group_words, 0u);
+            perma_set_batch(batch, PERMA_CMD_RUN, q, start, got, PERMA_QINDEX(from, q), 0);
+            batch[PERMA_B_KIND] = PERMA_TRACE_STEAL;
+            return;
         }
 #endif
 #if PERMA_LOCAL_QUEUE

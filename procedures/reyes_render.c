@@ -177,8 +177,7 @@ static reyes_status fill_params(const reyes_scene *scene, const reyes_camera *ca
         return status;
     for (int k = 0; k < 3; ++k)
         p->eye[k] = camera->eye[k];
-    /* Light from the upper left behind the viewer, in world space (z up). */
-    const float light[3] = {-0.4f, -0.5f, 0.77f};
+    const float light[3] = {REYES_LIGHT_X, REYES_LIGHT_Y, REYES_LIGHT_Z};
     float length = sqrtf(light[0] * light[0] + light[1] * light[1] + light[2] * light[2]);
     for (int k = 0; k < 3; ++k)
         p->light_dir[k] = light[k] / length;
@@ -191,10 +190,10 @@ static reyes_status fill_params(const reyes_scene *scene, const reyes_camera *ca
     p->flat_cap_px = o->flat_bound_px > 0.0f ? o->flat_bound_px : (float)(o->grid - 1u);
     p->wedges = o->crack_fix == REYES_CRACK_FIX_WEDGE ? 1u : 0u;
     p->cull_margin = o->cull_margin;
-    p->ambient = 0.18f;
-    p->diffuse = 0.82f;
-    p->specular = 0.35f;
-    p->shininess = 40.0f;
+    p->ambient = REYES_AMBIENT;
+    p->diffuse = REYES_DIFFUSE;
+    p->specular = REYES_SPECULAR;
+    p->shininess = REYES_SHININESS;
     p->max_depth = o->max_depth;
     p->grid = o->grid;
     p->spp = o->spp;

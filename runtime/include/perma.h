@@ -191,11 +191,19 @@ perma_status perma_schedule_parse(const char *label, perma_schedule *out, perma_
 int perma_schedule_format(const perma_schedule *schedule, char *buf, size_t size);
 
 typedef struct perma_config {
-    /* OpenCL device, by index.  -1 (default): the first device of the
-     * PERMA_DEVICE environment variable (a device list, see
-     * perma_device_list) if set, else 0:0. */
+    /* OpenCL device.  platform_index >= 0 picks the platform by index;
+     * else platform_name, if not NULL, picks the first platform whose name
+     * or vendor contains it (any case: "intel", "pocl", "oclgrind"); else
+     * the first device of the PERMA_DEVICE environment variable (a device
+     * list, see perma_device_list: "P:D", "NAME[:D]" with NAME a platform
+     * name as above, sub-devices, e.g. PERMA_DEVICE=intel or
+     * PERMA_DEVICE=pocl:0) if set, else 0:0.  device_index >= 0 picks the
+     * platform's device, else the one PERMA_DEVICE names (when it is
+     * consulted), else 0.  platform_name is read only by perma_create.
+     * `perma-info` lists the platforms and devices. */
     int platform_index;
     int device_index;
+    const char *platform_name;
     /* Sub-device: with sub_devices >= 2 the device is split into that many
      * equal parts (clCreateSubDevices, CL_DEVICE_PARTITION_EQUALLY) and the
      * runtime runs on part sub_device (0..sub_devices-1); 0 (default): the
@@ -235,7 +243,9 @@ typedef struct perma_config {
      * and the runtime can no longer be used (every call that uses the
      * device returns PERMA_ERR_STATE; perma_destroy frees what it can).
      * OpenCL cannot end a running kernel, so the stuck kernel keeps its
-     * compute unit busy until the process exits. */
+     * compute unit busy until the process exits.  With Intel's OpenCL CPU
+     * runtime, exit() (and returning from main) then waits for that kernel
+     * forever: end such a process with _exit() or a signal. */
     double stall_limit;
     /* Cap on the __local memory one group uses; 0 = the device's size. */
     size_t local_memory_limit;
@@ -289,6 +299,11 @@ typedef struct perma_device_ref {
 
 /* Expand a device list, comma-separated entries of
  *     P:D       device D of platform P (perma-info lists them)
+ *     NAME:D    device D of the first platform whose name or vendor
+ *               contains NAME, in any case ("intel", "pocl", "oclgrind");
+ *               NAME alone is NAME:0, and NAME may take the /N and /N.K
+ *               below; NAME starts with a letter and has letters, digits,
+ *               spaces and "()._-"
  *     P:D/N     that device split into N equal sub-devices: all N parts
  *     P:D/N.K   the K-th (from 0) of those parts
  *     all       every device of every platform
@@ -298,7 +313,8 @@ typedef struct perma_device_ref {
  * sub-device is created); a device named twice is an error.  On failure
  * *count is 0 and *error (if not NULL) names the list and the entry:
  * PERMA_ERR_ARGUMENT (malformed, duplicate, too many), PERMA_ERR_NO_DEVICE
- * (missing, or cannot be split so), PERMA_ERR_NO_PLATFORM. */
+ * (missing, a name no platform matches, or cannot be split so),
+ * PERMA_ERR_NO_PLATFORM. */
 perma_status perma_device_list(const char *list, perma_device_ref *out, unsigned max,
                                unsigned *count, perma_error *error);
 /* Write "P:D" or "P:D/N.K"; returns the length like snprintf. */

@@ -1,5 +1,6 @@
-/* Device lists: parsing "P:D", "P:D/N", "P:D/N.K" and "all", and expanding
- * a list into device references checked against the installed platforms. */
+/* Device lists: parsing "P:D", "NAME:D", "P:D/N", "P:D/N.K" and "all", and
+ * expanding a list into device references checked against the installed
+ * platforms. */
 #include "device_list.h"
 #include "internal.h"
 
@@ -21,19 +22,76 @@ static bool parse_number(const char *text, size_t *at, size_t end, long *out)
     return true;
 }
 
+bool perma_platform_name_valid(const char *text, size_t length)
+{
+    if (length == 0 || length >= sizeof ((perma_device_entry *)0)->name || !isalpha((unsigned char)text[0])
+        || (length == 3 && strncmp(text, "all", 3) == 0))
+        return false;
+    for (size_t i = 0; i < length; ++i)
+        if (!isalnum((unsigned char)text[i]) && !strchr(" ()._-", text[i]))
+            return false;
+    return true;
+}
+
+static bool contains_ignoring_case(const char *text, const char *part)
+{
+    size_t n = strlen(part);
+    for (; *text; ++text) {
+        size_t i = 0;
+        while (i < n && tolower((unsigned char)text[i]) == tolower((unsigned char)part[i]))
+            ++i;
+        if (i == n)
+            return true;
+    }
+    return false;
+}
+
+int perma_platform_find(const cl_platform_id *platforms, cl_uint count, const char *name, char *listing,
+                        size_t size)
+{
+    size_t used = 0;
+    if (size)
+        listing[0] = '\0';
+    for (cl_uint p = 0; p < count; ++p) {
+        char platform[128] = "", vendor[128] = "";
+        clGetPlatformInfo(platforms[p], CL_PLATFORM_NAME, sizeof platform - 1, platform, NULL);
+        clGetPlatformInfo(platforms[p], CL_PLATFORM_VENDOR, sizeof vendor - 1, vendor, NULL);
+        if (contains_ignoring_case(platform, name) || contains_ignoring_case(vendor, name))
+            return (int)p;
+        int n = used < size ? snprintf(listing + used, size - used, "%s%u '%s' (%s)", p ? ", " : "",
+                                       (unsigned)p, platform, vendor) : 0;
+        if (n > 0)
+            used += (size_t)n;
+    }
+    return -1;
+}
+
 bool perma_device_entry_parse(const char *text, size_t length, perma_device_entry *out)
 {
-    perma_device_entry e = { .all = false, .platform = 0, .device = 0, .parts = 0, .part = -1 };
+    perma_device_entry e = { .all = false, .name = "", .platform = 0, .device = 0, .parts = 0, .part = -1 };
     if (length == 3 && strncmp(text, "all", 3) == 0) {
         e.all = true;
         *out = e;
         return true;
     }
     size_t at = 0;
-    long p, d, n = 0, k = -1;
-    if (!parse_number(text, &at, length, &p) || at >= length || text[at++] != ':'
-        || !parse_number(text, &at, length, &d))
+    long p = 0, d = 0, n = 0, k = -1;
+    if (isalpha((unsigned char)text[0])) {
+        /* NAME, NAME:D, NAME/N, NAME:D/N.K ... */
+        size_t name_length = 0;
+        while (name_length < length && text[name_length] != ':' && text[name_length] != '/')
+            ++name_length;
+        if (!perma_platform_name_valid(text, name_length))
+            return false;
+        memcpy(e.name, text, name_length);
+        e.name[name_length] = '\0';
+        at = name_length;
+        if (at < length && text[at] == ':' && (++at, !parse_number(text, &at, length, &d)))
+            return false;
+    } else if (!parse_number(text, &at, length, &p) || at >= length || text[at++] != ':'
+               || !parse_number(text, &at, length, &d)) {
         return false;
+    }
     if (at < length) {
         if (text[at++] != '/' || !parse_number(text, &at, length, &n) || n < 1
             || n > (long)PERMA_MAX_SUB_DEVICES)
@@ -162,10 +220,20 @@ static perma_status add(perma_device_ref *out, unsigned max, unsigned *count, co
 }
 
 /* Append the devices of entry e of `list`. */
-static perma_status expand(const device_table *t, const perma_device_entry *e, const char *list,
+static perma_status expand(const device_table *t, const perma_device_entry *named, const char *list,
                            perma_device_ref *out, unsigned max, unsigned *count, perma_error *error)
 {
     perma_status st = PERMA_OK;
+    perma_device_entry resolved = *named;
+    const perma_device_entry *e = &resolved;
+    if (named->name[0]) {
+        char listing[PERMA_MESSAGE_MAX / 2];
+        resolved.platform = perma_platform_find(t->platforms, t->platform_count, named->name, listing,
+                                                sizeof listing);
+        if (resolved.platform < 0)
+            return fail(error, PERMA_ERR_NO_DEVICE, "device list '%s': no OpenCL platform's name or vendor "
+                        "contains '%s'; the platforms are: %s", list, named->name, listing);
+    }
     if (e->all) {
         for (cl_uint p = 0; p < t->platform_count && st == PERMA_OK; ++p)
             for (cl_uint d = 0; d < t->device_count[p] && st == PERMA_OK; ++d)

@@ -11,6 +11,7 @@
 /* One entry of a device list. */
 typedef struct perma_device_entry {
     bool all;          /* "all": every device of every platform */
+    char name[64];     /* NAME of "NAME:D": a platform by name; "": by index */
     int platform;      /* P of "P:D" */
     int device;        /* D */
     unsigned parts;    /* N of "P:D/N" (equal sub-devices); 0: the whole device */
@@ -21,9 +22,22 @@ typedef struct perma_device_entry {
 #define PERMA_MAX_SUB_DEVICES 1024u
 
 /* Parse the `length` characters at `text` as one entry: "all", "P:D",
- * "P:D/N" or "P:D/N.K" (decimal numbers, K < N; "/1" is the whole device).
- * Returns false if malformed. */
+ * "P:D/N" or "P:D/N.K" (decimal numbers, K < N; "/1" is the whole device),
+ * where "P:D" may also be "NAME:D" or "NAME" (device 0): a platform whose
+ * name or vendor contains NAME (perma_platform_find).  Returns false if
+ * malformed. */
 bool perma_device_entry_parse(const char *text, size_t length, perma_device_entry *out);
+
+/* Whether the `length` characters at `text` can be a platform NAME:
+ * letters, digits, spaces and "()._-", starting with a letter, shorter
+ * than perma_device_entry.name, not "all". */
+bool perma_platform_name_valid(const char *text, size_t length);
+
+/* The index of the first of `count` platforms whose name or vendor
+ * contains `name` (any case), or -1 with the platforms listed in
+ * listing ("0 'Intel(R) OpenCL' (Intel(R) Corporation), 1 ..."). */
+int perma_platform_find(const cl_platform_id *platforms, cl_uint count, const char *name, char *listing,
+                        size_t size);
 
 /* Check every comma-separated entry of `list` and return the first in
  * *first; on a malformed entry return false with its offset and length in
@@ -42,7 +56,8 @@ perma_status perma_open_sub_device(struct perma_runtime *rt, int platform, int d
                                    unsigned part);
 
 /* What PERMA_DEVICE may hold, for messages. */
-#define PERMA_DEVICE_FORMS "platform:device (e.g. 0:0), platform:device/N (N equal sub-devices) or " \
-                           "platform:device/N.K (the K-th of them), 'all', or a comma-separated list"
+#define PERMA_DEVICE_FORMS "platform:device (e.g. 0:0) or NAME[:device] (a platform's name or vendor, " \
+                           "e.g. intel or pocl:0), either with /N (N equal sub-devices) or /N.K (the K-th " \
+                           "of them), 'all', or a comma-separated list"
 
 #endif

@@ -209,6 +209,12 @@ const char *perma_cl_error_name(cl_int code);
                                    perma_cl_error_name(perma_code_), (int)perma_code_);     \
     } while (0)
 
+/* program_cache.c: a built program from the disk cache (NULL: none); store
+ * a program built from source when its build took long enough. */
+cl_program perma_cache_load(perma_runtime *rt, const char *source, const char *options);
+void perma_cache_store(perma_runtime *rt, cl_program program, const char *source, const char *options,
+                       double build_seconds);
+
 /* device.c */
 perma_status perma_device_open(perma_runtime *rt);
 void perma_device_close(perma_runtime *rt);
@@ -236,8 +242,9 @@ bool perma_barriers_explain_log(const perma_runtime *rt, const char *log, char *
 bool perma_build_log_diagnostic(const char *line, size_t length, const char *kind, char *where, size_t where_size,
                                 const char **text);
 /* After a build: its warnings if it succeeded, or the whole log with
- * PERMA_BUILD_LOG, to config.build_log or stderr. */
-void perma_build_log_show(perma_runtime *rt, const char *log, bool failed);
+ * PERMA_BUILD_LOG, to config.build_log or stderr.  Returns the number of
+ * warnings (0 for a failed build). */
+unsigned perma_build_log_show(perma_runtime *rt, const char *log, bool failed);
 
 /* layout.c, codegen.c, program.c */
 perma_status perma_build_layout(perma_runtime *rt);

@@ -68,12 +68,13 @@ static char *read_build_log(perma_runtime *rt)
 }
 
 /* A build that succeeded: show its warnings (build_log.c). */
-static void report_build_warnings(perma_runtime *rt)
+/* Show the warnings of a build that succeeded; returns how many. */
+static unsigned report_build_warnings(perma_runtime *rt)
 {
     char *log = read_build_log(rt);
-    if (log)
-        perma_build_log_show(rt, log, false);
+    unsigned warnings = log ? perma_build_log_show(rt, log, false) : 0;
     free(log);
+    return warnings;
 }
 
 static perma_status report_build_failure(perma_runtime *rt, cl_int code)
@@ -135,26 +136,39 @@ perma_status perma_build(perma_runtime *rt)
             fclose(f);
         }
     }
-    cl_int err;
+    cl_int err = CL_SUCCESS;
     const char *text = sb.data;
-    rt->program = clCreateProgramWithSource(rt->context, 1, &text, NULL, &err);
-    perma_strbuf_free(&sb);
-    PERMA_CL_CHECK(rt, "clCreateProgramWithSource", err);
-
     char options[1024];
     snprintf(options, sizeof options, "-cl-std=CL1.2 %s%s", rt->debug ? "-DPERMA_DEBUG=1 " : "",
              rt->config.build_options ? rt->config.build_options : "");
-    err = clBuildProgram(rt->program, 1, &rt->device, options, NULL, NULL);
+    rt->program = perma_cache_load(rt, text, options);
+    double build_seconds = -1.0; /* not built here: loaded from the cache */
+    if (!rt->program) {
+        double start = perma_now();
+        rt->program = clCreateProgramWithSource(rt->context, 1, &text, NULL, &err);
+        if (err == CL_SUCCESS)
+            err = clBuildProgram(rt->program, 1, &rt->device, options, NULL, NULL);
+        build_seconds = perma_now() - start;
+    }
+    if (!rt->program) {
+        perma_strbuf_free(&sb);
+        PERMA_CL_CHECK(rt, "clCreateProgramWithSource", err);
+    }
     if (err == CL_BUILD_PROGRAM_FAILURE || err == CL_INVALID_BUILD_OPTIONS) {
+        perma_strbuf_free(&sb);
         st = report_build_failure(rt, err);
         perma_release_program(rt);
         return st;
     }
     if (err != CL_SUCCESS) {
+        perma_strbuf_free(&sb);
         perma_release_program(rt);
         PERMA_CL_CHECK(rt, "clBuildProgram", err);
     }
-    report_build_warnings(rt);
+    /* A program with warnings is not cached, so that every build shows them. */
+    if (report_build_warnings(rt) == 0 && build_seconds >= 0.0)
+        perma_cache_store(rt, rt->program, text, options, build_seconds);
+    perma_strbuf_free(&sb);
     cl_kernel *kernels[KERNEL_COUNT];
     kernel_slots(rt, kernels);
     for (size_t i = 0; i < KERNEL_COUNT; ++i) {

@@ -14,7 +14,9 @@
  * first, for an implementation that never calls back) to ask
  * clGetEventInfo and to look at the clock and the watch page.  The
  * variable is the process's, not a runtime's: a callback may come after
- * its runtime is gone. */
+ * its runtime is gone.  Meanwhile a helper thread blocks in
+ * clWaitForEvents, which Intel's CPU runtime needs to run a launch's
+ * groups at the same time (lend_thread). */
 #include "internal.h"
 
 #include <errno.h>
@@ -146,7 +148,9 @@ static perma_status give_up(perma_runtime *rt)
                            reason, GRACE_SECONDS);
 }
 
-perma_status perma_watch_event(perma_runtime *rt, cl_event done, double deadline)
+/* Wait for the command of `done`; past the deadline or the stall limit
+ * raise the abort flag, and give up after the grace period. */
+static perma_status watch(perma_runtime *rt, cl_event done, double deadline)
 {
     perma_watchdog *w = rt->watchdog;
     w->stalled = false;
@@ -189,6 +193,35 @@ perma_status perma_watch_event(perma_runtime *rt, cl_event done, double deadline
         if (pause < CHECK_SECONDS)
             pause *= 2;
     }
+}
+
+/* Intel's CPU runtime runs the groups of a launch on its own worker
+ * threads plus any host thread blocked in a wait for it; with as many
+ * workers as cores minus one, a host that polls (the watchdog) leaves a
+ * core idle and a launch's second group does not start before its first
+ * has left.  A helper thread blocked in clWaitForEvents lends the runtime
+ * that thread; other implementations just wake it at the end. */
+static void *lend_thread(void *event)
+{
+    clWaitForEvents(1, (cl_event *)&event);
+    clReleaseEvent((cl_event)event);
+    return NULL;
+}
+
+perma_status perma_watch_event(perma_runtime *rt, cl_event done, double deadline)
+{
+    pthread_t helper;
+    bool lent = clRetainEvent(done) == CL_SUCCESS;
+    if (lent && pthread_create(&helper, NULL, lend_thread, done) != 0) {
+        clReleaseEvent(done);
+        lent = false;
+    }
+    perma_status st = watch(rt, done, deadline);
+    if (lent && !rt->hung)
+        pthread_join(helper, NULL);
+    else if (lent)
+        pthread_detach(helper); /* waits for a kernel that may never end */
+    return st;
 }
 
 perma_status perma_launch_watched(perma_runtime *rt, cl_kernel kernel, size_t global, size_t local, double deadline)

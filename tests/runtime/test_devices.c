@@ -45,6 +45,17 @@ START_TEST(lists_expand_in_order)
     ck_assert_uint_ge(count, 1);
     expect_label(&refs[0], "0:0");
 
+    /* Platforms by name, in any case: PoCL's vendor is "The pocl project"
+     * (platform 0 in this suite). */
+    ck_assert_int_eq(perma_device_list("pocl", refs, PERMA_MAX_DEVICES, &count, &error), PERMA_OK);
+    ck_assert_uint_eq(count, 1);
+    expect_label(&refs[0], "0:0");
+    ck_assert_int_eq(perma_device_list("Portable Computing:0", refs, PERMA_MAX_DEVICES, &count, &error),
+                     PERMA_OK);
+    expect_label(&refs[0], "0:0");
+    ck_assert_int_eq(perma_device_list("POCL,0:0", refs, PERMA_MAX_DEVICES, &count, &error), PERMA_ERR_ARGUMENT);
+    ck_assert_contains(error.message, "device 0:0 appears twice");
+
     cl_uint most;
     device_units(&most);
     if (most < 2)
@@ -53,6 +64,9 @@ START_TEST(lists_expand_in_order)
     ck_assert_uint_eq(count, 2);
     expect_label(&refs[0], "0:0/2.0");
     expect_label(&refs[1], "0:0/2.1");
+    ck_assert_int_eq(perma_device_list("pocl/2.1", refs, PERMA_MAX_DEVICES, &count, &error), PERMA_OK);
+    ck_assert_uint_eq(count, 1);
+    expect_label(&refs[0], "0:0/2.1");
     ck_assert_int_eq(perma_device_list("0:0/2.1,0:0/2.0,0:0", refs, PERMA_MAX_DEVICES, &count, &error),
                      PERMA_OK);
     ck_assert_uint_eq(count, 3);
@@ -82,7 +96,10 @@ START_TEST(bad_lists_name_the_entry)
         perma_status status;
         const char *message;
     } cases[] = {
-        { "gpu", PERMA_ERR_ARGUMENT, "entry 'gpu' is not of the form platform:device" },
+        { "g/pu", PERMA_ERR_ARGUMENT, "entry 'g/pu' is not of the form platform:device" },
+        { "pocl:", PERMA_ERR_ARGUMENT, "entry 'pocl:' is not of the form" },
+        { "0:0,pocl:x", PERMA_ERR_ARGUMENT, "entry 'pocl:x' is not of the form" },
+        { "gpu", PERMA_ERR_NO_DEVICE, "no OpenCL platform's name or vendor contains 'gpu'; the platforms are: 0 '" },
         { "0:0,", PERMA_ERR_ARGUMENT, "entry '' is not of the form" },
         { "0:0,0:x", PERMA_ERR_ARGUMENT, "entry '0:x' is not of the form" },
         { "0:0/2.2", PERMA_ERR_ARGUMENT, "entry '0:0/2.2' is not of the form" },
@@ -131,14 +148,18 @@ START_TEST(environment_lists)
         ck_assert_int_eq(perma_create(NULL, &rt, &error), PERMA_OK);
         ck_assert_contains(perma_device_summary(rt), "(sub-device 1 of 2): 1 work-groups");
         perma_destroy(rt);
+        setenv("PERMA_DEVICE", "pocl/2.1", 1); /* a platform by name, split */
+        ck_assert_int_eq(perma_create(NULL, &rt, &error), PERMA_OK);
+        ck_assert_contains(perma_device_summary(rt), "(sub-device 1 of 2): 1 work-groups");
+        perma_destroy(rt);
     }
     setenv("PERMA_DEVICE", "all", 1);
     perma_runtime *rt;
     ck_assert_int_eq(perma_create(NULL, &rt, &error), PERMA_OK);
     perma_destroy(rt);
-    setenv("PERMA_DEVICE", "0:0,zz", 1);
+    setenv("PERMA_DEVICE", "0:0,z/z", 1);
     ck_assert_int_eq(perma_create(NULL, &rt, &error), PERMA_ERR_ARGUMENT);
-    ck_assert_contains(error.message, "PERMA_DEVICE='0:0,zz': entry 'zz' is not of the form");
+    ck_assert_contains(error.message, "PERMA_DEVICE='0:0,z/z': entry 'z/z' is not of the form");
     unsetenv("PERMA_DEVICE");
 }
 END_TEST

@@ -7,26 +7,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-static perma_proc add_tree(perma_runtime *rt, uint32_t *counts, uint64_t *sums)
-{
-    ck_assert_perma_ok(rt, perma_add_source(rt, TREE_TYPES, "tree_types.cl"));
-    perma_procedure tree = {
-        .name = "tree", .item_type = "struct tree_node", .item_size = sizeof(struct tree_node),
-        .source = TREE_SOURCE, .function = "tree_split", .emits = { { "tree", 2 } },
-    };
-    perma_proc id;
-    ck_assert_perma_ok(rt, perma_register(rt, &tree, &id));
-    ck_assert_perma_ok(rt, perma_bind_host(rt, "counts", "__global uint *", counts, 8, PERMA_READ_WRITE));
-    ck_assert_perma_ok(rt, perma_bind_host(rt, "sums", "__global ulong *", sums, 8, PERMA_READ_WRITE));
-    return id;
-}
-
 START_TEST(tiny_queue_regrows_to_exact_result)
 {
     perma_runtime *rt = test_runtime(64, 2, 2);
     uint32_t counts[2] = { 0, 0 };
     uint64_t sums[1] = { 0 };
-    perma_proc id = add_tree(rt, counts, sums);
+    perma_proc id = tree_add(rt, 1, counts, sums);
     enum { DEPTH = 14 };
     struct tree_node root = { 0, DEPTH, 1, 0 };
     ck_assert_perma_ok(rt, perma_seed(rt, id, &root, 1));
@@ -108,7 +94,7 @@ START_TEST(memory_cap_is_a_clear_error)
     ck_assert_msg(perma_create(&config, &rt, &error) == PERMA_OK, "%s", error.message);
     uint32_t counts[2] = { 0, 0 };
     uint64_t sums[1] = { 0 };
-    perma_proc id = add_tree(rt, counts, sums);
+    perma_proc id = tree_add(rt, 1, counts, sums);
     struct tree_node root = { 0, 16, 1, 0 }; /* a level of 65536 nodes: far beyond 64 KiB */
     ck_assert_perma_ok(rt, perma_seed(rt, id, &root, 1));
     ck_assert_int_eq(perma_run(rt), PERMA_ERR_CAPACITY);
@@ -120,7 +106,7 @@ START_TEST(memory_cap_is_a_clear_error)
     config.schedule.technique = PERMA_TECHNIQUE_BOUNDED_BATCHES;
     config.schedule.batch_limit = 64;
     ck_assert_msg(perma_create(&config, &rt, &error) == PERMA_OK, "%s", error.message);
-    id = add_tree(rt, counts, sums);
+    id = tree_add(rt, 1, counts, sums);
     ck_assert_perma_ok(rt, perma_seed(rt, id, &root, 1));
     ck_assert_perma_ok(rt, perma_run(rt));
     ck_assert_uint_eq(counts[0], 1u << 16);
@@ -185,7 +171,7 @@ START_TEST(kept_capacities_give_way_to_the_memory_limit)
     ck_assert_msg(perma_create(&config, &rt, &error) == PERMA_OK, "%s", error.message);
     uint32_t counts[2] = { 0, 0 };
     uint64_t sums[1] = { 0 };
-    perma_proc tree = add_tree(rt, counts, sums);
+    perma_proc tree = tree_add(rt, 1, counts, sums);
     perma_procedure noop = { .name = "noop", .item_type = "uint", .item_size = 4, .function = "noop",
                              .source = "void noop(perma_ctx *ctx, __local const uint *x) { (void)ctx; (void)x; }\n" };
     perma_proc flat;
@@ -262,7 +248,7 @@ START_TEST(bounded_batches_bound_memory)
         ck_assert_msg(perma_create(&config, &rt, &error) == PERMA_OK, "%s", error.message);
         uint32_t counts[2] = { 0, 0 };
         uint64_t sums[1] = { 0 };
-        perma_proc id = add_tree(rt, counts, sums);
+        perma_proc id = tree_add(rt, 1, counts, sums);
         struct tree_node root = { 0, DEPTH, 1, 0 };
         ck_assert_perma_ok(rt, perma_seed(rt, id, &root, 1));
         ck_assert_perma_ok(rt, perma_run(rt));
