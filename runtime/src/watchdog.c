@@ -159,6 +159,10 @@ static perma_status watch(perma_runtime *rt, cl_event done, double deadline)
     double stall_limit = perma_stall_limit(rt), now = perma_now(), pause = 50e-6;
     double progress_at = now, aborted_at = 0.0;
     uint64_t batches = perma_state_watch(rt, running, rt->proc_count);
+    /* The stall limit applies once the host has seen the kernel write its
+     * records: a device that does not share the page (or copies it) never
+     * shows progress, and must not be taken for a stuck one. */
+    bool page_seen = false;
     for (;;) {
         /* A callback after this count means the state below may be stale:
          * the wait then returns at once. */
@@ -177,7 +181,10 @@ static perma_status watch(perma_runtime *rt, cl_event done, double deadline)
             batches = finished;
             progress_at = now;
         }
-        if (aborted_at == 0.0 && rt->watch_visible && now - progress_at > stall_limit) {
+        for (unsigned q = 0; q < rt->proc_count && !page_seen; ++q)
+            page_seen = running[q] != 0;
+        page_seen = page_seen || finished != 0;
+        if (aborted_at == 0.0 && rt->watch_visible && page_seen && now - progress_at > stall_limit) {
             w->stalled = true;
             describe_in_flight(rt, w->in_flight, sizeof w->in_flight);
             perma_state_raise_abort(rt);
