@@ -517,12 +517,14 @@ void reyes_rasterize_blurred_grid(perma_ctx *ctx, __local const struct reyes_gri
  * 1280x1024, 4 spp), and without this about a third of the small quads'
  * time was spent waiting for its lines.  A hint only (no effect on any
  * result); at most REYES_PREFETCH_LINES lines, none for a box larger than
- * that.  Not under Oclgrind, whose interpreter has no llvm.prefetch. */
+ * that.  x86 CPU devices only (a GPU hides memory latency by running other
+ * work-items), and not under Oclgrind, whose interpreter has no
+ * llvm.prefetch. */
 #define REYES_PREFETCH_LINES 512
 REYES_INLINE void reyes_prefetch_samples(__global const struct reyes_params *p, __global const ulong *samples,
                                          __local const struct reyes_grid *g, uint spp)
 {
-#if defined(__clang__) && !defined(PERMA_RACE_CHECK)
+#if defined(__clang__) && (defined(__x86_64__) || defined(__i386__)) && !defined(PERMA_RACE_CHECK)
     const int16 lane = (int16)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
     int count = (int)(g->rows * g->columns);
     float16 lo_x = (float16)INFINITY, lo_y = lo_x, hi_x = -lo_x, hi_y = -lo_x;
