@@ -170,6 +170,9 @@ typedef struct reyes_options {
     unsigned bucket_width, bucket_height;
     /* NULL (default): render every bucket; else the buckets it hands out. */
     const reyes_bucket_source *bucket_source;
+    /* 1: the image also keeps every sample (reyes_image.samples), for
+     * comparisons sample by sample; 0 (default): only the pixels. */
+    int keep_samples;
     /* Cracks between grids diced at different rates (T-junctions) and
      * between base patches: REYES_CRACK_FIX_STITCH (default) fills them
      * with zipper strips (two passes: subdivide, then dice and stitch),
@@ -244,7 +247,15 @@ typedef struct reyes_image {
     unsigned width, height;
     uint8_t *rgb;       /* width * height * 3, rows top to bottom */
     uint8_t *coverage;  /* per pixel: samples that hit a surface */
+    /* With reyes_options.keep_samples (else NULL): spp words per pixel,
+     * pixels row by row, each (bits of the depth << 32) | RGBA8 of the
+     * nearest surface (depth: the positive view distance, as a float's
+     * bits) or REYES_EMPTY_SAMPLE. */
+    uint64_t *samples;
+    unsigned spp;
 } reyes_image;
+
+#define REYES_EMPTY_SAMPLE UINT64_MAX
 
 void reyes_image_free(reyes_image *image);
 

@@ -9,7 +9,7 @@
 #include "reyes_stitch_plan.h"
 #include "reyes_shared.h"
 
-#define EMPTY_SAMPLE UINT64_MAX
+#define EMPTY_SAMPLE REYES_EMPTY_SAMPLE
 
 void reyes_image_free(reyes_image *image)
 {
@@ -17,6 +17,7 @@ void reyes_image_free(reyes_image *image)
         return;
     free(image->rgb);
     free(image->coverage);
+    free(image->samples);
     memset(image, 0, sizeof *image);
 }
 
@@ -236,7 +237,13 @@ static reyes_status allocate(const reyes_scene *scene, const reyes_options *o, r
     image->height = o->height;
     image->rgb = calloc(pixels, 3); /* 0 where a bucket source leaves buckets out */
     image->coverage = calloc(pixels, 1);
-    if (!b->samples || !b->seeds || !image->rgb || !image->coverage)
+    image->spp = o->spp;
+    if (o->keep_samples) {
+        image->samples = malloc(pixels * o->spp * sizeof *image->samples);
+        if (image->samples)
+            memset(image->samples, 0xff, pixels * o->spp * sizeof *image->samples);
+    }
+    if (!b->samples || !b->seeds || !image->rgb || !image->coverage || (o->keep_samples && !image->samples))
         return reyes_fail(error, REYES_ERR_NO_MEMORY, "out of memory for a %ux%u image", o->width,
                           o->height);
     memset(b->counters, 0, sizeof b->counters);
@@ -340,6 +347,8 @@ static uint64_t resolve(const uint64_t *samples, const reyes_options *o, tile t,
                 image->rgb[px * 3 + c] = (uint8_t)((sum[c] + o->spp / 2) / o->spp);
             image->coverage[px] = (uint8_t)hits;
             written += hits;
+            if (image->samples)
+                memcpy(image->samples + px * o->spp, pixel, o->spp * sizeof *pixel);
         }
     }
     return written;
