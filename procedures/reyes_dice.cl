@@ -66,13 +66,12 @@ int reyes_emit_quad(perma_ctx *ctx, const struct reyes_vertex corners[4], int fu
     return visible;
 }
 
-/* Quad i of the wedge strip of `edge`, whose settled segment's chord is c. */
+/* Quad i of the wedge strip of `edge`, reaching the polyline c of its settled segment. */
 void reyes_emit_wedge(perma_ctx *ctx, const struct reyes_chord *c, const struct reyes_subpatch *sp,
                       __local const struct reyes_vertex *grid, int edge, int i, int full)
 {
     __global const struct reyes_params *p = ctx->buf.params;
     int n = (int)p->grid, side = n - 1;
-    float last = (float)side;
     int along_u;
     float fixed, a, b;
     reyes_edge_line(sp, edge, &along_u, &fixed, &a, &b);
@@ -81,10 +80,8 @@ void reyes_emit_wedge(perma_ctx *ctx, const struct reyes_chord *c, const struct 
         int step = i + k; /* along the edge */
         int gi = along_u ? step : (edge == REYES_EDGE_U1 ? side : 0);
         int gj = along_u ? (edge == REYES_EDGE_V1 ? side : 0) : step;
-        float t = (float)step / last;
-        float s = a * (1.0f - t) + b * t; /* as reyes_grid_vertex */
         struct reyes_vertex on_grid = grid[gj * n + gi], on_chord;
-        reyes_vertex_place(p, reyes_chord_at(c, s), &on_chord);
+        reyes_vertex_place(p, reyes_strip_point(c, step), &on_chord);
         on_chord.rgba = on_grid.rgba;
         corners[k] = on_grid;
         corners[3 - k] = on_chord;
@@ -114,7 +111,7 @@ void reyes_dice_wedges(perma_ctx *ctx, const struct reyes_subpatch *sp,
         uint level = (sp->edge_levels >> (8 * edge)) & 0xffu;
         if (level != REYES_EDGE_UNSETTLED) {
             if (edge != chord_edge) {
-                chord = reyes_edge_chord(base, sp, edge, level);
+                chord = reyes_edge_chord(base, sp, edge, level, (uint)side);
                 chord_edge = edge;
             }
             reyes_emit_wedge(ctx, &chord, sp, grid, edge, i, full);
