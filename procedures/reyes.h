@@ -179,7 +179,8 @@ typedef struct reyes_options {
      * REYES_CRACK_FIX_WEDGE closes them in one pass without communication
      * between patches (needs REYES_SUBDIVISION_TIERED and no displacement:
      * every edge settles on a flat segment of its base patch's line and
-     * both sides reach its chord with wedge strips; docs/reyes.md),
+     * both sides reach the polyline of its curve at grid - 1 steps with
+     * wedge strips; docs/reyes.md),
      * REYES_CRACK_FIX_NONE leaves them. */
     unsigned crack_fix;
     /* Displacement along the normal (docs/reyes.md): REYES_DISPLACE_NONE

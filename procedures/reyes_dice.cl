@@ -67,7 +67,7 @@ int reyes_emit_quad(perma_ctx *ctx, const struct reyes_vertex corners[4], int fu
 }
 
 /* Quad i of the wedge strip of `edge`, reaching the polyline c of its settled segment. */
-void reyes_emit_wedge(perma_ctx *ctx, const struct reyes_chord *c, const struct reyes_subpatch *sp,
+void reyes_emit_wedge(perma_ctx *ctx, const struct reyes_polyline *c, const struct reyes_subpatch *sp,
                       __local const struct reyes_vertex *grid, int edge, int i, int full)
 {
     __global const struct reyes_params *p = ctx->buf.params;
@@ -80,11 +80,11 @@ void reyes_emit_wedge(perma_ctx *ctx, const struct reyes_chord *c, const struct 
         int step = i + k; /* along the edge */
         int gi = along_u ? step : (edge == REYES_EDGE_U1 ? side : 0);
         int gj = along_u ? (edge == REYES_EDGE_V1 ? side : 0) : step;
-        struct reyes_vertex on_grid = grid[gj * n + gi], on_chord;
-        reyes_vertex_place(p, reyes_strip_point(c, step), &on_chord);
-        on_chord.rgba = on_grid.rgba;
+        struct reyes_vertex on_grid = grid[gj * n + gi], on_polyline;
+        reyes_vertex_place(p, reyes_strip_point(c, step), &on_polyline);
+        on_polyline.rgba = on_grid.rgba;
         corners[k] = on_grid;
-        corners[3 - k] = on_chord;
+        corners[3 - k] = on_polyline;
     }
     if (reyes_emit_quad(ctx, corners, full))
         atomic_add(&ctx->buf.counters[REYES_COUNT_FILLERS], 2u);
@@ -93,10 +93,10 @@ void reyes_emit_wedge(perma_ctx *ctx, const struct reyes_chord *c, const struct 
 
 /* Wedge crack fix: for every settled edge, a strip of quads from the
  * grid's boundary vertices to the points at the same parameters on the
- * chord of the edge's settled segment (reyes_flatness.cl).  The sides of
- * an edge reach the same chord, so together they close the crack.  A
- * thread's quads run through the edges in order, so it makes each edge's
- * chord once. */
+ * polyline of the edge's settled segment (reyes_flatness.cl).  The sides
+ * of an edge reach the same polyline, so together they close the crack.
+ * A thread's quads run through the edges in order, so it makes each
+ * edge's polyline once. */
 void reyes_dice_wedges(perma_ctx *ctx, const struct reyes_subpatch *sp,
                        __local const struct reyes_vertex *grid, int full)
 {
@@ -104,17 +104,17 @@ void reyes_dice_wedges(perma_ctx *ctx, const struct reyes_subpatch *sp,
     int side = (int)p->grid - 1;
     float3 base[16];
     reyes_load_patch(ctx->buf.patches, sp->patch, base);
-    struct reyes_chord chord;
-    int chord_edge = -1;
+    struct reyes_polyline polyline;
+    int polyline_edge = -1;
     for (int q = (int)ctx->thread; q < 4 * side; q += (int)p->dice_threads) {
         int edge = q / side, i = q % side;
         uint level = (sp->edge_levels >> (8 * edge)) & 0xffu;
         if (level != REYES_EDGE_UNSETTLED) {
-            if (edge != chord_edge) {
-                chord = reyes_edge_chord(base, sp, edge, level, (uint)side);
-                chord_edge = edge;
+            if (edge != polyline_edge) {
+                polyline = reyes_edge_polyline(base, sp, edge, level, (uint)side);
+                polyline_edge = edge;
             }
-            reyes_emit_wedge(ctx, &chord, sp, grid, edge, i, full);
+            reyes_emit_wedge(ctx, &polyline, sp, grid, edge, i, full);
         }
     }
 }

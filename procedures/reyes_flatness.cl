@@ -116,8 +116,9 @@ struct reyes_tiers reyes_flatness(__global const struct reyes_params *p, const f
  * the edge form a chain that the sub-patches on both sides share.  The
  * edge is settled at the coarsest segment of the chain that is flat
  * (edge tier alone, measured from the segment's own control points), and
- * both sides then reach to the same straight chord: dice adds a wedge
- * strip between its true boundary and the chord.  Segment control points
+ * both sides then reach to the same polyline close to it: dice adds a
+ * wedge strip between its true boundary and the polyline (reyes_polyline
+ * below).  Segment control points
  * come from the base patch by blossoming in a canonical direction, and a
  * base-patch boundary line is the control net's own row or column, so two
  * sides compute the same bits even across base patches.
@@ -242,7 +243,7 @@ uint reyes_edge_levels(__global const struct reyes_params *p, const float3 base[
  * (the segment is flat within epsilon), so a strip overhangs an open
  * boundary or a fold by that much at most; the segment's straight chord,
  * which the strips reached before, strays by up to epsilon. */
-struct reyes_chord {
+struct reyes_polyline {
     float3 c[4];        /* the segment's control points in the canonical direction */
     ulong first;        /* the edge's first vertex: step units from the canonical start */
     ulong steps;        /* step units across the segment: side << shift */
@@ -251,7 +252,7 @@ struct reyes_chord {
     int reversed;       /* the edge runs against the canonical direction */
 };
 
-struct reyes_chord reyes_edge_chord(const float3 base[16], const struct reyes_subpatch *sp, int edge,
+struct reyes_polyline reyes_edge_polyline(const float3 base[16], const struct reyes_subpatch *sp, int edge,
                                     uint level, uint side)
 {
     int along_u;
@@ -261,7 +262,7 @@ struct reyes_chord reyes_edge_chord(const float3 base[16], const struct reyes_su
     reyes_line_curve(base, along_u, fixed, line);
     float span = ldexp(1.0f, -(int)level), start = reyes_segment_start(a, level);
     reyes_restrict_canonical(line, start, start + span, e);
-    struct reyes_chord c;
+    struct reyes_polyline c;
     c.reversed = reyes_curve_reversed(line);
     for (int k = 0; k < 4; ++k)
         c.c[k] = c.reversed ? e[3 - k] : e[k];
@@ -277,7 +278,7 @@ struct reyes_chord reyes_edge_chord(const float3 base[16], const struct reyes_su
 
 /* The strip point of the edge's grid step `step` (0 at the edge's a end):
  * on the polyline, at the same parameter as the grid vertex. */
-float3 reyes_strip_point(const struct reyes_chord *c, int step)
+float3 reyes_strip_point(const struct reyes_polyline *c, int step)
 {
     ulong along = c->first + (ulong)step;
     ulong at = c->reversed ? c->steps - along : along; /* canonical */
