@@ -215,7 +215,9 @@ typedef struct reyes_options {
     unsigned blur_tile;
     unsigned blur_permutations;
     /* Scheduling, passed to perma_config when the renderer is created;
-     * 0 = the runtime's default. */
+     * 0 = the runtime's default, except group_size: 0 = 8 work-items on a
+     * CPU device (one runs a group's work-items one after another, and the
+     * dice and rasterize procedures do their own SIMD), else 64. */
     unsigned work_groups;
     unsigned group_size;
     perma_schedule schedule;        /* perma_config.schedule; zero = megakernel/shared */
@@ -303,6 +305,11 @@ typedef struct reyes_renderer reyes_renderer;
 reyes_status reyes_renderer_create(const reyes_options *options, reyes_renderer **out,
                                    reyes_error *error);
 void reyes_renderer_destroy(reyes_renderer *renderer);
+
+/* Bytes of a rasterize item (one diced grid of shaded vertices, struct
+ * reyes_grid of reyes_grid.cl) for a grid size, with or without the
+ * per-vertex motion of a renderer made for a rotation. */
+size_t reyes_grid_item_bytes(unsigned grid, int vertex_motion);
 
 /* One line describing the OpenCL device and groups. */
 const char *reyes_renderer_device(const reyes_renderer *renderer);

@@ -7,23 +7,20 @@
 #pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
 #pragma OPENCL EXTENSION cl_khr_int64_extended_atomics : enable
 
-/* Cubic Bernstein weights at t. */
-float4 reyes_bernstein(float t)
-{
-    float s = 1.0f - t;
-    return (float4)(s * s * s, 3.0f * t * s * s, 3.0f * t * t * s, t * t * t);
-}
-
-/* Derivatives of the cubic Bernstein weights at t. */
-float4 reyes_bernstein_deriv(float t)
-{
-    float s = 1.0f - t;
-    return (float4)(-3.0f * s * s, 3.0f * s * s - 6.0f * t * s,
-                    6.0f * t * s - 3.0f * t * t, 3.0f * t * t);
-}
+/* Small helpers of the per-vertex and per-sample code: always inlined
+ * (PoCL otherwise keeps many of them as calls made once per work-item).
+ * Not under Oclgrind's race check (PERMA_RACE_CHECK, run_on.sh): inlining
+ * a function that returns a struct makes its compiler emit
+ * llvm.experimental.noalias.scope.decl, which Oclgrind 21.10 cannot run
+ * ("Undefined external function").  Inlining changes no result. */
+#ifdef PERMA_RACE_CHECK
+#define REYES_INLINE
+#else
+#define REYES_INLINE inline __attribute__((always_inline))
+#endif
 
 /* Load the 16 control points of a base patch. */
-void reyes_load_patch(__global const float4 *patches, uint patch, float3 cp[16])
+REYES_INLINE void reyes_load_patch(__global const float4 *patches, uint patch, float3 cp[16])
 {
     for (int k = 0; k < 16; ++k)
         cp[k] = patches[patch * 16u + (uint)k].xyz;
@@ -62,46 +59,104 @@ void reyes_subpatch_points(__global const float4 *patches, const struct reyes_su
         reyes_restrict_curve(cp, col, 4, sp->v0, sp->v1);
 }
 
-/* Clip-space position of a world point. */
-float4 reyes_to_clip(__global const struct reyes_params *p, float3 x)
+/* a . b as PoCL's dot(float3): the products, then (x + y) + z, each
+ * rounded (separate statements, so nothing is contracted into an fma). */
+REYES_INLINE float reyes_dot3(float ax, float ay, float az, float bx, float by, float bz)
 {
-    float4 h = (float4)(x, 1.0f);
-    __global const float *m = p->view_proj;
-    return (float4)(dot((float4)(m[0], m[1], m[2], m[3]), h),
-                    dot((float4)(m[4], m[5], m[6], m[7]), h),
-                    dot((float4)(m[8], m[9], m[10], m[11]), h),
-                    dot((float4)(m[12], m[13], m[14], m[15]), h));
+    float x = ax * bx;
+    float y = ay * by;
+    float z = az * bz;
+    float xy = x + y;
+    return xy + z;
 }
 
-/* Clip-space motion (x, y, 0, w) over the shutter of a vertex at world
- * point x: the affine map motion_rows, or the one motion of every vertex
- * when nothing rotates (exactly the uniform values then). */
-float4 reyes_motion_at(__global const struct reyes_params *p, float3 x)
+/* a . b of 4-vectors as PoCL's dot(float4): (x + y) + (z + w). */
+REYES_INLINE float reyes_dot4(float ax, float ay, float az, float aw, float bx, float by, float bz, float bw)
 {
-    if (!p->motion_rotates)
-        return (float4)(p->motion_rows[3], p->motion_rows[7], 0.0f, p->motion_rows[11]);
+    float x = ax * bx;
+    float y = ay * by;
+    float z = az * bz;
+    float w = aw * bw;
+    float xy = x + y;
+    float zw = z + w;
+    return xy + zw;
+}
+
+/* Clip-space position of world point (x, y, z). */
+REYES_INLINE void reyes_clip_of(__global const struct reyes_params *p, float x, float y, float z, float clip[4])
+{
+    __global const float *m = p->view_proj;
+    #pragma unroll
+    for (int r = 0; r < 4; ++r)
+        clip[r] = reyes_dot4(m[4 * r], m[4 * r + 1], m[4 * r + 2], m[4 * r + 3], x, y, z, 1.0f);
+}
+
+REYES_INLINE float4 reyes_to_clip(__global const struct reyes_params *p, float3 x)
+{
+    float c[4];
+    reyes_clip_of(p, x.x, x.y, x.z, c);
+    return (float4)(c[0], c[1], c[2], c[3]);
+}
+
+/* Clip-space motion (x, y, w) over the shutter of a vertex at world point
+ * (x, y, z): the affine map motion_rows, or the one motion of every
+ * vertex when nothing rotates (exactly the uniform values then). */
+REYES_INLINE void reyes_motion_of(__global const struct reyes_params *p, float x, float y, float z, float m[3])
+{
     __global const float *r = p->motion_rows;
-    float4 h = (float4)(x, 1.0f);
-    return (float4)(dot((float4)(r[0], r[1], r[2], r[3]), h), dot((float4)(r[4], r[5], r[6], r[7]), h),
-                    0.0f, dot((float4)(r[8], r[9], r[10], r[11]), h));
+    const int rows[3] = {0, 4, 8};
+    #pragma unroll
+    for (int k = 0; k < 3; ++k) {
+        int o = rows[k];
+        m[k] = p->motion_rotates ? reyes_dot4(r[o], r[o + 1], r[o + 2], r[o + 3], x, y, z, 1.0f) : r[o + 3];
+    }
+}
+
+REYES_INLINE float4 reyes_motion_at(__global const struct reyes_params *p, float3 x)
+{
+    float m[3];
+    reyes_motion_of(p, x.x, x.y, x.z, m);
+    return (float4)(m[0], m[1], 0.0f, m[2]);
 }
 
 /* Pixel coordinates (y down) of a clip-space point with w > 0. */
-float2 reyes_to_screen(__global const struct reyes_params *p, float4 clip)
+REYES_INLINE void reyes_screen_of(__global const struct reyes_params *p, float x, float y, float w, float *sx,
+                                  float *sy)
 {
-    float inv_w = 1.0f / clip.w;
-    return (float2)((clip.x * inv_w * 0.5f + 0.5f) * p->width,
-                    (0.5f - clip.y * inv_w * 0.5f) * p->height);
+    float inv_w = 1.0f / w;
+    *sx = (x * inv_w * 0.5f + 0.5f) * p->width;
+    *sy = (0.5f - y * inv_w * 0.5f) * p->height;
+}
+
+REYES_INLINE float2 reyes_to_screen(__global const struct reyes_params *p, float4 clip)
+{
+    float sx, sy;
+    reyes_screen_of(p, clip.x, clip.y, clip.w, &sx, &sy);
+    return (float2)(sx, sy);
+}
+
+/* A colour channel in [0,1] as a byte: clamped (NaN as 0), scaled and
+ * rounded to nearest, ties to even (adding and subtracting 2^23 rounds a
+ * float in [0, 2^23) so), as convert_uint_sat_rte would. */
+REYES_INLINE uint reyes_channel_byte(float c)
+{
+    float scaled = clamp(c, 0.0f, 1.0f) * 255.0f;
+    float rounded = (scaled + 8388608.0f) - 8388608.0f;
+    return (uint)rounded;
 }
 
 /* Pack a color in [0,1]^3 as RGBA8 (alpha 255, red in the low byte). */
-uint reyes_pack_rgba(float3 c)
+REYES_INLINE uint reyes_pack_channels(float r, float g, float b)
 {
-    uint3 q = convert_uint3_sat_rte(clamp(c, 0.0f, 1.0f) * 255.0f);
-    return q.x | (q.y << 8) | (q.z << 16) | (255u << 24);
+    return reyes_channel_byte(r) | (reyes_channel_byte(g) << 8) | (reyes_channel_byte(b) << 16) | (255u << 24);
 }
 
-float3 reyes_unpack_rgb(uint rgba)
+REYES_INLINE uint reyes_pack_rgba(float3 c)
+{
+    return reyes_pack_channels(c.x, c.y, c.z);
+}
+
+REYES_INLINE float3 reyes_unpack_rgb(uint rgba)
 {
     return (float3)((float)(rgba & 255u), (float)((rgba >> 8) & 255u),
                     (float)((rgba >> 16) & 255u)) * (1.0f / 255.0f);

@@ -1,163 +1,247 @@
 /*
  * dice: evaluate a sub-patch on a grid x grid vertex lattice, shade each
- * vertex and emit the (grid-1)^2 quads as micropolygons.  The threads of an
- * item share the vertices, then the quads (v, q = thread, thread + threads,
- * ...), with one barrier between, through REYES_DICE_VERTEX_BYTES of
- * __local scratch per vertex.  Vertices are evaluated on the base patch at
- * global (u,v), so a vertex shared by two sub-patches is bit-identical
+ * vertex, count the (grid-1)^2 quads that are visible as micropolygons and
+ * hand the lattice to rasterize as one item (struct reyes_grid,
+ * reyes_grid.cl).  One work-item dices one sub-patch, REYES_LANES
+ * consecutive vertices at a time in SIMD lanes (OpenCL vector types), into
+ * __local scratch laid out as the rasterize item; a batch holds as many
+ * sub-patches as the group has work-items, so the runtime's cost per batch
+ * is shared by that many grids.  Vertices are evaluated on the base patch
+ * at global (u,v), so a vertex shared by two sub-patches is bit-identical
  * wherever it is computed.  The evaluation and shading are in
  * reyes_surface.cl.
  */
 
-/* Hand a visible quad to rasterize: with per-vertex motion rasterize
- * takes the quad with its vertices' motions (blurred or not). */
-void reyes_emit_raster(perma_ctx *ctx, const struct reyes_quad *quad, const struct reyes_moving_quad *moving,
-                       const struct reyes_vertex corners[4])
-{
-#ifdef REYES_VERTEX_MOTION
-    if (moving) {
-        emit_rasterize(ctx, moving);
-        return;
-    }
-    struct reyes_moving_quad item = reyes_vertex_moving(ctx->buf.params, quad, corners, 4);
-    emit_rasterize(ctx, &item);
-#else
-    (void)moving;
-    (void)corners;
-    emit_rasterize(ctx, quad);
-#endif
-}
+/* The scratch of one dice item. */
+struct reyes_dice_scratch {
+    struct reyes_grid grid;
+    struct reyes_grid strips; /* wedge crack fix */
+};
 
-/* Send one quad (vertices around it) to rasterize if it is in front of
- * the near plane and on the tile; returns whether it was visible. */
-int reyes_emit_quad(perma_ctx *ctx, const struct reyes_vertex corners[4], int full)
-{
-    __global const struct reyes_params *p = ctx->buf.params;
-    struct reyes_quad quad;
-    int visible = 1;
-    float2 lo = (float2)(INFINITY, INFINITY), hi = (float2)(-INFINITY, -INFINITY);
-    for (int k = 0; k < 4; ++k) {
-        visible &= corners[k].clip.w > p->near_w;
-        /* Blurred quads keep clip x, y (rasterize moves them per sample). */
-        float2 s = p->blur ? corners[k].clip.xy : reyes_to_screen(p, corners[k].clip);
-        quad.x[k] = s.x;
-        quad.y[k] = s.y;
-        quad.z[k] = corners[k].clip.w;
-        quad.rgba[k] = corners[k].rgba;
-        lo = fmin(lo, s);
-        hi = fmax(hi, s);
-    }
-    /* Quads through the near plane or wholly off the tile (the image
-     * without buckets) are dropped; blurred ones when their box over the
-     * shutter and lens misses it. */
-    if (p->blur) {
-        /* Each vertex moves by its own motion (one for all without a
-         * rotation). */
-        struct reyes_moving_quad moving = reyes_vertex_moving(p, &quad, corners, 4);
-        visible = visible && reyes_blur_meets_tile(p, &moving);
-        if (visible && full)
-            reyes_emit_raster(ctx, &quad, &moving, corners);
-        return visible;
-    }
-    visible &= hi.x >= p->tile_x0 && hi.y >= p->tile_y0 && lo.x <= p->tile_x1
-               && lo.y <= p->tile_y1;
-    if (visible && full)
-        reyes_emit_raster(ctx, &quad, 0, corners);
-    return visible;
-}
-
-/* Quad i of the wedge strip of `edge`, reaching the polyline c of its settled segment. */
-void reyes_emit_wedge(perma_ctx *ctx, const struct reyes_polyline *c, const struct reyes_subpatch *sp,
-                      __local const struct reyes_vertex *grid, int edge, int i, int full)
+/* Wedge crack fix: the strips along the settled edges, from the grid's
+ * boundary vertices to the points at the same parameters on the polyline
+ * of the edge's settled segment (reyes_flatness.cl).  The sides of an
+ * edge reach the same polyline, so together they close the crack.  Strip
+ * e is vertex rows 2e (the grid's vertices along edge e, in the edge's
+ * order) and 2e + 1 (their polyline points); its quads are quad row 2e. */
+void reyes_dice_strip_vertex(perma_ctx *ctx, const struct reyes_subpatch *sp, __local struct reyes_dice_scratch *s,
+                             int v)
 {
     __global const struct reyes_params *p = ctx->buf.params;
     int n = (int)p->grid, side = n - 1;
+    int edge = v / n, step = v % n;
+    uint level = (sp->edge_levels >> (8 * edge)) & 0xffu;
+    if (level == REYES_EDGE_UNSETTLED)
+        return;
+    float3 base[16];
+    reyes_load_patch(ctx->buf.patches, sp->patch, base);
+    struct reyes_polyline polyline = reyes_edge_polyline(base, sp, edge, level, (uint)side);
     int along_u;
     float fixed, a, b;
     reyes_edge_line(sp, edge, &along_u, &fixed, &a, &b);
-    struct reyes_vertex corners[4];
-    for (int k = 0; k < 2; ++k) {
-        int step = i + k; /* along the edge */
-        int gi = along_u ? step : (edge == REYES_EDGE_U1 ? side : 0);
-        int gj = along_u ? (edge == REYES_EDGE_V1 ? side : 0) : step;
-        struct reyes_vertex on_grid = grid[gj * n + gi], on_polyline;
-        reyes_vertex_place(p, reyes_strip_point(c, step), &on_polyline);
-        on_polyline.rgba = on_grid.rgba;
-        corners[k] = on_grid;
-        corners[3 - k] = on_polyline;
-    }
-    if (reyes_emit_quad(ctx, corners, full))
-        atomic_add(&ctx->buf.counters[REYES_COUNT_FILLERS], 2u);
+    int gi = along_u ? step : (edge == REYES_EDGE_U1 ? side : 0);
+    int gj = along_u ? (edge == REYES_EDGE_V1 ? side : 0) : step;
+    struct reyes_vertex on_polyline;
+    reyes_vertex_place(p, reyes_strip_point(&polyline, step), &on_polyline);
+    on_polyline.rgba = s->grid.rgba[gj * n + gi];
+    reyes_grid_copy_vertex(&s->grid, gj * n + gi, &s->strips, 2 * edge * n + step);
+    reyes_grid_store(p, &s->strips, (2 * edge + 1) * n + step, &on_polyline);
 }
 
+/* Vertices i0 .. i0 + REYES_LANES - 1 of row j of an undisplaced grid n
+ * vertices wide into g, from the row's curves, at parameters u0 .. u1
+ * across the grid, shaded with base colour `base` when `shade` (else
+ * colour 0), in SIMD lanes.  The lanes past the row write into the next
+ * row (made after this one) or the lattice's padding.  The normal is not
+ * fixed up at poles here: the returned mask has the lanes whose normal
+ * vanished, for reyes_grid_vertex_color; otherwise each vertex is
+ * reyes_grid_vertex's, bit for bit. */
+REYES_INLINE reyes_lane_mask reyes_dice_lanes(__global const struct reyes_params *p,
+                                              const struct reyes_row_curves *rc,
+                                              const struct reyes_lighting *light, float u0, float u1, uint base,
+                                              __local struct reyes_grid *g, int j, int i0, int n, int shade)
+{
+    const int8 lane = (int8)(0, 1, 2, 3, 4, 5, 6, 7);
+    int8 i = i0 + lane;
+    float last = (float)(n - 1);
+    reyes_lanes tu = convert_float8(i) / last;
+    /* mix(a, b, 1) == b exactly, so shared patch edges get equal u. */
+    reyes_lanes u = u0 * (1.0f - tu) + u1 * tu;
+    reyes_lanes x[3], normal[3];
+    reyes_row_point_lanes(rc, u, x);
+    reyes_row_normal_lanes(rc, u, normal);
+    __global const float *m = p->view_proj;
+    reyes_lanes clip[4];
+    for (int r = 0; r < 4; ++r)
+        clip[r] = reyes_dot4_lanes(m[4 * r], m[4 * r + 1], m[4 * r + 2], m[4 * r + 3], x[0], x[1], x[2]);
+    reyes_lanes inv_w = 1.0f / clip[3];
+    reyes_lanes sx = (clip[0] * inv_w * 0.5f + 0.5f) * p->width;
+    reyes_lanes sy = (0.5f - clip[1] * inv_w * 0.5f) * p->height;
+    int first = j * n + i0;
+    vstore8(p->blur ? clip[0] : sx, 0, g->x + first);
+    vstore8(p->blur ? clip[1] : sy, 0, g->y + first);
+    vstore8(clip[3], 0, g->z + first);
+#ifdef REYES_VERTEX_MOTION
+    __global const float *mr = p->motion_rows;
+    for (int k = 0; k < 3; ++k) {
+        reyes_lanes motion = (reyes_lanes)mr[4 * k + 3];
+        if (p->motion_rotates)
+            motion = reyes_dot4_lanes(mr[4 * k], mr[4 * k + 1], mr[4 * k + 2], mr[4 * k + 3], x[0], x[1], x[2]);
+        vstore8(motion, 0, (k == 0 ? g->mx : k == 1 ? g->my : g->mw) + first);
+    }
+#endif
+    uint8 rgba = (uint8)0u;
+    if (shade) {
+        reyes_lanes diffuse, specular;
+        reyes_light_lanes(light, x, normal, &diffuse, &specular);
+        rgba = reyes_light_color_lanes(base, diffuse, specular);
+    }
+    vstore8(rgba, 0, g->rgba + first);
+    return reyes_dot3_lanes(normal[0], normal[1], normal[2], normal[0], normal[1], normal[2]) < 1e-24f;
+}
 
-/* Wedge crack fix: for every settled edge, a strip of quads from the
- * grid's boundary vertices to the points at the same parameters on the
- * polyline of the edge's settled segment (reyes_flatness.cl).  The sides
- * of an edge reach the same polyline, so together they close the crack.
- * A thread's quads run through the edges in order, so it makes each
- * edge's polyline once. */
-void reyes_dice_wedges(perma_ctx *ctx, const struct reyes_subpatch *sp,
-                       __local const struct reyes_vertex *grid, int full)
+/* The visible quads among the eight slots from `first` of lattice g, as
+ * a count: vector loads of the corners (the lattice's padding covers the
+ * last slots' reads) and the tests of reyes_sharp_visible lane by lane. */
+REYES_INLINE uint reyes_dice_visible_lanes(__global const struct reyes_params *p, __local const struct reyes_grid *g,
+                                           int first)
+{
+    const int8 lane = (int8)(0, 1, 2, 3, 4, 5, 6, 7);
+    int c = (int)g->columns;
+    int8 k = first + lane;
+    int8 row = reyes_lattice_row_lanes(k, c);
+    int8 has = (row + 1 < (int)g->rows) & (k - row * c != c - 1)
+               & (convert_int8((uint8)g->quad_rows >> convert_uint8(row)) & 1) != 0;
+    const int corner[4] = { 0, 1, c + 1, c };
+    reyes_lanes lo_x = (reyes_lanes)INFINITY, lo_y = lo_x, hi_x = -lo_x, hi_y = -lo_x;
+    int8 front = (int8)(-1);
+    for (int i = 0; i < 4; ++i) {
+        reyes_lanes x = vload8(0, g->x + first + corner[i]), y = vload8(0, g->y + first + corner[i]);
+        reyes_lanes z = vload8(0, g->z + first + corner[i]);
+        lo_x = fmin(lo_x, x);
+        lo_y = fmin(lo_y, y);
+        hi_x = fmax(hi_x, x);
+        hi_y = fmax(hi_y, y);
+        front &= z > p->near_w;
+    }
+    int8 visible = has & front & (hi_x >= p->tile_x0) & (hi_y >= p->tile_y0) & (lo_x <= p->tile_x1)
+                   & (lo_y <= p->tile_y1);
+    int8 ones = visible & 1;
+    return (uint)(ones.s0 + ones.s1 + ones.s2 + ones.s3 + ones.s4 + ones.s5 + ones.s6 + ones.s7);
+}
+
+/* Visible quads of lattice g, eight slots at a time. */
+uint reyes_dice_count(__global const struct reyes_params *p, __local const struct reyes_grid *g)
+{
+    int slots = (int)(g->rows - 1u) * (int)g->columns;
+    uint visible = 0;
+    if (p->blur) {
+        for (int k = 0; k < slots; ++k)
+            visible += reyes_grid_visible(p, g, k);
+    } else {
+        for (int first = 0; first < slots; first += REYES_LANES)
+            visible += reyes_dice_visible_lanes(p, g, first);
+    }
+    return visible;
+}
+
+/* Hand a lattice to rasterize (a full render). */
+void reyes_dice_emit(perma_ctx *ctx, __local const struct reyes_grid *g)
+{
+    struct reyes_grid item = *g;
+    emit_rasterize(ctx, &item);
+}
+
+/* The vertices of an undisplaced grid, row by row (the row's curves made
+ * once) and REYES_LANES at a time, and the poles' colours. */
+void reyes_dice_plain(perma_ctx *ctx, __local const struct reyes_subpatch *item, __local struct reyes_grid *g,
+                      int shade)
 {
     __global const struct reyes_params *p = ctx->buf.params;
-    int side = (int)p->grid - 1;
-    float3 base[16];
-    reyes_load_patch(ctx->buf.patches, sp->patch, base);
-    struct reyes_polyline polyline;
-    int polyline_edge = -1;
-    for (int q = (int)ctx->thread; q < 4 * side; q += (int)p->dice_threads) {
-        int edge = q / side, i = q % side;
-        uint level = (sp->edge_levels >> (8 * edge)) & 0xffu;
-        if (level != REYES_EDGE_UNSETTLED) {
-            if (edge != polyline_edge) {
-                polyline = reyes_edge_polyline(base, sp, edge, level, (uint)side);
-                polyline_edge = edge;
+    int n = (int)p->grid;
+    struct reyes_hull h;
+    reyes_load_hull(ctx->buf.patches, item->patch, &h);
+    struct reyes_lighting light = reyes_lighting_of(p);
+    uint base = ctx->buf.colors[item->patch];
+    float u0 = item->u0, v0 = item->v0, u1 = item->u1, v1 = item->v1;
+    float last = (float)(n - 1);
+    for (int j = 0; j < n; ++j) {
+        float tv = (float)j / last;
+        float v = v0 * (1.0f - tv) + v1 * tv; /* as reyes_grid_uv_of */
+        struct reyes_row_curves rc;
+        reyes_row_curves_lanes(&h, (reyes_lanes)v, &rc);
+        for (int i0 = 0; i0 < n; i0 += REYES_LANES) {
+            reyes_lane_mask degenerate = reyes_dice_lanes(p, &rc, &light, u0, u1, base, g, j, i0, n, shade);
+            if (shade && any(degenerate)) {
+                struct reyes_subpatch sp = *item;
+                float3 cp[16];
+                reyes_load_patch(ctx->buf.patches, sp.patch, cp);
+                for (int k = 0; k < REYES_LANES && i0 + k < n; ++k)
+                    if (((int *)&degenerate)[k])
+                        g->rgba[j * n + i0 + k] = reyes_grid_vertex_color(p, cp, &sp, base, i0 + k, j);
             }
-            reyes_emit_wedge(ctx, &polyline, sp, grid, edge, i, full);
         }
     }
 }
 
-/* Cooperative: every work-item of the group calls it.  The item's threads
- * first evaluate and shade each grid vertex once into __local scratch, then,
- * after the barrier, assemble the quads from it. */
+/* The vertices of a displaced grid (scalar). */
+void reyes_dice_displaced(perma_ctx *ctx, __local const struct reyes_subpatch *item,
+                          __local struct reyes_dice_scratch *s, int shade)
+{
+    __global const struct reyes_params *p = ctx->buf.params;
+    struct reyes_displacement d = { p, ctx->buf.displacement_map };
+    int n = (int)p->grid;
+    struct reyes_subpatch sp = *item;
+    float3 cp[16];
+    reyes_load_patch(ctx->buf.patches, sp.patch, cp);
+    uint base = ctx->buf.colors[sp.patch];
+    for (int v = 0; v < n * n; ++v) {
+        struct reyes_vertex vertex = reyes_grid_vertex(&d, cp, &sp, base, v % n, v / n, shade);
+        reyes_grid_store(p, &s->grid, v, &vertex);
+    }
+}
+
 void reyes_dice(perma_ctx *ctx, __local const struct reyes_subpatch *item)
 {
     __global const struct reyes_params *p = ctx->buf.params;
     __global uint *counters = ctx->buf.counters;
-    __local struct reyes_vertex *grid = (__local struct reyes_vertex *)ctx->scratch;
-    int n = (int)p->grid, side = n - 1;
-    int threads = (int)p->dice_threads;
-    int diced = ctx->active && p->stages != REYES_STAGES_SUBDIVIDE;
+    __local struct reyes_dice_scratch *s = (__local struct reyes_dice_scratch *)ctx->scratch;
+    int n = (int)p->grid;
     int full = p->stages == REYES_STAGES_ALL;
-    struct reyes_subpatch sp;
-    if (ctx->active) {
-        sp = *item;
-        if (ctx->thread == 0)
-            atomic_inc(&counters[REYES_COUNT_GRIDS]);
-    }
-    if (diced) {
-        float3 cp[16];
-        reyes_load_patch(ctx->buf.patches, sp.patch, cp);
-        uint rgba = ctx->buf.colors[sp.patch];
-        struct reyes_displacement d = { p, ctx->buf.displacement_map };
-        for (int v = (int)ctx->thread; v < n * n; v += threads)
-            grid[v] = reyes_grid_vertex(&d, cp, &sp, rgba, v % n, v / n, full);
-    }
-    barrier(CLK_LOCAL_MEM_FENCE);
-    if (!diced)
+    atomic_inc(&counters[REYES_COUNT_GRIDS]);
+    if (p->stages == REYES_STAGES_SUBDIVIDE)
         return;
-
-    const int corner_i[4] = {0, 1, 1, 0}, corner_j[4] = {0, 0, 1, 1};
-    for (int q = (int)ctx->thread; q < side * side; q += threads) {
-        int i = q % side, j = q / side;
-        struct reyes_vertex corners[4];
-        for (int k = 0; k < 4; ++k)
-            corners[k] = grid[(j + corner_j[k]) * n + i + corner_i[k]];
-        if (reyes_emit_quad(ctx, corners, full))
-            atomic_inc(&counters[REYES_COUNT_MICROPOLYGONS]);
+    s->grid.columns = (uint)n;
+    s->grid.rows = (uint)n;
+    s->grid.quad_rows = (1u << (n - 1)) - 1u;
+    s->grid.pad = 0u;
+    if (p->displace_mode == REYES_DISPLACE_NONE)
+        reyes_dice_plain(ctx, item, &s->grid, full);
+    else
+        reyes_dice_displaced(ctx, item, s, full);
+    uint quads = reyes_dice_count(p, &s->grid);
+    if (quads > 0u) {
+        atomic_add(&counters[REYES_COUNT_MICROPOLYGONS], quads);
+        if (full)
+            reyes_dice_emit(ctx, &s->grid);
     }
-    if (p->wedges)
-        reyes_dice_wedges(ctx, &sp, grid, full);
+    if (!p->wedges)
+        return;
+    s->strips.columns = (uint)n;
+    s->strips.rows = 8u;
+    uint rows = 0;
+    for (int edge = 0; edge < 4; ++edge)
+        if (((item->edge_levels >> (8 * edge)) & 0xffu) != REYES_EDGE_UNSETTLED)
+            rows |= 1u << (2 * edge);
+    s->strips.quad_rows = rows;
+    s->strips.pad = 0u;
+    struct reyes_subpatch sp = *item;
+    for (int v = 0; v < 4 * n; ++v)
+        reyes_dice_strip_vertex(ctx, &sp, s, v);
+    uint strip_quads = reyes_dice_count(p, &s->strips);
+    if (strip_quads > 0u) {
+        atomic_add(&counters[REYES_COUNT_FILLERS], 2u * strip_quads); /* two triangles each */
+        if (full)
+            reyes_dice_emit(ctx, &s->strips);
+    }
 }

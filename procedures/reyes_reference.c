@@ -1,26 +1,23 @@
 /*
- * CPU reference of the Reyes subdivision: the same tests as reyes_bound.cl
- * and reyes_dice.cl, written in C and run depth-first.  Float rounding may
- * differ from the device's (contractions, vector code), so a patch right at
- * a threshold can rarely be decided differently.
+ * CPU reference of the Reyes pipeline: the same tests as reyes_bound.cl
+ * and reyes_dice.cl, written in C and run depth-first on one thread, and
+ * for a full render the same shading and sampling (reyes_reference_dice.c,
+ * reyes_reference_sample.c).  Float rounding may differ from the device's
+ * (contractions, vector code), so a patch right at a threshold can rarely
+ * be decided differently, and a sample on an edge covered differently.
  */
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
-#include "reyes_reference.h"
-#include "reyes_shared.h"
+#include "reyes_look.h"
+#include "reyes_reference_internal.h"
 
 typedef struct vec3 { float x, y, z; } vec3;
 typedef struct vec4 { float x, y, z, w; } vec4;
 
-typedef struct context {
-    const reyes_scene *scene;
-    const reyes_options *o;
-    float m[16];
-    float near_w;
-    reyes_reference_counts *counts;
-} context;
+typedef reference_context context;
 
 static vec3 mix3(vec3 a, vec3 b, float t)
 {
@@ -197,65 +194,6 @@ static int tiered_split(const context *c, const vec3 cp[16], const vec4 clip[16]
     return failed;
 }
 
-static void bernstein(float t, float b[4])
-{
-    float s = 1.0f - t;
-    b[0] = s * s * s;
-    b[1] = 3.0f * t * s * s;
-    b[2] = 3.0f * t * t * s;
-    b[3] = t * t * t;
-}
-
-/* Quads of the grid that dice would emit. */
-static void dice(context *c, const struct reyes_subpatch *sp)
-{
-    unsigned n = c->o->grid;
-    vec3 cp[16];
-    load_patch(c->scene, sp->patch, cp);
-    float last = (float)(n - 1);
-    /* Screen position and w of every grid vertex, row by row. */
-    float sx[REYES_MAX_GRID * REYES_MAX_GRID], sy[REYES_MAX_GRID * REYES_MAX_GRID];
-    int front[REYES_MAX_GRID * REYES_MAX_GRID];
-    for (unsigned j = 0; j < n; ++j) {
-        for (unsigned i = 0; i < n; ++i) {
-            float tu = (float)i / last, tv = (float)j / last;
-            float u = sp->u0 * (1.0f - tu) + sp->u1 * tu, v = sp->v0 * (1.0f - tv) + sp->v1 * tv;
-            float bu[4], bv[4];
-            bernstein(u, bu);
-            bernstein(v, bv);
-            vec3 x = {0, 0, 0};
-            for (int r = 0; r < 4; ++r) {
-                for (int col = 0; col < 4; ++col) {
-                    float w = bv[r] * bu[col];
-                    x.x += w * cp[r * 4 + col].x;
-                    x.y += w * cp[r * 4 + col].y;
-                    x.z += w * cp[r * 4 + col].z;
-                }
-            }
-            vec4 clip = to_clip(c->m, x);
-            front[j * n + i] = clip.w > c->near_w;
-            to_screen(c, clip, &sx[j * n + i], &sy[j * n + i]);
-        }
-    }
-    for (unsigned j = 0; j + 1 < n; ++j) {
-        for (unsigned i = 0; i + 1 < n; ++i) {
-            unsigned corner[4] = { j * n + i, j * n + i + 1, (j + 1) * n + i + 1, (j + 1) * n + i };
-            int visible = 1;
-            float lox = INFINITY, loy = INFINITY, hix = -INFINITY, hiy = -INFINITY;
-            for (int k = 0; k < 4; ++k) {
-                visible &= front[corner[k]];
-                lox = fminf(lox, sx[corner[k]]);
-                hix = fmaxf(hix, sx[corner[k]]);
-                loy = fminf(loy, sy[corner[k]]);
-                hiy = fmaxf(hiy, sy[corner[k]]);
-            }
-            visible &= hix >= 0.0f && hiy >= 0.0f && lox <= (float)c->o->width
-                       && loy <= (float)c->o->height;
-            c->counts->micropolygons += (uint64_t)visible;
-        }
-    }
-}
-
 static void split(context *c, struct reyes_subpatch sp, int along_u);
 
 static void bound(context *c, struct reyes_subpatch sp)
@@ -317,7 +255,7 @@ static void bound(context *c, struct reyes_subpatch sp)
         c->counts->forced_dice += (uint64_t)forced;
         ++c->counts->grids;
         if (o->stages != REYES_STAGES_SUBDIVIDE)
-            dice(c, &sp);
+            reference_dice(c, &sp);
     } else {
         split(c, sp, along_u);
     }
@@ -341,9 +279,16 @@ static void split(context *c, struct reyes_subpatch sp, int along_u)
     bound(c, b);
 }
 
-reyes_status reyes_reference_run(const reyes_scene *scene, const reyes_camera *camera,
-                                 const reyes_options *options, reyes_reference_counts *out,
-                                 reyes_error *error)
+static double seconds_since(const struct timespec *start)
+{
+    struct timespec end;
+    clock_gettime(CLOCK_MONOTONIC, &end);
+    return (double)(end.tv_sec - start->tv_sec) + 1e-9 * (double)(end.tv_nsec - start->tv_nsec);
+}
+
+/* Check the options and set up the context's camera. */
+static reyes_status begin(context *c, const reyes_scene *scene, const reyes_camera *camera,
+                          const reyes_options *options, reyes_reference_counts *out, reyes_error *error)
 {
     memset(out, 0, sizeof *out);
     reyes_status status = reyes_options_check(options, error);
@@ -352,19 +297,88 @@ reyes_status reyes_reference_run(const reyes_scene *scene, const reyes_camera *c
     if (options->crack_fix == REYES_CRACK_FIX_WEDGE)
         return reyes_fail(error, REYES_ERR_ARGUMENT,
                           "the C reference does not model the wedge crack fix's subdivision");
-    context c = { .scene = scene, .o = options, .counts = out };
-    c.near_w = reyes_near_plane(scene);
-    status = reyes_camera_matrix(camera, (float)options->width / (float)options->height, c.near_w,
-                                 c.m, error);
+    *c = (context){ .scene = scene, .o = options, .counts = out };
+    c->near_w = reyes_near_plane(scene);
+    for (int k = 0; k < 3; ++k)
+        c->eye[k] = camera->eye[k];
+    reyes_light_direction(c->light);
+    c->grid = malloc(sizeof *c->grid);
+    if (!c->grid)
+        return reyes_fail(error, REYES_ERR_NO_MEMORY, "out of memory for the C reference's grid");
+    return reyes_camera_matrix(camera, (float)options->width / (float)options->height, c->near_w, c->m, error);
+}
+
+static void subdivide_all(context *c)
+{
+    for (size_t p = 0; p < c->scene->patch_count; ++p)
+        bound(c, (struct reyes_subpatch){ .patch = (uint32_t)p, .u1 = 1.0f, .v1 = 1.0f });
+}
+
+reyes_status reyes_reference_run(const reyes_scene *scene, const reyes_camera *camera,
+                                 const reyes_options *options, reyes_reference_counts *out,
+                                 reyes_error *error)
+{
+    context c;
+    reyes_status status = begin(&c, scene, camera, options, out, error);
+    if (status == REYES_OK) {
+        struct timespec start;
+        clock_gettime(CLOCK_MONOTONIC, &start);
+        subdivide_all(&c);
+        out->seconds = seconds_since(&start);
+    }
+    free(c.grid);
+    return status;
+}
+
+reyes_status reyes_reference_render(const reyes_scene *scene, const reyes_camera *camera,
+                                    const reyes_options *options, reyes_image *image,
+                                    reyes_reference_counts *out, reyes_error *error)
+{
+    memset(image, 0, sizeof *image);
+    context c;
+    reyes_status status = begin(&c, scene, camera, options, out, error);
+    if (status == REYES_OK && (options->motion[0] != 0.0f || options->motion[1] != 0.0f
+                               || options->motion[2] != 0.0f || options->motion_angle_deg != 0.0f
+                               || options->aperture != 0.0f))
+        status = reyes_fail(error, REYES_ERR_ARGUMENT,
+                            "the C reference renders without motion blur or depth of field");
+    if (status == REYES_OK && options->displace_mode != REYES_DISPLACE_NONE && options->displace_amplitude != 0.0f)
+        status = reyes_fail(error, REYES_ERR_ARGUMENT, "the C reference renders without displacement");
+    size_t pixels = (size_t)options->width * options->height;
+    uint64_t *values = NULL;
+    float *positions = NULL;
+    if (status == REYES_OK) {
+        values = malloc(pixels * options->spp * sizeof *values);
+        positions = malloc(pixels * options->spp * 2 * sizeof *positions);
+        image->width = options->width;
+        image->height = options->height;
+        image->rgb = malloc(pixels * 3);
+        image->coverage = malloc(pixels);
+        if (!values || !positions || !image->rgb || !image->coverage)
+            status = reyes_fail(error, REYES_ERR_NO_MEMORY, "out of memory for a %ux%u image", options->width,
+                                options->height);
+    }
+    if (status == REYES_OK) {
+        reference_samples samples;
+        reyes_options full = *options;
+        full.stages = REYES_STAGES_ALL;
+        c.o = &full;
+        c.samples = &samples;
+        memset(values, 0xff, pixels * options->spp * sizeof *values);
+        struct timespec start;
+        clock_gettime(CLOCK_MONOTONIC, &start);
+        reference_samples_init(&samples, options->width, options->height, options->spp, values, positions);
+        subdivide_all(&c);
+        out->seconds = seconds_since(&start);
+        out->samples_written = reyes_resolve(values, options->spp, options->background, 0, 0, options->width,
+                                             options->height, image);
+    }
+    free(values);
+    free(positions);
+    free(c.grid);
     if (status != REYES_OK)
-        return status;
-    struct timespec start, end;
-    clock_gettime(CLOCK_MONOTONIC, &start);
-    for (size_t p = 0; p < scene->patch_count; ++p)
-        bound(&c, (struct reyes_subpatch){ .patch = (uint32_t)p, .u1 = 1.0f, .v1 = 1.0f });
-    clock_gettime(CLOCK_MONOTONIC, &end);
-    out->seconds = (double)(end.tv_sec - start.tv_sec) + 1e-9 * (double)(end.tv_nsec - start.tv_nsec);
-    return REYES_OK;
+        reyes_image_free(image);
+    return status;
 }
 
 static vec3 normalize3(vec3 a)

@@ -6,26 +6,14 @@
 #include "reyes_blur_tuples.h"
 #include "reyes_render_stats.h"
 #include "reyes_renderer_internal.h"
+#include "reyes_look.h"
 #include "reyes_stitch_plan.h"
 #include "reyes_shared.h"
-
-#define EMPTY_SAMPLE REYES_EMPTY_SAMPLE
-
-void reyes_image_free(reyes_image *image)
-{
-    if (!image)
-        return;
-    free(image->rgb);
-    free(image->coverage);
-    free(image->samples);
-    memset(image, 0, sizeof *image);
-}
 
 /* The per-render buffers handed to perma_bind_host. */
 typedef struct render_buffers {
     struct reyes_params params;
     uint32_t counters[REYES_COUNTERS];
-    uint64_t *samples;              /* one bucket's samples */
     struct reyes_subpatch *seeds;   /* one per base patch */
     /* Crack stitching: the leaves of the first pass, the plan, and the
      * seeds of one bucket (dice: leaves, stitch: items). */
@@ -43,7 +31,6 @@ typedef struct render_buffers {
 
 static void free_buffers(render_buffers *b)
 {
-    free(b->samples);
     free(b->seeds);
     free(b->leaves);
     free(b->dice_seeds);
@@ -166,7 +153,7 @@ static reyes_status make_blur_tuples(const reyes_options *o, render_buffers *b, 
 }
 
 static reyes_status fill_params(const reyes_scene *scene, const reyes_camera *camera,
-                                const reyes_options *o, unsigned dice_threads,
+                                const reyes_options *o,
                                 struct reyes_params *p, reyes_error *error)
 {
     memset(p, 0, sizeof *p);
@@ -178,10 +165,7 @@ static reyes_status fill_params(const reyes_scene *scene, const reyes_camera *ca
         return status;
     for (int k = 0; k < 3; ++k)
         p->eye[k] = camera->eye[k];
-    const float light[3] = {REYES_LIGHT_X, REYES_LIGHT_Y, REYES_LIGHT_Z};
-    float length = sqrtf(light[0] * light[0] + light[1] * light[1] + light[2] * light[2]);
-    for (int k = 0; k < 3; ++k)
-        p->light_dir[k] = light[k] / length;
+    reyes_light_direction(p->light_dir);
     p->width = (float)o->width;
     p->height = (float)o->height;
     p->bound_px = o->bound_px;
@@ -199,7 +183,6 @@ static reyes_status fill_params(const reyes_scene *scene, const reyes_camera *ca
     p->grid = o->grid;
     p->spp = o->spp;
     p->backface_cull = o->backface_cull ? 1u : 0u;
-    p->dice_threads = dice_threads;
     p->stages = o->stages;
     set_blur(camera, o, p);
     return REYES_OK;
@@ -229,9 +212,6 @@ static reyes_status allocate(const reyes_scene *scene, const reyes_options *o, r
                              reyes_image *image, reyes_error *error)
 {
     size_t pixels = (size_t)o->width * o->height;
-    size_t tile_pixels = (size_t)bucket_side(o->bucket_width, o->width)
-                         * bucket_side(o->bucket_height, o->height);
-    b->samples = malloc(tile_pixels * o->spp * sizeof *b->samples);
     b->seeds = malloc((scene->patch_count ? scene->patch_count : 1) * sizeof *b->seeds);
     image->width = o->width;
     image->height = o->height;
@@ -243,7 +223,7 @@ static reyes_status allocate(const reyes_scene *scene, const reyes_options *o, r
         if (image->samples)
             memset(image->samples, 0xff, pixels * o->spp * sizeof *image->samples);
     }
-    if (!b->samples || !b->seeds || !image->rgb || !image->coverage || (o->keep_samples && !image->samples))
+    if (!b->seeds || !image->rgb || !image->coverage || (o->keep_samples && !image->samples))
         return reyes_fail(error, REYES_ERR_NO_MEMORY, "out of memory for a %ux%u image", o->width,
                           o->height);
     memset(b->counters, 0, sizeof b->counters);
@@ -258,9 +238,8 @@ static size_t tile_samples(const reyes_options *o, tile t)
     return (size_t)(t.x1 - t.x0) * (t.y1 - t.y0) * o->spp;
 }
 
-/* Bind every buffer for a run over tile t (unused ones get a dummy). */
-static perma_status bind_buffers(reyes_renderer *r, const reyes_scene *scene,
-                                 const reyes_options *o, tile t, render_buffers *b)
+/* Bind every buffer for a run (unused ones get a dummy). */
+static perma_status bind_buffers(reyes_renderer *r, const reyes_scene *scene, render_buffers *b)
 {
     static struct reyes_leaf no_leaf;
     static struct reyes_stitch_piece no_piece;
@@ -276,13 +255,11 @@ static perma_status bind_buffers(reyes_renderer *r, const reyes_scene *scene,
     if (s == PERMA_OK)
         s = perma_bind_host(rt, "counters", "__global uint *", b->counters, sizeof b->counters,
                             PERMA_READ_WRITE);
-    /* The first pass of stitching rasterizes nothing (and its tile, the
-     * whole image, may be larger than the bucket's sample buffer). */
+    /* The first pass of stitching rasterizes nothing (its tile, the whole
+     * image, may be larger than the sample buffer). */
     int recording = b->params.record_leaves != 0;
     if (s == PERMA_OK)
-        s = perma_bind_host(rt, "samples", "__global ulong *", b->samples,
-                            (recording ? 1 : tile_samples(o, t)) * sizeof *b->samples,
-                            PERMA_READ_WRITE);
+        s = perma_bind_cl(rt, "samples", "__global ulong *", r->samples);
     if (s == PERMA_OK)
         s = perma_bind_host(rt, "leaves", "__global struct reyes_leaf *",
                             recording ? (void *)b->leaves : (void *)&no_leaf,
@@ -322,38 +299,6 @@ static perma_status seed(reyes_renderer *r, const reyes_scene *scene, render_buf
     return s;
 }
 
-/* Average the samples of each pixel of the tile; empty samples show the
- * background.  Returns the covered samples. */
-static uint64_t resolve(const uint64_t *samples, const reyes_options *o, tile t,
-                        reyes_image *image)
-{
-    uint64_t written = 0;
-    size_t tile_width = t.x1 - t.x0;
-    for (unsigned y = t.y0; y < t.y1; ++y) {
-        for (unsigned x = t.x0; x < t.x1; ++x) {
-            const uint64_t *pixel = samples + ((y - t.y0) * tile_width + (x - t.x0)) * o->spp;
-            size_t px = (size_t)y * o->width + x;
-            unsigned sum[3] = {0, 0, 0}, hits = 0;
-            for (unsigned s = 0; s < o->spp; ++s) {
-                uint32_t rgba = o->background;
-                if (pixel[s] != EMPTY_SAMPLE) {
-                    rgba = (uint32_t)pixel[s];
-                    ++hits;
-                }
-                for (int c = 0; c < 3; ++c)
-                    sum[c] += (rgba >> (8 * c)) & 255u;
-            }
-            for (int c = 0; c < 3; ++c)
-                image->rgb[px * 3 + c] = (uint8_t)((sum[c] + o->spp / 2) / o->spp);
-            image->coverage[px] = (uint8_t)hits;
-            written += hits;
-            if (image->samples)
-                memcpy(image->samples + px * o->spp, pixel, o->spp * sizeof *pixel);
-        }
-    }
-    return written;
-}
-
 /* Add the last run's runtime statistics to *stats; *peak_bytes: its peak
  * queue memory. */
 static perma_status add_run_stats(reyes_renderer *r, reyes_stats *stats, size_t *peak_bytes)
@@ -386,14 +331,13 @@ static void count_stats(const reyes_scene *scene, const render_buffers *b, reyes
     stats->stitches = stats->procedures[REYES_PROC_STITCH].items;
 }
 
-/* One perma run over tile t with the seeds of the current mode; adds its
- * statistics.  *call names what failed. */
-static perma_status run_tile(reyes_renderer *r, const reyes_scene *scene, const reyes_options *o,
-                             tile t, render_buffers *b, reyes_stats *stats, size_t *peak_bytes,
-                             const char **call)
+/* One perma run over the tile in b->params with the seeds of the current
+ * mode; adds its statistics.  *call names what failed. */
+static perma_status run_tile(reyes_renderer *r, const reyes_scene *scene, render_buffers *b, reyes_stats *stats,
+                             size_t *peak_bytes, const char **call)
 {
     *call = "binding the scene";
-    perma_status ps = bind_buffers(r, scene, o, t, b);
+    perma_status ps = bind_buffers(r, scene, b);
     if (ps == PERMA_OK)
         ps = seed(r, scene, b);
     if (ps == PERMA_OK) {
@@ -429,7 +373,7 @@ static reyes_status subdivide_and_plan(reyes_renderer *r, const reyes_scene *sce
         reyes_stats attempt = *stats;
         const char *call = "";
         size_t peak;
-        perma_status ps = run_tile(r, scene, o, whole, b, &attempt, &peak, &call);
+        perma_status ps = run_tile(r, scene, b, &attempt, &peak, &call);
         if (ps != PERMA_OK)
             return reyes_runtime_error(r, call, ps, error);
         size_t recorded = b->counters[REYES_COUNT_LEAVES];
@@ -486,24 +430,81 @@ static void select_stitched_seeds(const reyes_options *o, tile t, render_buffers
     }
 }
 
-/* Render one tile: a perma run (unless there is nothing to seed), then
- * resolve.  *call names what failed. */
-static perma_status render_tile(reyes_renderer *r, const reyes_scene *scene, const reyes_options *o,
-                                tile t, render_buffers *b, reyes_image *image, reyes_stats *stats,
-                                size_t *peak_bytes, const char **call)
+/* The renderer's sample buffer, at least `bytes` long. */
+static reyes_status reserve_samples(reyes_renderer *r, size_t bytes, reyes_error *error)
 {
-    memset(b->samples, 0xff, tile_samples(o, t) * sizeof *b->samples);
+    if (r->samples && r->samples_bytes >= bytes)
+        return REYES_OK;
+    if (r->samples)
+        clReleaseMemObject(r->samples);
+    r->samples_bytes = 0;
+    cl_int err;
+    r->samples = clCreateBuffer(perma_cl_context(r->rt), CL_MEM_READ_WRITE, bytes, NULL, &err);
+    if (err != CL_SUCCESS) {
+        r->samples = NULL;
+        return reyes_fail(error, REYES_ERR_RUNTIME, "clCreateBuffer for %zu bytes of samples failed (%d)", bytes,
+                          (int)err);
+    }
+    r->samples_bytes = bytes;
+    return REYES_OK;
+}
+
+/* Set the first `bytes` of the samples to REYES_EMPTY_SAMPLE (on the
+ * device, before the run's clock starts). */
+static reyes_status clear_samples(reyes_renderer *r, size_t bytes, reyes_error *error)
+{
+    const uint64_t empty = UINT64_MAX;
+    cl_command_queue queue = perma_cl_queue(r->rt);
+    cl_int err = clEnqueueFillBuffer(queue, r->samples, &empty, sizeof empty, 0, bytes, 0, NULL, NULL);
+    if (err == CL_SUCCESS)
+        err = clFinish(queue);
+    if (err != CL_SUCCESS)
+        return reyes_fail(error, REYES_ERR_RUNTIME, "clearing the samples failed (OpenCL error %d)", (int)err);
+    return REYES_OK;
+}
+
+/* Resolve tile t's samples into the image (read where they are on a CPU
+ * device: mapping copies nothing there). */
+static reyes_status resolve_samples(reyes_renderer *r, const reyes_options *o, tile t, reyes_image *image,
+                                    reyes_stats *stats, reyes_error *error)
+{
+    size_t bytes = tile_samples(o, t) * sizeof(uint64_t);
+    cl_command_queue queue = perma_cl_queue(r->rt);
+    cl_int err;
+    const uint64_t *samples = clEnqueueMapBuffer(queue, r->samples, CL_TRUE, CL_MAP_READ, 0, bytes, 0, NULL, NULL,
+                                                 &err);
+    if (err != CL_SUCCESS)
+        return reyes_fail(error, REYES_ERR_RUNTIME, "reading the samples failed (OpenCL error %d)", (int)err);
+    stats->samples_written += reyes_resolve(samples, o->spp, o->background, t.x0, t.y0, t.x1, t.y1, image);
+    err = clEnqueueUnmapMemObject(queue, r->samples, (void *)samples, 0, NULL, NULL);
+    if (err == CL_SUCCESS)
+        err = clFinish(queue);
+    if (err != CL_SUCCESS)
+        return reyes_fail(error, REYES_ERR_RUNTIME, "releasing the samples failed (OpenCL error %d)", (int)err);
+    return REYES_OK;
+}
+
+/* Render one tile: a perma run (unless there is nothing to seed), then
+ * resolve. */
+static reyes_status render_tile(reyes_renderer *r, const reyes_scene *scene, const reyes_options *o, tile t,
+                                render_buffers *b, reyes_image *image, reyes_stats *stats, size_t *peak_bytes,
+                                reyes_error *error)
+{
+    reyes_status status = clear_samples(r, tile_samples(o, t) * sizeof(uint64_t), error);
+    if (status != REYES_OK)
+        return status;
     set_tile(&b->params, o, t);
     if (b->stitched)
         select_stitched_seeds(o, t, b);
     int work = b->stitched ? b->dice_seed_count + b->stitch_seed_count > 0 : scene->patch_count > 0;
-    perma_status ps = PERMA_OK;
     *peak_bytes = 0;
-    if (work)
-        ps = run_tile(r, scene, o, t, b, stats, peak_bytes, call);
-    if (ps == PERMA_OK)
-        stats->samples_written += resolve(b->samples, o, t, image);
-    return ps;
+    if (work) {
+        const char *call = "";
+        perma_status ps = run_tile(r, scene, b, stats, peak_bytes, &call);
+        if (ps != PERMA_OK)
+            return reyes_runtime_error(r, call, ps, error);
+    }
+    return resolve_samples(r, o, t, image, stats, error);
 }
 
 /* Render every bucket, row by row (one bucket: the whole image). */
@@ -516,6 +517,9 @@ static reyes_status render_buckets(reyes_renderer *r, const reyes_scene *scene,
     stats->bucket_columns = (o->width + bw - 1) / bw;
     stats->bucket_rows = (o->height + bh - 1) / bh;
     size_t count = (size_t)stats->bucket_columns * stats->bucket_rows;
+    reyes_status reserved = reserve_samples(r, (size_t)bw * bh * o->spp * sizeof(uint64_t), error);
+    if (reserved != REYES_OK)
+        return reserved;
     if (o->bucket_width > 0) {
         stats->bucket_peak_queue_bytes = calloc(count, sizeof *stats->bucket_peak_queue_bytes);
         if (!stats->bucket_peak_queue_bytes)
@@ -542,11 +546,10 @@ static reyes_status render_buckets(reyes_renderer *r, const reyes_scene *scene,
         tile t = { column * bw, row * bh, 0, 0 };
         t.x1 = t.x0 + bw < o->width ? t.x0 + bw : o->width;
         t.y1 = t.y0 + bh < o->height ? t.y0 + bh : o->height;
-        const char *call = "";
         size_t peak;
-        perma_status ps = render_tile(r, scene, o, t, b, image, stats, &peak, &call);
-        if (ps != PERMA_OK)
-            return reyes_runtime_error(r, call, ps, error);
+        reyes_status tiled = render_tile(r, scene, o, t, b, image, stats, &peak, error);
+        if (tiled != REYES_OK)
+            return tiled;
         if (stats->bucket_peak_queue_bytes)
             stats->bucket_peak_queue_bytes[k] = peak;
         reyes_status status = source && source->done
@@ -582,7 +585,7 @@ reyes_status reyes_render(reyes_renderer *r, const reyes_scene *scene, const rey
                           "a motion rotation needs a renderer created with one (per-vertex motion; "
                           "create a new renderer)");
     render_buffers b = {0};
-    status = fill_params(scene, camera, options, r->dice_threads, &b.params, error);
+    status = fill_params(scene, camera, options, &b.params, error);
     if (status == REYES_OK)
         status = set_displacement(scene, options, &b, error);
     if (status == REYES_OK)

@@ -1,4 +1,5 @@
 /* Create a perma runtime and register the Reyes procedures on it. */
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -7,7 +8,7 @@
 #include "reyes_sources.h"
 
 #define DEFAULT_GROUP_SIZE 64u
-#define DICE_THREADS_MAX 64u
+#define DEFAULT_CPU_GROUP_SIZE 8u
 
 reyes_status reyes_runtime_error(const struct reyes_renderer *r, const char *call,
                                  perma_status status, reyes_error *error)
@@ -16,17 +17,37 @@ reyes_status reyes_runtime_error(const struct reyes_renderer *r, const char *cal
                       perma_status_name(status), r->rt ? perma_errmsg(r->rt) : "");
 }
 
+/* Bytes of the rasterize item for the renderer's grid. */
+size_t reyes_grid_item_bytes(unsigned grid, int vertex_motion)
+{
+    size_t words = vertex_motion ? REYES_GRID_MOVING_VERTEX_WORDS : REYES_GRID_VERTEX_WORDS;
+    return 4 * (REYES_GRID_HEADER_WORDS + words * REYES_GRID_ARRAY(grid));
+}
+
+/* Bytes of dice's scratch (struct reyes_dice_scratch, reyes_dice.cl): the
+ * grid and the wedge strips as rasterize items. */
+static size_t dice_scratch_bytes(const struct reyes_renderer *r)
+{
+    return 2 * reyes_grid_item_bytes(r->grid, r->vertex_motion);
+}
+
+/* The definitions the procedures' sources take from the renderer. */
+static perma_status add_definitions(struct reyes_renderer *r)
+{
+    char text[256];
+    snprintf(text, sizeof text,
+             "#define REYES_GRID_VERTICES %uu\n"
+             "#define REYES_MAX_SPP_CHUNKS %u\n"
+             "%s",
+             REYES_GRID_ARRAY(r->grid), (REYES_MAX_SPP + 3) / 4,
+             r->vertex_motion ? "#define REYES_VERTEX_MOTION 1\n" : "");
+    return perma_add_source(r->rt, text, "reyes_renderer.h");
+}
+
 static perma_status register_all(struct reyes_renderer *r)
 {
     const char *item = "struct reyes_subpatch";
     const size_t item_size = sizeof(struct reyes_subpatch);
-    /* Dice emits its grid's quads and, with wedges, a strip per edge. */
-    unsigned quads = (r->grid - 1) * (r->grid - 1) + 4 * (r->grid - 1);
-    /* Per-vertex motion: larger micropolygons and dice vertices, chosen
-     * here because item types are fixed when the program is built. */
-    const char *raster_item = r->vertex_motion ? "struct reyes_moving_quad" : "struct reyes_quad";
-    size_t raster_size = r->vertex_motion ? sizeof(struct reyes_moving_quad) : sizeof(struct reyes_quad);
-    size_t vertex_bytes = r->vertex_motion ? REYES_DICE_MOVING_VERTEX_BYTES : REYES_DICE_VERTEX_BYTES;
     /* Bound and split emit into each other: bound is served before split
      * (it culls and dices, split doubles), and consumers before producers
      * keeps the queues short. */
@@ -43,13 +64,17 @@ static perma_status register_all(struct reyes_renderer *r)
             .threads_per_item = 1, .source = reyes_split_v_cl_source,
             .source_file = "reyes_split_v.cl", .function = "reyes_split_v",
             .emits = { { "bound", 2 } }, .priority = 1 },
+        /* Dice and rasterize take a whole grid per work-item (their SIMD is
+         * in vector types), so a batch shares the runtime's cost among
+         * as many grids as the group has work-items. */
         [REYES_PROC_DICE] = { .name = "dice", .item_type = item, .item_size = item_size,
-            .threads_per_item = r->dice_threads, .source = reyes_dice_cl_source,
+            .threads_per_item = 1, .source = reyes_dice_cl_source,
             .source_file = "reyes_dice.cl", .function = "reyes_dice",
-            .local_bytes_per_item = (size_t)r->grid * r->grid * vertex_bytes,
-            .cooperative = 1, .emits = { { "rasterize", quads } }, .priority = 3 },
-        [REYES_PROC_RASTERIZE] = { .name = "rasterize", .item_type = raster_item,
-            .item_size = raster_size, .threads_per_item = 1,
+            .local_bytes_per_item = dice_scratch_bytes(r),
+            .emits = { { "rasterize", 2 } }, .priority = 3 },
+        [REYES_PROC_RASTERIZE] = { .name = "rasterize", .item_type = "struct reyes_grid",
+            .item_size = reyes_grid_item_bytes(r->grid, r->vertex_motion),
+            .threads_per_item = 1,
             .source = reyes_rasterize_cl_source, .source_file = "reyes_rasterize.cl",
             .function = "reyes_rasterize", .priority = 4 },
         [REYES_PROC_STITCH] = { .name = "stitch", .item_type = "struct reyes_stitch",
@@ -57,9 +82,7 @@ static perma_status register_all(struct reyes_renderer *r)
             .source = reyes_stitch_cl_source, .source_file = "reyes_stitch.cl",
             .function = "reyes_stitch", .priority = 4 },
     };
-    perma_status status = PERMA_OK;
-    if (r->vertex_motion)
-        status = perma_add_source(r->rt, "#define REYES_VERTEX_MOTION 1\n", "reyes_vertex_motion.h");
+    perma_status status = add_definitions(r);
     if (status == PERMA_OK)
         status = perma_add_source(r->rt, reyes_shared_h_source, "reyes_shared.h");
     if (status == PERMA_OK)
@@ -74,9 +97,35 @@ static perma_status register_all(struct reyes_renderer *r)
         status = perma_add_source(r->rt, reyes_displace_cl_source, "reyes_displace.cl");
     if (status == PERMA_OK)
         status = perma_add_source(r->rt, reyes_surface_cl_source, "reyes_surface.cl");
+    if (status == PERMA_OK)
+        status = perma_add_source(r->rt, reyes_grid_cl_source, "reyes_grid.cl");
     for (int p = 0; p < REYES_PROC_COUNT && status == PERMA_OK; ++p)
         status = perma_register(r->rt, &procedures[p], &r->procs[p]);
     return status;
+}
+
+/* Create the runtime with the scheduling fields of the options and
+ * `group_size` work-items per group. */
+static perma_status create_runtime(const reyes_options *options, unsigned group_size, perma_runtime **rt,
+                                   perma_error *perr)
+{
+    perma_config config;
+    perma_config_init(&config);
+    config.work_groups = options->work_groups;
+    config.group_size = group_size;
+    config.schedule = options->schedule;
+    config.time_limit = options->time_limit;
+    if (options->device)
+        perma_config_set_device(&config, options->device);
+    return perma_create(&config, rt, perr);
+}
+
+/* Whether the runtime's device is a CPU. */
+static int on_cpu(perma_runtime *rt)
+{
+    cl_device_type type = 0;
+    return clGetDeviceInfo(perma_cl_device(rt), CL_DEVICE_TYPE, sizeof type, &type, NULL) == CL_SUCCESS
+           && (type & CL_DEVICE_TYPE_CPU);
 }
 
 reyes_status reyes_renderer_create(const reyes_options *options, reyes_renderer **out,
@@ -90,25 +139,25 @@ reyes_status reyes_renderer_create(const reyes_options *options, reyes_renderer 
     if (!r)
         return reyes_fail(error, REYES_ERR_NO_MEMORY, "out of memory");
     unsigned group_size = options->group_size ? options->group_size : DEFAULT_GROUP_SIZE;
-    r->grid = options->grid;
-    r->vertex_motion = options->motion_angle_deg != 0.0f;
-    r->dice_threads = group_size < DICE_THREADS_MAX ? group_size : DICE_THREADS_MAX;
-
-    perma_config config;
-    perma_config_init(&config);
-    config.work_groups = options->work_groups;
-    config.group_size = group_size;
-    config.schedule = options->schedule;
-    config.time_limit = options->time_limit;
-    if (options->device)
-        perma_config_set_device(&config, options->device);
     perma_error perr;
-    perma_status status = perma_create(&config, &r->rt, &perr);
+    perma_status status = create_runtime(options, group_size, &r->rt, &perr);
+    if (status == PERMA_OK && options->group_size == 0 && on_cpu(r->rt)) {
+        /* A CPU runs a group's work-items one after another, once per
+         * stretch between barriers: a small group wastes less on the
+         * stretches where few of them have work (dice and rasterize do
+         * their own SIMD), which made full renders about a quarter faster. */
+        perma_destroy(r->rt);
+        r->rt = NULL;
+        group_size = DEFAULT_CPU_GROUP_SIZE;
+        status = create_runtime(options, group_size, &r->rt, &perr);
+    }
     if (status != PERMA_OK) {
         free(r);
         return reyes_fail(error, REYES_ERR_RUNTIME, "perma_create failed (%s): %s",
                           perma_status_name(status), perr.message);
     }
+    r->grid = options->grid;
+    r->vertex_motion = options->motion_angle_deg != 0.0f;
     /* The program is built by the first run, once the buffers are bound. */
     status = register_all(r);
     if (status != PERMA_OK) {
@@ -124,6 +173,8 @@ void reyes_renderer_destroy(reyes_renderer *renderer)
 {
     if (!renderer)
         return;
+    if (renderer->samples)
+        clReleaseMemObject(renderer->samples);
     perma_destroy(renderer->rt);
     free(renderer);
 }

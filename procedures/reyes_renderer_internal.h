@@ -8,10 +8,13 @@ struct reyes_renderer {
     perma_runtime *rt;
     perma_proc procs[REYES_PROC_COUNT];
     unsigned grid;          /* the dice procedure's emit maximum depends on it */
-    unsigned dice_threads;  /* threads_per_item of dice */
     /* Micropolygons carry a motion per vertex (struct reyes_moving_quad):
      * created with a rotation over the shutter. */
     int vertex_motion;
+    /* The samples of a tile (one ulong each), kept on the device from
+     * render to render: cleared there, read back by mapping. */
+    cl_mem samples;
+    size_t samples_bytes;
 };
 
 /* Copy the runtime's last message into *error. */

@@ -5,7 +5,7 @@
  */
 
 /* Integer hash (lowbias32), for deterministic jitter. */
-uint reyes_hash(uint x)
+REYES_INLINE uint reyes_hash(uint x)
 {
     x ^= x >> 16;
     x *= 0x7feb352du;
@@ -16,7 +16,7 @@ uint reyes_hash(uint x)
 }
 
 /* Columns of the stratification lattice of spp samples per pixel. */
-uint reyes_sample_columns(uint spp)
+REYES_INLINE uint reyes_sample_columns(uint spp)
 {
     return (uint)ceil(sqrt((float)spp));
 }
@@ -24,14 +24,22 @@ uint reyes_sample_columns(uint spp)
 /* Jittered sample position inside pixel (px, py): stratified on a
  * columns x rows lattice (reyes_sample_columns, rows = ceil(spp /
  * columns)) with a hashed offset in each cell.  Callers that test many
- * samples compute the lattice once. */
-float2 reyes_sample_position_on(uint px, uint py, uint s, uint columns, uint rows)
+ * samples compute the lattice once.  (rasterize computes the same in SIMD
+ * lanes: reyes_quad_pixels, reyes_small_quads.) */
+REYES_INLINE void reyes_sample_xy(uint px, uint py, uint s, uint columns, uint rows, float *x, float *y)
 {
     uint h = reyes_hash(px * 0x9e3779b9u ^ reyes_hash(py * 0x85ebca6bu ^ reyes_hash(s)));
     float jx = (float)(h & 0xffffu) * (1.0f / 65536.0f);
     float jy = (float)(h >> 16) * (1.0f / 65536.0f);
-    return (float2)((float)px + ((float)(s % columns) + jx) / (float)columns,
-                    (float)py + ((float)(s / columns) + jy) / (float)rows);
+    *x = (float)px + ((float)(s % columns) + jx) / (float)columns;
+    *y = (float)py + ((float)(s / columns) + jy) / (float)rows;
+}
+
+REYES_INLINE float2 reyes_sample_position_on(uint px, uint py, uint s, uint columns, uint rows)
+{
+    float x, y;
+    reyes_sample_xy(px, py, s, columns, rows, &x, &y);
+    return (float2)(x, y);
 }
 
 float2 reyes_sample_position(uint px, uint py, uint s, uint spp)
@@ -46,29 +54,25 @@ float2 reyes_sample_position(uint px, uint py, uint s, uint spp)
  * way for both.  The order is decided once per edge (reyes_edge_order),
  * the function per sample (reyes_edge_at). */
 struct reyes_edge_setup {
-    float2 lo, hi;
+    float lo_x, lo_y, hi_x, hi_y;
     int swap;
 };
 
-struct reyes_edge_setup reyes_edge_order(float2 a, float2 b)
+REYES_INLINE struct reyes_edge_setup reyes_edge_order(float ax, float ay, float bx, float by)
 {
     struct reyes_edge_setup e;
-    e.swap = a.x > b.x || (a.x == b.x && a.y > b.y);
-    e.lo = e.swap ? b : a;
-    e.hi = e.swap ? a : b;
+    e.swap = ax > bx || (ax == bx && ay > by);
+    e.lo_x = e.swap ? bx : ax;
+    e.lo_y = e.swap ? by : ay;
+    e.hi_x = e.swap ? ax : bx;
+    e.hi_y = e.swap ? ay : by;
     return e;
 }
 
-float reyes_edge_at(const struct reyes_edge_setup *e, float2 p)
+REYES_INLINE float reyes_edge_at(const struct reyes_edge_setup *e, float px, float py)
 {
-    float v = (e->hi.x - e->lo.x) * (p.y - e->lo.y) - (e->hi.y - e->lo.y) * (p.x - e->lo.x);
+    float v = (e->hi_x - e->lo_x) * (py - e->lo_y) - (e->hi_y - e->lo_y) * (px - e->lo_x);
     return e->swap ? -v : v;
-}
-
-float reyes_edge(float2 a, float2 b, float2 p)
-{
-    struct reyes_edge_setup e = reyes_edge_order(a, b);
-    return reyes_edge_at(&e, p);
 }
 
 /* Triangle (a,b,c) of a quad, set up once for all the samples it is
@@ -79,44 +83,90 @@ struct reyes_triangle {
     int a, b, c;
 };
 
-struct reyes_triangle reyes_triangle_setup(const struct reyes_quad *q, int a, int b, int c)
+REYES_INLINE struct reyes_triangle reyes_triangle_setup(const struct reyes_quad *q, int a, int b, int c)
 {
-    float2 pa = (float2)(q->x[a], q->y[a]);
-    float2 pb = (float2)(q->x[b], q->y[b]);
-    float2 pc = (float2)(q->x[c], q->y[c]);
     struct reyes_triangle t;
-    t.edge[0] = reyes_edge_order(pb, pc);
-    t.edge[1] = reyes_edge_order(pc, pa);
-    t.edge[2] = reyes_edge_order(pa, pb);
-    t.area = reyes_edge_at(&t.edge[2], pc);
+    t.edge[0] = reyes_edge_order(q->x[b], q->y[b], q->x[c], q->y[c]);
+    t.edge[1] = reyes_edge_order(q->x[c], q->y[c], q->x[a], q->y[a]);
+    t.edge[2] = reyes_edge_order(q->x[a], q->y[a], q->x[b], q->y[b]);
+    t.area = reyes_edge_at(&t.edge[2], q->x[c], q->y[c]);
     t.a = a;
     t.b = b;
     t.c = c;
     return t;
 }
 
+/* Whether (x, y) is inside the triangle (edges inclusive; never for a
+ * triangle without area), as reyes_triangle_sample decides. */
+REYES_INLINE int reyes_triangle_covers(float x, float y, const struct reyes_triangle *t)
+{
+    float area = t->area;
+    float wa = reyes_edge_at(&t->edge[0], x, y), wb = reyes_edge_at(&t->edge[1], x, y);
+    float wc = reyes_edge_at(&t->edge[2], x, y);
+    int inside = area > 0.0f ? (wa >= 0.0f && wb >= 0.0f && wc >= 0.0f)
+                             : (wa <= 0.0f && wb <= 0.0f && wc <= 0.0f);
+    return inside && area != 0.0f;
+}
+
+/* An empty sample (the host clears the buffer to all ones). */
+#define REYES_EMPTY_SAMPLE 0xfffffffffffffffful
+
+/* Colour channel `shift` of a packed RGBA8 in [0,1]. */
+REYES_INLINE float reyes_channel(uint rgba, uint shift)
+{
+    return (float)((rgba >> shift) & 255u) * (1.0f / 255.0f);
+}
+
+/* The (depth, colour) that the triangle writes at (x, y): depth's bits
+ * above the packed colour, so the nearest surface is the smallest value
+ * (depth >= 0 orders like its bit pattern) and equal depths break ties by
+ * colour; REYES_EMPTY_SAMPLE if the point is outside (edges are
+ * inclusive) or the triangle has no area. */
+REYES_INLINE ulong reyes_triangle_sample(float x, float y, const struct reyes_quad *q, const struct reyes_triangle *t)
+{
+    float area = t->area;
+    float wa = reyes_edge_at(&t->edge[0], x, y), wb = reyes_edge_at(&t->edge[1], x, y);
+    float wc = reyes_edge_at(&t->edge[2], x, y);
+    int inside = area > 0.0f ? (wa >= 0.0f && wb >= 0.0f && wc >= 0.0f)
+                             : (wa <= 0.0f && wb <= 0.0f && wc <= 0.0f);
+    uint qa = q->rgba[t->a], qb = q->rgba[t->b], qc = q->rgba[t->c];
+    float inv_area = 1.0f / area;
+    float ba = wa * inv_area, bb = wb * inv_area, bc = wc * inv_area;
+    float depth = fmax(ba * q->z[t->a] + bb * q->z[t->b] + bc * q->z[t->c], 0.0f);
+    float ra = reyes_channel(qa, 0u), rb = reyes_channel(qb, 0u), rc = reyes_channel(qc, 0u);
+    float ga = reyes_channel(qa, 8u), gb = reyes_channel(qb, 8u), gc = reyes_channel(qc, 8u);
+    float la = reyes_channel(qa, 16u), lb = reyes_channel(qb, 16u), lc = reyes_channel(qc, 16u);
+    uint rgba = reyes_pack_channels(ba * ra + bb * rb + bc * rc, ba * ga + bb * gb + bc * gc,
+                                    ba * la + bb * lb + bc * lc);
+    ulong packed = ((ulong)as_uint(depth) << 32) | (ulong)rgba;
+    return inside && area != 0.0f ? packed : REYES_EMPTY_SAMPLE;
+}
+
+/* Keep the smaller of the sample's value and `value`.  Values only ever
+ * decrease, so a depth word that is already below ours (a possibly stale
+ * but never too small read of the high half) means the atomic would not
+ * change anything: most hidden fragments skip it. */
+REYES_INLINE void reyes_sample_merge(__global ulong *samples, uint index, ulong value)
+{
+#ifdef __ENDIAN_LITTLE__
+    const uint high = 1u;
+#else
+    const uint high = 0u;
+#endif
+    /* perma_load: a volatile load (an atomic under the race check). */
+    if ((uint)(value >> 32) <= perma_load((__global uint *)(samples + index) + high))
+        atom_min(&samples[index], value);
+}
+
 /* Write the sample if p is inside the triangle. */
 void reyes_sample_in_triangle(__global ulong *samples, uint index, float2 p, const struct reyes_quad *q,
                               const struct reyes_triangle *t)
 {
-    float area = t->area;
-    if (area == 0.0f)
+    if (t->area == 0.0f)
         return;
-    float wa = reyes_edge_at(&t->edge[0], p), wb = reyes_edge_at(&t->edge[1], p);
-    float wc = reyes_edge_at(&t->edge[2], p);
-    int inside = area > 0.0f ? (wa >= 0.0f && wb >= 0.0f && wc >= 0.0f)
-                             : (wa <= 0.0f && wb <= 0.0f && wc <= 0.0f);
-    if (!inside)
-        return;
-    int a = t->a, b = t->b, c = t->c;
-    float inv_area = 1.0f / area;
-    float ba = wa * inv_area, bb = wb * inv_area, bc = wc * inv_area;
-    float depth = fmax(ba * q->z[a] + bb * q->z[b] + bc * q->z[c], 0.0f);
-    float3 color = ba * reyes_unpack_rgb(q->rgba[a]) + bb * reyes_unpack_rgb(q->rgba[b])
-                   + bc * reyes_unpack_rgb(q->rgba[c]);
-    /* depth >= 0, so its bit pattern orders like the float. */
-    ulong packed = ((ulong)as_uint(depth) << 32) | (ulong)reyes_pack_rgba(color);
-    atom_min(&samples[index], packed);
+    ulong packed = reyes_triangle_sample(p.x, p.y, q, t);
+    if (packed != REYES_EMPTY_SAMPLE)
+        atom_min(&samples[index], packed);
 }
 
 /* Write the sample if p is inside triangle (a,b,c) of the quad. */

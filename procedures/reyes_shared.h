@@ -82,12 +82,19 @@ struct reyes_stitch {
     REYES_U32 pad;
 };
 
-/* __local bytes per grid vertex of dice (struct reyes_vertex: float4 + uint,
- * padded to the float4 alignment). */
-#define REYES_DICE_VERTEX_BYTES 32
-/* The same with the vertex's clip-space motion (a float4 more), in a
- * renderer made for per-vertex motion. */
-#define REYES_DICE_MOVING_VERTEX_BYTES 48
+/* The rasterize item (struct reyes_grid, reyes_grid.cl): REYES_GRID_HEADER_WORDS
+ * words, then arrays of REYES_GRID_ARRAY(grid) vertices: x, y, z and
+ * rgba, and with per-vertex motion also mx, my and mw.  An array holds a
+ * grid x grid lattice or the four wedge strips of 2 x grid vertices,
+ * rounded up to whole vectors of REYES_GRID_LANES, plus one vector of
+ * padding that the SIMD code may read past the last vertex. */
+#define REYES_GRID_HEADER_WORDS 4u
+#define REYES_GRID_LANES 16u
+#define REYES_GRID_CAPACITY(n) ((n) >= 8u ? (n) * (n) : 8u * (n))
+#define REYES_GRID_ARRAY(n) \
+    ((REYES_GRID_CAPACITY(n) + REYES_GRID_LANES - 1u) / REYES_GRID_LANES * REYES_GRID_LANES + REYES_GRID_LANES)
+#define REYES_GRID_VERTEX_WORDS 4u
+#define REYES_GRID_MOVING_VERTEX_WORDS 7u
 
 /* Indices into the statistics counter buffer. */
 #define REYES_COUNT_SPLITS 0
@@ -164,7 +171,6 @@ struct reyes_params {
     REYES_U32 grid;        /* vertices per grid side */
     REYES_U32 spp;         /* samples per pixel */
     REYES_U32 backface_cull; /* 1: drop patches facing away entirely */
-    REYES_U32 dice_threads;  /* threads_per_item of the dice procedure */
     REYES_U32 stages;        /* REYES_STAGES_* */
     /* 1: bound records the sub-patches to dice in the leaves buffer (up
      * to leaf_capacity, counted in REYES_COUNT_LEAVES) instead of emitting

@@ -14,6 +14,7 @@ extern const char reyes_sample_cl_source[];
 extern const char reyes_blur_cl_source[];
 extern const char reyes_displace_cl_source[];
 extern const char reyes_surface_cl_source[];
+extern const char reyes_grid_cl_source[];
 extern const char reyes_stitch_cl_source[];
 
 #endif

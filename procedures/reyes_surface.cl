@@ -5,17 +5,17 @@
  * bit-identical.
  */
 
-struct reyes_vertex {      /* REYES_DICE_VERTEX_BYTES (32) bytes */
+struct reyes_vertex {
     float4 clip;
     uint rgba;
-#ifdef REYES_VERTEX_MOTION /* REYES_DICE_MOVING_VERTEX_BYTES (48) */
+#ifdef REYES_VERTEX_MOTION
     float4 motion;         /* clip-space motion over the shutter */
 #endif
 };
 
 /* Set a vertex's clip position (and, with per-vertex motion, its motion)
  * from its world position. */
-void reyes_vertex_place(__global const struct reyes_params *p, float3 x, struct reyes_vertex *v)
+REYES_INLINE void reyes_vertex_place(__global const struct reyes_params *p, float3 x, struct reyes_vertex *v)
 {
     v->clip = reyes_to_clip(p, x);
 #ifdef REYES_VERTEX_MOTION
@@ -47,32 +47,188 @@ struct reyes_moving_quad reyes_vertex_moving(__global const struct reyes_params 
 #endif
 }
 
-/* Unnormalised surface normal at (u,v). */
-float3 reyes_patch_normal(const float3 cp[16], float u, float v)
+/* The patch arithmetic below evaluates REYES_LANES points at once, in
+ * OpenCL vector types (float8): dice fills a grid eight vertices at a time
+ * with it, in SIMD code whatever the OpenCL compiler does across
+ * work-items, and every other caller (stitch, displacement, the poles)
+ * takes lane 0 of the same code, so a vertex gets the same bits wherever it
+ * is computed.  Dot products, cross products and normalize round as
+ * PoCL's built-ins (no fused multiply-add; see reyes_dot3). */
+#define REYES_LANES 8
+typedef float8 reyes_lanes;
+typedef int8 reyes_lane_mask;
+
+/* Cubic Bernstein weights at t and their derivatives. */
+REYES_INLINE void reyes_bernstein_lanes(reyes_lanes t, reyes_lanes b[4])
 {
-    float4 bu = reyes_bernstein(u), bv = reyes_bernstein(v);
-    float4 du = reyes_bernstein_deriv(u), dv = reyes_bernstein_deriv(v);
-    float bu_a[4] = {bu.x, bu.y, bu.z, bu.w}, bv_a[4] = {bv.x, bv.y, bv.z, bv.w};
-    float du_a[4] = {du.x, du.y, du.z, du.w}, dv_a[4] = {dv.x, dv.y, dv.z, dv.w};
-    float3 tu = (float3)(0.0f), tv = (float3)(0.0f);
-    for (int r = 0; r < 4; ++r) {
-        for (int c = 0; c < 4; ++c) {
-            tu += (bv_a[r] * du_a[c]) * cp[r * 4 + c];
-            tv += (dv_a[r] * bu_a[c]) * cp[r * 4 + c];
-        }
-    }
-    return cross(tu, tv);
+    reyes_lanes s = 1.0f - t;
+    b[0] = s * s * s;
+    b[1] = 3.0f * t * s * s;
+    b[2] = 3.0f * t * t * s;
+    b[3] = t * t * t;
 }
 
-float3 reyes_patch_point(const float3 cp[16], float u, float v)
+REYES_INLINE void reyes_bernstein_deriv_lanes(reyes_lanes t, reyes_lanes d[4])
 {
-    float4 bu = reyes_bernstein(u), bv = reyes_bernstein(v);
-    float bu_a[4] = {bu.x, bu.y, bu.z, bu.w}, bv_a[4] = {bv.x, bv.y, bv.z, bv.w};
-    float3 x = (float3)(0.0f);
-    for (int r = 0; r < 4; ++r)
-        for (int c = 0; c < 4; ++c)
-            x += (bv_a[r] * bu_a[c]) * cp[r * 4 + c];
-    return x;
+    reyes_lanes s = 1.0f - t;
+    d[0] = -3.0f * s * s;
+    d[1] = 3.0f * s * s - 6.0f * t * s;
+    d[2] = 6.0f * t * s - 3.0f * t * t;
+    d[3] = 3.0f * t * t;
+}
+
+/* Control points of a base patch as three arrays of scalars. */
+struct reyes_hull {
+    float x[16], y[16], z[16];
+};
+
+REYES_INLINE void reyes_load_hull(__global const float4 *patches, uint patch, struct reyes_hull *h)
+{
+    __global const float *f = (__global const float *)(patches + patch * 16u);
+    for (int k = 0; k < 16; ++k) {
+        h->x[k] = f[4 * k];
+        h->y[k] = f[4 * k + 1];
+        h->z[k] = f[4 * k + 2];
+    }
+}
+
+REYES_INLINE struct reyes_hull reyes_hull_of(const float3 cp[16])
+{
+    struct reyes_hull h;
+    for (int k = 0; k < 16; ++k) {
+        h.x[k] = cp[k].x;
+        h.y[k] = cp[k].y;
+        h.z[k] = cp[k].z;
+    }
+    return h;
+}
+
+/* a . b, lane by lane, as reyes_dot3. */
+REYES_INLINE reyes_lanes reyes_dot3_lanes(reyes_lanes ax, reyes_lanes ay, reyes_lanes az, reyes_lanes bx,
+                                          reyes_lanes by, reyes_lanes bz)
+{
+    reyes_lanes x = ax * bx;
+    reyes_lanes y = ay * by;
+    reyes_lanes z = az * bz;
+    reyes_lanes xy = x + y;
+    return xy + z;
+}
+
+/* a . (x, y, z, 1), lane by lane, as reyes_dot4. */
+REYES_INLINE reyes_lanes reyes_dot4_lanes(float ax, float ay, float az, float aw, reyes_lanes x, reyes_lanes y,
+                                          reyes_lanes z)
+{
+    reyes_lanes px = ax * x;
+    reyes_lanes py = ay * y;
+    reyes_lanes pz = az * z;
+    float pw = aw * 1.0f;
+    reyes_lanes xy = px + py;
+    reyes_lanes zw = pz + pw;
+    return xy + zw;
+}
+
+/* A vector over its length, lane by lane (the zero vector unchanged). */
+REYES_INLINE void reyes_normalize_lanes(reyes_lanes *x, reyes_lanes *y, reyes_lanes *z)
+{
+    reyes_lanes ax = *x, ay = *y, az = *z;
+    reyes_lanes l2 = reyes_dot3_lanes(ax, ay, az, ax, ay, az);
+    reyes_lanes inv = 1.0f / sqrt(l2);
+    reyes_lane_mask zero = l2 == 0.0f;
+    *x = select(ax * inv, ax, zero);
+    *y = select(ay * inv, ay, zero);
+    *z = select(az * inv, az, zero);
+}
+
+/* A patch is evaluated separably, the same way for every caller: at
+ * parameter v its four rows of control points collapse to a cubic curve
+ * in u (q) and the derivative curve in v (qv), whose four control points
+ * are then weighted by the Bernstein weights of u.  dice makes the curves
+ * once per grid row and shares them by every vertex of the row. */
+struct reyes_row_curves {
+    reyes_lanes q[3][4], qv[3][4];
+};
+
+REYES_INLINE void reyes_row_curves_lanes(const struct reyes_hull *h, reyes_lanes v, struct reyes_row_curves *rc)
+{
+    reyes_lanes bv[4], dv[4];
+    reyes_bernstein_lanes(v, bv);
+    reyes_bernstein_deriv_lanes(v, dv);
+    for (int c = 0; c < 4; ++c) {
+        rc->q[0][c] = bv[0] * h->x[c] + bv[1] * h->x[4 + c] + bv[2] * h->x[8 + c] + bv[3] * h->x[12 + c];
+        rc->q[1][c] = bv[0] * h->y[c] + bv[1] * h->y[4 + c] + bv[2] * h->y[8 + c] + bv[3] * h->y[12 + c];
+        rc->q[2][c] = bv[0] * h->z[c] + bv[1] * h->z[4 + c] + bv[2] * h->z[8 + c] + bv[3] * h->z[12 + c];
+        rc->qv[0][c] = dv[0] * h->x[c] + dv[1] * h->x[4 + c] + dv[2] * h->x[8 + c] + dv[3] * h->x[12 + c];
+        rc->qv[1][c] = dv[0] * h->y[c] + dv[1] * h->y[4 + c] + dv[2] * h->y[8 + c] + dv[3] * h->y[12 + c];
+        rc->qv[2][c] = dv[0] * h->z[c] + dv[1] * h->z[4 + c] + dv[2] * h->z[8 + c] + dv[3] * h->z[12 + c];
+    }
+}
+
+/* w[0] q[0] + w[1] q[1] + w[2] q[2] + w[3] q[3]. */
+REYES_INLINE reyes_lanes reyes_curve_at(const reyes_lanes w[4], const reyes_lanes q[4])
+{
+    return w[0] * q[0] + w[1] * q[1] + w[2] * q[2] + w[3] * q[3];
+}
+
+/* Points, and unnormalised normals (cross products of the derivatives),
+ * at u on the row curves. */
+REYES_INLINE void reyes_row_point_lanes(const struct reyes_row_curves *rc, reyes_lanes u, reyes_lanes x[3])
+{
+    reyes_lanes bu[4];
+    reyes_bernstein_lanes(u, bu);
+    for (int d = 0; d < 3; ++d)
+        x[d] = reyes_curve_at(bu, rc->q[d]);
+}
+
+REYES_INLINE void reyes_row_normal_lanes(const struct reyes_row_curves *rc, reyes_lanes u, reyes_lanes n[3])
+{
+    reyes_lanes bu[4], du[4], tu[3], tv[3];
+    reyes_bernstein_lanes(u, bu);
+    reyes_bernstein_deriv_lanes(u, du);
+    for (int d = 0; d < 3; ++d) {
+        tu[d] = reyes_curve_at(du, rc->q[d]);
+        tv[d] = reyes_curve_at(bu, rc->qv[d]);
+    }
+    /* cross(tu, tv), products rounded apart as PoCL's cross. */
+    reyes_lanes yz = tu[1] * tv[2], zy = tu[2] * tv[1];
+    reyes_lanes zx = tu[2] * tv[0], xz = tu[0] * tv[2];
+    reyes_lanes xy = tu[0] * tv[1], yx = tu[1] * tv[0];
+    n[0] = yz - zy;
+    n[1] = zx - xz;
+    n[2] = xy - yx;
+}
+
+/* Points and unnormalised normals at (u,v) of a hull. */
+REYES_INLINE void reyes_hull_point_lanes(const struct reyes_hull *h, reyes_lanes u, reyes_lanes v,
+                                         reyes_lanes x[3])
+{
+    struct reyes_row_curves rc;
+    reyes_row_curves_lanes(h, v, &rc);
+    reyes_row_point_lanes(&rc, u, x);
+}
+
+REYES_INLINE void reyes_hull_normal_lanes(const struct reyes_hull *h, reyes_lanes u, reyes_lanes v,
+                                          reyes_lanes n[3])
+{
+    struct reyes_row_curves rc;
+    reyes_row_curves_lanes(h, v, &rc);
+    reyes_row_normal_lanes(&rc, u, n);
+}
+
+/* Unnormalised surface normal and point at (u,v) (lane 0 of the above). */
+REYES_INLINE float3 reyes_patch_normal(const float3 cp[16], float u, float v)
+{
+    struct reyes_hull h = reyes_hull_of(cp);
+    reyes_lanes n[3];
+    reyes_hull_normal_lanes(&h, (reyes_lanes)u, (reyes_lanes)v, n);
+    return (float3)(n[0].s0, n[1].s0, n[2].s0);
+}
+
+REYES_INLINE float3 reyes_patch_point(const float3 cp[16], float u, float v)
+{
+    struct reyes_hull h = reyes_hull_of(cp);
+    reyes_lanes x[3];
+    reyes_hull_point_lanes(&h, (reyes_lanes)u, (reyes_lanes)v, x);
+    return (float3)(x[0].s0, x[1].s0, x[2].s0);
 }
 
 /* Normal at (u,v); where a patch edge collapses to a point (a pole) the
@@ -87,28 +243,98 @@ float3 reyes_safe_normal(const float3 cp[16], float u, float v)
     return n;
 }
 
-/* The Blinn-Phong highlight cos_h^shininess.  pow() is PoCL's
- * full-precision library call and took about a fifth of a teapot render
- * (perf, 1280x1024); exp2(s log2 c) at native precision is plenty for an
- * 8-bit colour (the teapot's bytes did not change). */
-float reyes_highlight(float cos_h, float shininess)
+/* The light's parameters, loaded once per grid. */
+struct reyes_lighting {
+    float eye[3], light[3];
+    float ambient, diffuse, specular, shininess;
+};
+
+REYES_INLINE struct reyes_lighting reyes_lighting_of(__global const struct reyes_params *p)
 {
-    return cos_h > 0.0f ? native_exp2(shininess * native_log2(cos_h)) : 0.0f;
+    struct reyes_lighting l;
+    for (int k = 0; k < 3; ++k) {
+        l.eye[k] = p->eye[k];
+        l.light[k] = p->light_dir[k];
+    }
+    l.ambient = p->ambient;
+    l.diffuse = p->diffuse;
+    l.specular = p->specular;
+    l.shininess = p->shininess;
+    return l;
 }
 
-/* Lambert plus Blinn-Phong, two-sided, one directional light plus ambient. */
-uint reyes_shade(__global const struct reyes_params *p, float3 x, float3 n, float3 base)
+/* x^s: by squaring for a whole exponent up to 64 (the look's is 40: six
+ * products, as the C reference), else exp2(s log2 x) at native precision
+ * (pow() is PoCL's full-precision library call and took about a fifth of
+ * a teapot render; native_log2 looks a table up lane by lane). */
+REYES_INLINE reyes_lanes reyes_power_lanes(reyes_lanes x, float s)
 {
-    float3 view = normalize(vload3(0, p->eye) - x);
-    float3 normal = dot(n, n) > 0.0f ? normalize(n) : view;
-    if (dot(normal, view) < 0.0f)
-        normal = -normal;
-    float3 light = vload3(0, p->light_dir);
-    float lambert = fmax(dot(normal, light), 0.0f);
-    float3 half_vector = normalize(light + view);
-    float highlight = lambert > 0.0f ? reyes_highlight(dot(normal, half_vector), p->shininess) : 0.0f;
-    float3 color = base * (p->ambient + p->diffuse * lambert) + (float3)(p->specular * highlight);
-    return reyes_pack_rgba(color);
+    uint n = (uint)s;
+    if (s >= 0.0f && s <= 64.0f && (float)n == s) {
+        reyes_lanes result = (reyes_lanes)1.0f, base = x;
+        for (; n != 0u; n >>= 1) {
+            if (n & 1u)
+                result *= base;
+            base *= base;
+        }
+        return result;
+    }
+    return native_exp2(s * native_log2(x));
+}
+
+/* Lambert plus Blinn-Phong, two-sided, one directional light plus
+ * ambient, at points x with normals n: a colour c shades to
+ * c * diffuse + specular (reyes_light_color). */
+REYES_INLINE void reyes_light_lanes(const struct reyes_lighting *l, const reyes_lanes x[3], const reyes_lanes n[3],
+                                    reyes_lanes *diffuse, reyes_lanes *specular)
+{
+    reyes_lanes vx = l->eye[0] - x[0], vy = l->eye[1] - x[1], vz = l->eye[2] - x[2];
+    reyes_normalize_lanes(&vx, &vy, &vz);
+    reyes_lanes mx = n[0], my = n[1], mz = n[2];
+    reyes_normalize_lanes(&mx, &my, &mz);
+    reyes_lane_mask has_normal = reyes_dot3_lanes(n[0], n[1], n[2], n[0], n[1], n[2]) > 0.0f;
+    mx = select(vx, mx, has_normal);
+    my = select(vy, my, has_normal);
+    mz = select(vz, mz, has_normal);
+    reyes_lane_mask away = reyes_dot3_lanes(mx, my, mz, vx, vy, vz) < 0.0f;
+    mx = select(mx, -mx, away);
+    my = select(my, -my, away);
+    mz = select(mz, -mz, away);
+    float lx = l->light[0], ly = l->light[1], lz = l->light[2];
+    reyes_lanes lambert = fmax(reyes_dot3_lanes(mx, my, mz, (reyes_lanes)lx, (reyes_lanes)ly, (reyes_lanes)lz), 0.0f);
+    reyes_lanes hx = lx + vx, hy = ly + vy, hz = lz + vz;
+    reyes_normalize_lanes(&hx, &hy, &hz);
+    reyes_lanes cos_h = reyes_dot3_lanes(mx, my, mz, hx, hy, hz);
+    reyes_lanes power = reyes_power_lanes(cos_h, l->shininess);
+    reyes_lanes highlight = select((reyes_lanes)0.0f, power, lambert > 0.0f & cos_h > 0.0f);
+    *diffuse = l->ambient + l->diffuse * lambert;
+    *specular = l->specular * highlight;
+}
+
+/* A colour channel in [0,1] as a byte, lane by lane, as reyes_channel_byte. */
+REYES_INLINE uint8 reyes_channel_byte_lanes(reyes_lanes c)
+{
+    reyes_lanes scaled = clamp(c, 0.0f, 1.0f) * 255.0f;
+    reyes_lanes rounded = (scaled + 8388608.0f) - 8388608.0f;
+    return convert_uint8(rounded);
+}
+
+/* The shaded colours of base colour rgba (its alpha ignored), packed. */
+REYES_INLINE uint8 reyes_light_color_lanes(uint rgba, reyes_lanes diffuse, reyes_lanes specular)
+{
+    float r = reyes_channel(rgba, 0u), g = reyes_channel(rgba, 8u), b = reyes_channel(rgba, 16u);
+    return reyes_channel_byte_lanes(r * diffuse + specular) | (reyes_channel_byte_lanes(g * diffuse + specular) << 8)
+           | (reyes_channel_byte_lanes(b * diffuse + specular) << 16) | (uint8)(255u << 24);
+}
+
+REYES_INLINE uint reyes_shade(__global const struct reyes_params *p, float3 x, float3 n, uint rgba)
+{
+    const reyes_lanes xs[3] = {(reyes_lanes)x.x, (reyes_lanes)x.y, (reyes_lanes)x.z};
+    const reyes_lanes ns[3] = {(reyes_lanes)n.x, (reyes_lanes)n.y, (reyes_lanes)n.z};
+    struct reyes_lighting l = reyes_lighting_of(p);
+    reyes_lanes diffuse, specular;
+    reyes_light_lanes(&l, xs, ns, &diffuse, &specular);
+    return reyes_light_color_lanes(rgba, diffuse, specular).s0;
 }
 
 /* The displaced surface point at (u,v): the patch point moved along its
@@ -137,6 +363,36 @@ float3 reyes_displaced_normal(const struct reyes_displacement *d, const float3 c
     return dot(n, n) > 1e-30f ? n : reyes_safe_normal(cp, u, v);
 }
 
+/* Base-patch parameters (u,v) of grid vertex (i,j) of the sub-patch
+ * [u0,u1] x [v0,v1]. */
+REYES_INLINE void reyes_grid_uv_of(__global const struct reyes_params *p, float u0, float v0, float u1, float v1,
+                                   int i, int j, float *u, float *v)
+{
+    float last = (float)(p->grid - 1u);
+    /* mix(a, b, 1) == b exactly, so shared patch edges get equal u, v. */
+    float tu = (float)i / last, tv = (float)j / last;
+    *u = u0 * (1.0f - tu) + u1 * tu;
+    *v = v0 * (1.0f - tv) + v1 * tv;
+}
+
+REYES_INLINE float2 reyes_grid_uv(__global const struct reyes_params *p, const struct reyes_subpatch *sp, int i,
+                                  int j)
+{
+    float u, v;
+    reyes_grid_uv_of(p, sp->u0, sp->v0, sp->u1, sp->v1, i, j, &u, &v);
+    return (float2)(u, v);
+}
+
+/* The colour of undisplaced grid vertex (i,j) for the patch's packed base
+ * colour rgba, the normal taken slightly inside where it vanishes
+ * (reyes_safe_normal). */
+uint reyes_grid_vertex_color(__global const struct reyes_params *p, const float3 cp[16],
+                             const struct reyes_subpatch *sp, uint rgba, int i, int j)
+{
+    float2 uv = reyes_grid_uv(p, sp, i, j);
+    return reyes_shade(p, reyes_patch_point(cp, uv.x, uv.y), reyes_safe_normal(cp, uv.x, uv.y), rgba);
+}
+
 /* Position (clip space) of grid vertex (i,j), and its color when `shade`
  * (`rgba`: the patch's packed base color); displaced when the parameters
  * ask for it.
@@ -153,21 +409,17 @@ struct reyes_vertex reyes_grid_vertex(const struct reyes_displacement *d, const 
                                       int shade)
 {
     __global const struct reyes_params *p = d->params;
-    float3 base = reyes_unpack_rgb(rgba);
-    float last = (float)(p->grid - 1u);
-    /* mix(a, b, 1) == b exactly, so shared patch edges get equal u, v. */
-    float tu = (float)i / last, tv = (float)j / last;
-    float u = sp->u0 * (1.0f - tu) + sp->u1 * tu;
-    float v = sp->v0 * (1.0f - tv) + sp->v1 * tv;
+    float2 uv = reyes_grid_uv(p, sp, i, j);
+    float u = uv.x, v = uv.y;
     struct reyes_vertex out;
     if (p->displace_mode == REYES_DISPLACE_NONE) {
         float3 x = reyes_patch_point(cp, u, v);
         reyes_vertex_place(p, x, &out);
-        out.rgba = shade ? reyes_shade(p, x, reyes_safe_normal(cp, u, v), base) : 0u;
+        out.rgba = shade ? reyes_shade(p, x, reyes_safe_normal(cp, u, v), rgba) : 0u;
     } else {
         float3 x = reyes_displaced_point(d, cp, u, v);
         reyes_vertex_place(p, x, &out);
-        out.rgba = shade ? reyes_shade(p, x, reyes_displaced_normal(d, cp, u, v), base) : 0u;
+        out.rgba = shade ? reyes_shade(p, x, reyes_displaced_normal(d, cp, u, v), rgba) : 0u;
     }
     return out;
 }

@@ -67,7 +67,10 @@ extern "C" {
 /* Limits of a procedure description. */
 #define PERMA_NAME_MAX 63        /* longest procedure or buffer name */
 #define PERMA_MAX_EMITS 8        /* targets one procedure may emit into */
-#define PERMA_MAX_ITEM_SIZE 1024 /* bytes in one work item */
+/* Bytes in one work item: large enough for items that carry a block of
+ * data (a diced grid of vertices); a batch must still fit the device's
+ * __local memory, which the layout checks. */
+#define PERMA_MAX_ITEM_SIZE 65536
 #define PERMA_MAX_EMIT_ITEMS 4096 /* most items one input item may emit into one target */
 #define PERMA_MAX_PROCEDURES 64
 #define PERMA_MAX_BUFFERS 32
@@ -310,7 +313,7 @@ typedef struct perma_emit {
 typedef struct perma_procedure {
     const char *name;         /* C identifier, unique; also the queue name */
     const char *item_type;    /* OpenCL C type of one item, e.g. "struct node" */
-    size_t item_size;         /* sizeof(item_type) on the device: 4..1024, multiple of 4 */
+    size_t item_size;         /* sizeof(item_type) on the device: 4..65536, multiple of 4 */
     unsigned threads_per_item;/* 1..group size; 0 means 1 */
     size_t local_bytes_per_item; /* __local scratch per item (ctx->scratch) */
     const char *source;       /* OpenCL C defining `function`; NULL = read source_file */

@@ -10,7 +10,7 @@
 #include <string.h>
 
 #include "reyes_brute.h"
-#include "reyes_shared.h"
+#include "reyes_look.h"
 
 /* ---- The renderer's sample positions (reyes_sample.cl) ---- */
 
@@ -97,8 +97,9 @@ static uint32_t shade(const double eye[3], const double x[3], const double n_in[
     if (dot3(n, view) < 0.0)
         for (int k = 0; k < 3; ++k)
             n[k] = -n[k];
-    double light[3] = {REYES_LIGHT_X, REYES_LIGHT_Y, REYES_LIGHT_Z};
-    normalize3(light);
+    float towards[3];
+    reyes_light_direction(towards);
+    double light[3] = {towards[0], towards[1], towards[2]};
     double lambert = fmax(dot3(n, light), 0.0);
     double half[3] = {light[0] + view[0], light[1] + view[1], light[2] + view[2]};
     normalize3(half);

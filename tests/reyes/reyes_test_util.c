@@ -1,6 +1,7 @@
 /* Helpers for the Reyes rendering tests. */
 #include <check.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -189,6 +190,45 @@ void reyes_test_expect_reference_counts(const reyes_scene *scene, const reyes_ca
     ck_assert_uint_eq(stats->grids, counts.grids);
     ck_assert_uint_eq(stats->forced_dice, counts.forced_dice);
     ck_assert_uint_eq(stats->micropolygons, counts.micropolygons);
+}
+
+void reyes_test_expect_reference_image(const reyes_scene *scene, const reyes_camera *camera,
+                                       const reyes_options *options, const reyes_image *image, const char *label)
+{
+    reyes_image reference;
+    reyes_reference_counts counts;
+    reyes_error error;
+    reyes_status status = reyes_reference_render(scene, camera, options, &reference, &counts, &error);
+    ck_assert_msg(status == REYES_OK, "%s: reference: %s", label, error.message);
+    ck_assert_msg(image->width == reference.width && image->height == reference.height,
+                  "%s: %ux%u image, the reference is %ux%u", label, image->width, image->height, reference.width,
+                  reference.height);
+    size_t pixels = (size_t)image->width * image->height, differ = 0, far = 0, coverage = 0;
+    int largest = 0;
+    for (size_t k = 0; k < pixels; ++k) {
+        int most = 0;
+        for (int c = 0; c < 3; ++c) {
+            int d = abs((int)image->rgb[3 * k + c] - (int)reference.rgb[3 * k + c]);
+            most = d > most ? d : most;
+        }
+        int covered = abs((int)image->coverage[k] - (int)reference.coverage[k]);
+        differ += most > 0 || covered > 0;
+        far += most > 4;
+        coverage += covered > 0;
+        ck_assert_msg(covered <= 1, "%s: pixel (%zu, %zu) covers %u samples, the reference %u", label,
+                      k % image->width, k / image->width, image->coverage[k], reference.coverage[k]);
+        largest = most > largest ? most : largest;
+    }
+    reyes_image_free(&reference);
+    fprintf(stderr, "%s: %zu of %zu pixels differ from the C reference's (%zu by more than 4, largest %d; "
+                    "%zu in coverage)\n",
+            label, differ, pixels, far, largest, coverage);
+    ck_assert_msg(differ * 100 <= pixels, "%s: %zu of %zu pixels differ from the C reference's", label, differ,
+                  pixels);
+    ck_assert_msg(far * 1000 <= pixels, "%s: %zu of %zu pixels differ from the C reference's by more than 4", label,
+                  far, pixels);
+    ck_assert_msg(coverage * 1000 <= pixels, "%s: %zu of %zu pixels differ from the C reference's in coverage",
+                  label, coverage, pixels);
 }
 
 /* xorshift32: a fixed sequence of camera positions. */

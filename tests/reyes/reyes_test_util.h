@@ -61,6 +61,17 @@ void reyes_test_render(reyes_renderer *renderer, const reyes_scene *scene,
 void reyes_test_expect_reference_counts(const reyes_scene *scene, const reyes_camera *camera,
                                         const reyes_options *options, const reyes_stats *stats);
 
+/* The image equals the C reference's render of the same scene, camera and
+ * options (reyes_reference_render: the same pipeline written in plain C)
+ * within rounding: the two evaluate, light and sample with the same
+ * formulas, but the OpenCL compiler fuses multiply-adds and the light's
+ * highlight is native_exp2/native_log2 there, so a vertex colour may
+ * differ by one level and a sample on an edge may flip.  At most 1 % of
+ * the pixels may differ at all, at most 0.1 % by more than 4 levels in a
+ * channel, and coverage by at most one sample in 0.1 % of the pixels. */
+void reyes_test_expect_reference_image(const reyes_scene *scene, const reyes_camera *camera,
+                                       const reyes_options *options, const reyes_image *image, const char *label);
+
 /* A renderer created once per process for `work_groups` groups (0 or
  * 1..2) with default grid; destroyed at exit. */
 reyes_renderer *reyes_test_renderer(unsigned work_groups);

@@ -127,6 +127,34 @@ START_TEST(test_killeroo)
 }
 END_TEST
 
+/* The teapot and killeroo with the cameras of the speed benchmark
+ * (docs/reyes.md) equal the C reference's images within rounding. */
+START_TEST(test_models_match_reference)
+{
+    static const struct {
+        const char *file;
+        reyes_camera camera;
+    } views[] = {
+        { "teapot.bpt", { .eye = {8.0f, -8.0f, 6.0f}, .at = {0.0f, 0.0f, 1.5f}, .fov_deg = 40.0f } },
+        { "killeroo.bpt", { .eye = {8.0f, 0.0f, 2.0f}, .at = {0.0f, 0.0f, 0.0f}, .fov_deg = 45.0f } },
+    };
+    for (size_t v = 0; v < sizeof views / sizeof views[0]; ++v) {
+        reyes_scene scene;
+        load(&scene, views[v].file);
+        reyes_options o;
+        reyes_options_init(&o);
+        o.width = 256;
+        o.height = 256;
+        o.crack_fix = REYES_CRACK_FIX_NONE;
+        reyes_image image;
+        reyes_test_render(reyes_test_renderer(0), &scene, &views[v].camera, &o, &image, NULL);
+        reyes_test_expect_reference_image(&scene, &views[v].camera, &o, &image, views[v].file);
+        reyes_image_free(&image);
+        reyes_scene_free(&scene);
+    }
+}
+END_TEST
+
 /* The teapot of the watertightness tests: 128x128 at 1 sample per pixel
  * with coarse 6x6 grids, and the finer render (3 px bound, stitched) whose
  * coverage tells a model's real gaps from cracks. */
@@ -222,6 +250,7 @@ static Suite *models_suite(void)
     tcase_add_test(tc, test_teapot_groups_and_holes);
     tcase_add_test(tc, test_teapot_counts_every_schedule);
     tcase_add_test(tc, test_killeroo);
+    tcase_add_test(tc, test_models_match_reference);
     tcase_add_test(tc, test_teapot_watertight);
     tcase_add_test(tc, test_models_tiered);
     suite_add_tcase(s, tc);

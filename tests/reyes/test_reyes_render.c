@@ -122,7 +122,9 @@ START_TEST(test_builtin_no_holes)
     /* Every split makes one patch two; every patch ends culled or diced. */
     ck_assert_uint_eq(stats.patches_in + stats.splits, stats.grids + stats.culled);
     ck_assert_uint_eq(stats.procedures[REYES_PROC_DICE].items, stats.grids);
-    ck_assert_uint_eq(stats.procedures[REYES_PROC_RASTERIZE].items, stats.micropolygons);
+    /* One rasterize item per diced grid, all of which are in view. */
+    ck_assert_uint_eq(stats.procedures[REYES_PROC_RASTERIZE].items, stats.grids);
+    ck_assert_uint_eq(stats.procedures[REYES_PROC_DICE].emitted[0], stats.grids);
     ck_assert_uint_eq(stats.procedures[REYES_PROC_SPLIT_U].items + stats.procedures[REYES_PROC_SPLIT_V].items,
                       stats.splits);
     ck_assert_uint_gt(stats.samples_written, 0);
@@ -240,6 +242,47 @@ START_TEST(test_stages)
     o.stages = 3;
     ck_assert_int_eq(reyes_render(reyes_test_renderer(0), &scene, &camera, &o, &image, NULL, &error),
                      REYES_ERR_ARGUMENT);
+    reyes_scene_free(&scene);
+}
+END_TEST
+
+/* The image is the C reference's within rounding (reyes_test_util.h):
+ * the default options, nine samples per pixel (a stratification of
+ * three columns) with larger micropolygons, one sample per pixel in
+ * buckets, and a close view whose micropolygons span many pixels. */
+START_TEST(test_image_matches_reference)
+{
+    reyes_scene scene;
+    reyes_camera camera;
+    reyes_test_builtin_scene(&scene, &camera, 256, 192);
+    reyes_options o;
+    small_options(&o, 256, 192);
+    o.crack_fix = REYES_CRACK_FIX_NONE;
+    reyes_image image;
+    reyes_test_render(reyes_test_renderer(0), &scene, &camera, &o, &image, NULL);
+    reyes_test_expect_reference_image(&scene, &camera, &o, &image, "built-in scene");
+    reyes_image_free(&image);
+    o.spp = 9;
+    o.bound_px = 12.0f;
+    reyes_test_render(reyes_test_renderer(0), &scene, &camera, &o, &image, NULL);
+    reyes_test_expect_reference_image(&scene, &camera, &o, &image, "9 samples, 12 px bound");
+    reyes_image_free(&image);
+    o.spp = 1;
+    o.bound_px = 8.0f;
+    o.bucket_width = 64;
+    o.bucket_height = 48;
+    reyes_test_render(reyes_test_renderer(0), &scene, &camera, &o, &image, NULL);
+    reyes_test_expect_reference_image(&scene, &camera, &o, &image, "1 sample, buckets");
+    reyes_image_free(&image);
+    reyes_options_init(&o);
+    o.width = 256;
+    o.height = 192;
+    o.crack_fix = REYES_CRACK_FIX_NONE;
+    o.bound_px = 48.0f;
+    reyes_camera close = { .eye = {0.0f, -3.0f, 0.5f}, .at = {0.0f, 0.0f, 0.5f}, .fov_deg = 70.0f };
+    reyes_test_render(reyes_test_renderer(0), &scene, &close, &o, &image, NULL);
+    reyes_test_expect_reference_image(&scene, &close, &o, &image, "close view, 48 px bound");
+    reyes_image_free(&image);
     reyes_scene_free(&scene);
 }
 END_TEST
@@ -402,6 +445,7 @@ static Suite *render_suite(void)
     tcase_add_test(tc, test_camera_inside_and_behind);
     tcase_add_test(tc, test_options_match_reference);
     tcase_add_test(tc, test_stages);
+    tcase_add_test(tc, test_image_matches_reference);
     tcase_add_test(tc, test_render_arguments);
     tcase_add_test(tc, test_sphere_shading);
     suite_add_tcase(s, tc);
