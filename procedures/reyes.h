@@ -142,7 +142,18 @@ typedef struct reyes_bucket_source {
 typedef struct reyes_options {
     unsigned width, height;
     float bound_px;       /* dice below this screen bound (default 8) */
-    unsigned grid;        /* grid vertices per side (default 16) */
+    unsigned grid;        /* grid vertices per side (default 16); with a shading rate, the most */
+    /* Shading-rate dicing (docs/reyes.md): 0 (default) dices every
+     * sub-patch grid x grid; R > 0 dices each to the fewest vertices along
+     * u and v (at most grid) whose micropolygons are at most R pixels in
+     * area on screen, and splits a sub-patch until that fits (instead of
+     * at bound_px; the tiered criterion's flatness still applies).  Not
+     * with REYES_CRACK_FIX_WEDGE; the C reference refuses it. */
+    float shading_rate;
+    /* 1: shade each grid in a false colour by its micropolygons' count
+     * (blue: 1, green, yellow, red: (grid - 1)^2) instead of its model's
+     * colour, to see the dicing; 0 (default). */
+    int show_grid_sizes;
     /* When to stop splitting: REYES_SUBDIVISION_BOUND (default) dices a
      * sub-patch whose screen bound is at most bound_px;
      * REYES_SUBDIVISION_TIERED (docs/reyes.md) dices one whose edge and
@@ -232,6 +243,8 @@ void reyes_options_init(reyes_options *options);
 /* Limits the options are checked against. */
 #define REYES_MAX_SIZE 16384u
 #define REYES_MAX_GRID 32u
+#define REYES_MIN_SHADING_RATE 0.01f
+#define REYES_MAX_SHADING_RATE 10000.0f
 #define REYES_MAX_SPP 64u
 #define REYES_MAX_DEPTH 40u
 #define REYES_MAX_BUCKETS 1048576u

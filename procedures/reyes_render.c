@@ -181,6 +181,8 @@ static reyes_status fill_params(const reyes_scene *scene, const reyes_camera *ca
     p->shininess = REYES_SHININESS;
     p->max_depth = o->max_depth;
     p->grid = o->grid;
+    p->shading_rate = o->shading_rate;
+    p->show_grid_sizes = o->show_grid_sizes ? 1u : 0u;
     p->spp = o->spp;
     p->backface_cull = o->backface_cull ? 1u : 0u;
     p->stages = o->stages;

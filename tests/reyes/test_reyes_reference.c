@@ -72,8 +72,9 @@ static reyes_brute_comparison compare(const reyes_scene *scene, const reyes_came
 
 /* What every correct render of an opaque scene meets: the same coverage
  * and surfaces away from edges, a handful of disagreements along them,
- * and colours within a few levels. */
-static void expect_close(const reyes_brute_comparison *c, const char *label)
+ * and colours within a few levels (at most 1 in `per_pixel_over_8`
+ * interior pixels off by more than 8). */
+static void expect_close_within(const reyes_brute_comparison *c, size_t per_pixel_over_8, const char *label)
 {
     ck_assert_msg(c->reference_covered > c->samples / 20, "%s: the view shows little (%zu samples)", label,
                   c->reference_covered);
@@ -88,8 +89,13 @@ static void expect_close(const reyes_brute_comparison *c, const char *label)
                   c->edge_samples);
     ck_assert_msg(c->mean_error <= 0.5 && c->interior_mean_error <= 0.5,
                   "%s: mean colour error %.3f (interior %.3f) levels", label, c->mean_error, c->interior_mean_error);
-    ck_assert_msg(c->interior_pixels_over_8 * 2000 <= c->interior_pixels,
+    ck_assert_msg(c->interior_pixels_over_8 * per_pixel_over_8 <= c->interior_pixels,
                   "%s: %zu interior pixels differ by more than 8 levels", label, c->interior_pixels_over_8);
+}
+
+static void expect_close(const reyes_brute_comparison *c, const char *label)
+{
+    expect_close_within(c, 2000, label);
 }
 
 /* Wedges overhang nothing (docs/reyes.md): they add no more samples that
@@ -106,6 +112,74 @@ static void expect_no_overhang(const reyes_brute_comparison *wedge, const reyes_
     ck_assert_msg(wedge->pixels_over_32 <= none->pixels_over_32 + slack,
                   "%s: %zu pixels off by more than 32 levels with wedges, %zu without a crack fix", label,
                   wedge->pixels_over_32, none->pixels_over_32);
+}
+
+/* Micropolygons per covered pixel of a render. */
+static double micropolygons_per_pixel(const reyes_image *image, const reyes_stats *stats)
+{
+    size_t covered = 0;
+    for (size_t k = 0; k < (size_t)image->width * image->height; ++k)
+        covered += image->coverage[k] > 0;
+    return covered ? (double)stats->micropolygons / (double)covered : 0.0;
+}
+
+/* Shading-rate dicing against fixed 16x16 grids on one view: the rate's
+ * micropolygons per covered pixel (at most `most`), and its image held
+ * to the reference as every render is (expect_close, but see below), with
+ * no more pixels off by over 32 levels than the fixed grids' but 0.1 %,
+ * and within half a level on average of the fixed grids' image. */
+static void expect_rate_close(const reyes_scene *scene, const reyes_camera *camera, const reyes_options *fixed,
+                              float rate, double most, unsigned tessellation, const char *label)
+{
+    reyes_options o = *fixed;
+    o.keep_samples = 1;
+    reyes_image fixed_image, rate_image;
+    reyes_stats fixed_stats, rate_stats;
+    reyes_test_render(reyes_test_renderer(0), scene, camera, &o, &fixed_image, &fixed_stats);
+    o.shading_rate = rate;
+    reyes_test_render(reyes_test_renderer(0), scene, camera, &o, &rate_image, &rate_stats);
+    reyes_brute_image reference = reference_of(scene, camera, &o, tessellation);
+    reyes_brute_comparison fixed_c, rate_c;
+    reyes_error error;
+    ck_assert_msg(reyes_brute_compare(&fixed_image, &reference, &fixed_c, &error) == REYES_OK, "%s", error.message);
+    ck_assert_msg(reyes_brute_compare(&rate_image, &reference, &rate_c, &error) == REYES_OK, "%s", error.message);
+    double fixed_density = micropolygons_per_pixel(&fixed_image, &fixed_stats);
+    double density = micropolygons_per_pixel(&rate_image, &rate_stats);
+    double difference = 0.0;
+    size_t pixels = 0;
+    for (size_t k = 0; k < (size_t)rate_image.width * rate_image.height; ++k) {
+        if (!rate_image.coverage[k] && !fixed_image.coverage[k])
+            continue;
+        ++pixels;
+        for (int c = 0; c < 3; ++c)
+            difference += abs((int)rate_image.rgb[3 * k + c] - (int)fixed_image.rgb[3 * k + c]);
+    }
+    difference /= 3.0 * (double)(pixels ? pixels : 1);
+    char line[160];
+    snprintf(line, sizeof line, "%s, fixed 16x16 (%llu grids, %.2f micropolygons per covered pixel)", label,
+             (unsigned long long)fixed_stats.grids, fixed_density);
+    reyes_brute_print(stdout, line, &fixed_c);
+    snprintf(line, sizeof line, "%s, shading rate %g (%llu grids, %.2f micropolygons per covered pixel)", label,
+             (double)rate, (unsigned long long)rate_stats.grids, density);
+    reyes_brute_print(stdout, line, &rate_c);
+    printf("%s: shading rate %g against fixed 16x16: mean difference %.3f levels over %zu pixels\n", label,
+           (double)rate, difference, pixels);
+    fflush(stdout);
+    ck_assert_msg(density <= most, "%s: %.2f micropolygons per covered pixel (at most %.1f)", label, density, most);
+    /* Micropolygons of a pixel interpolate their vertices' colours across
+     * creases inside patches and across highlights: twice as many
+     * interior pixels may be off by more than 8 levels. */
+    expect_close_within(&rate_c, 1000, label);
+    ck_assert_msg(rate_c.pixels_over_32 <= fixed_c.pixels_over_32 + 2 + fixed_c.pixels / 1000,
+                  "%s: %zu pixels off by more than 32 levels, fixed grids %zu", label, rate_c.pixels_over_32,
+                  fixed_c.pixels_over_32);
+    ck_assert_msg(difference <= 0.5, "%s: mean difference %.3f levels from the fixed grids' image", label,
+                  difference);
+    reyes_image_free(&fixed_image);
+    reyes_image_free(&rate_image);
+    reyes_stats_free(&fixed_stats);
+    reyes_stats_free(&rate_stats);
+    reyes_brute_free(&reference);
 }
 
 #ifndef REYES_MODELS_DIR
@@ -205,6 +279,35 @@ START_TEST(test_builtin_views)
 }
 END_TEST
 
+/* Shading rate 1 on the built-in scene (two views) and the fur: at most
+ * 4 micropolygons per covered pixel, the image as good as fixed grids'. */
+START_TEST(test_shading_rate)
+{
+    reyes_scene scene;
+    reyes_camera framed;
+    reyes_test_builtin_scene(&scene, &framed, 256, 192);
+    reyes_options o;
+    reyes_options_init(&o);
+    o.width = 256;
+    o.height = 192;
+    reyes_camera camera = orbit(&framed, 0, 25, 1.0f);
+    expect_rate_close(&scene, &camera, &o, 1.0f, 4.0, 64, "builtin framed");
+    camera = orbit(&framed, 150, 60, 1.1f);
+    expect_rate_close(&scene, &camera, &o, 1.0f, 4.0, 64, "builtin from above");
+    o.subdivision = REYES_SUBDIVISION_TIERED;
+    expect_rate_close(&scene, &camera, &o, 1.0f, 4.0, 64, "builtin from above, tiered");
+    reyes_scene_free(&scene);
+    reyes_scene_init(&scene);
+    add_fur(&scene, 1500, 0.5f, 0.012f);
+    reyes_error error;
+    ck_assert_int_eq(reyes_camera_frame(&scene, 40.0f, 1.0f, &camera, &error), REYES_OK);
+    reyes_options_init(&o);
+    o.width = o.height = 256;
+    expect_rate_close(&scene, &camera, &o, 1.0f, 4.0, 64, "fur");
+    reyes_scene_free(&scene);
+}
+END_TEST
+
 static Suite *suite(void)
 {
     Suite *s = suite_create("reyes_reference");
@@ -212,6 +315,7 @@ static Suite *suite(void)
     tcase_set_timeout(tc, 300);
     tcase_add_test(tc, test_builtin_views);
     tcase_add_test(tc, test_fur_wedges);
+    tcase_add_test(tc, test_shading_rate);
     suite_add_tcase(s, tc);
     return s;
 }
@@ -280,6 +384,33 @@ START_TEST(test_teapot_rim_crack_fixes)
 }
 END_TEST
 
+/* Shading rate 1 on the teapot at 512x512 (issue 15: 31 micropolygons
+ * per covered pixel with fixed 16x16 grids): at most 4, the image as good
+ * as the fixed grids' (stitched, so no sample away from an edge sees
+ * through: expect_close); without a crack fix some do. */
+START_TEST(test_teapot_shading_rate)
+{
+    reyes_scene scene;
+    reyes_camera framed;
+    reyes_error error;
+    load(&scene, "teapot.bpt");
+    ck_assert_int_eq(reyes_camera_frame(&scene, 40.0f, 1.0f, &framed, &error), REYES_OK);
+    reyes_options o;
+    reyes_options_init(&o);
+    o.width = o.height = 512;
+    expect_rate_close(&scene, &framed, &o, 1.0f, 4.0, 64, "teapot 512");
+    reyes_camera camera = orbit(&framed, 200, 50, 1.0f);
+    expect_rate_close(&scene, &camera, &o, 1.0f, 4.0, 64, "teapot 512 from above");
+    /* Without a crack fix the T-junctions between grids of different
+     * rates let samples through to surfaces behind, away from any edge. */
+    o.shading_rate = 1.0f;
+    o.crack_fix = REYES_CRACK_FIX_NONE;
+    reyes_brute_comparison open = compare(&scene, &framed, &o, "teapot 512, shading rate 1, no crack fix");
+    ck_assert_uint_gt(open.interior_other_surface + open.interior_missing, 0);
+    reyes_scene_free(&scene);
+}
+END_TEST
+
 static Suite *suite(void)
 {
     Suite *s = suite_create("reyes_reference_models");
@@ -287,6 +418,7 @@ static Suite *suite(void)
     tcase_set_timeout(tc, 300);
     tcase_add_test(tc, test_teapot_views);
     tcase_add_test(tc, test_teapot_rim_crack_fixes);
+    tcase_add_test(tc, test_teapot_shading_rate);
     suite_add_tcase(s, tc);
     return s;
 }
