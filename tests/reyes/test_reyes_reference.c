@@ -98,6 +98,24 @@ static void expect_close(const reyes_brute_comparison *c, const char *label)
     expect_close_within(c, 2000, label);
 }
 
+/* A camera orbiting the framed one (see orbit). */
+typedef struct view {
+    float azimuth, elevation, distance;
+} view;
+
+/* Every view of a scene passes expect_close; labels "NAME view K". */
+static void expect_views_close(const reyes_scene *scene, const reyes_camera *framed, const reyes_options *options,
+                               const view *views, size_t count, const char *name)
+{
+    for (size_t v = 0; v < count; ++v) {
+        reyes_camera camera = orbit(framed, views[v].azimuth, views[v].elevation, views[v].distance);
+        char label[64];
+        snprintf(label, sizeof label, "%s view %zu", name, v);
+        reyes_brute_comparison c = compare(scene, &camera, options, label);
+        expect_close(&c, label);
+    }
+}
+
 /* Wedges overhang nothing (docs/reyes.md): they add no more samples that
  * the reference leaves empty or sees on another surface, and no more
  * badly wrong pixels, than the same render without a crack fix (the
@@ -265,16 +283,8 @@ START_TEST(test_builtin_views)
     reyes_options_init(&o);
     o.width = 192;
     o.height = 144;
-    const struct { float azimuth, elevation, distance; } views[] = {
-        {0, 25, 1.0f}, {70, 10, 0.9f}, {150, 60, 1.1f}, {230, 5, 0.8f},
-    };
-    for (size_t v = 0; v < sizeof views / sizeof views[0]; ++v) {
-        reyes_camera camera = orbit(&framed, views[v].azimuth, views[v].elevation, views[v].distance);
-        char label[64];
-        snprintf(label, sizeof label, "builtin view %zu", v);
-        reyes_brute_comparison c = compare(&scene, &camera, &o, label);
-        expect_close(&c, label);
-    }
+    const view views[] = { {0, 25, 1.0f}, {70, 10, 0.9f}, {150, 60, 1.1f}, {230, 5, 0.8f} };
+    expect_views_close(&scene, &framed, &o, views, sizeof views / sizeof views[0], "builtin");
     reyes_scene_free(&scene);
 }
 END_TEST
@@ -342,16 +352,8 @@ START_TEST(test_teapot_views)
     reyes_options o;
     reyes_options_init(&o);
     o.width = o.height = 256;
-    const struct { float azimuth, elevation, distance; } views[] = {
-        {0, 25, 1.0f}, {90, 5, 0.9f}, {200, 50, 1.0f}, {300, -20, 1.1f},
-    };
-    for (size_t v = 0; v < sizeof views / sizeof views[0]; ++v) {
-        reyes_camera camera = orbit(&framed, views[v].azimuth, views[v].elevation, views[v].distance);
-        char label[64];
-        snprintf(label, sizeof label, "teapot view %zu", v);
-        reyes_brute_comparison c = compare(&scene, &camera, &o, label);
-        expect_close(&c, label);
-    }
+    const view views[] = { {0, 25, 1.0f}, {90, 5, 0.9f}, {200, 50, 1.0f}, {300, -20, 1.1f} };
+    expect_views_close(&scene, &framed, &o, views, sizeof views / sizeof views[0], "teapot");
     reyes_scene_free(&scene);
 }
 END_TEST
