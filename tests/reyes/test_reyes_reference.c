@@ -318,6 +318,44 @@ START_TEST(test_shading_rate)
 }
 END_TEST
 
+/* Shading-rate dicing decides from the sub-patch and the camera only: the
+ * same bytes in 48x40 buckets, stitched and not, and under another
+ * schedule on 2 groups. */
+START_TEST(test_shading_rate_identical)
+{
+    reyes_scene scene;
+    reyes_camera camera;
+    reyes_test_builtin_scene(&scene, &camera, 160, 120);
+    reyes_options o;
+    reyes_options_init(&o);
+    o.width = 160;
+    o.height = 120;
+    o.shading_rate = 1.0f;
+    for (int stitched = 0; stitched < 2; ++stitched) {
+        o.crack_fix = stitched ? REYES_CRACK_FIX_STITCH : REYES_CRACK_FIX_NONE;
+        o.bucket_width = o.bucket_height = 0;
+        reyes_image whole, tiled, other;
+        reyes_test_render(reyes_test_renderer(0), &scene, &camera, &o, &whole, NULL);
+        o.bucket_width = 48;
+        o.bucket_height = 40;
+        reyes_test_render(reyes_test_renderer(0), &scene, &camera, &o, &tiled, NULL);
+        reyes_test_expect_same_image(&whole, &tiled, stitched ? "rate 1, stitched, buckets" : "rate 1, buckets");
+        o.bucket_width = o.bucket_height = 0;
+        reyes_test_apply_schedule("megakernel/stealing", 2, &o);
+        reyes_test_render_once(&scene, &camera, &o, &other, NULL);
+        reyes_test_expect_same_image(&whole, &other, stitched ? "rate 1, stitched, stealing" : "rate 1, stealing");
+        reyes_options_init(&o);
+        o.width = 160;
+        o.height = 120;
+        o.shading_rate = 1.0f;
+        reyes_image_free(&whole);
+        reyes_image_free(&tiled);
+        reyes_image_free(&other);
+    }
+    reyes_scene_free(&scene);
+}
+END_TEST
+
 static Suite *suite(void)
 {
     Suite *s = suite_create("reyes_reference");
@@ -326,6 +364,7 @@ static Suite *suite(void)
     tcase_add_test(tc, test_builtin_views);
     tcase_add_test(tc, test_fur_wedges);
     tcase_add_test(tc, test_shading_rate);
+    tcase_add_test(tc, test_shading_rate_identical);
     suite_add_tcase(s, tc);
     return s;
 }

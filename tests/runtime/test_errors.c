@@ -40,8 +40,8 @@ START_TEST(bad_registration_fields)
     expect_rejected(rt, &p, "item_size 6 must be a multiple of 4");
     p.item_size = 0;
     expect_rejected(rt, &p, "item_size 0");
-    p.item_size = 2048;
-    expect_rejected(rt, &p, "item_size 2048");
+    p.item_size = PERMA_MAX_ITEM_SIZE + 4;
+    expect_rejected(rt, &p, "item_size 65540");
     p = noop_procedure();
     p.threads_per_item = 65;
     expect_rejected(rt, &p, "threads_per_item 65 exceeds the group size 64");
