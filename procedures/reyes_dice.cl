@@ -62,10 +62,10 @@ REYES_INLINE reyes_lane_mask reyes_dice_lanes(__global const struct reyes_params
                                               const struct reyes_lighting *light, float u0, float u1, uint base,
                                               __local struct reyes_grid *g, int j, int i0, int n, int shade)
 {
-    const int8 lane = (int8)(0, 1, 2, 3, 4, 5, 6, 7);
-    int8 i = i0 + lane;
+    const reyes_lane_mask lane = (reyes_lane_mask)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+    reyes_lane_mask i = i0 + lane;
     float last = (float)(n - 1);
-    reyes_lanes tu = convert_float8(i) / last;
+    reyes_lanes tu = reyes_convert_lanes(i) / last;
     /* mix(a, b, 1) == b exactly, so shared patch edges get equal u. */
     reyes_lanes u = u0 * (1.0f - tu) + u1 * tu;
     reyes_lanes x[3], normal[3];
@@ -79,59 +79,62 @@ REYES_INLINE reyes_lane_mask reyes_dice_lanes(__global const struct reyes_params
     reyes_lanes sx = (clip[0] * inv_w * 0.5f + 0.5f) * p->width;
     reyes_lanes sy = (0.5f - clip[1] * inv_w * 0.5f) * p->height;
     int first = j * n + i0;
-    vstore8(p->blur ? clip[0] : sx, 0, g->x + first);
-    vstore8(p->blur ? clip[1] : sy, 0, g->y + first);
-    vstore8(clip[3], 0, g->z + first);
+    reyes_vstore_lanes(p->blur ? clip[0] : sx, 0, g->x + first);
+    reyes_vstore_lanes(p->blur ? clip[1] : sy, 0, g->y + first);
+    reyes_vstore_lanes(clip[3], 0, g->z + first);
 #ifdef REYES_VERTEX_MOTION
     __global const float *mr = p->motion_rows;
     for (int k = 0; k < 3; ++k) {
         reyes_lanes motion = (reyes_lanes)mr[4 * k + 3];
         if (p->motion_rotates)
             motion = reyes_dot4_lanes(mr[4 * k], mr[4 * k + 1], mr[4 * k + 2], mr[4 * k + 3], x[0], x[1], x[2]);
-        vstore8(motion, 0, (k == 0 ? g->mx : k == 1 ? g->my : g->mw) + first);
+        reyes_vstore_lanes(motion, 0, (k == 0 ? g->mx : k == 1 ? g->my : g->mw) + first);
     }
 #endif
-    uint8 rgba = (uint8)0u;
+    reyes_lane_uint rgba = (reyes_lane_uint)0u;
     if (shade) {
         reyes_lanes diffuse, specular;
         reyes_light_lanes(light, x, normal, &diffuse, &specular);
         rgba = reyes_light_color_lanes(base, diffuse, specular);
     }
-    vstore8(rgba, 0, g->rgba + first);
+    reyes_vstore_lanes(rgba, 0, g->rgba + first);
     return reyes_dot3_lanes(normal[0], normal[1], normal[2], normal[0], normal[1], normal[2]) < 1e-24f;
 }
 
-/* The visible quads among the eight slots from `first` of lattice g, as
+/* The visible quads among the REYES_LANES slots from `first` of lattice g, as
  * a count: vector loads of the corners (the lattice's padding covers the
  * last slots' reads) and the tests of reyes_sharp_visible lane by lane. */
 REYES_INLINE uint reyes_dice_visible_lanes(__global const struct reyes_params *p, __local const struct reyes_grid *g,
                                            int first)
 {
-    const int8 lane = (int8)(0, 1, 2, 3, 4, 5, 6, 7);
+    const reyes_lane_mask lane = (reyes_lane_mask)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
     int c = (int)g->columns;
-    int8 k = first + lane;
-    int8 row = reyes_lattice_row_lanes(k, c);
-    int8 has = (row + 1 < (int)g->rows) & (k - row * c != c - 1)
-               & (convert_int8((uint8)g->quad_rows >> convert_uint8(row)) & 1) != 0;
+    reyes_lane_mask k = first + lane;
+    reyes_lane_mask row = reyes_lattice_row_lanes(k, c);
+    reyes_lane_mask has = (row + 1 < (int)g->rows) & (k - row * c != c - 1)
+                          & (convert_int16((reyes_lane_uint)g->quad_rows >> reyes_convert_lane_uint(row)) & 1) != 0;
     const int corner[4] = { 0, 1, c + 1, c };
     reyes_lanes lo_x = (reyes_lanes)INFINITY, lo_y = lo_x, hi_x = -lo_x, hi_y = -lo_x;
-    int8 front = (int8)(-1);
+    reyes_lane_mask front = (reyes_lane_mask)(-1);
     for (int i = 0; i < 4; ++i) {
-        reyes_lanes x = vload8(0, g->x + first + corner[i]), y = vload8(0, g->y + first + corner[i]);
-        reyes_lanes z = vload8(0, g->z + first + corner[i]);
+        reyes_lanes x = reyes_vload_lanes(0, g->x + first + corner[i]), y = reyes_vload_lanes(0, g->y + first + corner[i]);
+        reyes_lanes z = reyes_vload_lanes(0, g->z + first + corner[i]);
         lo_x = fmin(lo_x, x);
         lo_y = fmin(lo_y, y);
         hi_x = fmax(hi_x, x);
         hi_y = fmax(hi_y, y);
         front &= z > p->near_w;
     }
-    int8 visible = has & front & (hi_x >= p->tile_x0) & (hi_y >= p->tile_y0) & (lo_x <= p->tile_x1)
-                   & (lo_y <= p->tile_y1);
-    int8 ones = visible & 1;
-    return (uint)(ones.s0 + ones.s1 + ones.s2 + ones.s3 + ones.s4 + ones.s5 + ones.s6 + ones.s7);
+    reyes_lane_mask visible = has & front & (hi_x >= p->tile_x0) & (hi_y >= p->tile_y0) & (lo_x <= p->tile_x1)
+                              & (lo_y <= p->tile_y1);
+    int16 ones = visible & 1;
+    int8 a = ones.lo + ones.hi;
+    int4 b = a.lo + a.hi;
+    int2 c2 = b.lo + b.hi;
+    return (uint)(c2.x + c2.y);
 }
 
-/* Visible quads of lattice g, eight slots at a time. */
+/* Visible quads of lattice g, REYES_LANES slots at a time. */
 uint reyes_dice_count(__global const struct reyes_params *p, __local const struct reyes_grid *g)
 {
     int slots = (int)(g->rows - 1u) * (int)g->columns;
@@ -230,16 +233,19 @@ void reyes_dice(perma_ctx *ctx, __local const struct reyes_subpatch *item)
     s->grid.columns = (uint)size.x;
     s->grid.rows = (uint)size.y;
     s->grid.quad_rows = (1u << (size.y - 1)) - 1u;
-    s->grid.pad = 0u;
+    s->grid.counted = full ? 1u : 0u;
     if (p->displace_mode == REYES_DISPLACE_NONE)
         reyes_dice_plain(ctx, item, &s->grid, full);
     else
         reyes_dice_displaced(ctx, item, s, full);
-    uint quads = reyes_dice_count(p, &s->grid);
-    if (quads > 0u) {
-        atomic_add(&counters[REYES_COUNT_MICROPOLYGONS], quads);
-        if (full)
-            reyes_dice_emit(ctx, &s->grid);
+    if (full) {
+        /* rasterize counts the visible quads: it tests each one anyway
+         * (reyes_quad_setup_lanes), so the grid is not tested twice. */
+        reyes_dice_emit(ctx, &s->grid);
+    } else {
+        uint quads = reyes_dice_count(p, &s->grid);
+        if (quads > 0u)
+            atomic_add(&counters[REYES_COUNT_MICROPOLYGONS], quads);
     }
     if (!p->wedges)
         return;
@@ -250,7 +256,7 @@ void reyes_dice(perma_ctx *ctx, __local const struct reyes_subpatch *item)
         if (((item->edge_levels >> (8 * edge)) & 0xffu) != REYES_EDGE_UNSETTLED)
             rows |= 1u << (2 * edge);
     s->strips.quad_rows = rows;
-    s->strips.pad = 0u;
+    s->strips.counted = 0u; /* fillers, counted here */
     struct reyes_subpatch sp = *item;
     for (int v = 0; v < 4 * n; ++v)
         reyes_dice_strip_vertex(ctx, &sp, s, v);

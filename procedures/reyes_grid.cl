@@ -17,7 +17,9 @@ struct reyes_grid {
     uint columns;    /* vertices per row */
     uint rows;       /* rows of vertices */
     uint quad_rows;  /* bit j: the quads between vertex rows j and j + 1 exist */
-    uint pad;
+    /* 1: rasterize adds the visible quads to REYES_COUNT_MICROPOLYGONS as
+     * it sets them up (a full render's grids; dice counts the others). */
+    uint counted;
     /* Pixels (y down), or clip x and y when blurred; z is the clip w. */
     float x[REYES_GRID_VERTICES];
     float y[REYES_GRID_VERTICES];
@@ -39,9 +41,9 @@ REYES_INLINE int reyes_lattice_row(int k, int columns)
     return (int)(((float)k + 0.5f) / (float)columns);
 }
 
-REYES_INLINE int8 reyes_lattice_row_lanes(int8 k, int columns)
+REYES_INLINE int16 reyes_lattice_row_lanes(int16 k, int columns)
 {
-    return convert_int8((convert_float8(k) + 0.5f) / (float)columns);
+    return convert_int16((convert_float16(k) + 0.5f) / (float)columns);
 }
 
 /* Whether quad slot k (its first corner's vertex index) is a quad of g. */

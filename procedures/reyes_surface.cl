@@ -48,15 +48,20 @@ struct reyes_moving_quad reyes_vertex_moving(__global const struct reyes_params 
 }
 
 /* The patch arithmetic below evaluates REYES_LANES points at once, in
- * OpenCL vector types (float8): dice fills a grid eight vertices at a time
- * with it, in SIMD code whatever the OpenCL compiler does across
+ * OpenCL vector types (float16): dice fills a grid row of 16 vertices at a
+ * time with it (one AVX-512 register, two AVX2 ones), in SIMD code whatever the OpenCL compiler does across
  * work-items, and every other caller (stitch, displacement, the poles)
  * takes lane 0 of the same code, so a vertex gets the same bits wherever it
  * is computed.  Dot products, cross products and normalize round as
  * PoCL's built-ins (no fused multiply-add; see reyes_dot3). */
-#define REYES_LANES 8
-typedef float8 reyes_lanes;
-typedef int8 reyes_lane_mask;
+#define REYES_LANES 16
+typedef float16 reyes_lanes;
+typedef int16 reyes_lane_mask;
+typedef uint16 reyes_lane_uint;
+#define reyes_convert_lanes convert_float16
+#define reyes_convert_lane_uint convert_uint16
+#define reyes_vstore_lanes vstore16
+#define reyes_vload_lanes vload16
 
 /* Cubic Bernstein weights at t and their derivatives. */
 REYES_INLINE void reyes_bernstein_lanes(reyes_lanes t, reyes_lanes b[4])
@@ -312,19 +317,19 @@ REYES_INLINE void reyes_light_lanes(const struct reyes_lighting *l, const reyes_
 }
 
 /* A colour channel in [0,1] as a byte, lane by lane, as reyes_channel_byte. */
-REYES_INLINE uint8 reyes_channel_byte_lanes(reyes_lanes c)
+REYES_INLINE reyes_lane_uint reyes_channel_byte_lanes(reyes_lanes c)
 {
     reyes_lanes scaled = clamp(c, 0.0f, 1.0f) * 255.0f;
     reyes_lanes rounded = (scaled + 8388608.0f) - 8388608.0f;
-    return convert_uint8(rounded);
+    return reyes_convert_lane_uint(rounded);
 }
 
 /* The shaded colours of base colour rgba (its alpha ignored), packed. */
-REYES_INLINE uint8 reyes_light_color_lanes(uint rgba, reyes_lanes diffuse, reyes_lanes specular)
+REYES_INLINE reyes_lane_uint reyes_light_color_lanes(uint rgba, reyes_lanes diffuse, reyes_lanes specular)
 {
     float r = reyes_channel(rgba, 0u), g = reyes_channel(rgba, 8u), b = reyes_channel(rgba, 16u);
     return reyes_channel_byte_lanes(r * diffuse + specular) | (reyes_channel_byte_lanes(g * diffuse + specular) << 8)
-           | (reyes_channel_byte_lanes(b * diffuse + specular) << 16) | (uint8)(255u << 24);
+           | (reyes_channel_byte_lanes(b * diffuse + specular) << 16) | (reyes_lane_uint)(255u << 24);
 }
 
 REYES_INLINE uint reyes_shade(__global const struct reyes_params *p, float3 x, float3 n, uint rgba)
