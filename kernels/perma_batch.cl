@@ -157,8 +157,11 @@ inline void perma_run_batch(__global uint *ctl, __global uint *queue_data, __glo
     if (lid == 0)
         *mem.error_code = 0;
     barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
+    volatile __global uint *watch = abort_flag + PERMA_WATCH_RECORDS + get_group_id(0) * PERMA_WATCH_RECORD_WORDS;
     if (lid == 0 && !input)
         perma_queue_return_room(ctl, source, (int)count);
+    if (lid == 0 && run)
+        watch[PERMA_WATCH_RUNNING] = proc + 1u; /* the host's watchdog names it if it never returns */
 
     /* Run the procedure (not on items that failed to arrive). */
     perma_ctx ctx;
@@ -248,5 +251,9 @@ inline void perma_run_batch(__global uint *ctl, __global uint *queue_data, __glo
         }
         if (count)
             atomic_inc(ctl + PERMA_CTL_PROGRESS); /* stalled groups must look again */
+        if (run) {
+            watch[PERMA_WATCH_RUNNING] = 0u;
+            watch[PERMA_WATCH_DONE] += 1u;    /* progress the host's watchdog sees */
+        }
     }
 }

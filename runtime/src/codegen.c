@@ -149,17 +149,26 @@ static void append_emit_helpers(perma_runtime *rt, perma_strbuf *sb)
     }
 }
 
-/* Procedure sources, each once even if several procedures share it. */
+/* Procedure sources, each once even if several procedures share it; no
+ * barrier in one that only non-cooperative procedures use (barriers.c). */
 static void append_procedure_sources(perma_runtime *rt, perma_strbuf *sb)
 {
     for (unsigned i = 0; i < rt->proc_count; ++i) {
         const perma_source_text *src = &rt->procs[i].source;
-        bool duplicate = false;
-        for (unsigned j = 0; j < i && !duplicate; ++j)
-            duplicate = strcmp(rt->procs[j].source.name, src->name) == 0 &&
+        bool duplicate = false, cooperative = false;
+        for (unsigned j = 0; j < rt->proc_count; ++j) {
+            bool same = strcmp(rt->procs[j].source.name, src->name) == 0 &&
                         strcmp(rt->procs[j].source.text, src->text) == 0;
-        if (!duplicate)
-            append_user_source(sb, src);
+            duplicate = duplicate || (same && j < i);
+            cooperative = cooperative || (same && rt->procs[j].cooperative);
+        }
+        if (duplicate)
+            continue;
+        if (!cooperative)
+            perma_barriers_forbid(rt, i, sb);
+        append_user_source(sb, src);
+        if (!cooperative)
+            perma_barriers_allow(sb);
     }
 }
 
