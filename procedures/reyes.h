@@ -142,7 +142,18 @@ typedef struct reyes_bucket_source {
 typedef struct reyes_options {
     unsigned width, height;
     float bound_px;       /* dice below this screen bound (default 8) */
-    unsigned grid;        /* grid vertices per side (default 16) */
+    unsigned grid;        /* grid vertices per side (default 16); with a shading rate, the most */
+    /* Shading-rate dicing (docs/reyes.md): 0 (default) dices every
+     * sub-patch grid x grid; R > 0 dices each to the fewest vertices along
+     * u and v (at most grid) whose micropolygons are at most R pixels in
+     * area on screen, and splits a sub-patch until that fits (instead of
+     * at bound_px; the tiered criterion's flatness still applies).  Not
+     * with REYES_CRACK_FIX_WEDGE; the C reference refuses it. */
+    float shading_rate;
+    /* 1: shade each grid in a false colour by its micropolygons' count
+     * (blue: 1, green, yellow, red: (grid - 1)^2) instead of its model's
+     * colour, to see the dicing; 0 (default). */
+    int show_grid_sizes;
     /* When to stop splitting: REYES_SUBDIVISION_BOUND (default) dices a
      * sub-patch whose screen bound is at most bound_px;
      * REYES_SUBDIVISION_TIERED (docs/reyes.md) dices one whose edge and
@@ -170,13 +181,17 @@ typedef struct reyes_options {
     unsigned bucket_width, bucket_height;
     /* NULL (default): render every bucket; else the buckets it hands out. */
     const reyes_bucket_source *bucket_source;
+    /* 1: the image also keeps every sample (reyes_image.samples), for
+     * comparisons sample by sample; 0 (default): only the pixels. */
+    int keep_samples;
     /* Cracks between grids diced at different rates (T-junctions) and
      * between base patches: REYES_CRACK_FIX_STITCH (default) fills them
      * with zipper strips (two passes: subdivide, then dice and stitch),
      * REYES_CRACK_FIX_WEDGE closes them in one pass without communication
      * between patches (needs REYES_SUBDIVISION_TIERED and no displacement:
      * every edge settles on a flat segment of its base patch's line and
-     * both sides reach its chord with wedge strips; docs/reyes.md),
+     * both sides reach the polyline of its curve at grid - 1 steps with
+     * wedge strips; docs/reyes.md),
      * REYES_CRACK_FIX_NONE leaves them. */
     unsigned crack_fix;
     /* Displacement along the normal (docs/reyes.md): REYES_DISPLACE_NONE
@@ -228,6 +243,8 @@ void reyes_options_init(reyes_options *options);
 /* Limits the options are checked against. */
 #define REYES_MAX_SIZE 16384u
 #define REYES_MAX_GRID 32u
+#define REYES_MIN_SHADING_RATE 0.01f
+#define REYES_MAX_SHADING_RATE 10000.0f
 #define REYES_MAX_SPP 64u
 #define REYES_MAX_DEPTH 40u
 #define REYES_MAX_BUCKETS 1048576u
@@ -246,7 +263,15 @@ typedef struct reyes_image {
     unsigned width, height;
     uint8_t *rgb;       /* width * height * 3, rows top to bottom */
     uint8_t *coverage;  /* per pixel: samples that hit a surface */
+    /* With reyes_options.keep_samples (else NULL): spp words per pixel,
+     * pixels row by row, each (bits of the depth << 32) | RGBA8 of the
+     * nearest surface (depth: the positive view distance, as a float's
+     * bits) or REYES_EMPTY_SAMPLE. */
+    uint64_t *samples;
+    unsigned spp;
 } reyes_image;
+
+#define REYES_EMPTY_SAMPLE UINT64_MAX
 
 void reyes_image_free(reyes_image *image);
 

@@ -161,18 +161,48 @@ uint reyes_wedge_reason(__global const struct reyes_params *p, __global const fl
     return 0u;
 }
 
+/* Shading-rate dicing: the micropolygon sides a sub-patch needs along u
+ * and v so that each is at most sqrt(shading_rate) pixels long, so at
+ * most shading_rate pixels in area: the longest row (along u) and column
+ * (along v) of its projected control net over that side, at least 1.
+ * A control polygon is at least as long as its curve, and the net's rows
+ * and columns bound the curves between them (their hull holds them). */
+float2 reyes_rate_segments(__global const struct reyes_params *p, const float2 s[16])
+{
+    float along_u = 0.0f, along_v = 0.0f;
+    for (int k = 0; k < 4; ++k) {
+        float row = 0.0f, column = 0.0f;
+        for (int i = 0; i < 3; ++i) {
+            row += distance(s[k * 4 + i], s[k * 4 + i + 1]);
+            column += distance(s[i * 4 + k], s[(i + 1) * 4 + k]);
+        }
+        along_u = fmax(along_u, row);
+        along_v = fmax(along_v, column);
+    }
+    return fmax(ceil((float2)(along_u, along_v) / sqrt(p->shading_rate) + 0.5f), 1.0f);
+}
+
 /* Whether a projectable sub-patch is split, as the counter naming the
  * reason (0: dice it), and in which direction (*split_u).  A bound that
- * is too large splits along the longer hull; a tier over epsilon splits
- * across the more curved direction. */
+ * is too large splits along the longer hull (with a shading rate: a grid
+ * that would need more than grid vertices along u or v splits across its
+ * longer need); a tier over epsilon splits across the more curved
+ * direction. */
 uint reyes_split_reason(__global const struct reyes_params *p, __global const float4 *patches,
                         struct reyes_subpatch *sp, const float3 cp[16], const float4 clip[16],
                         const float2 s[16], float2 size, int *split_u)
 {
     *split_u = reyes_hull_extent(s, 1) >= reyes_hull_extent(s, 0);
+    int too_big = fmax(size.x, size.y) > (p->subdivision == REYES_SUBDIVISION_TIERED ? p->flat_cap_px : p->bound_px);
+    if (p->shading_rate > 0.0f) {
+        float2 need = reyes_rate_segments(p, s);
+        too_big = fmax(need.x, need.y) > (float)(p->grid - 1u);
+        if (too_big)
+            *split_u = need.x >= need.y;
+    }
     if (p->subdivision != REYES_SUBDIVISION_TIERED)
-        return fmax(size.x, size.y) <= p->bound_px ? 0u : REYES_COUNT_SPLIT_BOUND;
-    if (fmax(size.x, size.y) > p->flat_cap_px)
+        return too_big ? REYES_COUNT_SPLIT_BOUND : 0u;
+    if (too_big)
         return REYES_COUNT_SPLIT_BOUND;
     struct reyes_tiers tiers = reyes_flatness(p, cp, clip);
     if (p->wedges)
@@ -343,6 +373,10 @@ void reyes_bound(perma_ctx *ctx, __local const struct reyes_subpatch *item)
     if (forced || reason == 0u) {
         if (forced)
             atomic_inc(&counters[REYES_COUNT_FORCED_DICE]);
+        if (p->shading_rate > 0.0f) {
+            uint2 need = convert_uint2(fmin(reyes_rate_segments(p, s), (float)(p->grid - 1u)));
+            sp.dice_size = (need.x + 1u) | ((need.y + 1u) << 8);
+        }
         if (p->record_leaves) {
             if (p->blur)
                 reyes_blur_leaf_box(p, cp, clip, radius, &lo, &hi);

@@ -1,6 +1,7 @@
 /*
- * dice: evaluate a sub-patch on a grid x grid vertex lattice, shade each
- * vertex, count the (grid-1)^2 quads that are visible as micropolygons and
+ * dice: evaluate a sub-patch on a grid x grid vertex lattice (with a
+ * shading rate: the size bound chose for it, reyes_subpatch.dice_size),
+ * shade each vertex, count the quads that are visible as micropolygons and
  * hand the lattice to rasterize as one item (struct reyes_grid,
  * reyes_grid.cl).  One work-item dices one sub-patch, REYES_LANES
  * consecutive vertices at a time in SIMD lanes (OpenCL vector types), into
@@ -19,11 +20,11 @@ struct reyes_dice_scratch {
 };
 
 /* Wedge crack fix: the strips along the settled edges, from the grid's
- * boundary vertices to the points at the same parameters on the chord of
- * the edge's settled segment (reyes_flatness.cl).  The sides of an edge
- * reach the same chord, so together they close the crack.  Strip e is
- * vertex rows 2e (the grid's vertices along edge e, in the edge's order)
- * and 2e + 1 (their chord points); its quads are quad row 2e. */
+ * boundary vertices to the points at the same parameters on the polyline
+ * of the edge's settled segment (reyes_flatness.cl).  The sides of an
+ * edge reach the same polyline, so together they close the crack.  Strip
+ * e is vertex rows 2e (the grid's vertices along edge e, in the edge's
+ * order) and 2e + 1 (their polyline points); its quads are quad row 2e. */
 void reyes_dice_strip_vertex(perma_ctx *ctx, const struct reyes_subpatch *sp, __local struct reyes_dice_scratch *s,
                              int v)
 {
@@ -35,19 +36,17 @@ void reyes_dice_strip_vertex(perma_ctx *ctx, const struct reyes_subpatch *sp, __
         return;
     float3 base[16];
     reyes_load_patch(ctx->buf.patches, sp->patch, base);
-    struct reyes_chord chord = reyes_edge_chord(base, sp, edge, level);
+    struct reyes_polyline polyline = reyes_edge_polyline(base, sp, edge, level, (uint)side);
     int along_u;
     float fixed, a, b;
     reyes_edge_line(sp, edge, &along_u, &fixed, &a, &b);
     int gi = along_u ? step : (edge == REYES_EDGE_U1 ? side : 0);
     int gj = along_u ? (edge == REYES_EDGE_V1 ? side : 0) : step;
-    float t = (float)step / (float)side;
-    float at = a * (1.0f - t) + b * t; /* as reyes_grid_vertex */
-    struct reyes_vertex on_chord;
-    reyes_vertex_place(p, reyes_chord_at(&chord, at), &on_chord);
-    on_chord.rgba = s->grid.rgba[gj * n + gi];
+    struct reyes_vertex on_polyline;
+    reyes_vertex_place(p, reyes_strip_point(&polyline, step), &on_polyline);
+    on_polyline.rgba = s->grid.rgba[gj * n + gi];
     reyes_grid_copy_vertex(&s->grid, gj * n + gi, &s->strips, 2 * edge * n + step);
-    reyes_grid_store(p, &s->strips, (2 * edge + 1) * n + step, &on_chord);
+    reyes_grid_store(p, &s->strips, (2 * edge + 1) * n + step, &on_polyline);
 }
 
 /* Vertices i0 .. i0 + REYES_LANES - 1 of row j of an undisplaced grid n
@@ -157,20 +156,34 @@ void reyes_dice_emit(perma_ctx *ctx, __local const struct reyes_grid *g)
     emit_rasterize(ctx, &item);
 }
 
+/* The base colour dice shades a grid of columns x rows vertices with: its
+ * patch's, or with show_grid_sizes a false colour by the micropolygons'
+ * count, from blue (1) through green to red ((grid - 1) squared). */
+uint reyes_dice_base_color(__global const struct reyes_params *p, uint patch_color, int columns, int rows)
+{
+    if (!p->show_grid_sizes)
+        return patch_color;
+    float most = (float)((p->grid - 1u) * (p->grid - 1u));
+    float t = most > 1.0f ? ((float)((columns - 1) * (rows - 1)) - 1.0f) / (most - 1.0f) : 1.0f;
+    float3 c = t < 0.5f ? mix((float3)(0.15f, 0.3f, 1.0f), (float3)(0.2f, 0.9f, 0.3f), 2.0f * t)
+                        : mix((float3)(0.2f, 0.9f, 0.3f), (float3)(1.0f, 0.2f, 0.1f), 2.0f * t - 1.0f);
+    return reyes_pack_rgba(c);
+}
+
 /* The vertices of an undisplaced grid, row by row (the row's curves made
  * once) and REYES_LANES at a time, and the poles' colours. */
 void reyes_dice_plain(perma_ctx *ctx, __local const struct reyes_subpatch *item, __local struct reyes_grid *g,
                       int shade)
 {
     __global const struct reyes_params *p = ctx->buf.params;
-    int n = (int)p->grid;
+    int n = (int)g->columns, rows = (int)g->rows;
     struct reyes_hull h;
     reyes_load_hull(ctx->buf.patches, item->patch, &h);
     struct reyes_lighting light = reyes_lighting_of(p);
-    uint base = ctx->buf.colors[item->patch];
+    uint base = reyes_dice_base_color(p, ctx->buf.colors[item->patch], n, rows);
     float u0 = item->u0, v0 = item->v0, u1 = item->u1, v1 = item->v1;
-    float last = (float)(n - 1);
-    for (int j = 0; j < n; ++j) {
+    float last = (float)(rows - 1);
+    for (int j = 0; j < rows; ++j) {
         float tv = (float)j / last;
         float v = v0 * (1.0f - tv) + v1 * tv; /* as reyes_grid_uv_of */
         struct reyes_row_curves rc;
@@ -195,12 +208,12 @@ void reyes_dice_displaced(perma_ctx *ctx, __local const struct reyes_subpatch *i
 {
     __global const struct reyes_params *p = ctx->buf.params;
     struct reyes_displacement d = { p, ctx->buf.displacement_map };
-    int n = (int)p->grid;
+    int n = (int)s->grid.columns, rows = (int)s->grid.rows;
     struct reyes_subpatch sp = *item;
     float3 cp[16];
     reyes_load_patch(ctx->buf.patches, sp.patch, cp);
-    uint base = ctx->buf.colors[sp.patch];
-    for (int v = 0; v < n * n; ++v) {
+    uint base = reyes_dice_base_color(p, ctx->buf.colors[sp.patch], n, rows);
+    for (int v = 0; v < n * rows; ++v) {
         struct reyes_vertex vertex = reyes_grid_vertex(&d, cp, &sp, base, v % n, v / n, shade);
         reyes_grid_store(p, &s->grid, v, &vertex);
     }
@@ -216,9 +229,10 @@ void reyes_dice(perma_ctx *ctx, __local const struct reyes_subpatch *item)
     atomic_inc(&counters[REYES_COUNT_GRIDS]);
     if (p->stages == REYES_STAGES_SUBDIVIDE)
         return;
-    s->grid.columns = (uint)n;
-    s->grid.rows = (uint)n;
-    s->grid.quad_rows = (1u << (n - 1)) - 1u;
+    int2 size = reyes_dice_size(p, item->dice_size); /* n x n without a shading rate */
+    s->grid.columns = (uint)size.x;
+    s->grid.rows = (uint)size.y;
+    s->grid.quad_rows = (1u << (size.y - 1)) - 1u;
     s->grid.counted = full ? 1u : 0u;
     if (p->displace_mode == REYES_DISPLACE_NONE)
         reyes_dice_plain(ctx, item, &s->grid, full);

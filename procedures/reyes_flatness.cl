@@ -116,8 +116,9 @@ struct reyes_tiers reyes_flatness(__global const struct reyes_params *p, const f
  * the edge form a chain that the sub-patches on both sides share.  The
  * edge is settled at the coarsest segment of the chain that is flat
  * (edge tier alone, measured from the segment's own control points), and
- * both sides then reach to the same straight chord: dice adds a wedge
- * strip between its true boundary and the chord.  Segment control points
+ * both sides then reach to the same polyline close to it: dice adds a
+ * wedge strip between its true boundary and the polyline (reyes_polyline
+ * below).  Segment control points
  * come from the base patch by blossoming in a canonical direction, and a
  * base-patch boundary line is the control net's own row or column, so two
  * sides compute the same bits even across base patches.
@@ -231,37 +232,63 @@ uint reyes_edge_levels(__global const struct reyes_params *p, const float3 base[
     return levels;
 }
 
-/* The chord of an edge's settled segment: its end points in the canonical
- * direction, computed once per edge and then sampled by reyes_chord_at. */
-struct reyes_chord {
-    float3 first, last; /* canonical restriction's points 0 and 3 (line direction) */
-    float start, span;  /* the segment [start, start + span] of the line */
-    int reversed;       /* the line's canonical direction is reversed */
+/* Where an edge's wedge strip reaches: the settled segment's curve
+ * sampled at grid - 1 equal steps (its *polyline*), made once per edge
+ * and then sampled by reyes_strip_point at the edge's own grid steps.
+ * Every sub-patch edge inside the segment is a dyadic part of it, diced
+ * at grid - 1 steps too, so the polyline's corners fall on grid steps of
+ * every such edge: each side follows the polyline exactly, corner for
+ * corner, and between corners the points lie on the same straight piece.
+ * The polyline strays from the curve by about epsilon / (grid - 1)^2
+ * (the segment is flat within epsilon), so a strip overhangs an open
+ * boundary or a fold by that much at most; the segment's straight chord,
+ * which the strips reached before, strays by up to epsilon. */
+struct reyes_polyline {
+    float3 c[4];        /* the segment's control points in the canonical direction */
+    ulong first;        /* the edge's first vertex: step units from the canonical start */
+    ulong steps;        /* step units across the segment: side << shift */
+    uint side;          /* the polyline's pieces (grid - 1) */
+    uint shift;         /* step units per polyline piece, log2: the edge is 2^-shift of the segment */
+    int reversed;       /* the edge runs against the canonical direction */
 };
 
-struct reyes_chord reyes_edge_chord(const float3 base[16], const struct reyes_subpatch *sp, int edge,
-                                    uint level)
+struct reyes_polyline reyes_edge_polyline(const float3 base[16], const struct reyes_subpatch *sp, int edge,
+                                    uint level, uint side)
 {
     int along_u;
     float fixed, a, b;
     reyes_edge_line(sp, edge, &along_u, &fixed, &a, &b);
     float3 line[4], e[4];
     reyes_line_curve(base, along_u, fixed, line);
-    struct reyes_chord c;
-    c.span = ldexp(1.0f, -(int)level);
-    c.start = reyes_segment_start(a, level);
-    reyes_restrict_canonical(line, c.start, c.start + c.span, e);
-    c.first = e[0];
-    c.last = e[3];
+    float span = ldexp(1.0f, -(int)level), start = reyes_segment_start(a, level);
+    reyes_restrict_canonical(line, start, start + span, e);
+    struct reyes_polyline c;
     c.reversed = reyes_curve_reversed(line);
+    for (int k = 0; k < 4; ++k)
+        c.c[k] = c.reversed ? e[3 - k] : e[k];
+    c.side = side;
+    /* Interval lengths are powers of two: the edge is 2^-shift of the
+     * segment and its offset inside it a whole number of edges. */
+    c.shift = (uint)(ilogb(span) - ilogb(b - a));
+    c.steps = (ulong)side << c.shift;
+    ulong offset = (ulong)((a - start) / (b - a)) * side; /* along the line */
+    c.first = offset;
     return c;
 }
 
-/* The point at line parameter s on the chord, interpolated in the
- * canonical direction so both sides of the edge get the same bits. */
-float3 reyes_chord_at(const struct reyes_chord *c, float s)
+/* The strip point of the edge's grid step `step` (0 at the edge's a end):
+ * on the polyline, at the same parameter as the grid vertex. */
+float3 reyes_strip_point(const struct reyes_polyline *c, int step)
 {
-    if (c->reversed)
-        return c->last + (c->first - c->last) * (((1.0f - s) - (1.0f - (c->start + c->span))) / c->span);
-    return c->first + (c->last - c->first) * ((s - c->start) / c->span);
+    ulong along = c->first + (ulong)step;
+    ulong at = c->reversed ? c->steps - along : along; /* canonical */
+    ulong piece = at >> c->shift;
+    float3 p0 = reyes_blossom(c->c[0], c->c[1], c->c[2], c->c[3], (float)piece / (float)c->side,
+                              (float)piece / (float)c->side, (float)piece / (float)c->side);
+    ulong rest = at - (piece << c->shift);
+    if (rest == 0ul)
+        return p0;
+    float next = (float)(piece + 1ul) / (float)c->side;
+    float3 p1 = reyes_blossom(c->c[0], c->c[1], c->c[2], c->c[3], next, next, next);
+    return p0 + (p1 - p0) * ldexp((float)rest, -(int)c->shift);
 }

@@ -37,6 +37,8 @@ uint64_t reyes_resolve(const uint64_t *samples, unsigned spp, uint32_t backgroun
                 image->rgb[px * 3 + c] = (uint8_t)((sum[c] + spp / 2) / spp);
             image->coverage[px] = (uint8_t)hits;
             written += hits;
+            if (image->samples) /* reyes_options.keep_samples */
+                memcpy(image->samples + px * spp, pixel, spp * sizeof *pixel);
         }
     }
     return written;
@@ -48,5 +50,6 @@ void reyes_image_free(reyes_image *image)
         return;
     free(image->rgb);
     free(image->coverage);
+    free(image->samples);
     memset(image, 0, sizeof *image);
 }

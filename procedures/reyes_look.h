@@ -8,7 +8,7 @@
 
 /* A sample nothing covered: the buffers start all ones, and a covered
  * sample holds its depth's bits above its packed colour. */
-#define REYES_EMPTY_SAMPLE_VALUE UINT64_MAX
+#define REYES_EMPTY_SAMPLE_VALUE REYES_EMPTY_SAMPLE /* reyes.h: UINT64_MAX */
 
 /* The unit vector towards the light (REYES_LIGHT_X, _Y, _Z of
  * reyes_shared.h, with the shading weights REYES_AMBIENT ...
@@ -17,7 +17,8 @@ void reyes_light_direction(float light[3]);
 
 /* Average the spp samples of each pixel of the rectangle [x0,x1) x [y0,y1)
  * (samples: its pixels row by row, spp each) into image; empty samples
- * show `background`.  Returns the covered samples. */
+ * show `background`; with image->samples (keep_samples) the samples are
+ * copied there too.  Returns the covered samples. */
 uint64_t reyes_resolve(const uint64_t *samples, unsigned spp, uint32_t background, unsigned x0, unsigned y0,
                        unsigned x1, unsigned y1, reyes_image *image);
 

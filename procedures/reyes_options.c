@@ -154,6 +154,15 @@ reyes_status reyes_options_check(const reyes_options *o, reyes_error *error)
     if (o->crack_fix == REYES_CRACK_FIX_WEDGE && o->subdivision != REYES_SUBDIVISION_TIERED)
         return reyes_fail(error, REYES_ERR_ARGUMENT,
                           "crack fix wedge needs the tiered subdivision criterion");
+    if (!(o->shading_rate == 0.0f || (o->shading_rate >= REYES_MIN_SHADING_RATE
+                                       && o->shading_rate <= REYES_MAX_SHADING_RATE)))
+        return reyes_fail(error, REYES_ERR_ARGUMENT, "shading rate %g px is not 0 (fixed grids) or in %g..%g",
+                          (double)o->shading_rate, (double)REYES_MIN_SHADING_RATE,
+                          (double)REYES_MAX_SHADING_RATE);
+    if (o->crack_fix == REYES_CRACK_FIX_WEDGE && o->shading_rate > 0.0f)
+        return reyes_fail(error, REYES_ERR_ARGUMENT,
+                          "crack fix wedge needs fixed grids (shading rate 0): its strips assume grid - 1 "
+                          "steps along every edge");
     if (o->crack_fix == REYES_CRACK_FIX_WEDGE && o->displace_mode != REYES_DISPLACE_NONE
         && o->displace_amplitude != 0.0f)
         return reyes_fail(error, REYES_ERR_ARGUMENT,

@@ -297,6 +297,8 @@ static reyes_status begin(context *c, const reyes_scene *scene, const reyes_came
     if (options->crack_fix == REYES_CRACK_FIX_WEDGE)
         return reyes_fail(error, REYES_ERR_ARGUMENT,
                           "the C reference does not model the wedge crack fix's subdivision");
+    if (options->shading_rate > 0.0f)
+        return reyes_fail(error, REYES_ERR_ARGUMENT, "the C reference dices fixed grids only (shading rate 0)");
     *c = (context){ .scene = scene, .o = options, .counts = out };
     c->near_w = reyes_near_plane(scene);
     for (int k = 0; k < 3; ++k)

@@ -181,6 +181,8 @@ static reyes_status fill_params(const reyes_scene *scene, const reyes_camera *ca
     p->shininess = REYES_SHININESS;
     p->max_depth = o->max_depth;
     p->grid = o->grid;
+    p->shading_rate = o->shading_rate;
+    p->show_grid_sizes = o->show_grid_sizes ? 1u : 0u;
     p->spp = o->spp;
     p->backface_cull = o->backface_cull ? 1u : 0u;
     p->stages = o->stages;
@@ -217,7 +219,13 @@ static reyes_status allocate(const reyes_scene *scene, const reyes_options *o, r
     image->height = o->height;
     image->rgb = calloc(pixels, 3); /* 0 where a bucket source leaves buckets out */
     image->coverage = calloc(pixels, 1);
-    if (!b->seeds || !image->rgb || !image->coverage)
+    image->spp = o->spp;
+    if (o->keep_samples) {
+        image->samples = malloc(pixels * o->spp * sizeof *image->samples);
+        if (image->samples)
+            memset(image->samples, 0xff, pixels * o->spp * sizeof *image->samples);
+    }
+    if (!b->seeds || !image->rgb || !image->coverage || (o->keep_samples && !image->samples))
         return reyes_fail(error, REYES_ERR_NO_MEMORY, "out of memory for a %ux%u image", o->width,
                           o->height);
     memset(b->counters, 0, sizeof b->counters);

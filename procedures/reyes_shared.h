@@ -23,6 +23,10 @@ struct reyes_subpatch {
      * edge in REYES_EDGE_* order (0xff: not settled), set by bound for
      * dice (reyes_flatness.cl); unused otherwise. */
     REYES_U32 edge_levels;
+    /* Shading-rate dicing (reyes_params.shading_rate > 0): the grid's
+     * vertices along u (low byte) and v (next byte), chosen by bound; 0:
+     * the renderer's grid x grid. */
+    REYES_U32 dice_size;
 };
 
 /* One micropolygon: a grid quad in screen space (pixels, y down; z is the
@@ -227,6 +231,15 @@ struct reyes_params {
      * up): -1, 1, -1, 1 for the whole image.  bound culls against it with
      * the cull margin. */
     float ndc_left, ndc_right, ndc_bottom, ndc_top;
+    /* Shading-rate dicing: 0 dices every leaf grid x grid; R > 0 dices
+     * each to the fewest vertices (up to grid per side) whose
+     * micropolygons are at most R pixels in area on screen, and bound
+     * splits a sub-patch until that fits (reyes_bound.cl). */
+    float shading_rate;
+    /* 1: shade every grid in a false colour by its size instead of its
+     * patch's colour (reyes_options.show_grid_sizes). */
+    REYES_U32 show_grid_sizes;
+    REYES_U32 pad5[2];
 };
 
 #endif

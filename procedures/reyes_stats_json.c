@@ -60,6 +60,7 @@ reyes_status reyes_write_stats_json(FILE *out, const reyes_stats *s, const reyes
     fprintf(out, "  \"grids\": %" PRIu64 ",\n", s->grids);
     fprintf(out, "  \"forced_dice\": %" PRIu64 ",\n", s->forced_dice);
     fprintf(out, "  \"micropolygons\": %" PRIu64 ",\n", s->micropolygons);
+    fprintf(out, "  \"grid\": %u, \"shading_rate\": %g,\n", o->grid, (double)o->shading_rate);
     fprintf(out, "  \"samples_written\": %" PRIu64 ",\n", s->samples_written);
     fprintf(out, "  \"crack_fix\": \"%s\", \"stitches\": %" PRIu64 ", \"fillers\": %" PRIu64 ",\n",
             o->crack_fix == REYES_CRACK_FIX_STITCH  ? "stitch"

@@ -1,7 +1,7 @@
 /*
  * stitch: fill the crack along one edge of a diced sub-patch (the owner)
- * whose neighbours across the edge were diced finer, or belong to another
- * base patch.  The owner's edge vertices C_0..C_{n-1} and the neighbours'
+ * whose neighbours across the edge were diced finer (shorter, or with a
+ * shading rate at more vertices), or belong to another base patch.  The owner's edge vertices C_0..C_{n-1} and the neighbours'
  * edge vertices F_0..F_m (piece after piece, in the owner's direction) are
  * both evaluated with reyes_grid_vertex, so each is bit-identical to the
  * vertex dice made for its grid.  A zipper triangulates the strip between
@@ -12,15 +12,22 @@
  */
 
 /* Grid coordinates (i, j) of vertex k along edge `edge` (k in the edge's
- * own direction: increasing u or v). */
-int2 reyes_edge_vertex(uint edge, int k, int last)
+ * own direction: increasing u or v) of a grid of size.x x size.y. */
+int2 reyes_edge_vertex(uint edge, int k, int2 size)
 {
     switch (edge) {
     case REYES_EDGE_V0: return (int2)(k, 0);
-    case REYES_EDGE_U1: return (int2)(last, k);
-    case REYES_EDGE_V1: return (int2)(k, last);
+    case REYES_EDGE_U1: return (int2)(size.x - 1, k);
+    case REYES_EDGE_V1: return (int2)(k, size.y - 1);
     default: return (int2)(0, k);
     }
+}
+
+/* Segments of sub-patch sp's grid along edge `edge`. */
+int reyes_edge_segments(__global const struct reyes_params *p, const struct reyes_subpatch *sp, uint edge)
+{
+    int2 size = reyes_dice_size(p, sp->dice_size);
+    return edge == REYES_EDGE_V0 || edge == REYES_EDGE_V1 ? size.x - 1 : size.y - 1;
 }
 
 /* A shaded vertex of sub-patch sp's grid, evaluated as dice does. */
@@ -30,22 +37,27 @@ struct reyes_vertex reyes_stitch_vertex(perma_ctx *ctx, const struct reyes_subpa
     __global const struct reyes_params *p = ctx->buf.params;
     float3 cp[16];
     reyes_load_patch(ctx->buf.patches, sp->patch, cp);
-    int last = (int)p->grid - 1;
-    int2 ij = reyes_edge_vertex(edge, k, last);
+    int2 ij = reyes_edge_vertex(edge, k, reyes_dice_size(p, sp->dice_size));
     struct reyes_displacement d = { p, ctx->buf.displacement_map };
     return reyes_grid_vertex(&d, cp, sp, ctx->buf.colors[sp->patch], ij.x, ij.y, 1);
 }
 
-/* Vertex j of the neighbours' polyline, in the owner's edge order, and its
- * position along the owner's edge (0..1). */
-struct reyes_vertex reyes_piece_vertex(perma_ctx *ctx, uint first, int j, float *t)
+/* Where the zipper is on the neighbours' polyline: vertex k of piece
+ * `index` (of `last` segments), piece after piece in the owner's edge
+ * order.  A piece's last vertex and the next piece's first are both
+ * visited (the same point: a degenerate triangle between them). */
+struct reyes_piece_cursor {
+    uint index;
+    int k, last;
+};
+
+/* The cursor's vertex and its position along the owner's edge (0..1). */
+struct reyes_vertex reyes_piece_vertex(perma_ctx *ctx, uint first, struct reyes_piece_cursor *at, float *t)
 {
-    int last = (int)ctx->buf.params->grid - 1;
-    int n = last + 1;
-    struct reyes_stitch_piece piece = ctx->buf.pieces[first + (uint)(j / n)];
-    int k = j % n;
-    int own = piece.reversed ? last - k : k;
-    *t = piece.t0 + (piece.t1 - piece.t0) * ((float)k / (float)last);
+    struct reyes_stitch_piece piece = ctx->buf.pieces[first + at->index];
+    at->last = reyes_edge_segments(ctx->buf.params, &piece.sp, piece.edge);
+    int own = piece.reversed ? at->last - at->k : at->k;
+    *t = piece.t0 + (piece.t1 - piece.t0) * ((float)at->k / (float)at->last);
     return reyes_stitch_vertex(ctx, &piece.sp, piece.edge, own);
 }
 
@@ -88,24 +100,34 @@ void reyes_stitch(perma_ctx *ctx, __local const struct reyes_stitch *item)
 {
     __global const struct reyes_params *p = ctx->buf.params;
     struct reyes_stitch st = *item;
-    int last = (int)p->grid - 1;
+    int last = reyes_edge_segments(p, &st.owner, st.edge);
     /* The owner's vertices around the pieces' span [t_start, t_end]. */
     struct reyes_stitch_piece first_piece = ctx->buf.pieces[st.first];
     struct reyes_stitch_piece last_piece = ctx->buf.pieces[st.first + st.count - 1u];
     int i = (int)floor(first_piece.t0 * (float)last);
     int i_end = (int)ceil(last_piece.t1 * (float)last);
-    int j = 0, j_end = (int)st.count * (last + 1) - 1;
+    struct reyes_piece_cursor at = { 0u, 0, 1 };
     float tf, tf_next;
     struct reyes_vertex c = reyes_stitch_vertex(ctx, &st.owner, st.edge, i);
-    struct reyes_vertex f = reyes_piece_vertex(ctx, st.first, j, &tf);
+    struct reyes_vertex f = reyes_piece_vertex(ctx, st.first, &at, &tf);
     uint fillers = 0;
-    while (i < i_end || j < j_end) {
+    for (;;) {
+        int f_done = at.index + 1u == st.count && at.k == at.last;
+        if (i >= i_end && f_done)
+            break;
+        struct reyes_piece_cursor next = at;
         struct reyes_vertex f_next = f;
         tf_next = tf;
-        if (j < j_end)
-            f_next = reyes_piece_vertex(ctx, st.first, j + 1, &tf_next);
-        int advance_owner = j == j_end
-                            || (i < i_end && (float)(i + 1) / (float)last <= tf_next);
+        if (!f_done) {
+            if (next.k == next.last) {
+                ++next.index;
+                next.k = 0;
+            } else {
+                ++next.k;
+            }
+            f_next = reyes_piece_vertex(ctx, st.first, &next, &tf_next);
+        }
+        int advance_owner = f_done || (i < i_end && (float)(i + 1) / (float)last <= tf_next);
         if (advance_owner) {
             struct reyes_vertex c_next = reyes_stitch_vertex(ctx, &st.owner, st.edge, i + 1);
             fillers += (uint)reyes_fill_triangle(ctx, c, c_next, f);
@@ -115,7 +137,7 @@ void reyes_stitch(perma_ctx *ctx, __local const struct reyes_stitch *item)
             fillers += (uint)reyes_fill_triangle(ctx, c, f, f_next);
             f = f_next;
             tf = tf_next;
-            ++j;
+            at = next;
         }
     }
     atomic_add(&ctx->buf.counters[REYES_COUNT_FILLERS], fillers);

@@ -11,6 +11,7 @@ typedef struct edge_record {
     uint32_t axis, side;
     float line, s0, s1;
     uint32_t leaf, edge;
+    uint32_t vertices; /* along the edge with a shading rate (reyes_subpatch.dice_size), else 0 */
 } edge_record;
 
 /* A base patch boundary glued to another patch's boundary. */
@@ -77,6 +78,7 @@ static edge_record leaf_edge(const struct reyes_subpatch *sp, uint32_t leaf, uin
              : edge == REYES_EDGE_U0 ? sp->u0 : sp->u1;
     r.s0 = along_u ? sp->u0 : sp->v0;
     r.s1 = along_u ? sp->u1 : sp->v1;
+    r.vertices = along_u ? sp->dice_size & 0xffu : (sp->dice_size >> 8) & 0xffu;
     return r;
 }
 
@@ -207,7 +209,8 @@ static int across_boundary(const boundary_link *links, edge_record mine, edge_re
 }
 
 /* Find the neighbour record across edge `mine`; if that neighbour owns the
- * shared span (it is longer, or as long in a lower patch), fill *out. */
+ * shared span (it is longer, or as long in a lower patch, or as long with
+ * fewer vertices), fill *out. */
 static int register_edge(const edge_record *records, size_t count, const boundary_link *links,
                          edge_record mine, registration *out)
 {
@@ -228,8 +231,11 @@ static int register_edge(const edge_record *records, size_t count, const boundar
     if (owner_length < length)
         return 0;
     if (owner_length == length) {
+        /* Inside a base patch equal spans share their vertices, unless a
+         * shading rate diced them at different counts: then the side with
+         * fewer owns the span.  Across base patches the lower patch does. */
         int lower = owner->patch < mine.patch || (owner->patch == mine.patch && owner->edge < mine.edge);
-        if (!on_boundary || !lower)
+        if (on_boundary ? !lower : owner->vertices >= mine.vertices)
             return 0;
     }
     out->owner = owner->leaf;

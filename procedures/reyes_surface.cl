@@ -368,14 +368,22 @@ float3 reyes_displaced_normal(const struct reyes_displacement *d, const float3 c
     return dot(n, n) > 1e-30f ? n : reyes_safe_normal(cp, u, v);
 }
 
-/* Base-patch parameters (u,v) of grid vertex (i,j) of the sub-patch
- * [u0,u1] x [v0,v1]. */
-REYES_INLINE void reyes_grid_uv_of(__global const struct reyes_params *p, float u0, float v0, float u1, float v1,
-                                   int i, int j, float *u, float *v)
+/* Vertices of a sub-patch's grid along u and v: those bound chose for it
+ * with a shading rate (dice_size), else the renderer's grid x grid. */
+REYES_INLINE int2 reyes_dice_size(__global const struct reyes_params *p, uint dice_size)
 {
-    float last = (float)(p->grid - 1u);
+    if (dice_size == 0u)
+        return (int2)((int)p->grid, (int)p->grid);
+    return (int2)((int)(dice_size & 0xffu), (int)((dice_size >> 8) & 0xffu));
+}
+
+/* Base-patch parameters (u,v) of grid vertex (i,j) of the sub-patch
+ * [u0,u1] x [v0,v1] diced to size.x x size.y vertices. */
+REYES_INLINE void reyes_grid_uv_of(int2 size, float u0, float v0, float u1, float v1, int i, int j, float *u,
+                                   float *v)
+{
     /* mix(a, b, 1) == b exactly, so shared patch edges get equal u, v. */
-    float tu = (float)i / last, tv = (float)j / last;
+    float tu = (float)i / (float)(size.x - 1), tv = (float)j / (float)(size.y - 1);
     *u = u0 * (1.0f - tu) + u1 * tu;
     *v = v0 * (1.0f - tv) + v1 * tv;
 }
@@ -384,7 +392,7 @@ REYES_INLINE float2 reyes_grid_uv(__global const struct reyes_params *p, const s
                                   int j)
 {
     float u, v;
-    reyes_grid_uv_of(p, sp->u0, sp->v0, sp->u1, sp->v1, i, j, &u, &v);
+    reyes_grid_uv_of(reyes_dice_size(p, sp->dice_size), sp->u0, sp->v0, sp->u1, sp->v1, i, j, &u, &v);
     return (float2)(u, v);
 }
 

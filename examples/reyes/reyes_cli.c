@@ -329,6 +329,16 @@ static int on_grid(reyes_cli *cli, const char *value, char *message, size_t size
 {
     if (!parse_unsigned(value, REYES_MAX_GRID, &cli->render.grid) || cli->render.grid < 2)
         return usage_error(message, size, "--grid '%s': expected 2..%s", value, "32");
+    cli->grid_given = 1;
+    return REYES_CLI_OK;
+}
+
+static int on_shading_rate(reyes_cli *cli, const char *value, char *message, size_t size)
+{
+    if (!parse_float(value, &cli->render.shading_rate)
+        || !(cli->render.shading_rate >= REYES_MIN_SHADING_RATE && cli->render.shading_rate <= REYES_MAX_SHADING_RATE))
+        return usage_error(message, size, "--shading-rate '%s': expected square pixels in %s", value, "0.01..10000");
+    cli->shading_rate_given = 1;
     return REYES_CLI_OK;
 }
 
@@ -446,7 +456,13 @@ static const cli_option options[] = {
     { "time-samples", 0, "N", on_time_samples, "time strata per pixel (default: spp)", NULL },
     { "bound", 0, "PX", on_bound,
       "dice patches whose screen bound is at most PX (default 8; tiered: grid - 1)", NULL },
-    { "grid", 0, "N", on_grid, "grid vertices per side when dicing (default 16)", NULL },
+    { "grid", 0, "N", on_grid,
+      "dice every sub-patch N x N (2..32; alone: fixed grids); with --shading-rate: at most N per side "
+      "(default 16)", NULL },
+    { "show-grids", 0, NULL, NULL, "shade each grid in a false colour by its size (blue: 1 micropolygon .. red: "
+      "(grid - 1)^2)", FLAG(render.show_grid_sizes) },
+    { "shading-rate", 0, "R", on_shading_rate,
+      "dice each sub-patch so a micropolygon is at most R square pixels (default 1; 0.01..10000)", NULL },
     { "subdivision", 0, "NAME", NULL, "when to stop splitting: bound (default: --bound) or tiered (flatness)",
       CHOICE("subdivision", subdivision_name, render.subdivision) },
     { "epsilon", 0, "PX", on_epsilon, "tiered: flatness tolerance in pixels (default 0.5)", NULL },
@@ -539,6 +555,14 @@ static int check_subdivision_options(reyes_cli *cli, char *message, size_t size)
     if (!tiered && cli->flatness_given)
         return usage_error(message, size, "--epsilon and --lambda apply to --subdivision tiered%s%s",
                            "", "");
+    /* Dicing: to a shading rate of 1 by default; fixed grids with --grid
+     * alone, and for the wedges and the C reference, which need them. */
+    int fixed = cli->render.crack_fix == REYES_CRACK_FIX_WEDGE || cli->reference;
+    if (cli->shading_rate_given && fixed)
+        return usage_error(message, size, "--shading-rate cannot be combined with %s (fixed grids only)%s",
+                           cli->reference ? "--reference" : "--crack-fix wedge", "");
+    if (!cli->shading_rate_given)
+        cli->render.shading_rate = cli->grid_given || fixed ? 0.0f : 1.0f;
     return REYES_CLI_OK;
 }
 

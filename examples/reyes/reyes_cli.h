@@ -22,6 +22,10 @@ typedef struct reyes_cli {
     /* --bound means the tiered criterion's largest bound with it;
      * --epsilon and --lambda without it are refused. */
     int bound_given, flatness_given;
+    /* --shading-rate R dices to that rate (at most --grid per side);
+     * --grid alone, --crack-fix wedge and --reference dice fixed grids;
+     * otherwise the rate is 1. */
+    int grid_given, shading_rate_given;
     /* Scale-out (docs/scale-out.md): a device list to spread buckets or
      * frames over (NULL: one device), an animation of `frames` frames
      * (0: one image) turning the camera by orbit_deg over all of them. */

@@ -98,7 +98,8 @@ reyes_status reyes_pool_deliver(reyes_pool *pool, unsigned item, const unsigned 
     reyes_status status = REYES_OK;
     if (job->frames) {
         /* A whole frame: write it (outside the lock; files differ). */
-        reyes_image frame = { rect[2] - rect[0], rect[3] - rect[1], (uint8_t *)rgb, (uint8_t *)coverage };
+        reyes_image frame = { .width = rect[2] - rect[0], .height = rect[3] - rect[1], .rgb = (uint8_t *)rgb,
+                              .coverage = (uint8_t *)coverage };
         char path[4200];
         reyes_job_frame_path(job, item, path, sizeof path);
         status = reyes_write_png(path, &frame, error);

@@ -27,6 +27,7 @@ START_TEST(test_defaults)
     ck_assert_str_eq(cli.output, "reyes.png");
     ck_assert_uint_eq(cli.render.width, 512);
     ck_assert_uint_eq(cli.render.grid, 16);
+    ck_assert_float_eq(cli.render.shading_rate, 1.0f); /* the library's default is 0: fixed grids */
     ck_assert_uint_eq(cli.render.crack_fix, REYES_CRACK_FIX_STITCH);
     ck_assert_uint_eq(cli.render.bucket_width, 0);
     ck_assert(!cli.has_camera);
@@ -243,6 +244,46 @@ START_TEST(test_subdivision_options)
 }
 END_TEST
 
+/* Dicing: a shading rate of 1 by default; --grid alone is fixed N x N
+ * dicing (today's images); both: the rate with at most N per side;
+ * wedges and the C reference dice fixed grids and refuse a rate. */
+START_TEST(test_dicing_options)
+{
+    reyes_cli cli;
+    char message[512];
+    ck_assert_int_eq(PARSE(&cli, message, "--grid", "8"), REYES_CLI_OK);
+    ck_assert_uint_eq(cli.render.grid, 8);
+    ck_assert_float_eq(cli.render.shading_rate, 0.0f);
+    reyes_cli_free(&cli);
+    ck_assert_int_eq(PARSE(&cli, message, "--shading-rate", "0.25", "--grid", "32"), REYES_CLI_OK);
+    ck_assert_float_eq(cli.render.shading_rate, 0.25f);
+    ck_assert_uint_eq(cli.render.grid, 32);
+    reyes_cli_free(&cli);
+    ck_assert_int_eq(PARSE(&cli, message, "--subdivision", "tiered", "--crack-fix", "wedge"), REYES_CLI_OK);
+    ck_assert_float_eq(cli.render.shading_rate, 0.0f);
+    reyes_cli_free(&cli);
+    ck_assert_int_eq(PARSE(&cli, message, "--reference"), REYES_CLI_OK);
+    ck_assert_float_eq(cli.render.shading_rate, 0.0f);
+    reyes_cli_free(&cli);
+    struct { int argc; char **argv; const char *needle; } cases[] = {
+        { COUNT("--shading-rate", "0"), ARGS("--shading-rate", "0"),
+          "--shading-rate '0': expected square pixels in 0.01..10000" },
+        { COUNT("--shading-rate", "x"), ARGS("--shading-rate", "x"), "--shading-rate 'x'" },
+        { COUNT("--shading-rate", "2", "--subdivision", "tiered", "--crack-fix", "wedge"),
+          ARGS("--shading-rate", "2", "--subdivision", "tiered", "--crack-fix", "wedge"),
+          "--shading-rate cannot be combined with --crack-fix wedge (fixed grids only)" },
+        { COUNT("--reference", "--shading-rate", "2"), ARGS("--reference", "--shading-rate", "2"),
+          "--shading-rate cannot be combined with --reference" },
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+        ck_assert_int_eq(parse(&cli, message, cases[i].argc, cases[i].argv), REYES_CLI_USAGE);
+        ck_assert_msg(strstr(message, cases[i].needle) != NULL, "case %zu: '%s' lacks '%s'", i, message,
+                      cases[i].needle);
+        reyes_cli_free(&cli);
+    }
+}
+END_TEST
+
 /* Each bad command line gives REYES_CLI_USAGE and a message with `needle`. */
 START_TEST(test_bad_usage)
 {
@@ -391,6 +432,7 @@ static Suite *cli_suite(void)
     TCase *tc = tcase_create("cli");
     tcase_set_timeout(tc, 60);
     tcase_add_test(tc, test_defaults);
+    tcase_add_test(tc, test_dicing_options);
     tcase_add_test(tc, test_all_options);
     tcase_add_test(tc, test_scheduling_names);
     tcase_add_test(tc, test_schedule_label);

@@ -121,6 +121,18 @@ START_TEST(test_options_check)
     o.grid = 1;
     ck_assert_int_eq(reyes_options_check(&o, &error), REYES_ERR_ARGUMENT);
     ck_assert(strstr(error.message, "grid") != NULL);
+    /* Shading rate: 0 (fixed grids, the default) or 0.01..10000, not with wedges. */
+    reyes_options_init(&o);
+    ck_assert_float_eq(o.shading_rate, 0.0f);
+    o.shading_rate = 0.001f;
+    ck_assert_int_eq(reyes_options_check(&o, &error), REYES_ERR_ARGUMENT);
+    ck_assert_str_eq(error.message, "shading rate 0.001 px is not 0 (fixed grids) or in 0.01..10000");
+    o.shading_rate = 2.0f;
+    ck_assert_int_eq(reyes_options_check(&o, &error), REYES_OK);
+    o.subdivision = REYES_SUBDIVISION_TIERED;
+    o.crack_fix = REYES_CRACK_FIX_WEDGE;
+    ck_assert_int_eq(reyes_options_check(&o, &error), REYES_ERR_ARGUMENT);
+    ck_assert(strstr(error.message, "crack fix wedge needs fixed grids") != NULL);
     reyes_options_init(&o);
     o.width = 16384;
     o.height = 16384;
@@ -229,7 +241,8 @@ START_TEST(test_stats_json)
                           "\"peak_queue_bytes\"", "\"seconds\"", "\"procedures\"",
                           "\"bound\": {\"items\": 0", "\"emitted\": [0, 0, 1267]",
                           "\"blur_algo\": \"interleaved\", \"blur_tile\": 4, \"blur_permutations\": 8",
-                          "\"motion_axis\": [0, 0, 1], \"motion_angle_deg\": 0"};
+                          "\"motion_axis\": [0, 0, 1], \"motion_angle_deg\": 0",
+                          "\"grid\": 16, \"shading_rate\": 0"};
     for (size_t k = 0; k < sizeof keys / sizeof keys[0]; ++k)
         ck_assert_msg(strstr(text, keys[k]) != NULL, "missing %s in\n%s", keys[k], text);
     free(text);

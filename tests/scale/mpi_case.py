@@ -118,7 +118,10 @@ def case_bad_device(args, tmp):
     print(out)
 
 
-BIG = ['--size', '1024x768', '--bucket', '32x32', '--spp', '16']
+# Long enough that a rank killed after 3 s is killed mid-render (about
+# 11 s in one process): 1024x768 at the default shading rate, or even with
+# fixed 16x16 grids, finished in under 2.5 s on 2 ranks.
+BIG = ['--size', '2048x1536', '--bucket', '32x32', '--spp', '16', '--grid', '16']
 
 
 def case_killed_rank(args, tmp):
