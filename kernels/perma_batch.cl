@@ -1,11 +1,12 @@
 /*
  * One batch, executed by a whole work-group: copy the items into __local
  * memory, run the procedure, reserve the targets' positions with one atomic
- * each, publish the emits.  Shared by the persistent megakernel and the
- * host-driven step kernel.  Every barrier in here is reached by every
- * work-item on every call, whatever the batch (a batch of 0 items runs the
- * same code): PoCL mishandles continue/break between barriers, and
- * barriers must be in uniform control flow anyway.
+ * each, copy the emits out and publish each target's range with one update.
+ * Shared by the persistent megakernel and the host-driven step kernel.
+ * Every barrier in here is reached by every work-item on every call,
+ * whatever the batch (a batch of 0 items runs the same code): PoCL
+ * mishandles continue/break between barriers, and barriers must be in
+ * uniform control flow anyway.
  */
 
 #define PERMA_CMD_RUN 0u
@@ -66,11 +67,10 @@ inline int perma_reserve_batch_room(__global uint *ctl, uint set, uint q, uint i
 /* __local memory of one group, declared in the kernel and passed down. */
 typedef struct perma_group_mem {
     __local uint *arena;        /* items, scratch, emit counters, staging */
-    __local uint *edge_counts;  /* per edge: items the batch staged */
-    __local uint *edge_base;    /* per edge: first reserved target position */
+    __local uint *edge_counts;  /* per edge: items the batch emitted */
+    __local uint *edge_base;    /* per edge: first local, then first global position */
     __local uint *stats;        /* the group's statistics record */
     __local uint *error_code;   /* emit errors of the batch */
-    __local uint *copy_failed;  /* a copy-in wait gave up: the batch's items are not run */
     __local uint *lq;           /* local front queue: a stack per procedure */
     __local uint *lq_count;     /* items on each procedure's stack */
     __local uint *edge_keep;    /* per edge: emits kept on the local stack */
@@ -78,44 +78,25 @@ typedef struct perma_group_mem {
 
 /* Move a procedure's whole local stack to its global queue (work-item 0
  * only; the items hold the ROOM reserved when they were emitted). */
-inline uint perma_local_flush(__global uint *ctl, __global uint *queue_data, __global uint *queue_seq,
-                              volatile __global uint *abort_flag, perma_group_mem mem, uint own, uint q)
+inline uint perma_local_flush(__global uint *ctl, __global uint *queue_data, perma_group_mem mem, uint own, uint q)
 {
     uint n = mem.lq_count[q];
     if (n == 0)
         return 0;
     __global uint *queue = PERMA_QUEUE(ctl, PERMA_QINDEX(own, q));
     uint words = perma_item_words[q];
-    uint base = atomic_add(queue + PERMA_Q_TAIL, n);
-    perma_queue_note_peak(queue, base + n);
-    for (uint i = 0; i < n; ++i) /* a failed write has stopped the launch (perma_queue_wait_failed) */
-        perma_queue_write_item(ctl, queue, queue_data, queue_seq, base + i, words,
-                               mem.lq + perma_lq_off[q] + i * words, abort_flag);
+    uint base = perma_queue_reserve(queue, n);
+    __global uint *marks = perma_queue_marks(queue, queue_data, words, 0u);
+    for (uint i = 0; i < n; ++i) {
+        __global uint *dst = perma_queue_slot(queue, queue_data, base + i, words);
+        for (uint w = 0; w < words; ++w)
+            dst[w] = mem.lq[perma_lq_off[q] + i * words + w];
+        if (i)
+            perma_queue_clear_mark(marks, queue[PERMA_Q_CAP], base + i);
+    }
+    perma_queue_complete(queue, queue_data, words, 0u, base, n);
     mem.lq_count[q] = 0;
     return n;
-}
-
-/* The part of a batch's copy-out that this work-item does for edge e of
- * proc: the kept items onto the local stack, the rest into the queue. */
-inline void perma_publish_edge(__global uint *ctl, __global uint *queue_data, __global uint *queue_seq,
-                               volatile __global uint *abort_flag, perma_group_mem mem, uint proc, uint own,
-                               uint e)
-{
-    const uint lid = get_local_id(0);
-    const uint t = perma_edge_target[proc * PERMA_MAX_EDGES + e];
-    __global uint *target = PERMA_QUEUE(ctl, PERMA_QINDEX(own, t));
-    const uint k = mem.edge_counts[e];
-    const uint keep = mem.edge_keep[e];
-    const uint target_words = perma_item_words[t];
-    __local const uint *src = mem.arena + perma_edge_stage[proc * PERMA_MAX_EDGES + e];
-    __local uint *stack = mem.lq + perma_lq_off[t] + mem.edge_base[e] * target_words;
-    for (uint i = lid; i < keep; i += PERMA_GROUP_SIZE)
-        for (uint w = 0; w < target_words; ++w)
-            stack[i * target_words + w] = src[i * target_words + w];
-    /* A write that gives up has stopped the launch (perma_queue_wait_failed). */
-    for (uint i = keep + lid; i < k; i += PERMA_GROUP_SIZE)
-        perma_queue_write_item(ctl, target, queue_data, queue_seq, mem.edge_base[PERMA_MAX_EDGES + e] + i - keep,
-                               target_words, src + i * target_words, abort_flag);
 }
 
 /* Run `count` items of `proc` (command RUN) or move them to `donee`
@@ -124,20 +105,25 @@ inline void perma_publish_edge(__global uint *ctl, __global uint *queue_data, __
  * from the group's local stack at `start` when `from_local` (then `source`
  * is the global queue whose ROOM they hold).  Emits go to queue set `own`,
  * first onto the local stack when PERMA_LOCAL_QUEUE is on. */
-inline void perma_run_batch(__global uint *ctl, __global uint *queue_data, __global uint *queue_seq,
-                            volatile __global uint *abort_flag, perma_group_mem mem, perma_buffers buf,
-                            uint command, uint proc, uint start, uint count,
-                            __global uint *source, __global uint *donee,
-                            __global const uint *input, uint from_local, uint own)
+inline void perma_run_batch(__global uint *ctl, __global uint *queue_data, perma_group_mem mem, perma_buffers buf,
+                            uint command, uint proc, uint start, uint count, __global uint *source,
+                            __global uint *donee, __global const uint *input, uint from_local, uint own)
 {
     const uint lid = get_local_id(0);
     const uint run = command == PERMA_CMD_RUN ? count : 0u; /* items to execute */
 
-    /* Copy the batch into local memory, freeing its queue slots. */
+    /* Copy the batch into local memory: item i by work-item i % group size,
+     * the one that runs it (perma_dispatch), so without procedures of
+     * several threads per item no barrier is needed before they run.  Work-
+     * item 0 read PUBLISHED before the barrier that brought the batch here;
+     * the fence orders the item reads after it. */
     const uint words = perma_item_words[proc];
     const uint edges = command == PERMA_CMD_RUN ? perma_edge_count[proc] : 0u;
     __local uint *items = mem.arena + perma_items_off[proc];
-    __local uint *item_emit_counts = mem.arena + perma_counters_off[proc];
+    __local uint *counts = mem.arena + perma_counters_off[proc]; /* [slot * edges + edge] */
+    read_mem_fence(CLK_GLOBAL_MEM_FENCE);
+    __global uint *release_marks = perma_queue_marks(source, queue_data, words, 1u);
+    const uint source_cap = source[PERMA_Q_CAP];
     for (uint i = lid; i < count; i += PERMA_GROUP_SIZE) {
         if (input) {
             for (uint w = 0; w < words; ++w)
@@ -145,48 +131,54 @@ inline void perma_run_batch(__global uint *ctl, __global uint *queue_data, __glo
         } else if (from_local) {
             for (uint w = 0; w < words; ++w)
                 items[i * words + w] = mem.lq[perma_lq_off[proc] + (start + i) * words + w];
-        } else if (!perma_queue_read_item(ctl, source, queue_data, queue_seq, start + i, words,
-                                          items + i * words, abort_flag)) {
-            *mem.copy_failed = 1;
+        } else {
+            __global const uint *src = perma_queue_slot(source, queue_data, start + i, words);
+            for (uint w = 0; w < words; ++w)
+                items[i * words + w] = src[w];
+            if (i)
+                perma_queue_clear_mark(release_marks, source_cap, start + i);
         }
     }
-    for (uint i = lid; i < run * edges; i += PERMA_GROUP_SIZE)
-        item_emit_counts[i] = 0;
-    for (uint i = lid; i < PERMA_MAX_EDGES; i += PERMA_GROUP_SIZE)
-        mem.edge_counts[i] = 0;
-    if (lid == 0)
-        *mem.error_code = 0;
-    barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
-    if (lid == 0 && !input)
-        perma_queue_return_room(ctl, source, (int)count);
+    for (uint s = lid; s < run; s += PERMA_GROUP_SIZE)
+        for (uint e = 0; e < edges; ++e)
+            counts[s * edges + e] = 0;
+#if PERMA_ITEM_BARRIER
+    /* The threads of an item (or a cooperative group) read what others copied. */
+    barrier(CLK_LOCAL_MEM_FENCE);
+#endif
 
-    /* Run the procedure (not on items that failed to arrive). */
+    /* Run the procedure: the generated dispatch sets the per-item fields. */
     perma_ctx ctx;
-    const uint tpi = perma_tpi[proc];
-    const uint slot = lid / tpi;
-    ctx.proc = proc;
-    ctx.thread = lid % tpi;
-    ctx.threads = tpi;
-    ctx.active = (slot < run && !*mem.copy_failed) ? 1u : 0u;
-    ctx.slot = ctx.active ? slot : 0u;
     ctx.group = get_group_id(0);
-    ctx.scratch = (__local void *)(mem.arena + perma_scratch_off[proc] + ctx.slot * perma_scratch_words[proc]);
-    ctx.item_emit_counts = item_emit_counts + ctx.slot * perma_edge_count[proc];
-    ctx.edge_counts = mem.edge_counts;
     ctx.stage = mem.arena;
     ctx.error_code = mem.error_code;
     ctx.buf = buf;
-    perma_dispatch(proc, &ctx, items);
+    perma_dispatch(proc, &ctx, items, counts, mem.arena, run);
     barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
 
-    /* Reserve positions in the targets: one atomic per target. */
+    /* Work-item 0: release the source's slots (every copy is done; their
+     * room goes back once RELEASED passes them; stacked items give back the
+     * room they held at once).  Then turn each edge's per-item counts into
+     * offsets, keep what fits on the local stack and reserve the rest of
+     * each target with one atomic; count the emits before they become
+     * visible. */
     __local uint *stats = mem.stats;
     if (lid == 0) {
+        if (from_local)
+            perma_queue_give_room(source, (int)count);
+        else if (!input)
+            perma_queue_complete(source, queue_data, words, 1u, start, count);
         int emitted = 0;
         for (uint e = 0; e < edges; ++e) {
             uint t = perma_edge_target[proc * PERMA_MAX_EDGES + e];
-            __global uint *target = PERMA_QUEUE(ctl, PERMA_QINDEX(own, t));
-            uint k = mem.edge_counts[e];
+            uint max = perma_edge_max[proc * PERMA_MAX_EDGES + e];
+            uint k = 0;
+            for (uint s = 0; s < run; ++s) {
+                uint c = min(counts[s * edges + e], max); /* an item over its limit failed the run */
+                counts[s * edges + e] = k;
+                k += c;
+            }
+            mem.edge_counts[e] = k;
             /* Keep what fits on the local stack (those keep their ROOM in
              * the global queue); the rest goes to the global queue.
              * edge_base[e]: first local position, [MAX_EDGES + e]: first
@@ -199,9 +191,8 @@ inline void perma_run_batch(__global uint *ctl, __global uint *queue_data, __glo
             stats[PERMA_NUM_PROCS * PERMA_STAT_PROC_WORDS + PERMA_GSTAT_SPILLS] += k - keep;
 #endif
             mem.edge_keep[e] = keep;
-            mem.edge_base[PERMA_MAX_EDGES + e] = k > keep ? atomic_add(target + PERMA_Q_TAIL, k - keep) : 0u;
-            if (k > keep)
-                perma_queue_note_peak(target, mem.edge_base[PERMA_MAX_EDGES + e] + k - keep);
+            mem.edge_base[PERMA_MAX_EDGES + e] =
+                k > keep ? perma_queue_reserve(PERMA_QUEUE(ctl, PERMA_QINDEX(own, t)), k - keep) : 0u;
             emitted += (int)k;
             stats[proc * PERMA_STAT_PROC_WORDS + PERMA_STAT_EMITTED + e] += k;
         }
@@ -211,42 +202,78 @@ inline void perma_run_batch(__global uint *ctl, __global uint *queue_data, __glo
             /* Count the emits before they become visible, and retire the batch. */
             atomic_add((volatile __global int *)(ctl + PERMA_CTL_OUTSTANDING), emitted - (int)run);
         }
-        if (command == PERMA_CMD_DONATE) {
-            mem.edge_base[0] = atomic_add(donee + PERMA_Q_TAIL, count);
-            perma_queue_note_peak(donee, mem.edge_base[0] + count);
-        }
+        if (command == PERMA_CMD_DONATE)
+            mem.edge_base[0] = perma_queue_reserve(donee, count);
+        /* Read and cleared here, between the batches' procedures (the
+         * group's code clears it once before the first batch). */
         if (*mem.error_code)
             perma_fail(ctl, PERMA_KSTATUS_EMIT_LIMIT, proc, *mem.error_code);
+        *mem.error_code = 0;
     }
     barrier(CLK_LOCAL_MEM_FENCE);
 
-    /* Copy the staged items out and publish them, one target queue after
-     * another in ascending queue order, with a barrier in between: a group
-     * that waits for a slot of one queue has then published everything it
-     * owes to the queues before it and nothing of the queues after it,
-     * which keeps the waits between groups free of cycles when PoCL runs a
-     * group's work-items one after another (docs/design.md, *Queues*).
-     * The loop's trip count is a constant, so its barrier is uniform. */
-    for (uint o = 0; o < PERMA_MAX_EDGES; ++o) {
-        if (o < edges)
-            perma_publish_edge(ctl, queue_data, queue_seq, abort_flag, mem, proc, own,
-                               perma_edge_write_order[proc * PERMA_MAX_EDGES + o]);
-        barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
+    /* Copy out: each work-item moves the emits of its item, the first
+     * edge_keep onto the local stack, the rest into the reserved slots.
+     * Nobody waits here. */
+    for (uint e = 0; e < edges; ++e) {
+        const uint t = perma_edge_target[proc * PERMA_MAX_EDGES + e];
+        const uint max = perma_edge_max[proc * PERMA_MAX_EDGES + e];
+        const uint tw = perma_item_words[t];
+        const uint k = mem.edge_counts[e];
+        const uint keep = mem.edge_keep[e];
+        const uint global_base = mem.edge_base[PERMA_MAX_EDGES + e];
+        __global uint *target = PERMA_QUEUE(ctl, PERMA_QINDEX(own, t));
+        __global uint *marks = perma_queue_marks(target, queue_data, tw, 0u);
+        const uint target_cap = target[PERMA_Q_CAP];
+        __local const uint *stage = mem.arena + perma_edge_stage[proc * PERMA_MAX_EDGES + e];
+        __local uint *stack = mem.lq + perma_lq_off[t] + mem.edge_base[e] * tw;
+        for (uint s = lid; s < run; s += PERMA_GROUP_SIZE) {
+            const uint first = counts[s * edges + e];
+            const uint end = s + 1u < run ? counts[(s + 1u) * edges + e] : k;
+            __local const uint *src = stage + s * max * tw;
+            for (uint i = first; i < end; ++i, src += tw) {
+                if (i < keep) {
+                    for (uint w = 0; w < tw; ++w)
+                        stack[i * tw + w] = src[w];
+                } else {
+                    __global uint *dst = perma_queue_slot(target, queue_data, global_base + i - keep, tw);
+                    for (uint w = 0; w < tw; ++w)
+                        dst[w] = src[w];
+                    if (i > keep)
+                        perma_queue_clear_mark(marks, target_cap, global_base + i - keep);
+                }
+            }
+        }
     }
-    /* A donation publishes the batch itself in the other group's queue. */
+    /* A donation moves the batch itself into the other group's queue. */
     const uint donated = command == PERMA_CMD_DONATE ? count : 0u;
-    for (uint i = lid; i < donated; i += PERMA_GROUP_SIZE)
-        perma_queue_write_item(ctl, donee, queue_data, queue_seq, mem.edge_base[0] + i, words, items + i * words,
-                               abort_flag);
+    __global uint *donee_marks = perma_queue_marks(donee, queue_data, words, 0u);
+    for (uint i = lid; i < donated; i += PERMA_GROUP_SIZE) {
+        __global uint *dst = perma_queue_slot(donee, queue_data, mem.edge_base[0] + i, words);
+        for (uint w = 0; w < words; ++w)
+            dst[w] = items[i * words + w];
+        if (i)
+            perma_queue_clear_mark(donee_marks, donee[PERMA_Q_CAP], mem.edge_base[0] + i);
+    }
     barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
+
+    /* Work-item 0 publishes every target's range, then gives back the
+     * unused part of the worst-case room. */
     if (lid == 0) {
         for (uint e = 0; e < edges; ++e) {
             uint t = perma_edge_target[proc * PERMA_MAX_EDGES + e];
-            uint promised = run * perma_edge_max[proc * PERMA_MAX_EDGES + e];
-            perma_queue_return_room(ctl, PERMA_QUEUE(ctl, PERMA_QINDEX(own, t)),
-                                    (int)(promised - mem.edge_counts[e]));
+            perma_queue_complete(PERMA_QUEUE(ctl, PERMA_QINDEX(own, t)), queue_data, perma_item_words[t], 0u,
+                                 mem.edge_base[PERMA_MAX_EDGES + e], mem.edge_counts[e] - mem.edge_keep[e]);
         }
-        if (count)
+        perma_queue_complete(donee, queue_data, words, 0u, mem.edge_base[0], donated);
+        for (uint e = 0; e < edges; ++e) {
+            uint t = perma_edge_target[proc * PERMA_MAX_EDGES + e];
+            uint promised = run * perma_edge_max[proc * PERMA_MAX_EDGES + e];
+            perma_queue_give_room(PERMA_QUEUE(ctl, PERMA_QINDEX(own, t)), (int)(promised - mem.edge_counts[e]));
+        }
+        if (count) {
+            mem_fence(CLK_GLOBAL_MEM_FENCE);
             atomic_inc(ctl + PERMA_CTL_PROGRESS); /* stalled groups must look again */
+        }
     }
 }

@@ -1,10 +1,12 @@
 /*
  * The context a procedure receives, and emit staging.
  *
- * Emits are staged in __local memory during the batch: a local atomic picks
- * the staging index, so no work-item ever waits on another one of its group.
- * After the batch one work-item reserves the positions of all staged items
- * of a target with a single global atomic, and the group copies them out.
+ * Every item of a batch has its own staging area per edge in __local memory,
+ * room for its declared maximum, so an emit needs no atomic at all (with one
+ * thread per item; the threads of a multi-thread item share a local counter).
+ * After the batch work-item 0 turns the per-item counts into offsets and
+ * reserves each target's positions with a single global atomic, and every
+ * work-item copies its item's emits out (kernels/perma_batch.cl).
  * Included after the generated `perma_buffers` struct.
  */
 
@@ -17,7 +19,6 @@ typedef struct perma_ctx {
     uint active;   /* 1 if this work-item has an item (cooperative procedures) */
     __local void *scratch;            /* local_bytes_per_item for this item */
     __local uint *item_emit_counts;   /* per edge: items this item emitted */
-    __local uint *edge_counts;        /* per edge: items the batch staged */
     __local uint *stage;              /* staging arena */
     __local uint *error_code;         /* 0, or PERMA_EMIT_ERROR_* | detail */
     perma_buffers buf;                /* user buffers, by name */
@@ -41,13 +42,13 @@ inline int perma_emit(perma_ctx *ctx, uint target, const uint *src)
     uint e = ctx->proc * PERMA_MAX_EDGES + (uint)edge;
     /* With one thread per item nobody else counts this item's emits. */
     uint own = ctx->threads == 1 ? ctx->item_emit_counts[edge]++ : atomic_inc(ctx->item_emit_counts + edge);
-    if (own >= perma_edge_max[e]) {
+    uint max = perma_edge_max[e];
+    if (own >= max) {
         atomic_cmpxchg(ctx->error_code, 0u, PERMA_EMIT_ERROR_LIMIT | (uint)edge);
         return 0;
     }
     uint words = perma_item_words[target];
-    uint index = atomic_inc(ctx->edge_counts + edge);
-    __local uint *dst = ctx->stage + perma_edge_stage[e] + index * words;
+    __local uint *dst = ctx->stage + perma_edge_stage[e] + (ctx->slot * max + own) * words;
     for (uint w = 0; w < words; ++w)
         dst[w] = src[w];
     return 1;

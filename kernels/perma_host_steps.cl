@@ -7,36 +7,35 @@
  * The host makes sure every target has room before it launches.
  */
 
-/* Copy `count` items of queue `qi` from position `first` into input[].
- * from_tail = 0: the items left from the head (consumed: seq = pos + cap);
- * from_tail = 1: the items left from the tail (the positions are reused:
- * seq = pos).  The host moves HEAD or TAIL itself. */
-__kernel void perma_take_kernel(__global uint *ctl, __global uint *queue_data, __global uint *queue_seq,
-                                __global uint *input, uint qi, uint first, uint count, uint from_tail)
+/* Copy `count` items of queue `qi` from position `first` into input[] and
+ * clear the completion marks of their slots (positions taken from the tail
+ * are written again).  The host moves the queue's counters itself (HEAD and
+ * RELEASED past items taken from the head, TAIL and PUBLISHED back before
+ * items taken from the tail). */
+__kernel void perma_take_kernel(__global uint *ctl, __global uint *queue_data, __global uint *input, uint qi,
+                                uint first, uint count)
 {
     uint i = get_global_id(0);
     if (i >= count)
         return;
     __global uint *queue = PERMA_QUEUE(ctl, qi);
     uint words = perma_item_words[qi % PERMA_NUM_PROCS];
-    uint cap = queue[PERMA_Q_CAP];
-    uint pos = first + i;
-    uint slot = pos & (cap - 1u);
-    __global uint *src = queue_data + queue[PERMA_Q_DATA] + slot * words;
+    __global uint *src = perma_queue_slot(queue, queue_data, first + i, words);
     for (uint w = 0; w < words; ++w)
         input[i * words + w] = src[w];
-    queue_seq[queue[PERMA_Q_SEQ] + slot] = from_tail ? pos : pos + cap;
+    perma_queue_clear_mark(perma_queue_marks(queue, queue_data, words, 0u), queue[PERMA_Q_CAP], first + i);
+    perma_queue_clear_mark(perma_queue_marks(queue, queue_data, words, 1u), queue[PERMA_Q_CAP], first + i);
 }
 
 __kernel __attribute__((reqd_work_group_size(PERMA_GROUP_SIZE, 1, 1)))
-void perma_step_kernel(__global uint *ctl, __global uint *queue_data, __global uint *queue_seq,
-                       __global uint *group_stats, volatile __global uint *abort_flag,
-                       __global uint *trace, __global const uint *input, uint proc, uint count
-                       PERMA_BUFFER_PARAMS)
+void perma_step_kernel(__global uint *ctl, __global uint *queue_data, __global uint *group_stats,
+                       volatile __global uint *abort_flag, __global uint *trace, __global const uint *input,
+                       uint proc, uint count PERMA_BUFFER_PARAMS)
 {
     PERMA_GROUP_LOCALS(mem);
     const uint lid = get_local_id(0);
-    (void)trace; /* the host records the steps of host-driven techniques */
+    (void)abort_flag; /* a step runs one batch per group and never waits */
+    (void)trace;      /* the host records the steps of host-driven techniques */
     perma_buffers buf;
     PERMA_BIND_BUFFERS(buf);
     for (uint i = lid; i < PERMA_STAT_GROUP_WORDS; i += PERMA_GROUP_SIZE)
@@ -44,12 +43,12 @@ void perma_step_kernel(__global uint *ctl, __global uint *queue_data, __global u
     const uint start = get_group_id(0) * perma_max_batch[proc];
     const uint n = start < count ? min(count - start, perma_max_batch[proc]) : 0u;
     if (lid == 0) {
-        *mem.copy_failed = 0;
+        *mem.error_code = 0;
         if (n && !perma_reserve_batch_room(ctl, 0, proc, n))
             perma_fail(ctl, PERMA_KSTATUS_NEEDS_ROOM, proc, 0); /* the host sized the queues wrongly */
     }
     barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
-    perma_run_batch(ctl, queue_data, queue_seq, abort_flag, mem, buf, PERMA_CMD_RUN, proc, start, n,
+    perma_run_batch(ctl, queue_data, mem, buf, PERMA_CMD_RUN, proc, start, n,
                     PERMA_QUEUE(ctl, proc), PERMA_QUEUE(ctl, proc), input, 0, 0);
     barrier(CLK_LOCAL_MEM_FENCE);
     /* Many groups per launch: add to group 0's record. */

@@ -24,13 +24,14 @@
 #define PERMA_CTL_CLOCK 6       /* logical clock of the trace */
 #define PERMA_CTL_HEADER_WORDS 16
 
-#define PERMA_Q_HEAD 0     /* next position to claim */
-#define PERMA_Q_TAIL 1     /* next position to reserve for writing */
-#define PERMA_Q_ROOM 2     /* free slots not promised to any batch (int) */
-#define PERMA_Q_CAP 3      /* capacity, a power of two */
-#define PERMA_Q_DATA 4     /* offset of slot 0 in queue_data, in words */
-#define PERMA_Q_SEQ 5      /* offset of slot 0 in queue_seq */
-#define PERMA_Q_PEAK 6     /* most items queued at once */
+#define PERMA_Q_HEAD 0      /* next position to claim */
+#define PERMA_Q_TAIL 1      /* next position to reserve for writing */
+#define PERMA_Q_ROOM 2      /* free slots not promised to any batch (int) */
+#define PERMA_Q_CAP 3       /* capacity, a power of two */
+#define PERMA_Q_DATA 4      /* offset of slot 0 in queue_data, in words */
+#define PERMA_Q_PUBLISHED 5 /* positions below are written and may be claimed */
+#define PERMA_Q_PEAK 6      /* most items queued at once */
+#define PERMA_Q_RELEASED 7  /* positions below are read: their slots are free */
 #define PERMA_QUEUE_WORDS 8
 
 #define PERMA_G_STATE 0    /* 0 not started, 1 running, 2 finished */
@@ -40,7 +41,7 @@
 #define PERMA_KSTATUS_DONE 0
 #define PERMA_KSTATUS_NEEDS_ROOM 1 /* no group could reserve room: grow and relaunch */
 #define PERMA_KSTATUS_EMIT_LIMIT 2 /* a procedure emitted more than declared */
-#define PERMA_KSTATUS_SPIN_LIMIT 3 /* a bounded wait ran out */
+/* 3 was a bounded wait that ran out: the queues no longer wait. */
 #define PERMA_KSTATUS_ABORTED 4    /* the host watchdog asked us to stop */
 
 /* Per-group statistics record, written once when the group leaves. */
@@ -65,19 +66,6 @@
 #define PERMA_TRACE_LOCAL 2u
 #define PERMA_TRACE_DONATE 3u
 #define PERMA_TRACE_GROUP_WORDS (1u + 4u * PERMA_TRACE_EVENTS)
-
-/* Spin loops give up after this many polls (and poll the abort flag every
- * 1024).  2^35 polls take about 20 s on an idle core of this machine (one
- * poll ~0.6 ns): long enough that a worker thread descheduled on a loaded
- * machine is not taken for a deadlock (2^30, about 0.65 s, was not), short
- * enough to report a real one well before the default time limit. */
-#ifndef PERMA_SPIN_LIMIT
-#define PERMA_SPIN_LIMIT 0x800000000ul
-#endif
-/* PERMA_KSTATUS_SPIN_LIMIT details: DETAIL_PROC = queue index, with this bit
- * set when a writer waited for its slot to be freed (clear: a reader waited
- * for the item to be published); DETAIL_EDGE = the position. */
-#define PERMA_WAIT_WRITING 0x80000000u
 
 #define PERMA_QUEUE(ctl, q) ((ctl) + PERMA_CTL_HEADER_WORDS + (q) * PERMA_QUEUE_WORDS)
 #define PERMA_GROUP(ctl, g) \

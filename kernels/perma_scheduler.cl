@@ -99,9 +99,12 @@ inline int perma_all_blocked(__global uint *ctl, uint epoch)
     return perma_load(ctl + PERMA_CTL_PROGRESS) == epoch;
 }
 
+/* Mark the group stalled since an epoch (epoch + 1) or running (0); the
+ * word is written only when it changes, not once per batch. */
 inline void perma_set_blocked(__global uint *group_words, uint value)
 {
-    atomic_xchg(group_words + PERMA_G_BLOCKED, value);
+    if (perma_load(group_words + PERMA_G_BLOCKED) != value)
+        atomic_xchg(group_words + PERMA_G_BLOCKED, value);
 }
 
 #if PERMA_STEALING
@@ -143,13 +146,12 @@ inline void perma_set_batch(__local uint *batch, uint command, uint proc, uint s
 #if PERMA_LOCAL_QUEUE
 /* Flush every local stack to the global queues (work-item 0); returns the
  * items moved, and counts a flush that moved any as progress. */
-inline uint perma_local_flush_all(__global uint *ctl, __global uint *queue_data, __global uint *queue_seq,
-                                  volatile __global uint *abort_flag, perma_group_mem mem, uint own,
+inline uint perma_local_flush_all(__global uint *ctl, __global uint *queue_data, perma_group_mem mem, uint own,
                                   __local uint *group_stat)
 {
     uint moved = 0;
     for (uint p = 0; p < PERMA_NUM_PROCS; ++p)
-        moved += perma_local_flush(ctl, queue_data, queue_seq, abort_flag, mem, own, p);
+        moved += perma_local_flush(ctl, queue_data, mem, own, p);
     group_stat[PERMA_GSTAT_SPILLS] += moved;
     if (moved) {
         mem_fence(CLK_GLOBAL_MEM_FENCE); /* the items are published before the progress is seen */
@@ -175,14 +177,12 @@ inline uint perma_try_take_local(__global uint *ctl, perma_group_mem mem, uint o
 #endif
 
 /* Work-item 0: choose what the group does next and write it to batch[]. */
-inline void perma_schedule(__global uint *ctl, __global uint *queue_data, __global uint *queue_seq,
-                           __global uint *group_words, uint own,
+inline void perma_schedule(__global uint *ctl, __global uint *queue_data, __global uint *group_words, uint own,
                            volatile __global uint *abort_flag, __local uint *batch,
                            perma_group_mem mem, uint *victim_state)
 {
     __local uint *group_stat = mem.stats + PERMA_NUM_PROCS * PERMA_STAT_PROC_WORDS;
     (void)queue_data; /* used by the local front queue's flush only */
-    (void)queue_seq;
     (void)victim_state; /* used by stealing only */
     for (uint poll = 0;; ++poll) {
         if (perma_load(ctl + PERMA_CTL_EXIT))
@@ -256,7 +256,7 @@ inline void perma_schedule(__global uint *ctl, __global uint *queue_data, __glob
          * publishes work, so it is progress: a group that looked at this
          * set before the flush must not take this group's stall for a
          * deadlock (and stop the launch while the items are taken). */
-        if (perma_local_flush_all(ctl, queue_data, queue_seq, abort_flag, mem, own, group_stat))
+        if (perma_local_flush_all(ctl, queue_data, mem, own, group_stat))
             continue;
 #endif
         group_stat[PERMA_GSTAT_IDLE_POLLS] += 1u;
@@ -282,7 +282,7 @@ inline void perma_schedule(__global uint *ctl, __global uint *queue_data, __glob
      * called): they must reach the global queues, which the host carries
      * over to the next launch.  After any other status the run is over. */
     if (perma_load(ctl + PERMA_CTL_STATUS) == PERMA_KSTATUS_NEEDS_ROOM)
-        perma_local_flush_all(ctl, queue_data, queue_seq, abort_flag, mem, own, group_stat);
+        perma_local_flush_all(ctl, queue_data, mem, own, group_stat);
 #endif
     batch[PERMA_B_COMMAND] = PERMA_CMD_EXIT;
 }
@@ -294,18 +294,16 @@ inline void perma_schedule(__global uint *ctl, __global uint *queue_data, __glob
     __local uint perma_edge_base[2 * PERMA_MAX_EDGES];                           \
     __local uint perma_stats[PERMA_STAT_GROUP_WORDS];                            \
     __local uint perma_error_code;                                               \
-    __local uint perma_copy_failed;                                              \
     __local uint perma_lq[PERMA_LQ_WORDS] __attribute__((aligned(64)));          \
     __local uint perma_lq_count[PERMA_NUM_PROCS];                                \
     __local uint perma_edge_keep[PERMA_MAX_EDGES];                               \
     perma_group_mem mem = { perma_arena, perma_edge_counts, perma_edge_base,     \
-                            perma_stats, &perma_error_code, &perma_copy_failed,  \
-                            perma_lq, perma_lq_count, perma_edge_keep }
+                            perma_stats, &perma_error_code, perma_lq,            \
+                            perma_lq_count, perma_edge_keep }
 
 __kernel __attribute__((reqd_work_group_size(PERMA_GROUP_SIZE, 1, 1)))
-void perma_megakernel(__global uint *ctl, __global uint *queue_data, __global uint *queue_seq,
-                      __global uint *group_stats, volatile __global uint *abort_flag,
-                      __global uint *trace PERMA_BUFFER_PARAMS)
+void perma_megakernel(__global uint *ctl, __global uint *queue_data, __global uint *group_stats,
+                      volatile __global uint *abort_flag, __global uint *trace PERMA_BUFFER_PARAMS)
 {
     PERMA_GROUP_LOCALS(mem);
     __local uint batch[PERMA_BATCH_WORDS];
@@ -329,7 +327,7 @@ void perma_megakernel(__global uint *ctl, __global uint *queue_data, __global ui
     for (uint i = lid; i < PERMA_NUM_PROCS; i += PERMA_GROUP_SIZE)
         mem.lq_count[i] = 0;
     if (lid == 0) {
-        *mem.copy_failed = 0;
+        *mem.error_code = 0;
         perma_set_batch(batch, PERMA_CMD_IDLE, 0, 0, 0, 0, 0);
         atomic_xchg(group_words + PERMA_G_STATE, 1u);
     }
@@ -340,7 +338,7 @@ void perma_megakernel(__global uint *ctl, __global uint *queue_data, __global ui
     uint command = PERMA_CMD_IDLE;
     while (command != PERMA_CMD_EXIT) {
         if (lid == 0)
-            perma_schedule(ctl, queue_data, queue_seq, group_words, own, abort_flag, batch, mem, &victim_state);
+            perma_schedule(ctl, queue_data, group_words, own, abort_flag, batch, mem, &victim_state);
         barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
         command = batch[PERMA_B_COMMAND];
         const uint proc = batch[PERMA_B_PROC];
@@ -354,8 +352,8 @@ void perma_megakernel(__global uint *ctl, __global uint *queue_data, __global ui
         if (lid == 0 && count)
             trace_start = atomic_inc(ctl + PERMA_CTL_CLOCK);
 #endif
-        barrier(CLK_LOCAL_MEM_FENCE); /* all have read batch[] before it is rewritten */
-        perma_run_batch(ctl, queue_data, queue_seq, abort_flag, mem, buf,
+        /* batch[] is rewritten only after the barriers of the batch code. */
+        perma_run_batch(ctl, queue_data, mem, buf,
                         from_local ? PERMA_CMD_RUN : command, proc, start, count,
                         source, donee, (__global const uint *)0, from_local, own);
 #if PERMA_TRACE_EVENTS

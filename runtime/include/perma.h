@@ -146,6 +146,15 @@ typedef struct perma_config {
     unsigned work_groups;
     /* Work-items per group; 0 = 64. */
     unsigned group_size;
+    /* Items one work-item runs one after another in a batch of a procedure
+     * with one thread per item that is not cooperative, so such a batch
+     * holds up to group_size * items_per_work_item items (fewer if its
+     * items, scratch and worst-case emits do not fit the __local memory);
+     * 0 = 4.  Larger batches spread the fixed cost of a batch (claiming,
+     * barriers, publishing) over more items.  Procedures with several
+     * threads per item and cooperative ones take group_size /
+     * threads_per_item items per batch. */
+    unsigned items_per_work_item;
     /* Initial capacity of each queue in items; 0 = 1024.  Rounded up to a
      * power of two; queues grow on demand. */
     size_t queue_capacity;
@@ -316,6 +325,7 @@ typedef struct perma_procedure_stats {
     uint64_t emitted[PERMA_MAX_EMITS];  /* items emitted, per entry of .emits */
     unsigned emit_count;                /* entries used in emitted[] */
     uint64_t seeded;                    /* items seeded by the host */
+    unsigned batch_size;                /* most items one batch of it holds */
     uint64_t peak_queue_items;          /* most items queued at once */
     size_t queue_capacity;              /* final capacity in items */
     unsigned regrowths;                 /* times this queue was grown */

@@ -35,20 +35,6 @@ static void append_uint_table(perma_strbuf *sb, const char *name, const unsigned
     perma_strbuf_append(sb, " };\n");
 }
 
-/* The edge of p whose target has `rank` targets of p below it (the targets
- * of one procedure are distinct). */
-static unsigned edge_by_target_rank(const perma_proc_info *p, unsigned rank)
-{
-    for (unsigned e = 0; e < p->emit_count; ++e) {
-        unsigned below = 0;
-        for (unsigned f = 0; f < p->emit_count; ++f)
-            below += p->emit_target[f] < p->emit_target[e];
-        if (below == rank)
-            return e;
-    }
-    return 0;
-}
-
 static void append_tables(perma_runtime *rt, perma_strbuf *sb)
 {
     unsigned n = rt->proc_count, me = rt->max_edges;
@@ -77,18 +63,13 @@ static void append_tables(perma_runtime *rt, perma_strbuf *sb)
     append_uint_table(sb, "perma_order", rt->order, n);
     PER_PROC("perma_max_batch", p->max_batch);
     PER_PROC("perma_item_words", (unsigned)(p->item_size / 4));
-    PER_PROC("perma_tpi", p->threads_per_item);
-    PER_PROC("perma_scratch_words", p->scratch_words);
     PER_PROC("perma_items_off", p->items_off);
-    PER_PROC("perma_scratch_off", p->scratch_off);
     PER_PROC("perma_counters_off", p->counters_off);
     PER_PROC("perma_edge_count", p->emit_count);
     PER_PROC("perma_lq_off", p->lq_off);
     PER_EDGE("perma_edge_target", (unsigned)p->emit_target[e]);
     PER_EDGE("perma_edge_max", p->emit_max[e]);
     PER_EDGE("perma_edge_stage", p->stage_off[e]);
-    /* The order in which a batch publishes its edges: by target queue. */
-    PER_EDGE("perma_edge_write_order", edge_by_target_rank(p, e));
 #undef PER_PROC
 #undef PER_EDGE
 
@@ -173,25 +154,67 @@ static void append_procedure_sources(perma_runtime *rt, perma_strbuf *sb)
     }
 }
 
+/* The dispatch switch.  Each case sets the per-item fields of the context
+ * with the procedure's constants (threads per item, arena offsets), so the
+ * compiler folds them into the procedure's code after inlining.  A
+ * procedure of one thread per item that is not cooperative runs item
+ * lid, lid + group size, ... of its batch in work-item lid (batches of such
+ * procedures may be larger than the group). */
 static void append_dispatch(perma_runtime *rt, perma_strbuf *sb)
 {
-    perma_strbuf_append(sb, "void perma_dispatch(uint proc, perma_ctx *ctx, __local uint *items)\n{\n"
+    perma_strbuf_append(sb, "inline void perma_dispatch(uint proc, perma_ctx *ctx, __local uint *items, "
+                            "__local uint *counts, __local uint *arena, uint run)\n{\n"
+                            "    const uint lid = get_local_id(0);\n"
                             "    switch (proc) {\n");
     for (unsigned i = 0; i < rt->proc_count; ++i) {
         const perma_proc_info *p = &rt->procs[i];
-        perma_strbuf_printf(sb, "    case %u:\n        %s%s(ctx, (__local const %s *)(items + ctx->slot * %zuu));\n"
+        unsigned tpi = p->threads_per_item;
+        if (perma_proc_is_simple(p)) {
+            perma_strbuf_printf(sb,
+                                "    case %u:\n"
+                                "        ctx->proc = %uu;\n"
+                                "        ctx->thread = 0u;\n"
+                                "        ctx->threads = 1u;\n"
+                                "        ctx->active = 1u;\n"
+                                "        for (uint slot = lid; slot < run; slot += PERMA_GROUP_SIZE) {\n"
+                                "            ctx->slot = slot;\n"
+                                "            ctx->scratch = (__local void *)(arena + %uu + slot * %uu);\n"
+                                "            ctx->item_emit_counts = counts + slot * %uu;\n"
+                                "            %s(ctx, (__local const %s *)(items + slot * %zuu));\n"
+                                "        }\n"
                                 "        break;\n",
-                            i, p->cooperative ? "" : "if (ctx->active) ", p->function, p->item_type,
-                            p->item_size / 4);
+                                i, i, p->scratch_off, p->scratch_words, p->emit_count, p->function, p->item_type,
+                                p->item_size / 4);
+            continue;
+        }
+        perma_strbuf_printf(sb,
+                            "    case %u: {\n"
+                            "        const uint slot = lid / %uu;\n"
+                            "        ctx->proc = %uu;\n"
+                            "        ctx->thread = lid %% %uu;\n"
+                            "        ctx->threads = %uu;\n"
+                            "        ctx->active = slot < run ? 1u : 0u;\n"
+                            "        ctx->slot = ctx->active ? slot : 0u;\n"
+                            "        ctx->scratch = (__local void *)(arena + %uu + ctx->slot * %uu);\n"
+                            "        ctx->item_emit_counts = counts + ctx->slot * %uu;\n"
+                            "        %s%s(ctx, (__local const %s *)(items + ctx->slot * %zuu));\n"
+                            "        break;\n"
+                            "    }\n",
+                            i, tpi, i, tpi, tpi, p->scratch_off, p->scratch_words, p->emit_count,
+                            p->cooperative ? "" : "if (ctx->active) ", p->function, p->item_type, p->item_size / 4);
     }
     perma_strbuf_append(sb, "    }\n}\n");
 }
 
 perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *sb)
 {
+    bool item_barrier = false;
+    for (unsigned i = 0; i < rt->proc_count; ++i)
+        item_barrier = item_barrier || !perma_proc_is_simple(&rt->procs[i]);
     perma_strbuf_printf(sb, "#line 1 \"" GENERATED_NAME "\"\n"
                             "/* perma megakernel, generated for %u procedure(s). */\n"
                             "#define PERMA_GROUP_SIZE %uu\n"
+                            "#define PERMA_ITEM_BARRIER %d\n"
                             "#define PERMA_NUM_PROCS %uu\n"
                             "#define PERMA_MAX_EDGES %uu\n"
                             "#define PERMA_ARENA_WORDS %uu\n"
@@ -203,7 +226,7 @@ perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *sb)
                             "#define PERMA_LOCAL_QUEUE %uu\n"
                             "#define PERMA_LQ_WORDS %uu\n"
                             "#define PERMA_TRACE_EVENTS %uu\n",
-                        rt->proc_count, rt->group_size, rt->proc_count, rt->max_edges, rt->arena_words,
+                        rt->proc_count, rt->group_size, item_barrier, rt->proc_count, rt->max_edges, rt->arena_words,
                         rt->queue_sets,
                         rt->queue_sets > 1 && (rt->config.strategy == PERMA_STRATEGY_STEALING ||
                                                rt->config.strategy == PERMA_STRATEGY_STEALING_DONATION),

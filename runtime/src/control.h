@@ -19,8 +19,9 @@ enum {
     PERMA_Q_ROOM = 2,
     PERMA_Q_CAP = 3,
     PERMA_Q_DATA = 4,
-    PERMA_Q_SEQ = 5,
+    PERMA_Q_PUBLISHED = 5,
     PERMA_Q_PEAK = 6,
+    PERMA_Q_RELEASED = 7,
     PERMA_QUEUE_WORDS = 8
 };
 
@@ -30,13 +31,9 @@ enum {
     PERMA_KSTATUS_DONE = 0,
     PERMA_KSTATUS_NEEDS_ROOM = 1,
     PERMA_KSTATUS_EMIT_LIMIT = 2,
-    PERMA_KSTATUS_SPIN_LIMIT = 3,
+    /* 3 was a bounded wait that ran out: the queues no longer wait. */
     PERMA_KSTATUS_ABORTED = 4
 };
-
-/* PERMA_KSTATUS_SPIN_LIMIT: DETAIL_PROC is the queue index, with this bit set
- * when a writer waited (kernels/perma_prelude.cl); DETAIL_EDGE the position. */
-#define PERMA_WAIT_WRITING 0x80000000u
 
 #define PERMA_EMIT_ERROR_LIMIT 0x10000u
 #define PERMA_EMIT_ERROR_UNDECLARED 0x20000u

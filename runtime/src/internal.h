@@ -102,8 +102,8 @@ struct perma_runtime {
     unsigned order[PERMA_MAX_PROCEDURES];
 
     /* Device state of a run. */
-    cl_mem ctl_mem, data_mem, seq_mem, stats_mem, abort_mem;
-    size_t data_mem_words, seq_mem_words;
+    cl_mem ctl_mem, data_mem, stats_mem, abort_mem;
+    size_t data_mem_words;
     uint32_t *abort_flag;           /* host memory the kernel polls */
     unsigned queue_sets;            /* 1 (shared) or one per group (distributed) */
     perma_queue_image *images;      /* queue_sets * proc_count, index set * procs + proc */
@@ -157,8 +157,14 @@ void perma_device_close(perma_runtime *rt);
 perma_status perma_read_text_file(perma_runtime *rt, const char *path, char **out);
 bool perma_is_identifier(const char *s);
 
-/* build.c */
+/* layout.c */
 perma_status perma_build_layout(perma_runtime *rt);
+/* One thread per item and not cooperative: a work-item may run several of
+ * its items one after another, so its batches may exceed the group size. */
+static inline bool perma_proc_is_simple(const perma_proc_info *p)
+{
+    return p->threads_per_item == 1 && !p->cooperative;
+}
 perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *out);
 void perma_release_program(perma_runtime *rt);
 
@@ -175,6 +181,9 @@ perma_status perma_ensure_buffer(perma_runtime *rt, cl_mem *mem, size_t *have_wo
 perma_status perma_queues_make_room(perma_runtime *rt, const size_t *needed);
 
 /* launch.c */
+/* The first user buffer argument of the megakernel and of the step kernel
+ * (kernels/perma_scheduler.cl, perma_host_steps.cl). */
+enum { PERMA_MEGAKERNEL_USER_ARG = 5, PERMA_STEP_USER_ARG = 8 };
 perma_status perma_launch_megakernel(perma_runtime *rt, double deadline, uint32_t *kernel_status);
 perma_status perma_set_common_args(perma_runtime *rt, cl_kernel kernel, cl_uint first_user_arg);
 

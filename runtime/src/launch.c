@@ -12,8 +12,8 @@ static void sleep_seconds(double s)
     nanosleep(&ts, NULL);
 }
 
-/* The control block, queues, statistics, watchdog flag and trace
- * (arguments 0-5) and the user buffers from `first_user_arg` on. */
+/* The control block, queue items, statistics, watchdog flag and trace
+ * (arguments 0-4) and the user buffers from `first_user_arg` on. */
 perma_status perma_set_common_args(perma_runtime *rt, cl_kernel kernel, cl_uint first_user_arg)
 {
     if (!rt->abort_mem) {
@@ -25,8 +25,8 @@ perma_status perma_set_common_args(perma_runtime *rt, cl_kernel kernel, cl_uint 
     perma_status st = perma_trace_prepare(rt);
     if (st != PERMA_OK)
         return st;
-    cl_mem fixed[] = { rt->ctl_mem, rt->data_mem, rt->seq_mem, rt->stats_mem, rt->abort_mem, rt->trace_mem };
-    for (cl_uint i = 0; i < 6; ++i)
+    cl_mem fixed[] = { rt->ctl_mem, rt->data_mem, rt->stats_mem, rt->abort_mem, rt->trace_mem };
+    for (cl_uint i = 0; i < 5; ++i)
         PERMA_CL_CHECK(rt, "clSetKernelArg", clSetKernelArg(kernel, i, sizeof(cl_mem), &fixed[i]));
     for (unsigned b = 0; b < rt->buffer_count; ++b) {
         if (!rt->buffers[b].mem)
@@ -75,7 +75,7 @@ perma_status perma_launch_megakernel(perma_runtime *rt, double deadline, uint32_
 {
     cl_int err;
     __atomic_store_n(rt->abort_flag, 0u, __ATOMIC_SEQ_CST);
-    perma_status st = perma_set_common_args(rt, rt->kernel, 6);
+    perma_status st = perma_set_common_args(rt, rt->kernel, PERMA_MEGAKERNEL_USER_ARG);
     if (st != PERMA_OK)
         return st;
     size_t local = rt->group_size;

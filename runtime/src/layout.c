@@ -5,6 +5,8 @@
 #include <ctype.h>
 #include <string.h>
 
+#define DEFAULT_ITEMS_PER_WORK_ITEM 4
+
 static unsigned words_of(size_t bytes)
 {
     return (unsigned)((bytes + 3) / 4);
@@ -247,11 +249,14 @@ perma_status perma_build_layout(perma_runtime *rt)
                                "%zu bytes available", rt->local_queue_items, 4 * rt->lq_words, limit);
     size_t budget_words = (limit - fixed) / 4;
 
+    unsigned items_per_work_item =
+        rt->config.items_per_work_item ? rt->config.items_per_work_item : DEFAULT_ITEMS_PER_WORK_ITEM;
     rt->arena_words = 16;
     for (unsigned i = 0; i < rt->proc_count; ++i) {
         perma_proc_info *p = &rt->procs[i];
         p->scratch_words = round_up(words_of(p->local_bytes_per_item), 4);
-        unsigned batch = rt->group_size / p->threads_per_item;
+        unsigned batch = perma_proc_is_simple(p) ? rt->group_size * items_per_work_item
+                                                 : rt->group_size / p->threads_per_item;
         while (batch > 0 && arena_cost(rt, p, batch, false) > budget_words)
             --batch;
         if (batch == 0)

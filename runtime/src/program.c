@@ -68,24 +68,21 @@ static perma_status warm_up(perma_runtime *rt)
     size_t ctl_words = perma_ctl_words(queues, rt->work_groups);
     size_t stats_words = (size_t)rt->work_groups * perma_stat_group_words(rt->proc_count, rt->max_edges);
     perma_status st = perma_ensure_buffer(rt, &rt->ctl_mem, &(size_t){ 0 }, ctl_words, "control block");
-    size_t stats_have = 0, data_have = rt->data_mem_words, seq_have = rt->seq_mem_words;
+    size_t stats_have = 0, data_have = rt->data_mem_words;
     if (st == PERMA_OK)
         st = perma_ensure_buffer(rt, &rt->stats_mem, &stats_have, stats_words, "statistics");
     if (st == PERMA_OK)
         st = perma_ensure_buffer(rt, &rt->data_mem, &data_have, 1, "queue items");
-    if (st == PERMA_OK)
-        st = perma_ensure_buffer(rt, &rt->seq_mem, &seq_have, 1, "queue sequence words");
     if (st != PERMA_OK)
         return st;
     rt->data_mem_words = data_have;
-    rt->seq_mem_words = seq_have;
     cl_uint zero = 0;
     PERMA_CL_CHECK(rt, "clEnqueueFillBuffer (warm-up control block)",
                    clEnqueueFillBuffer(rt->queue, rt->ctl_mem, &zero, sizeof zero, 0, ctl_words * 4, 0, NULL, NULL));
     size_t local = rt->group_size;
     if (rt->config.technique == PERMA_TECHNIQUE_MEGAKERNEL) {
         __atomic_store_n(rt->abort_flag, 0u, __ATOMIC_SEQ_CST);
-        st = perma_set_common_args(rt, rt->kernel, 6);
+        st = perma_set_common_args(rt, rt->kernel, PERMA_MEGAKERNEL_USER_ARG);
         if (st != PERMA_OK)
             return st;
         size_t global = (size_t)rt->work_groups * local;

@@ -20,6 +20,13 @@ static size_t item_words(const perma_proc_info *p)
     return p->item_size / 4;
 }
 
+/* Words of queue_data one queue takes per slot: its item and two
+ * completion marks (kernels/perma_queue.cl). */
+static size_t slot_words(const perma_proc_info *p)
+{
+    return item_words(p) + 2;
+}
+
 static size_t memory_limit(const perma_runtime *rt)
 {
     if (rt->config.queue_memory_limit)
@@ -37,7 +44,7 @@ static size_t queue_bytes(const perma_runtime *rt, const size_t *capacities)
 {
     size_t total = 0;
     for (unsigned qi = 0; qi < rt->image_count; ++qi)
-        total += capacities[qi] * (proc_of(rt, qi)->item_size + 4);
+        total += capacities[qi] * slot_words(proc_of(rt, qi)) * 4;
     return total;
 }
 
@@ -56,14 +63,14 @@ static perma_status image_reserve(perma_runtime *rt, unsigned qi, size_t capacit
 
 void perma_queues_release(perma_runtime *rt)
 {
-    cl_mem *mems[] = { &rt->ctl_mem, &rt->data_mem, &rt->seq_mem, &rt->stats_mem, &rt->abort_mem,
-                       &rt->input_mem, &rt->trace_mem };
+    cl_mem *mems[] = { &rt->ctl_mem, &rt->data_mem, &rt->stats_mem, &rt->abort_mem, &rt->input_mem,
+                       &rt->trace_mem };
     for (size_t i = 0; i < sizeof mems / sizeof mems[0]; ++i) {
         if (*mems[i])
             clReleaseMemObject(*mems[i]);
         *mems[i] = NULL;
     }
-    rt->data_mem_words = rt->seq_mem_words = rt->input_mem_words = rt->trace_mem_words = 0;
+    rt->data_mem_words = rt->input_mem_words = rt->trace_mem_words = 0;
     for (unsigned qi = 0; qi < rt->image_count; ++qi)
         free(rt->images[qi].words);
     free(rt->images);
@@ -159,13 +166,12 @@ perma_status perma_ensure_buffer(perma_runtime *rt, cl_mem *mem, size_t *have_wo
 /* Write the queue images to the device as a fresh launch state. */
 perma_status perma_queues_upload(perma_runtime *rt)
 {
-    size_t data_words = 0, seq_words = 0, outstanding = 0, bytes = 0;
+    size_t data_words = 0, outstanding = 0;
     for (unsigned qi = 0; qi < rt->image_count; ++qi) {
-        data_words += rt->images[qi].capacity * item_words(proc_of(rt, qi));
-        seq_words += rt->images[qi].capacity;
+        data_words += rt->images[qi].capacity * slot_words(proc_of(rt, qi));
         outstanding += rt->images[qi].count;
-        bytes += rt->images[qi].capacity * (proc_of(rt, qi)->item_size + 4);
     }
+    size_t bytes = data_words * 4;
     if (bytes > rt->stats.peak_queue_bytes)
         rt->stats.peak_queue_bytes = bytes;
 
@@ -173,14 +179,13 @@ perma_status perma_queues_upload(perma_runtime *rt)
     size_t stats_words = (size_t)rt->work_groups * perma_stat_group_words(rt->proc_count, rt->max_edges);
     uint32_t *ctl = calloc(ctl_words, 4);
     uint32_t *data = calloc(data_words ? data_words : 1, 4);
-    uint32_t *seq = calloc(seq_words ? seq_words : 1, 4);
     perma_status st = PERMA_OK;
-    if (!ctl || !data || !seq) {
+    if (!ctl || !data) {
         st = perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory laying out %zu bytes of queues", bytes);
         goto done;
     }
     ctl[PERMA_CTL_OUTSTANDING] = (uint32_t)outstanding;
-    size_t data_off = 0, seq_off = 0;
+    size_t data_off = 0;
     for (unsigned qi = 0; qi < rt->image_count; ++qi) {
         const perma_queue_image *img = &rt->images[qi];
         size_t words = item_words(proc_of(rt, qi));
@@ -190,13 +195,16 @@ perma_status perma_queues_upload(perma_runtime *rt)
         rec[PERMA_Q_ROOM] = (uint32_t)(img->capacity - img->count);
         rec[PERMA_Q_CAP] = (uint32_t)img->capacity;
         rec[PERMA_Q_DATA] = (uint32_t)data_off;
-        rec[PERMA_Q_SEQ] = (uint32_t)seq_off;
+        rec[PERMA_Q_PUBLISHED] = (uint32_t)img->count;
         rec[PERMA_Q_PEAK] = (uint32_t)img->count;
+        rec[PERMA_Q_RELEASED] = 0;
         memcpy(data + data_off, img->words, img->count * words * 4);
+        /* Completion marks: each slot's own index, which reads as "not
+         * done" for every position of it. */
+        uint32_t *marks = data + data_off + img->capacity * words;
         for (size_t i = 0; i < img->capacity; ++i)
-            seq[seq_off + i] = (uint32_t)(i < img->count ? i + 1 : i); /* published : free */
-        data_off += img->capacity * words;
-        seq_off += img->capacity;
+            marks[i] = marks[img->capacity + i] = (uint32_t)i;
+        data_off += img->capacity * slot_words(proc_of(rt, qi));
     }
 
     size_t ctl_have = 0, stats_have = 0;
@@ -206,8 +214,7 @@ perma_status perma_queues_upload(perma_runtime *rt)
         clReleaseMemObject(rt->stats_mem), rt->stats_mem = NULL;
     if ((st = perma_ensure_buffer(rt, &rt->ctl_mem, &ctl_have, ctl_words, "control block")) != PERMA_OK ||
         (st = perma_ensure_buffer(rt, &rt->stats_mem, &stats_have, stats_words ? stats_words : 1, "statistics")) != PERMA_OK ||
-        (st = perma_ensure_buffer(rt, &rt->data_mem, &rt->data_mem_words, data_words ? data_words : 1, "queue items")) != PERMA_OK ||
-        (st = perma_ensure_buffer(rt, &rt->seq_mem, &rt->seq_mem_words, seq_words ? seq_words : 1, "queue sequence words")) != PERMA_OK)
+        (st = perma_ensure_buffer(rt, &rt->data_mem, &rt->data_mem_words, data_words ? data_words : 1, "queue items")) != PERMA_OK)
         goto done;
     cl_uint zero = 0;
     cl_int err = clEnqueueFillBuffer(rt->queue, rt->stats_mem, &zero, sizeof zero, 0,
@@ -221,16 +228,11 @@ perma_status perma_queues_upload(perma_runtime *rt)
         err = clEnqueueWriteBuffer(rt->queue, rt->data_mem, CL_TRUE, 0, data_words * 4, data, 0, NULL, NULL);
         call = "clEnqueueWriteBuffer (queue items)";
     }
-    if (err == CL_SUCCESS && seq_words) {
-        err = clEnqueueWriteBuffer(rt->queue, rt->seq_mem, CL_TRUE, 0, seq_words * 4, seq, 0, NULL, NULL);
-        call = "clEnqueueWriteBuffer (queue sequence words)";
-    }
     if (err != CL_SUCCESS)
         st = perma_set_error(rt, PERMA_ERR_OPENCL, "%s failed: %s (%d)", call, perma_cl_error_name(err), (int)err);
 done:
     free(ctl);
     free(data);
-    free(seq);
     return st;
 }
 
@@ -238,24 +240,19 @@ done:
 perma_status perma_queues_download(perma_runtime *rt)
 {
     size_t ctl_words = perma_ctl_words(rt->image_count, rt->work_groups);
-    size_t data_words = 0, seq_words = 0;
-    for (unsigned qi = 0; qi < rt->image_count; ++qi) {
-        data_words += rt->images[qi].capacity * item_words(proc_of(rt, qi));
-        seq_words += rt->images[qi].capacity;
-    }
+    size_t data_words = 0;
+    for (unsigned qi = 0; qi < rt->image_count; ++qi)
+        data_words += rt->images[qi].capacity * slot_words(proc_of(rt, qi));
     uint32_t *ctl = malloc(ctl_words * 4);
     uint32_t *data = malloc(data_words * 4 + 4);
-    uint32_t *seq = malloc(seq_words * 4 + 4);
     perma_status st = PERMA_OK;
-    if (!ctl || !data || !seq) {
+    if (!ctl || !data) {
         st = perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory reading the queues back");
         goto done;
     }
     cl_int err = clEnqueueReadBuffer(rt->queue, rt->ctl_mem, CL_TRUE, 0, ctl_words * 4, ctl, 0, NULL, NULL);
     if (err == CL_SUCCESS && data_words)
         err = clEnqueueReadBuffer(rt->queue, rt->data_mem, CL_TRUE, 0, data_words * 4, data, 0, NULL, NULL);
-    if (err == CL_SUCCESS && seq_words)
-        err = clEnqueueReadBuffer(rt->queue, rt->seq_mem, CL_TRUE, 0, seq_words * 4, seq, 0, NULL, NULL);
     if (err != CL_SUCCESS) {
         st = perma_set_error(rt, PERMA_ERR_OPENCL, "clEnqueueReadBuffer (reading the queues back) failed: %s (%d)",
                              perma_cl_error_name(err), (int)err);
@@ -285,14 +282,18 @@ perma_status perma_queues_download(perma_runtime *rt)
                                  "(head %u, tail %u, capacity %u)", proc_of(rt, qi)->name, head, tail, cap);
             goto done;
         }
+        /* Every batch has finished: every reserved range is published and
+         * every claimed one released. */
+        if (rec[PERMA_Q_PUBLISHED] != tail || rec[PERMA_Q_RELEASED] != head) {
+            st = perma_set_error(rt, PERMA_ERR_DEVICE,
+                                 "queue '%s': positions %u to %u were never %s", proc_of(rt, qi)->name,
+                                 rec[PERMA_Q_PUBLISHED] != tail ? rec[PERMA_Q_PUBLISHED] : rec[PERMA_Q_RELEASED],
+                                 (rec[PERMA_Q_PUBLISHED] != tail ? tail : head) - 1,
+                                 rec[PERMA_Q_PUBLISHED] != tail ? "published" : "released");
+            goto done;
+        }
         for (size_t i = 0; i < count; ++i) {
-            uint32_t pos = head + (uint32_t)i;
-            uint32_t slot = pos & (cap - 1);
-            if (seq[rec[PERMA_Q_SEQ] + slot] != pos + 1) {
-                st = perma_set_error(rt, PERMA_ERR_DEVICE,
-                                     "queue '%s': item at position %u was never published", proc_of(rt, qi)->name, pos);
-                goto done;
-            }
+            uint32_t slot = (head + (uint32_t)i) & (cap - 1);
             memcpy(img->words + i * words, data + rec[PERMA_Q_DATA] + (size_t)slot * words, words * 4);
         }
         img->count = count;
@@ -300,7 +301,6 @@ perma_status perma_queues_download(perma_runtime *rt)
 done:
     free(ctl);
     free(data);
-    free(seq);
     return st;
 }
 

@@ -41,34 +41,12 @@ static perma_status emit_limit_error(perma_runtime *rt, uint32_t proc, uint32_t 
                            "for one input item", p->name, p->emit_max[e], p->emit_target_name[e]);
 }
 
-/* A bounded wait on a queue slot ran out: name the queue and the side that
- * waited (details as kernels/perma_prelude.cl PERMA_WAIT_WRITING says). */
-static perma_status spin_limit_error(perma_runtime *rt, uint32_t detail, uint32_t pos)
-{
-    uint32_t index = detail & ~(uint32_t)PERMA_WAIT_WRITING;
-    if (detail == 0xffffffffu || rt->proc_count == 0 || index >= rt->image_count)
-        return perma_set_error(rt, PERMA_ERR_DEVICE,
-                               "a bounded wait in the kernel ran out (a queue slot was never published or freed)");
-    const char *name = rt->procs[index % rt->proc_count].name;
-    unsigned set = index / rt->proc_count;
-    if (detail & PERMA_WAIT_WRITING)
-        return perma_set_error(rt, PERMA_ERR_DEVICE,
-                               "a bounded wait in the kernel ran out: a group waited to write position %u of queue "
-                               "'%s' (queue set %u), whose slot was never freed by the group that claimed the item "
-                               "before it", pos, name, set);
-    return perma_set_error(rt, PERMA_ERR_DEVICE,
-                           "a bounded wait in the kernel ran out: a group waited to read position %u of queue '%s' "
-                           "(queue set %u), which was never published by the group that reserved it", pos, name, set);
-}
-
 /* The error for a failure status of a kernel (not DONE or NEEDS_ROOM). */
 perma_status perma_kernel_status_error(perma_runtime *rt, const uint32_t *ks)
 {
     switch (ks[0]) {
     case PERMA_KSTATUS_EMIT_LIMIT:
         return emit_limit_error(rt, ks[1], ks[2]);
-    case PERMA_KSTATUS_SPIN_LIMIT:
-        return spin_limit_error(rt, ks[1], ks[2]);
     case PERMA_KSTATUS_ABORTED:
         return perma_set_error(rt, PERMA_ERR_TIMEOUT, "the run passed its time limit of %g s and was stopped",
                                rt->config.time_limit > 0 ? rt->config.time_limit : DEFAULT_TIME_LIMIT);

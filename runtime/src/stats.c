@@ -18,6 +18,7 @@ void perma_stats_reset(perma_runtime *rt)
     for (unsigned q = 0; q < rt->proc_count; ++q) {
         perma_proc_info *p = &rt->procs[q];
         memset(&p->stats, 0, sizeof p->stats);
+        p->stats.batch_size = p->max_batch;
         p->stats.name = p->name;
         p->stats.emit_count = p->emit_count;
     }

@@ -60,35 +60,35 @@ static perma_status ensure_room(perma_runtime *rt, const uint32_t *ctl, unsigned
     return st != PERMA_OK ? st : perma_queues_make_room(rt, needed);
 }
 
-static perma_status set_take_args(perma_runtime *rt, cl_uint qi, cl_uint first, cl_uint take, cl_uint from_tail)
+static perma_status set_take_args(perma_runtime *rt, cl_uint qi, cl_uint first, cl_uint take)
 {
-    cl_mem fixed[] = { rt->ctl_mem, rt->data_mem, rt->seq_mem, rt->input_mem };
-    for (cl_uint i = 0; i < 4; ++i)
+    cl_mem fixed[] = { rt->ctl_mem, rt->data_mem, rt->input_mem };
+    for (cl_uint i = 0; i < 3; ++i)
         PERMA_CL_CHECK(rt, "clSetKernelArg (take)", clSetKernelArg(rt->take_kernel, i, sizeof(cl_mem), &fixed[i]));
-    cl_uint values[] = { qi, first, take, from_tail };
-    for (cl_uint i = 0; i < 4; ++i)
-        PERMA_CL_CHECK(rt, "clSetKernelArg (take)", clSetKernelArg(rt->take_kernel, 4 + i, sizeof values[i], &values[i]));
+    cl_uint values[] = { qi, first, take };
+    for (cl_uint i = 0; i < 3; ++i)
+        PERMA_CL_CHECK(rt, "clSetKernelArg (take)", clSetKernelArg(rt->take_kernel, 3 + i, sizeof values[i], &values[i]));
     return PERMA_OK;
 }
 
 static perma_status set_step_args(perma_runtime *rt, cl_uint proc, cl_uint count)
 {
-    perma_status st = perma_set_common_args(rt, rt->step_kernel, 9);
+    perma_status st = perma_set_common_args(rt, rt->step_kernel, PERMA_STEP_USER_ARG);
     if (st != PERMA_OK)
         return st;
-    PERMA_CL_CHECK(rt, "clSetKernelArg (step)", clSetKernelArg(rt->step_kernel, 6, sizeof(cl_mem), &rt->input_mem));
-    PERMA_CL_CHECK(rt, "clSetKernelArg (step)", clSetKernelArg(rt->step_kernel, 7, sizeof proc, &proc));
-    PERMA_CL_CHECK(rt, "clSetKernelArg (step)", clSetKernelArg(rt->step_kernel, 8, sizeof count, &count));
+    PERMA_CL_CHECK(rt, "clSetKernelArg (step)", clSetKernelArg(rt->step_kernel, 5, sizeof(cl_mem), &rt->input_mem));
+    PERMA_CL_CHECK(rt, "clSetKernelArg (step)", clSetKernelArg(rt->step_kernel, 6, sizeof proc, &proc));
+    PERMA_CL_CHECK(rt, "clSetKernelArg (step)", clSetKernelArg(rt->step_kernel, 7, sizeof count, &count));
     return PERMA_OK;
 }
 
-static perma_status launch_step(perma_runtime *rt, unsigned q, uint32_t first, uint32_t take, uint32_t from_tail)
+static perma_status launch_step(perma_runtime *rt, unsigned q, uint32_t first, uint32_t take)
 {
     const perma_proc_info *p = &rt->procs[q];
     size_t words = (size_t)take * (p->item_size / 4);
     perma_status st = perma_ensure_buffer(rt, &rt->input_mem, &rt->input_mem_words, words, "step input");
     if (st == PERMA_OK)
-        st = set_take_args(rt, q, first, take, from_tail);
+        st = set_take_args(rt, q, first, take);
     if (st != PERMA_OK)
         return st;
     size_t take_global = ((size_t)take + 63) / 64 * 64;
@@ -111,7 +111,7 @@ perma_status perma_warm_up_steps(perma_runtime *rt)
 {
     perma_status st = perma_ensure_buffer(rt, &rt->input_mem, &rt->input_mem_words, 1, "step input");
     if (st == PERMA_OK)
-        st = set_take_args(rt, 0, 0, 0, 0);
+        st = set_take_args(rt, 0, 0, 0);
     if (st != PERMA_OK)
         return st;
     size_t take_global = 64;
@@ -167,7 +167,8 @@ perma_status perma_run_steps(perma_runtime *rt, double deadline)
         if (st != PERMA_OK || grew)
             continue; /* re-read the relaid-out queues */
 
-        /* Move HEAD (breadth-first) or TAIL (LIFO) past the taken items. */
+        /* Move HEAD and RELEASED (breadth-first) or TAIL and PUBLISHED
+         * (LIFO) past the taken items. */
         uint32_t *rec = ctl + PERMA_CTL_HEADER_WORDS + q * PERMA_QUEUE_WORDS;
         uint32_t first;
         if (bounded) {
@@ -178,15 +179,18 @@ perma_status perma_run_steps(perma_runtime *rt, double deadline)
             rec[PERMA_Q_HEAD] += take;
         }
         rec[PERMA_Q_ROOM] += take;
+        rec[PERMA_Q_PUBLISHED] = rec[PERMA_Q_TAIL];
+        rec[PERMA_Q_RELEASED] = rec[PERMA_Q_HEAD];
         size_t offset = (PERMA_CTL_HEADER_WORDS + (size_t)q * PERMA_QUEUE_WORDS) * 4;
-        cl_int err = clEnqueueWriteBuffer(rt->queue, rt->ctl_mem, CL_FALSE, offset, 3 * 4, rec, 0, NULL, NULL);
+        cl_int err = clEnqueueWriteBuffer(rt->queue, rt->ctl_mem, CL_FALSE, offset, PERMA_QUEUE_WORDS * 4, rec, 0,
+                                          NULL, NULL);
         if (err != CL_SUCCESS) {
             st = perma_set_error(rt, PERMA_ERR_OPENCL, "clEnqueueWriteBuffer (queue record) failed: %s (%d)",
                                  perma_cl_error_name(err), (int)err);
             break;
         }
         traced_start = perma_now();
-        st = launch_step(rt, q, first, take, bounded ? 1u : 0u);
+        st = launch_step(rt, q, first, take);
         traced_proc = (int)q;
         traced_items = take;
     }

@@ -342,51 +342,6 @@ START_TEST(watchdog_stops_an_endless_run)
 }
 END_TEST
 
-/* A bounded wait that runs out names the queue, the position and the side
- * that waited.  PERMA_SPIN_LIMIT=0 (through build_options) makes every wait
- * give up before its first poll: the megakernel's first read of the seeded
- * item fails; kernel-per-procedure reads its input from a plain array, so
- * its first failing wait is the write of the first emit. */
-START_TEST(bounded_wait_names_queue_and_position)
-{
-    const struct {
-        perma_technique technique;
-        const char *message;
-    } cases[] = {
-        { PERMA_TECHNIQUE_MEGAKERNEL, "a group waited to read position 0 of queue 'producer' (queue set 0), "
-                                      "which was never published" },
-        { PERMA_TECHNIQUE_KERNEL_PER_PROCEDURE, "a group waited to write position 0 of queue 'consumer' (queue set "
-                                                "0), whose slot was never freed" },
-    };
-    for (unsigned c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
-        perma_config config;
-        perma_config_init(&config);
-        config.technique = cases[c].technique;
-        config.build_options = "-DPERMA_SPIN_LIMIT=0ul";
-        perma_runtime *rt = test_runtime_config(&config);
-        perma_procedure producer = {
-            .name = "producer", .item_type = "uint", .item_size = 4, .function = "producer", .source_file = "wait.cl",
-            .source = "void producer(perma_ctx *ctx, __local const uint *x) { uint v = *x; emit_consumer(ctx, &v); }\n"
-                      "void consumer(perma_ctx *ctx, __local const uint *x) { (void)ctx; (void)x; }\n",
-            .emits = { { "consumer", 1 } },
-        };
-        perma_procedure consumer = producer;
-        consumer.name = consumer.function = "consumer";
-        memset(consumer.emits, 0, sizeof consumer.emits);
-        perma_proc p, q;
-        ck_assert_perma_ok(rt, perma_register(rt, &producer, &p));
-        ck_assert_perma_ok(rt, perma_register(rt, &consumer, &q));
-        uint32_t one = 1;
-        ck_assert_perma_ok(rt, perma_seed(rt, p, &one, 1));
-        perma_status st = perma_run(rt);
-        ck_assert_msg(st == PERMA_ERR_DEVICE, "%s: %s", perma_status_name(st), perma_errmsg(rt));
-        ck_assert_contains(perma_errmsg(rt), "a bounded wait in the kernel ran out");
-        ck_assert_contains(perma_errmsg(rt), cases[c].message);
-        perma_destroy(rt);
-    }
-}
-END_TEST
-
 /* PERMA_DEBUG=1: one work-group and PERMA_DEBUG defined for procedures. */
 START_TEST(debug_mode)
 {
@@ -438,7 +393,6 @@ int main(void)
     tcase_add_test(tc, emitting_beyond_the_declared_maximum);
     tcase_add_test(tc, emitting_into_an_undeclared_target);
     tcase_add_test(tc, watchdog_stops_an_endless_run);
-    tcase_add_test(tc, bounded_wait_names_queue_and_position);
     tcase_add_test(tc, debug_mode);
     suite_add_tcase(s, tc);
     return test_run_suite(s) ? EXIT_FAILURE : EXIT_SUCCESS;
