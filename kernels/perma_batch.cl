@@ -99,6 +99,188 @@ inline uint perma_local_flush(__global uint *ctl, __global uint *queue_data, per
     return n;
 }
 
+/* Phase "read": copy the batch into local memory, item i by work-item
+ * i % group size, the one that runs it (perma_dispatch), so without
+ * procedures of several threads per item no barrier is needed before they
+ * run; and clear each item's emit counters.  Work-item 0 read PUBLISHED
+ * before the barrier that brought the batch here; the fence orders the item
+ * reads after it. */
+PERMA_PHASE void perma_read_items(uint lid, __global uint *queue_data, perma_group_mem mem, uint proc,
+                                  uint start, uint count, uint run, __global uint *source,
+                                  __global const uint *input, uint from_local)
+{
+    const uint words = perma_item_words[proc];
+    const uint edges = run ? perma_edge_count[proc] : 0u;
+    __local uint *items = mem.arena + perma_items_off[proc];
+    __local uint *counts = mem.arena + perma_counters_off[proc]; /* [slot * edges + edge] */
+    read_mem_fence(CLK_GLOBAL_MEM_FENCE);
+    if (input || from_local) {
+        /* Contiguous: the step kernel's input array or the local stack. */
+        __global const uint *in = input + start * words;
+        __local const uint *stack = mem.lq + perma_lq_off[proc] + start * words;
+        for (uint i = lid; i < count; i += PERMA_GROUP_SIZE)
+            for (uint w = 0; w < words; ++w)
+                items[i * words + w] = input ? in[i * words + w] : stack[i * words + w];
+    } else {
+        const uint mask = source[PERMA_Q_CAP] - 1u;
+        __global const uint *slots = queue_data + source[PERMA_Q_DATA];
+        __global uint *marks = queue_data + source[PERMA_Q_DATA] + (mask + 1u) * (words + 1u); /* releasing */
+        for (uint i = lid; i < count; i += PERMA_GROUP_SIZE) {
+            const uint pos = start + i;
+            __global const uint *src = slots + (pos & mask) * words;
+            for (uint w = 0; w < words; ++w)
+                items[i * words + w] = src[w];
+            if (i) /* the first position's mark is the range's (perma_queue_clear_mark) */
+                marks[pos & mask] = pos;
+        }
+    }
+    for (uint s = lid; s < run; s += PERMA_GROUP_SIZE)
+        for (uint e = 0; e < edges; ++e)
+            counts[s * edges + e] = 0;
+}
+
+/* Phase "publish", work-item 0, after the batch ran: release the source's
+ * slots (every copy is done; their room goes back once RELEASED passes
+ * them; stacked items give back the room they held at once).  Then turn
+ * each edge's per-item counts into offsets, keep what fits on the local
+ * stack and reserve the rest of each target with one atomic; count the
+ * emits before they become visible. */
+PERMA_PHASE void perma_reserve_emits(__global uint *ctl, __global uint *queue_data, perma_group_mem mem,
+                                     uint command, uint proc, uint start, uint count, __global uint *source,
+                                     __global uint *donee, __global const uint *input, uint from_local,
+                                     uint own)
+{
+    const uint run = command == PERMA_CMD_RUN ? count : 0u;
+    const uint edges = run ? perma_edge_count[proc] : 0u;
+    __local uint *counts = mem.arena + perma_counters_off[proc];
+    __local uint *stats = mem.stats;
+    if (from_local)
+        perma_queue_give_room(source, (int)count);
+    else if (!input)
+        perma_queue_complete(source, queue_data, perma_item_words[proc], 1u, start, count);
+    int emitted = 0;
+    for (uint e = 0; e < edges; ++e) {
+        uint t = perma_edge_target[proc * PERMA_MAX_EDGES + e];
+        uint max = perma_edge_max[proc * PERMA_MAX_EDGES + e];
+        uint k = 0;
+        for (uint s = 0; s < run; ++s) {
+            uint c = min(counts[s * edges + e], max); /* an item over its limit failed the run */
+            counts[s * edges + e] = k;
+            k += c;
+        }
+        mem.edge_counts[e] = k;
+        /* Keep what fits on the local stack (those keep their ROOM in the
+         * global queue); the rest goes to the global queue.  edge_base[e]:
+         * first local position, [MAX_EDGES + e]: first global position. */
+        uint keep = 0;
+#if PERMA_LOCAL_QUEUE
+        keep = min(k, (uint)PERMA_LOCAL_QUEUE - mem.lq_count[t]);
+        mem.edge_base[e] = mem.lq_count[t];
+        mem.lq_count[t] += keep;
+        stats[PERMA_NUM_PROCS * PERMA_STAT_PROC_WORDS + PERMA_GSTAT_SPILLS] += k - keep;
+#endif
+        mem.edge_keep[e] = keep;
+        mem.edge_base[PERMA_MAX_EDGES + e] =
+            k > keep ? perma_queue_reserve(PERMA_QUEUE(ctl, PERMA_QINDEX(own, t)), k - keep) : 0u;
+        emitted += (int)k;
+        stats[proc * PERMA_STAT_PROC_WORDS + PERMA_STAT_EMITTED + e] += k;
+    }
+    if (run) {
+        stats[proc * PERMA_STAT_PROC_WORDS + PERMA_STAT_ITEMS] += run;
+        stats[proc * PERMA_STAT_PROC_WORDS + PERMA_STAT_BATCHES] += 1u;
+        /* Count the emits before they become visible, and retire the batch. */
+        atomic_add((volatile __global int *)(ctl + PERMA_CTL_OUTSTANDING), emitted - (int)run);
+    }
+    if (command == PERMA_CMD_DONATE)
+        mem.edge_base[0] = perma_queue_reserve(donee, count);
+    /* Read and cleared here, between the batches' procedures (the group's
+     * code clears it once before the first batch). */
+    if (*mem.error_code)
+        perma_fail(ctl, PERMA_KSTATUS_EMIT_LIMIT, proc, *mem.error_code);
+    *mem.error_code = 0;
+}
+
+/* Phase "publish", every work-item: move the emits of its items, the first
+ * edge_keep of each edge onto the local stack, the rest into the reserved
+ * slots; or, for a donation, the batch itself into the other group's
+ * queue.  Nobody waits here. */
+PERMA_PHASE void perma_write_emits(uint lid, __global uint *ctl, __global uint *queue_data, perma_group_mem mem,
+                                   uint command, uint proc, uint count, __global uint *donee, uint own)
+{
+    const uint run = command == PERMA_CMD_RUN ? count : 0u;
+    const uint edges = run ? perma_edge_count[proc] : 0u;
+    __local const uint *counts = mem.arena + perma_counters_off[proc];
+    for (uint e = 0; e < edges; ++e) {
+        const uint t = perma_edge_target[proc * PERMA_MAX_EDGES + e];
+        const uint max = perma_edge_max[proc * PERMA_MAX_EDGES + e];
+        const uint tw = perma_item_words[t];
+        const uint k = mem.edge_counts[e];
+        const uint keep = mem.edge_keep[e];
+        /* Emit i goes to stack[i] below keep, else to position pos0 + i. */
+        const uint pos0 = mem.edge_base[PERMA_MAX_EDGES + e] - keep;
+        __global uint *target = PERMA_QUEUE(ctl, PERMA_QINDEX(own, t));
+        const uint mask = target[PERMA_Q_CAP] - 1u;
+        __global uint *slots = queue_data + target[PERMA_Q_DATA];
+        __global uint *marks = slots + (mask + 1u) * tw; /* publishing */
+        __local const uint *stage = mem.arena + perma_edge_stage[proc * PERMA_MAX_EDGES + e];
+        __local uint *stack = mem.lq + perma_lq_off[t] + mem.edge_base[e] * tw;
+        for (uint s = lid; s < run; s += PERMA_GROUP_SIZE) {
+            const uint first = counts[s * edges + e];
+            const uint end = s + 1u < run ? counts[(s + 1u) * edges + e] : k;
+            __local const uint *src = stage + s * max * tw - first * tw; /* src + i * tw: emit i */
+            const uint split = clamp(keep, first, end);
+            for (uint i = first; i < split; ++i)
+                for (uint w = 0; w < tw; ++w)
+                    stack[i * tw + w] = src[i * tw + w];
+            for (uint i = split; i < end; ++i) {
+                const uint pos = pos0 + i;
+                __global uint *dst = slots + (pos & mask) * tw;
+                for (uint w = 0; w < tw; ++w)
+                    dst[w] = src[i * tw + w];
+                if (i > keep) /* the first position's mark is the range's */
+                    marks[pos & mask] = pos;
+            }
+        }
+    }
+    const uint donated = command == PERMA_CMD_DONATE ? count : 0u;
+    const uint words = perma_item_words[proc];
+    __local const uint *items = mem.arena + perma_items_off[proc];
+    __global uint *donee_marks = perma_queue_marks(donee, queue_data, words, 0u);
+    for (uint i = lid; i < donated; i += PERMA_GROUP_SIZE) {
+        __global uint *dst = perma_queue_slot(donee, queue_data, mem.edge_base[0] + i, words);
+        for (uint w = 0; w < words; ++w)
+            dst[w] = items[i * words + w];
+        if (i)
+            perma_queue_clear_mark(donee_marks, donee[PERMA_Q_CAP], mem.edge_base[0] + i);
+    }
+}
+
+/* Phase "publish", work-item 0, after every copy: publish every target's
+ * range (and a donation's), then give back the unused part of the
+ * worst-case room. */
+PERMA_PHASE void perma_publish_emits(__global uint *ctl, __global uint *queue_data, perma_group_mem mem,
+                                     uint command, uint proc, uint count, __global uint *donee, uint own)
+{
+    const uint run = command == PERMA_CMD_RUN ? count : 0u;
+    const uint edges = run ? perma_edge_count[proc] : 0u;
+    for (uint e = 0; e < edges; ++e) {
+        uint t = perma_edge_target[proc * PERMA_MAX_EDGES + e];
+        perma_queue_complete(PERMA_QUEUE(ctl, PERMA_QINDEX(own, t)), queue_data, perma_item_words[t], 0u,
+                             mem.edge_base[PERMA_MAX_EDGES + e], mem.edge_counts[e] - mem.edge_keep[e]);
+    }
+    if (command == PERMA_CMD_DONATE)
+        perma_queue_complete(donee, queue_data, perma_item_words[proc], 0u, mem.edge_base[0], count);
+    for (uint e = 0; e < edges; ++e) {
+        uint t = perma_edge_target[proc * PERMA_MAX_EDGES + e];
+        uint promised = run * perma_edge_max[proc * PERMA_MAX_EDGES + e];
+        perma_queue_give_room(PERMA_QUEUE(ctl, PERMA_QINDEX(own, t)), (int)(promised - mem.edge_counts[e]));
+    }
+    if (count) {
+        mem_fence(CLK_GLOBAL_MEM_FENCE);
+        atomic_inc(ctl + PERMA_CTL_PROGRESS); /* stalled groups must look again */
+    }
+}
+
 /* Run `count` items of `proc` (command RUN) or move them to `donee`
  * (command DONATE).  The items come from queue `source` at `start`, from
  * input[start..] when `input` is not null (the host-driven step kernel), or
@@ -111,37 +293,9 @@ inline void perma_run_batch(__global uint *ctl, __global uint *queue_data, perma
 {
     const uint lid = get_local_id(0);
     const uint run = command == PERMA_CMD_RUN ? count : 0u; /* items to execute */
-
-    /* Copy the batch into local memory: item i by work-item i % group size,
-     * the one that runs it (perma_dispatch), so without procedures of
-     * several threads per item no barrier is needed before they run.  Work-
-     * item 0 read PUBLISHED before the barrier that brought the batch here;
-     * the fence orders the item reads after it. */
-    const uint words = perma_item_words[proc];
-    const uint edges = command == PERMA_CMD_RUN ? perma_edge_count[proc] : 0u;
-    __local uint *items = mem.arena + perma_items_off[proc];
-    __local uint *counts = mem.arena + perma_counters_off[proc]; /* [slot * edges + edge] */
-    read_mem_fence(CLK_GLOBAL_MEM_FENCE);
-    __global uint *release_marks = perma_queue_marks(source, queue_data, words, 1u);
-    const uint source_cap = source[PERMA_Q_CAP];
-    for (uint i = lid; i < count; i += PERMA_GROUP_SIZE) {
-        if (input) {
-            for (uint w = 0; w < words; ++w)
-                items[i * words + w] = input[(start + i) * words + w];
-        } else if (from_local) {
-            for (uint w = 0; w < words; ++w)
-                items[i * words + w] = mem.lq[perma_lq_off[proc] + (start + i) * words + w];
-        } else {
-            __global const uint *src = perma_queue_slot(source, queue_data, start + i, words);
-            for (uint w = 0; w < words; ++w)
-                items[i * words + w] = src[w];
-            if (i)
-                perma_queue_clear_mark(release_marks, source_cap, start + i);
-        }
-    }
-    for (uint s = lid; s < run; s += PERMA_GROUP_SIZE)
-        for (uint e = 0; e < edges; ++e)
-            counts[s * edges + e] = 0;
+    /* The phases take the local id as an argument: PoCL inlines every
+     * function that asks for it, which would hide them from a profile. */
+    perma_read_items(lid, queue_data, mem, proc, start, count, run, source, input, from_local);
 #if PERMA_ITEM_BARRIER
     /* The threads of an item (or a cooperative group) read what others copied. */
     barrier(CLK_LOCAL_MEM_FENCE);
@@ -153,127 +307,16 @@ inline void perma_run_batch(__global uint *ctl, __global uint *queue_data, perma
     ctx.stage = mem.arena;
     ctx.error_code = mem.error_code;
     ctx.buf = buf;
-    perma_dispatch(proc, &ctx, items, counts, mem.arena, run);
+    perma_dispatch(lid, proc, &ctx, mem.arena + perma_items_off[proc], mem.arena + perma_counters_off[proc],
+                   mem.arena, run);
     barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
 
-    /* Work-item 0: release the source's slots (every copy is done; their
-     * room goes back once RELEASED passes them; stacked items give back the
-     * room they held at once).  Then turn each edge's per-item counts into
-     * offsets, keep what fits on the local stack and reserve the rest of
-     * each target with one atomic; count the emits before they become
-     * visible. */
-    __local uint *stats = mem.stats;
-    if (lid == 0) {
-        if (from_local)
-            perma_queue_give_room(source, (int)count);
-        else if (!input)
-            perma_queue_complete(source, queue_data, words, 1u, start, count);
-        int emitted = 0;
-        for (uint e = 0; e < edges; ++e) {
-            uint t = perma_edge_target[proc * PERMA_MAX_EDGES + e];
-            uint max = perma_edge_max[proc * PERMA_MAX_EDGES + e];
-            uint k = 0;
-            for (uint s = 0; s < run; ++s) {
-                uint c = min(counts[s * edges + e], max); /* an item over its limit failed the run */
-                counts[s * edges + e] = k;
-                k += c;
-            }
-            mem.edge_counts[e] = k;
-            /* Keep what fits on the local stack (those keep their ROOM in
-             * the global queue); the rest goes to the global queue.
-             * edge_base[e]: first local position, [MAX_EDGES + e]: first
-             * global position. */
-            uint keep = 0;
-#if PERMA_LOCAL_QUEUE
-            keep = min(k, (uint)PERMA_LOCAL_QUEUE - mem.lq_count[t]);
-            mem.edge_base[e] = mem.lq_count[t];
-            mem.lq_count[t] += keep;
-            stats[PERMA_NUM_PROCS * PERMA_STAT_PROC_WORDS + PERMA_GSTAT_SPILLS] += k - keep;
-#endif
-            mem.edge_keep[e] = keep;
-            mem.edge_base[PERMA_MAX_EDGES + e] =
-                k > keep ? perma_queue_reserve(PERMA_QUEUE(ctl, PERMA_QINDEX(own, t)), k - keep) : 0u;
-            emitted += (int)k;
-            stats[proc * PERMA_STAT_PROC_WORDS + PERMA_STAT_EMITTED + e] += k;
-        }
-        if (run) {
-            stats[proc * PERMA_STAT_PROC_WORDS + PERMA_STAT_ITEMS] += run;
-            stats[proc * PERMA_STAT_PROC_WORDS + PERMA_STAT_BATCHES] += 1u;
-            /* Count the emits before they become visible, and retire the batch. */
-            atomic_add((volatile __global int *)(ctl + PERMA_CTL_OUTSTANDING), emitted - (int)run);
-        }
-        if (command == PERMA_CMD_DONATE)
-            mem.edge_base[0] = perma_queue_reserve(donee, count);
-        /* Read and cleared here, between the batches' procedures (the
-         * group's code clears it once before the first batch). */
-        if (*mem.error_code)
-            perma_fail(ctl, PERMA_KSTATUS_EMIT_LIMIT, proc, *mem.error_code);
-        *mem.error_code = 0;
-    }
+    if (lid == 0)
+        perma_reserve_emits(ctl, queue_data, mem, command, proc, start, count, source, donee, input, from_local,
+                            own);
     barrier(CLK_LOCAL_MEM_FENCE);
-
-    /* Copy out: each work-item moves the emits of its item, the first
-     * edge_keep onto the local stack, the rest into the reserved slots.
-     * Nobody waits here. */
-    for (uint e = 0; e < edges; ++e) {
-        const uint t = perma_edge_target[proc * PERMA_MAX_EDGES + e];
-        const uint max = perma_edge_max[proc * PERMA_MAX_EDGES + e];
-        const uint tw = perma_item_words[t];
-        const uint k = mem.edge_counts[e];
-        const uint keep = mem.edge_keep[e];
-        const uint global_base = mem.edge_base[PERMA_MAX_EDGES + e];
-        __global uint *target = PERMA_QUEUE(ctl, PERMA_QINDEX(own, t));
-        __global uint *marks = perma_queue_marks(target, queue_data, tw, 0u);
-        const uint target_cap = target[PERMA_Q_CAP];
-        __local const uint *stage = mem.arena + perma_edge_stage[proc * PERMA_MAX_EDGES + e];
-        __local uint *stack = mem.lq + perma_lq_off[t] + mem.edge_base[e] * tw;
-        for (uint s = lid; s < run; s += PERMA_GROUP_SIZE) {
-            const uint first = counts[s * edges + e];
-            const uint end = s + 1u < run ? counts[(s + 1u) * edges + e] : k;
-            __local const uint *src = stage + s * max * tw;
-            for (uint i = first; i < end; ++i, src += tw) {
-                if (i < keep) {
-                    for (uint w = 0; w < tw; ++w)
-                        stack[i * tw + w] = src[w];
-                } else {
-                    __global uint *dst = perma_queue_slot(target, queue_data, global_base + i - keep, tw);
-                    for (uint w = 0; w < tw; ++w)
-                        dst[w] = src[w];
-                    if (i > keep)
-                        perma_queue_clear_mark(marks, target_cap, global_base + i - keep);
-                }
-            }
-        }
-    }
-    /* A donation moves the batch itself into the other group's queue. */
-    const uint donated = command == PERMA_CMD_DONATE ? count : 0u;
-    __global uint *donee_marks = perma_queue_marks(donee, queue_data, words, 0u);
-    for (uint i = lid; i < donated; i += PERMA_GROUP_SIZE) {
-        __global uint *dst = perma_queue_slot(donee, queue_data, mem.edge_base[0] + i, words);
-        for (uint w = 0; w < words; ++w)
-            dst[w] = items[i * words + w];
-        if (i)
-            perma_queue_clear_mark(donee_marks, donee[PERMA_Q_CAP], mem.edge_base[0] + i);
-    }
+    perma_write_emits(lid, ctl, queue_data, mem, command, proc, count, donee, own);
     barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
-
-    /* Work-item 0 publishes every target's range, then gives back the
-     * unused part of the worst-case room. */
-    if (lid == 0) {
-        for (uint e = 0; e < edges; ++e) {
-            uint t = perma_edge_target[proc * PERMA_MAX_EDGES + e];
-            perma_queue_complete(PERMA_QUEUE(ctl, PERMA_QINDEX(own, t)), queue_data, perma_item_words[t], 0u,
-                                 mem.edge_base[PERMA_MAX_EDGES + e], mem.edge_counts[e] - mem.edge_keep[e]);
-        }
-        perma_queue_complete(donee, queue_data, words, 0u, mem.edge_base[0], donated);
-        for (uint e = 0; e < edges; ++e) {
-            uint t = perma_edge_target[proc * PERMA_MAX_EDGES + e];
-            uint promised = run * perma_edge_max[proc * PERMA_MAX_EDGES + e];
-            perma_queue_give_room(PERMA_QUEUE(ctl, PERMA_QINDEX(own, t)), (int)(promised - mem.edge_counts[e]));
-        }
-        if (count) {
-            mem_fence(CLK_GLOBAL_MEM_FENCE);
-            atomic_inc(ctl + PERMA_CTL_PROGRESS); /* stalled groups must look again */
-        }
-    }
+    if (lid == 0)
+        perma_publish_emits(ctl, queue_data, mem, command, proc, count, donee, own);
 }

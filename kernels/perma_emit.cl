@@ -30,7 +30,7 @@ typedef struct perma_ctx {
 /* Stage one item emitted into procedure `target` by the running procedure.
  * Returns 1 if staged, 0 if the target is not declared in .emits or the item
  * already emitted its declared maximum there (the run then fails). */
-inline int perma_emit(perma_ctx *ctx, uint target, const uint *src)
+PERMA_PHASE int perma_emit(perma_ctx *ctx, uint target, const uint *src)
 {
     if (!ctx->active)
         return 0;

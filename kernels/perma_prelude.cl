@@ -22,6 +22,7 @@
 #define PERMA_CTL_DETAIL_EDGE 4 /* edge index for PERMA_KSTATUS_EMIT_LIMIT */
 #define PERMA_CTL_PROGRESS 5    /* epoch, bumped whenever queue room grows */
 #define PERMA_CTL_CLOCK 6       /* logical clock of the trace */
+#define PERMA_CTL_GROW_STARVED 7 /* nonzero: a group starved of room may stop the launch to grow queues */
 #define PERMA_CTL_HEADER_WORDS 16
 
 #define PERMA_Q_HEAD 0      /* next position to claim */
@@ -40,6 +41,9 @@
 
 #define PERMA_KSTATUS_DONE 0
 #define PERMA_KSTATUS_NEEDS_ROOM 1 /* no group could reserve room: grow and relaunch */
+/* DETAIL_PROC of NEEDS_ROOM: every group stalled, or one was starved. */
+#define PERMA_DETAIL_STALLED 0xffffffffu
+#define PERMA_DETAIL_STARVED 0xfffffffeu
 #define PERMA_KSTATUS_EMIT_LIMIT 2 /* a procedure emitted more than declared */
 /* 3 was a bounded wait that ran out: the queues no longer wait. */
 #define PERMA_KSTATUS_ABORTED 4    /* the host watchdog asked us to stop */
@@ -71,6 +75,17 @@
 #define PERMA_GROUP(ctl, g) \
     ((ctl) + PERMA_CTL_HEADER_WORDS + PERMA_QUEUE_SETS * PERMA_NUM_PROCS * PERMA_QUEUE_WORDS + \
      (g) * PERMA_GROUP_WORDS)
+
+/* The phases of a batch (perma_schedule, perma_read_items, perma_dispatch,
+ * perma_emit, perma_reserve_emits, perma_write_emits, perma_publish_emits)
+ * are inline; built with -DPERMA_PROFILE_PHASES (e.g. through PoCL's
+ * POCL_EXTRA_BUILD_FLAGS) they and the procedures stay separate functions,
+ * so a profile shows what each costs (docs/benchmarks.md). */
+#ifdef PERMA_PROFILE_PHASES
+#define PERMA_PHASE __attribute__((noinline))
+#else
+#define PERMA_PHASE inline
+#endif
 
 /* A read that always goes to memory (another group may have written it). */
 inline uint perma_load(__global uint *p)

@@ -17,22 +17,28 @@
 
 /* Scheduler polls in work-item 0 before the group goes round its loop once. */
 #define PERMA_IDLE_POLLS 64u
+/* Schedules in a row that room, not work, cut to under half a
+ * batch (or to nothing) before a group asks the host for bigger queues. */
+#define PERMA_STARVE_LIMIT 64u
 
 /* Take a batch of procedure q from queue set `from` for a group whose emits
  * go to set `own`.  Returns the item count (0: none), first position in
- * *start; sets *found when the queue had items at all. */
+ * *start; when the queue had items, sets *starved to q if the room of the
+ * targets cut the batch to under half of what there was to take, else
+ * to -1. */
 inline uint perma_try_take(__global uint *ctl, uint own, uint from, uint q, int full_only,
-                           uint *start, int *found)
+                           uint *start, int *starved)
 {
     __global uint *queue = PERMA_QUEUE(ctl, PERMA_QINDEX(from, q));
     int available = perma_queue_available(queue);
     if (available <= 0)
         return 0;
-    *found = 1;
     uint want = min((uint)available, perma_max_batch[q]);
     if (full_only && want < perma_max_batch[q])
         return 0;
-    want = perma_admissible(ctl, own, q, want);
+    uint fit = perma_admissible(ctl, own, q, want);
+    *starved = 2u * fit < want ? (int)q : -1;
+    want = fit;
     if (want == 0 || !perma_reserve_batch_room(ctl, own, q, want))
         return 0;
     uint got = perma_queue_claim(queue, want, start);
@@ -82,9 +88,9 @@ inline uint perma_try_donate(__global uint *ctl, uint own, uint *proc, uint *des
 /* True when every running group found nothing to start since `epoch` and
  * no batch finished since: nobody can make progress until the host grows
  * queues. */
-inline int perma_all_blocked(__global uint *ctl, uint epoch)
+inline int perma_all_blocked(__global uint *ctl, uint epoch, uint groups)
 {
-    for (uint g = 0; g < get_num_groups(0); ++g) {
+    for (uint g = 0; g < groups; ++g) {
         __global uint *gw = PERMA_GROUP(ctl, g);
         uint state = perma_load(gw + PERMA_G_STATE);
 #if PERMA_DONATION && !PERMA_STEALING
@@ -162,12 +168,15 @@ inline uint perma_local_flush_all(__global uint *ctl, __global uint *queue_data,
 
 /* Take a batch from the local stack of q (top first) if its targets have
  * room; the items already hold ROOM in the global queue of q. */
-inline uint perma_try_take_local(__global uint *ctl, perma_group_mem mem, uint own, uint q, uint *start)
+inline uint perma_try_take_local(__global uint *ctl, perma_group_mem mem, uint own, uint q, uint *start,
+                                 int *starved)
 {
     uint n = min(mem.lq_count[q], perma_max_batch[q]);
     if (n == 0)
         return 0;
-    n = perma_admissible(ctl, own, q, n);
+    uint fit = perma_admissible(ctl, own, q, n);
+    *starved = 2u * fit < n ? (int)q : -1;
+    n = fit;
     if (n == 0 || !perma_reserve_batch_room(ctl, own, q, n))
         return 0;
     mem.lq_count[q] -= n;
@@ -176,10 +185,38 @@ inline uint perma_try_take_local(__global uint *ctl, perma_group_mem mem, uint o
 }
 #endif
 
+/* Count a schedule that room cut short for procedure `starved` (-1: it did
+ * not, which resets the count).  After PERMA_STARVE_LIMIT in a row, if the
+ * host allows it and a target of that procedure in set `own` is smaller
+ * than its occupancy plus a full batch of emits for every group, stop the
+ * launch so the host doubles that queue (named in DETAIL_EDGE): batches of a
+ * few items cost nearly as much as full ones, and a group that sees work
+ * but can start none is idle.  Returns 1 when it stopped the launch. */
+inline int perma_note_starved(__global uint *ctl, uint groups, uint own, int starved, uint *count)
+{
+    *count = starved >= 0 ? *count + 1u : 0u;
+    if (*count < PERMA_STARVE_LIMIT || !perma_load(ctl + PERMA_CTL_GROW_STARVED))
+        return 0;
+    *count = 0;
+    uint q = (uint)starved;
+    for (uint e = 0; e < perma_edge_count[q]; ++e) {
+        uint ti = PERMA_QINDEX(own, perma_edge_target[q * PERMA_MAX_EDGES + e]);
+        __global uint *target = PERMA_QUEUE(ctl, ti);
+        uint occupancy = perma_load(target + PERMA_Q_TAIL) - perma_load(target + PERMA_Q_RELEASED);
+        ulong needed = (ulong)occupancy +
+                       (ulong)groups * perma_max_batch[q] * perma_edge_max[q * PERMA_MAX_EDGES + e];
+        if ((ulong)target[PERMA_Q_CAP] < needed) {
+            perma_fail(ctl, PERMA_KSTATUS_NEEDS_ROOM, PERMA_DETAIL_STARVED, ti);
+            return 1;
+        }
+    }
+    return 0;
+}
+
 /* Work-item 0: choose what the group does next and write it to batch[]. */
-inline void perma_schedule(__global uint *ctl, __global uint *queue_data, __global uint *group_words, uint own,
-                           volatile __global uint *abort_flag, __local uint *batch,
-                           perma_group_mem mem, uint *victim_state)
+PERMA_PHASE void perma_schedule(__global uint *ctl, __global uint *queue_data, __global uint *group_words,
+                                uint groups, uint own, volatile __global uint *abort_flag, __local uint *batch,
+                                perma_group_mem mem, uint *victim_state, uint *starve_count)
 {
     __local uint *group_stat = mem.stats + PERMA_NUM_PROCS * PERMA_STAT_PROC_WORDS;
     (void)queue_data; /* used by the local front queue's flush only */
@@ -195,13 +232,14 @@ inline void perma_schedule(__global uint *ctl, __global uint *queue_data, __glob
             break;
 
         uint epoch = perma_load(ctl + PERMA_CTL_PROGRESS);
-        int found = 0;
+        int starved = -1;
         uint start = 0, q = 0, dest = 0, got;
 #if PERMA_LOCAL_QUEUE
         for (uint i = 0; i < PERMA_NUM_PROCS; ++i) {
             q = perma_order[i];
-            got = perma_try_take_local(ctl, mem, own, q, &start);
+            got = perma_try_take_local(ctl, mem, own, q, &start, &starved);
             if (got) {
+                perma_note_starved(ctl, groups, own, starved, starve_count);
                 perma_set_blocked(group_words, 0u);
                 perma_set_batch(batch, PERMA_CMD_RUN_LOCAL, q, start, got, PERMA_QINDEX(own, q), 0);
                 return;
@@ -223,8 +261,9 @@ inline void perma_schedule(__global uint *ctl, __global uint *queue_data, __glob
         for (uint pass = 0; pass < 2; ++pass) {
             for (uint i = 0; i < PERMA_NUM_PROCS; ++i) {
                 q = perma_order[i];
-                got = perma_try_take(ctl, own, own, q, pass == 0, &start, &found);
+                got = perma_try_take(ctl, own, own, q, pass == 0, &start, &starved);
                 if (got) {
+                    perma_note_starved(ctl, groups, own, starved, starve_count);
                     perma_set_blocked(group_words, 0u);
                     perma_set_batch(batch, PERMA_CMD_RUN, q, start, got, PERMA_QINDEX(own, q), 0);
                     return;
@@ -239,8 +278,9 @@ inline void perma_schedule(__global uint *ctl, __global uint *queue_data, __glob
                 continue;
             for (uint i = 0; i < PERMA_NUM_PROCS; ++i) {
                 q = perma_order[i];
-                got = perma_try_take(ctl, own, victim, q, 0, &start, &found);
+                got = perma_try_take(ctl, own, victim, q, 0, &start, &starved);
                 if (got) {
+                    perma_note_starved(ctl, groups, own, starved, starve_count);
                     group_stat[PERMA_GSTAT_STEALS] += 1u;
                     perma_set_blocked(group_words, 0u);
                     perma_set_batch(batch, PERMA_CMD_RUN, q, start, got, PERMA_QINDEX(victim, q), 0);
@@ -265,11 +305,13 @@ inline void perma_schedule(__global uint *ctl, __global uint *queue_data, __glob
          * If every running group is in that state since the same epoch while
          * items are outstanding, only bigger queues can help. */
         perma_set_blocked(group_words, epoch + 1u);
-        if (perma_all_blocked(ctl, epoch) && perma_load_int(ctl + PERMA_CTL_OUTSTANDING) > 0) {
-            perma_fail(ctl, PERMA_KSTATUS_NEEDS_ROOM, 0xffffffffu, 0);
+        if (perma_all_blocked(ctl, epoch, groups) && perma_load_int(ctl + PERMA_CTL_OUTSTANDING) > 0) {
+            perma_fail(ctl, PERMA_KSTATUS_NEEDS_ROOM, PERMA_DETAIL_STALLED, 0);
             break;
         }
-        (void)found;
+        /* Work in sight but no room to start any of it. */
+        if (starved >= 0 && perma_note_starved(ctl, groups, own, starved, starve_count))
+            break;
         (void)dest;
         if (poll >= PERMA_IDLE_POLLS) {
             batch[PERMA_B_COMMAND] = PERMA_CMD_IDLE;
@@ -313,6 +355,7 @@ void perma_megakernel(__global uint *ctl, __global uint *queue_data, __global ui
     const uint own = PERMA_QUEUE_SETS > 1 ? group : 0u;
     __global uint *group_words = PERMA_GROUP(ctl, group);
     uint victim_state = group * 2654435761u + 12345u; /* used by work-item 0 only */
+    uint starve_count = 0;                            /* likewise */
 #if PERMA_TRACE_EVENTS
     uint trace_count = 0, trace_start = 0;            /* likewise */
     __global uint *group_trace = trace + group * PERMA_TRACE_GROUP_WORDS;
@@ -338,7 +381,8 @@ void perma_megakernel(__global uint *ctl, __global uint *queue_data, __global ui
     uint command = PERMA_CMD_IDLE;
     while (command != PERMA_CMD_EXIT) {
         if (lid == 0)
-            perma_schedule(ctl, queue_data, group_words, own, abort_flag, batch, mem, &victim_state);
+            perma_schedule(ctl, queue_data, group_words, get_num_groups(0), own, abort_flag, batch, mem,
+                           &victim_state, &starve_count);
         barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
         command = batch[PERMA_B_COMMAND];
         const uint proc = batch[PERMA_B_PROC];

@@ -156,7 +156,10 @@ typedef struct perma_config {
      * threads_per_item items per batch. */
     unsigned items_per_work_item;
     /* Initial capacity of each queue in items; 0 = 1024.  Rounded up to a
-     * power of two; queues grow on demand. */
+     * power of two; queues grow on demand: when no group can start anything
+     * for lack of room, and when a group's batches keep being cut to a
+     * fraction by the room their worst-case emits need (up to
+     * queue_memory_limit). */
     size_t queue_capacity;
     /* Cap on the bytes of all queues together; 0 = half the device's
      * largest allocation.  Reaching it fails the run with PERMA_ERR_CAPACITY. */

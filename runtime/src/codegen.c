@@ -162,9 +162,8 @@ static void append_procedure_sources(perma_runtime *rt, perma_strbuf *sb)
  * procedures may be larger than the group). */
 static void append_dispatch(perma_runtime *rt, perma_strbuf *sb)
 {
-    perma_strbuf_append(sb, "inline void perma_dispatch(uint proc, perma_ctx *ctx, __local uint *items, "
+    perma_strbuf_append(sb, "PERMA_PHASE void perma_dispatch(uint lid, uint proc, perma_ctx *ctx, __local uint *items, "
                             "__local uint *counts, __local uint *arena, uint run)\n{\n"
-                            "    const uint lid = get_local_id(0);\n"
                             "    switch (proc) {\n");
     for (unsigned i = 0; i < rt->proc_count; ++i) {
         const perma_proc_info *p = &rt->procs[i];
@@ -246,7 +245,12 @@ perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *sb)
     perma_strbuf_append(sb, perma_kernel_emit);
     resume_generated(sb);
     append_emit_helpers(rt, sb);
+    /* A profile of the phases keeps the procedures out of the dispatch. */
+    perma_strbuf_append(sb, "#ifdef PERMA_PROFILE_PHASES\n"
+                            "#pragma clang attribute push (__attribute__((noinline)), apply_to = function)\n"
+                            "#endif\n");
     append_procedure_sources(rt, sb);
+    perma_strbuf_append(sb, "#ifdef PERMA_PROFILE_PHASES\n#pragma clang attribute pop\n#endif\n");
     append_size_checks(rt, sb);
     append_dispatch(rt, sb);
     append_kernel_params(rt, sb);

@@ -10,6 +10,7 @@ enum {
     PERMA_CTL_DETAIL_EDGE = 4,
     PERMA_CTL_PROGRESS = 5,
     PERMA_CTL_CLOCK = 6,
+    PERMA_CTL_GROW_STARVED = 7,
     PERMA_CTL_HEADER_WORDS = 16
 };
 
@@ -29,11 +30,14 @@ enum { PERMA_GROUP_WORDS = 2 };
 
 enum {
     PERMA_KSTATUS_DONE = 0,
-    PERMA_KSTATUS_NEEDS_ROOM = 1,
+    PERMA_KSTATUS_NEEDS_ROOM = 1, /* DETAIL_PROC: PERMA_DETAIL_STALLED or _STARVED */
     PERMA_KSTATUS_EMIT_LIMIT = 2,
     /* 3 was a bounded wait that ran out: the queues no longer wait. */
     PERMA_KSTATUS_ABORTED = 4
 };
+
+#define PERMA_DETAIL_STALLED 0xffffffffu
+#define PERMA_DETAIL_STARVED 0xfffffffeu
 
 #define PERMA_EMIT_ERROR_LIMIT 0x10000u
 #define PERMA_EMIT_ERROR_UNDECLARED 0x20000u

@@ -110,6 +110,7 @@ struct perma_runtime {
     unsigned image_count;
     perma_group_stats *group_stats; /* work_groups entries */
     bool hung;                      /* a kernel ignored the watchdog; do not wait on it */
+    bool grow_starved;              /* a group starved of room may stop a launch to grow queues */
     bool debug;                     /* PERMA_DEBUG: one group, -DPERMA_DEBUG */
 
     perma_stats stats;
@@ -172,7 +173,7 @@ void perma_release_program(perma_runtime *rt);
 perma_status perma_queues_prepare(perma_runtime *rt);
 perma_status perma_queues_upload(perma_runtime *rt);
 perma_status perma_queues_download(perma_runtime *rt);
-perma_status perma_queues_grow(perma_runtime *rt);
+perma_status perma_queues_grow(perma_runtime *rt, unsigned starved_queue);
 void perma_queues_release(perma_runtime *rt);
 /* Make *mem a buffer of at least `words` words (keeps a big enough one). */
 perma_status perma_ensure_buffer(perma_runtime *rt, cl_mem *mem, size_t *have_words, size_t words, const char *what);

@@ -95,7 +95,7 @@ perma_status perma_queues_prepare(perma_runtime *rt)
     if (!capacities)
         return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory for %u queues", rt->image_count);
     for (unsigned qi = 0; qi < rt->image_count; ++qi) {
-        unsigned q = qi % n, set = qi / n;
+        unsigned q = qi % n;
         size_t share = (rt->procs[q].seed_count + sets - 1) / sets;
         size_t cap = base;
         if (share > cap)
@@ -106,7 +106,6 @@ perma_status perma_queues_prepare(perma_runtime *rt)
                 if ((unsigned)rt->procs[i].emit_target[e] == q && rt->procs[i].emit_max[e] > cap)
                     cap = rt->procs[i].emit_max[e];
         capacities[qi] = next_pow2(cap);
-        (void)set;
     }
     size_t bytes = queue_bytes(rt, capacities);
     perma_status st = PERMA_OK;
@@ -185,6 +184,7 @@ perma_status perma_queues_upload(perma_runtime *rt)
         goto done;
     }
     ctl[PERMA_CTL_OUTSTANDING] = (uint32_t)outstanding;
+    ctl[PERMA_CTL_GROW_STARVED] = rt->grow_starved ? 1u : 0u;
     size_t data_off = 0;
     for (unsigned qi = 0; qi < rt->image_count; ++qi) {
         const perma_queue_image *img = &rt->images[qi];
@@ -337,8 +337,10 @@ static perma_status apply_capacities(perma_runtime *rt, const size_t *capacities
 }
 
 /* Grow the queues that stopped the launch: every target without room for
- * one item's worst-case emits from a non-empty source in the same set. */
-perma_status perma_queues_grow(perma_runtime *rt)
+ * one item's worst-case emits from a non-empty source.  `starved_queue`
+ * (when below image_count) names the one queue a group starved of room
+ * asked for instead: only that one doubles. */
+perma_status perma_queues_grow(perma_runtime *rt, unsigned starved_queue)
 {
     unsigned n = rt->proc_count;
     size_t *capacities = calloc(rt->image_count, sizeof *capacities);
@@ -351,6 +353,8 @@ perma_status perma_queues_grow(perma_runtime *rt)
     bool any = false;
     for (unsigned qi = 0; qi < rt->image_count; ++qi)
         capacities[qi] = rt->images[qi].capacity;
+    if (starved_queue < rt->image_count)
+        grow[starved_queue] = any = true;
     for (int relaxed = 0; relaxed < 2 && !any; ++relaxed) {
         for (unsigned qi = 0; qi < rt->image_count; ++qi) {
             if (rt->images[qi].count == 0)

@@ -68,8 +68,16 @@ static perma_status interpret(perma_runtime *rt, const uint32_t *ks, bool *again
         return PERMA_OK;
     case PERMA_KSTATUS_NEEDS_ROOM: {
         perma_status st = perma_queues_download(rt);
+        bool starved = ks[1] == PERMA_DETAIL_STARVED;
         if (st == PERMA_OK)
-            st = perma_queues_grow(rt);
+            st = perma_queues_grow(rt, starved ? ks[2] : UINT32_MAX);
+        if (starved && st == PERMA_ERR_CAPACITY) {
+            /* Growing for full batches is an optimisation: past the memory
+             * limit the run goes on with the queues it has, and no group
+             * stops it for that again. */
+            rt->grow_starved = false;
+            st = PERMA_OK;
+        }
         *again = st == PERMA_OK;
         return st;
     }
@@ -98,6 +106,7 @@ perma_status perma_run(perma_runtime *rt)
     double limit = rt->config.time_limit > 0 ? rt->config.time_limit : DEFAULT_TIME_LIMIT;
     double deadline = start + limit;
 
+    rt->grow_starved = true;
     st = perma_queues_prepare(rt);
     if (st == PERMA_OK)
         st = copy_host_buffers(rt, PERMA_READ);

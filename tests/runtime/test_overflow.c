@@ -4,21 +4,28 @@
 #include "perma_test.h"
 #include "tree_procedure.h"
 
+#include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
 
-static perma_proc add_tree(perma_runtime *rt, uint32_t *counts, uint64_t *sums)
+/* The binary tree procedure, declaring `declared` emits per item (it makes 2). */
+static perma_proc add_tree_declaring(perma_runtime *rt, uint32_t *counts, uint64_t *sums, unsigned declared)
 {
     ck_assert_perma_ok(rt, perma_add_source(rt, TREE_TYPES, "tree_types.cl"));
     perma_procedure tree = {
         .name = "tree", .item_type = "struct tree_node", .item_size = sizeof(struct tree_node),
-        .source = TREE_SOURCE, .function = "tree_split", .emits = { { "tree", 2 } },
+        .source = TREE_SOURCE, .function = "tree_split", .emits = { { "tree", declared } },
     };
     perma_proc id;
     ck_assert_perma_ok(rt, perma_register(rt, &tree, &id));
     ck_assert_perma_ok(rt, perma_bind_host(rt, "counts", "__global uint *", counts, 8, PERMA_READ_WRITE));
     ck_assert_perma_ok(rt, perma_bind_host(rt, "sums", "__global ulong *", sums, 8, PERMA_READ_WRITE));
     return id;
+}
+
+static perma_proc add_tree(perma_runtime *rt, uint32_t *counts, uint64_t *sums)
+{
+    return add_tree_declaring(rt, counts, sums, 2);
 }
 
 START_TEST(tiny_queue_regrows_to_exact_result)
@@ -123,6 +130,61 @@ START_TEST(unbounded_recursion_hits_the_cap)
 }
 END_TEST
 
+/* Items that declare far more emits than they make (64; these leaves make
+ * none): 950 of them in each queue of 1024 (one, or one per group with the
+ * distributed strategies) leave room for the worst case of only one at a
+ * time, yet always for one, so nothing ever stalls.  The
+ * megakernel grows the queue anyway (a group starved of room asks the host
+ * for it) and needs fewer batches; with a memory limit that forbids
+ * growing, the run completes with the small queue. */
+START_TEST(starved_batches_grow_the_queue)
+{
+    enum { LEAVES_PER_SET = 950, GROUPS = 2, DECLARED = 64 };
+    unsigned leaves = 1;
+    size_t initial_bytes = 0;
+    uint64_t batches[3] = { 0, 0, 0 };
+    bool megakernel = true;
+    for (int run = 0; run < 3 && megakernel; ++run) {
+        perma_config config;
+        perma_config_init(&config);
+        config.time_limit = 120;
+        config.work_groups = GROUPS;
+        config.queue_memory_limit = run == 2 ? initial_bytes : 0;
+        perma_runtime *rt = test_runtime_config(&config);
+        uint32_t counts[2] = { 0, 0 };
+        uint64_t sums[1] = { 0 };
+        perma_proc id = add_tree_declaring(rt, counts, sums, DECLARED);
+        /* Run 0: a single leaf, to learn the initial queue memory. */
+        struct tree_node seeds[GROUPS * LEAVES_PER_SET];
+        for (unsigned i = 0; i < leaves; ++i)
+            seeds[i] = (struct tree_node){ 0, 0, i, 0 };
+        ck_assert_perma_ok(rt, perma_seed(rt, id, seeds, leaves));
+        ck_assert_perma_ok(rt, perma_run(rt));
+        ck_assert_uint_eq(counts[0], leaves);
+        ck_assert_uint_eq(sums[0], (uint64_t)leaves * (leaves - 1) / 2);
+        perma_stats st;
+        perma_procedure_stats ps;
+        ck_assert_perma_ok(rt, perma_get_stats(rt, &st));
+        ck_assert_perma_ok(rt, perma_get_procedure_stats(rt, id, &ps));
+        ck_assert_uint_eq(ps.items, leaves);
+        batches[run] = ps.batches;
+        /* The host-driven techniques size the queues for each step. */
+        megakernel = st.technique == PERMA_TECHNIQUE_MEGAKERNEL;
+        if (run == 0) {
+            initial_bytes = st.peak_queue_bytes;
+            leaves = LEAVES_PER_SET * (st.strategy == PERMA_STRATEGY_SHARED ? 1 : GROUPS);
+        } else if (run == 1 && megakernel) {
+            ck_assert_uint_gt(st.regrowths, 0);
+        } else if (run == 2) {
+            ck_assert_uint_eq(st.regrowths, 0);
+            ck_assert_uint_eq(st.peak_queue_bytes, initial_bytes);
+            ck_assert_uint_lt(batches[1], batches[2]);
+        }
+        perma_destroy(rt);
+    }
+}
+END_TEST
+
 /* Bounded batches keep the queue at O(N + depth * p * (k - 1)) items where
  * breadth-first needs a whole tree level.  Built directly (not through the
  * test variant) because the technique is the point. */
@@ -166,6 +228,7 @@ int main(void)
     tcase_add_test(tc, memory_cap_is_a_clear_error);
     tcase_add_test(tc, unbounded_recursion_hits_the_cap);
     tcase_add_test(tc, bounded_batches_bound_memory);
+    tcase_add_test(tc, starved_batches_grow_the_queue);
     suite_add_tcase(s, tc);
     return test_run_suite(s) ? EXIT_FAILURE : EXIT_SUCCESS;
 }
