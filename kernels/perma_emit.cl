@@ -1,13 +1,17 @@
 /*
  * The context a procedure receives, and emit staging.
  *
- * Every item of a batch has its own staging area per edge in __local memory,
- * room for its declared maximum, so an emit needs no atomic at all (with one
- * thread per item; the threads of a multi-thread item share a local counter).
- * After the batch work-item 0 turns the per-item counts into offsets and
- * reserves each target's positions with a single global atomic, and every
- * work-item copies its item's emits out (kernels/perma_batch.cl).
- * Included after the generated `perma_buffers` struct.
+ * Emits are staged in __local memory without atomics.  A procedure of one
+ * thread per item that is not cooperative stages per work-item ("lane"):
+ * the work-item appends the emits of all its items of the batch to its own
+ * area and counts them per edge, so its emits leave as one block.  Any other
+ * procedure stages per item (the threads of a multi-thread item share a
+ * local counter).  Either way each item also counts its emits per edge
+ * against its declared maximum.  After the batch work-item 0 turns the
+ * counts into offsets and reserves each target's positions with a single
+ * global atomic, and every work-item copies its emits out
+ * (kernels/perma_batch.cl).  Included after the generated `perma_buffers`
+ * struct.
  */
 
 typedef struct perma_ctx {
@@ -19,6 +23,8 @@ typedef struct perma_ctx {
     uint active;   /* 1 if this work-item has an item (cooperative procedures) */
     __local void *scratch;            /* local_bytes_per_item for this item */
     __local uint *item_emit_counts;   /* per edge: items this item emitted */
+    __local uint *lane_counts;        /* lane staging: per edge, items this work-item staged; else null */
+    uint lane;                        /* lane staging: this work-item's local id */
     __local uint *stage;              /* staging arena */
     __local uint *error_code;         /* 0, or PERMA_EMIT_ERROR_* | detail */
     perma_buffers buf;                /* user buffers, by name */
@@ -48,7 +54,9 @@ PERMA_PHASE int perma_emit(perma_ctx *ctx, uint target, const uint *src)
         return 0;
     }
     uint words = perma_item_words[target];
-    __local uint *dst = ctx->stage + perma_edge_stage[e] + (ctx->slot * max + own) * words;
+    uint at = ctx->lane_counts ? ctx->lane * perma_lane_items[ctx->proc] * max + ctx->lane_counts[edge]++
+                               : ctx->slot * max + own;
+    __local uint *dst = ctx->stage + perma_edge_stage[e] + at * words;
     for (uint w = 0; w < words; ++w)
         dst[w] = src[w];
     return 1;

@@ -39,20 +39,20 @@ void perma_step_kernel(__global uint *ctl, __global uint *queue_data, __global u
     perma_buffers buf;
     PERMA_BIND_BUFFERS(buf);
     for (uint i = lid; i < PERMA_STAT_GROUP_WORDS; i += PERMA_GROUP_SIZE)
-        mem.stats[i] = 0;
+        mem->stats[i] = 0;
     const uint start = get_group_id(0) * perma_max_batch[proc];
     const uint n = start < count ? min(count - start, perma_max_batch[proc]) : 0u;
     if (lid == 0) {
-        *mem.error_code = 0;
+        mem->error_code = 0;
+        perma_set_batch(mem->batch, PERMA_CMD_RUN, proc, start, n, proc, proc);
         if (n && !perma_reserve_batch_room(ctl, 0, proc, n))
             perma_fail(ctl, PERMA_KSTATUS_NEEDS_ROOM, proc, 0); /* the host sized the queues wrongly */
     }
     barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
-    perma_run_batch(ctl, queue_data, mem, buf, PERMA_CMD_RUN, proc, start, n,
-                    PERMA_QUEUE(ctl, proc), PERMA_QUEUE(ctl, proc), input, 0, 0);
+    perma_run_batch(ctl, queue_data, mem, buf, input, 0);
     barrier(CLK_LOCAL_MEM_FENCE);
     /* Many groups per launch: add to group 0's record. */
     for (uint i = lid; i < PERMA_STAT_GROUP_WORDS; i += PERMA_GROUP_SIZE)
-        if (mem.stats[i])
-            atomic_add(group_stats + i, mem.stats[i]);
+        if (mem->stats[i])
+            atomic_add(group_stats + i, mem->stats[i]);
 }

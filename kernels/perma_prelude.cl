@@ -84,7 +84,7 @@
 #ifdef PERMA_PROFILE_PHASES
 #define PERMA_PHASE __attribute__((noinline))
 #else
-#define PERMA_PHASE inline
+#define PERMA_PHASE inline __attribute__((always_inline))
 #endif
 
 /* A read that always goes to memory (another group may have written it). */

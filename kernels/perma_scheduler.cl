@@ -143,8 +143,9 @@ inline void perma_set_batch(__local uint *batch, uint command, uint proc, uint s
                         : command == PERMA_CMD_RUN_LOCAL ? PERMA_TRACE_LOCAL : PERMA_TRACE_RUN;
     batch[PERMA_B_PROC] = proc;
     batch[PERMA_B_START] = start;
-    batch[PERMA_B_COUNT] = count;
-    batch[PERMA_B_COMMAND] = command;
+    batch[PERMA_B_COUNT] = command == PERMA_CMD_IDLE || command == PERMA_CMD_EXIT ? 0u : count;
+    batch[PERMA_B_COMMAND] = command == PERMA_CMD_RUN_LOCAL ? PERMA_CMD_RUN : command;
+    batch[PERMA_B_FROM_LOCAL] = command == PERMA_CMD_RUN_LOCAL;
     batch[PERMA_B_SOURCE] = source;
     batch[PERMA_B_DEST] = dest;
 }
@@ -152,7 +153,7 @@ inline void perma_set_batch(__local uint *batch, uint command, uint proc, uint s
 #if PERMA_LOCAL_QUEUE
 /* Flush every local stack to the global queues (work-item 0); returns the
  * items moved, and counts a flush that moved any as progress. */
-inline uint perma_local_flush_all(__global uint *ctl, __global uint *queue_data, perma_group_mem mem, uint own,
+inline uint perma_local_flush_all(__global uint *ctl, __global uint *queue_data, __local perma_group_mem *mem, uint own,
                                   __local uint *group_stat)
 {
     uint moved = 0;
@@ -168,10 +169,10 @@ inline uint perma_local_flush_all(__global uint *ctl, __global uint *queue_data,
 
 /* Take a batch from the local stack of q (top first) if its targets have
  * room; the items already hold ROOM in the global queue of q. */
-inline uint perma_try_take_local(__global uint *ctl, perma_group_mem mem, uint own, uint q, uint *start,
+inline uint perma_try_take_local(__global uint *ctl, __local perma_group_mem *mem, uint own, uint q, uint *start,
                                  int *starved)
 {
-    uint n = min(mem.lq_count[q], perma_max_batch[q]);
+    uint n = min(mem->lq_count[q], perma_max_batch[q]);
     if (n == 0)
         return 0;
     uint fit = perma_admissible(ctl, own, q, n);
@@ -179,8 +180,8 @@ inline uint perma_try_take_local(__global uint *ctl, perma_group_mem mem, uint o
     n = fit;
     if (n == 0 || !perma_reserve_batch_room(ctl, own, q, n))
         return 0;
-    mem.lq_count[q] -= n;
-    *start = mem.lq_count[q];
+    mem->lq_count[q] -= n;
+    *start = mem->lq_count[q];
     return n;
 }
 #endif
@@ -216,9 +217,9 @@ inline int perma_note_starved(__global uint *ctl, uint groups, uint own, int sta
 /* Work-item 0: choose what the group does next and write it to batch[]. */
 PERMA_PHASE void perma_schedule(__global uint *ctl, __global uint *queue_data, __global uint *group_words,
                                 uint groups, uint own, volatile __global uint *abort_flag, __local uint *batch,
-                                perma_group_mem mem, uint *victim_state, uint *starve_count)
+                                __local perma_group_mem *mem, uint *victim_state, uint *starve_count)
 {
-    __local uint *group_stat = mem.stats + PERMA_NUM_PROCS * PERMA_STAT_PROC_WORDS;
+    __local uint *group_stat = mem->stats + PERMA_NUM_PROCS * PERMA_STAT_PROC_WORDS;
     (void)queue_data; /* used by the local front queue's flush only */
     (void)victim_state; /* used by stealing only */
     for (uint poll = 0;; ++poll) {
@@ -314,7 +315,7 @@ PERMA_PHASE void perma_schedule(__global uint *ctl, __global uint *queue_data, _
             break;
         (void)dest;
         if (poll >= PERMA_IDLE_POLLS) {
-            batch[PERMA_B_COMMAND] = PERMA_CMD_IDLE;
+            perma_set_batch(batch, PERMA_CMD_IDLE, 0, 0, 0, 0, 0);
             return;
         }
     }
@@ -326,29 +327,19 @@ PERMA_PHASE void perma_schedule(__global uint *ctl, __global uint *queue_data, _
     if (perma_load(ctl + PERMA_CTL_STATUS) == PERMA_KSTATUS_NEEDS_ROOM)
         perma_local_flush_all(ctl, queue_data, mem, own, group_stat);
 #endif
-    batch[PERMA_B_COMMAND] = PERMA_CMD_EXIT;
+    perma_set_batch(batch, PERMA_CMD_EXIT, 0, 0, 0, 0, 0);
 }
 
-/* Declare a group's __local memory and the record pointing at it. */
-#define PERMA_GROUP_LOCALS(mem)                                                   \
-    __local uint perma_arena[PERMA_ARENA_WORDS] __attribute__((aligned(64)));    \
-    __local uint perma_edge_counts[PERMA_MAX_EDGES];                             \
-    __local uint perma_edge_base[2 * PERMA_MAX_EDGES];                           \
-    __local uint perma_stats[PERMA_STAT_GROUP_WORDS];                            \
-    __local uint perma_error_code;                                               \
-    __local uint perma_lq[PERMA_LQ_WORDS] __attribute__((aligned(64)));          \
-    __local uint perma_lq_count[PERMA_NUM_PROCS];                                \
-    __local uint perma_edge_keep[PERMA_MAX_EDGES];                               \
-    perma_group_mem mem = { perma_arena, perma_edge_counts, perma_edge_base,     \
-                            perma_stats, &perma_error_code, perma_lq,            \
-                            perma_lq_count, perma_edge_keep }
+/* Declare a group's __local memory and `mem`, its address. */
+#define PERMA_GROUP_LOCALS(mem)                       \
+    __local perma_group_mem perma_group_state;        \
+    __local perma_group_mem *const mem = &perma_group_state
 
 __kernel __attribute__((reqd_work_group_size(PERMA_GROUP_SIZE, 1, 1)))
 void perma_megakernel(__global uint *ctl, __global uint *queue_data, __global uint *group_stats,
                       volatile __global uint *abort_flag, __global uint *trace PERMA_BUFFER_PARAMS)
 {
     PERMA_GROUP_LOCALS(mem);
-    __local uint batch[PERMA_BATCH_WORDS];
 
     const uint lid = get_local_id(0);
     const uint group = get_group_id(0);
@@ -366,12 +357,12 @@ void perma_megakernel(__global uint *ctl, __global uint *queue_data, __global ui
     PERMA_BIND_BUFFERS(buf);
 
     for (uint i = lid; i < PERMA_STAT_GROUP_WORDS; i += PERMA_GROUP_SIZE)
-        mem.stats[i] = 0;
+        mem->stats[i] = 0;
     for (uint i = lid; i < PERMA_NUM_PROCS; i += PERMA_GROUP_SIZE)
-        mem.lq_count[i] = 0;
+        mem->lq_count[i] = 0;
     if (lid == 0) {
-        *mem.error_code = 0;
-        perma_set_batch(batch, PERMA_CMD_IDLE, 0, 0, 0, 0, 0);
+        mem->error_code = 0;
+        perma_set_batch(mem->batch, PERMA_CMD_IDLE, 0, 0, 0, 0, 0);
         atomic_xchg(group_words + PERMA_G_STATE, 1u);
     }
     barrier(CLK_LOCAL_MEM_FENCE);
@@ -381,30 +372,21 @@ void perma_megakernel(__global uint *ctl, __global uint *queue_data, __global ui
     uint command = PERMA_CMD_IDLE;
     while (command != PERMA_CMD_EXIT) {
         if (lid == 0)
-            perma_schedule(ctl, queue_data, group_words, get_num_groups(0), own, abort_flag, batch, mem,
+            perma_schedule(ctl, queue_data, group_words, get_num_groups(0), own, abort_flag, mem->batch, mem,
                            &victim_state, &starve_count);
         barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
-        command = batch[PERMA_B_COMMAND];
-        const uint proc = batch[PERMA_B_PROC];
-        const uint start = batch[PERMA_B_START];
-        const uint from_local = command == PERMA_CMD_RUN_LOCAL;
-        const uint moving = command == PERMA_CMD_RUN || command == PERMA_CMD_DONATE || from_local;
-        const uint count = moving ? batch[PERMA_B_COUNT] : 0u;
-        __global uint *source = PERMA_QUEUE(ctl, batch[PERMA_B_SOURCE]);
-        __global uint *donee = PERMA_QUEUE(ctl, batch[PERMA_B_DEST]);
+        command = mem->batch[PERMA_B_COMMAND];
 #if PERMA_TRACE_EVENTS
-        if (lid == 0 && count)
+        if (lid == 0 && mem->batch[PERMA_B_COUNT])
             trace_start = atomic_inc(ctl + PERMA_CTL_CLOCK);
 #endif
-        /* batch[] is rewritten only after the barriers of the batch code. */
-        perma_run_batch(ctl, queue_data, mem, buf,
-                        from_local ? PERMA_CMD_RUN : command, proc, start, count,
-                        source, donee, (__global const uint *)0, from_local, own);
+        perma_run_batch(ctl, queue_data, mem, buf, (__global const uint *)0, own);
 #if PERMA_TRACE_EVENTS
-        if (lid == 0 && count && trace_count < PERMA_TRACE_EVENTS) {
+        /* Before work-item 0 schedules the next batch. */
+        if (lid == 0 && mem->batch[PERMA_B_COUNT] && trace_count < PERMA_TRACE_EVENTS) {
             __global uint *record = group_trace + 1u + 4u * trace_count++;
-            record[0] = proc | batch[PERMA_B_KIND] << 8;
-            record[1] = count;
+            record[0] = mem->batch[PERMA_B_PROC] | mem->batch[PERMA_B_KIND] << 8;
+            record[1] = mem->batch[PERMA_B_COUNT];
             record[2] = trace_start;
             record[3] = atomic_inc(ctl + PERMA_CTL_CLOCK);
         }
@@ -416,7 +398,7 @@ void perma_megakernel(__global uint *ctl, __global uint *queue_data, __global ui
 #endif
 
     for (uint i = lid; i < PERMA_STAT_GROUP_WORDS; i += PERMA_GROUP_SIZE)
-        group_stats[group * PERMA_STAT_GROUP_WORDS + i] = mem.stats[i];
+        group_stats[group * PERMA_STAT_GROUP_WORDS + i] = mem->stats[i];
     if (lid == 0)
         atomic_xchg(group_words + PERMA_G_STATE, 2u);
 }

@@ -65,6 +65,8 @@ static void append_tables(perma_runtime *rt, perma_strbuf *sb)
     PER_PROC("perma_item_words", (unsigned)(p->item_size / 4));
     PER_PROC("perma_items_off", p->items_off);
     PER_PROC("perma_counters_off", p->counters_off);
+    PER_PROC("perma_lane_counts_off", p->lane_counts_off);
+    PER_PROC("perma_lane_items", p->lane_items);
     PER_PROC("perma_edge_count", p->emit_count);
     PER_PROC("perma_lq_off", p->lq_off);
     PER_EDGE("perma_edge_target", (unsigned)p->emit_target[e]);
@@ -162,8 +164,19 @@ static void append_procedure_sources(perma_runtime *rt, perma_strbuf *sb)
  * procedures may be larger than the group). */
 static void append_dispatch(perma_runtime *rt, perma_strbuf *sb)
 {
-    perma_strbuf_append(sb, "PERMA_PHASE void perma_dispatch(uint lid, uint proc, perma_ctx *ctx, __local uint *items, "
-                            "__local uint *counts, __local uint *arena, uint run)\n{\n"
+    perma_strbuf_append(sb, "PERMA_PHASE void perma_dispatch(uint lid, __local perma_group_mem *mem, perma_buffers buf)\n"
+                            "{\n"
+                            "    const uint proc = mem->batch[PERMA_B_PROC];\n"
+                            "    const uint run = perma_batch_run(mem);\n"
+                            "    __local uint *arena = mem->arena;\n"
+                            "    __local uint *items = perma_batch_items(mem);\n"
+                            "    __local uint *counts = arena + perma_counters_off[proc];\n"
+                            "    perma_ctx context;\n"
+                            "    perma_ctx *ctx = &context;\n"
+                            "    ctx->group = get_group_id(0);\n"
+                            "    ctx->stage = arena;\n"
+                            "    ctx->error_code = &mem->error_code;\n"
+                            "    ctx->buf = buf;\n"
                             "    switch (proc) {\n");
     for (unsigned i = 0; i < rt->proc_count; ++i) {
         const perma_proc_info *p = &rt->procs[i];
@@ -175,6 +188,8 @@ static void append_dispatch(perma_runtime *rt, perma_strbuf *sb)
                                 "        ctx->thread = 0u;\n"
                                 "        ctx->threads = 1u;\n"
                                 "        ctx->active = 1u;\n"
+                                "        ctx->lane = lid;\n"
+                                "        ctx->lane_counts = arena + %uu + lid * %uu;\n"
                                 "        for (uint slot = lid; slot < run; slot += PERMA_GROUP_SIZE) {\n"
                                 "            ctx->slot = slot;\n"
                                 "            ctx->scratch = (__local void *)(arena + %uu + slot * %uu);\n"
@@ -182,8 +197,8 @@ static void append_dispatch(perma_runtime *rt, perma_strbuf *sb)
                                 "            %s(ctx, (__local const %s *)(items + slot * %zuu));\n"
                                 "        }\n"
                                 "        break;\n",
-                                i, i, p->scratch_off, p->scratch_words, p->emit_count, p->function, p->item_type,
-                                p->item_size / 4);
+                                i, i, p->lane_counts_off, p->emit_count, p->scratch_off, p->scratch_words,
+                                p->emit_count, p->function, p->item_type, p->item_size / 4);
             continue;
         }
         perma_strbuf_printf(sb,
@@ -196,6 +211,8 @@ static void append_dispatch(perma_runtime *rt, perma_strbuf *sb)
                             "        ctx->slot = ctx->active ? slot : 0u;\n"
                             "        ctx->scratch = (__local void *)(arena + %uu + ctx->slot * %uu);\n"
                             "        ctx->item_emit_counts = counts + ctx->slot * %uu;\n"
+                            "        ctx->lane_counts = 0;\n"
+                            "        ctx->lane = lid;\n"
                             "        %s%s(ctx, (__local const %s *)(items + ctx->slot * %zuu));\n"
                             "        break;\n"
                             "    }\n",
@@ -245,17 +262,21 @@ perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *sb)
     perma_strbuf_append(sb, perma_kernel_emit);
     resume_generated(sb);
     append_emit_helpers(rt, sb);
-    /* A profile of the phases keeps the procedures out of the dispatch. */
+    /* Procedures are inlined into the dispatch (a call per item otherwise,
+     * and the case's constants fold into their emits); a profile of the
+     * phases keeps them apart instead. */
     perma_strbuf_append(sb, "#ifdef PERMA_PROFILE_PHASES\n"
                             "#pragma clang attribute push (__attribute__((noinline)), apply_to = function)\n"
+                            "#else\n"
+                            "#pragma clang attribute push (__attribute__((always_inline)), apply_to = function)\n"
                             "#endif\n");
     append_procedure_sources(rt, sb);
-    perma_strbuf_append(sb, "#ifdef PERMA_PROFILE_PHASES\n#pragma clang attribute pop\n#endif\n");
+    perma_strbuf_append(sb, "#pragma clang attribute pop\n");
     append_size_checks(rt, sb);
-    append_dispatch(rt, sb);
     append_kernel_params(rt, sb);
     perma_strbuf_append(sb, perma_kernel_batch);
     resume_generated(sb);
+    append_dispatch(rt, sb);
     perma_strbuf_append(sb, perma_kernel_scheduler);
     resume_generated(sb);
     perma_strbuf_append(sb, perma_kernel_host_steps);

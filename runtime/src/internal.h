@@ -36,6 +36,8 @@ typedef struct perma_proc_info {
     unsigned depth;                    /* distance from a root of the graph */
     unsigned max_batch;                /* items per batch */
     unsigned items_off, scratch_off, counters_off; /* arena offsets, words */
+    unsigned lane_counts_off;          /* per work-item emit counters (simple procedures) */
+    unsigned lane_items;               /* items a lane stages for (0: staging per item) */
     unsigned scratch_words;            /* per item */
     unsigned stage_off[PERMA_MAX_EMITS];
     unsigned lq_off;                   /* local front queue offset, words */
