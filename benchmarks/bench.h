@@ -12,6 +12,8 @@
 #include <stdint.h>
 #include <stdio.h>
 
+#define BENCH_MAX_DEVICES 4
+
 /* Options common to every subcommand. */
 typedef struct bench_options {
     const char *csv_path;   /* --csv FILE, or NULL */
@@ -21,6 +23,10 @@ typedef struct bench_options {
     unsigned threads;       /* OpenMP threads: --threads N, 0 = online CPUs */
     const char *only;       /* --only TEXT: run only perma variants whose label contains it */
     int verbose;            /* --verbose: perma_print_stats after each perma row */
+    /* --devices LIST: PERMA_DEVICE values (e.g. pocl,intel); every perma
+     * row is measured once per device, the rows of a variant side by side. */
+    const char *devices[BENCH_MAX_DEVICES];
+    unsigned device_count;
 } bench_options;
 
 /* A subcommand: one entry of the table in main.c. */
@@ -91,6 +97,7 @@ double bench_median(double *values, unsigned count); /* sorts values */
 typedef struct bench_variant {
     const char *label;
     perma_schedule schedule;
+    char name[80];          /* its rows' name: the label, plus " @DEVICE" with --devices */
 } bench_variant;
 
 /* The labels of the variants every benchmark measures. */
@@ -100,6 +107,13 @@ extern const unsigned bench_variant_count;
 /* Parse a label into *out (out->label points to it); the parser's status
  * and, in *error (may be NULL), its message. */
 perma_status bench_variant_parse(const char *label, bench_variant *out, perma_error *error);
+/* Passes over devices: the number of --devices, or 1 (the device
+ * PERMA_DEVICE or the default picks). */
+unsigned bench_device_passes(const bench_options *options);
+/* Make device pass d the one the runtimes created next use (PERMA_DEVICE)
+ * and name v's rows after it. */
+void bench_variant_use_device(const bench_options *options, unsigned d, bench_variant *v);
+
 /* Whether --only selects `label` (a substring of it); if so, parse it into
  * *out.  A label that does not parse prints as n/a with the parser's
  * message and is not selected. */

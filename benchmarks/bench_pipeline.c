@@ -80,7 +80,7 @@ static void run_perma(const bench_options *o, const bench_variant *v, pipe_state
                       unsigned group_size, const char *title, bench_report *report)
 {
     bench_row row;
-    bench_row_init(&row, title, v->label, "items");
+    bench_row_init(&row, title, v->name, "items");
     row.group_size = group_size;
     row.work_groups = o->groups;
     row.units = (double)s->expected.items;
@@ -190,8 +190,12 @@ static int run_order(const bench_options *o, pipe_state *s, int upstream_first, 
 
     for (unsigned i = 0; i < bench_variant_count; ++i) {
         bench_variant v;
-        if (bench_variant_select(o, bench_variants[i], &v))
+        if (!bench_variant_select(o, bench_variants[i], &v))
+            continue;
+        for (unsigned d = 0; d < bench_device_passes(o); ++d) {
+            bench_variant_use_device(o, d, &v);
             run_perma(o, &v, s, upstream_first, group_size, title, report);
+        }
     }
     return 0;
 }

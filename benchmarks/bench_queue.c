@@ -74,7 +74,7 @@ static void run_perma(const bench_options *o, const bench_variant *v, queue_stat
                       unsigned groups, const char *title, bench_report *report)
 {
     bench_row row;
-    bench_row_init(&row, title, v->label, "items");
+    bench_row_init(&row, title, v->name, "items");
     row.group_size = group_size;
     row.work_groups = groups;
     row.units = total_items(&s->params);
@@ -281,8 +281,12 @@ int bench_queue(const bench_options *o, int argc, char **argv)
         for (unsigned si = 0; si < size_count; ++si)
             for (unsigned i = 0; i < bench_variant_count; ++i) {
                 bench_variant v;
-                if (bench_variant_select(o, bench_variants[i], &v))
+                if (!bench_variant_select(o, bench_variants[i], &v))
+                    continue;
+                for (unsigned d = 0; d < bench_device_passes(o); ++d) {
+                    bench_variant_use_device(o, d, &v);
                     run_perma(o, &v, s, sizes[si], group_list[gi], title, report);
+                }
             }
     free(s->seeds);
     free(s);

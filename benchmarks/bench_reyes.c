@@ -41,6 +41,9 @@ static const char *const reyes_variants[] = {
     "bounded-batches/p=4096",
 };
 #define VARIANT_COUNT (sizeof reyes_variants / sizeof reyes_variants[0])
+/* A renderer per variant and device (--devices): slot v * BENCH_MAX_DEVICES + d. */
+#define SLOTS (VARIANT_COUNT * BENCH_MAX_DEVICES)
+#define SLOT(v, d) ((v) * BENCH_MAX_DEVICES + (d))
 
 /* Stage modes in the order the rows are printed. */
 static const unsigned stage_modes[STAGE_MODES] = { REYES_STAGES_ALL, REYES_STAGES_GEOMETRY,
@@ -177,7 +180,7 @@ reyes_options reyes_bench_render_options(const reyes_bench_args *a, const bench_
     o.height = height;
     o.bound_px = a->bound_px;
     o.work_groups = options->groups;
-    reyes_options_set_schedule(&o, &v->schedule);
+    o.schedule = v->schedule;
     return o;
 }
 
@@ -292,31 +295,40 @@ static double ratio(double numerator, double denominator)
     return numerator > 0.0 && denominator > 0.0 ? numerator / denominator : 0.0;
 }
 
-/* The stage times by difference and the ratios against both targets. */
-static void print_summary(const double reference[2], const variant_times times[VARIANT_COUNT])
+/* The stage times by difference and the ratios against both targets, per
+ * device. */
+static void print_summary(const bench_options *options, const double reference[2],
+                          const variant_times times[SLOTS])
 {
-    const variant_times *mk = &times[0], *kpp = &times[4];
     printf("\n  stages (by difference, seconds):     subdivide   dice geometry   shade+sample   total\n");
     printf("  %-34s %9.4f %15.4f %14s %7.4f\n", "C reference (1 thread)", reference[1],
            reference[0] - reference[1], "-", reference[0]);
     for (unsigned v = 0; v < VARIANT_COUNT; ++v) {
-        if (!times[v].ran)
-            continue;
-        const double *s = times[v].seconds;
-        printf("  %-34s %9.4f %15.4f %14.4f %7.4f\n", reyes_variants[v], s[2], s[1] - s[2], s[0] - s[1],
-               s[0]);
+        for (unsigned d = 0; d < bench_device_passes(options); ++d) {
+            bench_variant variant;
+            if (!times[SLOT(v, d)].ran || bench_variant_parse(reyes_variants[v], &variant, NULL) != PERMA_OK)
+                continue;
+            bench_variant_use_device(options, d, &variant);
+            const double *s = times[SLOT(v, d)].seconds;
+            printf("  %-34s %9.4f %15.4f %14.4f %7.4f\n", variant.name, s[2], s[1] - s[2], s[0] - s[1], s[0]);
+        }
     }
-    if (!mk->ran)
-        return;
-    double geometry = ratio(reference[0], mk->seconds[1]), full = ratio(reference[0], mk->seconds[0]);
-    printf("  megakernel/shared vs C reference, same work (bound/split/dice geometry): %.2fx "
-           "(target >= 1.6x: %s)\n", geometry, geometry >= 1.6 ? "met" : "NOT met");
-    printf("  megakernel/shared full render vs C reference bound/split/dice: %.2fx\n", full);
-    if (kpp->ran) {
-        double vs_kpp = ratio(kpp->seconds[0], mk->seconds[0]);
-        printf("  megakernel/shared vs kernel-per-procedure, full render: %.2fx (target >= 2x: %s); "
-               "geometry: %.2fx\n", vs_kpp, vs_kpp >= 2.0 ? "met" : "NOT met",
-               ratio(kpp->seconds[1], mk->seconds[1]));
+    for (unsigned d = 0; d < bench_device_passes(options); ++d) {
+        const variant_times *mk = &times[SLOT(0, d)], *kpp = &times[SLOT(4, d)];
+        const char *on = options->device_count ? options->devices[d] : "";
+        if (!mk->ran)
+            continue;
+        double geometry = ratio(reference[0], mk->seconds[1]), full = ratio(reference[0], mk->seconds[0]);
+        printf("  %s%smegakernel/shared vs C reference, same work (bound/split/dice geometry): %.2fx "
+               "(target >= 1.6x: %s)\n", on, *on ? ": " : "", geometry, geometry >= 1.6 ? "met" : "NOT met");
+        printf("  %s%smegakernel/shared full render vs C reference bound/split/dice: %.2fx\n", on,
+               *on ? ": " : "", full);
+        if (kpp->ran) {
+            double vs_kpp = ratio(kpp->seconds[0], mk->seconds[0]);
+            printf("  %s%smegakernel/shared vs kernel-per-procedure, full render: %.2fx (target >= 2x: %s); "
+                   "geometry: %.2fx\n", on, *on ? ": " : "", vs_kpp, vs_kpp >= 2.0 ? "met" : "NOT met",
+                   ratio(kpp->seconds[1], mk->seconds[1]));
+        }
     }
 }
 
@@ -325,31 +337,33 @@ int reyes_bench_file_exists(const char *path)
     return access(path, R_OK) == 0;
 }
 
-/* One renderer per variant, kept for every workload; NULL (with the
- * message printed) when the runtime refuses it. */
+/* One renderer per variant and device, kept for every workload; NULL
+ * (with the message printed) when the runtime refuses it. */
 static void create_renderers(const reyes_bench_args *a, const bench_options *options,
-                             reyes_renderer *renderers[VARIANT_COUNT])
+                             reyes_renderer *renderers[SLOTS])
 {
     for (unsigned i = 0; i < VARIANT_COUNT; ++i) {
-        renderers[i] = NULL;
         bench_variant v;
         if (!bench_variant_select(options, reyes_variants[i], &v))
             continue;
-        reyes_options o = reyes_bench_render_options(a, options, &v, 64, 64);
-        reyes_error error;
-        if (reyes_renderer_create(&o, &renderers[i], &error) != REYES_OK)
-            printf("reyes: %s: n/a: %s\n", v.label, error.message);
+        for (unsigned d = 0; d < bench_device_passes(options); ++d) {
+            bench_variant_use_device(options, d, &v);
+            reyes_options o = reyes_bench_render_options(a, options, &v, 64, 64);
+            reyes_error error;
+            if (reyes_renderer_create(&o, &renderers[SLOT(i, d)], &error) != REYES_OK)
+                printf("reyes: %s: n/a: %s\n", v.name, error.message);
+        }
     }
 }
 
 /* A small render per renderer compiles the program and its kernels
  * outside the timed runs. */
 static void warm_up(const reyes_scene *scene, const reyes_bench_args *a, const bench_options *options,
-                    reyes_renderer *renderers[VARIANT_COUNT])
+                    reyes_renderer *renderers[SLOTS])
 {
-    for (unsigned i = 0; i < VARIANT_COUNT; ++i) {
+    for (unsigned i = 0; i < SLOTS; ++i) {
         bench_variant v;
-        if (!renderers[i] || bench_variant_parse(reyes_variants[i], &v, NULL) != PERMA_OK)
+        if (!renderers[i] || bench_variant_parse(reyes_variants[i / BENCH_MAX_DEVICES], &v, NULL) != PERMA_OK)
             continue;
         reyes_options o = reyes_bench_render_options(a, options, &v, 64, 64);
         reyes_camera camera;
@@ -363,7 +377,7 @@ static void warm_up(const reyes_scene *scene, const reyes_bench_args *a, const b
 
 static void run_workload(bench_report *report, const char *model, const reyes_scene *scene,
                          unsigned width, unsigned height, const reyes_bench_args *a,
-                         const bench_options *options, reyes_renderer *renderers[VARIANT_COUNT])
+                         const bench_options *options, reyes_renderer *renderers[SLOTS])
 {
     char workload[64];
     snprintf(workload, sizeof workload, "%s %ux%u bound %g", model, width, height, (double)a->bound_px);
@@ -384,26 +398,28 @@ static void run_workload(bench_report *report, const char *model, const reyes_sc
     reyes_reference_counts reference;
     double reference_seconds[2];
     measure_reference(report, workload, scene, &camera, base, options, &reference, reference_seconds);
-    variant_times times[VARIANT_COUNT];
+    variant_times times[SLOTS];
     memset(times, 0, sizeof times);
-    for (unsigned v = 0; v < VARIANT_COUNT; ++v) {
+    for (unsigned i = 0; i < SLOTS; ++i) {
+        unsigned v = i / BENCH_MAX_DEVICES, d = i % BENCH_MAX_DEVICES;
         bench_variant variant;
-        if (!renderers[v] || bench_variant_parse(reyes_variants[v], &variant, NULL) != PERMA_OK)
+        if (!renderers[i] || bench_variant_parse(reyes_variants[v], &variant, NULL) != PERMA_OK)
             continue;
+        bench_variant_use_device(options, d, &variant);
         char label[128];
         reyes_options o = reyes_bench_render_options(a, options, &variant, width, height);
-        times[v].ran = 1;
+        times[i].ran = 1;
         for (int m = 0; m < STAGE_MODES; ++m) {
             o.stages = stage_modes[m];
-            snprintf(label, sizeof label, "%s %s", variant.label, stage_names[m]);
-            times[v].seconds[m] = measure_stage(report, workload, renderers[v], label, scene, &camera, &o,
+            snprintf(label, sizeof label, "%s %s", variant.name, stage_names[m]);
+            times[i].seconds[m] = measure_stage(report, workload, renderers[i], label, scene, &camera, &o,
                                                 options, &reference);
-            times[v].ran &= times[v].seconds[m] > 0.0;
+            times[i].ran &= times[i].seconds[m] > 0.0;
         }
         if (options->verbose)
-            printf("  (%s)\n", reyes_renderer_device(renderers[v]));
+            printf("  (%s)\n", reyes_renderer_device(renderers[i]));
     }
-    print_summary(reference_seconds, times);
+    print_summary(options, reference_seconds, times);
 }
 
 int bench_reyes(const bench_options *options, int argc, char **argv)
@@ -417,7 +433,7 @@ int bench_reyes(const bench_options *options, int argc, char **argv)
     bench_report *report;
     if (bench_report_open(&report, "reyes", options))
         return 1;
-    reyes_renderer *renderers[VARIANT_COUNT] = { NULL };
+    reyes_renderer *renderers[SLOTS] = { NULL };
     int created = 0, status = 0;
     for (unsigned m = 0; m < model_count && status == 0; ++m) {
         char path[1024];
@@ -442,7 +458,7 @@ int bench_reyes(const bench_options *options, int argc, char **argv)
         }
         reyes_scene_free(&scene);
     }
-    for (unsigned v = 0; v < VARIANT_COUNT; ++v)
+    for (unsigned v = 0; v < SLOTS; ++v)
         reyes_renderer_destroy(renderers[v]);
     if (status == 0 && reyes_bench_effects(report, &a, options))
         status = 1;

@@ -414,6 +414,8 @@ int reyes_bench_effects(bench_report *report, const reyes_bench_args *a, const b
     int status = 0;
     bench_variant selected;
     const bench_variant *primary = first_selected(options, &selected) ? &selected : NULL;
+    if (primary)
+        bench_variant_use_device(options, 0, &selected); /* --devices: the first one */
     if (a->workloads & (REYES_BENCH_DISPLACE | REYES_BENCH_BLUR) && !primary)
         printf("reyes: --only '%s' selects no variant: no displace or blur rows\n", options->only);
     reyes_renderer *renderer = NULL;

@@ -155,7 +155,7 @@ static void run_perma_variant(const bench_options *o, const bench_variant *v, tr
                               unsigned group_size, const char *title, bench_report *report)
 {
     bench_row row;
-    bench_row_init(&row, title, v->label, "nodes");
+    bench_row_init(&row, title, v->name, "nodes");
     row.group_size = group_size;
     row.work_groups = o->groups;
     perma_runtime *rt = bench_perma_create(v, group_size, o->groups, &row);
@@ -272,8 +272,12 @@ static int run_tree(const bench_options *o, const uts_tree *t, unsigned group_si
     }
     for (unsigned i = 0; i < bench_variant_count; ++i) {
         bench_variant v;
-        if (bench_variant_select(o, bench_variants[i], &v))
+        if (!bench_variant_select(o, bench_variants[i], &v))
+            continue;
+        for (unsigned d = 0; d < bench_device_passes(o); ++d) {
+            bench_variant_use_device(o, d, &v);
             run_perma_variant(o, &v, s, source, group_size, title, report);
+        }
     }
     free(s->seeds);
     free(s->counters);

@@ -32,6 +32,9 @@ static void usage(FILE *out)
             "  --groups N     perma work-groups (default: the runtime's choice)\n"
             "  --threads N    OpenMP threads (default: online CPUs)\n"
             "  --only TEXT    run only perma variants whose label contains TEXT\n"
+            "  --devices LIST measure every perma variant on each device of LIST, side by side\n"
+            "                 (PERMA_DEVICE values: pocl,intel or 0:0,1:0; the reyes effect\n"
+            "                 workloads use the first)\n"
             "  --verbose      print perma's statistics after each perma run\n"
             "  --help         this text; `perma-bench COMMAND --help` for command options\n"
             "\n"
@@ -85,6 +88,22 @@ static int parse_common(int argc, char **argv, bench_options *o)
                 return -1;
             }
             o->only = next;
+            ++i;
+        } else if (strcmp(a, "--devices") == 0) {
+            if (!next || !*next) {
+                fprintf(stderr, "perma-bench: --devices needs a comma-separated list, e.g. pocl,intel\n");
+                return -1;
+            }
+            static char list[256];
+            snprintf(list, sizeof list, "%s", next);
+            o->device_count = 0;
+            for (char *item = strtok(list, ","); item; item = strtok(NULL, ",")) {
+                if (o->device_count == BENCH_MAX_DEVICES) {
+                    fprintf(stderr, "perma-bench: --devices takes at most %d devices\n", BENCH_MAX_DEVICES);
+                    return -1;
+                }
+                o->devices[o->device_count++] = item;
+            }
             ++i;
         } else if (strcmp(a, "--quick") == 0) {
             o->quick = 1;

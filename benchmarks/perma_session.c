@@ -8,7 +8,7 @@ perma_runtime *bench_perma_create(const bench_variant *v, unsigned group_size, u
 {
     perma_config config;
     perma_config_init(&config);
-    perma_schedule_apply(&v->schedule, &config);
+    config.schedule = v->schedule;
     config.group_size = group_size;
     config.work_groups = work_groups;
     config.time_limit = 120; /* a broken variant fails its row, not the whole benchmark */

@@ -14,6 +14,7 @@ struct bench_report {
     int csv_failed;
     double baseline_seconds; /* sequential C time of the current workload */
     unsigned failures;
+    int width;               /* of the variant column: wider for " @DEVICE" names */
 };
 
 void bench_row_init(bench_row *row, const char *workload, const char *variant, const char *unit)
@@ -32,6 +33,7 @@ int bench_report_open(bench_report **out, const char *benchmark, const bench_opt
         return 1;
     }
     r->benchmark = benchmark;
+    r->width = options->device_count ? 44 : 36;
     if (options->csv_path) {
         r->csv = fopen(options->csv_path, "w");
         if (!r->csv) {
@@ -66,9 +68,9 @@ static void human(char *out, size_t size, double value)
         snprintf(out, size, "%.0f", value);
 }
 
-static void print_header(void)
+static void print_header(int width)
 {
-    printf("%-36s %4s %3s %9s %9s %8s %6s %9s %9s  %s\n", "variant", "gs", "wg", "seconds", "rate/s",
+    printf("%-*s %4s %3s %9s %9s %8s %6s %9s %9s  %s\n", width, "variant", "gs", "wg", "seconds", "rate/s",
            "vs seq", "check", "peak q.B", "items B", "note");
 }
 
@@ -76,7 +78,7 @@ void bench_report_workload(bench_report *r, const char *title)
 {
     r->baseline_seconds = 0.0;
     printf("\n== %s: %s ==\n", r->benchmark, title);
-    print_header();
+    print_header(r->width);
     fflush(stdout);
 }
 
@@ -123,14 +125,14 @@ void bench_report_add(bench_report *r, const bench_row *row, int is_baseline)
     if (row->peak_item_bytes)
         human(items, sizeof items, (double)row->peak_item_bytes);
     if (!row->ran) {
-        printf("%-36s %4s %3s %9s %9s %8s %6s %9s %9s  %s\n", row->variant, gs, wg, "n/a", "n/a", "n/a", "-", "-",
+        printf("%-*s %4s %3s %9s %9s %8s %6s %9s %9s  %s\n", r->width, row->variant, gs, wg, "n/a", "n/a", "n/a", "-", "-",
                "-", note);
     } else {
         human(rate_text, sizeof rate_text, rate);
         char ratio_text[16] = "-";
         if (ratio > 0)
             snprintf(ratio_text, sizeof ratio_text, "%.2fx", ratio);
-        printf("%-36s %4s %3s %9.4f %9s %8s %6s %9s %9s  %s\n", row->variant, gs, wg, row->seconds, rate_text,
+        printf("%-*s %4s %3s %9.4f %9s %8s %6s %9s %9s  %s\n", r->width, row->variant, gs, wg, row->seconds, rate_text,
                ratio_text, check_name(row->check), peak, items, note);
     }
     fflush(stdout);

@@ -5,6 +5,7 @@
  * runtime does. */
 #include "bench.h"
 
+#include <stdlib.h>
 #include <string.h>
 
 const char *const bench_variants[] = {
@@ -23,9 +24,24 @@ const unsigned bench_variant_count = sizeof bench_variants / sizeof bench_varian
 perma_status bench_variant_parse(const char *label, bench_variant *out, perma_error *error)
 {
     perma_status status = perma_schedule_parse(label, &out->schedule, error);
-    if (status == PERMA_OK)
+    if (status == PERMA_OK) {
         out->label = label;
+        snprintf(out->name, sizeof out->name, "%s", label);
+    }
     return status;
+}
+
+unsigned bench_device_passes(const bench_options *options)
+{
+    return options->device_count ? options->device_count : 1;
+}
+
+void bench_variant_use_device(const bench_options *options, unsigned d, bench_variant *v)
+{
+    if (!options->device_count)
+        return;
+    setenv("PERMA_DEVICE", options->devices[d], 1);
+    snprintf(v->name, sizeof v->name, "%s @%s", v->label, options->devices[d]);
 }
 
 int bench_variant_select(const bench_options *options, const char *label, bench_variant *out)

@@ -105,7 +105,7 @@ inline __local uint *perma_batch_items(__local perma_group_mem *mem)
 
 /* Move a procedure's whole local stack to its global queue (work-item 0
  * only; the items hold the ROOM reserved when they were emitted). */
-inline uint perma_local_flush(__global uint *ctl, __global uint *queue_data, __local perma_group_mem *mem, uint own, uint q)
+inline uint perma_local_flush(__global uint *ctl, __global uint *queue_data, __global uint *queue_seq, __local perma_group_mem *mem, uint own, uint q)
 {
     uint n = mem->lq_count[q];
     if (n == 0)
@@ -113,7 +113,7 @@ inline uint perma_local_flush(__global uint *ctl, __global uint *queue_data, __l
     __global uint *queue = PERMA_QUEUE(ctl, PERMA_QINDEX(own, q));
     uint words = perma_item_words[q];
     uint base = perma_queue_reserve(queue, n);
-    __global uint *marks = perma_queue_marks(queue, queue_data, words, 0u);
+    __global uint *marks = perma_queue_marks(queue, queue_seq, 0u);
     for (uint i = 0; i < n; ++i) {
         __global uint *dst = perma_queue_slot(queue, queue_data, base + i, words);
         for (uint w = 0; w < words; ++w)
@@ -121,7 +121,7 @@ inline uint perma_local_flush(__global uint *ctl, __global uint *queue_data, __l
         if (i)
             perma_queue_clear_mark(marks, queue[PERMA_Q_CAP], base + i);
     }
-    perma_queue_complete(queue, queue_data, words, 0u, base, n);
+    perma_queue_complete(queue, queue_seq, 0u, base, n);
     mem->lq_count[q] = 0;
     return n;
 }
@@ -132,7 +132,7 @@ inline uint perma_local_flush(__global uint *ctl, __global uint *queue_data, __l
  * item no barrier is needed before they run; and clear each item's emit
  * counters.  Work-item 0 read PUBLISHED before the barrier that brought the
  * batch here; the fence orders the item reads after it. */
-PERMA_PHASE void perma_read_items(uint lid, __global uint *ctl, __global uint *queue_data,
+PERMA_PHASE void perma_read_items(uint lid, __global uint *ctl, __global uint *queue_data, __global uint *queue_seq,
                                   __local perma_group_mem *mem, __global const uint *input)
 {
     const uint proc = mem->batch[PERMA_B_PROC];
@@ -154,7 +154,7 @@ PERMA_PHASE void perma_read_items(uint lid, __global uint *ctl, __global uint *q
     } else if (!from_local) {
         const uint mask = source[PERMA_Q_CAP] - 1u;
         __global const uint *slots = queue_data + source[PERMA_Q_DATA];
-        __global uint *marks = queue_data + source[PERMA_Q_DATA] + (mask + 1u) * (words + 1u); /* releasing */
+        __global uint *marks = perma_queue_marks(source, queue_seq, 1u);
         for (uint i = lid; i < count; i += PERMA_GROUP_SIZE) {
             const uint pos = start + i;
             __global const uint *src = slots + (pos & mask) * words;
@@ -180,7 +180,7 @@ PERMA_PHASE void perma_read_items(uint lid, __global uint *ctl, __global uint *q
  * each edge's per-item counts into offsets, keep what fits on the local
  * stack and reserve the rest of each target with one atomic; count the
  * emits before they become visible. */
-PERMA_PHASE void perma_reserve_emits(__global uint *ctl, __global uint *queue_data, __local perma_group_mem *mem,
+PERMA_PHASE void perma_reserve_emits(__global uint *ctl, __global uint *queue_data, __global uint *queue_seq, __local perma_group_mem *mem,
                                      __global const uint *input, uint own)
 {
     const uint command = mem->batch[PERMA_B_COMMAND];
@@ -197,7 +197,7 @@ PERMA_PHASE void perma_reserve_emits(__global uint *ctl, __global uint *queue_da
     if (from_local)
         perma_queue_give_room(source, (int)count);
     else if (!input)
-        perma_queue_complete(source, queue_data, perma_item_words[proc], 1u, start, count);
+        perma_queue_complete(source, queue_seq, 1u, start, count);
     int emitted = 0;
     for (uint e = 0; e < edges; ++e) {
         uint t = perma_edge_target[proc * PERMA_MAX_EDGES + e];
@@ -254,7 +254,7 @@ PERMA_PHASE void perma_reserve_emits(__global uint *ctl, __global uint *queue_da
  * edge_keep of each edge onto the local stack, the rest into the reserved
  * slots; or, for a donation, the batch itself into the other group's
  * queue.  Nobody waits here. */
-PERMA_PHASE void perma_write_emits(uint lid, __global uint *ctl, __global uint *queue_data,
+PERMA_PHASE void perma_write_emits(uint lid, __global uint *ctl, __global uint *queue_data, __global uint *queue_seq,
                                    __local perma_group_mem *mem, uint own)
 {
     const uint command = mem->batch[PERMA_B_COMMAND];
@@ -275,7 +275,7 @@ PERMA_PHASE void perma_write_emits(uint lid, __global uint *ctl, __global uint *
         __global uint *target = PERMA_QUEUE(ctl, PERMA_QINDEX(own, t));
         const uint mask = target[PERMA_Q_CAP] - 1u;
         __global uint *slots = queue_data + target[PERMA_Q_DATA];
-        __global uint *marks = slots + (mask + 1u) * tw; /* publishing */
+        __global uint *marks = perma_queue_marks(target, queue_seq, 0u);
         __local const uint *stage = mem->arena + perma_edge_stage[proc * PERMA_MAX_EDGES + e];
         __local uint *stack = mem->lq + perma_lq_off[t] + mem->edge_base[e] * tw;
         /* Emits [first, end) of logical index i lie at src + i * tw: one
@@ -304,7 +304,7 @@ PERMA_PHASE void perma_write_emits(uint lid, __global uint *ctl, __global uint *
     const uint donated = command == PERMA_CMD_DONATE ? count : 0u;
     const uint words = perma_item_words[proc];
     __local const uint *items = mem->arena + perma_items_off[proc];
-    __global uint *donee_marks = perma_queue_marks(donee, queue_data, words, 0u);
+    __global uint *donee_marks = perma_queue_marks(donee, queue_seq, 0u);
     for (uint i = lid; i < donated; i += PERMA_GROUP_SIZE) {
         __global uint *dst = perma_queue_slot(donee, queue_data, mem->edge_base[0] + i, words);
         for (uint w = 0; w < words; ++w)
@@ -317,7 +317,7 @@ PERMA_PHASE void perma_write_emits(uint lid, __global uint *ctl, __global uint *
 /* Phase "publish", work-item 0, after every copy: publish every target's
  * range (and a donation's), then give back the unused part of the
  * worst-case room. */
-PERMA_PHASE void perma_publish_emits(__global uint *ctl, __global uint *queue_data, __local perma_group_mem *mem,
+PERMA_PHASE void perma_publish_emits(__global uint *ctl, __global uint *queue_data, __global uint *queue_seq, __local perma_group_mem *mem,
                                      uint own)
 {
     const uint command = mem->batch[PERMA_B_COMMAND];
@@ -328,11 +328,11 @@ PERMA_PHASE void perma_publish_emits(__global uint *ctl, __global uint *queue_da
     const uint edges = run ? perma_edge_count[proc] : 0u;
     for (uint e = 0; e < edges; ++e) {
         uint t = perma_edge_target[proc * PERMA_MAX_EDGES + e];
-        perma_queue_complete(PERMA_QUEUE(ctl, PERMA_QINDEX(own, t)), queue_data, perma_item_words[t], 0u,
+        perma_queue_complete(PERMA_QUEUE(ctl, PERMA_QINDEX(own, t)), queue_seq, 0u,
                              mem->edge_base[PERMA_MAX_EDGES + e], mem->edge_counts[e] - mem->edge_keep[e]);
     }
     if (command == PERMA_CMD_DONATE)
-        perma_queue_complete(donee, queue_data, perma_item_words[proc], 0u, mem->edge_base[0], count);
+        perma_queue_complete(donee, queue_seq, 0u, mem->edge_base[0], count);
     for (uint e = 0; e < edges; ++e) {
         uint t = perma_edge_target[proc * PERMA_MAX_EDGES + e];
         uint promised = run * perma_edge_max[proc * PERMA_MAX_EDGES + e];
@@ -356,12 +356,12 @@ PERMA_PHASE void perma_dispatch(uint lid, __local perma_group_mem *mem, perma_bu
  * Emits go to queue set `own`, first onto the local stack when
  * PERMA_LOCAL_QUEUE is on.  mem->batch may be rewritten only after the
  * last barrier in here. */
-inline void perma_run_batch(__global uint *ctl, __global uint *queue_data, __local perma_group_mem *mem,
+inline void perma_run_batch(__global uint *ctl, __global uint *queue_data, __global uint *queue_seq, __local perma_group_mem *mem,
                             perma_buffers buf, __global const uint *input, uint own)
 {
     /* The phases take the local id as an argument: PoCL inlines every
      * function that asks for it, which would hide them from a profile. */
-    perma_read_items(get_local_id(0), ctl, queue_data, mem, input);
+    perma_read_items(get_local_id(0), ctl, queue_data, queue_seq, mem, input);
 #if PERMA_ITEM_BARRIER
     /* The threads of an item (or a cooperative group) read what others copied. */
     barrier(CLK_LOCAL_MEM_FENCE);
@@ -372,10 +372,10 @@ inline void perma_run_batch(__global uint *ctl, __global uint *queue_data, __loc
     barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
 
     if (get_local_id(0) == 0)
-        perma_reserve_emits(ctl, queue_data, mem, input, own);
+        perma_reserve_emits(ctl, queue_data, queue_seq, mem, input, own);
     barrier(CLK_LOCAL_MEM_FENCE);
-    perma_write_emits(get_local_id(0), ctl, queue_data, mem, own);
+    perma_write_emits(get_local_id(0), ctl, queue_data, queue_seq, mem, own);
     barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
     if (get_local_id(0) == 0)
-        perma_publish_emits(ctl, queue_data, mem, own);
+        perma_publish_emits(ctl, queue_data, queue_seq, mem, own);
 }

@@ -26,12 +26,9 @@ typedef struct perma_ctx {
     __local uint *lane_counts;        /* lane staging: per edge, items this work-item staged; else null */
     uint lane;                        /* lane staging: this work-item's local id */
     __local uint *stage;              /* staging arena */
-    __local uint *error_code;         /* 0, or PERMA_EMIT_ERROR_* | detail */
+    __local uint *error_code;         /* 0, or PERMA_EMIT_ERROR_* | detail (perma_abi.h) */
     perma_buffers buf;                /* user buffers, by name */
 } perma_ctx;
-
-#define PERMA_EMIT_ERROR_LIMIT 0x10000u      /* | edge: over the declared maximum */
-#define PERMA_EMIT_ERROR_UNDECLARED 0x20000u /* | target: not in the procedure's .emits */
 
 /* Stage one item emitted into procedure `target` by the running procedure.
  * Returns 1 if staged, 0 if the target is not declared in .emits or the item

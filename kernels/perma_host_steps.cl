@@ -12,8 +12,7 @@
  * are written again).  The host moves the queue's counters itself (HEAD and
  * RELEASED past items taken from the head, TAIL and PUBLISHED back before
  * items taken from the tail). */
-__kernel void perma_take_kernel(__global uint *ctl, __global uint *queue_data, __global uint *input, uint qi,
-                                uint first, uint count)
+__kernel void perma_take_kernel(PERMA_TAKE_ARGS(PERMA_ARG_PARAM))
 {
     uint i = get_global_id(0);
     if (i >= count)
@@ -23,14 +22,13 @@ __kernel void perma_take_kernel(__global uint *ctl, __global uint *queue_data, _
     __global uint *src = perma_queue_slot(queue, queue_data, first + i, words);
     for (uint w = 0; w < words; ++w)
         input[i * words + w] = src[w];
-    perma_queue_clear_mark(perma_queue_marks(queue, queue_data, words, 0u), queue[PERMA_Q_CAP], first + i);
-    perma_queue_clear_mark(perma_queue_marks(queue, queue_data, words, 1u), queue[PERMA_Q_CAP], first + i);
+    perma_queue_clear_mark(perma_queue_marks(queue, queue_seq, 0u), queue[PERMA_Q_CAP], first + i);
+    perma_queue_clear_mark(perma_queue_marks(queue, queue_seq, 1u), queue[PERMA_Q_CAP], first + i);
 }
 
 __kernel __attribute__((reqd_work_group_size(PERMA_GROUP_SIZE, 1, 1)))
-void perma_step_kernel(__global uint *ctl, __global uint *queue_data, __global uint *group_stats,
-                       volatile __global uint *abort_flag, __global uint *trace, __global const uint *input,
-                       uint proc, uint count PERMA_BUFFER_PARAMS)
+void perma_step_kernel(PERMA_COMMON_ARGS(PERMA_ARG_PARAM), PERMA_STEP_ARGS(PERMA_ARG_PARAM)
+                       PERMA_BUFFER_PARAMS)
 {
     PERMA_GROUP_LOCALS(mem);
     const uint lid = get_local_id(0);
@@ -49,7 +47,7 @@ void perma_step_kernel(__global uint *ctl, __global uint *queue_data, __global u
             perma_fail(ctl, PERMA_KSTATUS_NEEDS_ROOM, proc, 0); /* the host sized the queues wrongly */
     }
     barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
-    perma_run_batch(ctl, queue_data, mem, buf, input, 0);
+    perma_run_batch(ctl, queue_data, queue_seq, mem, buf, input, 0);
     barrier(CLK_LOCAL_MEM_FENCE);
     /* Many groups per launch: add to group 0's record. */
     for (uint i = lid; i < PERMA_STAT_GROUP_WORDS; i += PERMA_GROUP_SIZE)

@@ -98,11 +98,11 @@ inline __global uint *perma_queue_slot(__global uint *queue, __global uint *data
     return data + queue[PERMA_Q_DATA] + (pos & (queue[PERMA_Q_CAP] - 1u)) * words;
 }
 
-/* The completion marks of a queue: one word per slot for publishing
- * (releasing = 0) and one for releasing, after its items in queue_data. */
-inline __global uint *perma_queue_marks(__global uint *queue, __global uint *data, uint words, uint releasing)
+/* The completion marks of a queue in queue_seq: one word per slot for
+ * publishing (releasing = 0), then one per slot for releasing. */
+inline __global uint *perma_queue_marks(__global uint *queue, __global uint *marks, uint releasing)
 {
-    return data + queue[PERMA_Q_DATA] + queue[PERMA_Q_CAP] * (words + releasing);
+    return marks + queue[PERMA_Q_SEQ] + queue[PERMA_Q_CAP] * releasing;
 }
 
 /* Called for every position a group writes (or reads) other than the first
@@ -125,13 +125,13 @@ inline void perma_queue_clear_mark(__global uint *marks, uint cap, uint pos)
  * Announce (xchg of the mark) then read the counter, against move (cmpxchg
  * of the counter) then read the mark: with a full fence between each pair
  * at least one side sees the other, so no done range is left behind. */
-inline void perma_queue_complete(__global uint *queue, __global uint *data, uint words, uint releasing,
-                                 uint first, uint count)
+inline void perma_queue_complete(__global uint *queue, __global uint *queue_seq, uint releasing, uint first,
+                                 uint count)
 {
     if (count == 0)
         return;
     const uint cap = queue[PERMA_Q_CAP];
-    __global uint *marks = perma_queue_marks(queue, data, words, releasing);
+    __global uint *marks = perma_queue_marks(queue, queue_seq, releasing);
     __global uint *counter = queue + (releasing ? PERMA_Q_RELEASED : PERMA_Q_PUBLISHED);
     mem_fence(CLK_GLOBAL_MEM_FENCE); /* the items (or the copies out of them) before the mark */
     atomic_xchg(marks + (first & (cap - 1u)), first + count);

@@ -47,8 +47,15 @@ inline uint perma_try_take(__global uint *ctl, uint own, uint from, uint q, int 
     return got;
 }
 
+/* Whether group g is inside its loop (started, not left). */
+inline int perma_group_running(__global uint *ctl, uint g)
+{
+    return perma_load(PERMA_GROUP(ctl, g) + PERMA_G_STATE) == 1u;
+}
+
 /* Donation: if the own queue of a procedure holds more than the threshold,
- * claim up to a batch of it for the set that has the fewest. */
+ * claim up to a batch of it for the running group's set that has the
+ * fewest. */
 inline uint perma_try_donate(__global uint *ctl, uint own, uint *proc, uint *dest, uint *start)
 {
     for (uint i = 0; i < PERMA_NUM_PROCS; ++i) {
@@ -61,8 +68,10 @@ inline uint perma_try_donate(__global uint *ctl, uint own, uint *proc, uint *des
         uint poorest = own;
         int fewest = mine;
         for (uint s = 0; s < PERMA_QUEUE_SETS; ++s) {
+            if (s == own || !perma_group_running(ctl, s))
+                continue; /* nobody serves it now (perma_try_adopt) */
             int theirs = perma_queue_available(PERMA_QUEUE(ctl, PERMA_QINDEX(s, q)));
-            if (s != own && theirs < fewest) {
+            if (theirs < fewest) {
                 fewest = theirs;
                 poorest = s;
             }
@@ -85,21 +94,42 @@ inline uint perma_try_donate(__global uint *ctl, uint own, uint *proc, uint *des
     return 0;
 }
 
+#if PERMA_DONATION && !PERMA_STEALING
+/* Take a batch from the set of a group that is not running (not started
+ * yet, or left).  OpenCL does not promise that the groups of a launch run
+ * at the same time, and Intel's CPU runtime starts a launch's second group
+ * only when its first one has left (or a host thread waits for the launch):
+ * without stealing, items in such a set would wait for a group that waits
+ * for them.  So whoever runs serves it, as a thief would. */
+inline uint perma_try_adopt(__global uint *ctl, uint own, uint *proc, uint *from, uint *start)
+{
+    for (uint s = 0; s < PERMA_QUEUE_SETS; ++s) {
+        if (s == own || perma_group_running(ctl, s))
+            continue;
+        for (uint i = 0; i < PERMA_NUM_PROCS; ++i) {
+            int found = 0;
+            uint q = perma_order[i];
+            uint got = perma_try_take(ctl, own, s, q, 0, start, &found);
+            if (got) {
+                *proc = q;
+                *from = s;
+                return got;
+            }
+        }
+    }
+    return 0;
+}
+#endif
+
 /* True when every running group found nothing to start since `epoch` and
  * no batch finished since: nobody can make progress until the host grows
- * queues. */
+ * queues.  Groups that are not running count for nothing: every strategy
+ * lets the running groups take their items (stealing, or perma_try_adopt). */
 inline int perma_all_blocked(__global uint *ctl, uint epoch, uint groups)
 {
     for (uint g = 0; g < groups; ++g) {
         __global uint *gw = PERMA_GROUP(ctl, g);
-        uint state = perma_load(gw + PERMA_G_STATE);
-#if PERMA_DONATION && !PERMA_STEALING
-        /* Nobody else can take the items of a group that has not started
-         * (the host keeps work_groups <= compute units for this strategy). */
-        if (state == 0u)
-            return 0;
-#endif
-        if (state == 1u && perma_load(gw + PERMA_G_BLOCKED) != epoch + 1u)
+        if (perma_load(gw + PERMA_G_STATE) == 1u && perma_load(gw + PERMA_G_BLOCKED) != epoch + 1u)
             return 0;
     }
     return perma_load(ctl + PERMA_CTL_PROGRESS) == epoch;
@@ -153,12 +183,12 @@ inline void perma_set_batch(__local uint *batch, uint command, uint proc, uint s
 #if PERMA_LOCAL_QUEUE
 /* Flush every local stack to the global queues (work-item 0); returns the
  * items moved, and counts a flush that moved any as progress. */
-inline uint perma_local_flush_all(__global uint *ctl, __global uint *queue_data, __local perma_group_mem *mem, uint own,
+inline uint perma_local_flush_all(__global uint *ctl, __global uint *queue_data, __global uint *queue_seq, __local perma_group_mem *mem, uint own,
                                   __local uint *group_stat)
 {
     uint moved = 0;
     for (uint p = 0; p < PERMA_NUM_PROCS; ++p)
-        moved += perma_local_flush(ctl, queue_data, mem, own, p);
+        moved += perma_local_flush(ctl, queue_data, queue_seq, mem, own, p);
     group_stat[PERMA_GSTAT_SPILLS] += moved;
     if (moved) {
         mem_fence(CLK_GLOBAL_MEM_FENCE); /* the items are published before the progress is seen */
@@ -215,7 +245,7 @@ inline int perma_note_starved(__global uint *ctl, uint groups, uint own, int sta
 }
 
 /* Work-item 0: choose what the group does next and write it to batch[]. */
-PERMA_PHASE void perma_schedule(__global uint *ctl, __global uint *queue_data, __global uint *group_words,
+PERMA_PHASE void perma_schedule(__global uint *ctl, __global uint *queue_data, __global uint *queue_seq, __global uint *group_words,
                                 uint groups, uint own, volatile __global uint *abort_flag, __local uint *batch,
                                 __local perma_group_mem *mem, uint *victim_state, uint *starve_count)
 {
@@ -226,7 +256,7 @@ PERMA_PHASE void perma_schedule(__global uint *ctl, __global uint *queue_data, _
         if (perma_load(ctl + PERMA_CTL_EXIT))
             break;
         if (*abort_flag) {
-            perma_fail(ctl, PERMA_KSTATUS_ABORTED, 0xffffffffu, 0);
+            perma_fail(ctl, PERMA_KSTATUS_ABORTED, PERMA_DETAIL_NONE, 0);
             break;
         }
         if (perma_load_int(ctl + PERMA_CTL_OUTSTANDING) <= 0)
@@ -291,13 +321,24 @@ PERMA_PHASE void perma_schedule(__global uint *ctl, __global uint *queue_data, _
             }
         }
 #endif
+#if PERMA_DONATION && !PERMA_STEALING
+        uint from = 0;
+        got = perma_try_adopt(ctl, own, &q, &from, &start);
+        if (got) {
+            group_stat[PERMA_GSTAT_STEALS] += 1u;
+            perma_set_blocked(group_words, 0u);
+            perma_set_batch(batch, PERMA_CMD_RUN, q, start, got, PERMA_QINDEX(from, q), 0);
+            batch[PERMA_B_KIND] = PERMA_TRACE_STEAL;
+            return;
+        }
+#endif
 #if PERMA_LOCAL_QUEUE
         /* Local items that cannot run now go where other groups and the
          * host can see them before this group calls itself stalled.  That
          * publishes work, so it is progress: a group that looked at this
          * set before the flush must not take this group's stall for a
          * deadlock (and stop the launch while the items are taken). */
-        if (perma_local_flush_all(ctl, queue_data, mem, own, group_stat))
+        if (perma_local_flush_all(ctl, queue_data, queue_seq, mem, own, group_stat))
             continue;
 #endif
         group_stat[PERMA_GSTAT_IDLE_POLLS] += 1u;
@@ -307,7 +348,7 @@ PERMA_PHASE void perma_schedule(__global uint *ctl, __global uint *queue_data, _
          * items are outstanding, only bigger queues can help. */
         perma_set_blocked(group_words, epoch + 1u);
         if (perma_all_blocked(ctl, epoch, groups) && perma_load_int(ctl + PERMA_CTL_OUTSTANDING) > 0) {
-            perma_fail(ctl, PERMA_KSTATUS_NEEDS_ROOM, PERMA_DETAIL_STALLED, 0);
+            perma_fail(ctl, PERMA_KSTATUS_NEEDS_ROOM, PERMA_DETAIL_NONE, 0);
             break;
         }
         /* Work in sight but no room to start any of it. */
@@ -325,7 +366,7 @@ PERMA_PHASE void perma_schedule(__global uint *ctl, __global uint *queue_data, _
      * called): they must reach the global queues, which the host carries
      * over to the next launch.  After any other status the run is over. */
     if (perma_load(ctl + PERMA_CTL_STATUS) == PERMA_KSTATUS_NEEDS_ROOM)
-        perma_local_flush_all(ctl, queue_data, mem, own, group_stat);
+        perma_local_flush_all(ctl, queue_data, queue_seq, mem, own, group_stat);
 #endif
     perma_set_batch(batch, PERMA_CMD_EXIT, 0, 0, 0, 0, 0);
 }
@@ -336,8 +377,7 @@ PERMA_PHASE void perma_schedule(__global uint *ctl, __global uint *queue_data, _
     __local perma_group_mem *const mem = &perma_group_state
 
 __kernel __attribute__((reqd_work_group_size(PERMA_GROUP_SIZE, 1, 1)))
-void perma_megakernel(__global uint *ctl, __global uint *queue_data, __global uint *group_stats,
-                      volatile __global uint *abort_flag, __global uint *trace PERMA_BUFFER_PARAMS)
+void perma_megakernel(PERMA_COMMON_ARGS(PERMA_ARG_PARAM) PERMA_BUFFER_PARAMS)
 {
     PERMA_GROUP_LOCALS(mem);
 
@@ -372,7 +412,7 @@ void perma_megakernel(__global uint *ctl, __global uint *queue_data, __global ui
     uint command = PERMA_CMD_IDLE;
     while (command != PERMA_CMD_EXIT) {
         if (lid == 0)
-            perma_schedule(ctl, queue_data, group_words, get_num_groups(0), own, abort_flag, mem->batch, mem,
+            perma_schedule(ctl, queue_data, queue_seq, group_words, get_num_groups(0), own, abort_flag, mem->batch, mem,
                            &victim_state, &starve_count);
         barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
         command = mem->batch[PERMA_B_COMMAND];
@@ -380,7 +420,7 @@ void perma_megakernel(__global uint *ctl, __global uint *queue_data, __global ui
         if (lid == 0 && mem->batch[PERMA_B_COUNT])
             trace_start = atomic_inc(ctl + PERMA_CTL_CLOCK);
 #endif
-        perma_run_batch(ctl, queue_data, mem, buf, (__global const uint *)0, own);
+        perma_run_batch(ctl, queue_data, queue_seq, mem, buf, (__global const uint *)0, own);
 #if PERMA_TRACE_EVENTS
         /* Before work-item 0 schedules the next batch. */
         if (lid == 0 && mem->batch[PERMA_B_COUNT] && trace_count < PERMA_TRACE_EVENTS) {

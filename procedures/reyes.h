@@ -116,6 +116,29 @@ enum { REYES_CRACK_FIX_NONE, REYES_CRACK_FIX_STITCH, REYES_CRACK_FIX_WEDGE };
 /* Subdivision criteria: the values of reyes_shared.h. */
 #define REYES_MAX_EPSILON 1000.0f
 
+/* Spreading one image's buckets over several renderers (devices, MPI
+ * ranks; examples/reyes/reyes_farm.c and docs/scale-out.md): a render given a bucket source
+ * renders the buckets next() hands out, until it returns 0, instead of
+ * all of them in order, and calls done() after each.  Buckets are
+ * numbered row by row from 0 (columns = ceil(width / bucket_width)); an
+ * unbucketed image is bucket 0.  Pixels of buckets it did not render are
+ * left 0.  Each renderer first makes the crack-stitching plan of the
+ * whole image itself (a bound/split pass; deterministic), so any renderer
+ * may render any bucket and the pieces make the one-renderer image, byte
+ * for byte, on devices of one OpenCL implementation. */
+struct reyes_image;
+typedef struct reyes_bucket_source {
+    /* The next bucket into *bucket; 0 when there is none.  Called from
+     * reyes_render's thread between buckets; it may block. */
+    int (*next)(void *user, unsigned *bucket);
+    /* After `bucket` (pixels [x0,x1) x [y0,y1)) is resolved into *image;
+     * may be NULL.  A status other than REYES_OK ends the render with it
+     * (fill *error). */
+    reyes_status (*done)(void *user, unsigned bucket, const struct reyes_image *image, unsigned x0,
+                         unsigned y0, unsigned x1, unsigned y1, reyes_error *error);
+    void *user;
+} reyes_bucket_source;
+
 typedef struct reyes_options {
     unsigned width, height;
     float bound_px;       /* dice below this screen bound (default 8) */
@@ -145,6 +168,8 @@ typedef struct reyes_options {
      * patches outside the tile; 0 x 0 (default) renders the whole image at
      * once.  The image is the same either way. */
     unsigned bucket_width, bucket_height;
+    /* NULL (default): render every bucket; else the buckets it hands out. */
+    const reyes_bucket_source *bucket_source;
     /* Cracks between grids diced at different rates (T-junctions) and
      * between base patches: REYES_CRACK_FIX_STITCH (default) fills them
      * with zipper strips (two passes: subdivide, then dice and stitch),
@@ -189,18 +214,14 @@ typedef struct reyes_options {
      * 0 = the runtime's default. */
     unsigned work_groups;
     unsigned group_size;
-    perma_technique technique;
-    perma_strategy strategy;        /* megakernel only */
-    perma_victim victim;            /* stealing strategies */
-    unsigned local_queue_items;     /* per-group front queue; 0 = none */
-    unsigned batch_limit;           /* bounded batches: items per host iteration */
+    perma_schedule schedule;        /* perma_config.schedule; zero = megakernel/shared */
     double time_limit;
+    /* The OpenCL device (reyes_renderer_create); NULL (default): the
+     * first of PERMA_DEVICE, or 0:0. */
+    const perma_device_ref *device;
 } reyes_options;
 
 void reyes_options_init(reyes_options *options);
-/* Set the scheduling fields (technique, strategy, victim, local_queue_items,
- * batch_limit) from a parsed schedule label (perma_schedule_parse). */
-void reyes_options_set_schedule(reyes_options *options, const perma_schedule *schedule);
 
 /* Limits the options are checked against. */
 #define REYES_MAX_SIZE 16384u
@@ -260,9 +281,8 @@ typedef struct reyes_stats {
 void reyes_stats_free(reyes_stats *stats);
 
 /* A perma runtime with the Reyes procedures registered (for options->grid
- * and the scheduling fields: group_size, work_groups, technique, strategy,
- * victim, local_queue_items, batch_limit, time_limit; the other options may
- * change per render).  With options->motion_angle_deg not 0 the renderer
+ * and the scheduling fields: group_size, work_groups, schedule,
+ * time_limit; the other options may change per render).  With options->motion_angle_deg not 0 the renderer
  * carries a clip-space motion per micropolygon vertex (112-byte items
  * instead of 64), which renders with a rotation need; it renders
  * everything else too, to the same bytes. */

@@ -143,10 +143,10 @@ void reyes_dice(perma_ctx *ctx, __local const struct reyes_subpatch *item)
     if (diced) {
         float3 cp[16];
         reyes_load_patch(ctx->buf.patches, sp.patch, cp);
-        float3 base = reyes_unpack_rgb(ctx->buf.colors[sp.patch]);
+        uint rgba = ctx->buf.colors[sp.patch];
         struct reyes_displacement d = { p, ctx->buf.displacement_map };
         for (int v = (int)ctx->thread; v < n * n; v += threads)
-            grid[v] = reyes_grid_vertex(&d, cp, &sp, base, v % n, v / n, full);
+            grid[v] = reyes_grid_vertex(&d, cp, &sp, rgba, v % n, v / n, full);
     }
     barrier(CLK_LOCAL_MEM_FENCE);
     if (!diced)

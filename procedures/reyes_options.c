@@ -20,23 +20,11 @@ void reyes_options_init(reyes_options *options)
     options->backface_cull = 0;
     options->cull_margin = 0.05f;
     options->background = REYES_RGBA(24, 26, 32);
-    options->technique = PERMA_TECHNIQUE_MEGAKERNEL;
-    options->strategy = PERMA_STRATEGY_SHARED;
-    options->victim = PERMA_VICTIM_RANDOM;
     options->crack_fix = REYES_CRACK_FIX_STITCH;
     options->blur_algo = REYES_BLUR_INTERLEAVED;
     options->blur_tile = 4;
     options->blur_permutations = 8;
     options->motion_axis[2] = 1.0f;
-}
-
-void reyes_options_set_schedule(reyes_options *options, const perma_schedule *schedule)
-{
-    options->technique = schedule->technique;
-    options->strategy = schedule->strategy;
-    options->victim = schedule->victim;
-    options->local_queue_items = schedule->local_queue_items;
-    options->batch_limit = schedule->batch_limit;
 }
 
 static const char *const blur_algo_names[] = { "simple", "interleaved", "bbox" };
@@ -182,8 +170,8 @@ reyes_status reyes_options_check(const reyes_options *o, reyes_error *error)
                               o->bucket_width, o->bucket_height, (unsigned long long)(columns * rows),
                               o->width, o->height, REYES_MAX_BUCKETS);
     }
-    if (!perma_technique_name(o->technique) || !perma_strategy_name(o->strategy)
-        || !perma_victim_name(o->victim))
+    if (!perma_technique_name(o->schedule.technique) || !perma_strategy_name(o->schedule.strategy)
+        || !perma_victim_name(o->schedule.victim))
         return reyes_fail(error, REYES_ERR_ARGUMENT, "unknown technique, strategy or victim value");
     return REYES_OK;
 }

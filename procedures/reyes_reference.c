@@ -366,3 +366,29 @@ reyes_status reyes_reference_run(const reyes_scene *scene, const reyes_camera *c
     out->seconds = (double)(end.tv_sec - start.tv_sec) + 1e-9 * (double)(end.tv_nsec - start.tv_nsec);
     return REYES_OK;
 }
+
+static vec3 normalize3(vec3 a)
+{
+    float length = length3(a);
+    return length > 0.0f ? scale3(a, 1.0f / length) : a;
+}
+
+void reyes_reference_shade(const float eye[3], const float x[3], const float n[3], uint32_t rgba,
+                           float rgb[3])
+{
+    vec3 point = { x[0], x[1], x[2] }, normal = { n[0], n[1], n[2] };
+    vec3 view = normalize3(sub3((vec3){ eye[0], eye[1], eye[2] }, point));
+    normal = dot3(normal, normal) > 0.0f ? normalize3(normal) : view;
+    if (dot3(normal, view) < 0.0f)
+        normal = scale3(normal, -1.0f);
+    vec3 light = normalize3((vec3){ REYES_LIGHT_X, REYES_LIGHT_Y, REYES_LIGHT_Z });
+    float lambert = fmaxf(dot3(normal, light), 0.0f);
+    vec3 half_vector = normalize3((vec3){ light.x + view.x, light.y + view.y, light.z + view.z });
+    float cos_h = dot3(normal, half_vector);
+    float highlight = lambert > 0.0f && cos_h > 0.0f ? powf(cos_h, REYES_SHININESS) : 0.0f;
+    for (int c = 0; c < 3; ++c) {
+        float base = (float)((rgba >> (8 * c)) & 255u) / 255.0f;
+        float value = base * (REYES_AMBIENT + REYES_DIFFUSE * lambert) + REYES_SPECULAR * highlight;
+        rgb[c] = fminf(fmaxf(value, 0.0f), 1.0f);
+    }
+}

@@ -23,4 +23,11 @@ reyes_status reyes_reference_run(const reyes_scene *scene, const reyes_camera *c
                                  const reyes_options *options, reyes_reference_counts *out,
                                  reyes_error *error);
 
+/* The color reyes_shade (reyes_surface.cl) gives a surface point x with
+ * normal n (any length, either side) and packed base color rgba, seen from
+ * `eye`: rgb in [0,1].  The device computes it per grid vertex at native
+ * precision; this is the expectation tests hold rendered pixels to. */
+void reyes_reference_shade(const float eye[3], const float x[3], const float n[3], uint32_t rgba,
+                           float rgb[3]);
+
 #endif

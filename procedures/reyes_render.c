@@ -177,8 +177,7 @@ static reyes_status fill_params(const reyes_scene *scene, const reyes_camera *ca
         return status;
     for (int k = 0; k < 3; ++k)
         p->eye[k] = camera->eye[k];
-    /* Light from the upper left behind the viewer, in world space (z up). */
-    const float light[3] = {-0.4f, -0.5f, 0.77f};
+    const float light[3] = {REYES_LIGHT_X, REYES_LIGHT_Y, REYES_LIGHT_Z};
     float length = sqrtf(light[0] * light[0] + light[1] * light[1] + light[2] * light[2]);
     for (int k = 0; k < 3; ++k)
         p->light_dir[k] = light[k] / length;
@@ -191,10 +190,10 @@ static reyes_status fill_params(const reyes_scene *scene, const reyes_camera *ca
     p->flat_cap_px = o->flat_bound_px > 0.0f ? o->flat_bound_px : (float)(o->grid - 1u);
     p->wedges = o->crack_fix == REYES_CRACK_FIX_WEDGE ? 1u : 0u;
     p->cull_margin = o->cull_margin;
-    p->ambient = 0.18f;
-    p->diffuse = 0.82f;
-    p->specular = 0.35f;
-    p->shininess = 40.0f;
+    p->ambient = REYES_AMBIENT;
+    p->diffuse = REYES_DIFFUSE;
+    p->specular = REYES_SPECULAR;
+    p->shininess = REYES_SHININESS;
     p->max_depth = o->max_depth;
     p->grid = o->grid;
     p->spp = o->spp;
@@ -235,8 +234,8 @@ static reyes_status allocate(const reyes_scene *scene, const reyes_options *o, r
     b->seeds = malloc((scene->patch_count ? scene->patch_count : 1) * sizeof *b->seeds);
     image->width = o->width;
     image->height = o->height;
-    image->rgb = malloc(pixels * 3);
-    image->coverage = malloc(pixels);
+    image->rgb = calloc(pixels, 3); /* 0 where a bucket source leaves buckets out */
+    image->coverage = calloc(pixels, 1);
     if (!b->samples || !b->seeds || !image->rgb || !image->coverage)
         return reyes_fail(error, REYES_ERR_NO_MEMORY, "out of memory for a %ux%u image", o->width,
                           o->height);
@@ -520,7 +519,15 @@ static reyes_status render_buckets(reyes_renderer *r, const reyes_scene *scene,
         if (status != REYES_OK)
             return status;
     }
-    for (size_t k = 0; k < count; ++k) {
+    const reyes_bucket_source *source = o->bucket_source;
+    for (size_t next = 0;; ++next) {
+        unsigned bucket = (unsigned)next;
+        if (source ? !source->next(source->user, &bucket) : next >= count)
+            break;
+        if (bucket >= count)
+            return reyes_fail(error, REYES_ERR_ARGUMENT, "the bucket source gave bucket %u of %zu",
+                              bucket, count);
+        size_t k = bucket;
         unsigned column = (unsigned)(k % stats->bucket_columns);
         unsigned row = (unsigned)(k / stats->bucket_columns);
         tile t = { column * bw, row * bh, 0, 0 };
@@ -533,6 +540,11 @@ static reyes_status render_buckets(reyes_renderer *r, const reyes_scene *scene,
             return reyes_runtime_error(r, call, ps, error);
         if (stats->bucket_peak_queue_bytes)
             stats->bucket_peak_queue_bytes[k] = peak;
+        reyes_status status = source && source->done
+                                  ? source->done(source->user, bucket, image, t.x0, t.y0, t.x1, t.y1, error)
+                                  : REYES_OK;
+        if (status != REYES_OK)
+            return status;
     }
     count_stats(scene, b, stats);
     return REYES_OK;

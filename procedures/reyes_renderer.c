@@ -98,12 +98,10 @@ reyes_status reyes_renderer_create(const reyes_options *options, reyes_renderer 
     perma_config_init(&config);
     config.work_groups = options->work_groups;
     config.group_size = group_size;
-    config.technique = options->technique;
-    config.strategy = options->strategy;
-    config.victim = options->victim;
-    config.local_queue_items = options->local_queue_items;
-    config.batch_limit = options->batch_limit;
+    config.schedule = options->schedule;
     config.time_limit = options->time_limit;
+    if (options->device)
+        perma_config_set_device(&config, options->device);
     perma_error perr;
     perma_status status = perma_create(&config, &r->rt, &perr);
     if (status != PERMA_OK) {

@@ -133,6 +133,19 @@ struct reyes_stitch {
 #define REYES_STAGES_GEOMETRY 1
 #define REYES_STAGES_SUBDIVIDE 2
 
+/* The lighting of every render (reyes_params, set by reyes_render.c):
+ * one directional light from the upper left behind the viewer (world
+ * space, z up, normalised by the host), Lambert plus a Blinn-Phong
+ * highlight.  reyes_shade (reyes_surface.cl) and its C mirror
+ * reyes_reference_shade use them. */
+#define REYES_LIGHT_X (-0.4f)
+#define REYES_LIGHT_Y (-0.5f)
+#define REYES_LIGHT_Z 0.77f
+#define REYES_AMBIENT 0.18f
+#define REYES_DIFFUSE 0.82f
+#define REYES_SPECULAR 0.35f
+#define REYES_SHININESS 40.0f
+
 /* Scene and camera parameters, one per render (only scalars: the layout is
  * the same on host and device). */
 struct reyes_params {

@@ -82,9 +82,10 @@ reyes_status reyes_write_stats_json(FILE *out, const reyes_stats *s, const reyes
             s->run.work_groups, s->run.group_size, s->run.launches, s->run.regrowths);
     fprintf(out, "  \"technique\": \"%s\", \"strategy\": \"%s\", \"victim\": \"%s\", "
                  "\"local_queue_items\": %u, \"batch_limit\": %u,\n",
-            name_or_unknown(perma_technique_name(o->technique)),
-            name_or_unknown(perma_strategy_name(o->strategy)),
-            name_or_unknown(perma_victim_name(o->victim)), o->local_queue_items, o->batch_limit);
+            name_or_unknown(perma_technique_name(o->schedule.technique)),
+            name_or_unknown(perma_strategy_name(o->schedule.strategy)),
+            name_or_unknown(perma_victim_name(o->schedule.victim)), o->schedule.local_queue_items,
+            o->schedule.batch_limit);
     fprintf(out, "  \"steals\": %" PRIu64 ", \"donations\": %" PRIu64 ", \"spills\": %" PRIu64 ",\n",
             s->run.steals, s->run.donations, s->run.spills);
     fprintf(out, "  \"procedures\": {\n");

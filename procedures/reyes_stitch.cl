@@ -30,11 +30,10 @@ struct reyes_vertex reyes_stitch_vertex(perma_ctx *ctx, const struct reyes_subpa
     __global const struct reyes_params *p = ctx->buf.params;
     float3 cp[16];
     reyes_load_patch(ctx->buf.patches, sp->patch, cp);
-    float3 base = reyes_unpack_rgb(ctx->buf.colors[sp->patch]);
     int last = (int)p->grid - 1;
     int2 ij = reyes_edge_vertex(edge, k, last);
     struct reyes_displacement d = { p, ctx->buf.displacement_map };
-    return reyes_grid_vertex(&d, cp, sp, base, ij.x, ij.y, 1);
+    return reyes_grid_vertex(&d, cp, sp, ctx->buf.colors[sp->patch], ij.x, ij.y, 1);
 }
 
 /* Vertex j of the neighbours' polyline, in the owner's edge order, and its

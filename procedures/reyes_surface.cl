@@ -137,13 +137,23 @@ float3 reyes_displaced_normal(const struct reyes_displacement *d, const float3 c
     return dot(n, n) > 1e-30f ? n : reyes_safe_normal(cp, u, v);
 }
 
-/* Position (clip space) of grid vertex (i,j), and its color when `shade`;
- * displaced when the parameters ask for it. */
+/* Position (clip space) of grid vertex (i,j), and its color when `shade`
+ * (`rgba`: the patch's packed base color); displaced when the parameters
+ * ask for it.
+ *
+ * The base color comes in packed, not as a float3 argument: this function
+ * is too big to inline and is called from two procedures, so Intel's CPU
+ * compiler (2026.22) calls a 16-wide vector variant of it, and that variant
+ * reads a varying float3 argument with the wrong per-lane stride (lanes got
+ * the channels of their neighbours, some zeros: grey images with a black
+ * stripe per grid column).  A float3 passed by value or through a pointer
+ * to one is affected; float4, scalars, arrays and structs are not. */
 struct reyes_vertex reyes_grid_vertex(const struct reyes_displacement *d, const float3 cp[16],
-                                      const struct reyes_subpatch *sp, float3 base, int i, int j,
+                                      const struct reyes_subpatch *sp, uint rgba, int i, int j,
                                       int shade)
 {
     __global const struct reyes_params *p = d->params;
+    float3 base = reyes_unpack_rgb(rgba);
     float last = (float)(p->grid - 1u);
     /* mix(a, b, 1) == b exactly, so shared patch edges get equal u, v. */
     float tu = (float)i / last, tv = (float)j / last;

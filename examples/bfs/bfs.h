@@ -63,8 +63,7 @@ void bfs_graph_free(bfs_graph *g);
 int bfs_sequential(const bfs_graph *g, uint32_t source, uint32_t *levels);
 
 typedef struct bfs_run_options {
-    perma_technique technique;
-    perma_strategy strategy;
+    perma_schedule schedule;   /* zero = megakernel/shared */
     unsigned work_groups;      /* 0 = the runtime's default */
 } bfs_run_options;
 

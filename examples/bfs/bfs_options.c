@@ -95,10 +95,10 @@ static bfs_status set_value(const char *opt, const char *v, bfs_options *o, char
         if (!parse_unsigned(v, 1, 100, &o->repeats))
             return usage(message, size, opt, v, "1..100");
     } else if (strcmp(opt, "--technique") == 0) {
-        if (perma_technique_parse(v, &o->run.technique) != PERMA_OK)
+        if (perma_technique_parse(v, &o->run.schedule.technique) != PERMA_OK)
             return usage(message, size, opt, v, "megakernel, kernel-per-procedure or bounded-batches");
     } else if (strcmp(opt, "--strategy") == 0) {
-        if (perma_strategy_parse(v, &o->run.strategy) != PERMA_OK)
+        if (perma_strategy_parse(v, &o->run.schedule.strategy) != PERMA_OK)
             return usage(message, size, opt, v, "shared, stealing, donation or stealing-donation");
     } else if (strcmp(opt, "-o") == 0) {
         o->output = v;

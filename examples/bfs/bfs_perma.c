@@ -58,8 +58,7 @@ bfs_status bfs_session_create(const bfs_graph *g, const bfs_run_options *options
     s->levels = levels;
     perma_config config;
     perma_config_init(&config);
-    config.technique = options->technique;
-    config.strategy = options->strategy;
+    config.schedule = options->schedule;
     config.work_groups = options->work_groups;
     perma_error error;
     if (perma_create(&config, &s->rt, &error) != PERMA_OK) {

@@ -51,8 +51,7 @@ int mandel_sequential(const mandel_params *p, uint32_t *counts);
 
 /* How the perma version runs. */
 typedef struct mandel_run_options {
-    perma_technique technique;
-    perma_strategy strategy;
+    perma_schedule schedule;   /* zero = megakernel/shared */
     unsigned work_groups;      /* 0 = the runtime's default */
 } mandel_run_options;
 

@@ -1,137 +1,91 @@
 /*
- * --compare: time the sequential C versions and the perma version under
- * every technique and strategy on the same image, best of `repeats` runs
- * each after one untimed warm-up run (the program build and PoCL's
- * compile at the first launch are excluded), and check
- * that every perma image equals the sequential one.
+ * --compare: the sequential C versions and the perma version under every
+ * schedule on the same image, through the examples' harness
+ * (examples/common/example_compare.h), each perma image checked against
+ * the sequential one.
  */
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
+#include "example_compare.h"
 #include "mandel.h"
 
-/* Schedule labels (perma_schedule_parse); the run options take the
- * technique and strategy (the stealing victim stays the default). */
-static const char *const variants[] = {
-    "megakernel/shared",
-    "megakernel/stealing",
-    "megakernel/donation",
-    "megakernel/stealing-donation",
-    "kernel-per-procedure",
-    "bounded-batches",
-};
+typedef struct compare_data {
+    const mandel_params *params;
+    uint32_t *expected; /* the sequential Mariani-Silver image */
+    uint32_t *counts;   /* every other version's image */
+    size_t pixels;
+} compare_data;
 
-/* The run options of variant `index`; MANDEL_ERR_RUNTIME with the parser's
- * message for a bad label. */
-static mandel_status variant_options(size_t index, unsigned work_groups, mandel_run_options *out,
-                                     char *message, size_t size)
+static int run_sequential(void *data)
 {
-    perma_schedule schedule;
-    perma_error error;
-    if (perma_schedule_parse(variants[index], &schedule, &error) != PERMA_OK) {
-        snprintf(message, size, "mandelbrot: --compare: %s", error.message);
-        return MANDEL_ERR_RUNTIME;
-    }
-    out->technique = schedule.technique;
-    out->strategy = schedule.strategy;
-    out->work_groups = work_groups;
-    return MANDEL_OK;
+    compare_data *d = data;
+    return mandel_sequential(d->params, d->expected);
 }
 
-static double now(void)
+static int run_brute_force(void *data)
 {
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+    compare_data *d = data;
+    mandel_brute_force(d->params, d->counts);
+    return 0;
 }
 
-static double best_sequential(const mandel_params *p, uint32_t *counts, unsigned repeats, int brute)
+static int create(void *data, const perma_schedule *schedule, unsigned work_groups, void **session,
+                  char *message, size_t size)
 {
-    double best = 1e30;
-    for (unsigned r = 0; r < repeats; ++r) {
-        double start = now();
-        if (brute)
-            mandel_brute_force(p, counts);
-        else if (mandel_sequential(p, counts) != 0)
-            return -1;
-        double t = now() - start;
-        best = t < best ? t : best;
-    }
-    return best;
+    compare_data *d = data;
+    mandel_run_options options = { *schedule, work_groups };
+    return mandel_session_create(d->params, &options, d->counts, (mandel_session **)session, message, size);
 }
 
-/* Build once, run `repeats` times; *seconds is the best run. */
-static mandel_status time_variant(const mandel_params *p, const mandel_run_options *v,
-                                  uint32_t *counts, unsigned repeats, double *build,
-                                  double *seconds, char *message, size_t size)
+static int run(void *data, void *session, char *message, size_t size)
 {
-    double start = now();
-    mandel_session *s;
-    mandel_status st = mandel_session_create(p, v, counts, &s, message, size);
-    if (st != MANDEL_OK)
-        return st;
-    *build = now() - start;
-    /* PoCL compiles the kernel at its first launch: warm up untimed. */
-    st = mandel_session_run(s, message, size);
-    *seconds = 1e30;
-    for (unsigned r = 0; r < repeats && st == MANDEL_OK; ++r) {
-        start = now();
-        st = mandel_session_run(s, message, size);
-        double t = now() - start;
-        *seconds = t < *seconds ? t : *seconds;
-    }
-    mandel_session_destroy(s);
-    return st;
+    (void)data;
+    return mandel_session_run(session, message, size);
+}
+
+static perma_runtime *runtime(void *session)
+{
+    return mandel_session_runtime(session);
+}
+
+static void destroy(void *session)
+{
+    mandel_session_destroy(session);
+}
+
+static const char *check(void *data)
+{
+    compare_data *d = data;
+    return memcmp(d->counts, d->expected, d->pixels * sizeof *d->counts) == 0 ? "identical" : "DIFFERS";
 }
 
 mandel_status mandel_compare(const mandel_params *p, unsigned work_groups, unsigned repeats,
                              FILE *out, char *message, size_t size)
 {
-    size_t pixels = (size_t)p->width * p->height;
-    uint32_t *expected = malloc(pixels * sizeof *expected);
-    uint32_t *counts = malloc(pixels * sizeof *counts);
-    if (!expected || !counts) {
-        free(expected);
-        free(counts);
-        snprintf(message, size, "mandelbrot: --compare: out of memory for %zu pixels", pixels);
-        return MANDEL_ERR_RUNTIME;
-    }
-    fprintf(out, "%ux%u pixels, max_iter %u, min_size %u; best of %u runs after a warm-up; build excluded\n",
-            p->width, p->height, p->max_iter, p->min_size, repeats);
-    double brute = best_sequential(p, counts, repeats, 1);
-    double sequential = best_sequential(p, expected, repeats, 0);
-    if (sequential < 0) {
-        free(expected);
-        free(counts);
-        snprintf(message, size, "mandelbrot: --compare: out of memory in the sequential version");
-        return MANDEL_ERR_RUNTIME;
-    }
-    fprintf(out, "%-36s %10s %12s %10s %s\n", "version", "seconds", "/sequential", "build s", "image");
-    fprintf(out, "%-36s %10.4f %12.2f %10s %s\n", "sequential C, Mariani-Silver", sequential, 1.0, "-", "reference");
-    fprintf(out, "%-36s %10.4f %12.2f %10s %s\n", "sequential C, brute force", brute, brute / sequential, "-",
-            memcmp(counts, expected, pixels * sizeof *counts) == 0 ? "identical" : "DIFFERS");
+    compare_data d = { p, NULL, NULL, (size_t)p->width * p->height };
+    d.expected = malloc(d.pixels * sizeof *d.expected);
+    d.counts = malloc(d.pixels * sizeof *d.counts);
+    example_compare ex = { &d, create, run, runtime, destroy, check, "image", 0 };
     mandel_status st = MANDEL_OK;
-    for (size_t i = 0; i < sizeof variants / sizeof variants[0] && st == MANDEL_OK; ++i) {
-        mandel_run_options v;
-        st = variant_options(i, work_groups, &v, message, size);
-        if (st != MANDEL_OK)
-            break;
-        double build, seconds;
-        st = time_variant(p, &v, counts, repeats, &build, &seconds, message, size);
-        if (st != MANDEL_OK)
-            break;
-        char name[64];
-        if (v.technique == PERMA_TECHNIQUE_MEGAKERNEL)
-            snprintf(name, sizeof name, "perma %s / %s", perma_technique_name(v.technique),
-                     perma_strategy_name(v.strategy));
-        else
-            snprintf(name, sizeof name, "perma %s", perma_technique_name(v.technique));
-        fprintf(out, "%-36s %10.4f %12.2f %10.2f %s\n", name, seconds, seconds / sequential, build,
-                memcmp(counts, expected, pixels * sizeof *counts) == 0 ? "identical" : "DIFFERS");
-        fflush(out);
+    double brute = -1, sequential = -1;
+    if (d.expected && d.counts) {
+        fprintf(out, "%ux%u pixels, max_iter %u, min_size %u; best of %u runs after a warm-up; build excluded\n",
+                p->width, p->height, p->max_iter, p->min_size, repeats);
+        brute = example_compare_best(repeats, run_brute_force, &d);
+        sequential = example_compare_best(repeats, run_sequential, &d);
     }
-    free(expected);
-    free(counts);
+    if (sequential < 0) {
+        snprintf(message, size, "mandelbrot: --compare: out of memory for %zu pixels", d.pixels);
+        st = MANDEL_ERR_RUNTIME;
+    } else {
+        example_compare_header(&ex, out);
+        example_compare_row(&ex, out, "sequential C, Mariani-Silver", sequential, sequential, -1, 0, "reference");
+        example_compare_row(&ex, out, "sequential C, brute force", brute, sequential, -1, 0, check(&d));
+        if (example_compare_schedules(&ex, work_groups, repeats, sequential, out, message, size) != 0)
+            st = MANDEL_ERR_RUNTIME;
+    }
+    free(d.expected);
+    free(d.counts);
     return st;
 }

@@ -125,9 +125,9 @@ mandel_status mandel_parse_options(int argc, char **argv, mandel_options *o,
             return usage(message, size, opt, v, "1..4096");
         if (strcmp(opt, "--repeats") == 0 && !parse_unsigned(v, 1, 100, &o->repeats))
             return usage(message, size, opt, v, "1..100");
-        if (strcmp(opt, "--technique") == 0 && perma_technique_parse(v, &o->run.technique) != PERMA_OK)
+        if (strcmp(opt, "--technique") == 0 && perma_technique_parse(v, &o->run.schedule.technique) != PERMA_OK)
             return usage(message, size, opt, v, "megakernel, kernel-per-procedure or bounded-batches");
-        if (strcmp(opt, "--strategy") == 0 && perma_strategy_parse(v, &o->run.strategy) != PERMA_OK)
+        if (strcmp(opt, "--strategy") == 0 && perma_strategy_parse(v, &o->run.schedule.strategy) != PERMA_OK)
             return usage(message, size, opt, v, "shared, stealing, donation or stealing-donation");
         if (strcmp(opt, "-o") == 0)
             o->output = v;

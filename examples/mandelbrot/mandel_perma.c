@@ -67,8 +67,7 @@ mandel_status mandel_session_create(const mandel_params *p, const mandel_run_opt
     s->counts = counts;
     perma_config config;
     perma_config_init(&config);
-    config.technique = options->technique;
-    config.strategy = options->strategy;
+    config.schedule = options->schedule;
     config.work_groups = options->work_groups;
     perma_error error;
     if (perma_create(&config, &s->rt, &error) != PERMA_OK) {

@@ -1,27 +1,33 @@
 /*
  * Command-line parsing of reyes-render.  Every option is one row of
- * `options[]` (name, argument, handler, help).  Technique, strategy and
- * victim names are the runtime's (perma_*_parse), so new ones work here
- * without a change.
+ * `options[]` (name, argument, handler, help); an option whose value is
+ * one of a list of names, or a flag, has no handler but a field (where
+ * the value goes, and the names).  Technique, strategy and victim names are the runtime's
+ * (perma_*_name), so new ones work here without a change.
  */
 #include <ctype.h>
 #include <errno.h>
 #include <math.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "reyes_cli.h"
 
 #define COUNT_OF(a) (sizeof(a) / sizeof((a)[0]))
+#define REYES_MAX_FRAMES 100000u
 
 typedef int (*option_handler)(reyes_cli *cli, const char *value, char *message, size_t size);
+
+typedef struct cli_field cli_field;
 
 typedef struct cli_option {
     const char *name;      /* long name without dashes */
     char short_name;       /* 0 if none */
     const char *argument;  /* NULL for a flag */
-    option_handler handle;
+    option_handler handle; /* NULL: `field` says what the option sets */
     const char *help;
+    const cli_field *field;
 } cli_option;
 
 static int usage_error(char *message, size_t size, const char *format, const char *a, const char *b)
@@ -58,6 +64,28 @@ static int parse_float(const char *text, float *out)
 /* The name of enum value `value`, or NULL past the last one. */
 typedef const char *(*name_of)(int value);
 
+static const char *name_in(const char *const *names, size_t count, int value)
+{
+    return value >= 0 && (size_t)value < count ? names[value] : NULL;
+}
+
+static const char *crack_fix_name(int value)
+{
+    static const char *const names[] = { "none", "stitch", "wedge" }; /* REYES_CRACK_FIX_* */
+    return name_in(names, COUNT_OF(names), value);
+}
+
+static const char *subdivision_name(int value)
+{
+    static const char *const names[] = { "bound", "tiered" }; /* REYES_SUBDIVISION_* */
+    return name_in(names, COUNT_OF(names), value);
+}
+
+static const char *blur_algo_name(int value)
+{
+    return value < 0 ? NULL : reyes_blur_algo_name((unsigned)value);
+}
+
 static const char *technique_name(int value)
 {
     return perma_technique_name((perma_technique)value);
@@ -73,12 +101,41 @@ static const char *victim_name(int value)
     return perma_victim_name((perma_victim)value);
 }
 
-/* "unknown KIND 'NAME'; valid: a b c", the names from value 0 on. */
-static int unknown_name(name_of names, const char *kind, const char *name, char *message, size_t size)
+/* What an option without a handler does to reyes_cli: a flag sets its int
+ * field to 1; an option whose value is one of a list of names stores the
+ * name's index in its unsigned or enum field. */
+typedef struct cli_field {
+    size_t offset;
+    const char *kind; /* a list: what the message calls its names */
+    name_of names;    /* a list: the names, value 0 on; NULL for a flag */
+} cli_field;
+
+#define FLAG(field) (&(const cli_field){ offsetof(reyes_cli, field), NULL, NULL })
+#define CHOICE(kind, names, field) (&(const cli_field){ offsetof(reyes_cli, field), kind, names })
+
+/* The fields CHOICE writes are all unsigned-sized. */
+_Static_assert(sizeof(perma_technique) == sizeof(unsigned) && sizeof(perma_strategy) == sizeof(unsigned) &&
+               sizeof(perma_victim) == sizeof(unsigned), "enum fields are written as unsigned");
+
+/* Set the field, or say "unknown KIND 'NAME'; valid: a b c". */
+static int set_field(reyes_cli *cli, const cli_field *field, const char *name, char *message, size_t size)
 {
-    int used = snprintf(message, size, "unknown %s '%s'; valid:", kind, name);
-    for (int v = 0; names(v) && used >= 0 && (size_t)used < size; ++v)
-        used += snprintf(message + used, size - (size_t)used, " %s", names(v));
+    char *at = (char *)cli + field->offset;
+    if (!field->names) {
+        int on = 1;
+        memcpy(at, &on, sizeof on);
+        return REYES_CLI_OK;
+    }
+    for (int v = 0; field->names(v); ++v) {
+        if (strcmp(field->names(v), name) == 0) {
+            unsigned value = (unsigned)v;
+            memcpy(at, &value, sizeof value);
+            return REYES_CLI_OK;
+        }
+    }
+    int used = snprintf(message, size, "unknown %s '%s'; valid:", field->kind, name);
+    for (int v = 0; field->names(v) && used >= 0 && (size_t)used < size; ++v)
+        used += snprintf(message + used, size - (size_t)used, " %s", field->names(v));
     return REYES_CLI_USAGE;
 }
 
@@ -126,20 +183,6 @@ static int on_bucket(reyes_cli *cli, const char *value, char *message, size_t si
     if (!parse_wxh(value, &cli->render.bucket_width, &cli->render.bucket_height))
         return usage_error(message, size, "--bucket '%s': expected WxH with sides 1..%s, e.g. 64x64",
                            value, "16384");
-    return REYES_CLI_OK;
-}
-
-static int on_crack_fix(reyes_cli *cli, const char *value, char *message, size_t size)
-{
-    if (strcmp(value, "none") == 0)
-        cli->render.crack_fix = REYES_CRACK_FIX_NONE;
-    else if (strcmp(value, "stitch") == 0)
-        cli->render.crack_fix = REYES_CRACK_FIX_STITCH;
-    else if (strcmp(value, "wedge") == 0)
-        cli->render.crack_fix = REYES_CRACK_FIX_WEDGE;
-    else
-        return usage_error(message, size, "unknown crack fix '%s'; valid: %s", value,
-                           "none stitch wedge");
     return REYES_CLI_OK;
 }
 
@@ -240,18 +283,6 @@ static int on_time_samples(reyes_cli *cli, const char *value, char *message, siz
     return REYES_CLI_OK;
 }
 
-static const char *blur_algo_name(int value)
-{
-    return value < 0 ? NULL : reyes_blur_algo_name((unsigned)value);
-}
-
-static int on_blur_algo(reyes_cli *cli, const char *value, char *message, size_t size)
-{
-    if (!reyes_blur_algo_parse(value, &cli->render.blur_algo))
-        return unknown_name(blur_algo_name, "blur algorithm", value, message, size);
-    return REYES_CLI_OK;
-}
-
 static int on_blur_tile(reyes_cli *cli, const char *value, char *message, size_t size)
 {
     if (!parse_unsigned(value, REYES_MAX_BLUR_TILE, &cli->render.blur_tile) || cli->render.blur_tile < 1)
@@ -272,18 +303,6 @@ static int on_bound(reyes_cli *cli, const char *value, char *message, size_t siz
     if (!parse_float(value, &cli->render.bound_px) || cli->render.bound_px < 0.5f)
         return usage_error(message, size, "--bound '%s': expected pixels >= 0.5%s", value, "");
     cli->bound_given = 1;
-    return REYES_CLI_OK;
-}
-
-static int on_subdivision(reyes_cli *cli, const char *value, char *message, size_t size)
-{
-    if (strcmp(value, "bound") == 0)
-        cli->render.subdivision = REYES_SUBDIVISION_BOUND;
-    else if (strcmp(value, "tiered") == 0)
-        cli->render.subdivision = REYES_SUBDIVISION_TIERED;
-    else
-        return usage_error(message, size, "unknown subdivision '%s'; valid: %s", value,
-                           "bound tiered");
     return REYES_CLI_OK;
 }
 
@@ -349,27 +368,6 @@ static int on_camera(reyes_cli *cli, const char *value, char *message, size_t si
     return st;
 }
 
-static int on_technique(reyes_cli *cli, const char *value, char *message, size_t size)
-{
-    if (perma_technique_parse(value, &cli->render.technique) != PERMA_OK)
-        return unknown_name(technique_name, "technique", value, message, size);
-    return REYES_CLI_OK;
-}
-
-static int on_strategy(reyes_cli *cli, const char *value, char *message, size_t size)
-{
-    if (perma_strategy_parse(value, &cli->render.strategy) != PERMA_OK)
-        return unknown_name(strategy_name, "strategy", value, message, size);
-    return REYES_CLI_OK;
-}
-
-static int on_victim(reyes_cli *cli, const char *value, char *message, size_t size)
-{
-    if (perma_victim_parse(value, &cli->render.victim) != PERMA_OK)
-        return unknown_name(victim_name, "victim", value, message, size);
-    return REYES_CLI_OK;
-}
-
 /* A whole schedule label (perma_schedule_parse); the message is the parser's. */
 static int on_schedule(reyes_cli *cli, const char *value, char *message, size_t size)
 {
@@ -377,106 +375,114 @@ static int on_schedule(reyes_cli *cli, const char *value, char *message, size_t 
     perma_error error;
     if (perma_schedule_parse(value, &schedule, &error) != PERMA_OK)
         return usage_error(message, size, "--schedule: %s%s", error.message, "");
-    reyes_options_set_schedule(&cli->render, &schedule);
+    cli->render.schedule = schedule;
     return REYES_CLI_OK;
 }
 
 static int on_local_queue(reyes_cli *cli, const char *value, char *message, size_t size)
 {
-    if (!parse_unsigned(value, 65536, &cli->render.local_queue_items))
+    if (!parse_unsigned(value, 65536, &cli->render.schedule.local_queue_items))
         return usage_error(message, size, "--local-queue '%s': expected items 0..%s", value, "65536");
     return REYES_CLI_OK;
 }
 
 static int on_batch_limit(reyes_cli *cli, const char *value, char *message, size_t size)
 {
-    if (!parse_unsigned(value, 1u << 24, &cli->render.batch_limit) || cli->render.batch_limit < 1)
+    if (!parse_unsigned(value, 1u << 24, &cli->render.schedule.batch_limit) || cli->render.schedule.batch_limit < 1)
         return usage_error(message, size, "--batch-limit '%s': expected items 1..%s", value, "16777216");
     return REYES_CLI_OK;
 }
 
-static int on_backface(reyes_cli *cli, const char *value, char *message, size_t size)
+static int on_devices(reyes_cli *cli, const char *value, char *message, size_t size)
 {
-    (void)value;
-    (void)message;
-    (void)size;
-    cli->render.backface_cull = 1;
+    if (!value[0])
+        return usage_error(message, size, "--devices: expected a device list, e.g. %s%s", "0:0/2 or 0:0,1:0", "");
+    cli->devices = value;
     return REYES_CLI_OK;
 }
 
-static int on_reference(reyes_cli *cli, const char *value, char *message, size_t size)
+static int on_frames(reyes_cli *cli, const char *value, char *message, size_t size)
 {
-    (void)value;
-    (void)message;
-    (void)size;
-    cli->reference = 1;
+    if (!parse_unsigned(value, REYES_MAX_FRAMES, &cli->frames) || cli->frames < 1)
+        return usage_error(message, size, "--frames '%s': expected 1..%s", value, "100000");
     return REYES_CLI_OK;
 }
 
-static int on_help(reyes_cli *cli, const char *value, char *message, size_t size)
+static int on_orbit(reyes_cli *cli, const char *value, char *message, size_t size)
 {
-    (void)value;
-    (void)message;
-    (void)size;
-    cli->help = 1;
+    if (!parse_float(value, &cli->orbit_deg) || fabsf(cli->orbit_deg) > 36000.0f)
+        return usage_error(message, size, "--orbit '%s': expected degrees in -36000..36000%s", value, "");
+    cli->orbit_given = 1;
     return REYES_CLI_OK;
 }
 
-static int on_version(reyes_cli *cli, const char *value, char *message, size_t size)
+static int on_rank_timeout(reyes_cli *cli, const char *value, char *message, size_t size)
 {
-    (void)value;
-    (void)message;
-    (void)size;
-    cli->version = 1;
+    if (!parse_float(value, &cli->rank_timeout) || !(cli->rank_timeout >= 1.0f && cli->rank_timeout <= 1e6f))
+        return usage_error(message, size, "--rank-timeout '%s': expected seconds in 1..1e6%s", value, "");
     return REYES_CLI_OK;
 }
 
 static const cli_option options[] = {
-    { "output", 'o', "FILE", on_output, "PNG to write (default reyes.png)" },
-    { "size", 0, "WxH", on_size, "image size in pixels (default 512x512)" },
-    { "bucket", 0, "WxH", on_bucket, "render in screen tiles of WxH pixels (default: one)" },
-    { "crack-fix", 0, "NAME", on_crack_fix,
-      "stitch (default: fill cracks between grids), wedge (one pass; tiered only) or none" },
+    { "output", 'o', "FILE", on_output, "PNG to write (default reyes.png)", NULL },
+    { "size", 0, "WxH", on_size, "image size in pixels (default 512x512)", NULL },
+    { "bucket", 0, "WxH", on_bucket, "render in screen tiles of WxH pixels (default: one)", NULL },
+    { "crack-fix", 0, "NAME", NULL,
+      "stitch (default: fill cracks between grids), wedge (one pass; tiered only) or none",
+      CHOICE("crack fix", crack_fix_name, render.crack_fix) },
     { "displace", 0, "KIND", on_displace,
-      "bumps:AMPLITUDE or png:FILE:AMPLITUDE (gray PNG at the patch's u,v)" },
-    { "motion", 0, "dx,dy,dz", on_motion, "move every vertex by this over the shutter (motion blur)" },
+      "bumps:AMPLITUDE or png:FILE:AMPLITUDE (gray PNG at the patch's u,v)", NULL },
+    { "motion", 0, "dx,dy,dz", on_motion, "move every vertex by this over the shutter (motion blur)", NULL },
     { "motion-rotate", 0, "ax,ay,az,DEG", on_motion_rotate,
-      "rotate by DEG (-360..360) about the axis through the camera target over the shutter, then --motion" },
-    { "aperture", 0, "R", on_aperture, "thin-lens radius in world units (depth of field; default 0)" },
-    { "focus", 0, "D", on_focus, "view depth in focus (default: distance to the camera target)" },
-    { "blur-algo", 0, "NAME", on_blur_algo,
-      "blur sampling: interleaved (default), simple or bbox (docs/reyes.md)" },
-    { "blur-tile", 0, "K", on_blur_tile, "interleaved: tiles of KxK pixels, 1..8 (default 4)" },
+      "rotate by DEG (-360..360) about the axis through the camera target over the shutter, then --motion",
+      NULL },
+    { "aperture", 0, "R", on_aperture, "thin-lens radius in world units (depth of field; default 0)", NULL },
+    { "focus", 0, "D", on_focus, "view depth in focus (default: distance to the camera target)", NULL },
+    { "blur-algo", 0, "NAME", NULL, "blur sampling: interleaved (default), simple or bbox (docs/reyes.md)",
+      CHOICE("blur algorithm", blur_algo_name, render.blur_algo) },
+    { "blur-tile", 0, "K", on_blur_tile, "interleaved: tiles of KxK pixels, 1..8 (default 4)", NULL },
     { "blur-permutations", 0, "P", on_blur_permutations,
-      "interleaved: permutations of a tile's tuples, 1..64 (default 8)" },
-    { "time-samples", 0, "N", on_time_samples, "time strata per pixel (default: spp)" },
+      "interleaved: permutations of a tile's tuples, 1..64 (default 8)", NULL },
+    { "time-samples", 0, "N", on_time_samples, "time strata per pixel (default: spp)", NULL },
     { "bound", 0, "PX", on_bound,
-      "dice patches whose screen bound is at most PX (default 8; tiered: grid - 1)" },
-    { "grid", 0, "N", on_grid, "grid vertices per side when dicing (default 16)" },
-    { "subdivision", 0, "NAME", on_subdivision,
-      "when to stop splitting: bound (default: --bound) or tiered (flatness)" },
-    { "epsilon", 0, "PX", on_epsilon, "tiered: flatness tolerance in pixels (default 0.5)" },
+      "dice patches whose screen bound is at most PX (default 8; tiered: grid - 1)", NULL },
+    { "grid", 0, "N", on_grid, "grid vertices per side when dicing (default 16)", NULL },
+    { "subdivision", 0, "NAME", NULL, "when to stop splitting: bound (default: --bound) or tiered (flatness)",
+      CHOICE("subdivision", subdivision_name, render.subdivision) },
+    { "epsilon", 0, "PX", on_epsilon, "tiered: flatness tolerance in pixels (default 0.5)", NULL },
     { "lambda", 0, "L", on_lambda,
-      "tiered: 0 geometric .. 1 parametric deviation weight (default 0.5)" },
-    { "spp", 0, "N", on_spp, "jittered samples per pixel (default 4)" },
-    { "max-depth", 0, "D", on_max_depth, "splits after which a patch is diced anyway (default 20)" },
-    { "camera", 0, "ex,ey,ez,ax,ay,az", on_camera, "eye and target (default: frame the scene)" },
-    { "fov", 0, "DEG", on_fov, "vertical field of view (default 40)" },
+      "tiered: 0 geometric .. 1 parametric deviation weight (default 0.5)", NULL },
+    { "spp", 0, "N", on_spp, "jittered samples per pixel (default 4)", NULL },
+    { "max-depth", 0, "D", on_max_depth, "splits after which a patch is diced anyway (default 20)", NULL },
+    { "camera", 0, "ex,ey,ez,ax,ay,az", on_camera, "eye and target (default: frame the scene)", NULL },
+    { "fov", 0, "DEG", on_fov, "vertical field of view (default 40)", NULL },
     { "schedule", 0, "LABEL", on_schedule,
-      "the five options below as one label, e.g. megakernel/stealing/round-robin+local32" },
-    { "technique", 0, "NAME", on_technique,
-      "megakernel (default), kernel-per-procedure or bounded-batches" },
-    { "strategy", 0, "NAME", on_strategy,
-      "megakernel queues: shared (default), stealing, donation, stealing-donation" },
-    { "victim", 0, "NAME", on_victim, "stealing victim: random (default) or round-robin" },
-    { "local-queue", 0, "N", on_local_queue, "items per procedure in a per-group local queue (default 0)" },
-    { "batch-limit", 0, "N", on_batch_limit, "bounded-batches: items per host iteration (default 4096)" },
-    { "groups", 0, "N", on_groups, "persistent work-groups (default: as many as fit)" },
-    { "backface", 0, NULL, on_backface, "cull patches that face away entirely" },
-    { "stats", 0, "FILE", on_stats, "write statistics as JSON" },
-    { "reference", 0, NULL, on_reference, "also run the single-threaded C bound/split/dice and print its counts" },
-    { "help", 'h', NULL, on_help, "show this help" },
-    { "version", 0, NULL, on_version, "show the version" },
+      "the five options below as one label, e.g. megakernel/stealing/round-robin+local32", NULL },
+    { "technique", 0, "NAME", NULL, "megakernel (default), kernel-per-procedure or bounded-batches",
+      CHOICE("technique", technique_name, render.schedule.technique) },
+    { "strategy", 0, "NAME", NULL, "megakernel queues: shared (default), stealing, donation, stealing-donation",
+      CHOICE("strategy", strategy_name, render.schedule.strategy) },
+    { "victim", 0, "NAME", NULL, "stealing victim: random (default) or round-robin",
+      CHOICE("victim", victim_name, render.schedule.victim) },
+    { "local-queue", 0, "N", on_local_queue, "items per procedure in a per-group local queue (default 0)",
+      NULL },
+    { "batch-limit", 0, "N", on_batch_limit, "bounded-batches: items per host iteration (default 4096)", NULL },
+    { "groups", 0, "N", on_groups, "persistent work-groups (default: as many as fit)", NULL },
+    { "devices", 0, "LIST", on_devices,
+      "spread buckets (or frames) over devices: 0:0,1:0, 0:0/2 (2 equal sub-devices), all", NULL },
+    { "frames", 0, "N", on_frames, "render N frames NAME-0001.png ... (an orbit, or the motion)", NULL },
+    { "orbit", 0, "DEG", on_orbit,
+      "frames: turn the camera DEG about the vertical through the target (default 360, 0 with motion)", NULL },
+    { "rank-timeout", 0, "S", on_rank_timeout,
+      "mpirun: abort the job when a rank holds a bucket or frame S seconds (default 660)", NULL },
+    { "coordinator-only", 0, NULL, NULL, "mpirun: rank 0 hands out and gathers but renders nothing (a head node)",
+      FLAG(coordinator_only) },
+    { "backface", 0, NULL, NULL, "cull patches that face away entirely", FLAG(render.backface_cull) },
+    { "stats", 0, "FILE", on_stats, "write statistics as JSON", NULL },
+    { "reference", 0, NULL, NULL, "also run the single-threaded C bound/split/dice and print its counts",
+      FLAG(reference) },
+    { "help", 'h', NULL, NULL, "show this help", FLAG(help) },
+    { "version", 0, NULL, NULL, "show the version", FLAG(version) },
 };
 
 void reyes_cli_usage(FILE *out, const char *program)
@@ -569,10 +575,13 @@ int reyes_cli_parse(int argc, char **argv, reyes_cli *cli, char *message, size_t
         } else if (!option->argument && value) {
             return usage_error(message, size, "option '--%s' takes no value%s", option->name, "");
         }
-        int result = option->handle(cli, value, message, size);
+        int result = option->handle ? option->handle(cli, value, message, size)
+                                    : set_field(cli, option->field, value, message, size);
         if (result != REYES_CLI_OK)
             return result;
     }
+    if (cli->orbit_given && !cli->frames)
+        return usage_error(message, size, "--orbit needs --frames%s%s", "", "");
     return check_subdivision_options(cli, message, size);
 }
 

@@ -22,6 +22,19 @@ typedef struct reyes_cli {
     /* --bound means the tiered criterion's largest bound with it;
      * --epsilon and --lambda without it are refused. */
     int bound_given, flatness_given;
+    /* Scale-out (docs/scale-out.md): a device list to spread buckets or
+     * frames over (NULL: one device), an animation of `frames` frames
+     * (0: one image) turning the camera by orbit_deg over all of them. */
+    const char *devices;
+    unsigned frames;
+    float orbit_deg;
+    int orbit_given;
+    /* MPI: rank 0 aborts the job when a rank holds an item this long
+     * (seconds; 0: 660, the runtime's watchdog and a minute). */
+    float rank_timeout;
+    /* MPI: rank 0 only hands out and gathers (a head node); the others
+     * render. */
+    int coordinator_only;
     int help, version;
     char displace_map[4096]; /* --displace png:FILE:A (render.displace_map points here) */
 } reyes_cli;

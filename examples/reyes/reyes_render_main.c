@@ -1,42 +1,21 @@
 /*
  * reyes-render: parse the command line, build the scene (models or the
  * built-in one), render it with the Reyes procedures, write PNG and stats.
+ * With --devices or --frames the buckets or frames are spread over
+ * devices (reyes_farm.h); under mpirun over ranks (reyes_mpi.h).
  * Exit status: 0 ok, 1 rendering or file failure, 2 bad usage.
  */
 #include <stdio.h>
 #include <stdlib.h>
+#include <time.h>
 
 #include "reyes_cli.h"
+#include "reyes_farm.h"
+#include "reyes_mpi.h"
 #include "reyes_reference.h"
+#include "reyes_report.h"
 
 #define EXIT_USAGE 2
-
-static reyes_status build_scene(const reyes_cli *cli, reyes_scene *scene, reyes_error *error)
-{
-    if (cli->model_count == 0)
-        return reyes_scene_add_builtin(scene, error);
-    for (size_t m = 0; m < cli->model_count; ++m) {
-        reyes_status status = reyes_scene_load_bpt(scene, cli->models[m],
-                                                   reyes_model_color((unsigned)m), error);
-        if (status != REYES_OK)
-            return status;
-    }
-    return REYES_OK;
-}
-
-static reyes_status choose_camera(const reyes_cli *cli, const reyes_scene *scene,
-                                  reyes_camera *camera, reyes_error *error)
-{
-    float aspect = (float)cli->render.width / (float)cli->render.height;
-    if (!cli->has_camera)
-        return reyes_camera_frame(scene, cli->fov_deg, aspect, camera, error);
-    for (int k = 0; k < 3; ++k) {
-        camera->eye[k] = cli->camera[k];
-        camera->at[k] = cli->camera[3 + k];
-    }
-    camera->fov_deg = cli->fov_deg;
-    return REYES_OK;
-}
 
 static reyes_status run_reference(const reyes_cli *cli, const reyes_scene *scene,
                                   const reyes_camera *camera, reyes_error *error)
@@ -52,17 +31,18 @@ static reyes_status run_reference(const reyes_cli *cli, const reyes_scene *scene
     return status;
 }
 
+/* One image on one device: the full statistics. */
 static reyes_status run(const reyes_cli *cli, reyes_error *error)
 {
-    reyes_scene scene;
-    reyes_scene_init(&scene);
+    reyes_job job;
+    reyes_scene scene = {0};
     reyes_camera camera;
     reyes_renderer *renderer = NULL;
     reyes_image image = {0};
     reyes_stats stats = {0};
-    reyes_status status = build_scene(cli, &scene, error);
-    if (status == REYES_OK)
-        status = choose_camera(cli, &scene, &camera, error);
+    reyes_status status = reyes_job_init(&job, cli, error);
+    scene = job.scene;
+    camera = job.camera;
     if (status == REYES_OK)
         status = reyes_renderer_create(&cli->render, &renderer, error);
     if (status == REYES_OK)
@@ -77,14 +57,71 @@ static reyes_status run(const reyes_cli *cli, reyes_error *error)
                cli->output, image.width, image.height, scene.patch_count,
                (unsigned long long)stats.splits, (unsigned long long)stats.grids,
                (unsigned long long)stats.micropolygons, stats.seconds,
-               perma_technique_name(cli->render.technique), perma_strategy_name(cli->render.strategy),
+               perma_technique_name(cli->render.schedule.technique), perma_strategy_name(cli->render.schedule.strategy),
                reyes_renderer_device(renderer));
     if (status == REYES_OK && cli->reference)
         status = run_reference(cli, &scene, &camera, error);
     reyes_image_free(&image);
     reyes_stats_free(&stats);
     reyes_renderer_destroy(renderer);
-    reyes_scene_free(&scene);
+    reyes_job_free(&job);
+    return status;
+}
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+/* The devices of --devices (or PERMA_DEVICE): a bad list is bad usage, a
+ * missing device a failure. */
+static reyes_status list_devices(const char *list, perma_device_ref *devices, unsigned *count,
+                                 reyes_error *error)
+{
+    perma_error perr;
+    perma_status st = perma_device_list(list, devices, PERMA_MAX_DEVICES, count, &perr);
+    if (st == PERMA_OK)
+        return REYES_OK;
+    return reyes_fail(error, st == PERMA_ERR_ARGUMENT ? REYES_ERR_ARGUMENT : REYES_ERR_RUNTIME,
+                      "--devices: %s", perr.message);
+}
+
+/* Buckets or frames spread over the devices of --devices (docs/scale-out.md). */
+static reyes_status run_farm(const reyes_cli *cli, reyes_error *error)
+{
+    perma_device_ref devices[PERMA_MAX_DEVICES];
+    unsigned count = 0;
+    reyes_job job;
+    reyes_pool pool;
+    reyes_farm_worker workers[PERMA_MAX_DEVICES];
+    reyes_status status = list_devices(cli->devices, devices, &count, error);
+    if (status != REYES_OK)
+        return status;
+    double start = now();
+    status = reyes_job_init(&job, cli, error);
+    if (status == REYES_OK)
+        status = reyes_pool_init(&pool, &job, error);
+    else
+        reyes_job_free(&job);
+    if (status != REYES_OK)
+        return status;
+    status = reyes_farm_run(&pool, devices, count, workers, error);
+    if (status == REYES_OK && !job.frames)
+        status = reyes_write_png(job.output, &pool.image, error);
+    double seconds = now() - start;
+    reyes_work_report reports[PERMA_MAX_DEVICES];
+    for (unsigned k = 0; k < count; ++k)
+        reports[k] = workers[k].report;
+    if (status == REYES_OK)
+        reyes_report_print(stdout, &job, reports, count, "device", seconds);
+    if (status == REYES_OK && cli->stats_path)
+        status = reyes_report_save_json(cli->stats_path, &pool, reports, count, seconds, error);
+    if (status == REYES_OK && cli->reference && !job.frames)
+        status = run_reference(cli, &job.scene, &job.camera, error);
+    reyes_pool_free(&pool);
+    reyes_job_free(&job);
     return status;
 }
 
@@ -93,19 +130,27 @@ int main(int argc, char **argv)
     const char *program = argc > 0 ? argv[0] : "reyes-render";
     reyes_cli cli;
     char message[512];
+    /* Under mpirun every rank parses the same line; rank 0 speaks. */
+    int quiet = reyes_mpi_launched() && reyes_mpi_launched_rank() != 0;
     if (reyes_cli_parse(argc, argv, &cli, message, sizeof message) != REYES_CLI_OK) {
-        fprintf(stderr, "%s: %s\n", program, message);
+        if (!quiet)
+            fprintf(stderr, "%s: %s\n", program, message);
         reyes_cli_free(&cli);
         return EXIT_USAGE;
     }
     int code = EXIT_SUCCESS;
     if (cli.help) {
-        reyes_cli_usage(stdout, program);
+        if (!quiet)
+            reyes_cli_usage(stdout, program);
     } else if (cli.version) {
-        printf("reyes-render %s (perma %s)\n", REYES_VERSION_STRING, PERMA_VERSION_STRING);
+        if (!quiet)
+            printf("reyes-render %s (perma %s%s)\n", REYES_VERSION_STRING, PERMA_VERSION_STRING,
+                   reyes_mpi_available() ? ", MPI" : "");
+    } else if (reyes_mpi_launched()) {
+        code = reyes_mpi_main(&cli, program);
     } else {
         reyes_error error;
-        reyes_status status = run(&cli, &error);
+        reyes_status status = cli.devices || cli.frames ? run_farm(&cli, &error) : run(&cli, &error);
         if (status != REYES_OK) {
             fprintf(stderr, "%s: %s\n", program, error.message);
             /* Options that parse but do not fit together are bad usage too. */

@@ -136,11 +136,68 @@ perma_status perma_technique_parse(const char *name, perma_technique *out);
 perma_status perma_strategy_parse(const char *name, perma_strategy *out);
 perma_status perma_victim_parse(const char *name, perma_victim *out);
 
+/* A schedule: how the work runs (perma_config.schedule), written as one
+ * label on command lines, in tables and in reports:
+ *
+ *     megakernel[/STRATEGY[/VICTIM]][+localN]
+ *     kernel-per-procedure
+ *     bounded-batches[/p=N]
+ *
+ * e.g. "megakernel/shared", "megakernel/stealing/round-robin",
+ * "megakernel/shared+local32", "bounded-batches/p=64".  STRATEGY and VICTIM
+ * are the names above; STRATEGY defaults to shared, VICTIM (only after a
+ * stealing strategy: stealing, stealing-donation) to random.  +localN sets
+ * local_queue_items, /p=N batch_limit; N is a decimal number >= 1 (leave
+ * the part out for the default).  All fields zero (what perma_config_init
+ * sets) is megakernel/shared. */
+typedef struct perma_schedule {
+    perma_technique technique;
+    perma_strategy strategy;        /* megakernel only: where the queues live */
+    perma_victim victim;            /* stealing strategies only: how a thief picks */
+    /* Megakernel only: items per procedure in a per-group front queue in
+     * __local memory, in front of the global queues (spilling when full);
+     * 0 = none. */
+    unsigned local_queue_items;
+    /* Bounded batches only: most items taken per host iteration; 0 = 4096. */
+    unsigned batch_limit;
+} perma_schedule;
+
+/* Parse a label into *out (set only on success).  PERMA_ERR_ARGUMENT for
+ * a NULL, empty or malformed label; *error (if not NULL) then holds the
+ * status and a message quoting the label and naming the bad part, e.g.
+ * "schedule 'megakernel/stealng': unknown strategy 'stealng' (shared,
+ * stealing, donation, stealing-donation)". */
+perma_status perma_schedule_parse(const char *label, perma_schedule *out, perma_error *error);
+/* Write the canonical label of *schedule into buf (always terminated when
+ * size > 0): a megakernel's strategy is always named, and so is the victim
+ * of a stealing strategy ("megakernel/stealing/random"); +localN and /p=N
+ * only when not 0.  Fields the technique does not use are left out.  The
+ * label parses back to the same schedule, and formatting a parsed
+ * canonical label gives the same text.  Returns the label's length like
+ * snprintf (>= size: truncated), or -1 (buf "") when the technique,
+ * strategy or victim has no name. */
+int perma_schedule_format(const perma_schedule *schedule, char *buf, size_t size);
+
 typedef struct perma_config {
-    /* OpenCL device, by index.  -1 (default): the PERMA_DEVICE environment
-     * variable "platform:device" if set, else 0:0. */
+    /* OpenCL device.  platform_index >= 0 picks the platform by index;
+     * else platform_name, if not NULL, picks the first platform whose name
+     * or vendor contains it (any case: "intel", "pocl", "oclgrind"); else
+     * the first device of the PERMA_DEVICE environment variable (a device
+     * list, see perma_device_list: "P:D", "NAME[:D]" with NAME a platform
+     * name as above, sub-devices, e.g. PERMA_DEVICE=intel or
+     * PERMA_DEVICE=pocl:0) if set, else 0:0.  device_index >= 0 picks the
+     * platform's device, else the one PERMA_DEVICE names (when it is
+     * consulted), else 0.  platform_name is read only by perma_create.
+     * `perma-info` lists the platforms and devices. */
     int platform_index;
     int device_index;
+    const char *platform_name;
+    /* Sub-device: with sub_devices >= 2 the device is split into that many
+     * equal parts (clCreateSubDevices, CL_DEVICE_PARTITION_EQUALLY) and the
+     * runtime runs on part sub_device (0..sub_devices-1); 0 (default): the
+     * whole device, or the part PERMA_DEVICE names when the indexes are -1. */
+    unsigned sub_devices;
+    unsigned sub_device;
     /* Persistent work-groups; 0 = as many as can be co-resident (compute
      * units; on a CPU device the physical core count from hwloc). */
     unsigned work_groups;
@@ -171,17 +228,13 @@ typedef struct perma_config {
     size_t local_memory_limit;
     /* Extra options for clBuildProgram, e.g. "-DTHRESHOLD=8"; may be NULL. */
     const char *build_options;
-    perma_technique technique;
-    perma_strategy strategy;        /* megakernel only */
-    perma_victim victim;            /* stealing strategies */
+    /* How the work runs: technique, strategy, victim, local front queue,
+     * batch limit (perma_schedule_parse fills one from a label); all zero
+     * = megakernel/shared. */
+    perma_schedule schedule;
     /* Donation: a group whose queue of a procedure holds more than this many
      * items gives a share to the emptiest group; 0 = 4 batches. */
     unsigned donation_threshold;
-    /* Items per procedure in a per-group front queue in __local memory,
-     * in front of the global queues (spilling when full); 0 = none. */
-    unsigned local_queue_items;
-    /* Bounded batches: most items taken per host iteration; 0 = 4096. */
-    unsigned batch_limit;
     /* Trace: if set (or the PERMA_TRACE environment variable names a file),
      * every run writes its batches as Chrome trace events (JSON, viewable
      * in Perfetto or chrome://tracing): one track per work-group, one event
@@ -196,46 +249,47 @@ typedef struct perma_config {
 /* Fill *config with the defaults described above. */
 void perma_config_init(perma_config *config);
 
-/* A schedule: the perma_config fields that say how the work runs, written
- * as one label on command lines, in tables and in reports:
- *
- *     megakernel[/STRATEGY[/VICTIM]][+localN]
- *     kernel-per-procedure
- *     bounded-batches[/p=N]
- *
- * e.g. "megakernel/shared", "megakernel/stealing/round-robin",
- * "megakernel/shared+local32", "bounded-batches/p=64".  STRATEGY and VICTIM
- * are the names above; STRATEGY defaults to shared, VICTIM (only after a
- * stealing strategy: stealing, stealing-donation) to random.  +localN sets
- * local_queue_items, /p=N batch_limit; N is a decimal number >= 1 (leave
- * the part out for the default).  Zero fields are the defaults of
- * perma_config_init. */
-typedef struct perma_schedule {
-    perma_technique technique;
-    perma_strategy strategy;        /* megakernel only */
-    perma_victim victim;            /* stealing strategies only */
-    unsigned local_queue_items;     /* megakernel only; 0 = none */
-    unsigned batch_limit;           /* bounded batches only; 0 = default */
-} perma_schedule;
+/* Several devices.  One runtime drives one device; a program that uses
+ * several creates a runtime per device (each in its own thread if they
+ * are to run at once: perma_run blocks).  A device is named by its
+ * platform and device index, or as one of N equal sub-devices of one
+ * (clCreateSubDevices with CL_DEVICE_PARTITION_EQUALLY, compute units / N
+ * each; PoCL and Intel's CPU runtime support it), which lets one CPU act
+ * as N devices.  Written "P:D" or "P:D/N.K" (part K of N). */
+typedef struct perma_device_ref {
+    int platform_index;
+    int device_index;
+    unsigned sub_devices;   /* 0: the whole device; N >= 2: one of N equal parts */
+    unsigned sub_device;    /* that part, 0..N-1 */
+} perma_device_ref;
 
-/* Parse a label into *out (set only on success).  PERMA_ERR_ARGUMENT for
- * a NULL, empty or malformed label; *error (if not NULL) then holds the
- * status and a message quoting the label and naming the bad part, e.g.
- * "schedule 'megakernel/stealng': unknown strategy 'stealng' (shared,
- * stealing, donation, stealing-donation)". */
-perma_status perma_schedule_parse(const char *label, perma_schedule *out, perma_error *error);
-/* Write the canonical label of *schedule into buf (always terminated when
- * size > 0): a megakernel's strategy is always named, and so is the victim
- * of a stealing strategy ("megakernel/stealing/random"); +localN and /p=N
- * only when not 0.  Fields the technique does not use are left out.  The
- * label parses back to the same schedule, and formatting a parsed
- * canonical label gives the same text.  Returns the label's length like
- * snprintf (>= size: truncated), or -1 (buf "") when the technique,
- * strategy or victim has no name. */
-int perma_schedule_format(const perma_schedule *schedule, char *buf, size_t size);
-/* Set the technique, strategy, victim, local_queue_items and batch_limit
- * fields of *config from *schedule; the other fields are left alone. */
-void perma_schedule_apply(const perma_schedule *schedule, perma_config *config);
+/* Most devices a list may expand to. */
+#define PERMA_MAX_DEVICES 64
+
+/* Expand a device list, comma-separated entries of
+ *     P:D       device D of platform P (perma-info lists them)
+ *     NAME:D    device D of the first platform whose name or vendor
+ *               contains NAME, in any case ("intel", "pocl", "oclgrind");
+ *               NAME alone is NAME:0, and NAME may take the /N and /N.K
+ *               below; NAME starts with a letter and has letters, digits,
+ *               spaces and "()._-"
+ *     P:D/N     that device split into N equal sub-devices: all N parts
+ *     P:D/N.K   the K-th (from 0) of those parts
+ *     all       every device of every platform
+ * into out[0..*count) (at most `max`), in the order given.  NULL or ""
+ * means the PERMA_DEVICE environment variable, or "0:0" if it is unset.
+ * The devices must exist and split as asked (OpenCL is queried; no
+ * sub-device is created); a device named twice is an error.  On failure
+ * *count is 0 and *error (if not NULL) names the list and the entry:
+ * PERMA_ERR_ARGUMENT (malformed, duplicate, too many), PERMA_ERR_NO_DEVICE
+ * (missing, a name no platform matches, or cannot be split so),
+ * PERMA_ERR_NO_PLATFORM. */
+perma_status perma_device_list(const char *list, perma_device_ref *out, unsigned max,
+                               unsigned *count, perma_error *error);
+/* Write "P:D" or "P:D/N.K"; returns the length like snprintf. */
+int perma_device_ref_format(const perma_device_ref *ref, char *buf, size_t size);
+/* Point config at a device (its platform, device and sub-device fields). */
+void perma_config_set_device(perma_config *config, const perma_device_ref *ref);
 
 /* Create a runtime on the configured device.  On failure *out is NULL and
  * *error (if not NULL) holds the status and message. */

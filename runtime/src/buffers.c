@@ -96,3 +96,20 @@ perma_status perma_bind_host(perma_runtime *rt, const char *name, const char *ty
     b->flags = flags;
     return PERMA_OK;
 }
+
+perma_status perma_buffers_copy(perma_runtime *rt, unsigned flag)
+{
+    for (unsigned i = 0; i < rt->buffer_count; ++i) {
+        perma_buffer_binding *b = &rt->buffers[i];
+        if (!b->host || !(b->flags & flag))
+            continue;
+        cl_int err = flag == PERMA_READ
+                         ? clEnqueueWriteBuffer(rt->queue, b->mem, CL_TRUE, 0, b->bytes, b->host, 0, NULL, NULL)
+                         : clEnqueueReadBuffer(rt->queue, b->mem, CL_TRUE, 0, b->bytes, b->host, 0, NULL, NULL);
+        if (err != CL_SUCCESS)
+            return perma_set_error(rt, PERMA_ERR_OPENCL, "%s (buffer '%s') failed: %s (%d)",
+                                   flag == PERMA_READ ? "clEnqueueWriteBuffer" : "clEnqueueReadBuffer",
+                                   b->name, perma_cl_error_name(err), (int)err);
+    }
+    return PERMA_OK;
+}

@@ -1,16 +1,18 @@
 /* Generating the megakernel's OpenCL C from the registered procedures:
  * constants and tables, the user's sources with #line directives, typed
  * emit helpers, the dispatch switch and the scheduler loop. */
-#include "internal.h"
+#include "executor.h"
 
 #include <string.h>
 
+extern const char perma_kernel_abi[];
 extern const char perma_kernel_prelude[];
 extern const char perma_kernel_queue[];
 extern const char perma_kernel_emit[];
 extern const char perma_kernel_batch[];
 extern const char perma_kernel_scheduler[];
 extern const char perma_kernel_host_steps[];
+extern const char perma_kernel_relayout[];
 
 #define GENERATED_NAME "perma-generated.cl"
 
@@ -130,18 +132,6 @@ static void append_emit_helpers(perma_runtime *rt, perma_strbuf *sb)
     }
 }
 
-/* sizeof(item_type) on the device must equal the declared item_size. */
-static void append_size_checks(perma_runtime *rt, perma_strbuf *sb)
-{
-    for (unsigned i = 0; i < rt->proc_count; ++i) {
-        const perma_proc_info *p = &rt->procs[i];
-        perma_strbuf_printf(sb,
-                            "typedef char perma_item_size_of_%s_must_equal_sizeof_its_item_type_%zu"
-                            "[(sizeof(%s) == %zu) ? 1 : -1];\n",
-                            p->name, p->item_size, p->item_type, p->item_size);
-    }
-}
-
 /* Procedure sources, each once even if several procedures share it. */
 static void append_procedure_sources(perma_runtime *rt, perma_strbuf *sb)
 {
@@ -244,13 +234,16 @@ perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *sb)
                             "#define PERMA_TRACE_EVENTS %uu\n",
                         rt->proc_count, rt->group_size, item_barrier, rt->proc_count, rt->max_edges, rt->arena_words,
                         rt->queue_sets,
-                        rt->queue_sets > 1 && (rt->config.strategy == PERMA_STRATEGY_STEALING ||
-                                               rt->config.strategy == PERMA_STRATEGY_STEALING_DONATION),
-                        rt->queue_sets > 1 && (rt->config.strategy == PERMA_STRATEGY_DONATION ||
-                                               rt->config.strategy == PERMA_STRATEGY_STEALING_DONATION),
-                        rt->config.victim == PERMA_VICTIM_ROUND_ROBIN, rt->config.donation_threshold,
+                        rt->queue_sets > 1 && (rt->config.schedule.strategy == PERMA_STRATEGY_STEALING ||
+                                               rt->config.schedule.strategy == PERMA_STRATEGY_STEALING_DONATION),
+                        rt->queue_sets > 1 && (rt->config.schedule.strategy == PERMA_STRATEGY_DONATION ||
+                                               rt->config.schedule.strategy == PERMA_STRATEGY_STEALING_DONATION),
+                        rt->config.schedule.victim == PERMA_VICTIM_ROUND_ROBIN, rt->config.donation_threshold,
                         rt->local_queue_items, rt->lq_words ? rt->lq_words : 1u,
-                        rt->config.trace_path && rt->config.technique == PERMA_TECHNIQUE_MEGAKERNEL ? rt->trace_events : 0u);
+                        rt->device_trace_events);
+    perma_strbuf_append(sb, perma_kernel_abi);
+    perma_abi_append_struct_checks(sb);
+    resume_generated(sb);
     perma_strbuf_append(sb, perma_kernel_prelude);
     resume_generated(sb);
     perma_strbuf_append(sb, perma_kernel_queue);
@@ -272,7 +265,8 @@ perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *sb)
                             "#endif\n");
     append_procedure_sources(rt, sb);
     perma_strbuf_append(sb, "#pragma clang attribute pop\n");
-    append_size_checks(rt, sb);
+    perma_abi_append_item_checks(rt, sb);
+    resume_generated(sb);
     append_kernel_params(rt, sb);
     perma_strbuf_append(sb, perma_kernel_batch);
     resume_generated(sb);
@@ -280,6 +274,8 @@ perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *sb)
     perma_strbuf_append(sb, perma_kernel_scheduler);
     resume_generated(sb);
     perma_strbuf_append(sb, perma_kernel_host_steps);
+    resume_generated(sb);
+    perma_strbuf_append(sb, perma_kernel_relayout);
     if (sb->failed)
         return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory generating the program");
     return PERMA_OK;

@@ -1,27 +1,29 @@
 /* Choosing the OpenCL device and the number of persistent work-groups. */
+#include "device_list.h"
 #include "internal.h"
 
 #include <hwloc.h>
 #include <stdlib.h>
 #include <string.h>
 
-/* Parse PERMA_DEVICE="platform:device". */
-static perma_status parse_device_env(perma_runtime *rt, const char *value, int *platform, int *device)
+/* Parse PERMA_DEVICE: a device list (device_list.h) of which the runtime
+ * takes the first device ("all": 0:0; "P:D/N": part 0; "NAME": device 0 of
+ * the platform the name matches, resolved by the caller). */
+static perma_status parse_device_env(perma_runtime *rt, const char *value, perma_device_entry *entry)
 {
-    char *end = NULL;
-    long p = strtol(value, &end, 10);
-    if (end == value || *end != ':' || p < 0 || p > 1000000)
-        goto bad;
-    const char *second = end + 1;
-    long d = strtol(second, &end, 10);
-    if (end == second || *end != '\0' || d < 0 || d > 1000000)
-        goto bad;
-    *platform = (int)p;
-    *device = (int)d;
+    perma_device_entry first;
+    size_t bad_offset, bad_length;
+    if (!perma_device_list_first(value, &first, &bad_offset, &bad_length)) {
+        if (bad_length == strlen(value))
+            return perma_set_error(rt, PERMA_ERR_ARGUMENT, "PERMA_DEVICE='%s' is not of the form %s",
+                                   value, PERMA_DEVICE_FORMS);
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT, "PERMA_DEVICE='%s': entry '%.*s' is not of the "
+                               "form %s", value, (int)bad_length, value + bad_offset, PERMA_DEVICE_FORMS);
+    }
+    if (first.all)
+        first.platform = first.device = 0;
+    *entry = first;
     return PERMA_OK;
-bad:
-    return perma_set_error(rt, PERMA_ERR_ARGUMENT,
-                           "PERMA_DEVICE='%s' is not of the form platform:device (e.g. 0:0)", value);
 }
 
 /* Physical cores from hwloc; 0 if hwloc cannot tell. */
@@ -54,12 +56,6 @@ static void choose_work_groups(perma_runtime *rt, const char *device_name)
         groups = rt->config.work_groups;
         snprintf(why, sizeof why, rt->debug ? "PERMA_DEBUG" : "configured");
     }
-    if (rt->config.strategy == PERMA_STRATEGY_DONATION && groups > rt->compute_units) {
-        /* Without stealing, only a running group serves its own queues. */
-        groups = rt->compute_units;
-        snprintf(why, sizeof why, "donation without stealing: at most the %u compute units",
-                 (unsigned)rt->compute_units);
-    }
     rt->work_groups = groups;
     snprintf(rt->summary, sizeof rt->summary, "%s: %u work-groups (%s) of %u work-items",
              device_name, rt->work_groups, why, rt->group_size);
@@ -69,19 +65,37 @@ perma_status perma_device_open(perma_runtime *rt)
 {
     int platform_index = rt->config.platform_index;
     int device_index = rt->config.device_index;
-    if (platform_index < 0 || device_index < 0) {
+    unsigned parts = rt->config.sub_devices, part = rt->config.sub_device;
+    /* A platform by name: the config's, else PERMA_DEVICE's ("" : by index). */
+    char platform_name[sizeof ((perma_device_entry *)0)->name] = "";
+    if (platform_index < 0 && rt->config.platform_name) {
+        if (!perma_platform_name_valid(rt->config.platform_name, strlen(rt->config.platform_name)))
+            return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.platform_name '%s' is not a platform name "
+                                   "(letters, digits, spaces and \"()._-\", starting with a letter)",
+                                   rt->config.platform_name);
+        snprintf(platform_name, sizeof platform_name, "%s", rt->config.platform_name);
+    } else if (platform_index < 0 || device_index < 0) {
         const char *env = getenv("PERMA_DEVICE");
-        int p = 0, d = 0;
+        perma_device_entry entry = { .part = -1 };
         if (env && *env) {
-            perma_status st = parse_device_env(rt, env, &p, &d);
+            perma_status st = parse_device_env(rt, env, &entry);
             if (st != PERMA_OK)
                 return st;
         }
-        if (platform_index < 0)
-            platform_index = p;
+        if (platform_index < 0) {
+            platform_index = entry.platform;
+            memcpy(platform_name, entry.name, sizeof platform_name);
+        }
         if (device_index < 0)
-            device_index = d;
+            device_index = entry.device;
+        if (parts < 2) {
+            parts = entry.parts;
+            part = entry.part < 0 ? 0 : (unsigned)entry.part;
+        }
     }
+    rt->config.platform_name = NULL; /* the caller's string is not kept */
+    if (device_index < 0)
+        device_index = 0;
 
     cl_uint platform_count = 0;
     cl_int err = clGetPlatformIDs(0, NULL, &platform_count);
@@ -90,7 +104,7 @@ perma_status perma_device_open(perma_runtime *rt)
                                "no OpenCL platform found; install an OpenCL driver, e.g. "
                                "'apt-get install pocl-opencl-icd'");
     PERMA_CL_CHECK(rt, "clGetPlatformIDs", err);
-    if ((cl_uint)platform_index >= platform_count)
+    if (!platform_name[0] && (cl_uint)platform_index >= platform_count)
         return perma_set_error(rt, PERMA_ERR_NO_DEVICE,
                                "OpenCL platform %d requested (PERMA_DEVICE or config), but only %u "
                                "platform(s) exist", platform_index, (unsigned)platform_count);
@@ -98,9 +112,16 @@ perma_status perma_device_open(perma_runtime *rt)
     if (!platforms)
         return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory listing platforms");
     err = clGetPlatformIDs(platform_count, platforms, NULL);
-    rt->platform = platforms[platform_index];
+    char listing[PERMA_MESSAGE_MAX / 2];
+    if (err == CL_SUCCESS && platform_name[0])
+        platform_index = perma_platform_find(platforms, platform_count, platform_name, listing, sizeof listing);
+    if (err == CL_SUCCESS && platform_index >= 0)
+        rt->platform = platforms[platform_index];
     free(platforms);
     PERMA_CL_CHECK(rt, "clGetPlatformIDs", err);
+    if (platform_index < 0)
+        return perma_set_error(rt, PERMA_ERR_NO_DEVICE, "no OpenCL platform's name or vendor contains '%s' "
+                               "(PERMA_DEVICE or config); the platforms are: %s", platform_name, listing);
 
     cl_uint device_count = 0;
     err = clGetDeviceIDs(rt->platform, CL_DEVICE_TYPE_ALL, 0, NULL, &device_count);
@@ -108,9 +129,10 @@ perma_status perma_device_open(perma_runtime *rt)
         PERMA_CL_CHECK(rt, "clGetDeviceIDs", err);
     if ((cl_uint)device_index >= device_count)
         return perma_set_error(rt, PERMA_ERR_NO_DEVICE,
-                               "OpenCL device %d:%d requested (PERMA_DEVICE or config), but platform "
-                               "%d has %u device(s)", platform_index, device_index, platform_index,
-                               (unsigned)device_count);
+                               "OpenCL device %d:%d requested (PERMA_DEVICE or config%s%s%s), but platform "
+                               "%d has %u device(s)", platform_index, device_index,
+                               platform_name[0] ? "; platform '" : "", platform_name,
+                               platform_name[0] ? "'" : "", platform_index, (unsigned)device_count);
     cl_device_id *devices = calloc(device_count, sizeof *devices);
     if (!devices)
         return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory listing devices");
@@ -118,6 +140,11 @@ perma_status perma_device_open(perma_runtime *rt)
     rt->device = devices[device_index];
     free(devices);
     PERMA_CL_CHECK(rt, "clGetDeviceIDs", err);
+    if (parts >= 2) {
+        perma_status st = perma_open_sub_device(rt, platform_index, device_index, parts, part);
+        if (st != PERMA_OK)
+            return st;
+    }
 
     cl_device_type type = 0;
     cl_ulong local_mem = 0;
@@ -137,6 +164,10 @@ perma_status perma_device_open(perma_runtime *rt)
                    clGetDeviceInfo(rt->device, CL_DEVICE_MAX_WORK_GROUP_SIZE, sizeof max_group, &max_group, NULL));
     PERMA_CL_CHECK(rt, "clGetDeviceInfo(CL_DEVICE_NAME)",
                    clGetDeviceInfo(rt->device, CL_DEVICE_NAME, sizeof name - 1, name, NULL));
+    if (parts >= 2) {
+        size_t used = strlen(name);
+        snprintf(name + used, sizeof name - used, " (sub-device %u of %u)", part, parts);
+    }
     rt->device_is_cpu = (type & CL_DEVICE_TYPE_CPU) != 0;
     rt->local_mem_size = (size_t)local_mem;
     if (rt->group_size > max_group)

@@ -3,11 +3,31 @@
 #define PERMA_INTERNAL_H
 
 #include "perma.h"
-#include "control.h"
+#include "perma_abi.h"
 #include "strbuf.h"
 
 #include <stdarg.h>
 #include <stdbool.h>
+
+/* The host's view of a control block (kernels/perma_abi.h): the header and
+ * the queue records, which follow it without a gap; the group records after
+ * them stay the kernels' business. */
+typedef struct perma_ctl_block {
+    perma_ctl_header header;
+    perma_queue_record queues[];
+} perma_ctl_block;
+
+/* Bytes of the header and the first `queues` queue records. */
+static inline size_t perma_ctl_block_bytes(size_t queues)
+{
+    return sizeof(perma_ctl_block) + queues * sizeof(perma_queue_record);
+}
+
+/* Words of the statistics buffer: one record per group. */
+static inline size_t perma_stats_words(unsigned groups, unsigned procs, unsigned max_edges)
+{
+    return (size_t)groups * PERMA_STAT_GROUP_WORDS_FOR(procs, max_edges);
+}
 
 /* A block of OpenCL C with the name compiler messages use for it. */
 typedef struct perma_source_text {
@@ -58,16 +78,48 @@ typedef struct perma_buffer_binding {
     unsigned flags;
 } perma_buffer_binding;
 
-/* Items waiting in one queue, laid out linearly (host side of a relaunch). */
-typedef struct perma_queue_image {
-    uint32_t *words;
-    size_t count;     /* items */
-    size_t capacity;  /* items, a power of two */
-    unsigned regrowths;
-} perma_queue_image;
+/* A device buffer and its size. */
+typedef struct perma_device_buffer {
+    cl_mem mem;
+    size_t bytes;
+} perma_device_buffer;
+
+/* One queue of the launch state. */
+typedef struct perma_queue_state {
+    size_t capacity;     /* items, a power of two */
+    unsigned regrowths;  /* times it grew in this run */
+} perma_queue_state;
+
+/* Everything the kernels use on the device, owned by state.c: each buffer
+ * is created when first needed and replaced only by a bigger one. */
+typedef struct perma_device_state {
+    perma_device_buffer ctl;      /* control block (kernels/perma_abi.h) */
+    perma_device_buffer data;     /* queue items */
+    perma_device_buffer seq;      /* queue completion marks (kernels/perma_queue.cl) */
+    perma_device_buffer stats;    /* a statistics record per group */
+    perma_device_buffer trace;    /* trace records per group */
+    perma_device_buffer input;    /* the items a step kernel consumes */
+    perma_device_buffer relayout; /* a regrowth's perma_relayout_records */
+    cl_mem abort_mem;             /* the watchdog flag the kernels poll, */
+    uint32_t *abort_flag;         /* in this (page-aligned) host memory */
+    perma_queue_state *queues;    /* queue_count entries, index set * procs + proc */
+    unsigned queue_count;
+} perma_device_state;
+
+struct perma_executor;
+
+/* What the host-driven techniques keep between launches of a run
+ * (steps.c). */
+typedef struct perma_steps_state {
+    unsigned cursor;         /* kernel-per-procedure: where the round-robin goes on */
+    int traced_proc;         /* the step in flight, for the trace; -1: none */
+    uint32_t traced_items;
+    double traced_start;
+} perma_steps_state;
 
 struct perma_runtime {
     perma_config config;
+    const struct perma_executor *executor; /* the technique (executor.h) */
     char message[PERMA_MESSAGE_MAX];
     char summary[512];
 
@@ -95,32 +147,26 @@ struct perma_runtime {
     cl_kernel kernel;          /* perma_megakernel */
     cl_kernel step_kernel;     /* perma_step_kernel (host-driven techniques) */
     cl_kernel take_kernel;     /* perma_take_kernel */
-    cl_mem input_mem;          /* items a step kernel consumes */
-    size_t input_mem_words;
+    cl_kernel relayout_kernel; /* perma_relayout_kernel (queue growth) */
     unsigned max_edges;
     unsigned arena_words;
     unsigned local_queue_items;        /* 0: no local front queue */
     unsigned lq_words;
     unsigned order[PERMA_MAX_PROCEDURES];
-
-    /* Device state of a run. */
-    cl_mem ctl_mem, data_mem, stats_mem, abort_mem;
-    size_t data_mem_words;
-    uint32_t *abort_flag;           /* host memory the kernel polls */
     unsigned queue_sets;            /* 1 (shared) or one per group (distributed) */
-    perma_queue_image *images;      /* queue_sets * proc_count, index set * procs + proc */
-    unsigned image_count;
+    unsigned device_trace_events;   /* trace records per group the device keeps; 0: none */
+
+    perma_device_state state;
     perma_group_stats *group_stats; /* work_groups entries */
     bool hung;                      /* a kernel ignored the watchdog; do not wait on it */
     bool grow_starved;              /* a group starved of room may stop a launch to grow queues */
     bool debug;                     /* PERMA_DEBUG: one group, -DPERMA_DEBUG */
 
     perma_stats stats;
+    perma_steps_state steps;
 
     /* Trace of the current run (trace.c). */
     unsigned trace_events;          /* per group and launch */
-    cl_mem trace_mem;
-    size_t trace_mem_words;
     struct perma_trace_event *trace;
     size_t trace_count, trace_alloc;
     double trace_clock_base;        /* logical ticks of earlier launches */
@@ -152,6 +198,12 @@ const char *perma_cl_error_name(cl_int code);
                                    perma_cl_error_name(perma_code_), (int)perma_code_);     \
     } while (0)
 
+/* program_cache.c: a built program from the disk cache (NULL: none); store
+ * a program built from source when its build took long enough. */
+cl_program perma_cache_load(perma_runtime *rt, const char *source, const char *options);
+void perma_cache_store(perma_runtime *rt, cl_program program, const char *source, const char *options,
+                       double build_seconds);
+
 /* device.c */
 perma_status perma_device_open(perma_runtime *rt);
 void perma_device_close(perma_runtime *rt);
@@ -160,7 +212,13 @@ void perma_device_close(perma_runtime *rt);
 perma_status perma_read_text_file(perma_runtime *rt, const char *path, char **out);
 bool perma_is_identifier(const char *s);
 
-/* layout.c */
+/* abi.c: the generated program's layout checks, and the sentence for a
+ * build log in which one failed (false when none did). */
+void perma_abi_append_struct_checks(perma_strbuf *sb);
+void perma_abi_append_item_checks(const perma_runtime *rt, perma_strbuf *sb);
+bool perma_abi_explain_log(const perma_runtime *rt, const char *log, char *out, size_t size);
+
+/* layout.c, codegen.c, program.c */
 perma_status perma_build_layout(perma_runtime *rt);
 /* One thread per item and not cooperative: a work-item may run several of
  * its items one after another, so its batches may exceed the group size. */
@@ -171,44 +229,85 @@ static inline bool perma_proc_is_simple(const perma_proc_info *p)
 perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *out);
 void perma_release_program(perma_runtime *rt);
 
-/* queues.c */
-perma_status perma_queues_prepare(perma_runtime *rt);
-perma_status perma_queues_upload(perma_runtime *rt);
-perma_status perma_queues_download(perma_runtime *rt);
-perma_status perma_queues_grow(perma_runtime *rt, unsigned starved_queue);
-void perma_queues_release(perma_runtime *rt);
-/* Make *mem a buffer of at least `words` words (keeps a big enough one). */
-perma_status perma_ensure_buffer(perma_runtime *rt, cl_mem *mem, size_t *have_words, size_t words, const char *what);
-/* Grow queue qi (set 0 only) to hold `needed` more items, relaying out all
- * queues; only between launches. */
-perma_status perma_queues_make_room(perma_runtime *rt, const size_t *needed);
+/* buffers.c: copy the host memory of perma_bind_host buffers to the
+ * device (PERMA_READ) or back (PERMA_WRITE). */
+perma_status perma_buffers_copy(perma_runtime *rt, unsigned flag);
 
-/* launch.c */
-/* The first user buffer argument of the megakernel and of the step kernel
- * (kernels/perma_scheduler.cl, perma_host_steps.cl). */
-enum { PERMA_MEGAKERNEL_USER_ARG = 5, PERMA_STEP_USER_ARG = 8 };
-perma_status perma_launch_megakernel(perma_runtime *rt, double deadline, uint32_t *kernel_status);
-perma_status perma_set_common_args(perma_runtime *rt, cl_kernel kernel, cl_uint first_user_arg);
+/* queues.c: how big the queues are (no device calls).  Each fills
+ * capacities[] (queue_sets * proc_count entries) and checks them against
+ * the queue memory limit. */
+unsigned perma_queues_count(const perma_runtime *rt);
+/* Before a run: what the seeds and any producer's one item need. */
+perma_status perma_queues_initial(perma_runtime *rt, size_t *capacities);
+/* The seeds queue qi starts with: items [*first, *first + *count) of its
+ * procedure's seeds (with one queue set per group they are dealt out in
+ * contiguous shares). */
+void perma_queues_seed_share(const perma_runtime *rt, unsigned qi, size_t *first, size_t *count);
+/* After a launch stalled: every target that lacks room for one waiting
+ * item's emits doubles; or, when starved_queue is below the queue count
+ * (a group's batches kept being cut by its room), only that queue. */
+perma_status perma_queues_grow_stalled(perma_runtime *rt, const perma_ctl_block *ctl, unsigned starved_queue,
+                                       size_t *capacities);
+/* Every queue with fewer free slots than needed[qi] grows to fit. */
+perma_status perma_queues_grow_to_fit(perma_runtime *rt, const perma_ctl_block *ctl, const size_t *needed,
+                                      size_t *capacities);
+/* Bytes of the queues (items and completion marks) at these capacities. */
+size_t perma_queues_bytes(const perma_runtime *rt, const size_t *capacities);
 
-/* steps.c: the host-driven techniques. */
-perma_status perma_run_steps(perma_runtime *rt, double deadline);
-perma_status perma_warm_up_steps(perma_runtime *rt);
+/* state.c: the device state (perma_device_state). */
+perma_status perma_state_open(perma_runtime *rt);
+void perma_state_close(perma_runtime *rt);
+/* An empty launch state (nothing outstanding) for warming up kernels. */
+perma_status perma_state_empty(perma_runtime *rt);
+/* The first launch state of a run: queues of these capacities holding the
+ * seeds. */
+perma_status perma_state_upload(perma_runtime *rt, const size_t *capacities);
+/* Before each launch: statistics zeroed, watchdog flag down. */
+perma_status perma_state_begin_launch(perma_runtime *rt);
+/* The header and the first `queues` queue records, read back. */
+perma_status perma_state_read_control(perma_runtime *rt, perma_ctl_block *out, unsigned queues);
+perma_status perma_state_read_header(perma_runtime *rt, perma_ctl_header *out);
+/* Write the record of queue q (its counters; the capacity and offsets are
+ * unchanged) without waiting: *record must stay unchanged until the next
+ * blocking call on the queue. */
+perma_status perma_state_write_queue_counters(perma_runtime *rt, unsigned q, const perma_queue_record *record);
+/* Between launches: give the queues these capacities on the device, their
+ * items moved by perma_relayout_kernel; `ctl` is the control block as the
+ * last launch left it. */
+perma_status perma_state_grow(perma_runtime *rt, const perma_ctl_block *ctl, const size_t *capacities);
+perma_status perma_state_read_stats(perma_runtime *rt, uint32_t *words, size_t count);
+perma_status perma_state_read_trace(perma_runtime *rt, uint32_t *words, size_t count);
+/* The step kernels' input buffer, at least `words` words. */
+perma_status perma_state_ensure_input(perma_runtime *rt, size_t words);
+/* Set the arguments PERMA_COMMON_ARGS lists, and the user buffers from
+ * `first_user_arg` on. */
+perma_status perma_state_bind(perma_runtime *rt, cl_kernel kernel, cl_uint first_user_arg);
+/* Ask every group of a running kernel to stop (the watchdog). */
+void perma_state_raise_abort(perma_runtime *rt);
 
-/* run.c */
-perma_status perma_kernel_status_error(perma_runtime *rt, const uint32_t *kernel_status);
+/* watchdog.c: launch `kernel` and wait for it; past the deadline raise the
+ * abort flag, which every group polls.  PERMA_ERR_TIMEOUT only if the
+ * kernel ignores it (the runtime is then unusable: rt->hung). */
+perma_status perma_launch_watched(perma_runtime *rt, cl_kernel kernel, size_t global, size_t local, double deadline);
+
+/* outcome.c: the error of a launch's failure status (not DONE or
+ * NEEDS_ROOM). */
+perma_status perma_outcome_error(perma_runtime *rt, const perma_ctl_header *outcome);
 
 /* stats.c */
 void perma_stats_reset(perma_runtime *rt);
-perma_status perma_stats_collect(perma_runtime *rt);
+perma_status perma_stats_collect(perma_runtime *rt);  /* after each launch */
+void perma_stats_finish(perma_runtime *rt);           /* at the end of a run */
 
 /* trace.c */
-perma_status perma_trace_prepare(perma_runtime *rt);       /* buffer for a launch */
-perma_status perma_trace_collect(perma_runtime *rt);       /* after a megakernel launch */
+void perma_trace_reset(perma_runtime *rt, double start); /* at the start of a run */
+perma_status perma_trace_collect(perma_runtime *rt);       /* after each launch */
 perma_status perma_trace_host_step(perma_runtime *rt, unsigned proc, uint32_t items, double start, double end);
 perma_status perma_trace_write(perma_runtime *rt);         /* at the end of a run */
 void perma_trace_release(perma_runtime *rt);
 
-/* time */
+/* clock.c */
 double perma_now(void);
+double perma_time_limit(const perma_runtime *rt);
 
 #endif

@@ -1,6 +1,6 @@
 /* Resolving the procedure graph and laying out each procedure's __local
  * arena: its batch of items, scratch, per-item emit counters and staging. */
-#include "internal.h"
+#include "executor.h"
 
 #include <ctype.h>
 #include <string.h>
@@ -232,9 +232,11 @@ perma_status perma_build_layout(perma_runtime *rt)
         return st;
     compute_depths(rt);
     compute_order(rt);
-    bool distributed = rt->config.technique == PERMA_TECHNIQUE_MEGAKERNEL &&
-                       rt->config.strategy != PERMA_STRATEGY_SHARED;
-    rt->queue_sets = distributed ? rt->work_groups : 1;
+    /* Queues can belong to groups, and groups keep local front queues,
+     * only when the groups live for the whole launch. */
+    bool persistent = rt->executor->persistent;
+    rt->queue_sets = persistent && rt->config.schedule.strategy != PERMA_STRATEGY_SHARED ? rt->work_groups : 1;
+    rt->device_trace_events = persistent && rt->config.trace_path ? rt->trace_events : 0;
 
     rt->max_edges = 1;
     for (unsigned i = 0; i < rt->proc_count; ++i)
@@ -244,22 +246,20 @@ perma_status perma_build_layout(perma_runtime *rt)
     size_t limit = rt->local_mem_size;
     if (rt->config.local_memory_limit && rt->config.local_memory_limit < limit)
         limit = rt->config.local_memory_limit;
-    /* The kernel's other __local words: statistics, edge counters, batch. */
     /* The local front queue: a stack of local_queue_items per procedure. */
-    rt->local_queue_items = distributed || rt->config.strategy == PERMA_STRATEGY_SHARED
-                                ? rt->config.local_queue_items : 0;
-    if (rt->config.technique != PERMA_TECHNIQUE_MEGAKERNEL)
-        rt->local_queue_items = 0; /* step kernels' groups do not live on */
+    rt->local_queue_items = persistent ? rt->config.schedule.local_queue_items : 0;
     rt->lq_words = 0;
     for (unsigned i = 0; i < rt->proc_count; ++i) {
         rt->procs[i].lq_off = rt->lq_words;
         rt->lq_words += rt->local_queue_items * words_of(rt->procs[i].item_size);
     }
+    /* The kernel's other __local words: statistics, edge counters, batch,
+     * and the local front queues. */
     size_t fixed = 4 * ((size_t)rt->proc_count * (3 + rt->max_edges) + 4 * rt->max_edges + 32 +
                         (size_t)rt->lq_words);
     if (fixed >= limit)
         return perma_set_error(rt, PERMA_ERR_ARGUMENT,
-                               "config.local_queue_items %u needs %u bytes of __local memory, more than the "
+                               "config.schedule.local_queue_items %u needs %u bytes of __local memory, more than the "
                                "%zu bytes available", rt->local_queue_items, 4 * rt->lq_words, limit);
     size_t budget_words = (limit - fixed) / 4;
 

@@ -1,13 +1,27 @@
 /* Compiling the generated megakernel. */
-#include "internal.h"
+#include "executor.h"
 
 #include <stdlib.h>
 #include <string.h>
 
+/* The kernels of every generated program, by name. */
+static const char *const kernel_names[] = { "perma_megakernel", "perma_step_kernel", "perma_take_kernel",
+                                            "perma_relayout_kernel" };
+#define KERNEL_COUNT (sizeof kernel_names / sizeof kernel_names[0])
+
+static void kernel_slots(perma_runtime *rt, cl_kernel *slots[KERNEL_COUNT])
+{
+    slots[0] = &rt->kernel;
+    slots[1] = &rt->step_kernel;
+    slots[2] = &rt->take_kernel;
+    slots[3] = &rt->relayout_kernel;
+}
+
 void perma_release_program(perma_runtime *rt)
 {
-    cl_kernel *kernels[] = { &rt->kernel, &rt->step_kernel, &rt->take_kernel };
-    for (size_t i = 0; i < 3; ++i) {
+    cl_kernel *kernels[KERNEL_COUNT];
+    kernel_slots(rt, kernels);
+    for (size_t i = 0; i < KERNEL_COUNT; ++i) {
         if (*kernels[i])
             clReleaseKernel(*kernels[i]);
         *kernels[i] = NULL;
@@ -53,7 +67,8 @@ static perma_status report_build_failure(perma_runtime *rt, cl_int code)
     if (getenv("PERMA_BUILD_LOG"))
         fprintf(stderr, "perma: build log:\n%s\n", log);
     char summary[PERMA_MESSAGE_MAX - 64];
-    summarize_log(log, summary, sizeof summary);
+    if (!perma_abi_explain_log(rt, log, summary, sizeof summary))
+        summarize_log(log, summary, sizeof summary);
     free(log);
     return perma_set_error(rt, PERMA_ERR_BUILD, "building the megakernel failed:\n%s", summary);
 }
@@ -61,38 +76,15 @@ static perma_status report_build_failure(perma_runtime *rt, cl_int code)
 /* PoCL compiles a kernel for real at its first launch with a local size:
  * launch each kernel the technique uses once on an empty state (no item
  * outstanding, so every group leaves at once), so perma_build pays for the
- * compile rather than the first perma_run. */
+ * compile rather than the first perma_run.  (perma_relayout_kernel is
+ * compiled at the first regrowth, which most runs never reach.) */
 static perma_status warm_up(perma_runtime *rt)
 {
-    unsigned queues = rt->queue_sets * rt->proc_count;
-    size_t ctl_words = perma_ctl_words(queues, rt->work_groups);
-    size_t stats_words = (size_t)rt->work_groups * perma_stat_group_words(rt->proc_count, rt->max_edges);
-    perma_status st = perma_ensure_buffer(rt, &rt->ctl_mem, &(size_t){ 0 }, ctl_words, "control block");
-    size_t stats_have = 0, data_have = rt->data_mem_words;
+    perma_status st = perma_state_empty(rt);
     if (st == PERMA_OK)
-        st = perma_ensure_buffer(rt, &rt->stats_mem, &stats_have, stats_words, "statistics");
-    if (st == PERMA_OK)
-        st = perma_ensure_buffer(rt, &rt->data_mem, &data_have, 1, "queue items");
+        st = rt->executor->warm_up(rt);
     if (st != PERMA_OK)
         return st;
-    rt->data_mem_words = data_have;
-    cl_uint zero = 0;
-    PERMA_CL_CHECK(rt, "clEnqueueFillBuffer (warm-up control block)",
-                   clEnqueueFillBuffer(rt->queue, rt->ctl_mem, &zero, sizeof zero, 0, ctl_words * 4, 0, NULL, NULL));
-    size_t local = rt->group_size;
-    if (rt->config.technique == PERMA_TECHNIQUE_MEGAKERNEL) {
-        __atomic_store_n(rt->abort_flag, 0u, __ATOMIC_SEQ_CST);
-        st = perma_set_common_args(rt, rt->kernel, PERMA_MEGAKERNEL_USER_ARG);
-        if (st != PERMA_OK)
-            return st;
-        size_t global = (size_t)rt->work_groups * local;
-        PERMA_CL_CHECK(rt, "clEnqueueNDRangeKernel (warm-up)",
-                       clEnqueueNDRangeKernel(rt->queue, rt->kernel, 1, NULL, &global, &local, 0, NULL, NULL));
-    } else {
-        st = perma_warm_up_steps(rt);
-        if (st != PERMA_OK)
-            return st;
-    }
     PERMA_CL_CHECK(rt, "clFinish (warm-up)", clFinish(rt->queue));
     return PERMA_OK;
 }
@@ -123,16 +115,23 @@ perma_status perma_build(perma_runtime *rt)
             fclose(f);
         }
     }
-    cl_int err;
+    cl_int err = CL_SUCCESS;
     const char *text = sb.data;
-    rt->program = clCreateProgramWithSource(rt->context, 1, &text, NULL, &err);
-    perma_strbuf_free(&sb);
-    PERMA_CL_CHECK(rt, "clCreateProgramWithSource", err);
-
     char options[1024];
     snprintf(options, sizeof options, "-cl-std=CL1.2 %s%s", rt->debug ? "-DPERMA_DEBUG=1 " : "",
              rt->config.build_options ? rt->config.build_options : "");
-    err = clBuildProgram(rt->program, 1, &rt->device, options, NULL, NULL);
+    rt->program = perma_cache_load(rt, text, options);
+    if (!rt->program) {
+        double start = perma_now();
+        rt->program = clCreateProgramWithSource(rt->context, 1, &text, NULL, &err);
+        if (err == CL_SUCCESS)
+            err = clBuildProgram(rt->program, 1, &rt->device, options, NULL, NULL);
+        if (err == CL_SUCCESS)
+            perma_cache_store(rt, rt->program, text, options, perma_now() - start);
+    }
+    perma_strbuf_free(&sb);
+    if (!rt->program)
+        PERMA_CL_CHECK(rt, "clCreateProgramWithSource", err);
     if (err == CL_BUILD_PROGRAM_FAILURE || err == CL_INVALID_BUILD_OPTIONS) {
         st = report_build_failure(rt, err);
         perma_release_program(rt);
@@ -142,13 +141,13 @@ perma_status perma_build(perma_runtime *rt)
         perma_release_program(rt);
         PERMA_CL_CHECK(rt, "clBuildProgram", err);
     }
-    static const char *const names[] = { "perma_megakernel", "perma_step_kernel", "perma_take_kernel" };
-    cl_kernel *kernels[] = { &rt->kernel, &rt->step_kernel, &rt->take_kernel };
-    for (size_t i = 0; i < 3; ++i) {
-        *kernels[i] = clCreateKernel(rt->program, names[i], &err);
+    cl_kernel *kernels[KERNEL_COUNT];
+    kernel_slots(rt, kernels);
+    for (size_t i = 0; i < KERNEL_COUNT; ++i) {
+        *kernels[i] = clCreateKernel(rt->program, kernel_names[i], &err);
         if (err != CL_SUCCESS) {
             perma_release_program(rt);
-            return perma_set_error(rt, PERMA_ERR_OPENCL, "clCreateKernel(%s) failed: %s (%d)", names[i],
+            return perma_set_error(rt, PERMA_ERR_OPENCL, "clCreateKernel(%s) failed: %s (%d)", kernel_names[i],
                                    perma_cl_error_name(err), (int)err);
         }
     }

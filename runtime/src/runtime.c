@@ -1,23 +1,15 @@
 /* Creating and destroying a runtime. */
-#include "internal.h"
+#include "executor.h"
 
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 void perma_config_init(perma_config *config)
 {
     memset(config, 0, sizeof *config);
     config->platform_index = -1;
     config->device_index = -1;
-    config->technique = PERMA_TECHNIQUE_MEGAKERNEL;
-}
-
-double perma_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+    config->schedule.technique = PERMA_TECHNIQUE_MEGAKERNEL;
 }
 
 static perma_status check_config(perma_runtime *rt, const perma_config *c)
@@ -32,23 +24,23 @@ static perma_status check_config(perma_runtime *rt, const perma_config *c)
     if (c->queue_capacity > ((size_t)1 << 30))
         return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.queue_capacity %zu is above 2^30 items",
                                c->queue_capacity);
-    if (!perma_technique_name(c->technique))
-        return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.technique %d is not a known technique",
-                               (int)c->technique);
-    if (!perma_strategy_name(c->strategy))
-        return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.strategy %d is not a known strategy",
-                               (int)c->strategy);
-    if (!perma_victim_name(c->victim))
-        return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.victim %d is not a known victim policy",
-                               (int)c->victim);
+    if (!perma_executor_for(c->schedule.technique))
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.schedule.technique %d is not a known technique",
+                               (int)c->schedule.technique);
+    if (!perma_strategy_name(c->schedule.strategy))
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.schedule.strategy %d is not a known strategy",
+                               (int)c->schedule.strategy);
+    if (!perma_victim_name(c->schedule.victim))
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.schedule.victim %d is not a known victim policy",
+                               (int)c->schedule.victim);
     if (c->trace_events > (1u << 24))
         return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.trace_events %u is above 2^24", c->trace_events);
     if (c->items_per_work_item > 64)
         return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.items_per_work_item %u is above 64",
                                c->items_per_work_item);
-    if (c->local_queue_items > 4096)
-        return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.local_queue_items %u is above 4096",
-                               c->local_queue_items);
+    if (c->schedule.local_queue_items > 4096)
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.schedule.local_queue_items %u is above 4096",
+                               c->schedule.local_queue_items);
     return PERMA_OK;
 }
 
@@ -79,6 +71,7 @@ perma_status perma_create(const perma_config *config, perma_runtime **out, perma
     rt->config.build_options = NULL; /* copied below */
     rt->config.trace_path = NULL;
     rt->group_size = config->group_size ? config->group_size : 64;
+    rt->executor = perma_executor_for(config->schedule.technique);
     perma_status st = out ? check_config(rt, config)
                           : perma_set_error(rt, PERMA_ERR_ARGUMENT, "perma_create: out is NULL");
     if (st == PERMA_OK && config->build_options) {
@@ -95,13 +88,8 @@ perma_status perma_create(const perma_config *config, perma_runtime **out, perma
     }
     if (st == PERMA_OK)
         st = perma_device_open(rt);
-    if (st == PERMA_OK) {
-        rt->abort_flag = aligned_alloc(4096, 4096);
-        if (!rt->abort_flag)
-            st = perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory for the watchdog flag");
-        else
-            memset(rt->abort_flag, 0, 4096);
-    }
+    if (st == PERMA_OK)
+        st = perma_state_open(rt);
     if (error) {
         error->status = st;
         snprintf(error->message, sizeof error->message, "%s", st == PERMA_OK ? "" : rt->message);
@@ -137,7 +125,7 @@ void perma_destroy(perma_runtime *rt)
     }
     if (rt->queue)
         clFinish(rt->queue);
-    perma_queues_release(rt);
+    perma_state_close(rt);
     perma_release_program(rt);
     for (unsigned i = 0; i < rt->buffer_count; ++i) {
         if (rt->buffers[i].mem)
@@ -155,7 +143,6 @@ void perma_destroy(perma_runtime *rt)
     free((char *)rt->config.build_options);
     free((char *)rt->config.trace_path);
     perma_trace_release(rt);
-    free(rt->abort_flag);
     free(rt->group_stats);
     free(rt);
 }

@@ -261,12 +261,3 @@ int perma_schedule_format(const perma_schedule *s, char *buf, size_t size)
     }
     return snprintf(buf, size, "%s%s", technique, rest);
 }
-
-void perma_schedule_apply(const perma_schedule *s, perma_config *config)
-{
-    config->technique = s->technique;
-    config->strategy = s->strategy;
-    config->victim = s->victim;
-    config->local_queue_items = s->local_queue_items;
-    config->batch_limit = s->batch_limit;
-}

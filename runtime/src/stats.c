@@ -8,8 +8,8 @@
 void perma_stats_reset(perma_runtime *rt)
 {
     memset(&rt->stats, 0, sizeof rt->stats);
-    rt->stats.technique = rt->config.technique;
-    rt->stats.strategy = rt->config.strategy;
+    rt->stats.technique = rt->config.schedule.technique;
+    rt->stats.strategy = rt->config.schedule.strategy;
     if (rt->group_stats)
         memset(rt->group_stats, 0, rt->work_groups * sizeof *rt->group_stats);
     rt->stats.work_groups = rt->work_groups;
@@ -27,26 +27,30 @@ void perma_stats_reset(perma_runtime *rt)
 /* Add the per-group counters and queue peaks of the launch that just ended. */
 perma_status perma_stats_collect(perma_runtime *rt)
 {
-    unsigned n = rt->proc_count, stride = PERMA_STAT_PROC_WORDS(rt->max_edges);
-    unsigned group_words = perma_stat_group_words(n, rt->max_edges);
+    unsigned n = rt->proc_count, stride = PERMA_STAT_PROC_WORDS_FOR(rt->max_edges);
+    unsigned group_words = PERMA_STAT_GROUP_WORDS_FOR(n, rt->max_edges);
     size_t stats_words = (size_t)rt->work_groups * group_words;
-    size_t ctl_words = perma_ctl_words(rt->image_count, rt->work_groups);
+    unsigned queues = rt->state.queue_count;
+    size_t ctl_bytes = perma_ctl_block_bytes(queues);
     if (!rt->group_stats) {
         rt->group_stats = calloc(rt->work_groups, sizeof *rt->group_stats);
         if (!rt->group_stats)
             return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory for group statistics");
     }
-    uint32_t *words = malloc((stats_words + ctl_words) * 4);
-    if (!words)
-        return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory reading statistics");
-    uint32_t *ctl = words + stats_words;
-    cl_int err = clEnqueueReadBuffer(rt->queue, rt->stats_mem, CL_TRUE, 0, stats_words * 4, words, 0, NULL, NULL);
-    if (err == CL_SUCCESS)
-        err = clEnqueueReadBuffer(rt->queue, rt->ctl_mem, CL_TRUE, 0, ctl_words * 4, ctl, 0, NULL, NULL);
-    if (err != CL_SUCCESS) {
+    uint32_t *words = malloc(stats_words * 4);
+    perma_ctl_block *ctl = malloc(ctl_bytes);
+    if (!words || !ctl) {
         free(words);
-        return perma_set_error(rt, PERMA_ERR_OPENCL, "clEnqueueReadBuffer (statistics) failed: %s (%d)",
-                               perma_cl_error_name(err), (int)err);
+        free(ctl);
+        return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory reading statistics");
+    }
+    perma_status st = perma_state_read_stats(rt, words, stats_words);
+    if (st == PERMA_OK)
+        st = perma_state_read_control(rt, ctl, queues);
+    if (st != PERMA_OK) {
+        free(words);
+        free(ctl);
+        return st;
     }
     for (unsigned g = 0; g < rt->work_groups; ++g) {
         const uint32_t *record = words + (size_t)g * group_words;
@@ -62,27 +66,45 @@ perma_status perma_stats_collect(perma_runtime *rt)
             gs->items += s[PERMA_STAT_ITEMS];
             gs->batches += s[PERMA_STAT_BATCHES];
         }
-        const uint32_t *gw = record + n * stride;
-        gs->steals += gw[PERMA_GSTAT_STEALS];
-        gs->donations += gw[PERMA_GSTAT_DONATIONS];
-        gs->donated_items += gw[PERMA_GSTAT_DONATED];
-        gs->spills += gw[PERMA_GSTAT_SPILLS];
-        gs->idle_polls += gw[PERMA_GSTAT_IDLE_POLLS];
-        rt->stats.steals += gw[PERMA_GSTAT_STEALS];
-        rt->stats.donations += gw[PERMA_GSTAT_DONATIONS];
-        rt->stats.spills += gw[PERMA_GSTAT_SPILLS];
-        rt->stats.idle_polls += gw[PERMA_GSTAT_IDLE_POLLS];
+        perma_group_counters gw;
+        memcpy(&gw, record + n * stride, sizeof gw);
+        gs->steals += gw.steals;
+        gs->donations += gw.donations;
+        gs->donated_items += gw.donated;
+        gs->spills += gw.spills;
+        gs->idle_polls += gw.idle_polls;
+        rt->stats.steals += gw.steals;
+        rt->stats.donations += gw.donations;
+        rt->stats.spills += gw.spills;
+        rt->stats.idle_polls += gw.idle_polls;
     }
     /* A procedure's peak: the sum over queue sets of each queue's peak. */
     for (unsigned q = 0; q < n; ++q) {
         uint64_t peak = 0;
         for (unsigned set = 0; set < rt->queue_sets; ++set)
-            peak += ctl[PERMA_CTL_HEADER_WORDS + (set * n + q) * PERMA_QUEUE_WORDS + PERMA_Q_PEAK];
+            peak += ctl->queues[set * n + q].peak;
         if (peak > rt->procs[q].stats.peak_queue_items)
             rt->procs[q].stats.peak_queue_items = peak;
     }
     free(words);
+    free(ctl);
     return PERMA_OK;
+}
+
+/* Each procedure's final queue capacity (summed over queue sets) and most
+ * regrowths of one of its queues. */
+void perma_stats_finish(perma_runtime *rt)
+{
+    for (unsigned q = 0; q < rt->proc_count; ++q) {
+        rt->procs[q].stats.queue_capacity = 0;
+        rt->procs[q].stats.regrowths = 0;
+    }
+    for (unsigned qi = 0; qi < rt->state.queue_count; ++qi) {
+        perma_procedure_stats *ps = &rt->procs[qi % rt->proc_count].stats;
+        ps->queue_capacity += rt->state.queues[qi].capacity;
+        if (rt->state.queues[qi].regrowths > ps->regrowths)
+            ps->regrowths = rt->state.queues[qi].regrowths;
+    }
 }
 
 perma_status perma_get_stats(perma_runtime *rt, perma_stats *out)

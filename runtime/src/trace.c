@@ -8,9 +8,18 @@
 
 static const char *const kind_names[] = { "run", "steal", "local", "donate" };
 
+/* Persistent groups record their own batches (the build decides:
+ * device_trace_events); the host records the steps of the others. */
 static bool tracing_on_device(const perma_runtime *rt)
 {
-    return rt->config.trace_path && rt->config.technique == PERMA_TECHNIQUE_MEGAKERNEL;
+    return rt->device_trace_events > 0;
+}
+
+void perma_trace_reset(perma_runtime *rt, double start)
+{
+    rt->trace_count = 0;
+    rt->trace_clock_base = 0.0;
+    rt->trace_start_time = start;
 }
 
 void perma_trace_release(perma_runtime *rt)
@@ -34,37 +43,30 @@ static perma_status push_event(perma_runtime *rt, const perma_trace_event *event
     return PERMA_OK;
 }
 
-perma_status perma_trace_prepare(perma_runtime *rt)
-{
-    size_t words = tracing_on_device(rt) ? (size_t)rt->work_groups * (1 + 4 * (size_t)rt->trace_events) : 1;
-    return perma_ensure_buffer(rt, &rt->trace_mem, &rt->trace_mem_words, words, "trace");
-}
-
 perma_status perma_trace_collect(perma_runtime *rt)
 {
     if (!tracing_on_device(rt))
         return PERMA_OK;
-    size_t per_group = 1 + 4 * (size_t)rt->trace_events;
+    size_t per_group = PERMA_TRACE_GROUP_WORDS_FOR((size_t)rt->device_trace_events);
     size_t words = rt->work_groups * per_group;
     uint32_t *buffer = malloc(words * 4);
     if (!buffer)
         return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory reading the trace");
-    cl_int err = clEnqueueReadBuffer(rt->queue, rt->trace_mem, CL_TRUE, 0, words * 4, buffer, 0, NULL, NULL);
-    if (err != CL_SUCCESS) {
+    perma_status st = perma_state_read_trace(rt, buffer, words);
+    if (st != PERMA_OK) {
         free(buffer);
-        return perma_set_error(rt, PERMA_ERR_OPENCL, "clEnqueueReadBuffer (trace) failed: %s (%d)",
-                               perma_cl_error_name(err), (int)err);
+        return st;
     }
     double last = 0.0;
-    perma_status st = PERMA_OK;
     for (unsigned g = 0; g < rt->work_groups && st == PERMA_OK; ++g) {
         const uint32_t *group = buffer + g * per_group;
-        uint32_t count = group[0] < rt->trace_events ? group[0] : rt->trace_events;
+        uint32_t count = group[0] < rt->device_trace_events ? group[0] : rt->device_trace_events;
         for (uint32_t i = 0; i < count && st == PERMA_OK; ++i) {
-            const uint32_t *r = group + 1 + 4 * i;
-            perma_trace_event event = { g, r[0] & 0xffu, (r[0] >> 8) & 0xffu, r[1],
-                                        rt->trace_clock_base + r[2], rt->trace_clock_base + r[3] };
-            if (event.proc >= rt->proc_count || event.kind > 3)
+            perma_trace_record r;
+            memcpy(&r, group + 1 + PERMA_TRACE_RECORD_WORDS * i, sizeof r);
+            perma_trace_event event = { g, r.proc_kind & 0xffu, (r.proc_kind >> 8) & 0xffu, r.items,
+                                        rt->trace_clock_base + r.start, rt->trace_clock_base + r.end };
+            if (event.proc >= rt->proc_count || event.kind >= PERMA_TRACE_KINDS)
                 continue;
             if (event.end > last)
                 last = event.end;
@@ -80,6 +82,8 @@ perma_status perma_trace_collect(perma_runtime *rt)
 
 perma_status perma_trace_host_step(perma_runtime *rt, unsigned proc, uint32_t items, double start, double end)
 {
+    if (!rt->config.trace_path)
+        return PERMA_OK;
     perma_trace_event event = { UINT32_MAX, proc, 0, items, (start - rt->trace_start_time) * 1e6,
                                 (end - rt->trace_start_time) * 1e6 };
     return push_event(rt, &event);
@@ -93,11 +97,11 @@ perma_status perma_trace_write(perma_runtime *rt)
     if (!f)
         return perma_set_error(rt, PERMA_ERR_IO, "cannot write the trace '%s': %s", rt->config.trace_path,
                                strerror(errno));
-    bool host = rt->config.technique != PERMA_TECHNIQUE_MEGAKERNEL;
+    bool host = !tracing_on_device(rt);
     fprintf(f, "{\"displayTimeUnit\":\"ns\",\"otherData\":{\"runtime\":\"perma %s\",\"technique\":\"%s\","
                "\"strategy\":\"%s\",\"clock\":\"%s\"},\n\"traceEvents\":[\n",
-            PERMA_VERSION_STRING, perma_technique_name(rt->config.technique),
-            perma_strategy_name(rt->config.strategy),
+            PERMA_VERSION_STRING, perma_technique_name(rt->config.schedule.technique),
+            perma_strategy_name(rt->config.schedule.strategy),
             host ? "host microseconds" : "logical: one tick per batch start or end");
     if (host) {
         fprintf(f, "{\"name\":\"thread_name\",\"ph\":\"M\",\"pid\":1,\"tid\":0,\"args\":{\"name\":\"host steps\"}}");

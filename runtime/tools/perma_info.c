@@ -1,10 +1,17 @@
 /*
- * perma-info: the OpenCL platforms and devices perma can use, and for each
- * device the persistent work-group count the runtime would choose and why,
- * its local memory, atomics support and the driver (PoCL) version.
+ * perma-info: every OpenCL platform and device, whether perma (and the
+ * Reyes renderer, which needs 64-bit atomics) can run on it and why not,
+ * the persistent work-group count the runtime would choose and why, its
+ * local memory, atomics support, how it splits into equal sub-devices and
+ * the driver version.  --check builds and runs a small tree on each device
+ * that can run perma.
  *
- *   perma-info [--json]
- * Exit codes: 0 ok, 1 no OpenCL platform or an OpenCL failure, 2 bad usage.
+ *   perma-info [--json] [--devices LIST] [--check]
+ * LIST is a device list (perma_device_list: "0:0,1:0", "intel", "0:0/2",
+ * "all"); the default is every device, and then platforms without devices
+ * are listed too.
+ * Exit codes: 0 ok, 1 no OpenCL platform, a bad device list, an OpenCL
+ * failure or a failed check, 2 bad usage.
  */
 #include <perma.h>
 
@@ -12,17 +19,43 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
+
+/* Work-items per group perma uses unless configured otherwise. */
+#define DEFAULT_GROUP_SIZE 64
 
 typedef struct device_info {
-    char platform[256], platform_version[256], name[256], version[256], driver[256];
+    char label[64];  /* "P:D" or "P:D/N.K" */
+    char platform[256], platform_version[256], name[256], version[256], driver[256], c_version[256];
     char summary[PERMA_MESSAGE_MAX];
+    char why_not[PERMA_MESSAGE_MAX];       /* empty: perma can run */
+    char reyes_why_not[256];               /* empty: reyes-render can run */
+    char check[PERMA_MESSAGE_MAX + 16];    /* --check: what happened */
     const char *type;
     cl_uint compute_units;
     cl_ulong local_mem, global_mem, max_alloc;
     size_t max_group;
-    bool int32_atomics, int64_base, int64_extended;
+    cl_uint max_sub_devices;  /* 0: no equal partitions */
+    bool available, compiler, int32_atomics, int64_base, int64_extended, checked, check_ok;
     perma_status runtime_status;
 } device_info;
+
+/* Append a reason to a "; "-separated list. */
+static void add_reason(char *list, size_t size, const char *reason)
+{
+    size_t used = strlen(list);
+    snprintf(list + used, size - used, "%s%s", used ? "; " : "", reason);
+}
+
+/* The OpenCL C version a device compiles, as major * 10 + minor (0 if
+ * unknown): "OpenCL C 1.2 ..." gives 12. */
+static int c_version(const char *text)
+{
+    int major = 0, minor = 0;
+    if (sscanf(text, "OpenCL C %d.%d", &major, &minor) != 2)
+        return 0;
+    return major * 10 + minor;
+}
 
 static void text(cl_device_id d, cl_device_info what, char *out, size_t size)
 {
@@ -39,9 +72,50 @@ static bool has_extension(const char *extensions, const char *name)
     return false;
 }
 
-static void describe(cl_platform_id platform, cl_device_id device, int p, int d, device_info *info)
+/* Most equal sub-devices the device splits into; 0 if it does not. */
+static cl_uint equal_partitions(cl_device_id device)
+{
+    cl_device_partition_property props[16];
+    size_t size = 0;
+    cl_uint most = 0;
+    if (clGetDeviceInfo(device, CL_DEVICE_PARTITION_PROPERTIES, sizeof props, props, &size) != CL_SUCCESS)
+        return 0;
+    for (size_t i = 0; i < size / sizeof props[0]; ++i)
+        if (props[i] == CL_DEVICE_PARTITION_EQUALLY
+            && clGetDeviceInfo(device, CL_DEVICE_PARTITION_MAX_SUB_DEVICES, sizeof most, &most, NULL)
+                   == CL_SUCCESS)
+            return most;
+    return 0;
+}
+
+/* The device the list names: a whole device, or (through a runtime on it)
+ * the sub-device the runtime made. */
+static void describe(const perma_device_ref *ref, device_info *info)
 {
     memset(info, 0, sizeof *info);
+    perma_device_ref_format(ref, info->label, sizeof info->label);
+    cl_platform_id platforms[64];
+    cl_device_id devices[64];
+    cl_uint count = 0;
+    clGetPlatformIDs(64, platforms, NULL);
+    cl_platform_id platform = platforms[ref->platform_index];
+    clGetDeviceIDs(platform, CL_DEVICE_TYPE_ALL, 64, devices, &count);
+    cl_device_id device = devices[ref->device_index];
+
+    /* What the runtime itself would choose on this device. */
+    perma_config config;
+    perma_config_init(&config);
+    perma_config_set_device(&config, ref);
+    perma_runtime *rt;
+    perma_error error;
+    info->runtime_status = perma_create(&config, &rt, &error);
+    if (info->runtime_status == PERMA_OK) {
+        snprintf(info->summary, sizeof info->summary, "%s", perma_device_summary(rt));
+        device = perma_cl_device(rt);
+    } else {
+        snprintf(info->summary, sizeof info->summary, "%s", error.message);
+    }
+
     clGetPlatformInfo(platform, CL_PLATFORM_NAME, sizeof info->platform - 1, info->platform, NULL);
     clGetPlatformInfo(platform, CL_PLATFORM_VERSION, sizeof info->platform_version - 1, info->platform_version, NULL);
     text(device, CL_DEVICE_NAME, info->name, sizeof info->name);
@@ -56,6 +130,14 @@ static void describe(cl_platform_id platform, cl_device_id device, int p, int d,
     clGetDeviceInfo(device, CL_DEVICE_GLOBAL_MEM_SIZE, sizeof info->global_mem, &info->global_mem, NULL);
     clGetDeviceInfo(device, CL_DEVICE_MAX_MEM_ALLOC_SIZE, sizeof info->max_alloc, &info->max_alloc, NULL);
     clGetDeviceInfo(device, CL_DEVICE_MAX_WORK_GROUP_SIZE, sizeof info->max_group, &info->max_group, NULL);
+    info->max_sub_devices = ref->sub_devices >= 2 ? 0 : equal_partitions(device);
+    text(device, CL_DEVICE_OPENCL_C_VERSION, info->c_version, sizeof info->c_version);
+    cl_bool flag = CL_FALSE;
+    clGetDeviceInfo(device, CL_DEVICE_AVAILABLE, sizeof flag, &flag, NULL);
+    info->available = flag == CL_TRUE;
+    flag = CL_FALSE;
+    clGetDeviceInfo(device, CL_DEVICE_COMPILER_AVAILABLE, sizeof flag, &flag, NULL);
+    info->compiler = flag == CL_TRUE;
     size_t size = 0;
     clGetDeviceInfo(device, CL_DEVICE_EXTENSIONS, 0, NULL, &size);
     char *extensions = calloc(1, size + 1);
@@ -67,19 +149,118 @@ static void describe(cl_platform_id platform, cl_device_id device, int p, int d,
         info->int64_extended = has_extension(extensions, "cl_khr_int64_extended_atomics");
         free(extensions);
     }
-    /* What the runtime itself would choose on this device. */
+    if (info->runtime_status == PERMA_OK)
+        perma_destroy(rt);
+
+    /* What perma needs: a device that compiles OpenCL C 1.2 (the generated
+     * program is built with -cl-std=CL1.2), 32-bit global and local
+     * atomics, groups of 64 work-items; the Reyes procedures also need
+     * 64-bit atomics (atom_min of depth and color per sample). */
+    char reason[320];
+    if (!info->available)
+        add_reason(info->why_not, sizeof info->why_not, "the device reports itself unavailable");
+    if (!info->compiler)
+        add_reason(info->why_not, sizeof info->why_not, "no OpenCL C compiler");
+    if (c_version(info->c_version) < 12) {
+        snprintf(reason, sizeof reason, "OpenCL C 1.2 needed, the device has '%s'", info->c_version);
+        add_reason(info->why_not, sizeof info->why_not, reason);
+    }
+    if (!info->int32_atomics)
+        add_reason(info->why_not, sizeof info->why_not,
+                   "no 32-bit global and local atomics (cl_khr_global/local_int32_base_atomics)");
+    if (info->max_group < DEFAULT_GROUP_SIZE) {
+        snprintf(reason, sizeof reason, "work-groups of at most %zu work-items (set config.group_size)",
+                 info->max_group);
+        add_reason(info->why_not, sizeof info->why_not, reason);
+    }
+    if (info->runtime_status != PERMA_OK)
+        add_reason(info->why_not, sizeof info->why_not, info->summary);
+    if (info->why_not[0])
+        snprintf(info->reyes_why_not, sizeof info->reyes_why_not, "perma cannot run");
+    else if (!info->int64_base || !info->int64_extended)
+        snprintf(info->reyes_why_not, sizeof info->reyes_why_not,
+                 "no 64-bit atomics (cl_khr_int64_base_atomics and cl_khr_int64_extended_atomics)");
+}
+
+static double now_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+/* --check: a binary tree of depth CHECK_DEPTH built by one procedure. */
+#define CHECK_DEPTH 12u
+static const char *const check_source =
+    "void split(perma_ctx *ctx, __local const uint *depth)\n"
+    "{\n"
+    "    if (*depth == 0) { atomic_inc(&ctx->buf.leaves[0]); return; }\n"
+    "    uint child = *depth - 1u;\n"
+    "    emit_split(ctx, &child);\n"
+    "    emit_split(ctx, &child);\n"
+    "}\n";
+
+static void run_check(const perma_device_ref *ref, device_info *info)
+{
+    info->checked = true;
     perma_config config;
     perma_config_init(&config);
-    config.platform_index = p;
-    config.device_index = d;
+    perma_config_set_device(&config, ref);
+    config.time_limit = 60;
     perma_runtime *rt;
     perma_error error;
-    info->runtime_status = perma_create(&config, &rt, &error);
-    if (info->runtime_status == PERMA_OK) {
-        snprintf(info->summary, sizeof info->summary, "%s", perma_device_summary(rt));
-        perma_destroy(rt);
+    if (perma_create(&config, &rt, &error) != PERMA_OK) {
+        snprintf(info->check, sizeof info->check, "failed: %s", error.message);
+        return;
+    }
+    perma_procedure split = { .name = "split", .item_type = "uint", .item_size = 4, .source = check_source,
+                              .function = "split", .emits = { { "split", 2 } } };
+    perma_proc id;
+    unsigned leaves = 0, root = CHECK_DEPTH;
+    perma_stats stats;
+    double start = now_seconds();
+    perma_status st = perma_register(rt, &split, &id);
+    if (st == PERMA_OK)
+        st = perma_bind_host(rt, "leaves", "__global uint *", &leaves, sizeof leaves, PERMA_READ_WRITE);
+    if (st == PERMA_OK)
+        st = perma_build(rt);
+    double built = now_seconds();
+    if (st == PERMA_OK)
+        st = perma_seed(rt, id, &root, 1);
+    if (st == PERMA_OK)
+        st = perma_run(rt);
+    if (st == PERMA_OK)
+        st = perma_get_stats(rt, &stats);
+    if (st != PERMA_OK) {
+        snprintf(info->check, sizeof info->check, "failed: %s", perma_errmsg(rt));
+    } else if (leaves != 1u << CHECK_DEPTH) {
+        snprintf(info->check, sizeof info->check, "failed: %u leaves of a depth-%u tree, expected %u", leaves,
+                 CHECK_DEPTH, 1u << CHECK_DEPTH);
     } else {
-        snprintf(info->summary, sizeof info->summary, "%s", error.message);
+        info->check_ok = true;
+        snprintf(info->check, sizeof info->check, "ok: %u leaves of a depth-%u tree in %.3f s (build %.2f s)",
+                 leaves, CHECK_DEPTH, stats.seconds, built - start);
+    }
+    perma_destroy(rt);
+}
+
+/* With the default list, platforms that report no device (they are not in
+ * the list) are named too (on stderr with --json). */
+static void list_platforms_without_devices(bool json)
+{
+    cl_platform_id platforms[64];
+    cl_uint count = 0;
+    if (clGetPlatformIDs(64, platforms, &count) != CL_SUCCESS)
+        return;
+    for (cl_uint p = 0; p < count && p < 64; ++p) {
+        cl_uint devices = 0;
+        cl_int err = clGetDeviceIDs(platforms[p], CL_DEVICE_TYPE_ALL, 0, NULL, &devices);
+        if (err == CL_SUCCESS && devices > 0)
+            continue;
+        char name[256] = "";
+        clGetPlatformInfo(platforms[p], CL_PLATFORM_NAME, sizeof name - 1, name, NULL);
+        fprintf(json ? stderr : stdout, "platform %u  %s: no devices (%s)\n", (unsigned)p, name,
+                err == CL_SUCCESS || err == CL_DEVICE_NOT_FOUND ? "none reported" : "clGetDeviceIDs failed");
     }
 }
 
@@ -97,9 +278,9 @@ static void json_string(const char *s)
     putchar('"');
 }
 
-static void print_text(const device_info *i, int p, int d)
+static void print_text(const device_info *i)
 {
-    printf("device %d:%d  %s (%s)\n", p, d, i->name, i->type);
+    printf("device %s  %s (%s)\n", i->label, i->name, i->type);
     printf("  platform        %s, %s\n", i->platform, i->platform_version);
     printf("  device version  %s, driver %s\n", i->version, i->driver);
     printf("  compute units   %u, max work-group size %zu\n", (unsigned)i->compute_units, i->max_group);
@@ -108,12 +289,28 @@ static void print_text(const device_info *i, int p, int d)
            (unsigned long long)(i->max_alloc >> 20));
     printf("  atomics         32-bit global+local: %s, 64-bit base: %s, 64-bit extended (atom_min): %s\n",
            i->int32_atomics ? "yes" : "no", i->int64_base ? "yes" : "no", i->int64_extended ? "yes" : "no");
-    printf("  perma would use %s\n", i->summary);
+    if (i->max_sub_devices >= 2)
+        printf("  sub-devices     equal parts, 2..%u (PERMA_DEVICE=%s/2 lists 2 of them)\n",
+               (unsigned)i->max_sub_devices, i->label);
+    else
+        printf("  sub-devices     %s\n", strchr(i->label, '/') ? "this is one" : "no equal partitions");
+    if (i->why_not[0]) {
+        printf("  perma           cannot run: %s\n", i->why_not);
+    } else {
+        printf("  perma           can run; would use %s\n", i->summary);
+        printf("  reyes-render    %s%s\n", i->reyes_why_not[0] ? "cannot run: " : "can run",
+               i->reyes_why_not);
+    }
+    if (i->checked)
+        printf("  check           %s\n", i->check);
 }
 
-static void print_json(const device_info *i, int p, int d, bool first)
+static void print_json(const device_info *i, const perma_device_ref *ref, bool first)
 {
-    printf("%s    {\"platform_index\": %d, \"device_index\": %d, \"name\": ", first ? "" : ",\n", p, d);
+    printf("%s    {\"device\": \"%s\", \"platform_index\": %d, \"device_index\": %d, "
+           "\"sub_devices\": %u, \"sub_device\": %u, \"max_sub_devices\": %u, \"name\": ",
+           first ? "" : ",\n", i->label, ref->platform_index, ref->device_index, ref->sub_devices,
+           ref->sub_device, (unsigned)i->max_sub_devices);
     json_string(i->name);
     printf(", \"type\": \"%s\", \"platform\": ", i->type);
     json_string(i->platform);
@@ -123,6 +320,17 @@ static void print_json(const device_info *i, int p, int d, bool first)
     json_string(i->version);
     printf(", \"driver_version\": ");
     json_string(i->driver);
+    printf(", \"opencl_c_version\": ");
+    json_string(i->c_version);
+    printf(", \"can_run\": %s, \"why_not\": ", i->why_not[0] ? "false" : "true");
+    json_string(i->why_not);
+    printf(", \"reyes_can_run\": %s, \"reyes_why_not\": ",
+           i->why_not[0] || i->reyes_why_not[0] ? "false" : "true");
+    json_string(i->reyes_why_not);
+    if (i->checked) {
+        printf(", \"check_ok\": %s, \"check\": ", i->check_ok ? "true" : "false");
+        json_string(i->check);
+    }
     printf(", \"compute_units\": %u, \"max_work_group_size\": %zu, \"local_mem_bytes\": %llu, "
            "\"global_mem_bytes\": %llu, \"max_alloc_bytes\": %llu, \"int32_atomics\": %s, "
            "\"int64_base_atomics\": %s, \"int64_extended_atomics\": %s, \"runtime_ok\": %s, \"runtime\": ",
@@ -136,55 +344,58 @@ static void print_json(const device_info *i, int p, int d, bool first)
 
 int main(int argc, char **argv)
 {
-    bool json = false;
+    bool json = false, check = false;
+    const char *list = "all";
     for (int i = 1; i < argc; ++i) {
         if (strcmp(argv[i], "--json") == 0) {
             json = true;
+        } else if (strcmp(argv[i], "--check") == 0) {
+            check = true;
+        } else if (strcmp(argv[i], "--devices") == 0 && i + 1 < argc) {
+            list = argv[++i];
         } else if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
-            printf("usage: perma-info [--json]\n"
-                   "Lists the OpenCL devices perma can use and how it would use them.\n");
+            printf("usage: perma-info [--json] [--devices LIST] [--check]\n"
+                   "Lists every OpenCL platform and device, whether perma and reyes-render can run on\n"
+                   "it (and why not) and how perma would use it.  --check also builds and runs a\n"
+                   "small tree on each device perma can run on (exit status 1 if one fails).\n"
+                   "LIST: comma-separated P:D (a device), NAME[:D] (device D, default 0, of the\n"
+                   "platform whose name or vendor contains NAME: intel, pocl), P:D/N (it split into\n"
+                   "N equal sub-devices), P:D/N.K (the K-th of them) or 'all' (the default).\n");
             return 0;
         } else if (strcmp(argv[i], "--version") == 0) {
             printf("perma-info %s\n", PERMA_VERSION_STRING);
             return 0;
         } else {
-            fprintf(stderr, "perma-info: unknown option '%s' (try --help)\n", argv[i]);
+            fprintf(stderr, "perma-info: %s '%s' (try --help)\n",
+                    strcmp(argv[i], "--devices") == 0 ? "missing the list after" : "unknown option", argv[i]);
             return 2;
         }
     }
-    cl_uint platform_count = 0;
-    cl_int err = clGetPlatformIDs(0, NULL, &platform_count);
-    if (err != CL_SUCCESS || platform_count == 0) {
-        fprintf(stderr, "perma-info: no OpenCL platform found; install an OpenCL driver, e.g. "
-                        "'apt-get install pocl-opencl-icd'\n");
+    perma_device_ref refs[PERMA_MAX_DEVICES];
+    unsigned count = 0;
+    perma_error error;
+    if (perma_device_list(list, refs, PERMA_MAX_DEVICES, &count, &error) != PERMA_OK) {
+        fprintf(stderr, "perma-info: %s\n", error.message);
         return 1;
     }
-    cl_platform_id platforms[64];
-    if (platform_count > 64)
-        platform_count = 64;
-    clGetPlatformIDs(platform_count, platforms, NULL);
+    if (strcmp(list, "all") == 0)
+        list_platforms_without_devices(json);
     if (json)
         printf("{\"perma_version\": \"%s\", \"devices\": [\n", PERMA_VERSION_STRING);
-    bool first = true;
-    for (cl_uint p = 0; p < platform_count; ++p) {
-        cl_uint device_count = 0;
-        if (clGetDeviceIDs(platforms[p], CL_DEVICE_TYPE_ALL, 0, NULL, &device_count) != CL_SUCCESS)
-            continue;
-        cl_device_id devices[64];
-        if (device_count > 64)
-            device_count = 64;
-        clGetDeviceIDs(platforms[p], CL_DEVICE_TYPE_ALL, device_count, devices, NULL);
-        for (cl_uint d = 0; d < device_count; ++d) {
-            device_info info;
-            describe(platforms[p], devices[d], (int)p, (int)d, &info);
-            if (json)
-                print_json(&info, (int)p, (int)d, first);
-            else
-                print_text(&info, (int)p, (int)d);
-            first = false;
+    bool failed = false;
+    for (unsigned k = 0; k < count; ++k) {
+        device_info info;
+        describe(&refs[k], &info);
+        if (check && !info.why_not[0]) {
+            run_check(&refs[k], &info);
+            failed |= !info.check_ok;
         }
+        if (json)
+            print_json(&info, &refs[k], k == 0);
+        else
+            print_text(&info);
     }
     if (json)
         printf("\n]}\n");
-    return 0;
+    return failed ? 1 : 0;
 }

@@ -1,16 +1,16 @@
 #include "example_test.h"
 
 #include <stdlib.h>
+#include <string.h>
 
-void example_test_variant(perma_technique *technique, perma_strategy *strategy)
+void example_test_variant(perma_schedule *schedule)
 {
     const char *v;
-    *technique = PERMA_TECHNIQUE_MEGAKERNEL;
-    *strategy = PERMA_STRATEGY_SHARED;
+    memset(schedule, 0, sizeof *schedule);
     if ((v = getenv("PERMA_TEST_TECHNIQUE")) && *v)
-        ck_assert_msg(perma_technique_parse(v, technique) == PERMA_OK, "bad PERMA_TEST_TECHNIQUE %s", v);
+        ck_assert_msg(perma_technique_parse(v, &schedule->technique) == PERMA_OK, "bad PERMA_TEST_TECHNIQUE %s", v);
     if ((v = getenv("PERMA_TEST_STRATEGY")) && *v)
-        ck_assert_msg(perma_strategy_parse(v, strategy) == PERMA_OK, "bad PERMA_TEST_STRATEGY %s", v);
+        ck_assert_msg(perma_strategy_parse(v, &schedule->strategy) == PERMA_OK, "bad PERMA_TEST_STRATEGY %s", v);
 }
 
 int example_test_run(Suite *suite)

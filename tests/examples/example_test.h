@@ -8,10 +8,10 @@
 /* Seconds one test may take; PoCL's first compile of a program is slow. */
 #define EXAMPLE_TEST_TIMEOUT 300
 
-/* The technique and strategy named by PERMA_TEST_TECHNIQUE and
- * PERMA_TEST_STRATEGY (meson registers each test once per variant);
+/* The schedule whose technique and strategy PERMA_TEST_TECHNIQUE and
+ * PERMA_TEST_STRATEGY name (meson registers each test once per variant);
  * megakernel and shared when unset.  Fails the test on an unknown name. */
-void example_test_variant(perma_technique *technique, perma_strategy *strategy);
+void example_test_variant(perma_schedule *schedule);
 
 /* Run a suite; returns the number of failures. */
 int example_test_run(Suite *suite);

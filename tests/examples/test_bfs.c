@@ -32,7 +32,7 @@ static void assert_perma_levels(const bfs_graph *g, uint32_t source)
     ck_assert(want && got);
     ck_assert_int_eq(bfs_sequential(g, source, want), 0);
     bfs_run_options run = { .work_groups = 0 };
-    example_test_variant(&run.technique, &run.strategy);
+    example_test_variant(&run.schedule);
     char message[2048];
     bfs_status st = bfs_perma(g, &run, source, got, message, sizeof message);
     ck_assert_msg(st == BFS_OK, "%s", message);

@@ -41,7 +41,7 @@ START_TEST(perma_equals_brute_force)
     ck_assert(want && got);
     mandel_brute_force(&p, want);
     mandel_run_options run = { .work_groups = 0 };
-    example_test_variant(&run.technique, &run.strategy);
+    example_test_variant(&run.schedule);
     char message[2048];
     mandel_status st = mandel_render_perma(&p, &run, got, message, sizeof message);
     ck_assert_msg(st == MANDEL_OK, "%s", message);
@@ -77,7 +77,7 @@ START_TEST(thin_images)
     uint32_t want[64], got[64];
     mandel_brute_force(&p, want);
     mandel_run_options run = { .work_groups = 0 };
-    example_test_variant(&run.technique, &run.strategy);
+    example_test_variant(&run.schedule);
     char message[2048];
     mandel_status st = mandel_render_perma(&p, &run, got, message, sizeof message);
     ck_assert_msg(st == MANDEL_OK, "%s", message);
@@ -111,7 +111,7 @@ START_TEST(good_options)
     ck_assert_uint_eq(o.height, 32);
     ck_assert_uint_eq(o.max_iter, 50);
     ck_assert_uint_eq(o.run.work_groups, 3);
-    ck_assert_int_eq(o.run.technique, PERMA_TECHNIQUE_BOUNDED_BATCHES);
+    ck_assert_int_eq(o.run.schedule.technique, PERMA_TECHNIQUE_BOUNDED_BATCHES);
     ck_assert_str_eq(o.output, "x.png");
 }
 END_TEST

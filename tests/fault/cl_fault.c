@@ -7,6 +7,7 @@
 #include <CL/cl.h>
 #include <dlfcn.h>
 #include <stddef.h>
+#include <string.h>
 
 static unsigned long calls, armed_at;
 static const char *failed_call;
@@ -20,6 +21,28 @@ void cl_fault_arm(unsigned long n)
 
 unsigned long cl_fault_calls(void) { return calls; }
 const char *cl_fault_failed_call(void) { return failed_call; }
+
+static cl_fault_transfers transfers;
+
+void cl_fault_transfers_reset(void)
+{
+    memset(&transfers, 0, sizeof transfers);
+}
+
+cl_fault_transfers cl_fault_transfers_since_launch(void)
+{
+    return transfers;
+}
+
+static void count_transfer(unsigned long long *total, size_t bytes)
+{
+    if (!transfers.launches)
+        return;
+    *total += bytes;
+    transfers.calls++;
+    if (bytes > transfers.largest)
+        transfers.largest = bytes;
+}
 
 /* Count the call; true if it must fail. */
 static int fault_now(const char *name)
@@ -76,21 +99,31 @@ WRAP_OBJECT(cl_kernel, clCreateKernel, (cl_program p, const char *name, cl_int *
 WRAP_STATUS(clSetKernelArg, (cl_kernel k, cl_uint i, size_t s, const void *v), (k, i, s, v))
 WRAP_OBJECT(cl_mem, clCreateBuffer, (cl_context c, cl_mem_flags f, size_t s, void *h, cl_int *errcode_ret),
             (c, f, s, h, errcode_ret))
-WRAP_STATUS(clEnqueueWriteBuffer,
-            (cl_command_queue q, cl_mem m, cl_bool b, size_t o, size_t s, const void *p, cl_uint n,
-             const cl_event *w, cl_event *e),
-            (q, m, b, o, s, p, n, w, e))
-WRAP_STATUS(clEnqueueReadBuffer,
-            (cl_command_queue q, cl_mem m, cl_bool b, size_t o, size_t s, void *p, cl_uint n, const cl_event *w,
-             cl_event *e),
-            (q, m, b, o, s, p, n, w, e))
+/* Calls that return a status and are counted first. */
+#define WRAP_COUNTED(name, count, params, args)         \
+    cl_int name params                                  \
+    {                                                   \
+        if (fault_now(#name))                           \
+            return CL_OUT_OF_RESOURCES;                 \
+        count;                                          \
+        return REAL(name) args;                         \
+    }
+
+WRAP_COUNTED(clEnqueueWriteBuffer, count_transfer(&transfers.written, s),
+             (cl_command_queue q, cl_mem m, cl_bool b, size_t o, size_t s, const void *p, cl_uint n,
+              const cl_event *w, cl_event *e),
+             (q, m, b, o, s, p, n, w, e))
+WRAP_COUNTED(clEnqueueReadBuffer, count_transfer(&transfers.read, s),
+             (cl_command_queue q, cl_mem m, cl_bool b, size_t o, size_t s, void *p, cl_uint n, const cl_event *w,
+              cl_event *e),
+             (q, m, b, o, s, p, n, w, e))
 WRAP_STATUS(clEnqueueFillBuffer,
             (cl_command_queue q, cl_mem m, const void *pat, size_t ps, size_t o, size_t s, cl_uint n,
              const cl_event *w, cl_event *e),
             (q, m, pat, ps, o, s, n, w, e))
-WRAP_STATUS(clEnqueueNDRangeKernel,
-            (cl_command_queue q, cl_kernel k, cl_uint dim, const size_t *off, const size_t *g, const size_t *l,
-             cl_uint n, const cl_event *w, cl_event *e),
-            (q, k, dim, off, g, l, n, w, e))
+WRAP_COUNTED(clEnqueueNDRangeKernel, transfers.launches++,
+             (cl_command_queue q, cl_kernel k, cl_uint dim, const size_t *off, const size_t *g, const size_t *l,
+              cl_uint n, const cl_event *w, cl_event *e),
+             (q, k, dim, off, g, l, n, w, e))
 WRAP_STATUS(clGetEventInfo, (cl_event e, cl_event_info i, size_t s, void *v, size_t *r), (e, i, s, v, r))
 WRAP_STATUS(clRetainMemObject, (cl_mem m), (m))

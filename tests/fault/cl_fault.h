@@ -1,6 +1,7 @@
 /* Test hook around the OpenCL calls: a shim library, linked before the
- * OpenCL loader, that forwards every call perma makes and can make the Nth
- * one fail with CL_OUT_OF_RESOURCES. */
+ * OpenCL loader, that forwards every call perma makes, can make the Nth
+ * one fail with CL_OUT_OF_RESOURCES, and counts the bytes that pass
+ * between host and device. */
 #ifndef CL_FAULT_H
 #define CL_FAULT_H
 
@@ -10,5 +11,20 @@ void cl_fault_arm(unsigned long n);
 unsigned long cl_fault_calls(void);
 /* Name of the call that was made to fail, or NULL. */
 const char *cl_fault_failed_call(void);
+
+/* Bytes clEnqueueReadBuffer and clEnqueueWriteBuffer moved since
+ * cl_fault_transfers_reset(), counted only from the first
+ * clEnqueueNDRangeKernel after the reset on (so a run's upload of its
+ * seeds before its first launch does not count). */
+typedef struct cl_fault_transfers {
+    unsigned long long read;     /* bytes of clEnqueueReadBuffer */
+    unsigned long long written;  /* bytes of clEnqueueWriteBuffer */
+    unsigned long long largest;  /* bytes of the largest single call */
+    unsigned long calls;
+    unsigned long launches;      /* clEnqueueNDRangeKernel calls */
+} cl_fault_transfers;
+
+void cl_fault_transfers_reset(void);
+cl_fault_transfers cl_fault_transfers_since_launch(void);
 
 #endif

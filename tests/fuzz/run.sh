@@ -60,7 +60,7 @@ fi
 cflags="-std=c11 -D_POSIX_C_SOURCE=200809L -DCL_TARGET_OPENCL_VERSION=120
  -g -O1 -Wall -Wextra -fsanitize=fuzzer,address,undefined
  -fno-sanitize-recover=all -fno-omit-frame-pointer
- -I$source/procedures -I$source/examples/reyes -I$source/runtime/include -I$source/runtime/src"
+ -I$source/procedures -I$source/examples/reyes -I$source/runtime/include -I$source/runtime/src -I$source/kernels"
 # The sources and the longest input (-max_len) of a target.
 target_sources() {
     case $1 in

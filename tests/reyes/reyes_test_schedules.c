@@ -22,7 +22,7 @@ void reyes_test_apply_schedule(const char *label, unsigned work_groups, reyes_op
     perma_schedule s;
     perma_error error;
     ck_assert_msg(perma_schedule_parse(label, &s, &error) == PERMA_OK, "%s", error.message);
-    reyes_options_set_schedule(o, &s);
+    o->schedule = s;
     o->work_groups = work_groups;
 }
 

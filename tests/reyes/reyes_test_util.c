@@ -73,6 +73,58 @@ size_t reyes_test_enclosed_pixels(const reyes_image *image, size_t max_region)
     return enclosed_pixels(image, max_region, 1, NULL);
 }
 
+void reyes_test_builtin_scene(reyes_scene *scene, reyes_camera *camera, unsigned width, unsigned height)
+{
+    reyes_error error;
+    reyes_scene_init(scene);
+    ck_assert_int_eq(reyes_scene_add_builtin(scene, &error), REYES_OK);
+    ck_assert_int_eq(reyes_camera_frame(scene, 40.0f, (float)width / (float)height, camera, &error), REYES_OK);
+}
+
+void reyes_test_sphere_scene(reyes_scene *scene)
+{
+    reyes_error error;
+    reyes_scene_init(scene);
+    const float center[3] = {0, 0, 0};
+    ck_assert_int_eq(reyes_scene_add_sphere(scene, center, 1.0f, REYES_RGBA(200, 200, 200), &error), REYES_OK);
+}
+
+void reyes_test_expect_same_image(const reyes_image *expected, const reyes_image *image, const char *label)
+{
+    ck_assert_msg(image->width == expected->width && image->height == expected->height,
+                  "%s: %ux%u image, expected %ux%u", label, image->width, image->height, expected->width,
+                  expected->height);
+    size_t pixels = (size_t)image->width * image->height, differ = 0;
+    for (size_t k = 0; k < pixels; ++k)
+        differ += image->coverage[k] != expected->coverage[k] || memcmp(image->rgb + 3 * k, expected->rgb + 3 * k, 3);
+    ck_assert_msg(differ == 0, "%s: %zu of %zu pixels differ", label, differ, pixels);
+}
+
+void reyes_test_expect_same_counts(const reyes_stats *expected, const reyes_stats *stats, const char *label)
+{
+    ck_assert_msg(stats->splits == expected->splits && stats->grids == expected->grids
+                      && stats->culled == expected->culled && stats->micropolygons == expected->micropolygons
+                      && stats->samples_written == expected->samples_written,
+                  "%s: counts differ (splits %llu vs %llu, grids %llu vs %llu, micropolygons %llu vs %llu)", label,
+                  (unsigned long long)stats->splits, (unsigned long long)expected->splits,
+                  (unsigned long long)stats->grids, (unsigned long long)expected->grids,
+                  (unsigned long long)stats->micropolygons, (unsigned long long)expected->micropolygons);
+    for (int p = 0; p < REYES_PROC_COUNT; ++p)
+        ck_assert_msg(stats->procedures[p].items == expected->procedures[p].items,
+                      "%s: %s ran %llu items, expected %llu", label, stats->procedures[p].name,
+                      (unsigned long long)stats->procedures[p].items,
+                      (unsigned long long)expected->procedures[p].items);
+}
+
+void reyes_test_expect_bucket_peaks(const reyes_stats *stats)
+{
+    size_t count = (size_t)stats->bucket_columns * stats->bucket_rows, largest = 0;
+    ck_assert_ptr_nonnull(stats->bucket_peak_queue_bytes);
+    for (size_t b = 0; b < count; ++b)
+        largest = stats->bucket_peak_queue_bytes[b] > largest ? stats->bucket_peak_queue_bytes[b] : largest;
+    ck_assert_uint_eq(largest, stats->peak_queue_bytes);
+}
+
 void reyes_test_render(reyes_renderer *renderer, const reyes_scene *scene,
                        const reyes_camera *camera, const reyes_options *options,
                        reyes_image *image, reyes_stats *stats)

@@ -32,6 +32,25 @@ size_t reyes_test_holes_from_random_views(reyes_renderer *renderer, const reyes_
  * touches the outside diagonally; a crack does not. */
 size_t reyes_test_enclosed_pixels(const reyes_image *image, size_t max_region);
 
+/* The built-in scene, and a camera framing it at 40 degrees for a
+ * width x height image. */
+void reyes_test_builtin_scene(reyes_scene *scene, reyes_camera *camera, unsigned width, unsigned height);
+
+/* A sphere of radius 1 at the origin, light gray. */
+void reyes_test_sphere_scene(reyes_scene *scene);
+
+/* The two renders are byte-identical: size, colors and coverage; the
+ * failure names `label` and how many pixels differ. */
+void reyes_test_expect_same_image(const reyes_image *expected, const reyes_image *image, const char *label);
+
+/* The two renders did the same work: splits, grids, culled patches,
+ * micropolygons, covered samples and every procedure's items. */
+void reyes_test_expect_same_counts(const reyes_stats *expected, const reyes_stats *stats, const char *label);
+
+/* A bucketed render has one peak queue memory per bucket, the largest of
+ * which is the render's. */
+void reyes_test_expect_bucket_peaks(const reyes_stats *stats);
+
 /* Render or fail the test with the library's message. */
 void reyes_test_render(reyes_renderer *renderer, const reyes_scene *scene,
                        const reyes_camera *camera, const reyes_options *options,

@@ -76,10 +76,7 @@ START_TEST(test_zero_motion_and_aperture_identical)
 {
     reyes_scene scene;
     reyes_camera camera;
-    reyes_error error;
-    reyes_scene_init(&scene);
-    ck_assert_int_eq(reyes_scene_add_builtin(&scene, &error), REYES_OK);
-    ck_assert_int_eq(reyes_camera_frame(&scene, 40.0f, 96.0f / 72.0f, &camera, &error), REYES_OK);
+    reyes_test_builtin_scene(&scene, &camera, 96, 72);
     reyes_options o;
     reyes_options_init(&o);
     o.width = 96;
@@ -91,8 +88,7 @@ START_TEST(test_zero_motion_and_aperture_identical)
     o.blur_algo = (unsigned)_i;
     o.blur_tile = 2;
     reyes_test_render(reyes_test_renderer(0), &scene, &camera, &o, &zero, NULL);
-    ck_assert_mem_eq(plain.rgb, zero.rgb, (size_t)96 * 72 * 3);
-    ck_assert_mem_eq(plain.coverage, zero.coverage, (size_t)96 * 72);
+    reyes_test_expect_same_image(&plain, &zero, "zero motion and aperture");
     reyes_image_free(&zero);
     /* A rotation by 0 about some axis, on a renderer made for per-vertex
      * motion (its larger items) and on the plain one. */
@@ -101,8 +97,7 @@ START_TEST(test_zero_motion_and_aperture_identical)
     for (int moving = 0; moving < 2; ++moving) {
         reyes_renderer *r = moving ? reyes_test_moving_renderer(0) : reyes_test_renderer(0);
         reyes_test_render(r, &scene, &camera, &o, &zero, NULL);
-        ck_assert_mem_eq(plain.rgb, zero.rgb, (size_t)96 * 72 * 3);
-        ck_assert_mem_eq(plain.coverage, zero.coverage, (size_t)96 * 72);
+        reyes_test_expect_same_image(&plain, &zero, moving ? "rotation by 0, moving renderer" : "rotation by 0");
         reyes_image_free(&zero);
     }
     reyes_image_free(&plain);
@@ -447,8 +442,7 @@ START_TEST(test_interleaved_k1_is_simple)
     o.blur_tile = 1;
     o.blur_permutations = 1;
     reyes_test_render(reyes_test_renderer(0), &scene, &top, &o, &interleaved, NULL);
-    ck_assert_mem_eq(simple.rgb, interleaved.rgb, (size_t)W * H * 3);
-    ck_assert_mem_eq(simple.coverage, interleaved.coverage, (size_t)W * H);
+    reyes_test_expect_same_image(&simple, &interleaved, "interleaved with 1x1 tiles and one permutation");
     /* ... and the default tiles do change it. */
     reyes_image_free(&interleaved);
     o.blur_tile = 4;
@@ -547,14 +541,13 @@ static void expect_schedules_identical(reyes_options o)
     o.spp = 4;
     reyes_image a, b;
     reyes_test_apply_schedule(reyes_test_schedules[1], 2, &o);
-    ck_assert_int_eq(o.strategy, PERMA_STRATEGY_STEALING);
+    ck_assert_int_eq(o.schedule.strategy, PERMA_STRATEGY_STEALING);
     reyes_test_render_once(&scene, &top, &o, &a, NULL);
     reyes_test_apply_schedule(reyes_test_schedules[6], 1, &o);
-    ck_assert_int_eq(o.technique, PERMA_TECHNIQUE_KERNEL_PER_PROCEDURE);
+    ck_assert_int_eq(o.schedule.technique, PERMA_TECHNIQUE_KERNEL_PER_PROCEDURE);
     reyes_test_render_once(&scene, &top, &o, &b, NULL);
     ck_assert_uint_gt(reyes_test_covered_samples(&a), 0);
-    ck_assert_mem_eq(a.rgb, b.rgb, (size_t)64 * 48 * 3);
-    ck_assert_mem_eq(a.coverage, b.coverage, (size_t)64 * 48);
+    reyes_test_expect_same_image(&a, &b, "kernel-per-procedure against stealing");
     reyes_image_free(&a);
     reyes_image_free(&b);
     reyes_scene_free(&scene);

@@ -20,14 +20,6 @@
 /* Two bucket sizes: one dividing the image, one not. */
 static const unsigned bucket_sizes[2][2] = { {32, 32}, {40, 24} };
 
-static void builtin_scene(reyes_scene *scene, reyes_camera *camera)
-{
-    reyes_error error;
-    reyes_scene_init(scene);
-    ck_assert_int_eq(reyes_scene_add_builtin(scene, &error), REYES_OK);
-    ck_assert_int_eq(reyes_camera_frame(scene, 40.0f, (float)W / (float)H, camera, &error), REYES_OK);
-}
-
 /* A flat square [x0,x1] x [y0,y1] at z = 0. */
 static void square_scene(reyes_scene *scene, float x0, float x1, float y0, float y1)
 {
@@ -67,24 +59,6 @@ static void blur_options(reyes_options *o, unsigned algo, unsigned crack_fix)
     o->crack_fix = crack_fix;
 }
 
-static void expect_same_image(const reyes_image *a, const reyes_image *b, const char *label)
-{
-    size_t pixels = (size_t)a->width * a->height, differ = 0;
-    for (size_t k = 0; k < pixels; ++k)
-        differ += a->coverage[k] != b->coverage[k] || memcmp(a->rgb + 3 * k, b->rgb + 3 * k, 3) != 0;
-    ck_assert_msg(differ == 0, "%s: %zu pixels differ from the unbucketed image", label, differ);
-}
-
-/* One peak per bucket; the largest is the render's peak. */
-static void expect_bucket_peaks(const reyes_stats *stats)
-{
-    size_t count = (size_t)stats->bucket_columns * stats->bucket_rows, largest = 0;
-    ck_assert_ptr_nonnull(stats->bucket_peak_queue_bytes);
-    for (size_t b = 0; b < count; ++b)
-        largest = stats->bucket_peak_queue_bytes[b] > largest ? stats->bucket_peak_queue_bytes[b] : largest;
-    ck_assert_uint_eq(largest, stats->peak_queue_bytes);
-}
-
 /* Render without buckets, then with each bucket size: the same image and
  * covered samples, one peak queue memory per bucket, more culled.
  * Returns the unbucketed image (caller frees). */
@@ -103,12 +77,12 @@ static reyes_image expect_buckets_identical(const reyes_scene *scene, const reye
         o.bucket_width = bucket_sizes[k][0];
         o.bucket_height = bucket_sizes[k][1];
         reyes_test_render(reyes_test_renderer_for(&o, 0), scene, camera, &o, &tiled, &tiled_stats);
-        expect_same_image(&whole, &tiled, label);
+        reyes_test_expect_same_image(&whole, &tiled, label);
         ck_assert_msg(tiled_stats.samples_written == whole_stats.samples_written,
                       "%s: %llu covered samples, unbucketed %llu", label,
                       (unsigned long long)tiled_stats.samples_written,
                       (unsigned long long)whole_stats.samples_written);
-        expect_bucket_peaks(&tiled_stats);
+        reyes_test_expect_bucket_peaks(&tiled_stats);
         /* Culling per tile goes on with blur (with a lens too: the hull is
          * grown by its circle of confusion, not left unculled). */
         ck_assert_uint_gt(tiled_stats.culled, whole_stats.culled);
@@ -125,7 +99,7 @@ START_TEST(test_builtin_motion)
 {
     reyes_scene scene;
     reyes_camera camera;
-    builtin_scene(&scene, &camera);
+    reyes_test_builtin_scene(&scene, &camera, W, H);
     for (unsigned fix = REYES_CRACK_FIX_NONE; fix <= REYES_CRACK_FIX_STITCH; ++fix) {
         reyes_options o;
         blur_options(&o, (unsigned)_i, fix);
@@ -145,7 +119,7 @@ START_TEST(test_builtin_defocus)
 {
     reyes_scene scene;
     reyes_camera camera;
-    builtin_scene(&scene, &camera);
+    reyes_test_builtin_scene(&scene, &camera, W, H);
     float distance = 0.0f;
     for (int k = 0; k < 3; ++k)
         distance += (camera.at[k] - camera.eye[k]) * (camera.at[k] - camera.eye[k]);
@@ -236,7 +210,7 @@ START_TEST(test_builtin_rotation)
 {
     reyes_scene scene;
     reyes_camera camera;
-    builtin_scene(&scene, &camera);
+    reyes_test_builtin_scene(&scene, &camera, W, H);
     for (unsigned fix = REYES_CRACK_FIX_NONE; fix <= REYES_CRACK_FIX_STITCH; ++fix) {
         reyes_options o;
         blur_options(&o, (unsigned)_i, fix);
@@ -276,7 +250,7 @@ START_TEST(test_wedges_motion_and_defocus)
 {
     reyes_scene scene;
     reyes_camera camera;
-    builtin_scene(&scene, &camera);
+    reyes_test_builtin_scene(&scene, &camera, W, H);
     reyes_options o;
     blur_options(&o, REYES_BLUR_INTERLEAVED, REYES_CRACK_FIX_WEDGE);
     o.subdivision = REYES_SUBDIVISION_TIERED;

@@ -6,24 +6,6 @@
 
 #include "reyes_test_util.h"
 
-static void builtin_scene(reyes_scene *scene, reyes_camera *camera, unsigned width, unsigned height)
-{
-    reyes_error error;
-    reyes_scene_init(scene);
-    ck_assert_int_eq(reyes_scene_add_builtin(scene, &error), REYES_OK);
-    ck_assert_int_eq(reyes_camera_frame(scene, 40.0f, (float)width / (float)height, camera, &error),
-                     REYES_OK);
-}
-
-static void expect_same_image(const reyes_image *a, const reyes_image *b)
-{
-    size_t pixels = (size_t)a->width * a->height;
-    ck_assert_uint_eq(a->width, b->width);
-    ck_assert_uint_eq(a->height, b->height);
-    ck_assert_mem_eq(a->rgb, b->rgb, pixels * 3);
-    ck_assert_mem_eq(a->coverage, b->coverage, pixels);
-}
-
 /* Two bucket sizes (one not dividing the image) give the unbucketed bytes;
  * the per-bucket list has one entry per bucket and its maximum is the
  * render's peak. */
@@ -31,7 +13,7 @@ START_TEST(test_buckets_identical)
 {
     reyes_scene scene;
     reyes_camera camera;
-    builtin_scene(&scene, &camera, 160, 120);
+    reyes_test_builtin_scene(&scene, &camera, 160, 120);
     reyes_options o;
     reyes_options_init(&o);
     o.width = 160;
@@ -46,15 +28,11 @@ START_TEST(test_buckets_identical)
         o.bucket_width = sizes[k][0];
         o.bucket_height = sizes[k][1];
         reyes_test_render(reyes_test_renderer(0), &scene, &camera, &o, &tiled, &tiled_stats);
-        expect_same_image(&whole, &tiled);
+        reyes_test_expect_same_image(&whole, &tiled, "buckets");
         ck_assert_uint_eq(tiled_stats.samples_written, whole_stats.samples_written);
         ck_assert_uint_eq(tiled_stats.bucket_columns, (160 + sizes[k][0] - 1) / sizes[k][0]);
         ck_assert_uint_eq(tiled_stats.bucket_rows, (120 + sizes[k][1] - 1) / sizes[k][1]);
-        size_t largest = 0, count = (size_t)tiled_stats.bucket_columns * tiled_stats.bucket_rows;
-        for (size_t b = 0; b < count; ++b)
-            largest = tiled_stats.bucket_peak_queue_bytes[b] > largest
-                          ? tiled_stats.bucket_peak_queue_bytes[b] : largest;
-        ck_assert_uint_eq(largest, tiled_stats.peak_queue_bytes);
+        reyes_test_expect_bucket_peaks(&tiled_stats);
         /* Culling per tile: patches outside a tile never reach dice there. */
         ck_assert_uint_gt(tiled_stats.culled, whole_stats.culled);
         reyes_image_free(&tiled);
@@ -72,19 +50,19 @@ START_TEST(test_buckets_bound_queue_memory)
 {
     reyes_scene scene;
     reyes_camera camera;
-    builtin_scene(&scene, &camera, 192, 144);
+    reyes_test_builtin_scene(&scene, &camera, 192, 144);
     reyes_options o;
     reyes_options_init(&o);
     o.width = 192;
     o.height = 144;
     o.spp = 1;
-    o.technique = PERMA_TECHNIQUE_KERNEL_PER_PROCEDURE;
+    o.schedule.technique = PERMA_TECHNIQUE_KERNEL_PER_PROCEDURE;
     reyes_image whole, tiled;
     reyes_stats whole_stats, tiled_stats;
     reyes_test_render_once(&scene, &camera, &o, &whole, &whole_stats);
     o.bucket_width = o.bucket_height = 32;
     reyes_test_render_once(&scene, &camera, &o, &tiled, &tiled_stats);
-    expect_same_image(&whole, &tiled);
+    reyes_test_expect_same_image(&whole, &tiled, "32x32 buckets, kernel-per-procedure");
     printf("peak queue bytes: whole image %zu, 32x32 buckets %zu\n", whole_stats.peak_queue_bytes,
            tiled_stats.peak_queue_bytes);
     ck_assert_uint_lt(tiled_stats.peak_queue_bytes, whole_stats.peak_queue_bytes);
@@ -102,7 +80,7 @@ START_TEST(test_buckets_identical_displaced)
 {
     reyes_scene scene;
     reyes_camera camera;
-    builtin_scene(&scene, &camera, 128, 96);
+    reyes_test_builtin_scene(&scene, &camera, 128, 96);
     reyes_options o;
     reyes_options_init(&o);
     o.width = 128;
@@ -117,7 +95,7 @@ START_TEST(test_buckets_identical_displaced)
         o.bucket_width = 40;
         o.bucket_height = 24;
         reyes_test_render(reyes_test_renderer(0), &scene, &camera, &o, &tiled, NULL);
-        expect_same_image(&whole, &tiled);
+        reyes_test_expect_same_image(&whole, &tiled, fix ? "displaced, stitched" : "displaced");
         reyes_image_free(&whole);
         reyes_image_free(&tiled);
     }

@@ -87,6 +87,32 @@ START_TEST(test_all_options)
 }
 END_TEST
 
+/* The scale-out options: a device list (checked when used), frames and
+ * an orbit; without them one image on one device. */
+START_TEST(test_scale_out_options)
+{
+    reyes_cli cli;
+    char message[512];
+    ck_assert_int_eq(PARSE(&cli, message, "--devices", "0:0/2,1:0", "--frames", "24", "--orbit", "-90",
+                           "--rank-timeout", "30", "--coordinator-only"),
+                     REYES_CLI_OK);
+    ck_assert_float_eq(cli.rank_timeout, 30.0f);
+    ck_assert(cli.coordinator_only);
+    ck_assert_str_eq(cli.devices, "0:0/2,1:0");
+    ck_assert_uint_eq(cli.frames, 24);
+    ck_assert_float_eq(cli.orbit_deg, -90.0f);
+    ck_assert(cli.orbit_given);
+    reyes_cli_free(&cli);
+    ck_assert_int_eq(PARSE(&cli, message, "-o", "x.png"), REYES_CLI_OK);
+    ck_assert_ptr_null(cli.devices);
+    ck_assert_uint_eq(cli.frames, 0);
+    ck_assert(!cli.orbit_given);
+    ck_assert(!cli.coordinator_only);
+    ck_assert_float_eq(cli.rank_timeout, 0.0f);
+    reyes_cli_free(&cli);
+}
+END_TEST
+
 /* Each blur algorithm name lands in the options; the defaults are
  * interleaved with 4 x 4 tiles and 8 permutations. */
 START_TEST(test_blur_algorithms)
@@ -127,11 +153,11 @@ START_TEST(test_scheduling_names)
                                    (char *)strategies[s], "--victim", "round-robin", "--local-queue",
                                    "128", "--batch-limit", "512"),
                              REYES_CLI_OK);
-            ck_assert_str_eq(perma_technique_name(cli.render.technique), techniques[t]);
-            ck_assert_str_eq(perma_strategy_name(cli.render.strategy), strategies[s]);
-            ck_assert_int_eq(cli.render.victim, PERMA_VICTIM_ROUND_ROBIN);
-            ck_assert_uint_eq(cli.render.local_queue_items, 128);
-            ck_assert_uint_eq(cli.render.batch_limit, 512);
+            ck_assert_str_eq(perma_technique_name(cli.render.schedule.technique), techniques[t]);
+            ck_assert_str_eq(perma_strategy_name(cli.render.schedule.strategy), strategies[s]);
+            ck_assert_int_eq(cli.render.schedule.victim, PERMA_VICTIM_ROUND_ROBIN);
+            ck_assert_uint_eq(cli.render.schedule.local_queue_items, 128);
+            ck_assert_uint_eq(cli.render.schedule.batch_limit, 512);
             reyes_cli_free(&cli);
         }
     }
@@ -147,18 +173,18 @@ START_TEST(test_schedule_label)
     ck_assert_int_eq(PARSE(&cli, message, "--batch-limit", "512", "--schedule",
                            "megakernel/stealing/round-robin+local32"),
                      REYES_CLI_OK);
-    ck_assert_int_eq(cli.render.technique, PERMA_TECHNIQUE_MEGAKERNEL);
-    ck_assert_int_eq(cli.render.strategy, PERMA_STRATEGY_STEALING);
-    ck_assert_int_eq(cli.render.victim, PERMA_VICTIM_ROUND_ROBIN);
-    ck_assert_uint_eq(cli.render.local_queue_items, 32);
-    ck_assert_uint_eq(cli.render.batch_limit, 0);
+    ck_assert_int_eq(cli.render.schedule.technique, PERMA_TECHNIQUE_MEGAKERNEL);
+    ck_assert_int_eq(cli.render.schedule.strategy, PERMA_STRATEGY_STEALING);
+    ck_assert_int_eq(cli.render.schedule.victim, PERMA_VICTIM_ROUND_ROBIN);
+    ck_assert_uint_eq(cli.render.schedule.local_queue_items, 32);
+    ck_assert_uint_eq(cli.render.schedule.batch_limit, 0);
     reyes_cli_free(&cli);
     ck_assert_int_eq(PARSE(&cli, message, "--schedule", "bounded-batches/p=64", "--local-queue", "8"),
                      REYES_CLI_OK);
-    ck_assert_int_eq(cli.render.technique, PERMA_TECHNIQUE_BOUNDED_BATCHES);
-    ck_assert_int_eq(cli.render.strategy, PERMA_STRATEGY_SHARED);
-    ck_assert_uint_eq(cli.render.batch_limit, 64);
-    ck_assert_uint_eq(cli.render.local_queue_items, 8);
+    ck_assert_int_eq(cli.render.schedule.technique, PERMA_TECHNIQUE_BOUNDED_BATCHES);
+    ck_assert_int_eq(cli.render.schedule.strategy, PERMA_STRATEGY_SHARED);
+    ck_assert_uint_eq(cli.render.schedule.batch_limit, 64);
+    ck_assert_uint_eq(cli.render.schedule.local_queue_items, 8);
     reyes_cli_free(&cli);
 }
 END_TEST
@@ -281,6 +307,14 @@ START_TEST(test_bad_usage)
         { COUNT("--groups", "0"), ARGS("--groups", "0"), "--groups" },
         { COUNT("--max-depth", " -0"), ARGS("--max-depth", " -0"), "--max-depth" },
         { COUNT("--groups", " +5"), ARGS("--groups", " +5"), "--groups" },
+        { COUNT("--frames", "0"), ARGS("--frames", "0"), "--frames '0': expected 1..100000" },
+        { COUNT("--frames", "100001"), ARGS("--frames", "100001"), "--frames '100001'" },
+        { COUNT("--orbit", "x", "--frames", "2"), ARGS("--orbit", "x", "--frames", "2"),
+          "--orbit 'x': expected degrees" },
+        { COUNT("--orbit", "90"), ARGS("--orbit", "90"), "--orbit needs --frames" },
+        { COUNT("--devices", ""), ARGS("--devices", ""), "--devices: expected a device list" },
+        { COUNT("--rank-timeout", "0.5"), ARGS("--rank-timeout", "0.5"),
+          "--rank-timeout '0.5': expected seconds in 1..1e6" },
         { COUNT("--frobnicate"), ARGS("--frobnicate"), "unknown option '--frobnicate'" },
         { COUNT("-o"), ARGS("-o"), "needs a value" },
         { COUNT("--help=yes"), ARGS("--help=yes"), "takes no value" },
@@ -337,6 +371,12 @@ START_TEST(test_program_exit_codes)
     ck_assert_msg(strstr(output, "--max-depth") != NULL, "%s", output);
     ck_assert_msg(strstr(output, "--blur-algo NAME") != NULL && strstr(output, "--blur-tile K") != NULL
                   && strstr(output, "--blur-permutations P") != NULL, "%s", output);
+    /* A malformed device list is bad usage, a missing device a failure. */
+    ck_assert_int_eq(run_program("--devices 0:x -o /tmp/unused.png", output, sizeof output), 2);
+    ck_assert_msg(strstr(output, "entry '0:x' is not of the form") != NULL, "%s", output);
+    ck_assert_int_eq(run_program("--devices 0:0,9:0 -o /tmp/unused.png", output, sizeof output), 1);
+    ck_assert_msg(strstr(output, "--devices: device list '0:0,9:0': OpenCL platform 9 requested") != NULL,
+                  "%s", output);
     ck_assert_int_eq(run_program("--version", output, sizeof output), 0);
     ck_assert_msg(strstr(output, "reyes-render") != NULL, "%s", output);
     /* A file error is a failure (1), not a usage error, and names the file. */
@@ -357,6 +397,7 @@ static Suite *cli_suite(void)
     tcase_add_test(tc, test_subdivision_options);
     tcase_add_test(tc, test_blur_algorithms);
     tcase_add_test(tc, test_bad_usage);
+    tcase_add_test(tc, test_scale_out_options);
     tcase_add_test(tc, test_program_exit_codes);
     suite_add_tcase(s, tc);
     return s;

@@ -14,15 +14,6 @@
 #define DISTANCE 5.0f
 #define FOV 35.0f
 
-static void sphere_scene(reyes_scene *scene)
-{
-    reyes_error error;
-    reyes_scene_init(scene);
-    const float center[3] = {0, 0, 0};
-    ck_assert_int_eq(reyes_scene_add_sphere(scene, center, 1.0f, REYES_RGBA(200, 200, 200), &error),
-                     REYES_OK);
-}
-
 static const reyes_camera camera = { .eye = {0, -DISTANCE, 0}, .at = {0, 0, 0}, .fov_deg = FOV };
 
 /* Projected area (pixels) of a sphere of this radius at the camera. */
@@ -57,7 +48,7 @@ static void render(const reyes_scene *scene, const reyes_options *o, reyes_image
 START_TEST(test_zero_amplitude_is_no_displacement)
 {
     reyes_scene scene;
-    sphere_scene(&scene);
+    reyes_test_sphere_scene(&scene);
     reyes_options o;
     reyes_options_init(&o);
     o.width = o.height = SIZE;
@@ -86,7 +77,7 @@ END_TEST
 START_TEST(test_sphere_grows_by_amplitude)
 {
     reyes_scene scene;
-    sphere_scene(&scene);
+    reyes_test_sphere_scene(&scene);
     reyes_options o;
     reyes_options_init(&o);
     o.width = o.height = SIZE;
@@ -162,7 +153,7 @@ END_TEST
 START_TEST(test_map_errors_name_the_file)
 {
     reyes_scene scene;
-    sphere_scene(&scene);
+    reyes_test_sphere_scene(&scene);
     reyes_options o;
     reyes_options_init(&o);
     o.width = o.height = 32;

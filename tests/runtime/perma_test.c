@@ -9,15 +9,16 @@ static void apply_variant(perma_config *config)
 {
     const char *v;
     if ((v = getenv("PERMA_TEST_TECHNIQUE")) && *v)
-        ck_assert_msg(perma_technique_parse(v, &config->technique) == PERMA_OK, "bad PERMA_TEST_TECHNIQUE %s", v);
+        ck_assert_msg(perma_technique_parse(v, &config->schedule.technique) == PERMA_OK,
+                      "bad PERMA_TEST_TECHNIQUE %s", v);
     if ((v = getenv("PERMA_TEST_STRATEGY")) && *v)
-        ck_assert_msg(perma_strategy_parse(v, &config->strategy) == PERMA_OK, "bad PERMA_TEST_STRATEGY %s", v);
+        ck_assert_msg(perma_strategy_parse(v, &config->schedule.strategy) == PERMA_OK, "bad PERMA_TEST_STRATEGY %s", v);
     if ((v = getenv("PERMA_TEST_VICTIM")) && *v)
-        ck_assert_msg(perma_victim_parse(v, &config->victim) == PERMA_OK, "bad PERMA_TEST_VICTIM %s", v);
+        ck_assert_msg(perma_victim_parse(v, &config->schedule.victim) == PERMA_OK, "bad PERMA_TEST_VICTIM %s", v);
     if ((v = getenv("PERMA_TEST_LOCAL_QUEUE")) && *v)
-        config->local_queue_items = (unsigned)strtoul(v, NULL, 10);
+        config->schedule.local_queue_items = (unsigned)strtoul(v, NULL, 10);
     if ((v = getenv("PERMA_TEST_BATCH_LIMIT")) && *v)
-        config->batch_limit = (unsigned)strtoul(v, NULL, 10);
+        config->schedule.batch_limit = (unsigned)strtoul(v, NULL, 10);
 }
 
 perma_runtime *test_runtime_config(const perma_config *requested)

@@ -120,7 +120,9 @@ START_TEST(item_size_mismatch_is_a_build_error)
     perma_proc id;
     ck_assert_perma_ok(rt, perma_register(rt, &p, &id));
     ck_assert_int_eq(perma_build(rt), PERMA_ERR_BUILD);
-    ck_assert_contains(perma_errmsg(rt), "perma_item_size_of_noop_must_equal_sizeof_its_item_type_4");
+    /* Both sizes, the host's and the device's, in a sentence. */
+    ck_assert_contains(perma_errmsg(rt), "procedure 'noop': item_size is 4 bytes, but sizeof(uint2) is 8 bytes "
+                                         "on the device");
     perma_destroy(rt);
 }
 END_TEST
@@ -205,17 +207,51 @@ START_TEST(missing_device_from_environment)
     ck_assert_int_eq(perma_create(NULL, &rt, &error), PERMA_ERR_NO_DEVICE);
     ck_assert_contains(error.message, "OpenCL device 0:9 requested");
 
-    setenv("PERMA_DEVICE", "gpu", 1);
-    ck_assert_int_eq(perma_create(NULL, &rt, &error), PERMA_ERR_ARGUMENT);
-    ck_assert_contains(error.message, "PERMA_DEVICE='gpu' is not of the form platform:device");
+    const char *malformed[] = { "0", "0:", ":0", "0:x", "pocl:", "pocl:-1", "po/cl", "0:0:0" };
+    for (size_t i = 0; i < sizeof malformed / sizeof malformed[0]; ++i) {
+        setenv("PERMA_DEVICE", malformed[i], 1);
+        ck_assert_int_eq(perma_create(NULL, &rt, &error), PERMA_ERR_ARGUMENT);
+        ck_assert_contains(error.message, "is not of the form platform:device");
+        ck_assert_contains(error.message, malformed[i]);
+    }
+
+    /* A name matches a platform's name or vendor in any case, PoCL's
+     * vendor being "The pocl project"; one that matches nothing lists the
+     * platforms there are. */
+    setenv("PERMA_DEVICE", "no-such-platform", 1);
+    ck_assert_int_eq(perma_create(NULL, &rt, &error), PERMA_ERR_NO_DEVICE);
+    ck_assert_contains(error.message, "no OpenCL platform's name or vendor contains 'no-such-platform'");
+    ck_assert_contains(error.message, "Portable Computing Language");
+    setenv("PERMA_DEVICE", "POCL:9", 1);
+    ck_assert_int_eq(perma_create(NULL, &rt, &error), PERMA_ERR_NO_DEVICE);
+    ck_assert_contains(error.message, "platform 'POCL'), but platform");
+    const char *pocl[] = { "pocl", "PoCL:0", "Portable Computing" };
+    for (size_t i = 0; i < sizeof pocl / sizeof pocl[0]; ++i) {
+        setenv("PERMA_DEVICE", pocl[i], 1);
+        ck_assert_int_eq(perma_create(NULL, &rt, &error), PERMA_OK);
+        char name[256] = "";
+        cl_platform_id platform = NULL;
+        clGetDeviceInfo(perma_cl_device(rt), CL_DEVICE_PLATFORM, sizeof platform, &platform, NULL);
+        clGetPlatformInfo(platform, CL_PLATFORM_VENDOR, sizeof name - 1, name, NULL);
+        ck_assert_contains(name, "pocl");
+        perma_destroy(rt);
+    }
 
     /* An explicit config field wins over the environment. */
+    setenv("PERMA_DEVICE", "9:9", 1);
     perma_config config;
     perma_config_init(&config);
     config.platform_index = 0;
     config.device_index = 0;
     ck_assert_int_eq(perma_create(&config, &rt, &error), PERMA_OK);
     perma_destroy(rt);
+    perma_config_init(&config);
+    config.platform_name = "pocl";
+    ck_assert_int_eq(perma_create(&config, &rt, &error), PERMA_OK);
+    perma_destroy(rt);
+    config.platform_name = "no-such-platform";
+    ck_assert_int_eq(perma_create(&config, &rt, &error), PERMA_ERR_NO_DEVICE);
+    ck_assert_contains(error.message, "'no-such-platform'");
     unsetenv("PERMA_DEVICE");
 }
 END_TEST

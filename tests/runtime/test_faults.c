@@ -37,7 +37,7 @@ static outcome run_tree(const scenario *sc)
     outcome out = { PERMA_OK, "", false, NULL };
     perma_config config;
     perma_config_init(&config);
-    config.technique = sc->technique;
+    config.schedule.technique = sc->technique;
     config.queue_capacity = sc->capacity;
     config.time_limit = 60;
     perma_runtime *rt = NULL;

@@ -8,32 +8,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* The binary tree procedure, declaring `declared` emits per item (it makes 2). */
-static perma_proc add_tree_declaring(perma_runtime *rt, uint32_t *counts, uint64_t *sums, unsigned declared)
-{
-    ck_assert_perma_ok(rt, perma_add_source(rt, TREE_TYPES, "tree_types.cl"));
-    perma_procedure tree = {
-        .name = "tree", .item_type = "struct tree_node", .item_size = sizeof(struct tree_node),
-        .source = TREE_SOURCE, .function = "tree_split", .emits = { { "tree", declared } },
-    };
-    perma_proc id;
-    ck_assert_perma_ok(rt, perma_register(rt, &tree, &id));
-    ck_assert_perma_ok(rt, perma_bind_host(rt, "counts", "__global uint *", counts, 8, PERMA_READ_WRITE));
-    ck_assert_perma_ok(rt, perma_bind_host(rt, "sums", "__global ulong *", sums, 8, PERMA_READ_WRITE));
-    return id;
-}
-
-static perma_proc add_tree(perma_runtime *rt, uint32_t *counts, uint64_t *sums)
-{
-    return add_tree_declaring(rt, counts, sums, 2);
-}
-
 START_TEST(tiny_queue_regrows_to_exact_result)
 {
     perma_runtime *rt = test_runtime(64, 2, 2);
     uint32_t counts[2] = { 0, 0 };
     uint64_t sums[1] = { 0 };
-    perma_proc id = add_tree(rt, counts, sums);
+    perma_proc id = tree_add(rt, 1, counts, sums);
     enum { DEPTH = 14 };
     struct tree_node root = { 0, DEPTH, 1, 0 };
     ck_assert_perma_ok(rt, perma_seed(rt, id, &root, 1));
@@ -85,7 +65,7 @@ START_TEST(memory_cap_is_a_clear_error)
     ck_assert_msg(perma_create(&config, &rt, &error) == PERMA_OK, "%s", error.message);
     uint32_t counts[2] = { 0, 0 };
     uint64_t sums[1] = { 0 };
-    perma_proc id = add_tree(rt, counts, sums);
+    perma_proc id = tree_add(rt, 1, counts, sums);
     struct tree_node root = { 0, 16, 1, 0 }; /* a level of 65536 nodes: far beyond 64 KiB */
     ck_assert_perma_ok(rt, perma_seed(rt, id, &root, 1));
     ck_assert_int_eq(perma_run(rt), PERMA_ERR_CAPACITY);
@@ -94,10 +74,10 @@ START_TEST(memory_cap_is_a_clear_error)
 
     /* The same cap is enough for bounded batches: a stack of batches. */
     perma_destroy(rt);
-    config.technique = PERMA_TECHNIQUE_BOUNDED_BATCHES;
-    config.batch_limit = 64;
+    config.schedule.technique = PERMA_TECHNIQUE_BOUNDED_BATCHES;
+    config.schedule.batch_limit = 64;
     ck_assert_msg(perma_create(&config, &rt, &error) == PERMA_OK, "%s", error.message);
-    id = add_tree(rt, counts, sums);
+    id = tree_add(rt, 1, counts, sums);
     ck_assert_perma_ok(rt, perma_seed(rt, id, &root, 1));
     ck_assert_perma_ok(rt, perma_run(rt));
     ck_assert_uint_eq(counts[0], 1u << 16);
@@ -153,7 +133,7 @@ START_TEST(starved_batches_grow_the_queue)
         perma_runtime *rt = test_runtime_config(&config);
         uint32_t counts[2] = { 0, 0 };
         uint64_t sums[1] = { 0 };
-        perma_proc id = add_tree_declaring(rt, counts, sums, DECLARED);
+        perma_proc id = tree_add_declaring(rt, 1, DECLARED, counts, sums);
         /* Run 0: a single leaf, to learn the initial queue memory. */
         struct tree_node seeds[GROUPS * LEAVES_PER_SET];
         for (unsigned i = 0; i < leaves; ++i)
@@ -196,15 +176,15 @@ START_TEST(bounded_batches_bound_memory)
     for (int k = 0; k < 2; ++k) {
         perma_config config;
         perma_config_init(&config);
-        config.technique = techniques[k];
-        config.batch_limit = LIMIT;
+        config.schedule.technique = techniques[k];
+        config.schedule.batch_limit = LIMIT;
         config.queue_capacity = 16;
         perma_runtime *rt;
         perma_error error;
         ck_assert_msg(perma_create(&config, &rt, &error) == PERMA_OK, "%s", error.message);
         uint32_t counts[2] = { 0, 0 };
         uint64_t sums[1] = { 0 };
-        perma_proc id = add_tree(rt, counts, sums);
+        perma_proc id = tree_add(rt, 1, counts, sums);
         struct tree_node root = { 0, DEPTH, 1, 0 };
         ck_assert_perma_ok(rt, perma_seed(rt, id, &root, 1));
         ck_assert_perma_ok(rt, perma_run(rt));

@@ -1,8 +1,8 @@
 /*
- * Schedule labels (perma_schedule_parse/format/apply): every label the
- * benchmarks, examples and tests use parses and formats back, parse then
- * apply sets exactly the scheduling fields of a perma_config, and bad labels
- * are PERMA_ERR_ARGUMENT with a message naming the bad part.  No device is
+ * Schedule labels (perma_schedule_parse/format): every label the
+ * benchmarks, examples and tests use parses and formats back, a default
+ * perma_config's schedule is megakernel/shared, and bad labels are
+ * PERMA_ERR_ARGUMENT with a message naming the bad part.  No device is
  * needed.
  */
 #include "perma_test.h"
@@ -111,40 +111,15 @@ START_TEST(parse_sets_every_field)
 }
 END_TEST
 
-START_TEST(apply_sets_exactly_the_schedule_fields)
+START_TEST(config_default_schedule_is_megakernel_shared)
 {
     perma_config config;
     perma_config_init(&config);
-    config.group_size = 32;
-    config.work_groups = 3;
-    config.donation_threshold = 7;
-    perma_schedule s = parse_ok("megakernel/stealing/round-robin+local32");
-    perma_schedule_apply(&s, &config);
-    ck_assert_int_eq(config.technique, PERMA_TECHNIQUE_MEGAKERNEL);
-    ck_assert_int_eq(config.strategy, PERMA_STRATEGY_STEALING);
-    ck_assert_int_eq(config.victim, PERMA_VICTIM_ROUND_ROBIN);
-    ck_assert_uint_eq(config.local_queue_items, 32);
-    ck_assert_uint_eq(config.batch_limit, 0);
-
-    /* A second schedule replaces every scheduling field, back to the
-     * defaults where the label leaves them out. */
-    config.batch_limit = 9;
-    s = parse_ok("bounded-batches/p=64");
-    perma_schedule_apply(&s, &config);
-    ck_assert_int_eq(config.technique, PERMA_TECHNIQUE_BOUNDED_BATCHES);
-    ck_assert_int_eq(config.strategy, PERMA_STRATEGY_SHARED);
-    ck_assert_int_eq(config.victim, PERMA_VICTIM_RANDOM);
-    ck_assert_uint_eq(config.local_queue_items, 0);
-    ck_assert_uint_eq(config.batch_limit, 64);
-
-    /* The rest of the config is untouched. */
-    perma_config expected;
-    perma_config_init(&expected);
-    expected.group_size = 32;
-    expected.work_groups = 3;
-    expected.donation_threshold = 7;
-    perma_schedule_apply(&s, &expected);
-    ck_assert(memcmp(&config, &expected, sizeof config) == 0);
+    perma_schedule s = parse_ok("megakernel/shared");
+    ck_assert(memcmp(&config.schedule, &s, sizeof s) == 0);
+    char label[64];
+    ck_assert_int_eq(perma_schedule_format(&config.schedule, label, sizeof label), (int)strlen("megakernel/shared"));
+    ck_assert_str_eq(label, "megakernel/shared");
 }
 END_TEST
 
@@ -294,7 +269,7 @@ int main(void)
     tcase_add_test(tc, canonical_labels_round_trip);
     tcase_add_test(tc, short_forms_format_canonically);
     tcase_add_test(tc, parse_sets_every_field);
-    tcase_add_test(tc, apply_sets_exactly_the_schedule_fields);
+    tcase_add_test(tc, config_default_schedule_is_megakernel_shared);
     tcase_add_test(tc, bad_labels_name_the_bad_part);
     tcase_add_test(tc, null_label_is_an_argument_error);
     tcase_add_test(tc, long_label_message_is_truncated_not_overrun);

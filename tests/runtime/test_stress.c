@@ -207,9 +207,9 @@ static void open_shape(stress_runtime *s, unsigned shape_index, unsigned variant
     perma_config config;
     perma_config_init(&config);
     perma_schedule schedule = variant_schedule(variant);
-    perma_schedule_apply(&schedule, &config);
+    config.schedule = schedule;
     config.queue_capacity = sh->capacity;
-    config.batch_limit = 50;
+    config.schedule.batch_limit = 50;
     config.time_limit = 60;
     s->rt = test_runtime_config(&config);
     static char types[4096], procs[16384];

@@ -7,6 +7,8 @@
 
 #include <stdint.h>
 
+#include "perma.h"
+
 struct tree_node {
     uint32_t depth, target, id, pad;
 };
@@ -34,5 +36,14 @@ struct tree_node {
     "        atom_add(&ctx->buf.sums[0], (ulong)node->id);\n"                        \
     "    }\n"                                                                        \
     "}\n"
+
+/* Add the tree to rt as procedure "tree" with `threads_per_item` threads
+ * per item (0: 1) and bind counts (leaves, inner nodes) and sums (the
+ * leaves' ids) as the buffers of those names; fails the test on any
+ * error.  Returns the procedure. */
+perma_proc tree_add(perma_runtime *rt, unsigned threads_per_item, uint32_t counts[2], uint64_t sums[1]);
+/* The same, declaring `declared` emits per item (it makes at most 2). */
+perma_proc tree_add_declaring(perma_runtime *rt, unsigned threads_per_item, unsigned declared, uint32_t counts[2],
+                              uint64_t sums[1]);
 
 #endif

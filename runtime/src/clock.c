@@ -1,0 +1,17 @@
+/* The host clock every deadline and trace timestamp uses. */
+#include "internal.h"
+
+#include <time.h>
+
+double perma_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+/* The watchdog's limit in seconds: config.time_limit, 0 meaning 600. */
+double perma_time_limit(const perma_runtime *rt)
+{
+    return rt->config.time_limit > 0 ? rt->config.time_limit : 600.0;
+}

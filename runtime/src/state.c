@@ -1,0 +1,423 @@
+/* The device state: every buffer the kernels use (control block, queue
+ * items and completion marks, statistics, trace, step input, watchdog flag),
+ * with its size.  A buffer is created when first needed and replaced only
+ * when it must grow; the queues grow on the device, so after the seeds'
+ * upload no queued item passes through the host. */
+#include "internal.h"
+
+#include <stddef.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Host memory the kernels poll through a CL_MEM_USE_HOST_PTR buffer: one
+ * aligned page, so an implementation can map it without copying. */
+#define ABORT_FLAG_BYTES 4096
+
+static size_t item_words(const perma_runtime *rt, unsigned qi)
+{
+    return rt->procs[qi % rt->proc_count].item_size / 4;
+}
+
+static void release(perma_device_buffer *b)
+{
+    if (b->mem)
+        clReleaseMemObject(b->mem);
+    b->mem = NULL;
+    b->bytes = 0;
+}
+
+/* A new buffer of `bytes` (at least 4) in *b, which must be empty. */
+static perma_status create(perma_runtime *rt, perma_device_buffer *b, size_t bytes, const char *what)
+{
+    if (bytes < 4)
+        bytes = 4;
+    cl_int err;
+    b->mem = clCreateBuffer(rt->context, CL_MEM_READ_WRITE, bytes, NULL, &err);
+    if (err != CL_SUCCESS) {
+        b->mem = NULL;
+        return perma_set_error(rt, PERMA_ERR_OPENCL, "clCreateBuffer (%s, %zu bytes) failed: %s (%d)", what, bytes,
+                               perma_cl_error_name(err), (int)err);
+    }
+    b->bytes = bytes;
+    return PERMA_OK;
+}
+
+/* *b holds at least `bytes`; a buffer that must grow loses its contents. */
+static perma_status ensure(perma_runtime *rt, perma_device_buffer *b, size_t bytes, const char *what)
+{
+    if (b->mem && b->bytes >= bytes)
+        return PERMA_OK;
+    release(b);
+    return create(rt, b, bytes, what);
+}
+
+static perma_status write_buffer(perma_runtime *rt, perma_device_buffer *b, const void *host, size_t bytes,
+                                 const char *what)
+{
+    cl_int err = clEnqueueWriteBuffer(rt->queue, b->mem, CL_TRUE, 0, bytes, host, 0, NULL, NULL);
+    if (err != CL_SUCCESS)
+        return perma_set_error(rt, PERMA_ERR_OPENCL, "clEnqueueWriteBuffer (%s) failed: %s (%d)", what,
+                               perma_cl_error_name(err), (int)err);
+    return PERMA_OK;
+}
+
+static perma_status read_buffer(perma_runtime *rt, perma_device_buffer *b, void *host, size_t bytes, const char *what)
+{
+    cl_int err = clEnqueueReadBuffer(rt->queue, b->mem, CL_TRUE, 0, bytes, host, 0, NULL, NULL);
+    if (err != CL_SUCCESS)
+        return perma_set_error(rt, PERMA_ERR_OPENCL, "clEnqueueReadBuffer (%s) failed: %s (%d)", what,
+                               perma_cl_error_name(err), (int)err);
+    return PERMA_OK;
+}
+
+static perma_status zero(perma_runtime *rt, perma_device_buffer *b, size_t bytes, const char *what)
+{
+    cl_uint pattern = 0;
+    cl_int err = clEnqueueFillBuffer(rt->queue, b->mem, &pattern, sizeof pattern, 0, bytes, 0, NULL, NULL);
+    if (err != CL_SUCCESS)
+        return perma_set_error(rt, PERMA_ERR_OPENCL, "clEnqueueFillBuffer (%s) failed: %s (%d)", what,
+                               perma_cl_error_name(err), (int)err);
+    return PERMA_OK;
+}
+
+static size_t ctl_bytes(const perma_runtime *rt)
+{
+    return 4 * (size_t)PERMA_CTL_WORDS_FOR(perma_queues_count(rt), rt->work_groups);
+}
+
+static size_t stats_bytes(const perma_runtime *rt)
+{
+    return 4 * perma_stats_words(rt->work_groups, rt->proc_count, rt->max_edges);
+}
+
+static size_t trace_bytes(const perma_runtime *rt)
+{
+    return 4 * (size_t)rt->work_groups * PERMA_TRACE_GROUP_WORDS_FOR((size_t)rt->device_trace_events);
+}
+
+perma_status perma_state_open(perma_runtime *rt)
+{
+    rt->state.abort_flag = aligned_alloc(ABORT_FLAG_BYTES, ABORT_FLAG_BYTES);
+    if (!rt->state.abort_flag)
+        return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory for the watchdog flag");
+    memset(rt->state.abort_flag, 0, ABORT_FLAG_BYTES);
+    return PERMA_OK;
+}
+
+void perma_state_close(perma_runtime *rt)
+{
+    perma_device_state *s = &rt->state;
+    perma_device_buffer *buffers[] = { &s->ctl, &s->data, &s->seq, &s->stats, &s->trace, &s->input, &s->relayout };
+    for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; ++i)
+        release(buffers[i]);
+    if (s->abort_mem)
+        clReleaseMemObject(s->abort_mem);
+    s->abort_mem = NULL;
+    free(s->abort_flag);
+    s->abort_flag = NULL;
+    free(s->queues);
+    s->queues = NULL;
+    s->queue_count = 0;
+}
+
+/* The buffers every launch needs, at the sizes of this build. */
+static perma_status ensure_launch_buffers(perma_runtime *rt)
+{
+    perma_device_state *s = &rt->state;
+    perma_status st = ensure(rt, &s->ctl, ctl_bytes(rt), "control block");
+    if (st == PERMA_OK)
+        st = ensure(rt, &s->stats, stats_bytes(rt), "statistics");
+    if (st == PERMA_OK)
+        st = ensure(rt, &s->trace, trace_bytes(rt), "trace");
+    if (st == PERMA_OK && !s->abort_mem) {
+        cl_int err;
+        s->abort_mem = clCreateBuffer(rt->context, CL_MEM_READ_WRITE | CL_MEM_USE_HOST_PTR, ABORT_FLAG_BYTES,
+                                      s->abort_flag, &err);
+        PERMA_CL_CHECK(rt, "clCreateBuffer (watchdog flag)", err);
+    }
+    return st;
+}
+
+perma_status perma_state_empty(perma_runtime *rt)
+{
+    perma_device_state *s = &rt->state;
+    __atomic_store_n(s->abort_flag, 0u, __ATOMIC_SEQ_CST);
+    perma_status st = ensure_launch_buffers(rt);
+    if (st == PERMA_OK)
+        st = ensure(rt, &s->data, 4, "queue items");
+    if (st == PERMA_OK)
+        st = ensure(rt, &s->seq, 4, "queue completion marks");
+    if (st == PERMA_OK)
+        st = ensure(rt, &s->input, 4, "step input");
+    if (st == PERMA_OK)
+        st = zero(rt, &s->ctl, ctl_bytes(rt), "warm-up control block");
+    return st;
+}
+
+/* Record the queues' capacities (and reset their regrowths when `fresh`). */
+static perma_status set_queues(perma_runtime *rt, const size_t *capacities, bool fresh)
+{
+    perma_device_state *s = &rt->state;
+    unsigned count = perma_queues_count(rt);
+    if (s->queue_count != count) {
+        perma_queue_state *queues = calloc(count, sizeof *queues);
+        if (!queues)
+            return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory for %u queues", count);
+        free(s->queues);
+        s->queues = queues;
+        s->queue_count = count;
+    }
+    for (unsigned qi = 0; qi < count; ++qi) {
+        if (fresh)
+            s->queues[qi].regrowths = 0;
+        else if (capacities[qi] != s->queues[qi].capacity)
+            s->queues[qi].regrowths++;
+        s->queues[qi].capacity = capacities[qi];
+    }
+    size_t bytes = perma_queues_bytes(rt, capacities);
+    if (bytes > rt->stats.peak_queue_bytes)
+        rt->stats.peak_queue_bytes = bytes;
+    return PERMA_OK;
+}
+
+perma_status perma_state_upload(perma_runtime *rt, const size_t *capacities)
+{
+    perma_device_state *s = &rt->state;
+    unsigned count = perma_queues_count(rt);
+    size_t data_words = 0, seq_words = 0, outstanding = 0;
+    for (unsigned qi = 0; qi < count; ++qi) {
+        data_words += capacities[qi] * item_words(rt, qi);
+        seq_words += 2 * capacities[qi];
+    }
+    perma_ctl_block *ctl = calloc(ctl_bytes(rt), 1);
+    uint32_t *data = calloc(data_words ? data_words : 1, 4);
+    uint32_t *seq = calloc(seq_words ? seq_words : 1, 4);
+    perma_status st = PERMA_OK;
+    if (!ctl || !data || !seq) {
+        st = perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory laying out %zu bytes of queues",
+                             perma_queues_bytes(rt, capacities));
+        goto done;
+    }
+    size_t data_off = 0, seq_off = 0;
+    for (unsigned qi = 0; qi < count; ++qi) {
+        const perma_proc_info *p = &rt->procs[qi % rt->proc_count];
+        size_t first, items, cap = capacities[qi];
+        perma_queues_seed_share(rt, qi, &first, &items);
+        ctl->queues[qi] = (perma_queue_record){ .head = 0, .tail = (uint32_t)items, .room = (uint32_t)(cap - items),
+                                                .cap = (uint32_t)cap, .data = (uint32_t)data_off,
+                                                .seq = (uint32_t)seq_off, .peak = (uint32_t)items,
+                                                .published = (uint32_t)items, .released = 0 };
+        if (items) /* a procedure without seeds has no seed array */
+            memcpy(data + data_off, p->seeds + first * p->item_size, items * p->item_size);
+        /* Completion marks: each slot's own index, which reads as "not
+         * done" for every position (kernels/perma_queue.cl). */
+        for (size_t i = 0; i < cap; ++i)
+            seq[seq_off + i] = seq[seq_off + cap + i] = (uint32_t)i;
+        data_off += cap * item_words(rt, qi);
+        seq_off += 2 * cap;
+        outstanding += items;
+    }
+    ctl->header.outstanding = (uint32_t)outstanding;
+    ctl->header.grow_starved = rt->grow_starved;
+    if ((st = ensure_launch_buffers(rt)) != PERMA_OK ||
+        (st = ensure(rt, &s->data, data_words * 4, "queue items")) != PERMA_OK ||
+        (st = ensure(rt, &s->seq, seq_words * 4, "queue completion marks")) != PERMA_OK ||
+        (st = write_buffer(rt, &s->ctl, ctl, ctl_bytes(rt), "control block")) != PERMA_OK ||
+        (st = write_buffer(rt, &s->data, data, data_words * 4, "queue items")) != PERMA_OK ||
+        (st = write_buffer(rt, &s->seq, seq, seq_words * 4, "queue completion marks")) != PERMA_OK)
+        goto done;
+    st = set_queues(rt, capacities, true);
+done:
+    free(ctl);
+    free(data);
+    free(seq);
+    return st;
+}
+
+perma_status perma_state_begin_launch(perma_runtime *rt)
+{
+    __atomic_store_n(rt->state.abort_flag, 0u, __ATOMIC_SEQ_CST);
+    return zero(rt, &rt->state.stats, stats_bytes(rt), "statistics");
+}
+
+void perma_state_raise_abort(perma_runtime *rt)
+{
+    __atomic_store_n(rt->state.abort_flag, 1u, __ATOMIC_SEQ_CST);
+}
+
+perma_status perma_state_read_control(perma_runtime *rt, perma_ctl_block *out, unsigned queues)
+{
+    return read_buffer(rt, &rt->state.ctl, out, perma_ctl_block_bytes(queues), "control block");
+}
+
+perma_status perma_state_read_header(perma_runtime *rt, perma_ctl_header *out)
+{
+    return read_buffer(rt, &rt->state.ctl, out, sizeof *out, "control block");
+}
+
+perma_status perma_state_write_queue_counters(perma_runtime *rt, unsigned q, const perma_queue_record *record)
+{
+    PERMA_CL_CHECK(rt, "clEnqueueWriteBuffer (queue record)",
+                   clEnqueueWriteBuffer(rt->queue, rt->state.ctl.mem, CL_FALSE, perma_ctl_block_bytes(q),
+                                        sizeof *record, record, 0, NULL, NULL));
+    return PERMA_OK;
+}
+
+/* A launch that stopped with no batch running left every outstanding item
+ * in a queue, each queue at the capacity it was given. */
+static perma_status check_stopped(perma_runtime *rt, const perma_ctl_block *ctl)
+{
+    const perma_device_state *s = &rt->state;
+    size_t queued = 0;
+    for (unsigned qi = 0; qi < s->queue_count; ++qi)
+        queued += (uint32_t)(ctl->queues[qi].tail - ctl->queues[qi].head);
+    /* An item left in a group's local memory would be lost by the next launch. */
+    if (queued != (size_t)(int32_t)ctl->header.outstanding)
+        return perma_set_error(rt, PERMA_ERR_DEVICE, "items were lost: the kernel stopped with %d items outstanding "
+                               "but its queues hold %zu", (int)(int32_t)ctl->header.outstanding, queued);
+    for (unsigned qi = 0; qi < s->queue_count; ++qi) {
+        const perma_queue_record *rec = &ctl->queues[qi];
+        const char *name = rt->procs[qi % rt->proc_count].name;
+        if (rec->cap != s->queues[qi].capacity || (uint32_t)(rec->tail - rec->head) > rec->cap)
+            return perma_set_error(rt, PERMA_ERR_DEVICE, "queue '%s' is inconsistent after the launch "
+                                   "(head %u, tail %u, capacity %u)", name, rec->head, rec->tail, rec->cap);
+        /* No batch runs: every reserved range is published, every claimed
+         * one released, or an item would be moved unwritten or a slot lost. */
+        if (rec->published != rec->tail)
+            return perma_set_error(rt, PERMA_ERR_DEVICE, "queue '%s' (queue set %u): positions %u to %u were "
+                                   "never published", name, qi / rt->proc_count, rec->published, rec->tail - 1);
+        if (rec->released != rec->head)
+            return perma_set_error(rt, PERMA_ERR_DEVICE, "queue '%s' (queue set %u): positions %u to %u were "
+                                   "never released", name, qi / rt->proc_count, rec->released, rec->head - 1);
+    }
+    return PERMA_OK;
+}
+
+/* The new layout: each queue's items from position 0 in fresh buffers
+ * (next, the control block to write) and where they come from (map). */
+static void plan_relayout(const perma_runtime *rt, const perma_ctl_block *ctl, const size_t *capacities,
+                          perma_ctl_block *next, perma_relayout_record *map, size_t *data_words, size_t *slots)
+{
+    *data_words = *slots = 0;
+    next->header.outstanding = ctl->header.outstanding;
+    next->header.grow_starved = rt->grow_starved;
+    for (unsigned qi = 0; qi < rt->state.queue_count; ++qi) {
+        const perma_queue_record *old = &ctl->queues[qi];
+        uint32_t count = old->tail - old->head, cap = (uint32_t)capacities[qi];
+        map[qi] = (perma_relayout_record){ .head = old->head, .count = count, .old_cap = old->cap,
+                                           .old_data = old->data, .new_cap = cap,
+                                           .new_data = (uint32_t)*data_words, .new_seq = (uint32_t)(2 * *slots),
+                                           .words = (uint32_t)item_words(rt, qi) };
+        next->queues[qi] = (perma_queue_record){ .head = 0, .tail = count, .room = cap - count, .cap = cap,
+                                                 .data = (uint32_t)*data_words, .seq = (uint32_t)(2 * *slots),
+                                                 .peak = count, .published = count, .released = 0 };
+        *data_words += capacities[qi] * item_words(rt, qi);
+        *slots += capacities[qi];
+    }
+}
+
+static perma_status run_relayout(perma_runtime *rt, unsigned queues, size_t slots, perma_device_buffer *data,
+                                 perma_device_buffer *seq)
+{
+    perma_device_state *s = &rt->state;
+    cl_uint queue_count = queues, slot_count = (cl_uint)slots;
+    const struct {
+        cl_uint index;
+        size_t size;
+        const void *value;
+    } args[] = {
+        { PERMA_RELAYOUT_ARG_MAP, sizeof(cl_mem), &s->relayout.mem },
+        { PERMA_RELAYOUT_ARG_QUEUES, sizeof queue_count, &queue_count },
+        { PERMA_RELAYOUT_ARG_SLOTS, sizeof slot_count, &slot_count },
+        { PERMA_RELAYOUT_ARG_OLD_DATA, sizeof(cl_mem), &s->data.mem },
+        { PERMA_RELAYOUT_ARG_NEW_DATA, sizeof(cl_mem), &data->mem },
+        { PERMA_RELAYOUT_ARG_NEW_SEQ, sizeof(cl_mem), &seq->mem },
+    };
+    _Static_assert(sizeof args / sizeof args[0] == PERMA_RELAYOUT_ARG_TOTAL, "every argument of perma_relayout_kernel");
+    for (size_t i = 0; i < sizeof args / sizeof args[0]; ++i)
+        PERMA_CL_CHECK(rt, "clSetKernelArg (relayout)",
+                       clSetKernelArg(rt->relayout_kernel, args[i].index, args[i].size, args[i].value));
+    size_t local = 64, global = (slots + local - 1) / local * local;
+    PERMA_CL_CHECK(rt, "clEnqueueNDRangeKernel (relayout)",
+                   clEnqueueNDRangeKernel(rt->queue, rt->relayout_kernel, 1, NULL, &global, &local, 0, NULL, NULL));
+    return PERMA_OK;
+}
+
+perma_status perma_state_grow(perma_runtime *rt, const perma_ctl_block *ctl, const size_t *capacities)
+{
+    perma_device_state *s = &rt->state;
+    unsigned queues = s->queue_count;
+    perma_status st = check_stopped(rt, ctl);
+    if (st != PERMA_OK)
+        return st;
+    perma_ctl_block *next = calloc(ctl_bytes(rt), 1);
+    perma_relayout_record *map = calloc(queues, sizeof *map);
+    perma_device_buffer data = { NULL, 0 }, seq = { NULL, 0 };
+    if (!next || !map) {
+        st = perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory growing queues");
+        goto done;
+    }
+    size_t data_words, slots;
+    plan_relayout(rt, ctl, capacities, next, map, &data_words, &slots);
+    if ((st = create(rt, &data, data_words * 4, "queue items")) != PERMA_OK ||
+        (st = create(rt, &seq, 2 * slots * 4, "queue completion marks")) != PERMA_OK ||
+        (st = ensure(rt, &s->relayout, queues * sizeof *map, "queue relayout")) != PERMA_OK ||
+        (st = write_buffer(rt, &s->relayout, map, queues * sizeof *map, "queue relayout")) != PERMA_OK ||
+        (st = write_buffer(rt, &s->ctl, next, ctl_bytes(rt), "control block")) != PERMA_OK ||
+        (st = run_relayout(rt, queues, slots, &data, &seq)) != PERMA_OK)
+        goto done;
+    /* The old items are no longer needed: the new buffers take their place. */
+    release(&s->data);
+    release(&s->seq);
+    s->data = data;
+    s->seq = seq;
+    data.mem = seq.mem = NULL;
+    st = set_queues(rt, capacities, false);
+done:
+    release(&data);
+    release(&seq);
+    free(next);
+    free(map);
+    return st;
+}
+
+perma_status perma_state_read_stats(perma_runtime *rt, uint32_t *words, size_t count)
+{
+    return read_buffer(rt, &rt->state.stats, words, count * 4, "statistics");
+}
+
+perma_status perma_state_read_trace(perma_runtime *rt, uint32_t *words, size_t count)
+{
+    return read_buffer(rt, &rt->state.trace, words, count * 4, "trace");
+}
+
+perma_status perma_state_ensure_input(perma_runtime *rt, size_t words)
+{
+    return ensure(rt, &rt->state.input, words * 4, "step input");
+}
+
+perma_status perma_state_bind(perma_runtime *rt, cl_kernel kernel, cl_uint first_user_arg)
+{
+    perma_device_state *s = &rt->state;
+    perma_status st = ensure_launch_buffers(rt);
+    if (st != PERMA_OK)
+        return st;
+    cl_mem common[PERMA_MEGAKERNEL_USER_ARGS];
+    common[PERMA_ARG_CTL] = s->ctl.mem;
+    common[PERMA_ARG_QUEUE_DATA] = s->data.mem;
+    common[PERMA_ARG_QUEUE_SEQ] = s->seq.mem;
+    common[PERMA_ARG_GROUP_STATS] = s->stats.mem;
+    common[PERMA_ARG_ABORT_FLAG] = s->abort_mem;
+    common[PERMA_ARG_TRACE] = s->trace.mem;
+    for (cl_uint i = 0; i < PERMA_MEGAKERNEL_USER_ARGS; ++i)
+        PERMA_CL_CHECK(rt, "clSetKernelArg", clSetKernelArg(kernel, i, sizeof(cl_mem), &common[i]));
+    for (unsigned b = 0; b < rt->buffer_count; ++b) {
+        if (!rt->buffers[b].mem)
+            return perma_set_error(rt, PERMA_ERR_STATE, "buffer '%s' has no memory bound", rt->buffers[b].name);
+        cl_int err = clSetKernelArg(kernel, first_user_arg + b, sizeof(cl_mem), &rt->buffers[b].mem);
+        if (err != CL_SUCCESS)
+            return perma_set_error(rt, PERMA_ERR_OPENCL, "clSetKernelArg (buffer '%s') failed: %s (%d)",
+                                   rt->buffers[b].name, perma_cl_error_name(err), (int)err);
+    }
+    return PERMA_OK;
+}
