@@ -184,6 +184,24 @@ typedef struct perma_relayout_record {
 
 #define PERMA_RELAYOUT_RECORD_WORDS 8
 
+/* ---- Watch page --------------------------------------------------------
+ * Host memory the kernels see through a CL_MEM_USE_HOST_PTR buffer (their
+ * abort_flag argument), so that the host can watch a running kernel
+ * (runtime/src/watchdog.c).  Word ABORT is the host's request to stop,
+ * which every group polls.  Each work-group has a record of its own, a
+ * cache line apart, in which its work-item 0 writes the procedure of the
+ * batch it is running and counts the batches it finished: the host tells
+ * a stuck run from a slow one by whether the counts move, and names the
+ * procedures in flight.  (Only where the device shares memory with the
+ * host does the host see these writes while the kernel runs.) */
+
+#define PERMA_WATCH_ABORT 0         /* nonzero: every group stops */
+#define PERMA_WATCH_RECORDS 16      /* word of group 0's record */
+#define PERMA_WATCH_RECORD_WORDS 16
+#define PERMA_WATCH_RUNNING 0       /* procedure + 1 of the batch running; 0 between batches */
+#define PERMA_WATCH_DONE 1          /* batches of items this group finished (wraps) */
+#define PERMA_WATCH_WORDS_FOR(groups) (PERMA_WATCH_RECORDS + (groups) * PERMA_WATCH_RECORD_WORDS)
+
 /* ---- Kernel arguments --------------------------------------------------
  * Each list gives (host index name, OpenCL C type, parameter name) in
  * argument order.  The host numbers the arguments from the lists

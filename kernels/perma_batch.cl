@@ -356,9 +356,15 @@ PERMA_PHASE void perma_dispatch(uint lid, __local perma_group_mem *mem, perma_bu
  * Emits go to queue set `own`, first onto the local stack when
  * PERMA_LOCAL_QUEUE is on.  mem->batch may be rewritten only after the
  * last barrier in here. */
-inline void perma_run_batch(__global uint *ctl, __global uint *queue_data, __global uint *queue_seq, __local perma_group_mem *mem,
-                            perma_buffers buf, __global const uint *input, uint own)
+inline void perma_run_batch(__global uint *ctl, __global uint *queue_data, __global uint *queue_seq,
+                            volatile __global uint *abort_flag, __local perma_group_mem *mem, perma_buffers buf,
+                            __global const uint *input, uint own)
 {
+    /* The group's record in the watch page: the host's watchdog names the
+     * procedure running if it never returns, and sees progress in DONE. */
+    volatile __global uint *watch = abort_flag + PERMA_WATCH_RECORDS + get_group_id(0) * PERMA_WATCH_RECORD_WORDS;
+    if (get_local_id(0) == 0 && perma_batch_run(mem))
+        watch[PERMA_WATCH_RUNNING] = mem->batch[PERMA_B_PROC] + 1u;
     /* The phases take the local id as an argument: PoCL inlines every
      * function that asks for it, which would hide them from a profile. */
     perma_read_items(get_local_id(0), ctl, queue_data, queue_seq, mem, input);
@@ -376,6 +382,11 @@ inline void perma_run_batch(__global uint *ctl, __global uint *queue_data, __glo
     barrier(CLK_LOCAL_MEM_FENCE);
     perma_write_emits(get_local_id(0), ctl, queue_data, queue_seq, mem, own);
     barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
-    if (get_local_id(0) == 0)
+    if (get_local_id(0) == 0) {
         perma_publish_emits(ctl, queue_data, queue_seq, mem, own);
+        if (perma_batch_run(mem)) {
+            watch[PERMA_WATCH_RUNNING] = 0u;
+            watch[PERMA_WATCH_DONE] += 1u;
+        }
+    }
 }

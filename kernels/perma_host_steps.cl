@@ -2,9 +2,12 @@
  * Kernels of the host-driven techniques (kernel-per-procedure, bounded
  * batches).  The host moves items out of a queue into a plain input array
  * with perma_take_kernel, then runs perma_step_kernel: one ordinary NDRange
- * whose group g executes items [g * batch, (g + 1) * batch) of the input
- * with the same batch code as the megakernel, emitting into the queues.
- * The host makes sure every target has room before it launches.
+ * of at most work_groups groups, whose group g executes the batches g,
+ * g + groups, ... of the input (batch b: items [b * batch, (b + 1) * batch))
+ * with the same batch code as the megakernel, emitting into the queues.  So
+ * ctx->group is below work_groups and no two groups with the same ctx->group
+ * run at once, as in the megakernel.  The host makes sure every target has
+ * room before it launches.
  */
 
 /* Copy `count` items of queue `qi` from position `first` into input[] and
@@ -32,22 +35,33 @@ void perma_step_kernel(PERMA_COMMON_ARGS(PERMA_ARG_PARAM), PERMA_STEP_ARGS(PERMA
 {
     PERMA_GROUP_LOCALS(mem);
     const uint lid = get_local_id(0);
-    (void)abort_flag; /* a step runs one batch per group and never waits */
     (void)trace;      /* the host records the steps of host-driven techniques */
     perma_buffers buf;
     PERMA_BIND_BUFFERS(buf);
     for (uint i = lid; i < PERMA_STAT_GROUP_WORDS; i += PERMA_GROUP_SIZE)
         mem->stats[i] = 0;
-    const uint start = get_group_id(0) * perma_max_batch[proc];
-    const uint n = start < count ? min(count - start, perma_max_batch[proc]) : 0u;
-    if (lid == 0) {
+    if (lid == 0)
         mem->error_code = 0;
-        perma_set_batch(mem->batch, PERMA_CMD_RUN, proc, start, n, proc, proc);
-        if (n && !perma_reserve_batch_room(ctl, 0, proc, n))
-            perma_fail(ctl, PERMA_KSTATUS_NEEDS_ROOM, proc, 0); /* the host sized the queues wrongly */
+    /* Group g runs the batches g, g + groups, ... (batch b: input items
+     * [b * batch, (b + 1) * batch)).  Shaped like the megakernel's loop:
+     * work-item 0 decides, a barrier, everyone reads the decision, and the
+     * last iteration runs the batch code with 0 items (PoCL 3.1 lost the
+     * global writes of a counted loop around the batch's barriers). */
+    const uint batch = perma_max_batch[proc];
+    const uint batches = (count + batch - 1u) / batch;
+    uint b = get_group_id(0), more = 1u;
+    while (more) {
+        if (lid == 0) {
+            const uint n = b < batches ? min(count - b * batch, batch) : 0u;
+            perma_set_batch(mem->batch, PERMA_CMD_RUN, proc, b * batch, n, proc, proc);
+            if (n && !perma_reserve_batch_room(ctl, 0, proc, n))
+                perma_fail(ctl, PERMA_KSTATUS_NEEDS_ROOM, proc, 0); /* the host sized the queues wrongly */
+        }
+        barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
+        more = b < batches;
+        perma_run_batch(ctl, queue_data, queue_seq, abort_flag, mem, buf, input, 0);
+        b += get_num_groups(0);
     }
-    barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
-    perma_run_batch(ctl, queue_data, queue_seq, mem, buf, input, 0);
     barrier(CLK_LOCAL_MEM_FENCE);
     /* Many groups per launch: add to group 0's record. */
     for (uint i = lid; i < PERMA_STAT_GROUP_WORDS; i += PERMA_GROUP_SIZE)

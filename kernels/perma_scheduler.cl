@@ -420,7 +420,7 @@ void perma_megakernel(PERMA_COMMON_ARGS(PERMA_ARG_PARAM) PERMA_BUFFER_PARAMS)
         if (lid == 0 && mem->batch[PERMA_B_COUNT])
             trace_start = atomic_inc(ctl + PERMA_CTL_CLOCK);
 #endif
-        perma_run_batch(ctl, queue_data, queue_seq, mem, buf, (__global const uint *)0, own);
+        perma_run_batch(ctl, queue_data, queue_seq, abort_flag, mem, buf, (__global const uint *)0, own);
 #if PERMA_TRACE_EVENTS
         /* Before work-item 0 schedules the next batch. */
         if (lid == 0 && mem->batch[PERMA_B_COUNT] && trace_count < PERMA_TRACE_EVENTS) {

@@ -432,6 +432,9 @@ static reyes_status subdivide_and_plan(reyes_renderer *r, const reyes_scene *sce
         b->leaf_capacity = recorded;
     }
     b->params.record_leaves = 0;
+    /* The buckets need much smaller queues than this pass over the whole
+     * image: let them grow their own. */
+    perma_forget_capacities(r->rt);
     reyes_leaves_sort(b->leaves, b->leaf_count);
     b->dice_seeds = malloc((b->leaf_count ? b->leaf_count : 1) * sizeof *b->dice_seeds);
     if (!b->dice_seeds)

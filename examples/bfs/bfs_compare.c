@@ -63,7 +63,7 @@ bfs_status bfs_compare(const bfs_graph *g, uint32_t source, unsigned work_groups
     double sequential = d.expected && d.levels ? example_compare_best(repeats, run_sequential, &d) : -1;
     bfs_status st = BFS_OK;
     if (sequential < 0) {
-        snprintf(message, size, "bfs: --compare: out of memory for %u vertices", g->vertices);
+        snprintf(message, size, "perma-bfs: --compare: out of memory for %u vertices", g->vertices);
         st = BFS_ERR_RUNTIME;
     } else {
         fprintf(out, "%u vertices, %u arcs, source %u; best of %u runs after a warm-up; build excluded\n",

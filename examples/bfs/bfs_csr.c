@@ -10,7 +10,7 @@ bfs_status bfs_build_csr(const bfs_edges *e, int undirected, bfs_graph *out,
     *out = (bfs_graph){ 0 };
     size_t arcs = e->count * (undirected ? 2 : 1);
     if (arcs >= UINT32_MAX) {
-        snprintf(message, size, "bfs: %zu arcs do not fit 32-bit CSR offsets", arcs);
+        snprintf(message, size, "perma-bfs: %zu arcs do not fit 32-bit CSR offsets", arcs);
         return BFS_ERR_RUNTIME;
     }
     out->vertices = e->vertices;
@@ -19,7 +19,7 @@ bfs_status bfs_build_csr(const bfs_edges *e, int undirected, bfs_graph *out,
     out->targets = malloc((arcs ? arcs : 1) * sizeof *out->targets);
     if (!out->offsets || !out->targets) {
         bfs_graph_free(out);
-        snprintf(message, size, "bfs: out of memory for a graph of %zu arcs", arcs);
+        snprintf(message, size, "perma-bfs: out of memory for a graph of %zu arcs", arcs);
         return BFS_ERR_RUNTIME;
     }
     /* Count out-degrees into offsets[v+1], prefix-sum, then place. */
@@ -33,7 +33,7 @@ bfs_status bfs_build_csr(const bfs_edges *e, int undirected, bfs_graph *out,
     uint32_t *next = malloc(((size_t)e->vertices + 1) * sizeof *next);
     if (!next) {
         bfs_graph_free(out);
-        snprintf(message, size, "bfs: out of memory for a graph of %u vertices", e->vertices);
+        snprintf(message, size, "perma-bfs: out of memory for a graph of %u vertices", e->vertices);
         return BFS_ERR_RUNTIME;
     }
     memcpy(next, out->offsets, ((size_t)e->vertices + 1) * sizeof *next);

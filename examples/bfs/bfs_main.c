@@ -15,7 +15,7 @@ static bfs_status load_graph(const bfs_options *o, bfs_graph *g, char *message, 
     st = bfs_build_csr(&edges, !o->directed, g, message, size);
     bfs_edges_free(&edges);
     if (st == BFS_OK && o->source >= g->vertices) {
-        snprintf(message, size, "bfs: --source %u: the graph has vertices 0..%u", o->source, g->vertices - 1);
+        snprintf(message, size, "perma-bfs: --source %u: the graph has vertices 0..%u", o->source, g->vertices - 1);
         bfs_graph_free(g);
         return BFS_ERR_USAGE;
     }
@@ -64,7 +64,7 @@ static bfs_status traverse(const bfs_options *o, const bfs_graph *g, char *messa
 {
     uint32_t *levels = malloc(((size_t)g->vertices) * sizeof *levels);
     if (!levels) {
-        snprintf(message, size, "bfs: out of memory for %u levels", g->vertices);
+        snprintf(message, size, "perma-bfs: out of memory for %u levels", g->vertices);
         return BFS_ERR_RUNTIME;
     }
     bfs_session *s;

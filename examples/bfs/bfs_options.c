@@ -8,7 +8,7 @@
 void bfs_print_usage(FILE *out)
 {
     fprintf(out,
-        "usage: bfs [options] EDGE_FILE\n"
+        "usage: perma-bfs [options] EDGE_FILE\n"
         "       bfs [options] --generate N\n"
         "Breadth-first levels from a source vertex with perma procedures.\n"
         "EDGE_FILE has one edge 'u v' per line (vertex ids from 0); '#' starts a comment.\n"
@@ -31,7 +31,7 @@ void bfs_print_usage(FILE *out)
 static bfs_status usage(char *message, size_t size, const char *option, const char *value,
                         const char *expected)
 {
-    snprintf(message, size, "bfs: %s '%s': expected %s", option, value, expected);
+    snprintf(message, size, "perma-bfs: %s '%s': expected %s", option, value, expected);
     return BFS_ERR_USAGE;
 }
 
@@ -103,7 +103,7 @@ static bfs_status set_value(const char *opt, const char *v, bfs_options *o, char
     } else if (strcmp(opt, "-o") == 0) {
         o->output = v;
     } else {
-        snprintf(message, size, "bfs: unknown option '%s' (try --help)", opt);
+        snprintf(message, size, "perma-bfs: unknown option '%s' (try --help)", opt);
         return BFS_ERR_USAGE;
     }
     return BFS_OK;
@@ -118,14 +118,14 @@ bfs_status bfs_parse_options(int argc, char **argv, bfs_options *o, char *messag
             continue;
         if (opt[0] != '-') {
             if (o->edge_file) {
-                snprintf(message, size, "bfs: two edge files given ('%s' and '%s')", o->edge_file, opt);
+                snprintf(message, size, "perma-bfs: two edge files given ('%s' and '%s')", o->edge_file, opt);
                 return BFS_ERR_USAGE;
             }
             o->edge_file = opt;
             continue;
         }
         if (i + 1 >= argc) {
-            snprintf(message, size, "bfs: %s needs a value (try --help)", opt);
+            snprintf(message, size, "perma-bfs: %s needs a value (try --help)", opt);
             return BFS_ERR_USAGE;
         }
         bfs_status st = set_value(opt, argv[++i], o, message, size);
@@ -133,11 +133,11 @@ bfs_status bfs_parse_options(int argc, char **argv, bfs_options *o, char *messag
             return st;
     }
     if (!o->help && !o->edge_file == !o->generate) {
-        snprintf(message, size, "bfs: give either an edge file or --generate N (try --help)");
+        snprintf(message, size, "perma-bfs: give either an edge file or --generate N (try --help)");
         return BFS_ERR_USAGE;
     }
     if (o->generate && o->degree >= o->generate) {
-        snprintf(message, size, "bfs: --degree %u must be below --generate %u", o->degree, o->generate);
+        snprintf(message, size, "perma-bfs: --degree %u must be below --generate %u", o->degree, o->generate);
         return BFS_ERR_USAGE;
     }
     return BFS_OK;

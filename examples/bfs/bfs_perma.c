@@ -16,7 +16,7 @@ typedef struct device_visit {
 
 static bfs_status fail(bfs_session *s, const char *step, char *message, size_t size)
 {
-    snprintf(message, size, "bfs: %s: %s", step, perma_errmsg(s->rt));
+    snprintf(message, size, "perma-bfs: %s: %s", step, perma_errmsg(s->rt));
     return BFS_ERR_RUNTIME;
 }
 
@@ -51,7 +51,7 @@ bfs_status bfs_session_create(const bfs_graph *g, const bfs_run_options *options
     *out = NULL;
     bfs_session *s = calloc(1, sizeof *s);
     if (!s) {
-        snprintf(message, size, "bfs: out of memory for the session");
+        snprintf(message, size, "perma-bfs: out of memory for the session");
         return BFS_ERR_RUNTIME;
     }
     s->vertices = g->vertices;
@@ -62,7 +62,7 @@ bfs_status bfs_session_create(const bfs_graph *g, const bfs_run_options *options
     config.work_groups = options->work_groups;
     perma_error error;
     if (perma_create(&config, &s->rt, &error) != PERMA_OK) {
-        snprintf(message, size, "bfs: perma_create: %s", error.message);
+        snprintf(message, size, "perma-bfs: perma_create: %s", error.message);
         free(s);
         return BFS_ERR_RUNTIME;
     }
@@ -90,7 +90,7 @@ bfs_status bfs_session_create(const bfs_graph *g, const bfs_run_options *options
 bfs_status bfs_session_run(bfs_session *s, uint32_t source, char *message, size_t size)
 {
     if (source >= s->vertices) {
-        snprintf(message, size, "bfs: source vertex %u is not below the %u vertices", source, s->vertices);
+        snprintf(message, size, "perma-bfs: source vertex %u is not below the %u vertices", source, s->vertices);
         return BFS_ERR_USAGE;
     }
     for (uint32_t v = 0; v < s->vertices; ++v)

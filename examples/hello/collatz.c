@@ -41,7 +41,7 @@ struct walk { unsigned start, value, steps; };
 
 static int fail(perma_runtime *rt, const char *what)
 {
-    fprintf(stderr, "collatz: %s: %s\n", what, perma_errmsg(rt));
+    fprintf(stderr, "perma-collatz: %s: %s\n", what, perma_errmsg(rt));
     perma_destroy(rt);
     return 1;
 }
@@ -50,7 +50,7 @@ int main(int argc, char **argv)
 {
     unsigned n = argc > 1 ? (unsigned)strtoul(argv[1], NULL, 10) : 10000;
     if (n < 1 || n > 1000000) {
-        fprintf(stderr, "usage: collatz [N]   (1 <= N <= 1000000, default 10000)\n");
+        fprintf(stderr, "usage: perma-collatz [N]   (1 <= N <= 1000000, default 10000)\n");
         return 2;
     }
 

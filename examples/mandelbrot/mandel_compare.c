@@ -76,7 +76,7 @@ mandel_status mandel_compare(const mandel_params *p, unsigned work_groups, unsig
         sequential = example_compare_best(repeats, run_sequential, &d);
     }
     if (sequential < 0) {
-        snprintf(message, size, "mandelbrot: --compare: out of memory for %zu pixels", d.pixels);
+        snprintf(message, size, "perma-mandelbrot: --compare: out of memory for %zu pixels", d.pixels);
         st = MANDEL_ERR_RUNTIME;
     } else {
         example_compare_header(&ex, out);

@@ -9,7 +9,7 @@
 void mandel_print_usage(FILE *out)
 {
     fprintf(out,
-        "usage: mandelbrot [options]\n"
+        "usage: perma-mandelbrot [options]\n"
         "Adaptive (Mariani-Silver) Mandelbrot image with perma procedures.\n"
         "  --size WxH            image size (default 1024x768, at most 16384 each)\n"
         "  --region X0,X1,Y0,Y1  part of the complex plane (default -2.2,0.8,-1.125,1.125)\n"
@@ -31,7 +31,7 @@ void mandel_print_usage(FILE *out)
 static mandel_status usage(char *message, size_t size, const char *option, const char *value,
                            const char *expected)
 {
-    snprintf(message, size, "mandelbrot: %s '%s': expected %s", option, value, expected);
+    snprintf(message, size, "perma-mandelbrot: %s '%s': expected %s", option, value, expected);
     return MANDEL_ERR_USAGE;
 }
 
@@ -105,11 +105,11 @@ mandel_status mandel_parse_options(int argc, char **argv, mandel_options *o,
         for (size_t k = 0; k < sizeof valued / sizeof valued[0]; ++k)
             known |= strcmp(opt, valued[k]) == 0;
         if (!known) {
-            snprintf(message, size, "mandelbrot: unknown option '%s' (try --help)", opt);
+            snprintf(message, size, "perma-mandelbrot: unknown option '%s' (try --help)", opt);
             return MANDEL_ERR_USAGE;
         }
         if (i + 1 >= argc) {
-            snprintf(message, size, "mandelbrot: %s needs a value", opt);
+            snprintf(message, size, "perma-mandelbrot: %s needs a value", opt);
             return MANDEL_ERR_USAGE;
         }
         const char *v = argv[++i];

@@ -21,7 +21,7 @@ typedef struct device_rect {
 
 static mandel_status fail(mandel_session *s, const char *step, char *message, size_t size)
 {
-    snprintf(message, size, "mandelbrot: %s: %s", step, perma_errmsg(s->rt));
+    snprintf(message, size, "perma-mandelbrot: %s: %s", step, perma_errmsg(s->rt));
     return MANDEL_ERR_RUNTIME;
 }
 
@@ -60,7 +60,7 @@ mandel_status mandel_session_create(const mandel_params *p, const mandel_run_opt
     *out = NULL;
     mandel_session *s = calloc(1, sizeof *s);
     if (!s) {
-        snprintf(message, size, "mandelbrot: out of memory for the session");
+        snprintf(message, size, "perma-mandelbrot: out of memory for the session");
         return MANDEL_ERR_RUNTIME;
     }
     s->params = *p;
@@ -71,7 +71,7 @@ mandel_status mandel_session_create(const mandel_params *p, const mandel_run_opt
     config.work_groups = options->work_groups;
     perma_error error;
     if (perma_create(&config, &s->rt, &error) != PERMA_OK) {
-        snprintf(message, size, "mandelbrot: perma_create: %s", error.message);
+        snprintf(message, size, "perma-mandelbrot: perma_create: %s", error.message);
         free(s);
         return MANDEL_ERR_RUNTIME;
     }

@@ -7,7 +7,7 @@ static int render(const mandel_options *o, const mandel_params *p, char *message
 {
     uint32_t *counts = malloc((size_t)p->width * p->height * sizeof *counts);
     if (!counts) {
-        snprintf(message, size, "mandelbrot: out of memory for %ux%u pixels", p->width, p->height);
+        snprintf(message, size, "perma-mandelbrot: out of memory for %ux%u pixels", p->width, p->height);
         return MANDEL_ERR_RUNTIME;
     }
     mandel_status st = MANDEL_OK;

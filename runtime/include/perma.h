@@ -42,11 +42,17 @@
  *   - ctx->buf.NAME is the buffer bound under NAME (perma_bind_*).
  *   - ctx->scratch points to local_bytes_per_item bytes of __local memory
  *     for this item, shared by its threads.
- *   - ctx->slot is the item's index in the batch, ctx->group the work-group.
+ *   - ctx->slot is the item's index in the batch, ctx->group the work-group:
+ *     0..work_groups-1 under every technique (perma_get_work_groups), and
+ *     no two work-groups with the same ctx->group run at once, so an array
+ *     with one entry per group needs no atomics between groups (only
+ *     between the work-items of one group).
  * A procedure must not spin-wait on other work-items, must not call barrier()
  * unless it is declared .cooperative (then it is called by every work-item
  * of the group, ctx->active tells whether this one has an item, and every
- * barrier must be reached by all of them).
+ * barrier must be reached by all of them).  barrier() or a work_group_*()
+ * function in the source of a procedure that is not cooperative does not
+ * build: PERMA_ERR_BUILD naming the procedure, file and line.
  */
 #ifndef PERMA_H
 #define PERMA_H
@@ -55,7 +61,11 @@
 #include <stdint.h>
 #include <stdio.h>
 
+/* perma uses OpenCL 1.2 calls; a program that targets a later version
+ * defines CL_TARGET_OPENCL_VERSION itself before including this header. */
+#ifndef CL_TARGET_OPENCL_VERSION
 #define CL_TARGET_OPENCL_VERSION 120
+#endif
 #include <CL/cl.h>
 
 #ifdef __cplusplus
@@ -71,6 +81,7 @@ extern "C" {
 #define PERMA_MAX_EMIT_ITEMS 4096 /* most items one input item may emit into one target */
 #define PERMA_MAX_PROCEDURES 64
 #define PERMA_MAX_BUFFERS 32
+#define PERMA_MAX_QUEUED_ITEMS ((size_t)1 << 30) /* most items one queue holds (seeds included) */
 #define PERMA_MESSAGE_MAX 1024
 
 typedef enum perma_status {
@@ -83,7 +94,8 @@ typedef enum perma_status {
     PERMA_ERR_NO_MEMORY,  /* a host allocation failed */
     PERMA_ERR_CAPACITY,   /* queues cannot grow enough for the run to progress */
     PERMA_ERR_EMIT_LIMIT, /* a procedure emitted more items than it declared */
-    PERMA_ERR_TIMEOUT,    /* the watchdog time limit passed */
+    PERMA_ERR_TIMEOUT,    /* the watchdog stopped the run: time_limit passed, or no item
+                             completed for stall_limit seconds (the message says which) */
     PERMA_ERR_STATE,      /* call not valid now (e.g. register after destroy) */
     PERMA_ERR_IO,         /* a file could not be read */
     PERMA_ERR_DEVICE      /* the kernel reported an internal failure */
@@ -213,21 +225,52 @@ typedef struct perma_config {
      * threads_per_item items per batch. */
     unsigned items_per_work_item;
     /* Initial capacity of each queue in items; 0 = 1024.  Rounded up to a
-     * power of two; queues grow on demand: when no group can start anything
+     * power of two; queues grow on demand (when no group can start anything
      * for lack of room, and when a group's batches keep being cut to a
-     * fraction by the room their worst-case emits need (up to
-     * queue_memory_limit). */
+     * fraction by the room their worst-case emits need, up to
+     * queue_memory_limit), and a run starts each queue at the capacity the
+     * last successful run of the same program grew it to, if that is more
+     * and all queues fit queue_memory_limit (perma_stats.queues_kept counts
+     * them; perma_forget_capacities). */
     size_t queue_capacity;
-    /* Cap on the bytes of all queues together; 0 = half the device's
-     * largest allocation.  Reaching it fails the run with PERMA_ERR_CAPACITY. */
+    /* Cap on the bytes of all queues together (item_size + 4 bytes per
+     * slot); 0 = half the device's largest allocation
+     * (CL_DEVICE_MAX_MEM_ALLOC_SIZE): growing a queue holds the old and the
+     * new items at once.  Reaching it fails the run with PERMA_ERR_CAPACITY;
+     * perma_seed already refuses seeds whose queue would not fit. */
     size_t queue_memory_limit;
     /* Watchdog: a run longer than this many seconds fails with
      * PERMA_ERR_TIMEOUT; 0 = 600. */
     double time_limit;
+    /* Watchdog: a run in which no item completes anywhere for this many
+     * seconds (a procedure that never returns, say) fails with
+     * PERMA_ERR_TIMEOUT naming the procedures that had items in flight;
+     * 0 = 20.  Seen only on devices that share memory with the host (CPUs,
+     * integrated GPUs); elsewhere only time_limit applies.  One item taking
+     * longer than this counts as stuck: raise it for such procedures.
+     *
+     * When either limit passes, the watchdog asks every work-group to stop
+     * and gives the kernel 10 s (the grace period) to do so.  A procedure
+     * that never returns cannot be stopped: the run then fails saying so,
+     * and the runtime can no longer be used (every call that uses the
+     * device returns PERMA_ERR_STATE; perma_destroy frees what it can).
+     * OpenCL cannot end a running kernel, so the stuck kernel keeps its
+     * compute unit busy until the process exits.  With Intel's OpenCL CPU
+     * runtime, exit() (and returning from main) then waits for that kernel
+     * forever: end such a process with _exit() or a signal. */
+    double stall_limit;
     /* Cap on the __local memory one group uses; 0 = the device's size. */
     size_t local_memory_limit;
     /* Extra options for clBuildProgram, e.g. "-DTHRESHOLD=8"; may be NULL. */
     const char *build_options;
+    /* Where compiler messages go: after a build that succeeded, its
+     * warnings ("FILE:LINE:COL: warning: TEXT", naming the procedures'
+     * files and lines), and with the PERMA_BUILD_LOG environment variable
+     * set the whole build log of every build, each as one text of whole
+     * lines.  NULL (default): stderr.  (A failed build's errors are in
+     * perma_errmsg either way.) */
+    void (*build_log)(void *user, const char *text);
+    void *build_log_user;
     /* How the work runs: technique, strategy, victim, local front queue,
      * batch limit (perma_schedule_parse fills one from a label); all zero
      * = megakernel/shared. */
@@ -298,7 +341,9 @@ perma_status perma_create(const perma_config *config, perma_runtime **out, perma
 /* Release everything; NULL is fine. */
 void perma_destroy(perma_runtime *rt);
 
-/* The message of the last failed call on rt ("" after success). */
+/* The message of the last call on rt that returns a perma_status: "" if it
+ * succeeded.  After a run's kernel did not stop (PERMA_ERR_TIMEOUT saying
+ * so) every call that uses the device fails with PERMA_ERR_STATE. */
 const char *perma_errmsg(const perma_runtime *rt);
 
 /* The OpenCL context, device and queue the runtime uses (for user buffers). */
@@ -366,13 +411,34 @@ perma_status perma_bind_host(perma_runtime *rt, const char *name, const char *ty
  * declared in a shared source (perma_add_source). */
 perma_status perma_build(perma_runtime *rt);
 
-/* Queue `count` items of procedure `proc` (item_size bytes each) for the next run. */
+/* Queue `count` items of procedure `proc` (item_size bytes each) for the next
+ * run.  Checked before anything is copied: PERMA_ERR_ARGUMENT if the
+ * procedure's seeds would pass PERMA_MAX_QUEUED_ITEMS, PERMA_ERR_CAPACITY
+ * if the queue they start in would pass the queue memory limit (the message
+ * says how many bytes it would need); the seeds queued before stay. */
 perma_status perma_seed(perma_runtime *rt, perma_proc proc, const void *items, size_t count);
 
+/* Let the next run start every queue from config.queue_capacity again
+ * rather than from what earlier runs grew it to: e.g. after a run much
+ * larger than the ones that follow, whose queue memory they need not keep
+ * (the device buffers keep their size until perma_destroy either way). */
+perma_status perma_forget_capacities(perma_runtime *rt);
+
 /* Run until no work is left.  Queues grow as needed; the watchdog turns a
- * run longer than the time limit into PERMA_ERR_TIMEOUT.  A run consumes the
+ * run longer than the time limit, or one in which nothing completes for
+ * the stall limit, into PERMA_ERR_TIMEOUT (config.time_limit,
+ * config.stall_limit).  A run consumes the
  * seeded items whether it succeeds or fails: seed again before a retry. */
 perma_status perma_run(perma_runtime *rt);
+
+/* Why a procedure's batches held fewer items than a group could run. */
+typedef enum perma_batch_cut {
+    PERMA_BATCH_FULL = 0,         /* nothing cut them */
+    PERMA_BATCH_CUT_LOCAL_MEMORY, /* __local memory holds fewer items (their copies, scratch and
+                                     worst-case emits): batch_size is below group size / threads */
+    PERMA_BATCH_CUT_ROOM          /* a full batch's worst-case emits did not fit the target's queue,
+                                     so batches started with the few items whose worst case fit */
+} perma_batch_cut;
 
 /* Statistics of the last run. */
 typedef struct perma_procedure_stats {
@@ -382,10 +448,13 @@ typedef struct perma_procedure_stats {
     uint64_t emitted[PERMA_MAX_EMITS];  /* items emitted, per entry of .emits */
     unsigned emit_count;                /* entries used in emitted[] */
     uint64_t seeded;                    /* items seeded by the host */
-    unsigned batch_size;                /* most items one batch of it holds */
     uint64_t peak_queue_items;          /* most items queued at once */
+    size_t initial_capacity;            /* capacity in items when the run started */
     size_t queue_capacity;              /* final capacity in items */
     unsigned regrowths;                 /* times this queue was grown */
+    unsigned batch_size;                /* most items one batch holds (items / batches: the mean) */
+    perma_batch_cut batch_cut;          /* why batches were smaller, if they were */
+    int batch_cut_emit;                 /* the .emits entry responsible, or -1 */
 } perma_procedure_stats;
 
 /* Load-balancing counters of one persistent work-group. */
@@ -407,6 +476,10 @@ typedef struct perma_stats {
     unsigned group_size;
     unsigned procedure_count;
     size_t peak_queue_bytes;   /* largest total queue allocation */
+    size_t queue_memory_limit; /* the cap on it (config.queue_memory_limit or its default) */
+    unsigned queues_kept;      /* queues that started at the capacity an earlier run of this
+                                  runtime grew them to (kept while the program is not rebuilt
+                                  and all queues fit the memory limit) */
     uint64_t items;            /* items executed, all procedures */
     uint64_t steals, donations, spills, idle_polls; /* sums over groups */
     perma_technique technique;
@@ -415,11 +488,19 @@ typedef struct perma_stats {
 
 perma_status perma_get_stats(perma_runtime *rt, perma_stats *out);
 perma_status perma_get_procedure_stats(perma_runtime *rt, perma_proc proc, perma_procedure_stats *out);
+/* The work-groups a run uses and the work-items in each, known from
+ * perma_create on (config.work_groups, or the device's choice): e.g. to
+ * size an array indexed by ctx->group.  Either pointer may be NULL, not
+ * both. */
+perma_status perma_get_work_groups(perma_runtime *rt, unsigned *work_groups, unsigned *group_size);
+
 /* Counters of persistent group `group` (0..work_groups-1) in the last run;
  * all zero for the host-driven techniques. */
 perma_status perma_get_group_stats(perma_runtime *rt, unsigned group, perma_group_stats *out);
 
-/* Print the statistics of the last run as a readable table. */
+/* Print the statistics of the last run as a readable table, with a warning
+ * for each procedure whose batches were cut (perma_batch_cut) naming the
+ * declaration responsible. */
 void perma_print_stats(perma_runtime *rt, FILE *out);
 
 /* Description of the device and the chosen work-group count, one line. */

@@ -61,6 +61,9 @@ perma_status perma_bind_cl(perma_runtime *rt, const char *name, const char *type
 {
     if (!rt)
         return PERMA_ERR_ARGUMENT;
+    perma_status begun = perma_call_begin(rt, "perma_bind_cl", true);
+    if (begun != PERMA_OK)
+        return begun;
     if (!buffer)
         return perma_set_error(rt, PERMA_ERR_ARGUMENT, "buffer '%s': cl_mem is NULL", name ? name : "(null)");
     perma_buffer_binding *b;
@@ -77,6 +80,9 @@ perma_status perma_bind_host(perma_runtime *rt, const char *name, const char *ty
 {
     if (!rt)
         return PERMA_ERR_ARGUMENT;
+    perma_status begun = perma_call_begin(rt, "perma_bind_host", true);
+    if (begun != PERMA_OK)
+        return begun;
     if (!host || bytes == 0)
         return perma_set_error(rt, PERMA_ERR_ARGUMENT, "buffer '%s': host memory is NULL or empty",
                                name ? name : "(null)");

@@ -15,3 +15,10 @@ double perma_time_limit(const perma_runtime *rt)
 {
     return rt->config.time_limit > 0 ? rt->config.time_limit : 600.0;
 }
+
+/* Seconds without a completed item before the watchdog stops a run:
+ * config.stall_limit, 0 meaning 20. */
+double perma_stall_limit(const perma_runtime *rt)
+{
+    return rt->config.stall_limit > 0 ? rt->config.stall_limit : 20.0;
+}

@@ -161,7 +161,8 @@ static bool plain_definition(const perma_proc_info *p)
  * always_inline first, so the dispatch's constants fold into it: about
  * 15 % on perma-bench tree.  Big procedures are left to the compiler:
  * forcing the Reyes procedures inline tripled the build of their
- * megakernel (7 s to 20 s of CPU). */
+ * megakernel (7 s to 20 s of CPU).  No barrier in a source that only
+ * non-cooperative procedures use (barriers.c). */
 static void append_procedure_sources(perma_runtime *rt, perma_strbuf *sb)
 {
     perma_strbuf_append(sb, "#ifndef PERMA_PROFILE_PHASES\n");
@@ -172,12 +173,20 @@ static void append_procedure_sources(perma_runtime *rt, perma_strbuf *sb)
     perma_strbuf_append(sb, "#endif\n");
     for (unsigned i = 0; i < rt->proc_count; ++i) {
         const perma_source_text *src = &rt->procs[i].source;
-        bool duplicate = false;
-        for (unsigned j = 0; j < i && !duplicate; ++j)
-            duplicate = strcmp(rt->procs[j].source.name, src->name) == 0 &&
+        bool duplicate = false, cooperative = false;
+        for (unsigned j = 0; j < rt->proc_count; ++j) {
+            bool same = strcmp(rt->procs[j].source.name, src->name) == 0 &&
                         strcmp(rt->procs[j].source.text, src->text) == 0;
-        if (!duplicate)
-            append_user_source(sb, src);
+            duplicate = duplicate || (same && j < i);
+            cooperative = cooperative || (same && rt->procs[j].cooperative);
+        }
+        if (duplicate)
+            continue;
+        if (!cooperative)
+            perma_barriers_forbid(rt, i, sb);
+        append_user_source(sb, src);
+        if (!cooperative)
+            perma_barriers_allow(sb);
     }
 }
 

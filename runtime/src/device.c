@@ -164,11 +164,15 @@ perma_status perma_device_open(perma_runtime *rt)
                    clGetDeviceInfo(rt->device, CL_DEVICE_MAX_WORK_GROUP_SIZE, sizeof max_group, &max_group, NULL));
     PERMA_CL_CHECK(rt, "clGetDeviceInfo(CL_DEVICE_NAME)",
                    clGetDeviceInfo(rt->device, CL_DEVICE_NAME, sizeof name - 1, name, NULL));
+    cl_bool unified = CL_FALSE; /* the watchdog sees the watch page during a kernel (watchdog.c) */
+    PERMA_CL_CHECK(rt, "clGetDeviceInfo(CL_DEVICE_HOST_UNIFIED_MEMORY)",
+                   clGetDeviceInfo(rt->device, CL_DEVICE_HOST_UNIFIED_MEMORY, sizeof unified, &unified, NULL));
     if (parts >= 2) {
         size_t used = strlen(name);
         snprintf(name + used, sizeof name - used, " (sub-device %u of %u)", part, parts);
     }
     rt->device_is_cpu = (type & CL_DEVICE_TYPE_CPU) != 0;
+    rt->watch_visible = rt->device_is_cpu || unified;
     rt->local_mem_size = (size_t)local_mem;
     if (rt->group_size > max_group)
         return perma_set_error(rt, PERMA_ERR_ARGUMENT,

@@ -81,6 +81,15 @@ perma_status perma_set_error(perma_runtime *rt, perma_status status, const char 
     return status;
 }
 
+perma_status perma_call_begin(perma_runtime *rt, const char *call, bool uses_device)
+{
+    rt->message[0] = '\0';
+    if (uses_device && rt->hung)
+        return perma_set_error(rt, PERMA_ERR_STATE, "%s: a previous run's kernel did not stop and is still running; "
+                               "this runtime cannot be used again (destroy it and create a new one)", call);
+    return PERMA_OK;
+}
+
 const char *perma_errmsg(const perma_runtime *rt)
 {
     return rt ? rt->message : "no runtime (perma_create failed or was not called)";

@@ -87,6 +87,7 @@ typedef struct perma_device_buffer {
 /* One queue of the launch state. */
 typedef struct perma_queue_state {
     size_t capacity;     /* items, a power of two */
+    size_t initial;      /* its capacity when this run started */
     unsigned regrowths;  /* times it grew in this run */
 } perma_queue_state;
 
@@ -100,19 +101,24 @@ typedef struct perma_device_state {
     perma_device_buffer trace;    /* trace records per group */
     perma_device_buffer input;    /* the items a step kernel consumes */
     perma_device_buffer relayout; /* a regrowth's perma_relayout_records */
-    cl_mem abort_mem;             /* the watchdog flag the kernels poll, */
-    uint32_t *abort_flag;         /* in this (page-aligned) host memory */
+    cl_mem abort_mem;             /* the watch page (kernels/perma_abi.h): the abort */
+    uint32_t *abort_flag;         /* flag, each group's progress; page-aligned host memory */
     perma_queue_state *queues;    /* queue_count entries, index set * procs + proc */
     unsigned queue_count;
+    /* queues[].capacity are what the last run of this build grew to, and it
+     * succeeded: the next run starts from them (memory permitting). */
+    bool capacities_learned;
 } perma_device_state;
 
 struct perma_executor;
+typedef struct perma_watchdog perma_watchdog;
 
 /* What the host-driven techniques keep between launches of a run
  * (steps.c). */
 typedef struct perma_steps_state {
     unsigned cursor;         /* kernel-per-procedure: where the round-robin goes on */
     int traced_proc;         /* the step in flight, for the trace; -1: none */
+    cl_event running;        /* the step kernel in flight; NULL: none */
     uint32_t traced_items;
     double traced_start;
 } perma_steps_state;
@@ -128,6 +134,7 @@ struct perma_runtime {
     cl_context context;
     cl_command_queue queue;
     bool device_is_cpu;
+    bool watch_visible;        /* the host sees the watch page change while a kernel runs */
     cl_uint compute_units;
     size_t local_mem_size;
     cl_ulong max_alloc;
@@ -160,6 +167,7 @@ struct perma_runtime {
     perma_group_stats *group_stats; /* work_groups entries */
     bool hung;                      /* a kernel ignored the watchdog; do not wait on it */
     bool grow_starved;              /* a group starved of room may stop a launch to grow queues */
+    perma_watchdog *watchdog;       /* watchdog.c */
     bool debug;                     /* PERMA_DEBUG: one group, -DPERMA_DEBUG */
 
     perma_stats stats;
@@ -185,6 +193,12 @@ typedef struct perma_trace_event {
 perma_status perma_set_error(perma_runtime *rt, perma_status status, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
 perma_status perma_set_error_va(perma_runtime *rt, perma_status status, const char *fmt, va_list ap);
+
+/* The start of every public call on rt that returns a status: the message
+ * is "" until something fails (perma_errmsg).  A call that uses or changes
+ * the program or the device state (`uses_device`) is PERMA_ERR_STATE after
+ * a kernel did not stop (rt->hung); the message names `call`. */
+perma_status perma_call_begin(perma_runtime *rt, const char *call, bool uses_device);
 
 /* Name of an OpenCL error code, e.g. "CL_OUT_OF_RESOURCES". */
 const char *perma_cl_error_name(cl_int code);
@@ -218,6 +232,23 @@ void perma_abi_append_struct_checks(perma_strbuf *sb);
 void perma_abi_append_item_checks(const perma_runtime *rt, perma_strbuf *sb);
 bool perma_abi_explain_log(const perma_runtime *rt, const char *log, char *out, size_t size);
 
+/* barriers.c: around the source of a procedure that is not .cooperative,
+ * turn barrier() and work_group_*() into a compile error at the caller's
+ * line; the sentence for a build log that has one (false when none). */
+void perma_barriers_forbid(const perma_runtime *rt, unsigned proc, perma_strbuf *sb);
+void perma_barriers_allow(perma_strbuf *sb);
+bool perma_barriers_explain_log(const perma_runtime *rt, const char *log, char *out, size_t size);
+
+/* build_log.c: whether line[0..length) is a compiler diagnostic of `kind`
+ * ("error", "warning"); if so its location ("FILE:LINE:COL") in where[]
+ * and *text at its message, whichever form the compiler wrote it in. */
+bool perma_build_log_diagnostic(const char *line, size_t length, const char *kind, char *where, size_t where_size,
+                                const char **text);
+/* After a build: its warnings if it succeeded, or the whole log with
+ * PERMA_BUILD_LOG, to config.build_log or stderr.  Returns the number of
+ * warnings (0 for a failed build). */
+unsigned perma_build_log_show(perma_runtime *rt, const char *log, bool failed);
+
 /* layout.c, codegen.c, program.c */
 perma_status perma_build_layout(perma_runtime *rt);
 /* One thread per item and not cooperative: a work-item may run several of
@@ -237,7 +268,16 @@ perma_status perma_buffers_copy(perma_runtime *rt, unsigned flag);
  * capacities[] (queue_sets * proc_count entries) and checks them against
  * the queue memory limit. */
 unsigned perma_queues_count(const perma_runtime *rt);
-/* Before a run: what the seeds and any producer's one item need. */
+/* Queue sets: one per persistent group with a distributed strategy, else 1. */
+unsigned perma_queues_sets(const perma_runtime *rt);
+/* The cap on the bytes of all queues (config.queue_memory_limit or its
+ * default). */
+size_t perma_queues_memory_limit(const perma_runtime *rt);
+/* Whether `count` more seeds of procedure `proc` stay within
+ * PERMA_MAX_QUEUED_ITEMS and the memory limit in the queues they start in. */
+perma_status perma_queues_check_seeds(perma_runtime *rt, unsigned proc, size_t count);
+/* Before a run: what the seeds and any producer's one item need, or what
+ * the last run grew each queue to if more and the memory limit allows. */
 perma_status perma_queues_initial(perma_runtime *rt, size_t *capacities);
 /* The seeds queue qi starts with: items [*first, *first + *count) of its
  * procedure's seeds (with one queue set per group they are dealt out in
@@ -284,11 +324,26 @@ perma_status perma_state_ensure_input(perma_runtime *rt, size_t words);
 perma_status perma_state_bind(perma_runtime *rt, cl_kernel kernel, cl_uint first_user_arg);
 /* Ask every group of a running kernel to stop (the watchdog). */
 void perma_state_raise_abort(perma_runtime *rt);
+/* What the watch page says while a kernel runs: the batches the groups
+ * finished so far (a sum that moves while items complete), and in
+ * running[0..procs) how many groups run a batch of each procedure. */
+uint64_t perma_state_watch(const perma_runtime *rt, unsigned *running, unsigned procs);
 
-/* watchdog.c: launch `kernel` and wait for it; past the deadline raise the
- * abort flag, which every group polls.  PERMA_ERR_TIMEOUT only if the
- * kernel ignores it (the runtime is then unusable: rt->hung). */
+/* watchdog.c: waiting for a kernel under the time limit and the stall
+ * limit.  Past the deadline, or when no item completed anywhere for the
+ * stall limit, the abort flag is raised (every group polls it) and the
+ * reason kept for perma_watchdog_stop_error; PERMA_ERR_TIMEOUT only if the
+ * kernel does not stop within the grace period (rt->hung: the runtime is
+ * then unusable). */
+perma_status perma_watchdog_open(perma_runtime *rt);
+void perma_watchdog_close(perma_runtime *rt);
+/* Launch `kernel` and wait for it. */
 perma_status perma_launch_watched(perma_runtime *rt, cl_kernel kernel, size_t global, size_t local, double deadline);
+/* Wait for the command of event `done` (enqueued and flushed). */
+perma_status perma_watch_event(perma_runtime *rt, cl_event done, double deadline);
+/* The error of a launch the watchdog stopped (status ABORTED): the time
+ * limit, or the stall with the procedures that had items in flight. */
+perma_status perma_watchdog_stop_error(perma_runtime *rt);
 
 /* outcome.c: the error of a launch's failure status (not DONE or
  * NEEDS_ROOM). */
@@ -309,5 +364,6 @@ void perma_trace_release(perma_runtime *rt);
 /* clock.c */
 double perma_now(void);
 double perma_time_limit(const perma_runtime *rt);
+double perma_stall_limit(const perma_runtime *rt);
 
 #endif

@@ -235,7 +235,7 @@ perma_status perma_build_layout(perma_runtime *rt)
     /* Queues can belong to groups, and groups keep local front queues,
      * only when the groups live for the whole launch. */
     bool persistent = rt->executor->persistent;
-    rt->queue_sets = persistent && rt->config.schedule.strategy != PERMA_STRATEGY_SHARED ? rt->work_groups : 1;
+    rt->queue_sets = perma_queues_sets(rt);
     rt->device_trace_events = persistent && rt->config.trace_path ? rt->trace_events : 0;
 
     rt->max_edges = 1;

@@ -27,8 +27,7 @@ perma_status perma_outcome_error(perma_runtime *rt, const perma_ctl_header *outc
     case PERMA_KSTATUS_EMIT_LIMIT:
         return emit_limit_error(rt, outcome->detail_proc, outcome->detail_edge);
     case PERMA_KSTATUS_ABORTED:
-        return perma_set_error(rt, PERMA_ERR_TIMEOUT, "the run passed its time limit of %g s and was stopped",
-                               perma_time_limit(rt));
+        return perma_watchdog_stop_error(rt);
     }
     return perma_set_error(rt, PERMA_ERR_DEVICE, "the kernel ended with unknown status %u", outcome->status);
 }

@@ -41,6 +41,9 @@ perma_status perma_add_source(perma_runtime *rt, const char *source, const char 
 {
     if (!rt)
         return PERMA_ERR_ARGUMENT;
+    perma_status begun = perma_call_begin(rt, "perma_add_source", true);
+    if (begun != PERMA_OK)
+        return begun;
     if (!source && !file)
         return perma_set_error(rt, PERMA_ERR_ARGUMENT, "perma_add_source: both source and file are NULL");
     if (rt->source_count == PERMA_MAX_PROCEDURES)
@@ -53,7 +56,6 @@ perma_status perma_add_source(perma_runtime *rt, const char *source, const char 
         return st;
     rt->source_count++;
     invalidate_build(rt);
-    rt->message[0] = '\0';
     return PERMA_OK;
 }
 
@@ -115,6 +117,9 @@ perma_status perma_register(perma_runtime *rt, const perma_procedure *d, perma_p
 {
     if (!rt)
         return PERMA_ERR_ARGUMENT;
+    perma_status begun = perma_call_begin(rt, "perma_register", true);
+    if (begun != PERMA_OK)
+        return begun;
     if (!d || !out)
         return perma_set_error(rt, PERMA_ERR_ARGUMENT, "perma_register: procedure or out is NULL");
     perma_status st = validate(rt, d);
@@ -155,7 +160,6 @@ perma_status perma_register(perma_runtime *rt, const perma_procedure *d, perma_p
     }
     invalidate_build(rt);
     *out = (perma_proc)(rt->proc_count - 1);
-    rt->message[0] = '\0';
     return PERMA_OK;
 }
 
@@ -163,6 +167,9 @@ perma_status perma_find(perma_runtime *rt, const char *name, perma_proc *out)
 {
     if (!rt)
         return PERMA_ERR_ARGUMENT;
+    perma_call_begin(rt, "perma_find", false);
+    if (!out)
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT, "perma_find('%s'): out is NULL", name ? name : "(null)");
     for (unsigned i = 0; name && i < rt->proc_count; ++i) {
         if (strcmp(rt->procs[i].name, name) == 0) {
             *out = (perma_proc)i;
@@ -176,6 +183,9 @@ perma_status perma_seed(perma_runtime *rt, perma_proc proc, const void *items, s
 {
     if (!rt)
         return PERMA_ERR_ARGUMENT;
+    perma_status begun = perma_call_begin(rt, "perma_seed", true);
+    if (begun != PERMA_OK)
+        return begun;
     if (proc < 0 || (unsigned)proc >= rt->proc_count)
         return perma_set_error(rt, PERMA_ERR_ARGUMENT, "perma_seed: %d is not a registered procedure", proc);
     perma_proc_info *p = &rt->procs[proc];
@@ -183,9 +193,9 @@ perma_status perma_seed(perma_runtime *rt, perma_proc proc, const void *items, s
         return PERMA_OK;
     if (!items)
         return perma_set_error(rt, PERMA_ERR_ARGUMENT, "perma_seed('%s'): items is NULL", p->name);
-    if (count > ((size_t)1 << 30) - p->seed_count)
-        return perma_set_error(rt, PERMA_ERR_ARGUMENT,
-                               "perma_seed('%s'): %zu items would exceed 2^30 queued items", p->name, count);
+    perma_status st = perma_queues_check_seeds(rt, (unsigned)proc, count);
+    if (st != PERMA_OK)
+        return st;
     size_t need = (p->seed_count + count) * p->item_size;
     if (need > p->seed_alloc) {
         size_t alloc = p->seed_alloc ? p->seed_alloc : 256;

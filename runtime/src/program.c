@@ -55,19 +55,38 @@ static void summarize_log(const char *log, char *out, size_t size)
         out[used - 1] = '\0';
 }
 
-static perma_status report_build_failure(perma_runtime *rt, cl_int code)
+/* The program's build log ("" if there is none); NULL if out of memory. */
+static char *read_build_log(perma_runtime *rt)
 {
     size_t size = 0;
-    clGetProgramBuildInfo(rt->program, rt->device, CL_PROGRAM_BUILD_LOG, 0, NULL, &size);
+    if (clGetProgramBuildInfo(rt->program, rt->device, CL_PROGRAM_BUILD_LOG, 0, NULL, &size) != CL_SUCCESS)
+        size = 0;
     char *log = calloc(1, size + 1);
+    if (log && size)
+        clGetProgramBuildInfo(rt->program, rt->device, CL_PROGRAM_BUILD_LOG, size, log, NULL);
+    return log;
+}
+
+/* A build that succeeded: show its warnings (build_log.c). */
+/* Show the warnings of a build that succeeded; returns how many. */
+static unsigned report_build_warnings(perma_runtime *rt)
+{
+    char *log = read_build_log(rt);
+    unsigned warnings = log ? perma_build_log_show(rt, log, false) : 0;
+    free(log);
+    return warnings;
+}
+
+static perma_status report_build_failure(perma_runtime *rt, cl_int code)
+{
+    char *log = read_build_log(rt);
     if (!log)
         return perma_set_error(rt, PERMA_ERR_BUILD, "clBuildProgram failed (%s) and the log is too large",
                                perma_cl_error_name(code));
-    clGetProgramBuildInfo(rt->program, rt->device, CL_PROGRAM_BUILD_LOG, size, log, NULL);
-    if (getenv("PERMA_BUILD_LOG"))
-        fprintf(stderr, "perma: build log:\n%s\n", log);
+    perma_build_log_show(rt, log, true);
     char summary[PERMA_MESSAGE_MAX - 64];
-    if (!perma_abi_explain_log(rt, log, summary, sizeof summary))
+    if (!perma_abi_explain_log(rt, log, summary, sizeof summary) &&
+        !perma_barriers_explain_log(rt, log, summary, sizeof summary))
         summarize_log(log, summary, sizeof summary);
     free(log);
     return perma_set_error(rt, PERMA_ERR_BUILD, "building the megakernel failed:\n%s", summary);
@@ -93,9 +112,11 @@ perma_status perma_build(perma_runtime *rt)
 {
     if (!rt)
         return PERMA_ERR_ARGUMENT;
-    if (rt->built)
-        return PERMA_OK;
+    perma_status begun = perma_call_begin(rt, "perma_build", true);
+    if (begun != PERMA_OK || rt->built)
+        return begun;
     perma_release_program(rt);
+    rt->state.capacities_learned = false; /* queue i may mean another queue now */
     perma_status st = perma_build_layout(rt);
     if (st != PERMA_OK)
         return st;
@@ -121,26 +142,33 @@ perma_status perma_build(perma_runtime *rt)
     snprintf(options, sizeof options, "-cl-std=CL1.2 %s%s", rt->debug ? "-DPERMA_DEBUG=1 " : "",
              rt->config.build_options ? rt->config.build_options : "");
     rt->program = perma_cache_load(rt, text, options);
+    double build_seconds = -1.0; /* not built here: loaded from the cache */
     if (!rt->program) {
         double start = perma_now();
         rt->program = clCreateProgramWithSource(rt->context, 1, &text, NULL, &err);
         if (err == CL_SUCCESS)
             err = clBuildProgram(rt->program, 1, &rt->device, options, NULL, NULL);
-        if (err == CL_SUCCESS)
-            perma_cache_store(rt, rt->program, text, options, perma_now() - start);
+        build_seconds = perma_now() - start;
     }
-    perma_strbuf_free(&sb);
-    if (!rt->program)
+    if (!rt->program) {
+        perma_strbuf_free(&sb);
         PERMA_CL_CHECK(rt, "clCreateProgramWithSource", err);
+    }
     if (err == CL_BUILD_PROGRAM_FAILURE || err == CL_INVALID_BUILD_OPTIONS) {
+        perma_strbuf_free(&sb);
         st = report_build_failure(rt, err);
         perma_release_program(rt);
         return st;
     }
     if (err != CL_SUCCESS) {
+        perma_strbuf_free(&sb);
         perma_release_program(rt);
         PERMA_CL_CHECK(rt, "clBuildProgram", err);
     }
+    /* A program with warnings is not cached, so that every build shows them. */
+    if (report_build_warnings(rt) == 0 && build_seconds >= 0.0)
+        perma_cache_store(rt, rt->program, text, options, build_seconds);
+    perma_strbuf_free(&sb);
     cl_kernel *kernels[KERNEL_COUNT];
     kernel_slots(rt, kernels);
     for (size_t i = 0; i < KERNEL_COUNT; ++i) {

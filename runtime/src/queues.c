@@ -1,9 +1,10 @@
 /* How big the queues are: their capacities at the start of a run, how they
  * grow when a launch runs out of room, and the cap on their memory.  Only
  * numbers: the device state (state.c) lays the queues out. */
-#include "internal.h"
+#include "executor.h"
 
 #include <stdlib.h>
+#include <string.h>
 
 #define DEFAULT_CAPACITY 1024
 
@@ -15,11 +16,45 @@ static size_t next_pow2(size_t v)
     return p;
 }
 
-static size_t memory_limit(const perma_runtime *rt)
+/* config.queue_memory_limit, or half the device's largest allocation: a
+ * regrowth holds the old and the new queue buffers at once. */
+size_t perma_queues_memory_limit(const perma_runtime *rt)
 {
     if (rt->config.queue_memory_limit)
         return rt->config.queue_memory_limit;
-    return rt->max_alloc ? (size_t)rt->max_alloc : ((size_t)1 << 30);
+    return rt->max_alloc ? (size_t)(rt->max_alloc / 2) : ((size_t)1 << 30);
+}
+
+unsigned perma_queues_sets(const perma_runtime *rt)
+{
+    return rt->executor->persistent && rt->config.schedule.strategy != PERMA_STRATEGY_SHARED ? rt->work_groups : 1;
+}
+
+static size_t initial_capacity(const perma_runtime *rt)
+{
+    return rt->config.queue_capacity ? rt->config.queue_capacity : DEFAULT_CAPACITY;
+}
+
+perma_status perma_queues_check_seeds(perma_runtime *rt, unsigned proc, size_t count)
+{
+    const perma_proc_info *p = &rt->procs[proc];
+    size_t total = p->seed_count + count;
+    if (count > PERMA_MAX_QUEUED_ITEMS - p->seed_count)
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT,
+                               "perma_seed('%s'): %zu more items would make %zu queued, more than a queue holds "
+                               "(PERMA_MAX_QUEUED_ITEMS, 2^30)", p->name, count, total);
+    unsigned sets = perma_queues_sets(rt);
+    size_t share = (total + sets - 1) / sets, cap = initial_capacity(rt);
+    cap = next_pow2(share > cap ? share : cap);
+    size_t bytes = sets * cap * (p->item_size + 4);
+    if (bytes > perma_queues_memory_limit(rt))
+        return perma_set_error(rt, PERMA_ERR_CAPACITY,
+                               "perma_seed('%s'): %zu items seeded would need %s%zu items of %zu bytes (with its "
+                               "sequence word), %zu bytes, more than the queue memory limit of %zu bytes "
+                               "(config.queue_memory_limit; 0: half the device's largest allocation)",
+                               p->name, total, sets > 1 ? "a queue per group of " : "a queue of ", cap,
+                               p->item_size + 4, bytes, perma_queues_memory_limit(rt));
+    return PERMA_OK;
 }
 
 /* The procedure whose items queue `qi` holds. */
@@ -57,10 +92,39 @@ void perma_queues_seed_share(const perma_runtime *rt, unsigned qi, size_t *first
         *count = share;
 }
 
+/* Start from what the last successful run of this build grew the queues
+ * to, if that is more and all queues then fit the memory limit: a runtime
+ * that runs similar work again does not pay the same regrowths every time.
+ * Counts the queues that start higher in the statistics. */
+static void keep_learned_capacities(perma_runtime *rt, size_t *capacities)
+{
+    const perma_device_state *s = &rt->state;
+    unsigned count = perma_queues_count(rt);
+    rt->stats.queues_kept = 0;
+    if (!s->capacities_learned || s->queue_count != count)
+        return;
+    size_t *learned = malloc(count * sizeof *learned);
+    if (!learned)
+        return; /* an optimisation only */
+    unsigned kept = 0;
+    for (unsigned qi = 0; qi < count; ++qi) {
+        learned[qi] = capacities[qi];
+        if (s->queues[qi].capacity > capacities[qi]) {
+            learned[qi] = s->queues[qi].capacity;
+            kept++;
+        }
+    }
+    if (kept && perma_queues_bytes(rt, learned) <= perma_queues_memory_limit(rt)) {
+        memcpy(capacities, learned, count * sizeof *learned);
+        rt->stats.queues_kept = kept;
+    }
+    free(learned);
+}
+
 perma_status perma_queues_initial(perma_runtime *rt, size_t *capacities)
 {
     unsigned n = rt->proc_count, sets = rt->queue_sets;
-    size_t base = rt->config.queue_capacity ? rt->config.queue_capacity : DEFAULT_CAPACITY;
+    size_t base = initial_capacity(rt);
     for (unsigned qi = 0; qi < perma_queues_count(rt); ++qi) {
         unsigned q = qi % n;
         size_t share = (rt->procs[q].seed_count + sets - 1) / sets;
@@ -74,11 +138,12 @@ perma_status perma_queues_initial(perma_runtime *rt, size_t *capacities)
                     cap = rt->procs[i].emit_max[e];
         capacities[qi] = next_pow2(cap);
     }
+    keep_learned_capacities(rt, capacities);
     size_t bytes = perma_queues_bytes(rt, capacities);
-    if (bytes > memory_limit(rt))
+    if (bytes > perma_queues_memory_limit(rt))
         return perma_set_error(rt, PERMA_ERR_CAPACITY,
                                "the initial queues need %zu bytes, more than the queue memory limit of %zu bytes",
-                               bytes, memory_limit(rt));
+                               bytes, perma_queues_memory_limit(rt));
     return PERMA_OK;
 }
 
@@ -92,15 +157,15 @@ static perma_status check_growth(perma_runtime *rt, const size_t *capacities)
         size_t before = rt->state.queues[qi].capacity;
         if (capacities[qi] == before)
             continue;
-        if (bytes > memory_limit(rt))
+        if (bytes > perma_queues_memory_limit(rt))
             return perma_set_error(rt, PERMA_ERR_CAPACITY,
                                    "queue '%s' is full (%zu items of %zu bytes) and cannot grow to %zu items: "
                                    "all queues would need %zu bytes, more than the queue memory limit of %zu bytes",
                                    proc_of(rt, qi)->name, before, proc_of(rt, qi)->item_size, capacities[qi], bytes,
-                                   memory_limit(rt));
-        if (capacities[qi] > ((size_t)1 << 31))
-            return perma_set_error(rt, PERMA_ERR_CAPACITY, "queue '%s' would need more than 2^31 items",
-                                   proc_of(rt, qi)->name);
+                                   perma_queues_memory_limit(rt));
+        if (capacities[qi] > PERMA_MAX_QUEUED_ITEMS)
+            return perma_set_error(rt, PERMA_ERR_CAPACITY, "queue '%s' would need more than 2^30 items "
+                                   "(PERMA_MAX_QUEUED_ITEMS)", proc_of(rt, qi)->name);
     }
     return PERMA_OK;
 }

@@ -130,13 +130,22 @@ static perma_status write_trace(perma_runtime *rt, perma_status st)
     return st;
 }
 
+perma_status perma_forget_capacities(perma_runtime *rt)
+{
+    if (!rt)
+        return PERMA_ERR_ARGUMENT;
+    perma_call_begin(rt, "perma_forget_capacities", false);
+    rt->state.capacities_learned = false;
+    return PERMA_OK;
+}
+
 perma_status perma_run(perma_runtime *rt)
 {
     if (!rt)
         return PERMA_ERR_ARGUMENT;
-    if (rt->hung)
-        return perma_set_error(rt, PERMA_ERR_STATE, "a previous run did not stop; this runtime cannot run again");
-    perma_status st = perma_build(rt);
+    perma_status st = perma_call_begin(rt, "perma_run", true);
+    if (st == PERMA_OK)
+        st = perma_build(rt);
     if (st != PERMA_OK) {
         /* A run consumes its seeds whether it succeeds or not. */
         for (unsigned q = 0; q < rt->proc_count; ++q)
@@ -157,6 +166,7 @@ perma_status perma_run(perma_runtime *rt)
     if (st == PERMA_OK)
         st = perma_buffers_copy(rt, PERMA_WRITE);
     rt->stats.seconds = perma_now() - start;
+    rt->state.capacities_learned = st == PERMA_OK;
     st = write_trace(rt, st);
     perma_stats_finish(rt);
     if (st == PERMA_OK)

@@ -21,6 +21,9 @@ static perma_status check_config(perma_runtime *rt, const perma_config *c)
     if (!(c->time_limit >= 0.0) || c->time_limit > 1e7)
         return perma_set_error(rt, PERMA_ERR_ARGUMENT,
                                "config.time_limit %g is not a number of seconds in 0..1e7", c->time_limit);
+    if (!(c->stall_limit >= 0.0) || c->stall_limit > 1e7)
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT,
+                               "config.stall_limit %g is not a number of seconds in 0..1e7", c->stall_limit);
     if (c->queue_capacity > ((size_t)1 << 30))
         return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.queue_capacity %zu is above 2^30 items",
                                c->queue_capacity);
@@ -90,6 +93,8 @@ perma_status perma_create(const perma_config *config, perma_runtime **out, perma
         st = perma_device_open(rt);
     if (st == PERMA_OK)
         st = perma_state_open(rt);
+    if (st == PERMA_OK)
+        st = perma_watchdog_open(rt);
     if (error) {
         error->status = st;
         snprintf(error->message, sizeof error->message, "%s", st == PERMA_OK ? "" : rt->message);
@@ -126,6 +131,7 @@ void perma_destroy(perma_runtime *rt)
     if (rt->queue)
         clFinish(rt->queue);
     perma_state_close(rt);
+    perma_watchdog_close(rt);
     perma_release_program(rt);
     for (unsigned i = 0; i < rt->buffer_count; ++i) {
         if (rt->buffers[i].mem)

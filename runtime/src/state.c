@@ -9,9 +9,16 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Host memory the kernels poll through a CL_MEM_USE_HOST_PTR buffer: one
- * aligned page, so an implementation can map it without copying. */
-#define ABORT_FLAG_BYTES 4096
+/* The watch page (kernels/perma_abi.h) is host memory the kernels use
+ * through a CL_MEM_USE_HOST_PTR buffer: whole aligned pages, so an
+ * implementation can map it without copying. */
+#define PAGE_BYTES 4096
+
+static size_t watch_bytes(const perma_runtime *rt)
+{
+    size_t bytes = 4 * (size_t)PERMA_WATCH_WORDS_FOR(rt->work_groups);
+    return (bytes + PAGE_BYTES - 1) / PAGE_BYTES * PAGE_BYTES;
+}
 
 static size_t item_words(const perma_runtime *rt, unsigned qi)
 {
@@ -97,10 +104,10 @@ static size_t trace_bytes(const perma_runtime *rt)
 
 perma_status perma_state_open(perma_runtime *rt)
 {
-    rt->state.abort_flag = aligned_alloc(ABORT_FLAG_BYTES, ABORT_FLAG_BYTES);
+    rt->state.abort_flag = aligned_alloc(PAGE_BYTES, watch_bytes(rt));
     if (!rt->state.abort_flag)
-        return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory for the watchdog flag");
-    memset(rt->state.abort_flag, 0, ABORT_FLAG_BYTES);
+        return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory for the watch page");
+    memset(rt->state.abort_flag, 0, watch_bytes(rt));
     return PERMA_OK;
 }
 
@@ -131,9 +138,9 @@ static perma_status ensure_launch_buffers(perma_runtime *rt)
         st = ensure(rt, &s->trace, trace_bytes(rt), "trace");
     if (st == PERMA_OK && !s->abort_mem) {
         cl_int err;
-        s->abort_mem = clCreateBuffer(rt->context, CL_MEM_READ_WRITE | CL_MEM_USE_HOST_PTR, ABORT_FLAG_BYTES,
+        s->abort_mem = clCreateBuffer(rt->context, CL_MEM_READ_WRITE | CL_MEM_USE_HOST_PTR, watch_bytes(rt),
                                       s->abort_flag, &err);
-        PERMA_CL_CHECK(rt, "clCreateBuffer (watchdog flag)", err);
+        PERMA_CL_CHECK(rt, "clCreateBuffer (watch page)", err);
     }
     return st;
 }
@@ -168,9 +175,10 @@ static perma_status set_queues(perma_runtime *rt, const size_t *capacities, bool
         s->queue_count = count;
     }
     for (unsigned qi = 0; qi < count; ++qi) {
-        if (fresh)
+        if (fresh) {
             s->queues[qi].regrowths = 0;
-        else if (capacities[qi] != s->queues[qi].capacity)
+            s->queues[qi].initial = capacities[qi];
+        } else if (capacities[qi] != s->queues[qi].capacity)
             s->queues[qi].regrowths++;
         s->queues[qi].capacity = capacities[qi];
     }
@@ -236,13 +244,28 @@ done:
 
 perma_status perma_state_begin_launch(perma_runtime *rt)
 {
-    __atomic_store_n(rt->state.abort_flag, 0u, __ATOMIC_SEQ_CST);
+    memset(rt->state.abort_flag, 0, watch_bytes(rt)); /* no kernel is running */
+    __atomic_thread_fence(__ATOMIC_SEQ_CST);
     return zero(rt, &rt->state.stats, stats_bytes(rt), "statistics");
 }
 
 void perma_state_raise_abort(perma_runtime *rt)
 {
-    __atomic_store_n(rt->state.abort_flag, 1u, __ATOMIC_SEQ_CST);
+    __atomic_store_n(rt->state.abort_flag + PERMA_WATCH_ABORT, 1u, __ATOMIC_SEQ_CST);
+}
+
+uint64_t perma_state_watch(const perma_runtime *rt, unsigned *running, unsigned procs)
+{
+    uint64_t done = 0;
+    memset(running, 0, procs * sizeof *running);
+    for (unsigned g = 0; g < rt->work_groups; ++g) {
+        const uint32_t *record = rt->state.abort_flag + PERMA_WATCH_RECORDS + (size_t)g * PERMA_WATCH_RECORD_WORDS;
+        done += __atomic_load_n(record + PERMA_WATCH_DONE, __ATOMIC_RELAXED);
+        uint32_t proc = __atomic_load_n(record + PERMA_WATCH_RUNNING, __ATOMIC_RELAXED);
+        if (proc >= 1 && proc <= procs)
+            running[proc - 1]++;
+    }
+    return done;
 }
 
 perma_status perma_state_read_control(perma_runtime *rt, perma_ctl_block *out, unsigned queues)

@@ -15,10 +15,10 @@ void perma_stats_reset(perma_runtime *rt)
     rt->stats.work_groups = rt->work_groups;
     rt->stats.group_size = rt->group_size;
     rt->stats.procedure_count = rt->proc_count;
+    rt->stats.queue_memory_limit = perma_queues_memory_limit(rt);
     for (unsigned q = 0; q < rt->proc_count; ++q) {
         perma_proc_info *p = &rt->procs[q];
         memset(&p->stats, 0, sizeof p->stats);
-        p->stats.batch_size = p->max_batch;
         p->stats.name = p->name;
         p->stats.emit_count = p->emit_count;
     }
@@ -91,26 +91,85 @@ perma_status perma_stats_collect(perma_runtime *rt)
     return PERMA_OK;
 }
 
-/* Each procedure's final queue capacity (summed over queue sets) and most
- * regrowths of one of its queues. */
+/* The largest capacity of target t's queues (one per queue set). */
+static size_t target_capacity(const perma_runtime *rt, unsigned t)
+{
+    size_t cap = 0;
+    for (unsigned qi = t; qi < rt->state.queue_count; qi += rt->proc_count)
+        if (rt->state.queues[qi].capacity > cap)
+            cap = rt->state.queues[qi].capacity;
+    return cap;
+}
+
+/* Why q's batches held fewer items than a group runs at once, if it
+ * mattered (more items were queued at once than a batch took): the layout
+ * gave it a smaller batch for lack of __local memory, or (the batches
+ * averaging under half of it) the worst-case emits of a full batch,
+ * batch_size * max_items, did not fit the target's queue, so a batch could
+ * only reserve room for a few items.
+ * The .emits entry responsible: the one staging the most bytes, or
+ * reserving the most for its target's capacity. */
+static void explain_batches(perma_runtime *rt, unsigned q)
+{
+    const perma_proc_info *p = &rt->procs[q];
+    perma_procedure_stats *ps = &rt->procs[q].stats;
+    ps->batch_size = p->max_batch;
+    ps->batch_cut = PERMA_BATCH_FULL;
+    ps->batch_cut_emit = -1;
+    if (ps->peak_queue_items <= p->max_batch)
+        return;
+    if (p->max_batch < rt->group_size / p->threads_per_item) {
+        ps->batch_cut = PERMA_BATCH_CUT_LOCAL_MEMORY;
+        size_t own = p->item_size + 4 * (size_t)p->scratch_words, most = 0;
+        for (unsigned e = 0; e < p->emit_count; ++e) {
+            size_t staged = (size_t)p->emit_max[e] * rt->procs[p->emit_target[e]].item_size;
+            if (staged > own && staged > most) {
+                most = staged;
+                ps->batch_cut_emit = (int)e;
+            }
+        }
+        return;
+    }
+    if (ps->batches == 0 || ps->items * 2 >= ps->batches * p->max_batch)
+        return;
+    double worst = 1.0;
+    for (unsigned e = 0; e < p->emit_count; ++e) {
+        size_t cap = target_capacity(rt, (unsigned)p->emit_target[e]);
+        double over = cap ? (double)p->max_batch * p->emit_max[e] / (double)cap : 0.0;
+        if (over > worst) {
+            worst = over;
+            ps->batch_cut = PERMA_BATCH_CUT_ROOM;
+            ps->batch_cut_emit = (int)e;
+        }
+    }
+}
+
+/* Each procedure's final queue capacity (summed over queue sets), most
+ * regrowths of one of its queues, and its batches. */
 void perma_stats_finish(perma_runtime *rt)
 {
     for (unsigned q = 0; q < rt->proc_count; ++q) {
+        rt->procs[q].stats.initial_capacity = 0;
         rt->procs[q].stats.queue_capacity = 0;
         rt->procs[q].stats.regrowths = 0;
     }
     for (unsigned qi = 0; qi < rt->state.queue_count; ++qi) {
         perma_procedure_stats *ps = &rt->procs[qi % rt->proc_count].stats;
+        ps->initial_capacity += rt->state.queues[qi].initial;
         ps->queue_capacity += rt->state.queues[qi].capacity;
         if (rt->state.queues[qi].regrowths > ps->regrowths)
             ps->regrowths = rt->state.queues[qi].regrowths;
     }
+    if (rt->built)
+        for (unsigned q = 0; q < rt->proc_count; ++q)
+            explain_batches(rt, q);
 }
 
 perma_status perma_get_stats(perma_runtime *rt, perma_stats *out)
 {
     if (!rt)
         return PERMA_ERR_ARGUMENT;
+    perma_call_begin(rt, "perma_get_stats", false);
     if (!out)
         return perma_set_error(rt, PERMA_ERR_ARGUMENT, "perma_get_stats: out is NULL");
     *out = rt->stats;
@@ -121,6 +180,7 @@ perma_status perma_get_procedure_stats(perma_runtime *rt, perma_proc proc, perma
 {
     if (!rt)
         return PERMA_ERR_ARGUMENT;
+    perma_call_begin(rt, "perma_get_procedure_stats", false);
     if (proc < 0 || (unsigned)proc >= rt->proc_count || !out)
         return perma_set_error(rt, PERMA_ERR_ARGUMENT, "perma_get_procedure_stats: %d is not a registered procedure",
                                proc);
@@ -130,10 +190,25 @@ perma_status perma_get_procedure_stats(perma_runtime *rt, perma_proc proc, perma
     return PERMA_OK;
 }
 
+perma_status perma_get_work_groups(perma_runtime *rt, unsigned *work_groups, unsigned *group_size)
+{
+    if (!rt)
+        return PERMA_ERR_ARGUMENT;
+    perma_call_begin(rt, "perma_get_work_groups", false);
+    if (!work_groups && !group_size)
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT, "perma_get_work_groups: both out pointers are NULL");
+    if (work_groups)
+        *work_groups = rt->work_groups;
+    if (group_size)
+        *group_size = rt->group_size;
+    return PERMA_OK;
+}
+
 perma_status perma_get_group_stats(perma_runtime *rt, unsigned group, perma_group_stats *out)
 {
     if (!rt)
         return PERMA_ERR_ARGUMENT;
+    perma_call_begin(rt, "perma_get_group_stats", false);
     if (group >= rt->work_groups || !out)
         return perma_set_error(rt, PERMA_ERR_ARGUMENT, "perma_get_group_stats: group %u is not in 0..%u",
                                group, rt->work_groups - 1);
@@ -144,28 +219,65 @@ perma_status perma_get_group_stats(perma_runtime *rt, unsigned group, perma_grou
     return PERMA_OK;
 }
 
+/* The warning for a procedure whose batches were cut, naming the
+ * declaration responsible and the fix. */
+static void print_batch_warning(const perma_runtime *rt, unsigned q, FILE *out)
+{
+    const perma_proc_info *p = &rt->procs[q];
+    const perma_procedure_stats *ps = &p->stats;
+    unsigned full = rt->group_size / p->threads_per_item;
+    int e = ps->batch_cut_emit;
+    const char *target = e >= 0 ? p->emit_target_name[e] : "";
+    if (ps->batch_cut == PERMA_BATCH_CUT_LOCAL_MEMORY && e >= 0)
+        fprintf(out, "warning: procedure '%s' runs at most %u items per batch instead of %u: .emits[%d] (up to %u "
+                     "items of %zu bytes into '%s' per item) needs %zu bytes of __local memory per item to stage "
+                     "them; declare fewer, or emit them from a separate procedure (docs/writing-procedures.md, "
+                     "section 6)\n", p->name, ps->batch_size, full, e, p->emit_max[e],
+                rt->procs[p->emit_target[e]].item_size, target,
+                (size_t)p->emit_max[e] * rt->procs[p->emit_target[e]].item_size);
+    else if (ps->batch_cut == PERMA_BATCH_CUT_LOCAL_MEMORY)
+        fprintf(out, "warning: procedure '%s' runs at most %u items per batch instead of %u: its item, scratch "
+                     "(.local_bytes_per_item) and emits do not fit more in __local memory\n",
+                p->name, ps->batch_size, full);
+    else if (ps->batch_cut == PERMA_BATCH_CUT_ROOM)
+        fprintf(out, "warning: procedure '%s' ran batches of %.1f items on average instead of up to %u: a full "
+                     "batch must reserve room for %u x %u items in '%s' (.emits[%d].max_items = %u), more than its "
+                     "queue of %zu holds, so batches start with the few items whose worst case fits; declare a "
+                     "smaller maximum, or give the large fan-out to a separate procedure "
+                     "(docs/writing-procedures.md, section 6)\n",
+                p->name, (double)ps->items / (double)ps->batches, ps->batch_size, ps->batch_size, p->emit_max[e],
+                target, e, p->emit_max[e], target_capacity(rt, (unsigned)p->emit_target[e]));
+}
+
 void perma_print_stats(perma_runtime *rt, FILE *out)
 {
     if (!rt || !out)
         return;
     const perma_stats *s = &rt->stats;
     fprintf(out, "perma run (%s, %s): %.3f s, %u launch(es), %u regrowth(s), %u group(s) x %u work-items, "
-                 "peak queue memory %zu bytes\n",
+                 "peak queue memory %zu bytes (limit %zu)\n",
             perma_technique_name(s->technique), perma_strategy_name(s->strategy), s->seconds, s->launches,
-            s->regrowths, s->work_groups, s->group_size, s->peak_queue_bytes);
+            s->regrowths, s->work_groups, s->group_size, s->peak_queue_bytes, s->queue_memory_limit);
+    if (s->queues_kept)
+        fprintf(out, "%u queue(s) started at the capacity an earlier run grew them to\n", s->queues_kept);
     if (s->steals || s->donations || s->spills)
         fprintf(out, "load balancing: %" PRIu64 " steal(s), %" PRIu64 " donation(s), %" PRIu64
                      " spill(s), %" PRIu64 " idle poll(s)\n",
                 s->steals, s->donations, s->spills, s->idle_polls);
-    fprintf(out, "%-20s %12s %10s %10s %12s %10s  %s\n", "procedure", "items", "batches", "seeded",
-            "peak queued", "capacity", "emitted");
+    fprintf(out, "%-20s %12s %10s %10s %10s %12s %10s  %s\n", "procedure", "items", "batches", "batch",
+            "seeded", "peak queued", "capacity", "emitted");
     for (unsigned q = 0; q < rt->proc_count; ++q) {
         const perma_proc_info *p = &rt->procs[q];
         const perma_procedure_stats *ps = &p->stats;
-        fprintf(out, "%-20s %12" PRIu64 " %10" PRIu64 " %10" PRIu64 " %12" PRIu64 " %10zu ", p->name,
-                ps->items, ps->batches, ps->seeded, ps->peak_queue_items, ps->queue_capacity);
+        char batch[32];
+        snprintf(batch, sizeof batch, "%.1f/%u", ps->batches ? (double)ps->items / (double)ps->batches : 0.0,
+                 ps->batch_size);
+        fprintf(out, "%-20s %12" PRIu64 " %10" PRIu64 " %10s %10" PRIu64 " %12" PRIu64 " %10zu ", p->name,
+                ps->items, ps->batches, batch, ps->seeded, ps->peak_queue_items, ps->queue_capacity);
         for (unsigned e = 0; e < p->emit_count; ++e)
             fprintf(out, " %s:%" PRIu64, p->emit_target_name[e], ps->emitted[e]);
         fputc('\n', out);
     }
+    for (unsigned q = 0; q < rt->proc_count; ++q)
+        print_batch_warning(rt, q, out);
 }

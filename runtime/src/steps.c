@@ -2,29 +2,66 @@
  * checking the targets' room before each step.  A launch runs steps until
  * every queue is empty, a step needs more room than its targets have
  * (NEEDS_ROOM with the room each queue needs), a kernel fails or the
- * deadline passes. */
+ * deadline passes.
+ *
+ * A step takes what the policy asks for only if the worst-case emits of all
+ * of it fit in the targets' room; otherwise it takes as many as fit, and
+ * only when not even STEP_MIN_BATCHES batches per work-group fit (or what a
+ * quarter of the memory limit can reserve) do the queues grow, and only for
+ * those.  So a breadth-first level is split into
+ * launches that fit rather than reserving its whole worst case at once
+ * (which failed at the memory limit where the other techniques succeed). */
 #include "steps.h"
 
 #include <stdlib.h>
 #include <string.h>
 
-/* Whether the targets of q have room for the worst-case emits of `take` of
- * its items; if not, needed[] says how many free slots each queue needs.
- * The taken items are still in q's queue: q needs room for them too. */
-static bool targets_have_room(const perma_runtime *rt, const perma_ctl_block *ctl, unsigned q, uint32_t take,
-                              size_t *needed)
+/* Batches per work-group below which a step grows the queues rather than
+ * run with fewer items: fewer would mostly pay launch overhead. */
+#define STEP_MIN_BATCHES 16
+
+/* The most of `want` items of q whose worst-case emits fit in the targets'
+ * room now (taken items free their slots in q's own queue). */
+static uint32_t items_that_fit(const perma_runtime *rt, const perma_ctl_block *ctl, unsigned q, uint32_t want)
 {
     const perma_proc_info *p = &rt->procs[q];
-    bool room_for_all = true;
+    uint64_t fit = want;
+    for (unsigned e = 0; e < p->emit_count; ++e) {
+        unsigned t = (unsigned)p->emit_target[e];
+        int64_t room = (int32_t)ctl->queues[t].room;
+        uint64_t per_item = p->emit_max[e] - (t == q ? 1u : 0u);
+        if (per_item > 0 && (uint64_t)(room > 0 ? room : 0) / per_item < fit)
+            fit = (uint64_t)(room > 0 ? room : 0) / per_item;
+    }
+    return (uint32_t)fit;
+}
+
+/* The fewest items of q worth a launch, of `want`: STEP_MIN_BATCHES
+ * batches per work-group, but no more than a quarter of the queue memory
+ * limit can reserve room for (at least one item). */
+static uint32_t least_worth_a_launch(const perma_runtime *rt, unsigned q, uint32_t want)
+{
+    const perma_proc_info *p = &rt->procs[q];
+    uint64_t least = (uint64_t)rt->work_groups * p->max_batch * STEP_MIN_BATCHES, reserved = 0;
+    for (unsigned e = 0; e < p->emit_count; ++e)
+        reserved += (uint64_t)p->emit_max[e] * (rt->procs[p->emit_target[e]].item_size + 4);
+    uint64_t affordable = reserved ? perma_queues_memory_limit(rt) / 4 / reserved : least;
+    if (least > affordable)
+        least = affordable > 0 ? affordable : 1;
+    return want < least ? want : (uint32_t)least;
+}
+
+/* How many free slots each queue needs (needed[]) before `take` items of q
+ * can run: their worst-case emits, counting that the taken items are still
+ * in q's queue. */
+static void room_needed(const perma_runtime *rt, unsigned q, uint32_t take, size_t *needed)
+{
+    const perma_proc_info *p = &rt->procs[q];
     memset(needed, 0, rt->proc_count * sizeof *needed);
     for (unsigned e = 0; e < p->emit_count; ++e) {
         unsigned t = (unsigned)p->emit_target[e];
-        int64_t room = (int32_t)ctl->queues[t].room + (t == q ? (int64_t)take : 0);
-        needed[t] += (size_t)take * p->emit_max[e];
-        if ((int64_t)needed[t] > room)
-            room_for_all = false;
+        needed[t] += (size_t)take * p->emit_max[e] - (t == q ? take : 0);
     }
-    return room_for_all;
 }
 
 static perma_status set_take_args(perma_runtime *rt, cl_uint qi, cl_uint first, cl_uint take)
@@ -62,7 +99,8 @@ static perma_status set_step_args(perma_runtime *rt, cl_uint proc, cl_uint count
     return PERMA_OK;
 }
 
-static perma_status launch_step(perma_runtime *rt, unsigned q, uint32_t first, uint32_t take)
+/* Enqueue the take and step kernels; *done: the step's event. */
+static perma_status launch_step(perma_runtime *rt, unsigned q, uint32_t first, uint32_t take, cl_event *done)
 {
     const perma_proc_info *p = &rt->procs[q];
     size_t words = (size_t)take * (p->item_size / 4);
@@ -77,10 +115,13 @@ static perma_status launch_step(perma_runtime *rt, unsigned q, uint32_t first, u
     st = set_step_args(rt, q, take);
     if (st != PERMA_OK)
         return st;
-    size_t local = rt->group_size;
-    size_t global = ((size_t)take + p->max_batch - 1) / p->max_batch * local;
+    /* At most work_groups groups, each running every work_groups-th batch
+     * (kernels/perma_host_steps.cl): ctx->group stays below work_groups. */
+    size_t local = rt->group_size, batches = ((size_t)take + p->max_batch - 1) / p->max_batch;
+    size_t global = (batches < rt->work_groups ? batches : rt->work_groups) * local;
     PERMA_CL_CHECK(rt, "clEnqueueNDRangeKernel (step)",
-                   clEnqueueNDRangeKernel(rt->queue, rt->step_kernel, 1, NULL, &global, &local, 0, NULL, NULL));
+                   clEnqueueNDRangeKernel(rt->queue, rt->step_kernel, 1, NULL, &global, &local, 0, NULL, done));
+    clFlush(rt->queue);
     return PERMA_OK;
 }
 
@@ -109,7 +150,22 @@ perma_status perma_steps_prepare(perma_runtime *rt)
 {
     rt->steps.cursor = 0;
     rt->steps.traced_proc = -1;
+    rt->steps.running = NULL;
     return PERMA_OK;
+}
+
+/* Wait for the step in flight, if any, under the watchdog. */
+static perma_status wait_for_step(perma_runtime *rt, double deadline)
+{
+    perma_steps_state *s = &rt->steps;
+    if (!s->running)
+        return PERMA_OK;
+    perma_status st = perma_watch_event(rt, s->running, deadline);
+    if (!rt->hung) {
+        clReleaseEvent(s->running);
+        s->running = NULL;
+    }
+    return st;
 }
 
 /* Move HEAD (from the head) or TAIL (from the tail) past the `take` items
@@ -140,7 +196,9 @@ static perma_status run_steps(perma_runtime *rt, const perma_step_policy *policy
 {
     perma_steps_state *s = &rt->steps;
     for (;;) {
-        perma_status st = perma_state_read_control(rt, ctl, rt->proc_count); /* waits for the previous step */
+        perma_status st = wait_for_step(rt, deadline);
+        if (st == PERMA_OK)
+            st = perma_state_read_control(rt, ctl, rt->proc_count);
         if (st == PERMA_OK && s->traced_proc >= 0)
             st = perma_trace_host_step(rt, (unsigned)s->traced_proc, s->traced_items, s->traced_start, perma_now());
         s->traced_proc = -1;
@@ -160,8 +218,10 @@ static perma_status run_steps(perma_runtime *rt, const perma_step_policy *policy
         if (chosen < 0)
             return PERMA_OK;
         unsigned q = (unsigned)chosen;
-        uint32_t take = policy->take(rt, perma_steps_queued(ctl, q));
-        if (!targets_have_room(rt, ctl, q, take, outcome->needed)) {
+        uint32_t want = policy->take(rt, perma_steps_queued(ctl, q));
+        uint32_t take = items_that_fit(rt, ctl, q, want), least = least_worth_a_launch(rt, q, want);
+        if (take < least) {
+            room_needed(rt, q, least, outcome->needed);
             outcome->header.status = PERMA_KSTATUS_NEEDS_ROOM;
             outcome->needed_given = true;
             return PERMA_OK;
@@ -171,7 +231,7 @@ static perma_status run_steps(perma_runtime *rt, const perma_step_policy *policy
         if (st != PERMA_OK)
             return st;
         s->traced_start = perma_now();
-        st = launch_step(rt, q, first, take);
+        st = launch_step(rt, q, first, take, &s->running);
         if (st != PERMA_OK)
             return st;
         outcome->launches++;
@@ -187,8 +247,12 @@ perma_status perma_steps_launch(perma_runtime *rt, double deadline, perma_launch
     if (!ctl)
         return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory for the control block");
     perma_status st = run_steps(rt, policy, deadline, ctl, outcome);
-    if (st != PERMA_OK)
+    if (st != PERMA_OK && !rt->hung) {
         clFinish(rt->queue); /* a queue record write may still read *ctl */
+        if (rt->steps.running)
+            clReleaseEvent(rt->steps.running);
+        rt->steps.running = NULL;
+    }
     free(ctl);
     return st;
 }

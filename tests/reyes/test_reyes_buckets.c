@@ -45,17 +45,20 @@ END_TEST
 
 /* Kernel-per-procedure holds a whole breadth-first level of micropolygons
  * in its queues: with 32x32 buckets the peak queue memory is smaller than
- * for the whole image, and the image is the same. */
+ * for the whole image, and the image is the same.  (Its steps reserve room
+ * for at least 16 batches per group, about 1.3 MB here with 2 groups: the
+ * image is large enough for a level to need more.) */
 START_TEST(test_buckets_bound_queue_memory)
 {
     reyes_scene scene;
     reyes_camera camera;
-    reyes_test_builtin_scene(&scene, &camera, 192, 144);
+    reyes_test_builtin_scene(&scene, &camera, 384, 288);
     reyes_options o;
     reyes_options_init(&o);
-    o.width = 192;
-    o.height = 144;
+    o.width = 384;
+    o.height = 288;
     o.spp = 1;
+    o.work_groups = 2;
     o.schedule.technique = PERMA_TECHNIQUE_KERNEL_PER_PROCEDURE;
     reyes_image whole, tiled;
     reyes_stats whole_stats, tiled_stats;

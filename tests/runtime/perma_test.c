@@ -1,6 +1,7 @@
 #include "perma_test.h"
 
 #include <stdlib.h>
+#include <time.h>
 
 /* PERMA_TEST_TECHNIQUE, PERMA_TEST_STRATEGY, PERMA_TEST_VICTIM and
  * PERMA_TEST_LOCAL_QUEUE select the variant every test runs under (meson
@@ -42,6 +43,13 @@ perma_runtime *test_runtime(unsigned group_size, unsigned work_groups, size_t qu
     config.queue_capacity = queue_capacity;
     config.time_limit = 120;
     return test_runtime_config(&config);
+}
+
+double perma_test_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
 }
 
 int test_run_suite(Suite *suite)

@@ -27,6 +27,9 @@ perma_runtime *test_runtime_config(const perma_config *config);
     ck_assert_msg(strstr((haystack), (needle)) != NULL, "expected '%s' in message: %s",      \
                   (needle), (haystack))
 
+/* A monotonic clock in seconds. */
+double perma_test_now(void);
+
 /* Run a suite; returns the number of failures. */
 int test_run_suite(Suite *suite);
 

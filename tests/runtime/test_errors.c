@@ -3,6 +3,7 @@
  * targets, missing devices, emit limits, the watchdog. */
 #include "perma_test.h"
 
+#include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
@@ -108,6 +109,159 @@ START_TEST(syntax_error_names_file_and_line)
     ck_assert_int_eq(perma_run(rt), PERMA_ERR_BUILD);
     ck_assert_contains(perma_errmsg(rt), "tests/data/bad_syntax.cl:4:");
     perma_destroy(rt);
+}
+END_TEST
+
+/* docs/writing-procedures.md's sum_squares with four threads per item but
+ * not declared cooperative: its barrier would be reached by the work-items
+ * with an item only (a wrong sum on PoCL, a hang on a GPU).  It does not
+ * build; the message names the procedure, its file and line, and the fix. */
+static const char *divergent_source =
+    "struct quad { uint v[4]; };\n"
+    "void sum_squares(perma_ctx *ctx, __local const struct quad *q)\n"
+    "{\n"
+    "    __local uint *partial = (__local uint *)ctx->scratch;\n"
+    "    if (ctx->active)\n"
+    "        partial[ctx->thread] = q->v[ctx->thread] * q->v[ctx->thread];\n"
+    "    barrier(CLK_LOCAL_MEM_FENCE);\n"
+    "    if (ctx->active && ctx->thread == 0)\n"
+    "        atomic_add(&ctx->buf.result[0], partial[0] + partial[1] + partial[2] + partial[3]);\n"
+    "}\n"
+    "void plain(perma_ctx *ctx, __local const struct quad *q) { (void)ctx; (void)q; }\n";
+static const char *work_group_barrier_source =
+    "void wg_barrier(perma_ctx *ctx, __local const struct quad *q)\n"
+    "{\n"
+    "    (void)ctx; (void)q;\n"
+    "    work_group_barrier(CLK_LOCAL_MEM_FENCE);\n"
+    "}\n";
+
+/* Build sum_squares (cooperative or not), and `second` (NULL: none) from
+ * the same source, with work_group_barrier_source added when `second` is
+ * wg_barrier; the status of the build. */
+static perma_status build_sum_squares(perma_runtime *rt, int cooperative, const char *second, int second_cooperative)
+{
+    static char source[2048];
+    snprintf(source, sizeof source, "%s%s", divergent_source,
+             second && strcmp(second, "wg_barrier") == 0 ? work_group_barrier_source : "");
+    perma_procedure p = { .name = "sum_squares", .item_type = "struct quad", .item_size = 16,
+                          .threads_per_item = 4, .local_bytes_per_item = 16, .source = source,
+                          .source_file = "coop.cl", .function = "sum_squares", .cooperative = cooperative };
+    perma_proc id;
+    ck_assert_perma_ok(rt, perma_register(rt, &p, &id));
+    if (second) {
+        p.name = p.function = second;
+        p.cooperative = second_cooperative;
+        ck_assert_perma_ok(rt, perma_register(rt, &p, &id));
+    }
+    static uint32_t result[1];
+    ck_assert_perma_ok(rt, perma_bind_host(rt, "result", "__global uint *", result, sizeof result, PERMA_READ_WRITE));
+    return perma_build(rt);
+}
+
+START_TEST(barrier_in_a_non_cooperative_procedure)
+{
+    perma_runtime *rt = test_runtime(64, 0, 0);
+    ck_assert_int_eq(build_sum_squares(rt, 0, NULL, 0), PERMA_ERR_BUILD);
+    ck_assert_contains(perma_errmsg(rt), "coop.cl:7:");
+    ck_assert_contains(perma_errmsg(rt), "barrier() (or a work_group_*() function) in procedure 'sum_squares', "
+                                         "which is not declared .cooperative");
+    ck_assert_contains(perma_errmsg(rt), "set .cooperative = 1");
+    perma_destroy(rt);
+
+    /* work_group_barrier too, in a source two procedures share. */
+    rt = test_runtime(64, 0, 0);
+    ck_assert_int_eq(build_sum_squares(rt, 0, "wg_barrier", 0), PERMA_ERR_BUILD);
+    ck_assert_contains(perma_errmsg(rt), "in the source of procedures 'sum_squares', 'wg_barrier', which are not "
+                                         "declared .cooperative");
+    perma_destroy(rt);
+
+    /* A source that a cooperative procedure uses may call barriers, also
+     * when a non-cooperative one shares it. */
+    rt = test_runtime(64, 0, 0);
+    ck_assert_perma_ok(rt, build_sum_squares(rt, 1, "plain", 0));
+    perma_destroy(rt);
+}
+END_TEST
+
+/* A procedure with two mistakes clang warns about by default. */
+static const char *warning_source =
+    "void careless(perma_ctx *ctx, __local const uint *x)\n"
+    "{\n"
+    "    uint v = *x;\n"
+    "    if (v = 3u)\n"
+    "        atomic_add(&ctx->buf.out[0], v);\n"
+    "    *x + 1u;\n"
+    "}\n";
+
+static void collect_text(void *user, const char *text)
+{
+    char *log = user;
+    strncat(log, text, 8191 - strlen(log));
+}
+
+/* Build `source` as procedure `name` with config.build_log collecting into
+ * log[8192] (NULL: the default, stderr). */
+static void build_with_log(const char *name, const char *source, char *log)
+{
+    perma_config config;
+    perma_config_init(&config);
+    config.time_limit = 60;
+    if (log) {
+        log[0] = '\0';
+        config.build_log = collect_text;
+        config.build_log_user = log;
+    }
+    perma_runtime *rt = test_runtime_config(&config);
+    perma_procedure p = { .name = name, .item_type = "uint", .item_size = 4, .source = source,
+                          .source_file = "careless.cl", .function = name };
+    perma_proc id;
+    ck_assert_perma_ok(rt, perma_register(rt, &p, &id));
+    uint32_t out[1];
+    ck_assert_perma_ok(rt, perma_bind_host(rt, "out", "__global uint *", out, sizeof out, PERMA_READ_WRITE));
+    ck_assert_perma_ok(rt, perma_build(rt));
+    perma_destroy(rt);
+}
+
+/* The warnings of a build that succeeds are shown, at the user's file and
+ * line: through config.build_log, or on stderr.  A clean program gives
+ * none (the generated code has no warnings of its own). */
+START_TEST(compiler_warnings_are_shown)
+{
+    char log[8192];
+    build_with_log("careless", warning_source, log);
+    ck_assert_contains(log, "perma: the program built with 2 compiler warnings:\n");
+    ck_assert_contains(log, "careless.cl:4:");
+    ck_assert_contains(log, ": warning: using the result of an assignment as a condition");
+    ck_assert_contains(log, "careless.cl:6:");
+    ck_assert_contains(log, ": warning: expression result unused");
+
+    build_with_log("noop", noop_source, log);
+    ck_assert_msg(log[0] == '\0', "a clean program gave: %s", log);
+
+    /* PERMA_BUILD_LOG=1: the whole log of every build. */
+    setenv("PERMA_BUILD_LOG", "1", 1);
+    build_with_log("noop", noop_source, log);
+    unsetenv("PERMA_BUILD_LOG");
+    ck_assert_contains(log, "perma: build log:\n");
+
+    /* The default: stderr. */
+    char path[] = "/tmp/perma-stderr-XXXXXX";
+    int fd = mkstemp(path);
+    ck_assert_int_ge(fd, 0);
+    fflush(stderr);
+    int saved = dup(2);
+    dup2(fd, 2);
+    build_with_log("careless", warning_source, NULL);
+    fflush(stderr);
+    dup2(saved, 2);
+    close(saved);
+    char text[8192] = "";
+    ssize_t got = pread(fd, text, sizeof text - 1, 0);
+    close(fd);
+    unlink(path);
+    ck_assert_int_gt(got, 0);
+    ck_assert_contains(text, "careless.cl:4:");
+    ck_assert_contains(text, ": warning: using the result of an assignment as a condition");
 }
 END_TEST
 
@@ -286,6 +440,10 @@ START_TEST(bad_config_values)
     ck_assert_int_eq(perma_create(&config, &rt, &error), PERMA_ERR_ARGUMENT);
     ck_assert_contains(error.message, "config.time_limit -1");
     perma_config_init(&config);
+    config.stall_limit = -2;
+    ck_assert_int_eq(perma_create(&config, &rt, &error), PERMA_ERR_ARGUMENT);
+    ck_assert_contains(error.message, "config.stall_limit -2 is not a number of seconds");
+    perma_config_init(&config);
     config.group_size = 100000;
     ck_assert_int_eq(perma_create(&config, &rt, &error), PERMA_ERR_ARGUMENT);
     ck_assert_contains(error.message, "config.group_size 100000");
@@ -359,6 +517,7 @@ START_TEST(watchdog_stops_an_endless_run)
     perma_config config;
     perma_config_init(&config);
     config.time_limit = 1.0;
+    config.stall_limit = 0.5; /* items keep completing: the time limit stops it */
     perma_runtime *rt = test_runtime_config(&config);
     perma_procedure spin = {
         .name = "spin", .item_type = "uint", .item_size = 4,
@@ -370,11 +529,166 @@ START_TEST(watchdog_stops_an_endless_run)
     uint32_t zero = 0;
     ck_assert_perma_ok(rt, perma_seed(rt, id, &zero, 1));
     ck_assert_int_eq(perma_run(rt), PERMA_ERR_TIMEOUT);
-    ck_assert_contains(perma_errmsg(rt), "time limit of 1 s");
+    ck_assert_contains(perma_errmsg(rt), "the run passed its time limit of 1 s (config.time_limit) and was stopped");
     perma_stats st;
     ck_assert_perma_ok(rt, perma_get_stats(rt, &st));
     ck_assert_double_lt(st.seconds, 15.0);
+    /* The runtime is still usable. */
+    ck_assert_perma_ok(rt, perma_seed(rt, id, &zero, 1));
     perma_destroy(rt);
+}
+END_TEST
+
+/* A procedure that never returns: nothing completes, so the watchdog stops
+ * the run after config.stall_limit (1 s here) instead of the time limit
+ * (600 s), names the procedure in flight, and gives up on the kernel after
+ * the grace period.  The runtime is then unusable: every call that uses the
+ * device says so. */
+static void stuck_procedure(perma_technique technique)
+{
+    perma_config config;
+    perma_config_init(&config);
+    config.schedule.technique = technique;
+    config.stall_limit = 1.0;
+    perma_runtime *rt = test_runtime_config(&config);
+    perma_procedure fine = {
+        .name = "fine", .item_type = "uint", .item_size = 4, .source_file = "stuck.cl", .function = "fine",
+        .source = "void fine(perma_ctx *ctx, __local const uint *x) { if (*x == 0u) { uint v = 1u; emit_stuck(ctx, &v); } }\n"
+                  "void stuck(perma_ctx *ctx, __local const uint *x)\n"
+                  "{\n"
+                  "    while (atomic_add(&ctx->buf.release[0], 0u) == 0u)\n"
+                  "        ;\n"
+                  "    (void)x;\n"
+                  "}\n",
+        .emits = { { "stuck", 1 } },
+    };
+    perma_procedure stuck = fine;
+    stuck.name = stuck.function = "stuck";
+    memset(stuck.emits, 0, sizeof stuck.emits);
+    perma_proc f, s;
+    ck_assert_perma_ok(rt, perma_register(rt, &fine, &f));
+    ck_assert_perma_ok(rt, perma_register(rt, &stuck, &s));
+    uint32_t release[1] = { 0 };
+    ck_assert_perma_ok(rt, perma_bind_host(rt, "release", "__global uint *", release, sizeof release, PERMA_READ));
+    uint32_t values[100] = { 0 };
+    for (unsigned i = 1; i < 100; ++i)
+        values[i] = i;
+    ck_assert_perma_ok(rt, perma_build(rt));
+    ck_assert_perma_ok(rt, perma_seed(rt, f, values, 100)); /* 99 complete, one emits the stuck item */
+    double start = perma_test_now();
+    ck_assert_int_eq(perma_run(rt), PERMA_ERR_TIMEOUT);
+    double seconds = perma_test_now() - start;
+    ck_assert_contains(perma_errmsg(rt), "no item completed for 1 s (config.stall_limit): procedure 'stuck' "
+                                         "(1 work-group) had items in flight (a procedure that never returns?)");
+    ck_assert_contains(perma_errmsg(rt), "the kernel did not stop within 10 s after being told to; this runtime "
+                                         "can no longer be used");
+    ck_assert_msg(seconds < 25.0, "the stall took %.1f s to end the run", seconds);
+    ck_assert_int_eq(perma_seed(rt, f, values, 1), PERMA_ERR_STATE);
+    ck_assert_contains(perma_errmsg(rt), "perma_seed: a previous run's kernel did not stop");
+    ck_assert_int_eq(perma_run(rt), PERMA_ERR_STATE);
+    ck_assert_contains(perma_errmsg(rt), "perma_run: a previous run's kernel did not stop");
+    perma_destroy(rt); /* returns; the stuck kernel spins until the test process exits */
+    /* Intel's CPU runtime makes exit() wait for the stuck kernel, forever:
+     * end the test's own process (check forks one per test) without it. */
+    const char *fork_mode = getenv("CK_FORK");
+    if (!fork_mode || strcmp(fork_mode, "no") != 0)
+        _exit(0);
+}
+
+START_TEST(stuck_procedure_megakernel)
+{
+    stuck_procedure(PERMA_TECHNIQUE_MEGAKERNEL);
+}
+END_TEST
+
+START_TEST(stuck_procedure_kernel_per_procedure)
+{
+    stuck_procedure(PERMA_TECHNIQUE_KERNEL_PER_PROCEDURE);
+}
+END_TEST
+
+/* A tree whose root has 1000 children and whose other nodes have 2, down
+ * to depth 4: 1 + 1000 + 2000 + 4000 + 8000 nodes. */
+#define FANOUT_TREE_NODES 15001u
+static const char *fanout_types = "struct fan { uint depth; uint pad; };\n";
+static const char *fanout_source =
+    "void node(perma_ctx *ctx, __local const struct fan *n)\n"
+    "{\n"
+    "    atomic_inc(&ctx->buf.nodes[0]);\n"
+    "    struct fan child = { n->depth + 1u, 0u };\n"
+    "    uint children = n->depth == 0u ? 1000u : n->depth < 4u ? 2u : 0u;\n"
+    "    for (uint i = 0; i < children; ++i)\n"
+    "        emit_node(ctx, &child);\n"
+    "}\n"
+    "void root(perma_ctx *ctx, __local const struct fan *n) { node(ctx, n); }\n";
+
+/* Run the fan-out tree, its root declared by procedure `root_name`; the
+ * statistics of `node` and what perma_print_stats printed. */
+static void run_fanout(const char *root_name, perma_procedure_stats *node_stats, char **printed)
+{
+    perma_runtime *rt = test_runtime(64, 0, 0);
+    bool separate = strcmp(root_name, "root") == 0;
+    ck_assert_perma_ok(rt, perma_add_source(rt, fanout_types, "fan_types.cl"));
+    perma_procedure node = { .name = "node", .item_type = "struct fan", .item_size = 8, .function = "node",
+                             .source = fanout_source, .source_file = "fan.cl",
+                             .emits = { { "node", separate ? 2 : 1000 } } };
+    perma_proc node_id, root_id;
+    ck_assert_perma_ok(rt, perma_register(rt, &node, &node_id));
+    root_id = node_id;
+    if (separate) {
+        perma_procedure root = node;
+        root.name = root.function = "root";
+        root.emits[0].max_items = 1000;
+        ck_assert_perma_ok(rt, perma_register(rt, &root, &root_id));
+    }
+    uint32_t nodes[1] = { 0 };
+    ck_assert_perma_ok(rt, perma_bind_host(rt, "nodes", "__global uint *", nodes, sizeof nodes, PERMA_READ_WRITE));
+    struct { uint32_t depth, pad; } top = { 0, 0 };
+    ck_assert_perma_ok(rt, perma_seed(rt, root_id, &top, 1));
+    ck_assert_perma_ok(rt, perma_run(rt));
+    ck_assert_uint_eq(nodes[0], FANOUT_TREE_NODES);
+    ck_assert_perma_ok(rt, perma_get_procedure_stats(rt, node_id, node_stats));
+    size_t size;
+    FILE *out = open_memstream(printed, &size);
+    perma_print_stats(rt, out);
+    fclose(out);
+    perma_destroy(rt);
+}
+
+/* One procedure for root and nodes declares the root's 1000 children for
+ * every node: a full batch's worst case never fits the queue, so batches
+ * run a few items each.  The statistics say so, naming the declaration;
+ * a separate root procedure (the fix the docs show) runs full batches. */
+START_TEST(cut_batches_are_explained)
+{
+    perma_procedure_stats ps;
+    char *printed = NULL;
+    run_fanout("node", &ps, &printed);
+    ck_assert_uint_lt(ps.items, ps.batches * 16); /* a few items per batch */
+    ck_assert_int_eq(ps.batch_cut_emit, 0);
+    if (ps.batch_cut == PERMA_BATCH_CUT_LOCAL_MEMORY) {
+        /* A device with little __local memory (Intel's CPU runtime: 32 KiB)
+         * cannot even stage the emits of 64 items. */
+        ck_assert_uint_lt(ps.batch_size, 64);
+        ck_assert_contains(printed, "warning: procedure 'node' runs at most ");
+        ck_assert_contains(printed, ".emits[0] (up to 1000 items of 8 bytes into 'node' per item) needs 8000 bytes");
+    } else {
+        ck_assert_uint_eq(ps.batch_size, 64);
+        ck_assert_int_eq(ps.batch_cut, PERMA_BATCH_CUT_ROOM);
+        ck_assert_contains(printed, "warning: procedure 'node' ran batches of ");
+        ck_assert_contains(printed, "instead of up to 64: a full batch must reserve room for 64 x 1000 items in "
+                                    "'node' (.emits[0].max_items = 1000)");
+    }
+    ck_assert_contains(printed, "a separate procedure");
+    free(printed);
+
+    printed = NULL;
+    run_fanout("root", &ps, &printed);
+    ck_assert_int_eq(ps.batch_cut, PERMA_BATCH_FULL);
+    ck_assert_int_eq(ps.batch_cut_emit, -1);
+    ck_assert_uint_ge(ps.items, ps.batches * 32);
+    ck_assert_msg(strstr(printed, "warning") == NULL, "unexpected warning: %s", printed);
+    free(printed);
 }
 END_TEST
 
@@ -420,6 +734,8 @@ int main(void)
     tcase_add_test(tc, no_procedures_is_a_state_error);
     tcase_add_test(tc, syntax_error_names_file_and_line);
     tcase_add_test(tc, item_size_mismatch_is_a_build_error);
+    tcase_add_test(tc, barrier_in_a_non_cooperative_procedure);
+    tcase_add_test(tc, compiler_warnings_are_shown);
     tcase_add_test(tc, unknown_emit_target);
     tcase_add_test(tc, function_missing_from_its_source);
     tcase_add_test(tc, cycle_without_priority_order);
@@ -429,7 +745,10 @@ int main(void)
     tcase_add_test(tc, emitting_beyond_the_declared_maximum);
     tcase_add_test(tc, emitting_into_an_undeclared_target);
     tcase_add_test(tc, watchdog_stops_an_endless_run);
+    tcase_add_test(tc, stuck_procedure_megakernel);
+    tcase_add_test(tc, stuck_procedure_kernel_per_procedure);
     tcase_add_test(tc, debug_mode);
+    tcase_add_test(tc, cut_batches_are_explained);
     suite_add_tcase(s, tc);
     return test_run_suite(s) ? EXIT_FAILURE : EXIT_SUCCESS;
 }
