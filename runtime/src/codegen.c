@@ -132,45 +132,15 @@ static void append_emit_helpers(perma_runtime *rt, perma_strbuf *sb)
     }
 }
 
-/* Whether the source defines procedure p's function as a plain external
- * function "void NAME(perma_ctx ...": not static or inline on that line,
- * so that the declaration below agrees with it. */
-static bool plain_definition(const perma_proc_info *p)
-{
-    size_t n = strlen(p->function);
-    for (const char *at = strstr(p->source.text, p->function); at; at = strstr(at + 1, p->function)) {
-        const char *line = at;
-        while (line > p->source.text && line[-1] != '\n')
-            --line;
-        if (at - line < 5 || strncmp(at - 5, "void ", 5) != 0 || strncmp(at + n, "(perma_ctx", 10) != 0)
-            continue;
-        for (const char *c = line; c < at; ++c)
-            if (strncmp(c, "static", 6) == 0 || strncmp(c, "inline", 6) == 0)
-                return false;
-        return true;
-    }
-    return false;
-}
-
-/* Source files up to this size count as small procedures. */
-#define INLINE_SOURCE_LIMIT 4096
-
-/* Procedure sources, each once even if several procedures share it.  The
- * function of a small procedure (its source file at most
- * INLINE_SOURCE_LIMIT bytes, its definition a plain one) is declared
- * always_inline first, so the dispatch's constants fold into it: about
- * 15 % on perma-bench tree.  Big procedures are left to the compiler:
- * forcing the Reyes procedures inline tripled the build of their
- * megakernel (7 s to 20 s of CPU).  No barrier in a source that only
- * non-cooperative procedures use (barriers.c). */
+/* Procedure sources, each once even if several procedures share it; no
+ * barrier in one that only non-cooperative procedures use (barriers.c).
+ * Whether a procedure is inlined into the dispatch is the compiler's
+ * choice: forcing every function of the sources inline tripled the cold
+ * build of the Reyes megakernel (7 s to 20 s of CPU), and a forward
+ * declaration of the procedure alone cannot name an item type its own
+ * source declares. */
 static void append_procedure_sources(perma_runtime *rt, perma_strbuf *sb)
 {
-    perma_strbuf_append(sb, "#ifndef PERMA_PROFILE_PHASES\n");
-    for (unsigned i = 0; i < rt->proc_count; ++i)
-        if (strlen(rt->procs[i].source.text) <= INLINE_SOURCE_LIMIT && plain_definition(&rt->procs[i]))
-            perma_strbuf_printf(sb, "__attribute__((always_inline)) void %s(perma_ctx *ctx, __local const %s *item);\n",
-                                rt->procs[i].function, rt->procs[i].item_type);
-    perma_strbuf_append(sb, "#endif\n");
     for (unsigned i = 0; i < rt->proc_count; ++i) {
         const perma_source_text *src = &rt->procs[i].source;
         bool duplicate = false, cooperative = false;
@@ -216,6 +186,10 @@ static void append_dispatch(perma_runtime *rt, perma_strbuf *sb)
         const perma_proc_info *p = &rt->procs[i];
         unsigned tpi = p->threads_per_item;
         if (perma_proc_is_simple(p)) {
+            /* Lane staging only when the layout gave it lanes (layout.c). */
+            char lanes[64] = "0";
+            if (p->lane_items)
+                snprintf(lanes, sizeof lanes, "arena + %uu + lid * %uu", p->lane_counts_off, p->emit_count);
             perma_strbuf_printf(sb,
                                 "    case %u:\n"
                                 "        ctx->proc = %uu;\n"
@@ -223,7 +197,7 @@ static void append_dispatch(perma_runtime *rt, perma_strbuf *sb)
                                 "        ctx->threads = 1u;\n"
                                 "        ctx->active = 1u;\n"
                                 "        ctx->lane = lid;\n"
-                                "        ctx->lane_counts = arena + %uu + lid * %uu;\n"
+                                "        ctx->lane_counts = %s;\n"
                                 "        for (uint slot = lid; slot < run; slot += PERMA_GROUP_SIZE) {\n"
                                 "            ctx->slot = slot;\n"
                                 "            ctx->scratch = (__local void *)(arena + %uu + slot * %uu);\n"
@@ -231,7 +205,7 @@ static void append_dispatch(perma_runtime *rt, perma_strbuf *sb)
                                 "            %s(ctx, (__local const %s *)(items + slot * %zuu));\n"
                                 "        }\n"
                                 "        break;\n",
-                                i, i, p->lane_counts_off, p->emit_count, p->scratch_off, p->scratch_words,
+                                i, i, lanes, p->scratch_off, p->scratch_words,
                                 p->emit_count, p->function, p->item_type, p->item_size / 4);
             continue;
         }

@@ -193,7 +193,9 @@ static void compute_order(perma_runtime *rt)
  * per item. */
 static unsigned arena_cost(const perma_runtime *rt, perma_proc_info *p, unsigned batch, bool assign)
 {
-    bool lanes = perma_proc_is_simple(p);
+    /* Lanes only for whole rounds of the group, so no lane has room for an
+     * item it never gets. */
+    bool lanes = perma_proc_is_simple(p) && batch % rt->group_size == 0;
     unsigned lane_items = (batch + rt->group_size - 1) / rt->group_size;
     unsigned staged = lanes ? rt->group_size * lane_items : batch; /* items with a staging area */
     unsigned offset = 0;
