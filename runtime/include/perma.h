@@ -435,7 +435,9 @@ perma_status perma_run(perma_runtime *rt);
 typedef enum perma_batch_cut {
     PERMA_BATCH_FULL = 0,         /* nothing cut them */
     PERMA_BATCH_CUT_LOCAL_MEMORY, /* __local memory holds fewer items (their copies, scratch and
-                                     worst-case emits): batch_size is below group size / threads */
+                                     worst-case emits): batch_size is below group_size *
+                                     items_per_work_item (group_size / threads_per_item for a
+                                     procedure of several threads per item or a cooperative one) */
     PERMA_BATCH_CUT_ROOM          /* a full batch's worst-case emits did not fit the target's queue,
                                      so batches started with the few items whose worst case fit */
 } perma_batch_cut;

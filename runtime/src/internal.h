@@ -257,6 +257,10 @@ static inline bool perma_proc_is_simple(const perma_proc_info *p)
 {
     return p->threads_per_item == 1 && !p->cooperative;
 }
+/* The items of a batch of p when __local memory does not cut it:
+ * group_size * items_per_work_item for a simple procedure, else
+ * group_size / threads_per_item. */
+unsigned perma_full_batch(const perma_runtime *rt, const perma_proc_info *p);
 perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *out);
 void perma_release_program(perma_runtime *rt);
 

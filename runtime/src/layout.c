@@ -184,6 +184,13 @@ static void compute_order(perma_runtime *rt)
     }
 }
 
+unsigned perma_full_batch(const perma_runtime *rt, const perma_proc_info *p)
+{
+    unsigned items_per_work_item =
+        rt->config.items_per_work_item ? rt->config.items_per_work_item : DEFAULT_ITEMS_PER_WORK_ITEM;
+    return perma_proc_is_simple(p) ? rt->group_size * items_per_work_item : rt->group_size / p->threads_per_item;
+}
+
 /* Arena words procedure p needs for a batch of `batch` items: the items,
  * scratch, an emit counter per item and edge, and the staging of the
  * worst-case emits.  A procedure of one thread per item that is not
@@ -265,14 +272,11 @@ perma_status perma_build_layout(perma_runtime *rt)
                                "%zu bytes available", rt->local_queue_items, 4 * rt->lq_words, limit);
     size_t budget_words = (limit - fixed) / 4;
 
-    unsigned items_per_work_item =
-        rt->config.items_per_work_item ? rt->config.items_per_work_item : DEFAULT_ITEMS_PER_WORK_ITEM;
     rt->arena_words = 16;
     for (unsigned i = 0; i < rt->proc_count; ++i) {
         perma_proc_info *p = &rt->procs[i];
         p->scratch_words = round_up(words_of(p->local_bytes_per_item), 4);
-        unsigned batch = perma_proc_is_simple(p) ? rt->group_size * items_per_work_item
-                                                 : rt->group_size / p->threads_per_item;
+        unsigned batch = perma_full_batch(rt, p);
         while (batch > 0 && arena_cost(rt, p, batch, false) > budget_words)
             --batch;
         if (batch == 0)
