@@ -233,7 +233,7 @@ typedef struct perma_config {
      * and all queues fit queue_memory_limit (perma_stats.queues_kept counts
      * them; perma_forget_capacities). */
     size_t queue_capacity;
-    /* Cap on the bytes of all queues together (item_size + 4 bytes per
+    /* Cap on the bytes of all queues together (item_size + 8 bytes per
      * slot); 0 = half the device's largest allocation
      * (CL_DEVICE_MAX_MEM_ALLOC_SIZE): growing a queue holds the old and the
      * new items at once.  Reaching it fails the run with PERMA_ERR_CAPACITY;

@@ -295,6 +295,9 @@ perma_status perma_queues_grow_stalled(perma_runtime *rt, const perma_ctl_block 
 /* Every queue with fewer free slots than needed[qi] grows to fit. */
 perma_status perma_queues_grow_to_fit(perma_runtime *rt, const perma_ctl_block *ctl, const size_t *needed,
                                       size_t *capacities);
+/* Bytes a queue slot costs beside its item: two completion marks
+ * (kernels/perma_queue.cl). */
+#define PERMA_QUEUE_SLOT_OVERHEAD 8
 /* Bytes of the queues (items and completion marks) at these capacities. */
 size_t perma_queues_bytes(const perma_runtime *rt, const size_t *capacities);
 

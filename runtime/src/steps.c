@@ -44,7 +44,7 @@ static uint32_t least_worth_a_launch(const perma_runtime *rt, unsigned q, uint32
     const perma_proc_info *p = &rt->procs[q];
     uint64_t least = (uint64_t)rt->work_groups * p->max_batch * STEP_MIN_BATCHES, reserved = 0;
     for (unsigned e = 0; e < p->emit_count; ++e)
-        reserved += (uint64_t)p->emit_max[e] * (rt->procs[p->emit_target[e]].item_size + 4);
+        reserved += (uint64_t)p->emit_max[e] * (rt->procs[p->emit_target[e]].item_size + PERMA_QUEUE_SLOT_OVERHEAD);
     uint64_t affordable = reserved ? perma_queues_memory_limit(rt) / 4 / reserved : least;
     if (least > affordable)
         least = affordable > 0 ? affordable : 1;

@@ -187,12 +187,15 @@ START_TEST(kept_capacities_give_way_to_the_memory_limit)
     ck_assert_perma_ok(rt, perma_run(rt));
     perma_procedure_stats ps;
     ck_assert_perma_ok(rt, perma_get_procedure_stats(rt, tree, &ps));
-    size_t learned = ps.queue_capacity * (sizeof root + 4);
-    ck_assert_msg(learned > (512 << 10) + 1024, "the tree grew its queue to only %zu bytes", learned);
-
-    /* 2^16 seeds of 4 bytes need 512 KiB: with the learned tree queue more
-     * than 1 MiB, with a fresh one less. */
-    enum { FLAT = 1 << 16 };
+    /* A slot costs its item and 8 bytes (perma_config.queue_memory_limit).
+     * 2^16 seeds of 4 bytes need 768 KiB: with the learned tree queue (how
+     * far it grew depends on the schedule: 16384 items or more, 384 KiB)
+     * more than 1 MiB, with a fresh one less. */
+    enum { FLAT = 1 << 16, SLOT_OVERHEAD = 8 };
+    size_t learned = ps.queue_capacity * (sizeof root + SLOT_OVERHEAD);
+    size_t flat_bytes = (size_t)FLAT * (sizeof(uint32_t) + SLOT_OVERHEAD);
+    ck_assert_msg(learned + flat_bytes > config.queue_memory_limit, "the tree grew its queue to only %zu bytes",
+                  learned);
     uint32_t *items = calloc(FLAT, sizeof *items);
     ck_assert_perma_ok(rt, perma_seed(rt, flat, items, FLAT));
     root.target = 3;
