@@ -18,6 +18,7 @@
 typedef struct bench_options {
     const char *csv_path;   /* --csv FILE, or NULL */
     unsigned repeat;        /* --repeat N: timed runs, the median is reported */
+    int best;               /* --best: report the fastest of the timed runs instead */
     int quick;              /* --quick: small sizes (tests) */
     unsigned groups;        /* --groups N: perma work-groups, 0 = runtime default */
     unsigned threads;       /* OpenMP threads: --threads N, 0 = online CPUs */
@@ -88,6 +89,8 @@ void bench_row_init(bench_row *row, const char *workload, const char *variant, c
 
 double bench_now(void);                         /* monotonic seconds */
 double bench_median(double *values, unsigned count); /* sorts values */
+/* The median of the timed runs, or the fastest with --best. */
+double bench_summary(const bench_options *options, double *values, unsigned count);
 
 /* ---- perma variants (variants.c) ---- */
 

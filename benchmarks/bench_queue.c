@@ -5,7 +5,11 @@
  * batch, dispatching, reserving and publishing emits.  Measured for every
  * perma variant, group size (= batch size of the empty procedure) and
  * work-group count, against a sequential FIFO loop and OpenMP tasks.
- * Rate = (G + G*K) executed items per second. */
+ * Rate = (G + G*K) executed items per second.  Each row's note gives the
+ * cost of an item to one work-group (or thread): seconds * groups / items,
+ * for the empty procedure the runtime's own overhead per item (claim,
+ * read, dispatch, emit, publish); a summary compares the fastest perma row
+ * with OpenMP's generator tasks. */
 #include "bench.h"
 
 #include <stdlib.h>
@@ -70,8 +74,24 @@ static int queue_verify(void *state, perma_runtime *rt, bench_row *row)
     return gen.items == s->params.generators && empty.items == expected;
 }
 
+/* The note of a row that ran: nanoseconds per item per group (thread). */
+static void note_overhead(bench_row *row)
+{
+    if (row->ran && row->seconds > 0 && row->units > 0 && !row->message[0])
+        snprintf(row->message, sizeof row->message, "%.1f ns/item/group",
+                 row->seconds * 1e9 * (row->work_groups ? row->work_groups : 1) / row->units);
+}
+
+/* Fastest rows so far, for the summary. */
+typedef struct queue_best {
+    double perma_rate, openmp_rate;
+    char perma_variant[64], cheapest_variant[64];
+    unsigned perma_gs, perma_wg, cheapest_gs, cheapest_wg;
+    double perma_ns, cheapest_ns;
+} queue_best;
+
 static void run_perma(const bench_options *o, const bench_variant *v, queue_state *s, unsigned group_size,
-                      unsigned groups, const char *title, bench_report *report)
+                      unsigned groups, const char *title, bench_report *report, queue_best *best)
 {
     bench_row row;
     bench_row_init(&row, title, v->name, "items");
@@ -108,7 +128,23 @@ static void run_perma(const bench_options *o, const bench_variant *v, queue_stat
         bench_perma_verbose(rt, o);
         perma_destroy(rt);
     }
+    note_overhead(&row);
     bench_report_add(report, &row, 0);
+    double rate = row.ran && row.seconds > 0 && row.check != BENCH_CHECK_FAIL ? row.units / row.seconds : 0.0;
+    if (rate > best->perma_rate) {
+        best->perma_rate = rate;
+        snprintf(best->perma_variant, sizeof best->perma_variant, "%s", row.variant);
+        best->perma_gs = row.group_size;
+        best->perma_wg = row.work_groups;
+        best->perma_ns = row.seconds * 1e9 * row.work_groups / row.units;
+    }
+    double ns = rate > 0 ? row.seconds * 1e9 * row.work_groups / row.units : 0.0;
+    if (ns > 0 && (best->cheapest_ns == 0 || ns < best->cheapest_ns)) {
+        best->cheapest_ns = ns;
+        snprintf(best->cheapest_variant, sizeof best->cheapest_variant, "%s", row.variant);
+        best->cheapest_gs = row.group_size;
+        best->cheapest_wg = row.work_groups;
+    }
 }
 
 /* ---- baselines ---- */
@@ -183,7 +219,7 @@ static void openmp_generators_once(void *p)
     a->executed = (uint64_t)a->params.generators * (1 + a->params.per_generator);
 }
 
-static void add_baseline(const bench_options *o, baseline_arg *a, const char *variant, void (*fn)(void *),
+static double add_baseline(const bench_options *o, baseline_arg *a, const char *variant, void (*fn)(void *),
                          unsigned threads, int is_baseline, const char *title, bench_report *report)
 {
     bench_row row;
@@ -193,7 +229,9 @@ static void add_baseline(const bench_options *o, baseline_arg *a, const char *va
     row.ran = 1;
     /* Rate counts the tasks each implementation executed. */
     row.units = (double)a->executed;
+    note_overhead(&row);
     bench_report_add(report, &row, is_baseline);
+    return row.seconds > 0 ? row.units / row.seconds : 0.0;
 }
 
 static void queue_usage(FILE *out)
@@ -272,7 +310,9 @@ int bench_queue(const bench_options *o, int argc, char **argv)
     free(a.ring);
     a.ring = NULL;
     add_baseline(o, &a, "openmp tasks (one producer)", openmp_single_producer_once, a.threads, 0, title, report);
-    add_baseline(o, &a, "openmp tasks (generator tasks)", openmp_generators_once, a.threads, 0, title, report);
+    queue_best best = { 0 };
+    best.openmp_rate =
+        add_baseline(o, &a, "openmp tasks (generator tasks)", openmp_generators_once, a.threads, 0, title, report);
 
     s->params = params;
     for (uint32_t g = 0; g < params.generators; ++g)
@@ -285,9 +325,15 @@ int bench_queue(const bench_options *o, int argc, char **argv)
                     continue;
                 for (unsigned d = 0; d < bench_device_passes(o); ++d) {
                     bench_variant_use_device(o, d, &v);
-                    run_perma(o, &v, s, sizes[si], group_list[gi], title, report);
+                    run_perma(o, &v, s, sizes[si], group_list[gi], title, report, &best);
                 }
             }
+    if (best.perma_rate > 0 && best.openmp_rate > 0)
+        printf("\nlowest runtime overhead: %s, %u work-items x %u group(s): %.1f ns per item per group\n"
+               "fastest perma row: %s, %u work-items x %u group(s): %.1f ns per item per group; "
+               "empty-task throughput %.2fx OpenMP generator tasks\n",
+               best.cheapest_variant, best.cheapest_gs, best.cheapest_wg, best.cheapest_ns, best.perma_variant,
+               best.perma_gs, best.perma_wg, best.perma_ns, best.perma_rate / best.openmp_rate);
     free(s->seeds);
     free(s);
 

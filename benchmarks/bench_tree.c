@@ -11,9 +11,13 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Device counters: one 64-byte line per work-group (nodes, hash sum), so
- * the two cores do not fight over one cache line. */
-enum { COUNTER_SLOTS = 256, COUNTER_STRIDE = 8 };
+/* Device counters (nodes, hash sum): one pair per work-item of the first
+ * COUNTER_GROUPS work-groups, added to without atomics, like the per-thread
+ * counters of the OpenMP count (a work-item runs the items of batch slots
+ * lid, lid + group size, ... one after another, so slot % group size names
+ * it); work-groups beyond them (only with --groups above it) share one pair
+ * with atomics. */
+enum { COUNTER_GROUPS = 64 };
 
 static const char *device_types =
     "#pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable\n"
@@ -53,7 +57,8 @@ static void tree_title(const uts_tree *t, char *out, size_t size)
 typedef struct tree_state {
     const uts_tree *tree;
     perma_proc proc;
-    uint64_t counters[COUNTER_SLOTS * COUNTER_STRIDE];
+    uint64_t *counters;   /* 2 * (COUNTER_GROUPS * group_size + 1) */
+    size_t counter_count;
     uts_node *seeds;
     size_t seed_count;
     uts_result host_part; /* nodes counted on the host (the expanded binomial root) */
@@ -63,7 +68,7 @@ typedef struct tree_state {
 static perma_status tree_prepare(void *state, perma_runtime *rt)
 {
     tree_state *s = state;
-    memset(s->counters, 0, sizeof s->counters);
+    memset(s->counters, 0, s->counter_count * sizeof *s->counters);
     return perma_seed(rt, s->proc, s->seeds, s->seed_count);
 }
 
@@ -71,9 +76,9 @@ static int tree_verify(void *state, perma_runtime *rt, bench_row *row)
 {
     tree_state *s = state;
     uint64_t nodes = s->host_part.nodes, sum = s->host_part.hash_sum;
-    for (unsigned g = 0; g < COUNTER_SLOTS; ++g) {
-        nodes += s->counters[g * COUNTER_STRIDE];
-        sum += s->counters[g * COUNTER_STRIDE + 1];
+    for (size_t i = 0; i < s->counter_count; i += 2) {
+        nodes += s->counters[i];
+        sum += s->counters[i + 1];
     }
     perma_stats st;
     int items_ok = perma_get_stats(rt, &st) == PERMA_OK && st.items + s->host_part.nodes == nodes;
@@ -82,7 +87,7 @@ static int tree_verify(void *state, perma_runtime *rt, bench_row *row)
     return nodes == s->expected.nodes && sum == s->expected.hash_sum && items_ok;
 }
 
-static char *procedure_source(const uts_tree *t)
+static char *procedure_source(const uts_tree *t, unsigned group_size)
 {
     char children[160];
     if (t->shape == UTS_GEOMETRIC)
@@ -94,9 +99,15 @@ static char *procedure_source(const uts_tree *t)
     const char *format =
         "void uts_visit(perma_ctx *ctx, __local const struct uts_node *n)\n"
         "{\n"
-        "    __global ulong *c = ctx->buf.uts_counters + %u * (ctx->group %% %uu);\n"
-        "    atom_inc(&c[0]);\n"
-        "    atom_add(&c[1], (ulong)n->hash);\n"
+        "    if (ctx->group < %uu) {\n"
+        "        __global ulong *c = ctx->buf.uts_counters + 2u * (ctx->group * %uu + ctx->slot %% %uu);\n"
+        "        c[0] += 1ul;\n"
+        "        c[1] += (ulong)n->hash;\n"
+        "    } else {\n"
+        "        __global ulong *c = ctx->buf.uts_counters + 2u * %uu;\n"
+        "        atom_inc(&c[0]);\n"
+        "        atom_add(&c[1], (ulong)n->hash);\n"
+        "    }\n"
         "    uint k = %s;\n"
         "    struct uts_node child;\n"
         "    child.depth = n->depth + 1u;\n"
@@ -108,7 +119,8 @@ static char *procedure_source(const uts_tree *t)
     size_t size = strlen(format) + strlen(children) + 64;
     char *text = malloc(size);
     if (text)
-        snprintf(text, size, format, (unsigned)COUNTER_STRIDE, (unsigned)COUNTER_SLOTS, children, t->rounds);
+        snprintf(text, size, format, (unsigned)COUNTER_GROUPS, group_size, group_size,
+                 (unsigned)COUNTER_GROUPS * group_size, children, t->rounds);
     return text;
 }
 
@@ -158,7 +170,8 @@ static void run_perma_variant(const bench_options *o, const bench_variant *v, tr
         bench_workload w = { tree_prepare, tree_verify, s, 1, &s->proc, &item_size };
         if (perma_add_source(rt, device_types, "uts_types.cl") != PERMA_OK ||
             perma_register(rt, &visit, &s->proc) != PERMA_OK ||
-            perma_bind_host(rt, "uts_counters", "__global ulong *", s->counters, sizeof s->counters,
+            perma_bind_host(rt, "uts_counters", "__global ulong *", s->counters,
+                            s->counter_count * sizeof *s->counters,
                             PERMA_READ_WRITE) != PERMA_OK)
             snprintf(row.message, sizeof row.message, "setup: %s", perma_errmsg(rt));
         else
@@ -240,17 +253,18 @@ static int run_tree(const bench_options *o, const uts_tree *t, unsigned group_si
     add_openmp_row(o, t, &seq.result, UINT32_MAX, title, report);
     add_openmp_row(o, t, &seq.result, cutoff, title, report);
 
+    unsigned work_items = group_size ? group_size : 64; /* the runtime's default */
     tree_state *s = calloc(1, sizeof *s);
-    char *source = procedure_source(t);
-    if (!s || !source) {
-        free(s);
-        free(source);
-        fprintf(stderr, "perma-bench: out of memory\n");
-        return 1;
+    char *source = procedure_source(t, work_items);
+    if (s) {
+        s->tree = t;
+        s->expected = seq.result;
+        s->counter_count = 2 * ((size_t)COUNTER_GROUPS * work_items + 1);
+        s->counters = calloc(s->counter_count, sizeof *s->counters);
     }
-    s->tree = t;
-    s->expected = seq.result;
-    if (make_seeds(s) != 0) {
+    if (!s || !source || !s->counters || make_seeds(s) != 0) {
+        if (s)
+            free(s->counters);
         free(s);
         free(source);
         fprintf(stderr, "perma-bench: out of memory\n");
@@ -266,6 +280,7 @@ static int run_tree(const bench_options *o, const uts_tree *t, unsigned group_si
         }
     }
     free(s->seeds);
+    free(s->counters);
     free(s);
     free(source);
     return 0;

@@ -28,6 +28,8 @@ static void usage(FILE *out)
             "options:\n"
             "  --csv FILE     also write the rows to FILE as CSV\n"
             "  --repeat N     timed runs per variant, the median is reported (default 3)\n"
+            "  --best         report the fastest of the --repeat runs instead of the median\n"
+            "                 (on a shared, noisy machine: the time least disturbed)\n"
             "  --quick        small sizes (for tests)\n"
             "  --groups N     perma work-groups (default: the runtime's choice)\n"
             "  --threads N    OpenMP threads (default: online CPUs)\n"
@@ -105,6 +107,8 @@ static int parse_common(int argc, char **argv, bench_options *o)
                 o->devices[o->device_count++] = item;
             }
             ++i;
+        } else if (strcmp(a, "--best") == 0) {
+            o->best = 1;
         } else if (strcmp(a, "--quick") == 0) {
             o->quick = 1;
         } else if (strcmp(a, "--verbose") == 0) {

@@ -89,8 +89,8 @@ void bench_perma_measure(perma_runtime *rt, const bench_variant *variant, const 
                      perma_technique_name(st.technique) ? perma_technique_name(st.technique) : "?",
                      perma_strategy_name(st.strategy) ? perma_strategy_name(st.strategy) : "?");
     }
-    row->seconds = bench_median(seconds, repeat);
-    row->wall_seconds = bench_median(walls, repeat);
+    row->seconds = bench_summary(options, seconds, repeat);
+    row->wall_seconds = bench_summary(options, walls, repeat);
     row->ran = 1;
 }
 

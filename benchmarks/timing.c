@@ -26,6 +26,17 @@ double bench_median(double *values, unsigned count)
     return count % 2 ? values[count / 2] : 0.5 * (values[count / 2 - 1] + values[count / 2]);
 }
 
+double bench_summary(const bench_options *options, double *values, unsigned count)
+{
+    if (!options->best || count == 0)
+        return bench_median(values, count);
+    double best = values[0];
+    for (unsigned i = 1; i < count; ++i)
+        if (values[i] < best)
+            best = values[i];
+    return best;
+}
+
 double bench_time_baseline(const bench_options *options, void (*fn)(void *), void *arg)
 {
     enum { MAX_REPEAT = 1000 };
@@ -37,7 +48,7 @@ double bench_time_baseline(const bench_options *options, void (*fn)(void *), voi
         fn(arg);
         times[i] = bench_now() - start;
     }
-    return bench_median(times, n);
+    return bench_summary(options, times, n);
 }
 
 unsigned bench_threads(const bench_options *options)

@@ -35,6 +35,7 @@ typedef uint32_t perma_word;
 #define PERMA_CTL_DETAIL_EDGE 4 /* edge or position detail of a failure status */
 #define PERMA_CTL_PROGRESS 5    /* epoch, bumped whenever queue room grows */
 #define PERMA_CTL_CLOCK 6       /* logical clock of the trace */
+#define PERMA_CTL_GROW_STARVED 7 /* nonzero: a group starved of room may stop the launch to grow queues */
 #define PERMA_CTL_HEADER_WORDS 16
 
 typedef struct perma_ctl_header {
@@ -45,17 +46,22 @@ typedef struct perma_ctl_header {
     perma_word detail_edge;
     perma_word progress;
     perma_word clock;
-    perma_word reserved[9];
+    perma_word grow_starved;
+    perma_word reserved[8];
 } perma_ctl_header;
 
-#define PERMA_Q_HEAD 0     /* next position to claim */
-#define PERMA_Q_TAIL 1     /* next position to reserve for writing */
-#define PERMA_Q_ROOM 2     /* free slots not promised to any batch (int) */
-#define PERMA_Q_CAP 3      /* capacity, a power of two */
-#define PERMA_Q_DATA 4     /* offset of slot 0 in queue_data, in words */
-#define PERMA_Q_SEQ 5      /* offset of slot 0 in queue_seq */
-#define PERMA_Q_PEAK 6     /* most items queued at once */
-#define PERMA_QUEUE_WORDS 8
+/* A queue record fills a 64-byte line, so groups hammering one queue's
+ * counters do not also invalidate the next queue's (docs/design.md, Queues). */
+#define PERMA_Q_HEAD 0      /* next position to claim */
+#define PERMA_Q_TAIL 1      /* next position to reserve for writing */
+#define PERMA_Q_ROOM 2      /* free slots not promised to any batch (int) */
+#define PERMA_Q_CAP 3       /* capacity, a power of two */
+#define PERMA_Q_DATA 4      /* offset of slot 0 in queue_data, in words */
+#define PERMA_Q_SEQ 5       /* offset of the completion marks in queue_seq: cap publishing, then cap releasing */
+#define PERMA_Q_PEAK 6      /* most items queued at once */
+#define PERMA_Q_PUBLISHED 7 /* positions below are written and may be claimed */
+#define PERMA_Q_RELEASED 8  /* positions below are read: their slots are free */
+#define PERMA_QUEUE_WORDS 16
 
 typedef struct perma_queue_record {
     perma_word head;
@@ -65,7 +71,9 @@ typedef struct perma_queue_record {
     perma_word data;
     perma_word seq;
     perma_word peak;
-    perma_word reserved;
+    perma_word published;
+    perma_word released;
+    perma_word reserved[7];
 } perma_queue_record;
 
 #define PERMA_G_STATE 0    /* 0 not started, 1 running, 2 finished */
@@ -87,20 +95,20 @@ typedef struct perma_group_record {
  * DETAIL_EDGE then say. */
 
 #define PERMA_KSTATUS_DONE 0       /* OUTSTANDING reached zero */
-#define PERMA_KSTATUS_NEEDS_ROOM 1 /* no group could reserve room: grow and relaunch */
+#define PERMA_KSTATUS_NEEDS_ROOM 1 /* grow and relaunch: DETAIL_PROC = PERMA_DETAIL_NONE when no group
+                                      could reserve room, PERMA_DETAIL_STARVED when a group's batches kept
+                                      being cut by the room of queue DETAIL_EDGE */
 #define PERMA_KSTATUS_EMIT_LIMIT 2 /* a procedure emitted more than declared:
                                       DETAIL_PROC = procedure, DETAIL_EDGE = PERMA_EMIT_ERROR_* code */
-#define PERMA_KSTATUS_SPIN_LIMIT 3 /* a bounded wait ran out: DETAIL_PROC = queue index
-                                      (| PERMA_WAIT_WRITING), DETAIL_EDGE = position */
+/* 3 was a bounded wait on a queue slot that ran out: the queues no longer wait. */
 #define PERMA_KSTATUS_ABORTED 4    /* the host watchdog asked the kernel to stop */
-#define PERMA_KSTATUS_UNPUBLISHED 5 /* a regrowth found a queued item that was never published:
-                                       DETAIL_PROC = queue index, DETAIL_EDGE = position */
+/* 5 was a regrowth that found an unpublished item: the host checks the
+ * queue counters before it grows (runtime/src/state.c). */
 
-/* PERMA_KSTATUS_SPIN_LIMIT: set in DETAIL_PROC when a writer waited for its
- * slot to be freed (clear: a reader waited for the item to be published). */
-#define PERMA_WAIT_WRITING 0x80000000u
 /* DETAIL_PROC when no procedure or queue is concerned. */
 #define PERMA_DETAIL_NONE 0xffffffffu
+/* DETAIL_PROC of NEEDS_ROOM when a group was starved of room. */
+#define PERMA_DETAIL_STARVED 0xfffffffeu
 
 /* PERMA_KSTATUS_EMIT_LIMIT codes in DETAIL_EDGE. */
 #define PERMA_EMIT_ERROR_LIMIT 0x10000u      /* | edge: over the declared maximum */
@@ -157,18 +165,20 @@ typedef struct perma_trace_record {
 
 /* ---- Regrowth ----------------------------------------------------------
  * Between launches the host grows queues on the device: it lays the queues
- * out again in fresh data and sequence buffers and gives
+ * out again in fresh item and completion-mark (queue_seq) buffers and gives
  * perma_relayout_kernel one record per queue saying where its items are
- * and where they go (kernels/perma_relayout.cl). */
+ * and where they go (kernels/perma_relayout.cl).  The new layout puts the
+ * queues one after another: a queue whose first slot is s has its marks at
+ * 2 * s. */
 
 typedef struct perma_relayout_record {
     perma_word head;     /* position of the first queued item */
     perma_word count;    /* items queued */
     perma_word old_cap;  /* capacity before, a power of two */
-    perma_word old_data; /* offsets before, in words */
-    perma_word old_seq;
+    perma_word old_data; /* offset before, in words */
+    perma_word new_cap;  /* capacity after */
     perma_word new_data; /* offsets after: slot i holds the item at head + i */
-    perma_word new_seq;
+    perma_word new_seq;  /* = 2 * the queue's first slot */
     perma_word words;    /* words per item */
 } perma_relayout_record;
 
@@ -222,19 +232,15 @@ typedef struct perma_relayout_record {
     X(PERMA_TAKE_ARG_INPUT, __global uint *, input),         \
     X(PERMA_TAKE_ARG_QUEUE, uint, qi),                       \
     X(PERMA_TAKE_ARG_FIRST, uint, first),                    \
-    X(PERMA_TAKE_ARG_COUNT, uint, count),                    \
-    X(PERMA_TAKE_ARG_FROM_TAIL, uint, from_tail)
+    X(PERMA_TAKE_ARG_COUNT, uint, count)
 
 /* perma_relayout_kernel's arguments: the records, how many, the slots of
- * the new layout, the (new) control block for a failure status, and the
- * buffers before and after. */
+ * the new layout, the items before, and the items and marks after. */
 #define PERMA_RELAYOUT_ARGS(X)                                                 \
     X(PERMA_RELAYOUT_ARG_MAP, __global const perma_relayout_record *, map),    \
     X(PERMA_RELAYOUT_ARG_QUEUES, uint, queues),                                \
     X(PERMA_RELAYOUT_ARG_SLOTS, uint, slots),                                  \
-    X(PERMA_RELAYOUT_ARG_CTL, __global uint *, ctl),                           \
     X(PERMA_RELAYOUT_ARG_OLD_DATA, __global const uint *, old_data),           \
-    X(PERMA_RELAYOUT_ARG_OLD_SEQ, __global const uint *, old_seq),             \
     X(PERMA_RELAYOUT_ARG_NEW_DATA, __global uint *, new_data),                 \
     X(PERMA_RELAYOUT_ARG_NEW_SEQ, __global uint *, new_seq)
 
@@ -266,6 +272,7 @@ enum perma_relayout_arg { PERMA_RELAYOUT_ARGS(PERMA_ARG_INDEX), PERMA_RELAYOUT_A
     X(perma_ctl_header, detail_edge, PERMA_CTL_DETAIL_EDGE)          \
     X(perma_ctl_header, progress, PERMA_CTL_PROGRESS)                \
     X(perma_ctl_header, clock, PERMA_CTL_CLOCK)                      \
+    X(perma_ctl_header, grow_starved, PERMA_CTL_GROW_STARVED)        \
     X(perma_queue_record, head, PERMA_Q_HEAD)                        \
     X(perma_queue_record, tail, PERMA_Q_TAIL)                        \
     X(perma_queue_record, room, PERMA_Q_ROOM)                        \
@@ -273,6 +280,8 @@ enum perma_relayout_arg { PERMA_RELAYOUT_ARGS(PERMA_ARG_INDEX), PERMA_RELAYOUT_A
     X(perma_queue_record, data, PERMA_Q_DATA)                        \
     X(perma_queue_record, seq, PERMA_Q_SEQ)                          \
     X(perma_queue_record, peak, PERMA_Q_PEAK)                        \
+    X(perma_queue_record, published, PERMA_Q_PUBLISHED)              \
+    X(perma_queue_record, released, PERMA_Q_RELEASED)                \
     X(perma_group_record, state, PERMA_G_STATE)                      \
     X(perma_group_record, blocked, PERMA_G_BLOCKED)                  \
     X(perma_group_counters, steals, PERMA_GSTAT_STEALS)              \
@@ -288,7 +297,7 @@ enum perma_relayout_arg { PERMA_RELAYOUT_ARGS(PERMA_ARG_INDEX), PERMA_RELAYOUT_A
     X(perma_relayout_record, count, 1)                               \
     X(perma_relayout_record, old_cap, 2)                             \
     X(perma_relayout_record, old_data, 3)                            \
-    X(perma_relayout_record, old_seq, 4)                             \
+    X(perma_relayout_record, new_cap, 4)                             \
     X(perma_relayout_record, new_data, 5)                            \
     X(perma_relayout_record, new_seq, 6)                             \
     X(perma_relayout_record, words, 7)

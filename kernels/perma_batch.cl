@@ -1,11 +1,12 @@
 /*
  * One batch, executed by a whole work-group: copy the items into __local
  * memory, run the procedure, reserve the targets' positions with one atomic
- * each, publish the emits.  Shared by the persistent megakernel and the
- * host-driven step kernel.  Every barrier in here is reached by every
- * work-item on every call, whatever the batch (a batch of 0 items runs the
- * same code): PoCL mishandles continue/break between barriers, and
- * barriers must be in uniform control flow anyway.
+ * each, copy the emits out and publish each target's range with one update.
+ * Shared by the persistent megakernel and the host-driven step kernel.
+ * Every barrier in here is reached by every work-item on every call,
+ * whatever the batch (a batch of 0 items runs the same code): PoCL
+ * mishandles continue/break between barriers, and barriers must be in
+ * uniform control flow anyway.
  */
 
 #define PERMA_CMD_RUN 0u
@@ -14,14 +15,19 @@
 #define PERMA_CMD_DONATE 3u
 #define PERMA_CMD_RUN_LOCAL 4u /* run items from the group's local stack */
 
-/* Words work-item 0 broadcasts to the group. */
+/* The batch work-item 0 hands to the group (perma_group_mem.batch).  The
+ * batch code reads these words where it needs them rather than keeping
+ * copies in private variables: PoCL saves and restores a private variable
+ * that lives across a barrier for every work-item, a __local word costs a
+ * load where it is used. */
 #define PERMA_B_PROC 0
 #define PERMA_B_START 1
-#define PERMA_B_COUNT 2
-#define PERMA_B_COMMAND 3
-#define PERMA_B_SOURCE 4 /* queue index the items come from */
-#define PERMA_B_DEST 5   /* donation: queue index they go to */
-#define PERMA_B_KIND 6   /* PERMA_TRACE_* */
+#define PERMA_B_COUNT 2      /* items moved: 0 for IDLE and EXIT */
+#define PERMA_B_COMMAND 3    /* PERMA_CMD_* (RUN also for items from the local stack) */
+#define PERMA_B_SOURCE 4     /* queue index the items come from (or whose ROOM they hold) */
+#define PERMA_B_DEST 5       /* donation: queue index they go to */
+#define PERMA_B_KIND 6       /* PERMA_TRACE_* */
+#define PERMA_B_FROM_LOCAL 7 /* 1: the items are on the group's local stack at START */
 #define PERMA_BATCH_WORDS 8
 
 #define PERMA_QINDEX(set, proc) ((set) * PERMA_NUM_PROCS + (proc))
@@ -63,197 +69,324 @@ inline int perma_reserve_batch_room(__global uint *ctl, uint set, uint q, uint i
     return 1;
 }
 
-/* __local memory of one group, declared in the kernel and passed down. */
+/* __local memory of one group: one struct, declared in the kernel, whose
+ * address is passed down.  (A struct of pointers passed by value would be a
+ * private copy per work-item that PoCL saves and restores around every
+ * barrier; the address of a kernel-scope __local variable is the same for
+ * all work-items.) */
 typedef struct perma_group_mem {
-    __local uint *arena;        /* items, scratch, emit counters, staging */
-    __local uint *edge_counts;  /* per edge: items the batch staged */
-    __local uint *edge_base;    /* per edge: first reserved target position */
-    __local uint *stats;        /* the group's statistics record */
-    __local uint *error_code;   /* emit errors of the batch */
-    __local uint *copy_failed;  /* a copy-in wait gave up: the batch's items are not run */
-    __local uint *lq;           /* local front queue: a stack per procedure */
-    __local uint *lq_count;     /* items on each procedure's stack */
-    __local uint *edge_keep;    /* per edge: emits kept on the local stack */
+    uint arena[PERMA_ARENA_WORDS] __attribute__((aligned(64))); /* items, scratch, emit counters, staging */
+    uint lq[PERMA_LQ_WORDS] __attribute__((aligned(64)));       /* local front queue: a stack per procedure */
+    uint edge_counts[PERMA_MAX_EDGES];     /* per edge: items the batch emitted */
+    uint edge_base[2 * PERMA_MAX_EDGES];   /* per edge: first local, then first global position */
+    uint edge_keep[PERMA_MAX_EDGES];       /* per edge: emits kept on the local stack */
+    uint lq_count[PERMA_NUM_PROCS];        /* items on each procedure's stack */
+    uint stats[PERMA_STAT_GROUP_WORDS];    /* the group's statistics record */
+    uint batch[PERMA_BATCH_WORDS];         /* what the group does next (PERMA_B_*) */
+    uint error_code;                       /* emit errors of the batch */
 } perma_group_mem;
+
+/* Items of the batch to run (0 unless RUN). */
+inline uint perma_batch_run(__local const perma_group_mem *mem)
+{
+    return mem->batch[PERMA_B_COMMAND] == PERMA_CMD_RUN ? mem->batch[PERMA_B_COUNT] : 0u;
+}
+
+/* Where the batch's items are: in the arena, or, for items from the local
+ * stack, where they lie on it (they run in place; the emits the batch keeps
+ * overwrite them only after it ran). */
+inline __local uint *perma_batch_items(__local perma_group_mem *mem)
+{
+    const uint proc = mem->batch[PERMA_B_PROC];
+    return mem->batch[PERMA_B_FROM_LOCAL]
+               ? mem->lq + perma_lq_off[proc] + mem->batch[PERMA_B_START] * perma_item_words[proc]
+               : mem->arena + perma_items_off[proc];
+}
 
 /* Move a procedure's whole local stack to its global queue (work-item 0
  * only; the items hold the ROOM reserved when they were emitted). */
-inline uint perma_local_flush(__global uint *ctl, __global uint *queue_data, __global uint *queue_seq,
-                              volatile __global uint *abort_flag, perma_group_mem mem, uint own, uint q)
+inline uint perma_local_flush(__global uint *ctl, __global uint *queue_data, __global uint *queue_seq, __local perma_group_mem *mem, uint own, uint q)
 {
-    uint n = mem.lq_count[q];
+    uint n = mem->lq_count[q];
     if (n == 0)
         return 0;
     __global uint *queue = PERMA_QUEUE(ctl, PERMA_QINDEX(own, q));
     uint words = perma_item_words[q];
-    uint base = atomic_add(queue + PERMA_Q_TAIL, n);
-    perma_queue_note_peak(queue, base + n);
-    for (uint i = 0; i < n; ++i) /* a failed write has stopped the launch (perma_queue_wait_failed) */
-        perma_queue_write_item(ctl, queue, queue_data, queue_seq, base + i, words,
-                               mem.lq + perma_lq_off[q] + i * words, abort_flag);
-    mem.lq_count[q] = 0;
+    uint base = perma_queue_reserve(queue, n);
+    __global uint *marks = perma_queue_marks(queue, queue_seq, 0u);
+    for (uint i = 0; i < n; ++i) {
+        __global uint *dst = perma_queue_slot(queue, queue_data, base + i, words);
+        for (uint w = 0; w < words; ++w)
+            dst[w] = mem->lq[perma_lq_off[q] + i * words + w];
+        if (i)
+            perma_queue_clear_mark(marks, queue[PERMA_Q_CAP], base + i);
+    }
+    perma_queue_complete(queue, queue_seq, 0u, base, n);
+    mem->lq_count[q] = 0;
     return n;
 }
 
-/* The part of a batch's copy-out that this work-item does for edge e of
- * proc: the kept items onto the local stack, the rest into the queue. */
-inline void perma_publish_edge(__global uint *ctl, __global uint *queue_data, __global uint *queue_seq,
-                               volatile __global uint *abort_flag, perma_group_mem mem, uint proc, uint own,
-                               uint e)
+/* Phase "read": copy the batch into local memory (items from the local stack
+ * stay where they are), item i by work-item i % group size, the one that
+ * runs it (perma_dispatch), so without procedures of several threads per
+ * item no barrier is needed before they run; and clear each item's emit
+ * counters.  Work-item 0 read PUBLISHED before the barrier that brought the
+ * batch here; the fence orders the item reads after it. */
+PERMA_PHASE void perma_read_items(uint lid, __global uint *ctl, __global uint *queue_data, __global uint *queue_seq,
+                                  __local perma_group_mem *mem, __global const uint *input)
 {
-    const uint lid = get_local_id(0);
-    const uint t = perma_edge_target[proc * PERMA_MAX_EDGES + e];
-    __global uint *target = PERMA_QUEUE(ctl, PERMA_QINDEX(own, t));
-    const uint k = mem.edge_counts[e];
-    const uint keep = mem.edge_keep[e];
-    const uint target_words = perma_item_words[t];
-    __local const uint *src = mem.arena + perma_edge_stage[proc * PERMA_MAX_EDGES + e];
-    __local uint *stack = mem.lq + perma_lq_off[t] + mem.edge_base[e] * target_words;
-    for (uint i = lid; i < keep; i += PERMA_GROUP_SIZE)
-        for (uint w = 0; w < target_words; ++w)
-            stack[i * target_words + w] = src[i * target_words + w];
-    /* A write that gives up has stopped the launch (perma_queue_wait_failed). */
-    for (uint i = keep + lid; i < k; i += PERMA_GROUP_SIZE)
-        perma_queue_write_item(ctl, target, queue_data, queue_seq, mem.edge_base[PERMA_MAX_EDGES + e] + i - keep,
-                               target_words, src + i * target_words, abort_flag);
+    const uint proc = mem->batch[PERMA_B_PROC];
+    const uint start = mem->batch[PERMA_B_START];
+    const uint count = mem->batch[PERMA_B_COUNT];
+    const uint run = perma_batch_run(mem);
+    const uint from_local = mem->batch[PERMA_B_FROM_LOCAL];
+    __global uint *source = PERMA_QUEUE(ctl, mem->batch[PERMA_B_SOURCE]);
+    const uint words = perma_item_words[proc];
+    const uint edges = run ? perma_edge_count[proc] : 0u;
+    __local uint *items = mem->arena + perma_items_off[proc];
+    __local uint *counts = mem->arena + perma_counters_off[proc]; /* [slot * edges + edge] */
+    read_mem_fence(CLK_GLOBAL_MEM_FENCE);
+    if (input) {
+        __global const uint *in = input + start * words;
+        for (uint i = lid; i < count; i += PERMA_GROUP_SIZE)
+            for (uint w = 0; w < words; ++w)
+                items[i * words + w] = in[i * words + w];
+    } else if (!from_local) {
+        const uint mask = source[PERMA_Q_CAP] - 1u;
+        __global const uint *slots = queue_data + source[PERMA_Q_DATA];
+        __global uint *marks = perma_queue_marks(source, queue_seq, 1u);
+        for (uint i = lid; i < count; i += PERMA_GROUP_SIZE) {
+            const uint pos = start + i;
+            __global const uint *src = slots + (pos & mask) * words;
+            for (uint w = 0; w < words; ++w)
+                items[i * words + w] = src[w];
+            if (i) /* the first position's mark is the range's (perma_queue_clear_mark) */
+                marks[pos & mask] = pos;
+        }
+    }
+    for (uint s = lid; s < run; s += PERMA_GROUP_SIZE)
+        for (uint e = 0; e < edges; ++e)
+            counts[s * edges + e] = 0;
+    if (perma_lane_items[proc]) {
+        __local uint *lane_counts = mem->arena + perma_lane_counts_off[proc] + lid * edges;
+        for (uint e = 0; e < edges; ++e)
+            lane_counts[e] = 0;
+    }
 }
 
-/* Run `count` items of `proc` (command RUN) or move them to `donee`
- * (command DONATE).  The items come from queue `source` at `start`, from
- * input[start..] when `input` is not null (the host-driven step kernel), or
- * from the group's local stack at `start` when `from_local` (then `source`
- * is the global queue whose ROOM they hold).  Emits go to queue set `own`,
- * first onto the local stack when PERMA_LOCAL_QUEUE is on. */
-inline void perma_run_batch(__global uint *ctl, __global uint *queue_data, __global uint *queue_seq,
-                            volatile __global uint *abort_flag, perma_group_mem mem, perma_buffers buf,
-                            uint command, uint proc, uint start, uint count,
-                            __global uint *source, __global uint *donee,
-                            __global const uint *input, uint from_local, uint own)
+/* Phase "publish", work-item 0, after the batch ran: release the source's
+ * slots (every copy is done; their room goes back once RELEASED passes
+ * them; stacked items give back the room they held at once).  Then turn
+ * each edge's per-item counts into offsets, keep what fits on the local
+ * stack and reserve the rest of each target with one atomic; count the
+ * emits before they become visible. */
+PERMA_PHASE void perma_reserve_emits(__global uint *ctl, __global uint *queue_data, __global uint *queue_seq, __local perma_group_mem *mem,
+                                     __global const uint *input, uint own)
 {
-    const uint lid = get_local_id(0);
-    const uint run = command == PERMA_CMD_RUN ? count : 0u; /* items to execute */
-
-    /* Copy the batch into local memory, freeing its queue slots. */
-    const uint words = perma_item_words[proc];
-    const uint edges = command == PERMA_CMD_RUN ? perma_edge_count[proc] : 0u;
-    __local uint *items = mem.arena + perma_items_off[proc];
-    __local uint *item_emit_counts = mem.arena + perma_counters_off[proc];
-    for (uint i = lid; i < count; i += PERMA_GROUP_SIZE) {
-        if (input) {
-            for (uint w = 0; w < words; ++w)
-                items[i * words + w] = input[(start + i) * words + w];
-        } else if (from_local) {
-            for (uint w = 0; w < words; ++w)
-                items[i * words + w] = mem.lq[perma_lq_off[proc] + (start + i) * words + w];
-        } else if (!perma_queue_read_item(ctl, source, queue_data, queue_seq, start + i, words,
-                                          items + i * words, abort_flag)) {
-            *mem.copy_failed = 1;
+    const uint command = mem->batch[PERMA_B_COMMAND];
+    const uint proc = mem->batch[PERMA_B_PROC];
+    const uint start = mem->batch[PERMA_B_START];
+    const uint count = mem->batch[PERMA_B_COUNT];
+    const uint from_local = mem->batch[PERMA_B_FROM_LOCAL];
+    __global uint *source = PERMA_QUEUE(ctl, mem->batch[PERMA_B_SOURCE]);
+    __global uint *donee = PERMA_QUEUE(ctl, mem->batch[PERMA_B_DEST]);
+    const uint run = perma_batch_run(mem);
+    const uint edges = run ? perma_edge_count[proc] : 0u;
+    __local uint *counts = mem->arena + perma_counters_off[proc];
+    __local uint *stats = mem->stats;
+    if (from_local)
+        perma_queue_give_room(source, (int)count);
+    else if (!input)
+        perma_queue_complete(source, queue_seq, 1u, start, count);
+    int emitted = 0;
+    for (uint e = 0; e < edges; ++e) {
+        uint t = perma_edge_target[proc * PERMA_MAX_EDGES + e];
+        uint max = perma_edge_max[proc * PERMA_MAX_EDGES + e];
+        uint k = 0;
+        if (perma_lane_items[proc]) {
+            /* Lane staging: offsets of each work-item's block. */
+            __local uint *lane_counts = mem->arena + perma_lane_counts_off[proc];
+            for (uint l = 0; l < PERMA_GROUP_SIZE; ++l) {
+                uint c = lane_counts[l * edges + e];
+                lane_counts[l * edges + e] = k;
+                k += c;
+            }
+        } else {
+            for (uint s = 0; s < run; ++s) {
+                uint c = min(counts[s * edges + e], max); /* an item over its limit failed the run */
+                counts[s * edges + e] = k;
+                k += c;
+            }
         }
-    }
-    for (uint i = lid; i < run * edges; i += PERMA_GROUP_SIZE)
-        item_emit_counts[i] = 0;
-    for (uint i = lid; i < PERMA_MAX_EDGES; i += PERMA_GROUP_SIZE)
-        mem.edge_counts[i] = 0;
-    if (lid == 0)
-        *mem.error_code = 0;
-    barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
-    volatile __global uint *watch = abort_flag + PERMA_WATCH_RECORDS + get_group_id(0) * PERMA_WATCH_RECORD_WORDS;
-    if (lid == 0 && !input)
-        perma_queue_return_room(ctl, source, (int)count);
-    if (lid == 0 && run)
-        watch[PERMA_WATCH_RUNNING] = proc + 1u; /* the host's watchdog names it if it never returns */
-
-    /* Run the procedure (not on items that failed to arrive). */
-    perma_ctx ctx;
-    const uint tpi = perma_tpi[proc];
-    const uint slot = lid / tpi;
-    ctx.proc = proc;
-    ctx.thread = lid % tpi;
-    ctx.threads = tpi;
-    ctx.active = (slot < run && !*mem.copy_failed) ? 1u : 0u;
-    ctx.slot = ctx.active ? slot : 0u;
-    ctx.group = get_group_id(0);
-    ctx.scratch = (__local void *)(mem.arena + perma_scratch_off[proc] + ctx.slot * perma_scratch_words[proc]);
-    ctx.item_emit_counts = item_emit_counts + ctx.slot * perma_edge_count[proc];
-    ctx.edge_counts = mem.edge_counts;
-    ctx.stage = mem.arena;
-    ctx.error_code = mem.error_code;
-    ctx.buf = buf;
-    perma_dispatch(proc, &ctx, items);
-    barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
-
-    /* Reserve positions in the targets: one atomic per target. */
-    __local uint *stats = mem.stats;
-    if (lid == 0) {
-        int emitted = 0;
-        for (uint e = 0; e < edges; ++e) {
-            uint t = perma_edge_target[proc * PERMA_MAX_EDGES + e];
-            __global uint *target = PERMA_QUEUE(ctl, PERMA_QINDEX(own, t));
-            uint k = mem.edge_counts[e];
-            /* Keep what fits on the local stack (those keep their ROOM in
-             * the global queue); the rest goes to the global queue.
-             * edge_base[e]: first local position, [MAX_EDGES + e]: first
-             * global position. */
-            uint keep = 0;
+        mem->edge_counts[e] = k;
+        /* Keep what fits on the local stack (those keep their ROOM in the
+         * global queue); the rest goes to the global queue.  edge_base[e]:
+         * first local position, [MAX_EDGES + e]: first global position. */
+        uint keep = 0;
 #if PERMA_LOCAL_QUEUE
-            keep = min(k, (uint)PERMA_LOCAL_QUEUE - mem.lq_count[t]);
-            mem.edge_base[e] = mem.lq_count[t];
-            mem.lq_count[t] += keep;
-            stats[PERMA_NUM_PROCS * PERMA_STAT_PROC_WORDS + PERMA_GSTAT_SPILLS] += k - keep;
+        keep = min(k, (uint)PERMA_LOCAL_QUEUE - mem->lq_count[t]);
+        mem->edge_base[e] = mem->lq_count[t];
+        mem->lq_count[t] += keep;
+        stats[PERMA_NUM_PROCS * PERMA_STAT_PROC_WORDS + PERMA_GSTAT_SPILLS] += k - keep;
 #endif
-            mem.edge_keep[e] = keep;
-            mem.edge_base[PERMA_MAX_EDGES + e] = k > keep ? atomic_add(target + PERMA_Q_TAIL, k - keep) : 0u;
-            if (k > keep)
-                perma_queue_note_peak(target, mem.edge_base[PERMA_MAX_EDGES + e] + k - keep);
-            emitted += (int)k;
-            stats[proc * PERMA_STAT_PROC_WORDS + PERMA_STAT_EMITTED + e] += k;
-        }
-        if (run) {
-            stats[proc * PERMA_STAT_PROC_WORDS + PERMA_STAT_ITEMS] += run;
-            stats[proc * PERMA_STAT_PROC_WORDS + PERMA_STAT_BATCHES] += 1u;
-            /* Count the emits before they become visible, and retire the batch. */
-            atomic_add((volatile __global int *)(ctl + PERMA_CTL_OUTSTANDING), emitted - (int)run);
-        }
-        if (command == PERMA_CMD_DONATE) {
-            mem.edge_base[0] = atomic_add(donee + PERMA_Q_TAIL, count);
-            perma_queue_note_peak(donee, mem.edge_base[0] + count);
-        }
-        if (*mem.error_code)
-            perma_fail(ctl, PERMA_KSTATUS_EMIT_LIMIT, proc, *mem.error_code);
+        mem->edge_keep[e] = keep;
+        mem->edge_base[PERMA_MAX_EDGES + e] =
+            k > keep ? perma_queue_reserve(PERMA_QUEUE(ctl, PERMA_QINDEX(own, t)), k - keep) : 0u;
+        emitted += (int)k;
+        stats[proc * PERMA_STAT_PROC_WORDS + PERMA_STAT_EMITTED + e] += k;
     }
-    barrier(CLK_LOCAL_MEM_FENCE);
+    if (run) {
+        stats[proc * PERMA_STAT_PROC_WORDS + PERMA_STAT_ITEMS] += run;
+        stats[proc * PERMA_STAT_PROC_WORDS + PERMA_STAT_BATCHES] += 1u;
+        /* Count the emits before they become visible, and retire the batch. */
+        atomic_add((volatile __global int *)(ctl + PERMA_CTL_OUTSTANDING), emitted - (int)run);
+    }
+    if (command == PERMA_CMD_DONATE)
+        mem->edge_base[0] = perma_queue_reserve(donee, count);
+    /* Read and cleared here, between the batches' procedures (the group's
+     * code clears it once before the first batch). */
+    if (mem->error_code)
+        perma_fail(ctl, PERMA_KSTATUS_EMIT_LIMIT, proc, mem->error_code);
+    mem->error_code = 0;
+}
 
-    /* Copy the staged items out and publish them, one target queue after
-     * another in ascending queue order, with a barrier in between: a group
-     * that waits for a slot of one queue has then published everything it
-     * owes to the queues before it and nothing of the queues after it,
-     * which keeps the waits between groups free of cycles when PoCL runs a
-     * group's work-items one after another (docs/design.md, *Queues*).
-     * The loop's trip count is a constant, so its barrier is uniform. */
-    for (uint o = 0; o < PERMA_MAX_EDGES; ++o) {
-        if (o < edges)
-            perma_publish_edge(ctl, queue_data, queue_seq, abort_flag, mem, proc, own,
-                               perma_edge_write_order[proc * PERMA_MAX_EDGES + o]);
-        barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
-    }
-    /* A donation publishes the batch itself in the other group's queue. */
-    const uint donated = command == PERMA_CMD_DONATE ? count : 0u;
-    for (uint i = lid; i < donated; i += PERMA_GROUP_SIZE)
-        perma_queue_write_item(ctl, donee, queue_data, queue_seq, mem.edge_base[0] + i, words, items + i * words,
-                               abort_flag);
-    barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
-    if (lid == 0) {
-        for (uint e = 0; e < edges; ++e) {
-            uint t = perma_edge_target[proc * PERMA_MAX_EDGES + e];
-            uint promised = run * perma_edge_max[proc * PERMA_MAX_EDGES + e];
-            perma_queue_return_room(ctl, PERMA_QUEUE(ctl, PERMA_QINDEX(own, t)),
-                                    (int)(promised - mem.edge_counts[e]));
+/* Phase "publish", every work-item: move the emits of its items, the first
+ * edge_keep of each edge onto the local stack, the rest into the reserved
+ * slots; or, for a donation, the batch itself into the other group's
+ * queue.  Nobody waits here. */
+PERMA_PHASE void perma_write_emits(uint lid, __global uint *ctl, __global uint *queue_data, __global uint *queue_seq,
+                                   __local perma_group_mem *mem, uint own)
+{
+    const uint command = mem->batch[PERMA_B_COMMAND];
+    const uint proc = mem->batch[PERMA_B_PROC];
+    const uint count = mem->batch[PERMA_B_COUNT];
+    __global uint *donee = PERMA_QUEUE(ctl, mem->batch[PERMA_B_DEST]);
+    const uint run = perma_batch_run(mem);
+    const uint edges = run ? perma_edge_count[proc] : 0u;
+    __local const uint *counts = mem->arena + perma_counters_off[proc];
+    for (uint e = 0; e < edges; ++e) {
+        const uint t = perma_edge_target[proc * PERMA_MAX_EDGES + e];
+        const uint max = perma_edge_max[proc * PERMA_MAX_EDGES + e];
+        const uint tw = perma_item_words[t];
+        const uint k = mem->edge_counts[e];
+        const uint keep = mem->edge_keep[e];
+        /* Emit i goes to stack[i] below keep, else to position pos0 + i. */
+        const uint pos0 = mem->edge_base[PERMA_MAX_EDGES + e] - keep;
+        __global uint *target = PERMA_QUEUE(ctl, PERMA_QINDEX(own, t));
+        const uint mask = target[PERMA_Q_CAP] - 1u;
+        __global uint *slots = queue_data + target[PERMA_Q_DATA];
+        __global uint *marks = perma_queue_marks(target, queue_seq, 0u);
+        __local const uint *stage = mem->arena + perma_edge_stage[proc * PERMA_MAX_EDGES + e];
+        __local uint *stack = mem->lq + perma_lq_off[t] + mem->edge_base[e] * tw;
+        /* Emits [first, end) of logical index i lie at src + i * tw: one
+         * block of this work-item (lane staging) or one per item. */
+        const uint lanes = perma_lane_items[proc];
+        __local const uint *lane_counts = mem->arena + perma_lane_counts_off[proc];
+        for (uint s = lid; s < (lanes ? lid + 1u : run); s += PERMA_GROUP_SIZE) {
+            const uint first = lanes ? lane_counts[lid * edges + e] : counts[s * edges + e];
+            const uint end = lanes ? (lid + 1u < PERMA_GROUP_SIZE ? lane_counts[(lid + 1u) * edges + e] : k)
+                                   : (s + 1u < run ? counts[(s + 1u) * edges + e] : k);
+            __local const uint *src = stage + (lanes ? lid * lanes : s) * max * tw - first * tw;
+            const uint split = clamp(keep, first, end);
+            for (uint i = first; i < split; ++i)
+                for (uint w = 0; w < tw; ++w)
+                    stack[i * tw + w] = src[i * tw + w];
+            for (uint i = split; i < end; ++i) {
+                const uint pos = pos0 + i;
+                __global uint *dst = slots + (pos & mask) * tw;
+                for (uint w = 0; w < tw; ++w)
+                    dst[w] = src[i * tw + w];
+                if (i > keep) /* the first position's mark is the range's */
+                    marks[pos & mask] = pos;
+            }
         }
-        if (count)
-            atomic_inc(ctl + PERMA_CTL_PROGRESS); /* stalled groups must look again */
-        if (run) {
+    }
+    const uint donated = command == PERMA_CMD_DONATE ? count : 0u;
+    const uint words = perma_item_words[proc];
+    __local const uint *items = mem->arena + perma_items_off[proc];
+    __global uint *donee_marks = perma_queue_marks(donee, queue_seq, 0u);
+    for (uint i = lid; i < donated; i += PERMA_GROUP_SIZE) {
+        __global uint *dst = perma_queue_slot(donee, queue_data, mem->edge_base[0] + i, words);
+        for (uint w = 0; w < words; ++w)
+            dst[w] = items[i * words + w];
+        if (i)
+            perma_queue_clear_mark(donee_marks, donee[PERMA_Q_CAP], mem->edge_base[0] + i);
+    }
+}
+
+/* Phase "publish", work-item 0, after every copy: publish every target's
+ * range (and a donation's), then give back the unused part of the
+ * worst-case room. */
+PERMA_PHASE void perma_publish_emits(__global uint *ctl, __global uint *queue_data, __global uint *queue_seq, __local perma_group_mem *mem,
+                                     uint own)
+{
+    const uint command = mem->batch[PERMA_B_COMMAND];
+    const uint proc = mem->batch[PERMA_B_PROC];
+    const uint count = mem->batch[PERMA_B_COUNT];
+    __global uint *donee = PERMA_QUEUE(ctl, mem->batch[PERMA_B_DEST]);
+    const uint run = perma_batch_run(mem);
+    const uint edges = run ? perma_edge_count[proc] : 0u;
+    for (uint e = 0; e < edges; ++e) {
+        uint t = perma_edge_target[proc * PERMA_MAX_EDGES + e];
+        perma_queue_complete(PERMA_QUEUE(ctl, PERMA_QINDEX(own, t)), queue_seq, 0u,
+                             mem->edge_base[PERMA_MAX_EDGES + e], mem->edge_counts[e] - mem->edge_keep[e]);
+    }
+    if (command == PERMA_CMD_DONATE)
+        perma_queue_complete(donee, queue_seq, 0u, mem->edge_base[0], count);
+    for (uint e = 0; e < edges; ++e) {
+        uint t = perma_edge_target[proc * PERMA_MAX_EDGES + e];
+        uint promised = run * perma_edge_max[proc * PERMA_MAX_EDGES + e];
+        perma_queue_give_room(PERMA_QUEUE(ctl, PERMA_QINDEX(own, t)), (int)(promised - mem->edge_counts[e]));
+    }
+    if (count) {
+        mem_fence(CLK_GLOBAL_MEM_FENCE);
+        atomic_inc(ctl + PERMA_CTL_PROGRESS); /* stalled groups must look again */
+    }
+}
+
+/* Phase "dispatch": run each item of the batch with its procedure
+ * (generated after this file, since it follows the batch layout above). */
+PERMA_PHASE void perma_dispatch(uint lid, __local perma_group_mem *mem, perma_buffers buf);
+
+/* Run the batch in mem->batch: `count` items of `proc` (command RUN) or
+ * move them to the donee (command DONATE).  The items come from the source
+ * queue at `start`, from input[start..] when `input` is not null (the
+ * host-driven step kernel), or from the group's local stack at `start`
+ * (FROM_LOCAL; then the source is the global queue whose ROOM they hold).
+ * Emits go to queue set `own`, first onto the local stack when
+ * PERMA_LOCAL_QUEUE is on.  mem->batch may be rewritten only after the
+ * last barrier in here. */
+inline void perma_run_batch(__global uint *ctl, __global uint *queue_data, __global uint *queue_seq,
+                            volatile __global uint *abort_flag, __local perma_group_mem *mem, perma_buffers buf,
+                            __global const uint *input, uint own)
+{
+    /* The group's record in the watch page: the host's watchdog names the
+     * procedure running if it never returns, and sees progress in DONE. */
+    volatile __global uint *watch = abort_flag + PERMA_WATCH_RECORDS + get_group_id(0) * PERMA_WATCH_RECORD_WORDS;
+    if (get_local_id(0) == 0 && perma_batch_run(mem))
+        watch[PERMA_WATCH_RUNNING] = mem->batch[PERMA_B_PROC] + 1u;
+    /* The phases take the local id as an argument: PoCL inlines every
+     * function that asks for it, which would hide them from a profile. */
+    perma_read_items(get_local_id(0), ctl, queue_data, queue_seq, mem, input);
+#if PERMA_ITEM_BARRIER
+    /* The threads of an item (or a cooperative group) read what others copied. */
+    barrier(CLK_LOCAL_MEM_FENCE);
+#endif
+
+    /* Run the procedure (the generated dispatch). */
+    perma_dispatch(get_local_id(0), mem, buf);
+    barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
+
+    if (get_local_id(0) == 0)
+        perma_reserve_emits(ctl, queue_data, queue_seq, mem, input, own);
+    barrier(CLK_LOCAL_MEM_FENCE);
+    perma_write_emits(get_local_id(0), ctl, queue_data, queue_seq, mem, own);
+    barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
+    if (get_local_id(0) == 0) {
+        perma_publish_emits(ctl, queue_data, queue_seq, mem, own);
+        if (perma_batch_run(mem)) {
             watch[PERMA_WATCH_RUNNING] = 0u;
-            watch[PERMA_WATCH_DONE] += 1u;    /* progress the host's watchdog sees */
+            watch[PERMA_WATCH_DONE] += 1u;
         }
     }
 }

@@ -1,11 +1,17 @@
 /*
  * The context a procedure receives, and emit staging.
  *
- * Emits are staged in __local memory during the batch: a local atomic picks
- * the staging index, so no work-item ever waits on another one of its group.
- * After the batch one work-item reserves the positions of all staged items
- * of a target with a single global atomic, and the group copies them out.
- * Included after the generated `perma_buffers` struct.
+ * Emits are staged in __local memory without atomics.  A procedure of one
+ * thread per item that is not cooperative stages per work-item ("lane"):
+ * the work-item appends the emits of all its items of the batch to its own
+ * area and counts them per edge, so its emits leave as one block.  Any other
+ * procedure stages per item (the threads of a multi-thread item share a
+ * local counter).  Either way each item also counts its emits per edge
+ * against its declared maximum.  After the batch work-item 0 turns the
+ * counts into offsets and reserves each target's positions with a single
+ * global atomic, and every work-item copies its emits out
+ * (kernels/perma_batch.cl).  Included after the generated `perma_buffers`
+ * struct.
  */
 
 typedef struct perma_ctx {
@@ -17,7 +23,8 @@ typedef struct perma_ctx {
     uint active;   /* 1 if this work-item has an item (cooperative procedures) */
     __local void *scratch;            /* local_bytes_per_item for this item */
     __local uint *item_emit_counts;   /* per edge: items this item emitted */
-    __local uint *edge_counts;        /* per edge: items the batch staged */
+    __local uint *lane_counts;        /* lane staging: per edge, items this work-item staged; else null */
+    uint lane;                        /* lane staging: this work-item's local id */
     __local uint *stage;              /* staging arena */
     __local uint *error_code;         /* 0, or PERMA_EMIT_ERROR_* | detail (perma_abi.h) */
     perma_buffers buf;                /* user buffers, by name */
@@ -26,7 +33,7 @@ typedef struct perma_ctx {
 /* Stage one item emitted into procedure `target` by the running procedure.
  * Returns 1 if staged, 0 if the target is not declared in .emits or the item
  * already emitted its declared maximum there (the run then fails). */
-inline int perma_emit(perma_ctx *ctx, uint target, const uint *src)
+PERMA_PHASE int perma_emit(perma_ctx *ctx, uint target, const uint *src)
 {
     if (!ctx->active)
         return 0;
@@ -38,13 +45,15 @@ inline int perma_emit(perma_ctx *ctx, uint target, const uint *src)
     uint e = ctx->proc * PERMA_MAX_EDGES + (uint)edge;
     /* With one thread per item nobody else counts this item's emits. */
     uint own = ctx->threads == 1 ? ctx->item_emit_counts[edge]++ : atomic_inc(ctx->item_emit_counts + edge);
-    if (own >= perma_edge_max[e]) {
+    uint max = perma_edge_max[e];
+    if (own >= max) {
         atomic_cmpxchg(ctx->error_code, 0u, PERMA_EMIT_ERROR_LIMIT | (uint)edge);
         return 0;
     }
     uint words = perma_item_words[target];
-    uint index = atomic_inc(ctx->edge_counts + edge);
-    __local uint *dst = ctx->stage + perma_edge_stage[e] + index * words;
+    uint at = ctx->lane_counts ? ctx->lane * perma_lane_items[ctx->proc] * max + ctx->lane_counts[edge]++
+                               : ctx->slot * max + own;
+    __local uint *dst = ctx->stage + perma_edge_stage[e] + at * words;
     for (uint w = 0; w < words; ++w)
         dst[w] = src[w];
     return 1;

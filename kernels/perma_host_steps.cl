@@ -10,10 +10,11 @@
  * room before it launches.
  */
 
-/* Copy `count` items of queue `qi` from position `first` into input[].
- * from_tail = 0: the items left from the head (consumed: seq = pos + cap);
- * from_tail = 1: the items left from the tail (the positions are reused:
- * seq = pos).  The host moves HEAD or TAIL itself. */
+/* Copy `count` items of queue `qi` from position `first` into input[] and
+ * clear the completion marks of their slots (positions taken from the tail
+ * are written again).  The host moves the queue's counters itself (HEAD and
+ * RELEASED past items taken from the head, TAIL and PUBLISHED back before
+ * items taken from the tail). */
 __kernel void perma_take_kernel(PERMA_TAKE_ARGS(PERMA_ARG_PARAM))
 {
     uint i = get_global_id(0);
@@ -21,13 +22,11 @@ __kernel void perma_take_kernel(PERMA_TAKE_ARGS(PERMA_ARG_PARAM))
         return;
     __global uint *queue = PERMA_QUEUE(ctl, qi);
     uint words = perma_item_words[qi % PERMA_NUM_PROCS];
-    uint cap = queue[PERMA_Q_CAP];
-    uint pos = first + i;
-    uint slot = pos & (cap - 1u);
-    __global uint *src = queue_data + queue[PERMA_Q_DATA] + slot * words;
+    __global uint *src = perma_queue_slot(queue, queue_data, first + i, words);
     for (uint w = 0; w < words; ++w)
         input[i * words + w] = src[w];
-    queue_seq[queue[PERMA_Q_SEQ] + slot] = from_tail ? pos : pos + cap;
+    perma_queue_clear_mark(perma_queue_marks(queue, queue_seq, 0u), queue[PERMA_Q_CAP], first + i);
+    perma_queue_clear_mark(perma_queue_marks(queue, queue_seq, 1u), queue[PERMA_Q_CAP], first + i);
 }
 
 __kernel __attribute__((reqd_work_group_size(PERMA_GROUP_SIZE, 1, 1)))
@@ -36,11 +35,13 @@ void perma_step_kernel(PERMA_COMMON_ARGS(PERMA_ARG_PARAM), PERMA_STEP_ARGS(PERMA
 {
     PERMA_GROUP_LOCALS(mem);
     const uint lid = get_local_id(0);
-    (void)trace; /* the host records the steps of host-driven techniques */
+    (void)trace;      /* the host records the steps of host-driven techniques */
     perma_buffers buf;
     PERMA_BIND_BUFFERS(buf);
     for (uint i = lid; i < PERMA_STAT_GROUP_WORDS; i += PERMA_GROUP_SIZE)
-        mem.stats[i] = 0;
+        mem->stats[i] = 0;
+    if (lid == 0)
+        mem->error_code = 0;
     /* Group g runs the batches g, g + groups, ... (batch b: input items
      * [b * batch, (b + 1) * batch)).  Shaped like the megakernel's loop:
      * work-item 0 decides, a barrier, everyone reads the decision, and the
@@ -48,25 +49,22 @@ void perma_step_kernel(PERMA_COMMON_ARGS(PERMA_ARG_PARAM), PERMA_STEP_ARGS(PERMA
      * global writes of a counted loop around the batch's barriers). */
     const uint batch = perma_max_batch[proc];
     const uint batches = (count + batch - 1u) / batch;
-    __local uint step_count;
     uint b = get_group_id(0), more = 1u;
     while (more) {
         if (lid == 0) {
-            step_count = b < batches ? min(count - b * batch, batch) : 0u;
-            *mem.copy_failed = 0;
-            if (step_count && !perma_reserve_batch_room(ctl, 0, proc, step_count))
+            const uint n = b < batches ? min(count - b * batch, batch) : 0u;
+            perma_set_batch(mem->batch, PERMA_CMD_RUN, proc, b * batch, n, proc, proc);
+            if (n && !perma_reserve_batch_room(ctl, 0, proc, n))
                 perma_fail(ctl, PERMA_KSTATUS_NEEDS_ROOM, proc, 0); /* the host sized the queues wrongly */
         }
         barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
-        const uint n = step_count;
         more = b < batches;
-        barrier(CLK_LOCAL_MEM_FENCE);
-        perma_run_batch(ctl, queue_data, queue_seq, abort_flag, mem, buf, PERMA_CMD_RUN, proc, b * batch, n,
-                        PERMA_QUEUE(ctl, proc), PERMA_QUEUE(ctl, proc), input, 0, 0);
+        perma_run_batch(ctl, queue_data, queue_seq, abort_flag, mem, buf, input, 0);
         b += get_num_groups(0);
     }
+    barrier(CLK_LOCAL_MEM_FENCE);
     /* Many groups per launch: add to group 0's record. */
     for (uint i = lid; i < PERMA_STAT_GROUP_WORDS; i += PERMA_GROUP_SIZE)
-        if (mem.stats[i])
-            atomic_add(group_stats + i, mem.stats[i]);
+        if (mem->stats[i])
+            atomic_add(group_stats + i, mem->stats[i]);
 }

@@ -18,19 +18,21 @@
 #define PERMA_STAT_GROUP_WORDS PERMA_STAT_GROUP_WORDS_FOR(PERMA_NUM_PROCS, PERMA_MAX_EDGES)
 #define PERMA_TRACE_GROUP_WORDS PERMA_TRACE_GROUP_WORDS_FOR(PERMA_TRACE_EVENTS)
 
-/* Spin loops give up after this many polls (and poll the abort flag every
- * 1024).  2^35 polls take about 20 s on an idle core of this machine (one
- * poll ~0.6 ns): long enough that a worker thread descheduled on a loaded
- * machine is not taken for a deadlock (2^30, about 0.65 s, was not), short
- * enough to report a real one well before the default time limit. */
-#ifndef PERMA_SPIN_LIMIT
-#define PERMA_SPIN_LIMIT 0x800000000ul
-#endif
-
 #define PERMA_QUEUE(ctl, q) ((ctl) + PERMA_CTL_HEADER_WORDS + (q) * PERMA_QUEUE_WORDS)
 #define PERMA_GROUP(ctl, g) \
     ((ctl) + PERMA_CTL_HEADER_WORDS + PERMA_QUEUE_SETS * PERMA_NUM_PROCS * PERMA_QUEUE_WORDS + \
      (g) * PERMA_GROUP_WORDS)
+
+/* The phases of a batch (perma_schedule, perma_read_items, perma_dispatch,
+ * perma_emit, perma_reserve_emits, perma_write_emits, perma_publish_emits)
+ * are inline; built with -DPERMA_PROFILE_PHASES (e.g. through PoCL's
+ * POCL_EXTRA_BUILD_FLAGS) they and the procedures stay separate functions,
+ * so a profile shows what each costs (docs/benchmarks.md). */
+#ifdef PERMA_PROFILE_PHASES
+#define PERMA_PHASE __attribute__((noinline))
+#else
+#define PERMA_PHASE inline __attribute__((always_inline))
+#endif
 
 /* A read that always goes to memory (another group may have written it).
  * A word that other groups update with atomics is read with a plain

@@ -3,25 +3,31 @@
  *
  * Positions are 32-bit counters that wrap; a slot is position & (cap - 1),
  * which stays consistent across the wrap because cap is a power of two.
- * Each slot has a sequence word (after Vyukov's bounded MPMC queue):
- *   seq == pos          the slot is free for the writer of position pos
- *   seq == pos + 1      position pos is written and may be read
- *   seq == pos + cap    read; free for the writer of position pos + cap
- * Writers and readers reserve ranges of positions with one atomic per group
- * (TAIL for writers, HEAD for readers) and then wait only on the sequence
- * word of their own slots, i.e. only on a group that already holds the
- * neighbouring position and is inside a wait-free copy: never on a group
- * that may not have started.
+ * Four counters describe a queue (docs/design.md, *Queues*):
+ *
+ *   RELEASED <= HEAD <= PUBLISHED <= TAIL <= RELEASED + cap
+ *
+ * A writer reserves a range of positions with one atomic_add on TAIL and
+ * copies its items in; a reader claims a range below PUBLISHED with one
+ * cmpxchg on HEAD and copies it out.  PUBLISHED (RELEASED) moves over the
+ * written (read) ranges in position order: a group that completes a range
+ * marks it done in a per-slot word and moves the counter past every done
+ * range at the counter, so a range completed out of order is carried along
+ * by the group that completes the range before it (perma_queue_complete).
+ * Nobody ever waits for another group, and a batch costs a few atomics
+ * whatever its size: no per-item atomics, no per-slot handshakes.
  *
  * ROOM counts the slots that no batch has been promised.  A batch may start
  * only after it subtracted its worst-case emits from ROOM of every target,
- * so a started batch can always write everything it emits.
+ * and released slots go back to ROOM only when RELEASED passes them, so
+ * TAIL - RELEASED never exceeds cap: a writer's slots are always free, and
+ * a started batch can always write everything it emits.
  */
 
-/* Items that are queued (reserved for writing but not yet claimed). */
+/* Items that are published and not yet claimed. */
 inline int perma_queue_available(__global uint *queue)
 {
-    return (int)(perma_load(queue + PERMA_Q_TAIL) - perma_load(queue + PERMA_Q_HEAD));
+    return (int)(perma_load(queue + PERMA_Q_PUBLISHED) - perma_load(queue + PERMA_Q_HEAD));
 }
 
 /* Take `count` slots of ROOM if that many are free; returns 1 on success.
@@ -42,20 +48,29 @@ inline int perma_queue_reserve_room(__global uint *ctl, __global uint *queue, in
     return 0;
 }
 
+/* Give back `count` slots of ROOM.  The caller counts the progress. */
+inline void perma_queue_give_room(__global uint *queue, int count)
+{
+    if (count > 0)
+        atomic_add((volatile __global int *)(queue + PERMA_Q_ROOM), count);
+}
+
 inline void perma_queue_return_room(__global uint *ctl, __global uint *queue, int count)
 {
     if (count <= 0)
         return;
-    atomic_add((volatile __global int *)(queue + PERMA_Q_ROOM), count);
+    perma_queue_give_room(queue, count);
     atomic_inc(ctl + PERMA_CTL_PROGRESS);
 }
 
-/* Claim up to `wanted` queued positions; returns how many, first in *start. */
+/* Claim up to `wanted` published positions; returns how many, first in
+ * *start.  The claimed items may be read after a read fence (the caller's
+ * barrier carries it to the group). */
 inline uint perma_queue_claim(__global uint *queue, uint wanted, uint *start)
 {
     for (;;) {
         uint head = perma_load(queue + PERMA_Q_HEAD);
-        int available = (int)(perma_load(queue + PERMA_Q_TAIL) - head);
+        int available = (int)(perma_load(queue + PERMA_Q_PUBLISHED) - head);
         if (available <= 0)
             return 0;
         uint count = min((uint)available, wanted);
@@ -66,89 +81,68 @@ inline uint perma_queue_claim(__global uint *queue, uint wanted, uint *start)
     }
 }
 
-/* Whether the launch has failed for good (not merely stopped for bigger
- * queues, after which the batches still running must finish). */
-inline int perma_launch_failed(__global uint *ctl)
+/* Reserve `count` positions for writing; returns the first. */
+inline uint perma_queue_reserve(__global uint *queue, uint count)
 {
-    uint status = perma_load(ctl + PERMA_CTL_STATUS);
-    return status != PERMA_KSTATUS_DONE && status != PERMA_KSTATUS_NEEDS_ROOM;
-}
-
-/* Wait until the sequence word of a slot reaches `expected`.  Returns 0 if the
- * wait ran out, the host asked to abort or the launch failed meanwhile (so
- * after one wait runs out the group's other waits do not each spin to the
- * limit too). */
-inline int perma_wait_seq(__global uint *ctl, __global uint *seq, uint expected,
-                          volatile __global uint *abort_flag)
-{
-    for (ulong spins = 0; spins < PERMA_SPIN_LIMIT; ++spins) {
-        if (perma_load(seq) == expected)
-            return 1;
-        if ((spins & 1023u) == 1023u && (*abort_flag || perma_launch_failed(ctl)))
-            return 0;
-    }
-    return 0;
-}
-
-/* A wait on a slot of `queue` gave up: report the abort, or which queue,
- * which position and which side waited (the first failure wins, so a wait
- * that gave up because the launch had already failed changes nothing). */
-inline void perma_queue_wait_failed(__global uint *ctl, __global uint *queue, uint pos, uint writing,
-                                    volatile __global uint *abort_flag)
-{
-    if (*abort_flag) {
-        perma_fail(ctl, PERMA_KSTATUS_ABORTED, PERMA_DETAIL_NONE, 0);
-        return;
-    }
-    uint index = (uint)(queue - (ctl + PERMA_CTL_HEADER_WORDS)) / PERMA_QUEUE_WORDS;
-    perma_fail(ctl, PERMA_KSTATUS_SPIN_LIMIT, index | (writing ? PERMA_WAIT_WRITING : 0u), pos);
-}
-
-/* Copy the item at position `pos` into `dst` and free its slot. */
-inline int perma_queue_read_item(__global uint *ctl, __global uint *queue, __global uint *data,
-                                 __global uint *seqs, uint pos, uint words, __local uint *dst,
-                                 volatile __global uint *abort_flag)
-{
-    uint cap = queue[PERMA_Q_CAP];
-    uint slot = pos & (cap - 1u);
-    __global uint *seq = seqs + queue[PERMA_Q_SEQ] + slot;
-    if (!perma_wait_seq(ctl, seq, pos + 1u, abort_flag)) {
-        perma_queue_wait_failed(ctl, queue, pos, 0u, abort_flag);
-        return 0;
-    }
-    read_mem_fence(CLK_GLOBAL_MEM_FENCE); /* payload after the published flag */
-    __global uint *src = data + queue[PERMA_Q_DATA] + slot * words;
-    for (uint w = 0; w < words; ++w)
-        dst[w] = src[w];
-    mem_fence(CLK_GLOBAL_MEM_FENCE | CLK_LOCAL_MEM_FENCE); /* reads done before the slot is freed */
-    atomic_xchg(seq, pos + cap);
-    return 1;
-}
-
-/* Write the item at position `pos` from `src` and publish it. */
-inline int perma_queue_write_item(__global uint *ctl, __global uint *queue, __global uint *data,
-                                  __global uint *seqs, uint pos, uint words, __local const uint *src,
-                                  volatile __global uint *abort_flag)
-{
-    uint cap = queue[PERMA_Q_CAP];
-    uint slot = pos & (cap - 1u);
-    __global uint *seq = seqs + queue[PERMA_Q_SEQ] + slot;
-    if (!perma_wait_seq(ctl, seq, pos, abort_flag)) {
-        perma_queue_wait_failed(ctl, queue, pos, 1u, abort_flag);
-        return 0;
-    }
-    __global uint *dst = data + queue[PERMA_Q_DATA] + slot * words;
-    for (uint w = 0; w < words; ++w)
-        dst[w] = src[w];
-    write_mem_fence(CLK_GLOBAL_MEM_FENCE); /* payload before the published flag */
-    atomic_xchg(seq, pos + 1u);
-    return 1;
-}
-
-/* Record the queue's occupancy after `end` positions were reserved. */
-inline void perma_queue_note_peak(__global uint *queue, uint end)
-{
-    int occupancy = (int)(end - perma_load(queue + PERMA_Q_HEAD));
-    if (occupancy > 0) /* consumers may already have claimed past `end` */
+    uint base = atomic_add(queue + PERMA_Q_TAIL, count);
+    /* Record the occupancy (consumers may already have claimed past the end). */
+    int occupancy = (int)(base + count - perma_load(queue + PERMA_Q_HEAD));
+    if (occupancy > 0 && (uint)occupancy > perma_load(queue + PERMA_Q_PEAK))
         atomic_max(queue + PERMA_Q_PEAK, (uint)occupancy);
+    return base;
+}
+
+/* Where position `pos` of a queue of `words`-word items keeps its item. */
+inline __global uint *perma_queue_slot(__global uint *queue, __global uint *data, uint pos, uint words)
+{
+    return data + queue[PERMA_Q_DATA] + (pos & (queue[PERMA_Q_CAP] - 1u)) * words;
+}
+
+/* The completion marks of a queue in queue_seq: one word per slot for
+ * publishing (releasing = 0), then one per slot for releasing. */
+inline __global uint *perma_queue_marks(__global uint *queue, __global uint *marks, uint releasing)
+{
+    return marks + queue[PERMA_Q_SEQ] + queue[PERMA_Q_CAP] * releasing;
+}
+
+/* Called for every position a group writes (or reads) other than the first
+ * of its range: its mark is set to the position itself, which never reads
+ * as a completed range, so a mark is never older than one lap and the
+ * 32-bit positions cannot wrap onto a stale one. */
+inline void perma_queue_clear_mark(__global uint *marks, uint cap, uint pos)
+{
+    marks[pos & (cap - 1u)] = pos;
+}
+
+/* A range [first, first + count) was written (releasing = 0) or read
+ * (releasing = 1) completely: mark it done, then move PUBLISHED (RELEASED)
+ * past every done range that starts where it stands, whoever owns them.
+ * Nobody waits: a range done before the ones ahead of it is carried along
+ * by whichever group completes the last of those.  Work-item 0 only,
+ * after a barrier that follows the group's copies.  Moving RELEASED gives
+ * the released slots back to ROOM; the caller counts the progress.
+ *
+ * Announce (xchg of the mark) then read the counter, against move (cmpxchg
+ * of the counter) then read the mark: with a full fence between each pair
+ * at least one side sees the other, so no done range is left behind. */
+inline void perma_queue_complete(__global uint *queue, __global uint *queue_seq, uint releasing, uint first,
+                                 uint count)
+{
+    if (count == 0)
+        return;
+    const uint cap = queue[PERMA_Q_CAP];
+    __global uint *marks = perma_queue_marks(queue, queue_seq, releasing);
+    __global uint *counter = queue + (releasing ? PERMA_Q_RELEASED : PERMA_Q_PUBLISHED);
+    mem_fence(CLK_GLOBAL_MEM_FENCE); /* the items (or the copies out of them) before the mark */
+    atomic_xchg(marks + (first & (cap - 1u)), first + count);
+    mem_fence(CLK_GLOBAL_MEM_FENCE);
+    for (;;) {
+        uint at = perma_load(counter);
+        uint end = perma_load(marks + (at & (cap - 1u)));
+        if (end - at - 1u >= cap) /* not a done range starting at `at` */
+            return;
+        if (atomic_cmpxchg(counter, at, end) == at && releasing)
+            perma_queue_give_room(queue, (int)(end - at));
+        mem_fence(CLK_GLOBAL_MEM_FENCE);
+    }
 }

@@ -17,22 +17,28 @@
 
 /* Scheduler polls in work-item 0 before the group goes round its loop once. */
 #define PERMA_IDLE_POLLS 64u
+/* Schedules in a row that room, not work, cut to under half a
+ * batch (or to nothing) before a group asks the host for bigger queues. */
+#define PERMA_STARVE_LIMIT 64u
 
 /* Take a batch of procedure q from queue set `from` for a group whose emits
  * go to set `own`.  Returns the item count (0: none), first position in
- * *start; sets *found when the queue had items at all. */
+ * *start; when the queue had items, sets *starved to q if the room of the
+ * targets cut the batch to under half of what there was to take, else
+ * to -1. */
 inline uint perma_try_take(__global uint *ctl, uint own, uint from, uint q, int full_only,
-                           uint *start, int *found)
+                           uint *start, int *starved)
 {
     __global uint *queue = PERMA_QUEUE(ctl, PERMA_QINDEX(from, q));
     int available = perma_queue_available(queue);
     if (available <= 0)
         return 0;
-    *found = 1;
     uint want = min((uint)available, perma_max_batch[q]);
     if (full_only && want < perma_max_batch[q])
         return 0;
-    want = perma_admissible(ctl, own, q, want);
+    uint fit = perma_admissible(ctl, own, q, want);
+    *starved = 2u * fit < want ? (int)q : -1;
+    want = fit;
     if (want == 0 || !perma_reserve_batch_room(ctl, own, q, want))
         return 0;
     uint got = perma_queue_claim(queue, want, start);
@@ -119,9 +125,9 @@ inline uint perma_try_adopt(__global uint *ctl, uint own, uint *proc, uint *from
  * no batch finished since: nobody can make progress until the host grows
  * queues.  Groups that are not running count for nothing: every strategy
  * lets the running groups take their items (stealing, or perma_try_adopt). */
-inline int perma_all_blocked(__global uint *ctl, uint epoch)
+inline int perma_all_blocked(__global uint *ctl, uint epoch, uint groups)
 {
-    for (uint g = 0; g < get_num_groups(0); ++g) {
+    for (uint g = 0; g < groups; ++g) {
         __global uint *gw = PERMA_GROUP(ctl, g);
         if (perma_load(gw + PERMA_G_STATE) == 1u && perma_load(gw + PERMA_G_BLOCKED) != epoch + 1u)
             return 0;
@@ -129,9 +135,12 @@ inline int perma_all_blocked(__global uint *ctl, uint epoch)
     return perma_load(ctl + PERMA_CTL_PROGRESS) == epoch;
 }
 
+/* Mark the group stalled since an epoch (epoch + 1) or running (0); the
+ * word is written only when it changes, not once per batch. */
 inline void perma_set_blocked(__global uint *group_words, uint value)
 {
-    atomic_xchg(group_words + PERMA_G_BLOCKED, value);
+    if (perma_load(group_words + PERMA_G_BLOCKED) != value)
+        atomic_xchg(group_words + PERMA_G_BLOCKED, value);
 }
 
 #if PERMA_STEALING
@@ -164,8 +173,9 @@ inline void perma_set_batch(__local uint *batch, uint command, uint proc, uint s
                         : command == PERMA_CMD_RUN_LOCAL ? PERMA_TRACE_LOCAL : PERMA_TRACE_RUN;
     batch[PERMA_B_PROC] = proc;
     batch[PERMA_B_START] = start;
-    batch[PERMA_B_COUNT] = count;
-    batch[PERMA_B_COMMAND] = command;
+    batch[PERMA_B_COUNT] = command == PERMA_CMD_IDLE || command == PERMA_CMD_EXIT ? 0u : count;
+    batch[PERMA_B_COMMAND] = command == PERMA_CMD_RUN_LOCAL ? PERMA_CMD_RUN : command;
+    batch[PERMA_B_FROM_LOCAL] = command == PERMA_CMD_RUN_LOCAL;
     batch[PERMA_B_SOURCE] = source;
     batch[PERMA_B_DEST] = dest;
 }
@@ -173,13 +183,12 @@ inline void perma_set_batch(__local uint *batch, uint command, uint proc, uint s
 #if PERMA_LOCAL_QUEUE
 /* Flush every local stack to the global queues (work-item 0); returns the
  * items moved, and counts a flush that moved any as progress. */
-inline uint perma_local_flush_all(__global uint *ctl, __global uint *queue_data, __global uint *queue_seq,
-                                  volatile __global uint *abort_flag, perma_group_mem mem, uint own,
+inline uint perma_local_flush_all(__global uint *ctl, __global uint *queue_data, __global uint *queue_seq, __local perma_group_mem *mem, uint own,
                                   __local uint *group_stat)
 {
     uint moved = 0;
     for (uint p = 0; p < PERMA_NUM_PROCS; ++p)
-        moved += perma_local_flush(ctl, queue_data, queue_seq, abort_flag, mem, own, p);
+        moved += perma_local_flush(ctl, queue_data, queue_seq, mem, own, p);
     group_stat[PERMA_GSTAT_SPILLS] += moved;
     if (moved) {
         mem_fence(CLK_GLOBAL_MEM_FENCE); /* the items are published before the progress is seen */
@@ -190,29 +199,58 @@ inline uint perma_local_flush_all(__global uint *ctl, __global uint *queue_data,
 
 /* Take a batch from the local stack of q (top first) if its targets have
  * room; the items already hold ROOM in the global queue of q. */
-inline uint perma_try_take_local(__global uint *ctl, perma_group_mem mem, uint own, uint q, uint *start)
+inline uint perma_try_take_local(__global uint *ctl, __local perma_group_mem *mem, uint own, uint q, uint *start,
+                                 int *starved)
 {
-    uint n = min(mem.lq_count[q], perma_max_batch[q]);
+    uint n = min(mem->lq_count[q], perma_max_batch[q]);
     if (n == 0)
         return 0;
-    n = perma_admissible(ctl, own, q, n);
+    uint fit = perma_admissible(ctl, own, q, n);
+    *starved = 2u * fit < n ? (int)q : -1;
+    n = fit;
     if (n == 0 || !perma_reserve_batch_room(ctl, own, q, n))
         return 0;
-    mem.lq_count[q] -= n;
-    *start = mem.lq_count[q];
+    mem->lq_count[q] -= n;
+    *start = mem->lq_count[q];
     return n;
 }
 #endif
 
-/* Work-item 0: choose what the group does next and write it to batch[]. */
-inline void perma_schedule(__global uint *ctl, __global uint *queue_data, __global uint *queue_seq,
-                           __global uint *group_words, uint own,
-                           volatile __global uint *abort_flag, __local uint *batch,
-                           perma_group_mem mem, uint *victim_state)
+/* Count a schedule that room cut short for procedure `starved` (-1: it did
+ * not, which resets the count).  After PERMA_STARVE_LIMIT in a row, if the
+ * host allows it and a target of that procedure in set `own` is smaller
+ * than its occupancy plus a full batch of emits for every group, stop the
+ * launch so the host doubles that queue (named in DETAIL_EDGE): batches of a
+ * few items cost nearly as much as full ones, and a group that sees work
+ * but can start none is idle.  Returns 1 when it stopped the launch. */
+inline int perma_note_starved(__global uint *ctl, uint groups, uint own, int starved, uint *count)
 {
-    __local uint *group_stat = mem.stats + PERMA_NUM_PROCS * PERMA_STAT_PROC_WORDS;
+    *count = starved >= 0 ? *count + 1u : 0u;
+    if (*count < PERMA_STARVE_LIMIT || !perma_load(ctl + PERMA_CTL_GROW_STARVED))
+        return 0;
+    *count = 0;
+    uint q = (uint)starved;
+    for (uint e = 0; e < perma_edge_count[q]; ++e) {
+        uint ti = PERMA_QINDEX(own, perma_edge_target[q * PERMA_MAX_EDGES + e]);
+        __global uint *target = PERMA_QUEUE(ctl, ti);
+        uint occupancy = perma_load(target + PERMA_Q_TAIL) - perma_load(target + PERMA_Q_RELEASED);
+        ulong needed = (ulong)occupancy +
+                       (ulong)groups * perma_max_batch[q] * perma_edge_max[q * PERMA_MAX_EDGES + e];
+        if ((ulong)target[PERMA_Q_CAP] < needed) {
+            perma_fail(ctl, PERMA_KSTATUS_NEEDS_ROOM, PERMA_DETAIL_STARVED, ti);
+            return 1;
+        }
+    }
+    return 0;
+}
+
+/* Work-item 0: choose what the group does next and write it to batch[]. */
+PERMA_PHASE void perma_schedule(__global uint *ctl, __global uint *queue_data, __global uint *queue_seq, __global uint *group_words,
+                                uint groups, uint own, volatile __global uint *abort_flag, __local uint *batch,
+                                __local perma_group_mem *mem, uint *victim_state, uint *starve_count)
+{
+    __local uint *group_stat = mem->stats + PERMA_NUM_PROCS * PERMA_STAT_PROC_WORDS;
     (void)queue_data; /* used by the local front queue's flush only */
-    (void)queue_seq;
     (void)victim_state; /* used by stealing only */
     for (uint poll = 0;; ++poll) {
         if (perma_load(ctl + PERMA_CTL_EXIT))
@@ -225,13 +263,14 @@ inline void perma_schedule(__global uint *ctl, __global uint *queue_data, __glob
             break;
 
         uint epoch = perma_load(ctl + PERMA_CTL_PROGRESS);
-        int found = 0;
+        int starved = -1;
         uint start = 0, q = 0, dest = 0, got;
 #if PERMA_LOCAL_QUEUE
         for (uint i = 0; i < PERMA_NUM_PROCS; ++i) {
             q = perma_order[i];
-            got = perma_try_take_local(ctl, mem, own, q, &start);
+            got = perma_try_take_local(ctl, mem, own, q, &start, &starved);
             if (got) {
+                perma_note_starved(ctl, groups, own, starved, starve_count);
                 perma_set_blocked(group_words, 0u);
                 perma_set_batch(batch, PERMA_CMD_RUN_LOCAL, q, start, got, PERMA_QINDEX(own, q), 0);
                 return;
@@ -253,8 +292,9 @@ inline void perma_schedule(__global uint *ctl, __global uint *queue_data, __glob
         for (uint pass = 0; pass < 2; ++pass) {
             for (uint i = 0; i < PERMA_NUM_PROCS; ++i) {
                 q = perma_order[i];
-                got = perma_try_take(ctl, own, own, q, pass == 0, &start, &found);
+                got = perma_try_take(ctl, own, own, q, pass == 0, &start, &starved);
                 if (got) {
+                    perma_note_starved(ctl, groups, own, starved, starve_count);
                     perma_set_blocked(group_words, 0u);
                     perma_set_batch(batch, PERMA_CMD_RUN, q, start, got, PERMA_QINDEX(own, q), 0);
                     return;
@@ -269,8 +309,9 @@ inline void perma_schedule(__global uint *ctl, __global uint *queue_data, __glob
                 continue;
             for (uint i = 0; i < PERMA_NUM_PROCS; ++i) {
                 q = perma_order[i];
-                got = perma_try_take(ctl, own, victim, q, 0, &start, &found);
+                got = perma_try_take(ctl, own, victim, q, 0, &start, &starved);
                 if (got) {
+                    perma_note_starved(ctl, groups, own, starved, starve_count);
                     group_stat[PERMA_GSTAT_STEALS] += 1u;
                     perma_set_blocked(group_words, 0u);
                     perma_set_batch(batch, PERMA_CMD_RUN, q, start, got, PERMA_QINDEX(victim, q), 0);
@@ -297,7 +338,7 @@ inline void perma_schedule(__global uint *ctl, __global uint *queue_data, __glob
          * publishes work, so it is progress: a group that looked at this
          * set before the flush must not take this group's stall for a
          * deadlock (and stop the launch while the items are taken). */
-        if (perma_local_flush_all(ctl, queue_data, queue_seq, abort_flag, mem, own, group_stat))
+        if (perma_local_flush_all(ctl, queue_data, queue_seq, mem, own, group_stat))
             continue;
 #endif
         group_stat[PERMA_GSTAT_IDLE_POLLS] += 1u;
@@ -306,14 +347,16 @@ inline void perma_schedule(__global uint *ctl, __global uint *queue_data, __glob
          * If every running group is in that state since the same epoch while
          * items are outstanding, only bigger queues can help. */
         perma_set_blocked(group_words, epoch + 1u);
-        if (perma_all_blocked(ctl, epoch) && perma_load_int(ctl + PERMA_CTL_OUTSTANDING) > 0) {
+        if (perma_all_blocked(ctl, epoch, groups) && perma_load_int(ctl + PERMA_CTL_OUTSTANDING) > 0) {
             perma_fail(ctl, PERMA_KSTATUS_NEEDS_ROOM, PERMA_DETAIL_NONE, 0);
             break;
         }
-        (void)found;
+        /* Work in sight but no room to start any of it. */
+        if (starved >= 0 && perma_note_starved(ctl, groups, own, starved, starve_count))
+            break;
         (void)dest;
         if (poll >= PERMA_IDLE_POLLS) {
-            batch[PERMA_B_COMMAND] = PERMA_CMD_IDLE;
+            perma_set_batch(batch, PERMA_CMD_IDLE, 0, 0, 0, 0, 0);
             return;
         }
     }
@@ -323,37 +366,27 @@ inline void perma_schedule(__global uint *ctl, __global uint *queue_data, __glob
      * called): they must reach the global queues, which the host carries
      * over to the next launch.  After any other status the run is over. */
     if (perma_load(ctl + PERMA_CTL_STATUS) == PERMA_KSTATUS_NEEDS_ROOM)
-        perma_local_flush_all(ctl, queue_data, queue_seq, abort_flag, mem, own, group_stat);
+        perma_local_flush_all(ctl, queue_data, queue_seq, mem, own, group_stat);
 #endif
-    batch[PERMA_B_COMMAND] = PERMA_CMD_EXIT;
+    perma_set_batch(batch, PERMA_CMD_EXIT, 0, 0, 0, 0, 0);
 }
 
-/* Declare a group's __local memory and the record pointing at it. */
-#define PERMA_GROUP_LOCALS(mem)                                                   \
-    __local uint perma_arena[PERMA_ARENA_WORDS] __attribute__((aligned(64)));    \
-    __local uint perma_edge_counts[PERMA_MAX_EDGES];                             \
-    __local uint perma_edge_base[2 * PERMA_MAX_EDGES];                           \
-    __local uint perma_stats[PERMA_STAT_GROUP_WORDS];                            \
-    __local uint perma_error_code;                                               \
-    __local uint perma_copy_failed;                                              \
-    __local uint perma_lq[PERMA_LQ_WORDS] __attribute__((aligned(64)));          \
-    __local uint perma_lq_count[PERMA_NUM_PROCS];                                \
-    __local uint perma_edge_keep[PERMA_MAX_EDGES];                               \
-    perma_group_mem mem = { perma_arena, perma_edge_counts, perma_edge_base,     \
-                            perma_stats, &perma_error_code, &perma_copy_failed,  \
-                            perma_lq, perma_lq_count, perma_edge_keep }
+/* Declare a group's __local memory and `mem`, its address. */
+#define PERMA_GROUP_LOCALS(mem)                       \
+    __local perma_group_mem perma_group_state;        \
+    __local perma_group_mem *const mem = &perma_group_state
 
 __kernel __attribute__((reqd_work_group_size(PERMA_GROUP_SIZE, 1, 1)))
 void perma_megakernel(PERMA_COMMON_ARGS(PERMA_ARG_PARAM) PERMA_BUFFER_PARAMS)
 {
     PERMA_GROUP_LOCALS(mem);
-    __local uint batch[PERMA_BATCH_WORDS];
 
     const uint lid = get_local_id(0);
     const uint group = get_group_id(0);
     const uint own = PERMA_QUEUE_SETS > 1 ? group : 0u;
     __global uint *group_words = PERMA_GROUP(ctl, group);
     uint victim_state = group * 2654435761u + 12345u; /* used by work-item 0 only */
+    uint starve_count = 0;                            /* likewise */
 #if PERMA_TRACE_EVENTS
     uint trace_count = 0, trace_start = 0;            /* likewise */
     __global uint *group_trace = trace + group * PERMA_TRACE_GROUP_WORDS;
@@ -364,12 +397,12 @@ void perma_megakernel(PERMA_COMMON_ARGS(PERMA_ARG_PARAM) PERMA_BUFFER_PARAMS)
     PERMA_BIND_BUFFERS(buf);
 
     for (uint i = lid; i < PERMA_STAT_GROUP_WORDS; i += PERMA_GROUP_SIZE)
-        mem.stats[i] = 0;
+        mem->stats[i] = 0;
     for (uint i = lid; i < PERMA_NUM_PROCS; i += PERMA_GROUP_SIZE)
-        mem.lq_count[i] = 0;
+        mem->lq_count[i] = 0;
     if (lid == 0) {
-        *mem.copy_failed = 0;
-        perma_set_batch(batch, PERMA_CMD_IDLE, 0, 0, 0, 0, 0);
+        mem->error_code = 0;
+        perma_set_batch(mem->batch, PERMA_CMD_IDLE, 0, 0, 0, 0, 0);
         atomic_xchg(group_words + PERMA_G_STATE, 1u);
     }
     barrier(CLK_LOCAL_MEM_FENCE);
@@ -379,29 +412,21 @@ void perma_megakernel(PERMA_COMMON_ARGS(PERMA_ARG_PARAM) PERMA_BUFFER_PARAMS)
     uint command = PERMA_CMD_IDLE;
     while (command != PERMA_CMD_EXIT) {
         if (lid == 0)
-            perma_schedule(ctl, queue_data, queue_seq, group_words, own, abort_flag, batch, mem, &victim_state);
+            perma_schedule(ctl, queue_data, queue_seq, group_words, get_num_groups(0), own, abort_flag, mem->batch, mem,
+                           &victim_state, &starve_count);
         barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
-        command = batch[PERMA_B_COMMAND];
-        const uint proc = batch[PERMA_B_PROC];
-        const uint start = batch[PERMA_B_START];
-        const uint from_local = command == PERMA_CMD_RUN_LOCAL;
-        const uint moving = command == PERMA_CMD_RUN || command == PERMA_CMD_DONATE || from_local;
-        const uint count = moving ? batch[PERMA_B_COUNT] : 0u;
-        __global uint *source = PERMA_QUEUE(ctl, batch[PERMA_B_SOURCE]);
-        __global uint *donee = PERMA_QUEUE(ctl, batch[PERMA_B_DEST]);
+        command = mem->batch[PERMA_B_COMMAND];
 #if PERMA_TRACE_EVENTS
-        if (lid == 0 && count)
+        if (lid == 0 && mem->batch[PERMA_B_COUNT])
             trace_start = atomic_inc(ctl + PERMA_CTL_CLOCK);
 #endif
-        barrier(CLK_LOCAL_MEM_FENCE); /* all have read batch[] before it is rewritten */
-        perma_run_batch(ctl, queue_data, queue_seq, abort_flag, mem, buf,
-                        from_local ? PERMA_CMD_RUN : command, proc, start, count,
-                        source, donee, (__global const uint *)0, from_local, own);
+        perma_run_batch(ctl, queue_data, queue_seq, abort_flag, mem, buf, (__global const uint *)0, own);
 #if PERMA_TRACE_EVENTS
-        if (lid == 0 && count && trace_count < PERMA_TRACE_EVENTS) {
+        /* Before work-item 0 schedules the next batch. */
+        if (lid == 0 && mem->batch[PERMA_B_COUNT] && trace_count < PERMA_TRACE_EVENTS) {
             __global uint *record = group_trace + 1u + 4u * trace_count++;
-            record[0] = proc | batch[PERMA_B_KIND] << 8;
-            record[1] = count;
+            record[0] = mem->batch[PERMA_B_PROC] | mem->batch[PERMA_B_KIND] << 8;
+            record[1] = mem->batch[PERMA_B_COUNT];
             record[2] = trace_start;
             record[3] = atomic_inc(ctl + PERMA_CTL_CLOCK);
         }
@@ -413,7 +438,7 @@ void perma_megakernel(PERMA_COMMON_ARGS(PERMA_ARG_PARAM) PERMA_BUFFER_PARAMS)
 #endif
 
     for (uint i = lid; i < PERMA_STAT_GROUP_WORDS; i += PERMA_GROUP_SIZE)
-        group_stats[group * PERMA_STAT_GROUP_WORDS + i] = mem.stats[i];
+        group_stats[group * PERMA_STAT_GROUP_WORDS + i] = mem->stats[i];
     if (lid == 0)
         atomic_xchg(group_words + PERMA_G_STATE, 2u);
 }

@@ -364,6 +364,12 @@ static reyes_status subdivide_and_plan(reyes_renderer *r, const reyes_scene *sce
     set_tile(&b->params, o, whole);
     b->params.record_leaves = 1;
     b->leaf_capacity = scene->patch_count * 16 + 1024;
+    /* This pass (bound and split only) starts from the initial capacities,
+     * not from what an earlier render's last run grew them to (the whole
+     * pipeline, perhaps over the whole image): its peak queue memory is its
+     * own, so a bucketed render's peak_queue_bytes is its largest bucket's
+     * whenever the buckets need more than this pass. */
+    perma_forget_capacities(r->rt);
     for (;;) {
         struct reyes_leaf *grown = realloc(b->leaves, b->leaf_capacity * sizeof *grown);
         if (!grown)

@@ -218,13 +218,25 @@ typedef struct perma_config {
     unsigned work_groups;
     /* Work-items per group; 0 = 64. */
     unsigned group_size;
+    /* Items one work-item runs one after another in a batch of a procedure
+     * with one thread per item that is not cooperative, so such a batch
+     * holds up to group_size * items_per_work_item items (fewer if its
+     * items, scratch and worst-case emits do not fit the __local memory);
+     * 0 = 4.  Larger batches spread the fixed cost of a batch (claiming,
+     * barriers, publishing) over more items.  Procedures with several
+     * threads per item and cooperative ones take group_size /
+     * threads_per_item items per batch. */
+    unsigned items_per_work_item;
     /* Initial capacity of each queue in items; 0 = 1024.  Rounded up to a
-     * power of two; queues grow on demand, and a run starts each queue at
-     * the capacity the last successful run of the same program grew it to,
-     * if that is more and all queues fit queue_memory_limit
-     * (perma_stats.queues_kept counts them; perma_forget_capacities). */
+     * power of two; queues grow on demand (when no group can start anything
+     * for lack of room, and when a group's batches keep being cut to a
+     * fraction by the room their worst-case emits need, up to
+     * queue_memory_limit), and a run starts each queue at the capacity the
+     * last successful run of the same program grew it to, if that is more
+     * and all queues fit queue_memory_limit (perma_stats.queues_kept counts
+     * them; perma_forget_capacities). */
     size_t queue_capacity;
-    /* Cap on the bytes of all queues together (item_size + 4 bytes per
+    /* Cap on the bytes of all queues together (item_size + 8 bytes per
      * slot); 0 = half the device's largest allocation
      * (CL_DEVICE_MAX_MEM_ALLOC_SIZE): growing a queue holds the old and the
      * new items at once.  Reaching it fails the run with PERMA_ERR_CAPACITY;
@@ -426,7 +438,9 @@ perma_status perma_run(perma_runtime *rt);
 typedef enum perma_batch_cut {
     PERMA_BATCH_FULL = 0,         /* nothing cut them */
     PERMA_BATCH_CUT_LOCAL_MEMORY, /* __local memory holds fewer items (their copies, scratch and
-                                     worst-case emits): batch_size is below group size / threads */
+                                     worst-case emits): batch_size is below group_size *
+                                     items_per_work_item (group_size / threads_per_item for a
+                                     procedure of several threads per item or a cooperative one) */
     PERMA_BATCH_CUT_ROOM          /* a full batch's worst-case emits did not fit the target's queue,
                                      so batches started with the few items whose worst case fit */
 } perma_batch_cut;

@@ -37,20 +37,6 @@ static void append_uint_table(perma_strbuf *sb, const char *name, const unsigned
     perma_strbuf_append(sb, " };\n");
 }
 
-/* The edge of p whose target has `rank` targets of p below it (the targets
- * of one procedure are distinct). */
-static unsigned edge_by_target_rank(const perma_proc_info *p, unsigned rank)
-{
-    for (unsigned e = 0; e < p->emit_count; ++e) {
-        unsigned below = 0;
-        for (unsigned f = 0; f < p->emit_count; ++f)
-            below += p->emit_target[f] < p->emit_target[e];
-        if (below == rank)
-            return e;
-    }
-    return 0;
-}
-
 static void append_tables(perma_runtime *rt, perma_strbuf *sb)
 {
     unsigned n = rt->proc_count, me = rt->max_edges;
@@ -79,18 +65,15 @@ static void append_tables(perma_runtime *rt, perma_strbuf *sb)
     append_uint_table(sb, "perma_order", rt->order, n);
     PER_PROC("perma_max_batch", p->max_batch);
     PER_PROC("perma_item_words", (unsigned)(p->item_size / 4));
-    PER_PROC("perma_tpi", p->threads_per_item);
-    PER_PROC("perma_scratch_words", p->scratch_words);
     PER_PROC("perma_items_off", p->items_off);
-    PER_PROC("perma_scratch_off", p->scratch_off);
     PER_PROC("perma_counters_off", p->counters_off);
+    PER_PROC("perma_lane_counts_off", p->lane_counts_off);
+    PER_PROC("perma_lane_items", p->lane_items);
     PER_PROC("perma_edge_count", p->emit_count);
     PER_PROC("perma_lq_off", p->lq_off);
     PER_EDGE("perma_edge_target", (unsigned)p->emit_target[e]);
     PER_EDGE("perma_edge_max", p->emit_max[e]);
     PER_EDGE("perma_edge_stage", p->stage_off[e]);
-    /* The order in which a batch publishes its edges: by target queue. */
-    PER_EDGE("perma_edge_write_order", edge_by_target_rank(p, e));
 #undef PER_PROC
 #undef PER_EDGE
 
@@ -150,7 +133,12 @@ static void append_emit_helpers(perma_runtime *rt, perma_strbuf *sb)
 }
 
 /* Procedure sources, each once even if several procedures share it; no
- * barrier in one that only non-cooperative procedures use (barriers.c). */
+ * barrier in one that only non-cooperative procedures use (barriers.c).
+ * Whether a procedure is inlined into the dispatch is the compiler's
+ * choice: forcing every function of the sources inline tripled the cold
+ * build of the Reyes megakernel (7 s to 20 s of CPU), and a forward
+ * declaration of the procedure alone cannot name an item type its own
+ * source declares. */
 static void append_procedure_sources(perma_runtime *rt, perma_strbuf *sb)
 {
     for (unsigned i = 0; i < rt->proc_count; ++i) {
@@ -172,25 +160,85 @@ static void append_procedure_sources(perma_runtime *rt, perma_strbuf *sb)
     }
 }
 
+/* The dispatch switch.  Each case sets the per-item fields of the context
+ * with the procedure's constants (threads per item, arena offsets), so the
+ * compiler folds them into the procedure's code after inlining.  A
+ * procedure of one thread per item that is not cooperative runs item
+ * lid, lid + group size, ... of its batch in work-item lid (batches of such
+ * procedures may be larger than the group). */
 static void append_dispatch(perma_runtime *rt, perma_strbuf *sb)
 {
-    perma_strbuf_append(sb, "void perma_dispatch(uint proc, perma_ctx *ctx, __local uint *items)\n{\n"
+    perma_strbuf_append(sb, "PERMA_PHASE void perma_dispatch(uint lid, __local perma_group_mem *mem, perma_buffers buf)\n"
+                            "{\n"
+                            "    const uint proc = mem->batch[PERMA_B_PROC];\n"
+                            "    const uint run = perma_batch_run(mem);\n"
+                            "    __local uint *arena = mem->arena;\n"
+                            "    __local uint *items = perma_batch_items(mem);\n"
+                            "    __local uint *counts = arena + perma_counters_off[proc];\n"
+                            "    perma_ctx context;\n"
+                            "    perma_ctx *ctx = &context;\n"
+                            "    ctx->group = get_group_id(0);\n"
+                            "    ctx->stage = arena;\n"
+                            "    ctx->error_code = &mem->error_code;\n"
+                            "    ctx->buf = buf;\n"
                             "    switch (proc) {\n");
     for (unsigned i = 0; i < rt->proc_count; ++i) {
         const perma_proc_info *p = &rt->procs[i];
-        perma_strbuf_printf(sb, "    case %u:\n        %s%s(ctx, (__local const %s *)(items + ctx->slot * %zuu));\n"
+        unsigned tpi = p->threads_per_item;
+        if (perma_proc_is_simple(p)) {
+            /* Lane staging only when the layout gave it lanes (layout.c). */
+            char lanes[64] = "0";
+            if (p->lane_items)
+                snprintf(lanes, sizeof lanes, "arena + %uu + lid * %uu", p->lane_counts_off, p->emit_count);
+            perma_strbuf_printf(sb,
+                                "    case %u:\n"
+                                "        ctx->proc = %uu;\n"
+                                "        ctx->thread = 0u;\n"
+                                "        ctx->threads = 1u;\n"
+                                "        ctx->active = 1u;\n"
+                                "        ctx->lane = lid;\n"
+                                "        ctx->lane_counts = %s;\n"
+                                "        for (uint slot = lid; slot < run; slot += PERMA_GROUP_SIZE) {\n"
+                                "            ctx->slot = slot;\n"
+                                "            ctx->scratch = (__local void *)(arena + %uu + slot * %uu);\n"
+                                "            ctx->item_emit_counts = counts + slot * %uu;\n"
+                                "            %s(ctx, (__local const %s *)(items + slot * %zuu));\n"
+                                "        }\n"
                                 "        break;\n",
-                            i, p->cooperative ? "" : "if (ctx->active) ", p->function, p->item_type,
-                            p->item_size / 4);
+                                i, i, lanes, p->scratch_off, p->scratch_words,
+                                p->emit_count, p->function, p->item_type, p->item_size / 4);
+            continue;
+        }
+        perma_strbuf_printf(sb,
+                            "    case %u: {\n"
+                            "        const uint slot = lid / %uu;\n"
+                            "        ctx->proc = %uu;\n"
+                            "        ctx->thread = lid %% %uu;\n"
+                            "        ctx->threads = %uu;\n"
+                            "        ctx->active = slot < run ? 1u : 0u;\n"
+                            "        ctx->slot = ctx->active ? slot : 0u;\n"
+                            "        ctx->scratch = (__local void *)(arena + %uu + ctx->slot * %uu);\n"
+                            "        ctx->item_emit_counts = counts + ctx->slot * %uu;\n"
+                            "        ctx->lane_counts = 0;\n"
+                            "        ctx->lane = lid;\n"
+                            "        %s%s(ctx, (__local const %s *)(items + ctx->slot * %zuu));\n"
+                            "        break;\n"
+                            "    }\n",
+                            i, tpi, i, tpi, tpi, p->scratch_off, p->scratch_words, p->emit_count,
+                            p->cooperative ? "" : "if (ctx->active) ", p->function, p->item_type, p->item_size / 4);
     }
     perma_strbuf_append(sb, "    }\n}\n");
 }
 
 perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *sb)
 {
+    bool item_barrier = false;
+    for (unsigned i = 0; i < rt->proc_count; ++i)
+        item_barrier = item_barrier || !perma_proc_is_simple(&rt->procs[i]);
     perma_strbuf_printf(sb, "#line 1 \"" GENERATED_NAME "\"\n"
                             "/* perma megakernel, generated for %u procedure(s). */\n"
                             "#define PERMA_GROUP_SIZE %uu\n"
+                            "#define PERMA_ITEM_BARRIER %d\n"
                             "#define PERMA_NUM_PROCS %uu\n"
                             "#define PERMA_MAX_EDGES %uu\n"
                             "#define PERMA_ARENA_WORDS %uu\n"
@@ -202,7 +250,7 @@ perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *sb)
                             "#define PERMA_LOCAL_QUEUE %uu\n"
                             "#define PERMA_LQ_WORDS %uu\n"
                             "#define PERMA_TRACE_EVENTS %uu\n",
-                        rt->proc_count, rt->group_size, rt->proc_count, rt->max_edges, rt->arena_words,
+                        rt->proc_count, rt->group_size, item_barrier, rt->proc_count, rt->max_edges, rt->arena_words,
                         rt->queue_sets,
                         rt->queue_sets > 1 && (rt->config.schedule.strategy == PERMA_STRATEGY_STEALING ||
                                                rt->config.schedule.strategy == PERMA_STRATEGY_STEALING_DONATION),
@@ -225,13 +273,20 @@ perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *sb)
     perma_strbuf_append(sb, perma_kernel_emit);
     resume_generated(sb);
     append_emit_helpers(rt, sb);
+    /* Procedures are inlined into the dispatch (a call per item otherwise,
+     * and the case's constants fold into their emits); a profile of the
+     * phases keeps them apart instead. */
+    perma_strbuf_append(sb, "#ifdef PERMA_PROFILE_PHASES\n"
+                            "#pragma clang attribute push (__attribute__((noinline)), apply_to = function)\n"
+                            "#endif\n");
     append_procedure_sources(rt, sb);
+    perma_strbuf_append(sb, "#ifdef PERMA_PROFILE_PHASES\n#pragma clang attribute pop\n#endif\n");
     perma_abi_append_item_checks(rt, sb);
     resume_generated(sb);
-    append_dispatch(rt, sb);
     append_kernel_params(rt, sb);
     perma_strbuf_append(sb, perma_kernel_batch);
     resume_generated(sb);
+    append_dispatch(rt, sb);
     perma_strbuf_append(sb, perma_kernel_scheduler);
     resume_generated(sb);
     perma_strbuf_append(sb, perma_kernel_host_steps);

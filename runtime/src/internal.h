@@ -56,6 +56,8 @@ typedef struct perma_proc_info {
     unsigned depth;                    /* distance from a root of the graph */
     unsigned max_batch;                /* items per batch */
     unsigned items_off, scratch_off, counters_off; /* arena offsets, words */
+    unsigned lane_counts_off;          /* per work-item emit counters (simple procedures) */
+    unsigned lane_items;               /* items a lane stages for (0: staging per item) */
     unsigned scratch_words;            /* per item */
     unsigned stage_off[PERMA_MAX_EMITS];
     unsigned lq_off;                   /* local front queue offset, words */
@@ -94,7 +96,7 @@ typedef struct perma_queue_state {
 typedef struct perma_device_state {
     perma_device_buffer ctl;      /* control block (kernels/perma_abi.h) */
     perma_device_buffer data;     /* queue items */
-    perma_device_buffer seq;      /* queue sequence words */
+    perma_device_buffer seq;      /* queue completion marks (kernels/perma_queue.cl) */
     perma_device_buffer stats;    /* a statistics record per group */
     perma_device_buffer trace;    /* trace records per group */
     perma_device_buffer input;    /* the items a step kernel consumes */
@@ -164,6 +166,7 @@ struct perma_runtime {
     perma_device_state state;
     perma_group_stats *group_stats; /* work_groups entries */
     bool hung;                      /* a kernel ignored the watchdog; do not wait on it */
+    bool grow_starved;              /* a group starved of room may stop a launch to grow queues */
     perma_watchdog *watchdog;       /* watchdog.c */
     bool debug;                     /* PERMA_DEBUG: one group, -DPERMA_DEBUG */
 
@@ -248,6 +251,16 @@ unsigned perma_build_log_show(perma_runtime *rt, const char *log, bool failed);
 
 /* layout.c, codegen.c, program.c */
 perma_status perma_build_layout(perma_runtime *rt);
+/* One thread per item and not cooperative: a work-item may run several of
+ * its items one after another, so its batches may exceed the group size. */
+static inline bool perma_proc_is_simple(const perma_proc_info *p)
+{
+    return p->threads_per_item == 1 && !p->cooperative;
+}
+/* The items of a batch of p when __local memory does not cut it:
+ * group_size * items_per_work_item for a simple procedure, else
+ * group_size / threads_per_item. */
+unsigned perma_full_batch(const perma_runtime *rt, const perma_proc_info *p);
 perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *out);
 void perma_release_program(perma_runtime *rt);
 
@@ -275,12 +288,17 @@ perma_status perma_queues_initial(perma_runtime *rt, size_t *capacities);
  * contiguous shares). */
 void perma_queues_seed_share(const perma_runtime *rt, unsigned qi, size_t *first, size_t *count);
 /* After a launch stalled: every target that lacks room for one waiting
- * item's emits doubles. */
-perma_status perma_queues_grow_stalled(perma_runtime *rt, const perma_ctl_block *ctl, size_t *capacities);
+ * item's emits doubles; or, when starved_queue is below the queue count
+ * (a group's batches kept being cut by its room), only that queue. */
+perma_status perma_queues_grow_stalled(perma_runtime *rt, const perma_ctl_block *ctl, unsigned starved_queue,
+                                       size_t *capacities);
 /* Every queue with fewer free slots than needed[qi] grows to fit. */
 perma_status perma_queues_grow_to_fit(perma_runtime *rt, const perma_ctl_block *ctl, const size_t *needed,
                                       size_t *capacities);
-/* Bytes of the queues (items and sequence words) at these capacities. */
+/* Bytes a queue slot costs beside its item: two completion marks
+ * (kernels/perma_queue.cl). */
+#define PERMA_QUEUE_SLOT_OVERHEAD 8
+/* Bytes of the queues (items and completion marks) at these capacities. */
 size_t perma_queues_bytes(const perma_runtime *rt, const size_t *capacities);
 
 /* state.c: the device state (perma_device_state). */
@@ -296,9 +314,10 @@ perma_status perma_state_begin_launch(perma_runtime *rt);
 /* The header and the first `queues` queue records, read back. */
 perma_status perma_state_read_control(perma_runtime *rt, perma_ctl_block *out, unsigned queues);
 perma_status perma_state_read_header(perma_runtime *rt, perma_ctl_header *out);
-/* Write HEAD, TAIL and ROOM of queue q without waiting: *record must stay
- * unchanged until the next blocking call on the queue. */
-perma_status perma_state_write_queue_heads(perma_runtime *rt, unsigned q, const perma_queue_record *record);
+/* Write the record of queue q (its counters; the capacity and offsets are
+ * unchanged) without waiting: *record must stay unchanged until the next
+ * blocking call on the queue. */
+perma_status perma_state_write_queue_counters(perma_runtime *rt, unsigned q, const perma_queue_record *record);
 /* Between launches: give the queues these capacities on the device, their
  * items moved by perma_relayout_kernel; `ctl` is the control block as the
  * last launch left it. */

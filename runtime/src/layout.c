@@ -5,6 +5,8 @@
 #include <ctype.h>
 #include <string.h>
 
+#define DEFAULT_ITEMS_PER_WORK_ITEM 4
+
 static unsigned words_of(size_t bytes)
 {
     return (unsigned)((bytes + 3) / 4);
@@ -182,12 +184,32 @@ static void compute_order(perma_runtime *rt)
     }
 }
 
-/* Arena words procedure p needs for a batch of `batch` items. */
+unsigned perma_full_batch(const perma_runtime *rt, const perma_proc_info *p)
+{
+    unsigned items_per_work_item =
+        rt->config.items_per_work_item ? rt->config.items_per_work_item : DEFAULT_ITEMS_PER_WORK_ITEM;
+    return perma_proc_is_simple(p) ? rt->group_size * items_per_work_item : rt->group_size / p->threads_per_item;
+}
+
+/* Arena words procedure p needs for a batch of `batch` items: the items,
+ * scratch, an emit counter per item and edge, and the staging of the
+ * worst-case emits.  A procedure of one thread per item that is not
+ * cooperative stages per work-item ("lane"): lane l appends the emits of
+ * its items (l, l + group size, ...) to its own area, room for lane_items
+ * items, and counts them per edge in the lane counters; any other stages
+ * per item. */
 static unsigned arena_cost(const perma_runtime *rt, perma_proc_info *p, unsigned batch, bool assign)
 {
+    /* Lanes only for whole rounds of the group, so no lane has room for an
+     * item it never gets. */
+    bool lanes = perma_proc_is_simple(p) && batch % rt->group_size == 0;
+    unsigned lane_items = (batch + rt->group_size - 1) / rt->group_size;
+    unsigned staged = lanes ? rt->group_size * lane_items : batch; /* items with a staging area */
     unsigned offset = 0;
-    if (assign)
+    if (assign) {
         p->items_off = offset;
+        p->lane_items = lanes ? lane_items : 0;
+    }
     offset += round_up(batch * words_of(p->item_size), 16);
     if (assign)
         p->scratch_off = offset;
@@ -195,10 +217,13 @@ static unsigned arena_cost(const perma_runtime *rt, perma_proc_info *p, unsigned
     if (assign)
         p->counters_off = offset;
     offset += batch * p->emit_count;
+    if (assign)
+        p->lane_counts_off = offset;
+    offset += lanes ? rt->group_size * p->emit_count : 0;
     for (unsigned e = 0; e < p->emit_count; ++e) {
         if (assign)
             p->stage_off[e] = offset;
-        offset += batch * p->emit_max[e] * words_of(rt->procs[p->emit_target[e]].item_size);
+        offset += staged * p->emit_max[e] * words_of(rt->procs[p->emit_target[e]].item_size);
     }
     return offset;
 }
@@ -251,7 +276,7 @@ perma_status perma_build_layout(perma_runtime *rt)
     for (unsigned i = 0; i < rt->proc_count; ++i) {
         perma_proc_info *p = &rt->procs[i];
         p->scratch_words = round_up(words_of(p->local_bytes_per_item), 4);
-        unsigned batch = rt->group_size / p->threads_per_item;
+        unsigned batch = perma_full_batch(rt, p);
         while (batch > 0 && arena_cost(rt, p, batch, false) > budget_words)
             --batch;
         if (batch == 0)

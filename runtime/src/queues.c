@@ -46,14 +46,14 @@ perma_status perma_queues_check_seeds(perma_runtime *rt, unsigned proc, size_t c
     unsigned sets = perma_queues_sets(rt);
     size_t share = (total + sets - 1) / sets, cap = initial_capacity(rt);
     cap = next_pow2(share > cap ? share : cap);
-    size_t bytes = sets * cap * (p->item_size + 4);
+    size_t slot = p->item_size + PERMA_QUEUE_SLOT_OVERHEAD, bytes = sets * cap * slot;
     if (bytes > perma_queues_memory_limit(rt))
         return perma_set_error(rt, PERMA_ERR_CAPACITY,
                                "perma_seed('%s'): %zu items seeded would need %s%zu items of %zu bytes (with its "
-                               "sequence word), %zu bytes, more than the queue memory limit of %zu bytes "
+                               "completion marks), %zu bytes, more than the queue memory limit of %zu bytes "
                                "(config.queue_memory_limit; 0: half the device's largest allocation)",
                                p->name, total, sets > 1 ? "a queue per group of " : "a queue of ", cap,
-                               p->item_size + 4, bytes, perma_queues_memory_limit(rt));
+                               slot, bytes, perma_queues_memory_limit(rt));
     return PERMA_OK;
 }
 
@@ -77,7 +77,7 @@ size_t perma_queues_bytes(const perma_runtime *rt, const size_t *capacities)
 {
     size_t total = 0;
     for (unsigned qi = 0; qi < perma_queues_count(rt); ++qi)
-        total += capacities[qi] * (proc_of(rt, qi)->item_size + 4);
+        total += capacities[qi] * (proc_of(rt, qi)->item_size + PERMA_QUEUE_SLOT_OVERHEAD);
     return total;
 }
 
@@ -170,13 +170,16 @@ static perma_status check_growth(perma_runtime *rt, const size_t *capacities)
     return PERMA_OK;
 }
 
-perma_status perma_queues_grow_stalled(perma_runtime *rt, const perma_ctl_block *ctl, size_t *capacities)
+perma_status perma_queues_grow_stalled(perma_runtime *rt, const perma_ctl_block *ctl, unsigned starved_queue,
+                                       size_t *capacities)
 {
     unsigned n = rt->proc_count, count = perma_queues_count(rt);
     bool *grows = calloc(count, sizeof *grows);
     if (!grows)
         return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory growing queues");
     bool any = false;
+    if (starved_queue < count)
+        grows[starved_queue] = any = true;
     for (int relaxed = 0; relaxed < 2 && !any; ++relaxed) {
         for (unsigned qi = 0; qi < count; ++qi) {
             if (queued(ctl, qi) == 0)

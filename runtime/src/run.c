@@ -23,12 +23,24 @@ static perma_status grow_queues(perma_runtime *rt, const perma_launch_outcome *o
     size_t *capacities = malloc(queues * sizeof *capacities);
     perma_status st = ctl && capacities ? perma_state_read_control(rt, ctl, queues)
                                         : perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory growing queues");
+    bool starved = outcome->header.detail_proc == PERMA_DETAIL_STARVED;
     if (st == PERMA_OK)
         st = outcome->needed_given ? perma_queues_grow_to_fit(rt, ctl, outcome->needed, capacities)
-                                   : perma_queues_grow_stalled(rt, ctl, capacities);
+                                   : perma_queues_grow_stalled(rt, ctl, starved ? outcome->header.detail_edge
+                                                                                : UINT32_MAX, capacities);
+    bool grows = st == PERMA_OK;
+    if (starved && st == PERMA_ERR_CAPACITY) {
+        /* Growing for full batches is an optimisation: past the memory
+         * limit the run goes on with the queues it has (laid out again with
+         * a fresh control block), and no group stops it for that again. */
+        rt->grow_starved = false;
+        for (unsigned qi = 0; qi < queues; ++qi)
+            capacities[qi] = rt->state.queues[qi].capacity;
+        st = PERMA_OK;
+    }
     if (st == PERMA_OK)
         st = perma_state_grow(rt, ctl, capacities);
-    if (st == PERMA_OK)
+    if (st == PERMA_OK && grows)
         rt->stats.regrowths++;
     free(ctl);
     free(capacities);
@@ -144,6 +156,7 @@ perma_status perma_run(perma_runtime *rt)
     double start = perma_now();
     perma_trace_reset(rt, start);
     double deadline = start + perma_time_limit(rt);
+    rt->grow_starved = true;
 
     st = upload_seeds(rt);
     if (st == PERMA_OK)

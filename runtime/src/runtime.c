@@ -38,6 +38,9 @@ static perma_status check_config(perma_runtime *rt, const perma_config *c)
                                (int)c->schedule.victim);
     if (c->trace_events > (1u << 24))
         return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.trace_events %u is above 2^24", c->trace_events);
+    if (c->items_per_work_item > 64)
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.items_per_work_item %u is above 64",
+                               c->items_per_work_item);
     if (c->schedule.local_queue_items > 4096)
         return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.schedule.local_queue_items %u is above 4096",
                                c->schedule.local_queue_items);

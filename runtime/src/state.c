@@ -1,5 +1,5 @@
 /* The device state: every buffer the kernels use (control block, queue
- * items and sequence words, statistics, trace, step input, watchdog flag),
+ * items and completion marks, statistics, trace, step input, watchdog flag),
  * with its size.  A buffer is created when first needed and replaced only
  * when it must grow; the queues grow on the device, so after the seeds'
  * upload no queued item passes through the host. */
@@ -153,7 +153,7 @@ perma_status perma_state_empty(perma_runtime *rt)
     if (st == PERMA_OK)
         st = ensure(rt, &s->data, 4, "queue items");
     if (st == PERMA_OK)
-        st = ensure(rt, &s->seq, 4, "queue sequence words");
+        st = ensure(rt, &s->seq, 4, "queue completion marks");
     if (st == PERMA_OK)
         st = ensure(rt, &s->input, 4, "step input");
     if (st == PERMA_OK)
@@ -195,7 +195,7 @@ perma_status perma_state_upload(perma_runtime *rt, const size_t *capacities)
     size_t data_words = 0, seq_words = 0, outstanding = 0;
     for (unsigned qi = 0; qi < count; ++qi) {
         data_words += capacities[qi] * item_words(rt, qi);
-        seq_words += capacities[qi];
+        seq_words += 2 * capacities[qi];
     }
     perma_ctl_block *ctl = calloc(ctl_bytes(rt), 1);
     uint32_t *data = calloc(data_words ? data_words : 1, 4);
@@ -213,22 +213,26 @@ perma_status perma_state_upload(perma_runtime *rt, const size_t *capacities)
         perma_queues_seed_share(rt, qi, &first, &items);
         ctl->queues[qi] = (perma_queue_record){ .head = 0, .tail = (uint32_t)items, .room = (uint32_t)(cap - items),
                                                 .cap = (uint32_t)cap, .data = (uint32_t)data_off,
-                                                .seq = (uint32_t)seq_off, .peak = (uint32_t)items };
+                                                .seq = (uint32_t)seq_off, .peak = (uint32_t)items,
+                                                .published = (uint32_t)items, .released = 0 };
         if (items) /* a procedure without seeds has no seed array */
             memcpy(data + data_off, p->seeds + first * p->item_size, items * p->item_size);
+        /* Completion marks: each slot's own index, which reads as "not
+         * done" for every position (kernels/perma_queue.cl). */
         for (size_t i = 0; i < cap; ++i)
-            seq[seq_off + i] = (uint32_t)(i < items ? i + 1 : i); /* published : free */
+            seq[seq_off + i] = seq[seq_off + cap + i] = (uint32_t)i;
         data_off += cap * item_words(rt, qi);
-        seq_off += cap;
+        seq_off += 2 * cap;
         outstanding += items;
     }
     ctl->header.outstanding = (uint32_t)outstanding;
+    ctl->header.grow_starved = rt->grow_starved;
     if ((st = ensure_launch_buffers(rt)) != PERMA_OK ||
         (st = ensure(rt, &s->data, data_words * 4, "queue items")) != PERMA_OK ||
-        (st = ensure(rt, &s->seq, seq_words * 4, "queue sequence words")) != PERMA_OK ||
+        (st = ensure(rt, &s->seq, seq_words * 4, "queue completion marks")) != PERMA_OK ||
         (st = write_buffer(rt, &s->ctl, ctl, ctl_bytes(rt), "control block")) != PERMA_OK ||
         (st = write_buffer(rt, &s->data, data, data_words * 4, "queue items")) != PERMA_OK ||
-        (st = write_buffer(rt, &s->seq, seq, seq_words * 4, "queue sequence words")) != PERMA_OK)
+        (st = write_buffer(rt, &s->seq, seq, seq_words * 4, "queue completion marks")) != PERMA_OK)
         goto done;
     st = set_queues(rt, capacities, true);
 done:
@@ -274,11 +278,11 @@ perma_status perma_state_read_header(perma_runtime *rt, perma_ctl_header *out)
     return read_buffer(rt, &rt->state.ctl, out, sizeof *out, "control block");
 }
 
-perma_status perma_state_write_queue_heads(perma_runtime *rt, unsigned q, const perma_queue_record *record)
+perma_status perma_state_write_queue_counters(perma_runtime *rt, unsigned q, const perma_queue_record *record)
 {
     PERMA_CL_CHECK(rt, "clEnqueueWriteBuffer (queue record)",
                    clEnqueueWriteBuffer(rt->queue, rt->state.ctl.mem, CL_FALSE, perma_ctl_block_bytes(q),
-                                        offsetof(perma_queue_record, cap), record, 0, NULL, NULL));
+                                        sizeof *record, record, 0, NULL, NULL));
     return PERMA_OK;
 }
 
@@ -296,10 +300,18 @@ static perma_status check_stopped(perma_runtime *rt, const perma_ctl_block *ctl)
                                "but its queues hold %zu", (int)(int32_t)ctl->header.outstanding, queued);
     for (unsigned qi = 0; qi < s->queue_count; ++qi) {
         const perma_queue_record *rec = &ctl->queues[qi];
+        const char *name = rt->procs[qi % rt->proc_count].name;
         if (rec->cap != s->queues[qi].capacity || (uint32_t)(rec->tail - rec->head) > rec->cap)
             return perma_set_error(rt, PERMA_ERR_DEVICE, "queue '%s' is inconsistent after the launch "
-                                   "(head %u, tail %u, capacity %u)", rt->procs[qi % rt->proc_count].name,
-                                   rec->head, rec->tail, rec->cap);
+                                   "(head %u, tail %u, capacity %u)", name, rec->head, rec->tail, rec->cap);
+        /* No batch runs: every reserved range is published, every claimed
+         * one released, or an item would be moved unwritten or a slot lost. */
+        if (rec->published != rec->tail)
+            return perma_set_error(rt, PERMA_ERR_DEVICE, "queue '%s' (queue set %u): positions %u to %u were "
+                                   "never published", name, qi / rt->proc_count, rec->published, rec->tail - 1);
+        if (rec->released != rec->head)
+            return perma_set_error(rt, PERMA_ERR_DEVICE, "queue '%s' (queue set %u): positions %u to %u were "
+                                   "never released", name, qi / rt->proc_count, rec->released, rec->head - 1);
     }
     return PERMA_OK;
 }
@@ -311,16 +323,17 @@ static void plan_relayout(const perma_runtime *rt, const perma_ctl_block *ctl, c
 {
     *data_words = *slots = 0;
     next->header.outstanding = ctl->header.outstanding;
+    next->header.grow_starved = rt->grow_starved;
     for (unsigned qi = 0; qi < rt->state.queue_count; ++qi) {
         const perma_queue_record *old = &ctl->queues[qi];
         uint32_t count = old->tail - old->head, cap = (uint32_t)capacities[qi];
         map[qi] = (perma_relayout_record){ .head = old->head, .count = count, .old_cap = old->cap,
-                                           .old_data = old->data, .old_seq = old->seq,
-                                           .new_data = (uint32_t)*data_words, .new_seq = (uint32_t)*slots,
+                                           .old_data = old->data, .new_cap = cap,
+                                           .new_data = (uint32_t)*data_words, .new_seq = (uint32_t)(2 * *slots),
                                            .words = (uint32_t)item_words(rt, qi) };
         next->queues[qi] = (perma_queue_record){ .head = 0, .tail = count, .room = cap - count, .cap = cap,
-                                                 .data = (uint32_t)*data_words, .seq = (uint32_t)*slots,
-                                                 .peak = count };
+                                                 .data = (uint32_t)*data_words, .seq = (uint32_t)(2 * *slots),
+                                                 .peak = count, .published = count, .released = 0 };
         *data_words += capacities[qi] * item_words(rt, qi);
         *slots += capacities[qi];
     }
@@ -339,9 +352,7 @@ static perma_status run_relayout(perma_runtime *rt, unsigned queues, size_t slot
         { PERMA_RELAYOUT_ARG_MAP, sizeof(cl_mem), &s->relayout.mem },
         { PERMA_RELAYOUT_ARG_QUEUES, sizeof queue_count, &queue_count },
         { PERMA_RELAYOUT_ARG_SLOTS, sizeof slot_count, &slot_count },
-        { PERMA_RELAYOUT_ARG_CTL, sizeof(cl_mem), &s->ctl.mem },
         { PERMA_RELAYOUT_ARG_OLD_DATA, sizeof(cl_mem), &s->data.mem },
-        { PERMA_RELAYOUT_ARG_OLD_SEQ, sizeof(cl_mem), &s->seq.mem },
         { PERMA_RELAYOUT_ARG_NEW_DATA, sizeof(cl_mem), &data->mem },
         { PERMA_RELAYOUT_ARG_NEW_SEQ, sizeof(cl_mem), &seq->mem },
     };
@@ -352,15 +363,7 @@ static perma_status run_relayout(perma_runtime *rt, unsigned queues, size_t slot
     size_t local = 64, global = (slots + local - 1) / local * local;
     PERMA_CL_CHECK(rt, "clEnqueueNDRangeKernel (relayout)",
                    clEnqueueNDRangeKernel(rt->queue, rt->relayout_kernel, 1, NULL, &global, &local, 0, NULL, NULL));
-    perma_ctl_header header;
-    perma_status st = perma_state_read_header(rt, &header);
-    if (st == PERMA_OK && header.status != PERMA_KSTATUS_DONE) {
-        unsigned qi = header.detail_proc < queues ? header.detail_proc : 0;
-        st = perma_set_error(rt, PERMA_ERR_DEVICE, "queue '%s' (queue set %u): the item at position %u was never "
-                             "published", rt->procs[qi % rt->proc_count].name, qi / rt->proc_count,
-                             header.detail_edge);
-    }
-    return st;
+    return PERMA_OK;
 }
 
 perma_status perma_state_grow(perma_runtime *rt, const perma_ctl_block *ctl, const size_t *capacities)
@@ -380,7 +383,7 @@ perma_status perma_state_grow(perma_runtime *rt, const perma_ctl_block *ctl, con
     size_t data_words, slots;
     plan_relayout(rt, ctl, capacities, next, map, &data_words, &slots);
     if ((st = create(rt, &data, data_words * 4, "queue items")) != PERMA_OK ||
-        (st = create(rt, &seq, slots * 4, "queue sequence words")) != PERMA_OK ||
+        (st = create(rt, &seq, 2 * slots * 4, "queue completion marks")) != PERMA_OK ||
         (st = ensure(rt, &s->relayout, queues * sizeof *map, "queue relayout")) != PERMA_OK ||
         (st = write_buffer(rt, &s->relayout, map, queues * sizeof *map, "queue relayout")) != PERMA_OK ||
         (st = write_buffer(rt, &s->ctl, next, ctl_bytes(rt), "control block")) != PERMA_OK ||

@@ -118,7 +118,7 @@ static void explain_batches(perma_runtime *rt, unsigned q)
     ps->batch_cut_emit = -1;
     if (ps->peak_queue_items <= p->max_batch)
         return;
-    if (p->max_batch < rt->group_size / p->threads_per_item) {
+    if (p->max_batch < perma_full_batch(rt, p)) {
         ps->batch_cut = PERMA_BATCH_CUT_LOCAL_MEMORY;
         size_t own = p->item_size + 4 * (size_t)p->scratch_words, most = 0;
         for (unsigned e = 0; e < p->emit_count; ++e) {
@@ -225,7 +225,7 @@ static void print_batch_warning(const perma_runtime *rt, unsigned q, FILE *out)
 {
     const perma_proc_info *p = &rt->procs[q];
     const perma_procedure_stats *ps = &p->stats;
-    unsigned full = rt->group_size / p->threads_per_item;
+    unsigned full = perma_full_batch(rt, p);
     int e = ps->batch_cut_emit;
     const char *target = e >= 0 ? p->emit_target_name[e] : "";
     if (ps->batch_cut == PERMA_BATCH_CUT_LOCAL_MEMORY && e >= 0)

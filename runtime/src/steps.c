@@ -44,7 +44,7 @@ static uint32_t least_worth_a_launch(const perma_runtime *rt, unsigned q, uint32
     const perma_proc_info *p = &rt->procs[q];
     uint64_t least = (uint64_t)rt->work_groups * p->max_batch * STEP_MIN_BATCHES, reserved = 0;
     for (unsigned e = 0; e < p->emit_count; ++e)
-        reserved += (uint64_t)p->emit_max[e] * (rt->procs[p->emit_target[e]].item_size + 4);
+        reserved += (uint64_t)p->emit_max[e] * (rt->procs[p->emit_target[e]].item_size + PERMA_QUEUE_SLOT_OVERHEAD);
     uint64_t affordable = reserved ? perma_queues_memory_limit(rt) / 4 / reserved : least;
     if (least > affordable)
         least = affordable > 0 ? affordable : 1;
@@ -64,7 +64,7 @@ static void room_needed(const perma_runtime *rt, unsigned q, uint32_t take, size
     }
 }
 
-static perma_status set_take_args(perma_runtime *rt, cl_uint qi, cl_uint first, cl_uint take, cl_uint from_tail)
+static perma_status set_take_args(perma_runtime *rt, cl_uint qi, cl_uint first, cl_uint take)
 {
     const struct {
         cl_uint index;
@@ -78,7 +78,6 @@ static perma_status set_take_args(perma_runtime *rt, cl_uint qi, cl_uint first, 
         { PERMA_TAKE_ARG_QUEUE, sizeof qi, &qi },
         { PERMA_TAKE_ARG_FIRST, sizeof first, &first },
         { PERMA_TAKE_ARG_COUNT, sizeof take, &take },
-        { PERMA_TAKE_ARG_FROM_TAIL, sizeof from_tail, &from_tail },
     };
     _Static_assert(sizeof args / sizeof args[0] == PERMA_TAKE_ARG_TOTAL, "every argument of perma_take_kernel");
     for (size_t i = 0; i < sizeof args / sizeof args[0]; ++i)
@@ -101,14 +100,13 @@ static perma_status set_step_args(perma_runtime *rt, cl_uint proc, cl_uint count
 }
 
 /* Enqueue the take and step kernels; *done: the step's event. */
-static perma_status launch_step(perma_runtime *rt, unsigned q, uint32_t first, uint32_t take, uint32_t from_tail,
-                                cl_event *done)
+static perma_status launch_step(perma_runtime *rt, unsigned q, uint32_t first, uint32_t take, cl_event *done)
 {
     const perma_proc_info *p = &rt->procs[q];
     size_t words = (size_t)take * (p->item_size / 4);
     perma_status st = perma_state_ensure_input(rt, words);
     if (st == PERMA_OK)
-        st = set_take_args(rt, q, first, take, from_tail);
+        st = set_take_args(rt, q, first, take);
     if (st != PERMA_OK)
         return st;
     size_t take_global = ((size_t)take + 63) / 64 * 64;
@@ -133,7 +131,7 @@ perma_status perma_steps_warm_up(perma_runtime *rt)
 {
     perma_status st = perma_state_ensure_input(rt, 1);
     if (st == PERMA_OK)
-        st = set_take_args(rt, 0, 0, 0, 0);
+        st = set_take_args(rt, 0, 0, 0);
     if (st != PERMA_OK)
         return st;
     size_t take_global = 64;
@@ -171,7 +169,7 @@ static perma_status wait_for_step(perma_runtime *rt, double deadline)
 }
 
 /* Move HEAD (from the head) or TAIL (from the tail) past the `take` items
- * of queue q and write the record's HEAD, TAIL and ROOM; the first taken
+ * of queue q and write the record's counters; the first taken
  * position in *first.  Not blocking: the next read of the control block
  * waits for it, and *ctl lives until then. */
 static perma_status take_items(perma_runtime *rt, perma_ctl_block *ctl, unsigned q, uint32_t take, bool from_tail,
@@ -186,7 +184,11 @@ static perma_status take_items(perma_runtime *rt, perma_ctl_block *ctl, unsigned
         rec->head += take;
     }
     rec->room += take;
-    return perma_state_write_queue_heads(rt, q, rec);
+    /* The host-driven steps run no batch between launches: every range is
+     * published and released. */
+    rec->published = rec->tail;
+    rec->released = rec->head;
+    return perma_state_write_queue_counters(rt, q, rec);
 }
 
 static perma_status run_steps(perma_runtime *rt, const perma_step_policy *policy, double deadline,
@@ -229,7 +231,7 @@ static perma_status run_steps(perma_runtime *rt, const perma_step_policy *policy
         if (st != PERMA_OK)
             return st;
         s->traced_start = perma_now();
-        st = launch_step(rt, q, first, take, policy->from_tail ? 1u : 0u, &s->running);
+        st = launch_step(rt, q, first, take, &s->running);
         if (st != PERMA_OK)
             return st;
         outcome->launches++;

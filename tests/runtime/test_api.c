@@ -190,7 +190,7 @@ START_TEST(seeds_beyond_the_limits_are_refused_at_seed)
     perma_procedure p = count_procedure();
     perma_proc id;
     ck_assert_perma_ok(rt, perma_register(rt, &p, &id));
-    enum { TOO_MANY = 200000 }; /* 2^18 slots of 8 bytes: 2 MiB */
+    enum { TOO_MANY = 200000 }; /* 2^18 slots of 12 bytes: 3 MiB */
     uint32_t *items = calloc(TOO_MANY, sizeof *items);
     ck_assert_int_eq(perma_seed(rt, id, items, TOO_MANY), PERMA_ERR_CAPACITY);
     ck_assert_contains(perma_errmsg(rt), "perma_seed('count'): 200000 items seeded would need");

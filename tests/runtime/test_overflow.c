@@ -187,12 +187,15 @@ START_TEST(kept_capacities_give_way_to_the_memory_limit)
     ck_assert_perma_ok(rt, perma_run(rt));
     perma_procedure_stats ps;
     ck_assert_perma_ok(rt, perma_get_procedure_stats(rt, tree, &ps));
-    size_t learned = ps.queue_capacity * (sizeof root + 4);
-    ck_assert_msg(learned > (512 << 10) + 1024, "the tree grew its queue to only %zu bytes", learned);
-
-    /* 2^16 seeds of 4 bytes need 512 KiB: with the learned tree queue more
-     * than 1 MiB, with a fresh one less. */
-    enum { FLAT = 1 << 16 };
+    /* A slot costs its item and 8 bytes (perma_config.queue_memory_limit).
+     * 2^16 seeds of 4 bytes need 768 KiB: with the learned tree queue (how
+     * far it grew depends on the schedule: 16384 items or more, 384 KiB)
+     * more than 1 MiB, with a fresh one less. */
+    enum { FLAT = 1 << 16, SLOT_OVERHEAD = 8 };
+    size_t learned = ps.queue_capacity * (sizeof root + SLOT_OVERHEAD);
+    size_t flat_bytes = (size_t)FLAT * (sizeof(uint32_t) + SLOT_OVERHEAD);
+    ck_assert_msg(learned + flat_bytes > config.queue_memory_limit, "the tree grew its queue to only %zu bytes",
+                  learned);
     uint32_t *items = calloc(FLAT, sizeof *items);
     ck_assert_perma_ok(rt, perma_seed(rt, flat, items, FLAT));
     root.target = 3;
@@ -232,6 +235,61 @@ START_TEST(unbounded_recursion_hits_the_cap)
     ck_assert_int_eq(perma_run(rt), PERMA_ERR_CAPACITY);
     ck_assert_contains(perma_errmsg(rt), "queue 'forever'");
     perma_destroy(rt);
+}
+END_TEST
+
+/* Items that declare far more emits than they make (64; these leaves make
+ * none): 950 of them in each queue of 1024 (one, or one per group with the
+ * distributed strategies) leave room for the worst case of only one at a
+ * time, yet always for one, so nothing ever stalls.  The
+ * megakernel grows the queue anyway (a group starved of room asks the host
+ * for it) and needs fewer batches; with a memory limit that forbids
+ * growing, the run completes with the small queue. */
+START_TEST(starved_batches_grow_the_queue)
+{
+    enum { LEAVES_PER_SET = 950, GROUPS = 2, DECLARED = 64 };
+    unsigned leaves = 1;
+    size_t initial_bytes = 0;
+    uint64_t batches[3] = { 0, 0, 0 };
+    bool megakernel = true;
+    for (int run = 0; run < 3 && megakernel; ++run) {
+        perma_config config;
+        perma_config_init(&config);
+        config.time_limit = 120;
+        config.work_groups = GROUPS;
+        config.queue_memory_limit = run == 2 ? initial_bytes : 0;
+        perma_runtime *rt = test_runtime_config(&config);
+        uint32_t counts[2] = { 0, 0 };
+        uint64_t sums[1] = { 0 };
+        perma_proc id = tree_add_declaring(rt, 1, DECLARED, counts, sums);
+        /* Run 0: a single leaf, to learn the initial queue memory. */
+        struct tree_node seeds[GROUPS * LEAVES_PER_SET];
+        for (unsigned i = 0; i < leaves; ++i)
+            seeds[i] = (struct tree_node){ 0, 0, i, 0 };
+        ck_assert_perma_ok(rt, perma_seed(rt, id, seeds, leaves));
+        ck_assert_perma_ok(rt, perma_run(rt));
+        ck_assert_uint_eq(counts[0], leaves);
+        ck_assert_uint_eq(sums[0], (uint64_t)leaves * (leaves - 1) / 2);
+        perma_stats st;
+        perma_procedure_stats ps;
+        ck_assert_perma_ok(rt, perma_get_stats(rt, &st));
+        ck_assert_perma_ok(rt, perma_get_procedure_stats(rt, id, &ps));
+        ck_assert_uint_eq(ps.items, leaves);
+        batches[run] = ps.batches;
+        /* The host-driven techniques size the queues for each step. */
+        megakernel = st.technique == PERMA_TECHNIQUE_MEGAKERNEL;
+        if (run == 0) {
+            initial_bytes = st.peak_queue_bytes;
+            leaves = LEAVES_PER_SET * (st.strategy == PERMA_STRATEGY_SHARED ? 1 : GROUPS);
+        } else if (run == 1 && megakernel) {
+            ck_assert_uint_gt(st.regrowths, 0);
+        } else if (run == 2) {
+            ck_assert_uint_eq(st.regrowths, 0);
+            ck_assert_uint_eq(st.peak_queue_bytes, initial_bytes);
+            ck_assert_uint_lt(batches[1], batches[2]);
+        }
+        perma_destroy(rt);
+    }
 }
 END_TEST
 
@@ -280,6 +338,7 @@ int main(void)
     tcase_add_test(tc, large_emit_maximum_fits_the_memory_cap);
     tcase_add_test(tc, kept_capacities_give_way_to_the_memory_limit);
     tcase_add_test(tc, bounded_batches_bound_memory);
+    tcase_add_test(tc, starved_batches_grow_the_queue);
     suite_add_tcase(s, tc);
     return test_run_suite(s) ? EXIT_FAILURE : EXIT_SUCCESS;
 }

@@ -86,7 +86,7 @@ START_TEST(regrowth_moves_no_queue_bytes_through_the_host)
      * a control block (one queue per group at most), the statistics, the
      * relayout records or the user buffer. */
     size_t queues = st.work_groups, groups = st.work_groups;
-    size_t control = 4 * (16 + 8 * queues + 2 * groups);
+    size_t control = 4 * (16 + 16 * queues + 2 * groups); /* header, 16-word queue records, group records */
     size_t statistics = 4 * groups * (3 + 8);
     size_t relayout = 32 * queues;
     size_t largest = max_size(max_size(control, statistics), max_size(relayout, sizeof counts));

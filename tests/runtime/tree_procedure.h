@@ -42,5 +42,8 @@ struct tree_node {
  * leaves' ids) as the buffers of those names; fails the test on any
  * error.  Returns the procedure. */
 perma_proc tree_add(perma_runtime *rt, unsigned threads_per_item, uint32_t counts[2], uint64_t sums[1]);
+/* The same, declaring `declared` emits per item (it makes at most 2). */
+perma_proc tree_add_declaring(perma_runtime *rt, unsigned threads_per_item, unsigned declared, uint32_t counts[2],
+                              uint64_t sums[1]);
 
 #endif
