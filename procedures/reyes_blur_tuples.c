@@ -4,23 +4,13 @@
 #include <math.h>
 
 #include "reyes_blur_tuples.h"
+#include "reyes_look.h"
 #include "reyes_shared.h"
-
-/* Integer hash (lowbias32, as reyes_hash in reyes_sample.cl). */
-static uint32_t hash32(uint32_t x)
-{
-    x ^= x >> 16;
-    x *= 0x7feb352du;
-    x ^= x >> 15;
-    x *= 0x846ca68bu;
-    x ^= x >> 16;
-    return x;
-}
 
 /* A hashed number in [0,1) for (tuple index, dimension). */
 static float jitter(uint32_t index, uint32_t dimension)
 {
-    uint32_t h = hash32(index * 0x9e3779b9u ^ hash32(dimension + 0x27d4eb2fu));
+    uint32_t h = reyes_hash32(index * 0x9e3779b9u ^ reyes_hash32(dimension + 0x27d4eb2fu));
     return (float)(h >> 8) * (1.0f / 16777216.0f);
 }
 

@@ -15,6 +15,18 @@
  * REYES_SHININESS). */
 void reyes_light_direction(float light[3]);
 
+/* The host's copy of reyes_hash (reyes_sample.cl, lowbias32): sample
+ * jitter and blur tuples made on the host must match the device's bits. */
+static inline uint32_t reyes_hash32(uint32_t x)
+{
+    x ^= x >> 16;
+    x *= 0x7feb352du;
+    x ^= x >> 15;
+    x *= 0x846ca68bu;
+    x ^= x >> 16;
+    return x;
+}
+
 /* Average the spp samples of each pixel of the rectangle [x0,x1) x [y0,y1)
  * (samples: its pixels row by row, spp each) into image; empty samples
  * show `background`; with image->samples (keep_samples) the samples are

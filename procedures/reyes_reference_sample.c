@@ -6,17 +6,8 @@
  */
 #include <math.h>
 
+#include "reyes_look.h"
 #include "reyes_reference_internal.h"
-
-static uint32_t hash(uint32_t x)
-{
-    x ^= x >> 16;
-    x *= 0x7feb352du;
-    x ^= x >> 15;
-    x *= 0x846ca68bu;
-    x ^= x >> 16;
-    return x;
-}
 
 void reference_samples_init(reference_samples *s, unsigned width, unsigned height, unsigned spp,
                             uint64_t *values, float *positions)
@@ -32,14 +23,14 @@ void reference_samples_init(reference_samples *s, unsigned width, unsigned heigh
     for (unsigned k = 0; k < spp; ++k) {
         cell_x[k] = (float)(k % columns);
         cell_y[k] = (float)(k / columns);
-        index_hash[k] = hash(k);
+        index_hash[k] = reyes_hash32(k);
     }
     for (unsigned py = 0; py < height; ++py) {
         for (unsigned k = 0; k < spp; ++k) {
-            uint32_t row_hash = hash(py * 0x85ebca6bu ^ index_hash[k]);
+            uint32_t row_hash = reyes_hash32(py * 0x85ebca6bu ^ index_hash[k]);
             float *at = positions + ((size_t)py * width * spp + k) * 2;
             for (unsigned px = 0; px < width; ++px, at += 2 * spp) {
-                uint32_t h = hash(px * 0x9e3779b9u ^ row_hash);
+                uint32_t h = reyes_hash32(px * 0x9e3779b9u ^ row_hash);
                 float jx = (float)(h & 0xffffu) * (1.0f / 65536.0f), jy = (float)(h >> 16) * (1.0f / 65536.0f);
                 at[0] = (float)px + (cell_x[k] + jx) / (float)columns;
                 at[1] = (float)py + (cell_y[k] + jy) / (float)rows;

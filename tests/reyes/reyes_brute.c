@@ -14,22 +14,12 @@
 
 /* ---- The renderer's sample positions (reyes_sample.cl) ---- */
 
-static uint32_t hash32(uint32_t x)
-{
-    x ^= x >> 16;
-    x *= 0x7feb352du;
-    x ^= x >> 15;
-    x *= 0x846ca68bu;
-    x ^= x >> 16;
-    return x;
-}
-
 /* Sample s of pixel (px, py): stratified on a columns x rows lattice with
  * a hashed offset in its cell, computed in float as the device does. */
 static void sample_position(unsigned px, unsigned py, unsigned s, unsigned spp, float *x, float *y)
 {
     unsigned columns = (unsigned)ceilf(sqrtf((float)spp)), rows = (spp + columns - 1) / columns;
-    uint32_t h = hash32(px * 0x9e3779b9u ^ hash32(py * 0x85ebca6bu ^ hash32(s)));
+    uint32_t h = reyes_hash32(px * 0x9e3779b9u ^ reyes_hash32(py * 0x85ebca6bu ^ reyes_hash32(s)));
     float jx = (float)(h & 0xffffu) * (1.0f / 65536.0f), jy = (float)(h >> 16) * (1.0f / 65536.0f);
     *x = (float)px + ((float)(s % columns) + jx) / (float)columns;
     *y = (float)py + ((float)(s / columns) + jy) / (float)rows;
