@@ -24,16 +24,6 @@
  * arithmetic.
  */
 
-REYES_INLINE uint8 reyes_hash8(uint8 x)
-{
-    x ^= x >> 16;
-    x *= 0x7feb352du;
-    x ^= x >> 15;
-    x *= 0x846ca68bu;
-    x ^= x >> 16;
-    return x;
-}
-
 /* Sixteen quads (slots first .. first + 15 of a lattice), set up in SIMD
  * lanes as reyes_triangle_setup and reyes_tile_pixels would one by one:
  * whether each is a visible quad on the tile, its pixel box and its
@@ -277,16 +267,6 @@ void reyes_quad_pixels(__global const struct reyes_params *p, __global ulong *sa
             }
         }
     }
-}
-
-REYES_INLINE uint16 reyes_hash16(uint16 x)
-{
-    x ^= x >> 16;
-    x *= 0x7feb352du;
-    x ^= x >> 15;
-    x *= 0x846ca68bu;
-    x ^= x >> 16;
-    return x;
 }
 
 REYES_INLINE int reyes_any16(int16 m)

@@ -4,16 +4,22 @@
  * (depth, color).
  */
 
-/* Integer hash (lowbias32), for deterministic jitter. */
-REYES_INLINE uint reyes_hash(uint x)
-{
-    x ^= x >> 16;
-    x *= 0x7feb352du;
-    x ^= x >> 15;
-    x *= 0x846ca68bu;
-    x ^= x >> 16;
-    return x;
-}
+/* Integer hash (lowbias32), for deterministic jitter: reyes_hash, and the
+ * same steps lane by lane for rasterize's vectors (reyes_hash8,
+ * reyes_hash16). */
+#define REYES_DEFINE_HASH(name, type)                                          \
+    REYES_INLINE type name(type x)                                             \
+    {                                                                          \
+        x ^= x >> 16;                                                          \
+        x *= 0x7feb352du;                                                      \
+        x ^= x >> 15;                                                          \
+        x *= 0x846ca68bu;                                                      \
+        x ^= x >> 16;                                                          \
+        return x;                                                              \
+    }
+REYES_DEFINE_HASH(reyes_hash, uint)
+REYES_DEFINE_HASH(reyes_hash8, uint8)
+REYES_DEFINE_HASH(reyes_hash16, uint16)
 
 /* Columns of the stratification lattice of spp samples per pixel. */
 REYES_INLINE uint reyes_sample_columns(uint spp)
