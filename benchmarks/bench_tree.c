@@ -22,6 +22,7 @@ enum { COUNTER_GROUPS = 64 };
 static const char *device_types =
     "#pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable\n"
     "#define UTS_GEO_CAP_VALUE 32u\n"
+    "#define UTS_LANES 8u\n"
     "struct uts_node { uint hash; uint depth; };\n"
     UTS_DEVICE_CODE "\n";
 
@@ -111,9 +112,13 @@ static char *procedure_source(const uts_tree *t, unsigned group_size)
         "    uint k = %s;\n"
         "    struct uts_node child;\n"
         "    child.depth = n->depth + 1u;\n"
-        "    for (uint i = 0; i < k; ++i) {\n"
-        "        child.hash = uts_child_hash(n->hash, i, %uu);\n"
-        "        emit_uts_visit(ctx, &child);\n"
+        "    for (uint base = 0; base < k; base += UTS_LANES) {\n"
+        "        uint hashes[UTS_LANES];\n"
+        "        uts_child_hashes(n->hash, base, %uu, hashes);\n"
+        "        for (uint j = 0; j < UTS_LANES && base + j < k; ++j) {\n"
+        "            child.hash = hashes[j];\n"
+        "            emit_uts_visit(ctx, &child);\n"
+        "        }\n"
         "    }\n"
         "}\n";
     size_t size = strlen(format) + strlen(children) + 64;
@@ -144,8 +149,12 @@ static int make_seeds(tree_state *s)
     s->seeds = malloc((s->seed_count ? s->seed_count : 1) * sizeof *s->seeds);
     if (!s->seeds)
         return -1;
-    for (size_t i = 0; i < s->seed_count; ++i)
-        s->seeds[i] = (uts_node){ uts_child_hash(root.hash, (uint)i, t->rounds), 1 };
+    for (uint base = 0; base < s->seed_count; base += UTS_LANES) {
+        uint hashes[UTS_LANES];
+        uts_child_hashes(root.hash, base, t->rounds, hashes);
+        for (uint j = 0; j < UTS_LANES && base + j < s->seed_count; ++j)
+            s->seeds[base + j] = (uts_node){ hashes[j], 1 };
+    }
     s->host_part.nodes = 1;
     s->host_part.hash_sum = root.hash;
     return 0;

@@ -2,8 +2,8 @@
  * Tree Search Benchmark", 2006), with our own integer hash instead of SHA-1.
  *
  * A node is {hash, depth}.  Its child count comes from its hash, and child i
- * gets hash uts_child_hash(parent, i, rounds), so the whole tree follows from
- * the root hash.  The functions are written once in UTS_SHARED_CODE and
+ * gets a hash derived from (parent, i) in `rounds` rounds, so the whole tree
+ * follows from the root hash.  The functions are written once in UTS_SHARED_CODE and
  * compiled both as C (below) and as OpenCL C (its text is the device source),
  * with 32-bit unsigned integer operations only, so host and device build the
  * identical tree.
@@ -23,6 +23,8 @@
 #include <stdint.h>
 
 #define UTS_GEO_CAP 32u
+/* Children hashed side by side (uts_child_hashes). */
+#define UTS_LANES 8u
 
 #define UTS_SHARED_CODE(FN)                                                            \
     FN uint uts_mix(uint x)                                                            \
@@ -30,12 +32,17 @@
         x ^= x >> 16; x *= 0x7feb352du; x ^= x >> 15; x *= 0x846ca68bu; x ^= x >> 16;  \
         return x;                                                                      \
     }                                                                                  \
-    FN uint uts_child_hash(uint parent, uint index, uint rounds)                       \
+    /* The hashes of children base .. base + UTS_LANES - 1: independent      \
+     * chains side by side in a fixed-length loop, which the compilers turn  \
+     * into SIMD lanes (one child at a time is a latency-bound chain).  Every \
+     * count (sequential C, OpenMP, perma) hashes children this way. */      \
+    FN void uts_child_hashes(uint parent, uint base, uint rounds, uint out[UTS_LANES]) \
     {                                                                                  \
-        uint h = parent ^ (index * 0x9e3779b9u + 0x632be5abu);                         \
+        for (uint j = 0; j < UTS_LANES; ++j)                                           \
+            out[j] = parent ^ ((base + j) * 0x9e3779b9u + 0x632be5abu);                \
         for (uint r = 0; r < rounds; ++r)                                              \
-            h = uts_mix(h + r);                                                        \
-        return h;                                                                      \
+            for (uint j = 0; j < UTS_LANES; ++j)                                       \
+                out[j] = uts_mix(out[j] + r);                                          \
     }                                                                                  \
     /* p16 = p * 65536: each further child has probability p. */                     \
     FN uint uts_geometric_children(uint hash, uint depth, uint max_depth, uint p16)    \

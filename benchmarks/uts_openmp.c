@@ -23,13 +23,17 @@ static void visit(const uts_tree *tree, uts_node n, uint spawn_depth)
     if (n.depth > c->max_depth)
         c->max_depth = n.depth;
     uint k = uts_children(tree, n);
-    for (uint i = 0; i < k; ++i) {
-        uts_node child = { uts_child_hash(n.hash, i, tree->rounds), n.depth + 1 };
-        if (n.depth < spawn_depth) {
+    for (uint base = 0; base < k; base += UTS_LANES) {
+        uint hashes[UTS_LANES];
+        uts_child_hashes(n.hash, base, tree->rounds, hashes);
+        for (uint j = 0; j < UTS_LANES && base + j < k; ++j) {
+            uts_node child = { hashes[j], n.depth + 1 };
+            if (n.depth < spawn_depth) {
 #pragma omp task firstprivate(child)
-            visit(tree, child, spawn_depth);
-        } else {
-            visit(tree, child, spawn_depth);
+                visit(tree, child, spawn_depth);
+            } else {
+                visit(tree, child, spawn_depth);
+            }
         }
     }
 }

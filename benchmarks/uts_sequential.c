@@ -28,8 +28,12 @@ int uts_count_sequential(const uts_tree *tree, uts_result *out)
             }
             stack = grown;
         }
-        for (uint i = 0; i < k; ++i)
-            stack[top++] = (uts_node){ uts_child_hash(n.hash, i, tree->rounds), n.depth + 1 };
+        for (uint base = 0; base < k; base += UTS_LANES) {
+            uint hashes[UTS_LANES];
+            uts_child_hashes(n.hash, base, tree->rounds, hashes);
+            for (uint j = 0; j < UTS_LANES && base + j < k; ++j)
+                stack[top++] = (uts_node){ hashes[j], n.depth + 1 };
+        }
     }
     free(stack);
     *out = r;
