@@ -1,4 +1,4 @@
-/* Command-line parsing of reyes-render, table-driven (see reyes_cli.c). */
+/* Command-line parsing of reyes-render, table-driven (the table: reyes_cli_options.c). */
 #ifndef REYES_CLI_H
 #define REYES_CLI_H
 

@@ -67,6 +67,7 @@ target_sources() {
         bpt) echo "$here/fuzz_bpt.c $source/procedures/reyes_bpt.c"\
                   "$source/procedures/reyes_scene.c $source/procedures/reyes_error.c" ;;
         cli) echo "$here/fuzz_cli.c $source/examples/reyes/reyes_cli.c"\
+                  "$source/examples/reyes/reyes_cli_options.c $source/examples/reyes/reyes_cli_values.c"\
                   "$source/procedures/reyes_options.c $source/procedures/reyes_error.c"\
                   "$source/runtime/src/names.c $source/runtime/src/schedule.c" ;;
     esac
