@@ -3,31 +3,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "reyes_blur_tuples.h"
 #include "reyes_render_stats.h"
+#include "reyes_render_internal.h"
 #include "reyes_renderer_internal.h"
 #include "reyes_look.h"
-#include "reyes_stitch_plan.h"
-#include "reyes_shared.h"
-
-/* The per-render buffers handed to perma_bind_host. */
-typedef struct render_buffers {
-    struct reyes_params params;
-    uint32_t counters[REYES_COUNTERS];
-    struct reyes_subpatch *seeds;   /* one per base patch */
-    /* Crack stitching: the leaves of the first pass, the plan, and the
-     * seeds of one bucket (dice: leaves, stitch: items). */
-    int stitched;
-    struct reyes_leaf *leaves;
-    size_t leaf_count, leaf_capacity;
-    reyes_stitch_plan plan;
-    struct reyes_subpatch *dice_seeds;
-    struct reyes_stitch *stitch_seeds;
-    size_t dice_seed_count, stitch_seed_count;
-    reyes_gray_map map;             /* displacement map (or none) */
-    reyes_blur_tuple *tuples;       /* motion blur and defocus (or none) */
-    size_t tuple_count;
-} render_buffers;
 
 static void free_buffers(render_buffers *b)
 {
@@ -62,81 +41,6 @@ static reyes_status set_displacement(const reyes_scene *scene, const reyes_optio
     return status;
 }
 
-/* A bucket: pixels [x0,x1) x [y0,y1) of the image. */
-typedef struct tile {
-    unsigned x0, y0, x1, y1;
-} tile;
-
-/* Motion blur and depth of field in clip space: the motion's clip-space
- * delta (the matrix without translation) and the lens radius in clip x
- * and y units (rows 0 and 1 scale the camera's right and up vectors).
- * Off, and the unblurred code path, when both are zero. */
-/* (R - I) for the rotation by `deg` degrees about `axis` (Rodrigues),
- * in double: the part of a vertex's motion that depends on its position. */
-static void rotation_minus_identity(const float axis[3], float deg, double out[9])
-{
-    double a[3], length = 0.0;
-    for (int k = 0; k < 3; ++k)
-        length += (double)axis[k] * axis[k];
-    length = sqrt(length);
-    for (int k = 0; k < 3; ++k)
-        a[k] = axis[k] / length;
-    double theta = deg * (3.14159265358979323846 / 180.0), c = cos(theta), s = sin(theta);
-    const double cross[9] = {0.0, -a[2], a[1], a[2], 0.0, -a[0], -a[1], a[0], 0.0};
-    for (int r = 0; r < 3; ++r)
-        for (int k = 0; k < 3; ++k)
-            out[r * 3 + k] = (c - 1.0) * (r == k) + s * cross[r * 3 + k] + (1.0 - c) * a[r] * a[k];
-}
-
-/* A vertex at world p moves by (R - I)(p - target) + motion over the
- * shutter, clip-space motion M3 (R - I) p + M3 (motion - (R - I) target)
- * (M3 the matrix without translation; rows x, y, w): an affine map of p,
- * motion_rows.  Without a rotation its linear part is 0 and the constant
- * column is the uniform motion, computed as before. */
-static void set_motion(const reyes_camera *camera, const reyes_options *o, struct reyes_params *p)
-{
-    const float *m = p->view_proj;
-    double rot[9] = {0};
-    p->motion_rotates = o->motion_angle_deg != 0.0f;
-    if (p->motion_rotates)
-        rotation_minus_identity(o->motion_axis, o->motion_angle_deg, rot);
-    float d[3];
-    for (int k = 0; k < 3; ++k) {
-        double moved = rot[k * 3] * camera->at[0] + rot[k * 3 + 1] * camera->at[1]
-                       + rot[k * 3 + 2] * camera->at[2];
-        d[k] = (float)(o->motion[k] - moved);
-    }
-    const int rows[3] = {0, 1, 3};
-    for (int r = 0; r < 3; ++r) {
-        const float *row = m + rows[r] * 4;
-        for (int k = 0; k < 3; ++k)
-            p->motion_rows[r * 4 + k] = (float)(row[0] * rot[k] + row[1] * rot[3 + k] + row[2] * rot[6 + k]);
-        p->motion_rows[r * 4 + 3] = row[0] * d[0] + row[1] * d[1] + row[2] * d[2];
-    }
-}
-
-static void set_blur(const reyes_camera *camera, const reyes_options *o, struct reyes_params *p)
-{
-    const float *m = p->view_proj, *d = o->motion;
-    p->blur = d[0] != 0.0f || d[1] != 0.0f || d[2] != 0.0f || o->aperture != 0.0f
-              || o->motion_angle_deg != 0.0f;
-    if (!p->blur)
-        return;
-    p->time_samples = o->time_samples ? o->time_samples : o->spp;
-    p->blur_algo = o->blur_algo;
-    p->blur_tile = o->blur_tile;
-    p->blur_permutations = o->blur_permutations;
-    set_motion(camera, o, p);
-    p->lens_x = o->aperture * sqrtf(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
-    p->lens_y = o->aperture * sqrtf(m[4] * m[4] + m[5] * m[5] + m[6] * m[6]);
-    float target = 0.0f;
-    for (int k = 0; k < 3; ++k)
-        target += (camera->at[k] - camera->eye[k]) * (camera->at[k] - camera->eye[k]);
-    p->focus = o->focus > 0.0f ? o->focus : sqrtf(target);
-    if (!(p->focus > 0.0f))
-        p->focus = 1.0f;
-}
-
 /* The pool of (time, lens) tuples the blur algorithm draws from. */
 static reyes_status make_blur_tuples(const reyes_options *o, render_buffers *b, reyes_error *error)
 {
@@ -152,48 +56,10 @@ static reyes_status make_blur_tuples(const reyes_options *o, render_buffers *b, 
     return REYES_OK;
 }
 
-static reyes_status fill_params(const reyes_scene *scene, const reyes_camera *camera,
-                                const reyes_options *o,
-                                struct reyes_params *p, reyes_error *error)
-{
-    memset(p, 0, sizeof *p);
-    /* Nothing closer than this is projected; patches crossing it are split. */
-    p->near_w = reyes_near_plane(scene);
-    reyes_status status = reyes_camera_matrix(camera, (float)o->width / (float)o->height, p->near_w,
-                                              p->view_proj, error);
-    if (status != REYES_OK)
-        return status;
-    for (int k = 0; k < 3; ++k)
-        p->eye[k] = camera->eye[k];
-    reyes_light_direction(p->light_dir);
-    p->width = (float)o->width;
-    p->height = (float)o->height;
-    p->bound_px = o->bound_px;
-    p->subdivision = o->subdivision;
-    p->flat_epsilon = o->flat_epsilon;
-    p->flat_lambda = o->flat_lambda;
-    p->flat_cap_px = o->flat_bound_px > 0.0f ? o->flat_bound_px : (float)(o->grid - 1u);
-    p->wedges = o->crack_fix == REYES_CRACK_FIX_WEDGE ? 1u : 0u;
-    p->cull_margin = o->cull_margin;
-    p->ambient = REYES_AMBIENT;
-    p->diffuse = REYES_DIFFUSE;
-    p->specular = REYES_SPECULAR;
-    p->shininess = REYES_SHININESS;
-    p->max_depth = o->max_depth;
-    p->grid = o->grid;
-    p->shading_rate = o->shading_rate;
-    p->show_grid_sizes = o->show_grid_sizes ? 1u : 0u;
-    p->spp = o->spp;
-    p->backface_cull = o->backface_cull ? 1u : 0u;
-    p->stages = o->stages;
-    set_blur(camera, o, p);
-    return REYES_OK;
-}
-
 /* Point the parameters at one tile: its pixel rectangle and its
  * sub-frustum in normalised device coordinates (exactly -1 and 1 at the
  * image borders, so the whole image culls as without buckets). */
-static void set_tile(struct reyes_params *p, const reyes_options *o, tile t)
+void render_set_tile(struct reyes_params *p, const reyes_options *o, tile t)
 {
     p->tile_x0 = (float)t.x0;
     p->tile_y0 = (float)t.y0;
@@ -335,7 +201,7 @@ static void count_stats(const reyes_scene *scene, const render_buffers *b, reyes
 
 /* One perma run over the tile in b->params with the seeds of the current
  * mode; adds its statistics.  *call names what failed. */
-static perma_status run_tile(reyes_renderer *r, const reyes_scene *scene, render_buffers *b, reyes_stats *stats,
+perma_status render_run_tile(reyes_renderer *r, const reyes_scene *scene, render_buffers *b, reyes_stats *stats,
                              size_t *peak_bytes, const char **call)
 {
     *call = "binding the scene";
@@ -351,94 +217,6 @@ static perma_status run_tile(reyes_renderer *r, const reyes_scene *scene, render
         ps = add_run_stats(r, stats, peak_bytes);
     }
     return ps;
-}
-
-/* First pass of crack stitching, over the whole image: bound and split
- * record the sub-patches to dice (retrying with a larger buffer if they
- * did not fit), then the stitch plan is built from them. */
-static reyes_status subdivide_and_plan(reyes_renderer *r, const reyes_scene *scene,
-                                       const reyes_options *o, render_buffers *b,
-                                       reyes_stats *stats, reyes_error *error)
-{
-    tile whole = { 0, 0, o->width, o->height };
-    set_tile(&b->params, o, whole);
-    b->params.record_leaves = 1;
-    b->leaf_capacity = scene->patch_count * 16 + 1024;
-    /* This pass (bound and split only) starts from the initial capacities,
-     * not from what an earlier render's last run grew them to (the whole
-     * pipeline, perhaps over the whole image): its peak queue memory is its
-     * own, so a bucketed render's peak_queue_bytes is its largest bucket's
-     * whenever the buckets need more than this pass. */
-    perma_forget_capacities(r->rt);
-    for (;;) {
-        struct reyes_leaf *grown = realloc(b->leaves, b->leaf_capacity * sizeof *grown);
-        if (!grown)
-            return reyes_fail(error, REYES_ERR_NO_MEMORY, "out of memory for %zu grids",
-                              b->leaf_capacity);
-        b->leaves = grown;
-        b->params.leaf_capacity = (uint32_t)b->leaf_capacity;
-        memset(b->counters, 0, sizeof b->counters);
-        reyes_stats attempt = *stats;
-        const char *call = "";
-        size_t peak;
-        perma_status ps = run_tile(r, scene, b, &attempt, &peak, &call);
-        if (ps != PERMA_OK)
-            return reyes_runtime_error(r, call, ps, error);
-        size_t recorded = b->counters[REYES_COUNT_LEAVES];
-        if (recorded <= b->leaf_capacity) {
-            *stats = attempt;
-            b->leaf_count = recorded;
-            break;
-        }
-        b->leaf_capacity = recorded;
-    }
-    b->params.record_leaves = 0;
-    /* The buckets need much smaller queues than this pass over the whole
-     * image: let them grow their own. */
-    perma_forget_capacities(r->rt);
-    reyes_leaves_sort(b->leaves, b->leaf_count);
-    b->dice_seeds = malloc((b->leaf_count ? b->leaf_count : 1) * sizeof *b->dice_seeds);
-    if (!b->dice_seeds)
-        return reyes_fail(error, REYES_ERR_NO_MEMORY, "out of memory for %zu grids", b->leaf_count);
-    reyes_status status = reyes_stitch_plan_build(scene, b->leaves, b->leaf_count, &b->plan, error);
-    if (status != REYES_OK)
-        return status;
-    b->stitch_seeds = malloc((b->plan.item_count ? b->plan.item_count : 1) * sizeof *b->stitch_seeds);
-    if (!b->stitch_seeds)
-        return reyes_fail(error, REYES_ERR_NO_MEMORY, "out of memory for %zu stitches",
-                          b->plan.item_count);
-    return REYES_OK;
-}
-
-/* 1 if screen box (lo_x, lo_y, hi_x, hi_y) reaches tile t widened by the
- * cull margin; always 1 without buckets. */
-static int box_meets_tile(const reyes_options *o, tile t, float lo_x, float lo_y, float hi_x,
-                          float hi_y)
-{
-    if (o->bucket_width == 0)
-        return 1;
-    float mx = o->cull_margin * 0.5f * (float)o->width, my = o->cull_margin * 0.5f * (float)o->height;
-    return hi_x >= (float)t.x0 - mx && lo_x <= (float)t.x1 + mx && hi_y >= (float)t.y0 - my
-           && lo_y <= (float)t.y1 + my;
-}
-
-/* The stitched seeds of tile t: leaves and stitch items whose screen box
- * reaches it; the leaves left out count as culled. */
-static void select_stitched_seeds(const reyes_options *o, tile t, render_buffers *b)
-{
-    b->dice_seed_count = b->stitch_seed_count = 0;
-    for (size_t l = 0; l < b->leaf_count; ++l) {
-        const struct reyes_leaf *leaf = &b->leaves[l];
-        if (box_meets_tile(o, t, leaf->lo_x, leaf->lo_y, leaf->hi_x, leaf->hi_y))
-            b->dice_seeds[b->dice_seed_count++] = leaf->sp;
-        else
-            ++b->counters[REYES_COUNT_CULLED];
-    }
-    for (size_t k = 0; k < b->plan.item_count; ++k) {
-        const float *box = b->plan.item_boxes[k];
-        if (box_meets_tile(o, t, box[0], box[1], box[2], box[3]))
-            b->stitch_seeds[b->stitch_seed_count++] = b->plan.items[k];
-    }
 }
 
 /* The renderer's sample buffer, at least `bytes` long. */
@@ -504,14 +282,14 @@ static reyes_status render_tile(reyes_renderer *r, const reyes_scene *scene, con
     reyes_status status = clear_samples(r, tile_samples(o, t) * sizeof(uint64_t), error);
     if (status != REYES_OK)
         return status;
-    set_tile(&b->params, o, t);
+    render_set_tile(&b->params, o, t);
     if (b->stitched)
-        select_stitched_seeds(o, t, b);
+        render_select_stitched_seeds(o, t, b);
     int work = b->stitched ? b->dice_seed_count + b->stitch_seed_count > 0 : scene->patch_count > 0;
     *peak_bytes = 0;
     if (work) {
         const char *call = "";
-        perma_status ps = run_tile(r, scene, b, stats, peak_bytes, &call);
+        perma_status ps = render_run_tile(r, scene, b, stats, peak_bytes, &call);
         if (ps != PERMA_OK)
             return reyes_runtime_error(r, call, ps, error);
     }
@@ -539,7 +317,7 @@ static reyes_status render_buckets(reyes_renderer *r, const reyes_scene *scene,
     b->stitched = o->crack_fix == REYES_CRACK_FIX_STITCH && o->stages == REYES_STAGES_ALL
                   && scene->patch_count > 0;
     if (b->stitched) {
-        reyes_status status = subdivide_and_plan(r, scene, o, b, stats, error);
+        reyes_status status = render_subdivide_and_plan(r, scene, o, b, stats, error);
         if (status != REYES_OK)
             return status;
     }
@@ -596,7 +374,7 @@ reyes_status reyes_render(reyes_renderer *r, const reyes_scene *scene, const rey
                           "a motion rotation needs a renderer created with one (per-vertex motion; "
                           "create a new renderer)");
     render_buffers b = {0};
-    status = fill_params(scene, camera, options, &b.params, error);
+    status = render_fill_params(scene, camera, options, &b.params, error);
     if (status == REYES_OK)
         status = set_displacement(scene, options, &b, error);
     if (status == REYES_OK)

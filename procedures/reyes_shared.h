@@ -144,7 +144,7 @@ struct reyes_stitch {
 #define REYES_STAGES_GEOMETRY 1
 #define REYES_STAGES_SUBDIVIDE 2
 
-/* The lighting of every render (reyes_params, set by reyes_render.c):
+/* The lighting of every render (reyes_params, set by reyes_render_params.c):
  * one directional light from the upper left behind the viewer (world
  * space, z up, normalised by the host), Lambert plus a Blinn-Phong
  * highlight.  reyes_shade (reyes_surface.cl) and its C mirror
