@@ -29,7 +29,8 @@
  * detached instead, and its state lives in a heap block the thread and the
  * runtime share by reference count: the last to let go frees it, which
  * for a hung waiter is never (a deliberate leak, like the hung runtime's
- * OpenCL objects). */
+ * OpenCL objects).  A process forked after a launch starts a waiter of
+ * its own at its first watched launch. */
 #include "internal.h"
 
 #include <errno.h>
@@ -38,6 +39,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 /* Seconds a kernel gets to notice the abort flag before we give up on it. */
 #define GRACE_SECONDS 10.0
@@ -67,6 +69,7 @@ struct perma_watchdog {
     bool stalled;            /* no item completed for the stall limit */
     char in_flight[512];     /* "procedure 'a' (1 work-group), ..." */
     perma_waiter *waiter;    /* NULL until the first watched launch starts it */
+    pid_t waiter_pid;        /* the process that started it */
 };
 
 static pthread_once_t callbacks_once = PTHREAD_ONCE_INIT;
@@ -139,8 +142,13 @@ static void *waiter_main(void *arg)
  * runtime its concurrency). */
 static perma_waiter *waiter_get(perma_watchdog *w)
 {
-    if (w->waiter)
+    pid_t pid = getpid();
+    if (w->waiter && w->waiter_pid == pid)
         return w->waiter;
+    /* A forked child has no copy of the thread: it would never take the
+     * event.  Leave the parent's block alone (its lock may be held) and
+     * start a waiter of the child's own. */
+    w->waiter = NULL;
     perma_waiter *wt = calloc(1, sizeof *wt);
     if (!wt)
         return NULL;
@@ -165,6 +173,7 @@ static perma_waiter *waiter_get(perma_watchdog *w)
         return NULL;
     }
     w->waiter = wt;
+    w->waiter_pid = pid;
     return wt;
 }
 
@@ -204,7 +213,7 @@ void perma_watchdog_close(perma_runtime *rt)
     if (!w)
         return;
     perma_waiter *wt = w->waiter;
-    if (wt) {
+    if (wt && w->waiter_pid == getpid()) {
         pthread_t thread = wt->thread;
         pthread_mutex_lock(&wt->lock);
         wt->quit = true;
