@@ -343,10 +343,13 @@ uint64_t perma_state_watch(const perma_runtime *rt, unsigned *running, unsigned 
  * kernel does not stop within the grace period (rt->hung: the runtime is
  * then unusable). */
 perma_status perma_watchdog_open(perma_runtime *rt);
+/* Frees the watchdog and stops its waiter thread: joined, or detached if
+ * rt->hung (it is blocked on the kernel that never ended). */
 void perma_watchdog_close(perma_runtime *rt);
 /* Launch `kernel` and wait for it. */
 perma_status perma_launch_watched(perma_runtime *rt, cl_kernel kernel, size_t global, size_t local, double deadline);
-/* Wait for the command of event `done` (enqueued and flushed). */
+/* Wait for the command of event `done` (enqueued and flushed), lending
+ * the runtime's waiter thread to it (started at the first call). */
 perma_status perma_watch_event(perma_runtime *rt, cl_event done, double deadline);
 /* The error of a launch the watchdog stopped (status ABORTED): the time
  * limit, or the stall with the procedures that had items in flight. */

@@ -125,7 +125,9 @@ void perma_destroy(perma_runtime *rt)
         return;
     if (rt->hung) {
         /* A kernel is still running and would make every release block:
-         * leak the OpenCL objects rather than hang the caller. */
+         * leak the OpenCL objects rather than hang the caller.  The
+         * watchdog's waiter, blocked on that kernel, is detached. */
+        perma_watchdog_close(rt);
         return;
     }
     if (rt->queue)

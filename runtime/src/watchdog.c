@@ -14,26 +14,62 @@
  * first, for an implementation that never calls back) to ask
  * clGetEventInfo and to look at the clock and the watch page.  The
  * variable is the process's, not a runtime's: a callback may come after
- * its runtime is gone.  Meanwhile a helper thread blocks in
- * clWaitForEvents, which Intel's CPU runtime needs to run a launch's
- * groups at the same time (lend_thread). */
+ * its runtime is gone.
+ *
+ * Meanwhile a waiter thread blocks in clWaitForEvents for the same event,
+ * which Intel's CPU runtime needs to run a launch's groups at the same
+ * time (see perma_waiter below).  It is one persistent thread per
+ * runtime, started at the first watched launch and handed each launch's
+ * event through a mutex and condition variable, not a thread created and
+ * joined per launch: a host-driven run makes hundreds to thousands of
+ * launches.  Between launches it is idle (perma_watch_event waits for it
+ * to let go of the event, as a join did), so the next handoff never waits.
+ * perma_watchdog_close stops and joins it; if a kernel never ended
+ * (rt->hung) the waiter stays blocked in clWaitForEvents forever, so it is
+ * detached instead, and its state lives in a heap block the thread and the
+ * runtime share by reference count: the last to let go frees it, which
+ * for a hung waiter is never (a deliberate leak, like the hung runtime's
+ * OpenCL objects).  A process forked after a launch starts a waiter of
+ * its own at its first watched launch. */
 #include "internal.h"
 
 #include <errno.h>
 #include <pthread.h>
+#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 /* Seconds a kernel gets to notice the abort flag before we give up on it. */
 #define GRACE_SECONDS 10.0
 /* Most seconds between looks at the event, the clock and the watch page. */
 #define CHECK_SECONDS 0.05
 
-/* Why the last launch the watchdog stopped was stopped. */
+/* Intel's CPU runtime runs the groups of a launch on its own worker
+ * threads plus any host thread blocked in a wait for it; with as many
+ * workers as cores minus one, a host that polls (the watchdog) leaves a
+ * core idle and a launch's second group does not start before its first
+ * has left.  The waiter, blocked in clWaitForEvents, lends the runtime
+ * that thread; other implementations just wake it at the end.  Shared by
+ * the runtime and the thread; `lock` guards every field but `thread`
+ * (written before the thread exists, read by the runtime only). */
+typedef struct perma_waiter {
+    pthread_mutex_t lock;
+    pthread_cond_t changed;  /* an event handed over, one let go, or quit */
+    cl_event handed;         /* retained for the waiter; NULL: none pending */
+    bool busy;               /* the waiter has taken an event, not yet released it */
+    bool quit;               /* the runtime is closing: exit when idle */
+    unsigned refs;           /* 2 while the thread runs: it and the runtime */
+    pthread_t thread;
+} perma_waiter;
+
+/* Why the last launch the watchdog stopped was stopped, and the waiter. */
 struct perma_watchdog {
     bool stalled;            /* no item completed for the stall limit */
     char in_flight[512];     /* "procedure 'a' (1 work-group), ..." */
+    perma_waiter *waiter;    /* NULL until the first watched launch starts it */
+    pid_t waiter_pid;        /* the process that started it */
 };
 
 static pthread_once_t callbacks_once = PTHREAD_ONCE_INIT;
@@ -59,9 +95,136 @@ perma_status perma_watchdog_open(perma_runtime *rt)
     return PERMA_OK;
 }
 
+static void waiter_free(perma_waiter *wt)
+{
+    pthread_cond_destroy(&wt->changed);
+    pthread_mutex_destroy(&wt->lock);
+    free(wt);
+}
+
+/* Drop one reference (with wt->lock held, which this releases); the last
+ * frees the block. */
+static void waiter_unref_unlock(perma_waiter *wt)
+{
+    bool last = --wt->refs == 0;
+    pthread_mutex_unlock(&wt->lock);
+    if (last)
+        waiter_free(wt);
+}
+
+/* The waiter thread: wait for each handed event, let go of it, repeat. */
+static void *waiter_main(void *arg)
+{
+    perma_waiter *wt = arg;
+    pthread_mutex_lock(&wt->lock);
+    for (;;) {
+        while (!wt->handed && !wt->quit)
+            pthread_cond_wait(&wt->changed, &wt->lock);
+        if (!wt->handed)
+            break; /* quit, and nothing left to wait for */
+        cl_event event = wt->handed;
+        wt->handed = NULL;
+        wt->busy = true;
+        pthread_mutex_unlock(&wt->lock);
+        /* For a kernel that never ends this never returns (rt->hung). */
+        clWaitForEvents(1, &event);
+        clReleaseEvent(event);
+        pthread_mutex_lock(&wt->lock);
+        wt->busy = false;
+        pthread_cond_broadcast(&wt->changed);
+    }
+    waiter_unref_unlock(wt);
+    return NULL;
+}
+
+/* The runtime's waiter, started if it is not yet; NULL if it cannot be
+ * (the launch is then watched without one, which only costs Intel's
+ * runtime its concurrency). */
+static perma_waiter *waiter_get(perma_watchdog *w)
+{
+    pid_t pid = getpid();
+    if (w->waiter && w->waiter_pid == pid)
+        return w->waiter;
+    /* A forked child has no copy of the thread: it would never take the
+     * event.  Leave the parent's block alone (its lock may be held) and
+     * start a waiter of the child's own. */
+    w->waiter = NULL;
+    perma_waiter *wt = calloc(1, sizeof *wt);
+    if (!wt)
+        return NULL;
+    if (pthread_mutex_init(&wt->lock, NULL) != 0) {
+        free(wt);
+        return NULL;
+    }
+    if (pthread_cond_init(&wt->changed, NULL) != 0) {
+        pthread_mutex_destroy(&wt->lock);
+        free(wt);
+        return NULL;
+    }
+    wt->refs = 2;
+    /* A library's hidden thread takes none of the application's signals. */
+    sigset_t all, old;
+    sigfillset(&all);
+    pthread_sigmask(SIG_SETMASK, &all, &old);
+    int created = pthread_create(&wt->thread, NULL, waiter_main, wt);
+    pthread_sigmask(SIG_SETMASK, &old, NULL);
+    if (created != 0) {
+        waiter_free(wt);
+        return NULL;
+    }
+    w->waiter = wt;
+    w->waiter_pid = pid;
+    return wt;
+}
+
+/* Hand `event` to the waiter; false if there is none to take it. */
+static bool waiter_lend(perma_watchdog *w, cl_event event)
+{
+    perma_waiter *wt = waiter_get(w);
+    if (!wt || clRetainEvent(event) != CL_SUCCESS)
+        return false;
+    pthread_mutex_lock(&wt->lock);
+    bool idle = !wt->handed && !wt->busy; /* always, unless a launch hung */
+    if (idle) {
+        wt->handed = event;
+        pthread_cond_broadcast(&wt->changed);
+    }
+    pthread_mutex_unlock(&wt->lock);
+    if (!idle)
+        clReleaseEvent(event);
+    return idle;
+}
+
+/* Wait for the waiter to let go of the event it was lent (what joining
+ * the per-launch thread did): its clWaitForEvents returns when the
+ * launch has ended, which the caller has seen or caused. */
+static void waiter_settle(perma_watchdog *w)
+{
+    perma_waiter *wt = w->waiter;
+    pthread_mutex_lock(&wt->lock);
+    while (wt->handed || wt->busy)
+        pthread_cond_wait(&wt->changed, &wt->lock);
+    pthread_mutex_unlock(&wt->lock);
+}
+
 void perma_watchdog_close(perma_runtime *rt)
 {
-    free(rt->watchdog);
+    perma_watchdog *w = rt->watchdog;
+    if (!w)
+        return;
+    perma_waiter *wt = w->waiter;
+    if (wt && w->waiter_pid == getpid()) {
+        pthread_t thread = wt->thread;
+        pthread_mutex_lock(&wt->lock);
+        wt->quit = true;
+        pthread_cond_broadcast(&wt->changed);
+        waiter_unref_unlock(wt); /* wt may be gone from here on */
+        if (rt->hung)
+            pthread_detach(thread); /* blocked on a kernel that never ends */
+        else
+            pthread_join(thread, NULL);
+    }
+    free(w);
     rt->watchdog = NULL;
 }
 
@@ -202,32 +365,12 @@ static perma_status watch(perma_runtime *rt, cl_event done, double deadline)
     }
 }
 
-/* Intel's CPU runtime runs the groups of a launch on its own worker
- * threads plus any host thread blocked in a wait for it; with as many
- * workers as cores minus one, a host that polls (the watchdog) leaves a
- * core idle and a launch's second group does not start before its first
- * has left.  A helper thread blocked in clWaitForEvents lends the runtime
- * that thread; other implementations just wake it at the end. */
-static void *lend_thread(void *event)
-{
-    clWaitForEvents(1, (cl_event *)&event);
-    clReleaseEvent((cl_event)event);
-    return NULL;
-}
-
 perma_status perma_watch_event(perma_runtime *rt, cl_event done, double deadline)
 {
-    pthread_t helper;
-    bool lent = clRetainEvent(done) == CL_SUCCESS;
-    if (lent && pthread_create(&helper, NULL, lend_thread, done) != 0) {
-        clReleaseEvent(done);
-        lent = false;
-    }
+    bool lent = waiter_lend(rt->watchdog, done);
     perma_status st = watch(rt, done, deadline);
     if (lent && !rt->hung)
-        pthread_join(helper, NULL);
-    else if (lent)
-        pthread_detach(helper); /* waits for a kernel that may never end */
+        waiter_settle(rt->watchdog);
     return st;
 }
 
