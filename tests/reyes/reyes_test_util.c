@@ -82,6 +82,16 @@ void reyes_test_builtin_scene(reyes_scene *scene, reyes_camera *camera, unsigned
     ck_assert_int_eq(reyes_camera_frame(scene, 40.0f, (float)width / (float)height, camera, &error), REYES_OK);
 }
 
+void reyes_test_load_model(reyes_scene *scene, const char *dir, const char *file)
+{
+    char path[1024];
+    reyes_error error;
+    snprintf(path, sizeof path, "%s/%s", dir, file);
+    reyes_scene_init(scene);
+    reyes_status status = reyes_scene_load_bpt(scene, path, reyes_model_color(0), &error);
+    ck_assert_msg(status == REYES_OK, "%s", error.message);
+}
+
 void reyes_test_sphere_scene(reyes_scene *scene)
 {
     reyes_error error;

@@ -36,6 +36,10 @@ size_t reyes_test_enclosed_pixels(const reyes_image *image, size_t max_region);
  * width x height image. */
 void reyes_test_builtin_scene(reyes_scene *scene, reyes_camera *camera, unsigned width, unsigned height);
 
+/* The model dir/file (a .bpt file, in the first model colour); fails the
+ * test with the loader's message if it cannot be read. */
+void reyes_test_load_model(reyes_scene *scene, const char *dir, const char *file);
+
 /* A sphere of radius 1 at the origin, light gray. */
 void reyes_test_sphere_scene(reyes_scene *scene);
 

@@ -10,23 +10,13 @@
 #error "REYES_MODELS_DIR must name the shared models directory"
 #endif
 
-static void load(reyes_scene *scene, const char *file)
-{
-    char path[1024];
-    reyes_error error;
-    snprintf(path, sizeof path, "%s/%s", REYES_MODELS_DIR, file);
-    reyes_scene_init(scene);
-    reyes_status status = reyes_scene_load_bpt(scene, path, reyes_model_color(0), &error);
-    ck_assert_msg(status == REYES_OK, "%s", error.message);
-}
-
 /* A model and a camera framing it at 40 degrees for a width x height
  * image. */
 static void load_framed(reyes_scene *scene, reyes_camera *camera, const char *file, unsigned width,
                         unsigned height)
 {
     reyes_error error;
-    load(scene, file);
+    reyes_test_load_model(scene, REYES_MODELS_DIR, file);
     ck_assert_int_eq(reyes_camera_frame(scene, 40.0f, (float)width / (float)height, camera, &error), REYES_OK);
 }
 
@@ -38,7 +28,7 @@ START_TEST(test_load_all_models)
     };
     for (size_t m = 0; m < sizeof models / sizeof models[0]; ++m) {
         reyes_scene scene;
-        load(&scene, models[m].file);
+        reyes_test_load_model(&scene, REYES_MODELS_DIR, models[m].file);
         ck_assert_uint_eq(scene.patch_count, models[m].patches);
         reyes_scene_free(&scene);
     }
@@ -140,7 +130,7 @@ START_TEST(test_models_match_reference)
     };
     for (size_t v = 0; v < sizeof views / sizeof views[0]; ++v) {
         reyes_scene scene;
-        load(&scene, views[v].file);
+        reyes_test_load_model(&scene, REYES_MODELS_DIR, views[v].file);
         reyes_options o;
         reyes_options_init(&o);
         o.width = 256;
@@ -160,7 +150,7 @@ END_TEST
  * coverage tells a model's real gaps from cracks. */
 static void coarse_teapot(reyes_scene *scene, reyes_options *o, reyes_options *fine)
 {
-    load(scene, "teapot.bpt");
+    reyes_test_load_model(scene, REYES_MODELS_DIR, "teapot.bpt");
     reyes_options_init(o);
     o->width = o->height = 128;
     o->spp = 1;
@@ -223,7 +213,7 @@ START_TEST(test_models_tiered)
     reyes_scene_free(&scene);
 
     reyes_scene_init(&scene);
-    load(&scene, "killeroo.bpt");
+    reyes_test_load_model(&scene, REYES_MODELS_DIR, "killeroo.bpt");
     reyes_options_init(&o);
     o.width = o.height = 256;
     o.subdivision = REYES_SUBDIVISION_TIERED;

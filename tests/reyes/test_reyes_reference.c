@@ -371,22 +371,13 @@ static Suite *suite(void)
 
 #else
 
-static void load(reyes_scene *scene, const char *file)
-{
-    char path[1024];
-    reyes_error error;
-    snprintf(path, sizeof path, "%s/%s", REYES_MODELS_DIR, file);
-    reyes_scene_init(scene);
-    ck_assert_msg(reyes_scene_load_bpt(scene, path, reyes_model_color(0), &error) == REYES_OK, "%s", error.message);
-}
-
 /* The teapot at 256x256, 4 spp, from four views. */
 START_TEST(test_teapot_views)
 {
     reyes_scene scene;
     reyes_camera framed;
     reyes_error error;
-    load(&scene, "teapot.bpt");
+    reyes_test_load_model(&scene, REYES_MODELS_DIR, "teapot.bpt");
     ck_assert_int_eq(reyes_camera_frame(&scene, 40.0f, 1.0f, &framed, &error), REYES_OK);
     reyes_options o;
     reyes_options_init(&o);
@@ -402,7 +393,7 @@ END_TEST
 START_TEST(test_teapot_rim_crack_fixes)
 {
     reyes_scene scene;
-    load(&scene, "teapot.bpt");
+    reyes_test_load_model(&scene, REYES_MODELS_DIR, "teapot.bpt");
     reyes_camera camera = { {6.12f, -1.91f, 7.79f}, {0.84f, -0.78f, 1.96f}, 33.3f };
     reyes_options o;
     reyes_options_init(&o);
@@ -434,7 +425,7 @@ START_TEST(test_teapot_shading_rate)
     reyes_scene scene;
     reyes_camera framed;
     reyes_error error;
-    load(&scene, "teapot.bpt");
+    reyes_test_load_model(&scene, REYES_MODELS_DIR, "teapot.bpt");
     ck_assert_int_eq(reyes_camera_frame(&scene, 40.0f, 1.0f, &framed, &error), REYES_OK);
     reyes_options o;
     reyes_options_init(&o);
