@@ -21,6 +21,18 @@
  * batch (or to nothing) before a group asks the host for bigger queues. */
 #define PERMA_STARVE_LIMIT 64u
 
+/* How many of `want` items of q the group can start: as many as the room
+ * of its targets admits, with that room reserved (0: none).  Sets *starved
+ * to q if the room cut the batch to under half of `want`, else to -1. */
+inline uint perma_fit_batch(__global uint *ctl, uint own, uint q, uint want, int *starved)
+{
+    uint fit = perma_admissible(ctl, own, q, want);
+    *starved = 2u * fit < want ? (int)q : -1;
+    if (fit == 0 || !perma_reserve_batch_room(ctl, own, q, fit))
+        return 0;
+    return fit;
+}
+
 /* Take a batch of procedure q from queue set `from` for a group whose emits
  * go to set `own`.  Returns the item count (0: none), first position in
  * *start; when the queue had items, sets *starved to q if the room of the
@@ -36,10 +48,8 @@ inline uint perma_try_take(__global uint *ctl, uint own, uint from, uint q, int 
     uint want = min((uint)available, perma_max_batch[q]);
     if (full_only && want < perma_max_batch[q])
         return 0;
-    uint fit = perma_admissible(ctl, own, q, want);
-    *starved = 2u * fit < want ? (int)q : -1;
-    want = fit;
-    if (want == 0 || !perma_reserve_batch_room(ctl, own, q, want))
+    want = perma_fit_batch(ctl, own, q, want, starved);
+    if (want == 0)
         return 0;
     uint got = perma_queue_claim(queue, want, start);
     if (got < want)
@@ -107,9 +117,9 @@ inline uint perma_try_adopt(__global uint *ctl, uint own, uint *proc, uint *from
         if (s == own || perma_group_running(ctl, s))
             continue;
         for (uint i = 0; i < PERMA_NUM_PROCS; ++i) {
-            int found = 0;
+            int starved; /* unused: an adopted batch does not count toward the starve limit */
             uint q = perma_order[i];
-            uint got = perma_try_take(ctl, own, s, q, 0, start, &found);
+            uint got = perma_try_take(ctl, own, s, q, 0, start, &starved);
             if (got) {
                 *proc = q;
                 *from = s;
@@ -128,8 +138,7 @@ inline uint perma_try_adopt(__global uint *ctl, uint own, uint *proc, uint *from
 inline int perma_all_blocked(__global uint *ctl, uint epoch, uint groups)
 {
     for (uint g = 0; g < groups; ++g) {
-        __global uint *gw = PERMA_GROUP(ctl, g);
-        if (perma_load(gw + PERMA_G_STATE) == 1u && perma_load(gw + PERMA_G_BLOCKED) != epoch + 1u)
+        if (perma_group_running(ctl, g) && perma_load(PERMA_GROUP(ctl, g) + PERMA_G_BLOCKED) != epoch + 1u)
             return 0;
     }
     return perma_load(ctl + PERMA_CTL_PROGRESS) == epoch;
@@ -166,6 +175,8 @@ inline uint perma_first_victim(uint own, uint *state)
 }
 #endif
 
+/* Describe the group's next batch (IDLE and EXIT with count 0: their
+ * iteration runs the batch code with no items). */
 inline void perma_set_batch(__local uint *batch, uint command, uint proc, uint start, uint count,
                             uint source, uint dest)
 {
@@ -173,7 +184,7 @@ inline void perma_set_batch(__local uint *batch, uint command, uint proc, uint s
                         : command == PERMA_CMD_RUN_LOCAL ? PERMA_TRACE_LOCAL : PERMA_TRACE_RUN;
     batch[PERMA_B_PROC] = proc;
     batch[PERMA_B_START] = start;
-    batch[PERMA_B_COUNT] = command == PERMA_CMD_IDLE || command == PERMA_CMD_EXIT ? 0u : count;
+    batch[PERMA_B_COUNT] = count;
     batch[PERMA_B_COMMAND] = command == PERMA_CMD_RUN_LOCAL ? PERMA_CMD_RUN : command;
     batch[PERMA_B_FROM_LOCAL] = command == PERMA_CMD_RUN_LOCAL;
     batch[PERMA_B_SOURCE] = source;
@@ -205,10 +216,8 @@ inline uint perma_try_take_local(__global uint *ctl, __local perma_group_mem *me
     uint n = min(mem->lq_count[q], perma_max_batch[q]);
     if (n == 0)
         return 0;
-    uint fit = perma_admissible(ctl, own, q, n);
-    *starved = 2u * fit < n ? (int)q : -1;
-    n = fit;
-    if (n == 0 || !perma_reserve_batch_room(ctl, own, q, n))
+    n = perma_fit_batch(ctl, own, q, n, starved);
+    if (n == 0)
         return 0;
     mem->lq_count[q] -= n;
     *start = mem->lq_count[q];
@@ -246,9 +255,10 @@ inline int perma_note_starved(__global uint *ctl, uint groups, uint own, int sta
 
 /* Work-item 0: choose what the group does next and write it to batch[]. */
 PERMA_PHASE void perma_schedule(__global uint *ctl, __global uint *queue_data, __global uint *queue_seq, __global uint *group_words,
-                                uint groups, uint own, volatile __global uint *abort_flag, __local uint *batch,
+                                uint groups, uint own, volatile __global uint *abort_flag,
                                 __local perma_group_mem *mem, uint *victim_state, uint *starve_count)
 {
+    __local uint *batch = mem->batch;
     __local uint *group_stat = mem->stats + PERMA_NUM_PROCS * PERMA_STAT_PROC_WORDS;
     (void)queue_data; /* used by the local front queue's flush only */
     (void)victim_state; /* used by stealing only */
@@ -412,7 +422,7 @@ void perma_megakernel(PERMA_COMMON_ARGS(PERMA_ARG_PARAM) PERMA_BUFFER_PARAMS)
     uint command = PERMA_CMD_IDLE;
     while (command != PERMA_CMD_EXIT) {
         if (lid == 0)
-            perma_schedule(ctl, queue_data, queue_seq, group_words, get_num_groups(0), own, abort_flag, mem->batch, mem,
+            perma_schedule(ctl, queue_data, queue_seq, group_words, get_num_groups(0), own, abort_flag, mem,
                            &victim_state, &starve_count);
         barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
         command = mem->batch[PERMA_B_COMMAND];
