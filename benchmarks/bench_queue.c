@@ -74,12 +74,20 @@ static int queue_verify(void *state, perma_runtime *rt, bench_row *row)
     return gen.items == s->params.generators && empty.items == expected;
 }
 
-/* The note of a row that ran: nanoseconds per item per group (thread). */
-static void note_overhead(bench_row *row)
+/* What an item costs one work-group (thread) in nanoseconds: seconds *
+ * groups / items; 0 for a row without a time. */
+static double ns_per_item_per_group(const bench_row *row)
 {
-    if (row->ran && row->seconds > 0 && row->units > 0 && !row->message[0])
-        snprintf(row->message, sizeof row->message, "%.1f ns/item/group",
-                 row->seconds * 1e9 * (row->work_groups ? row->work_groups : 1) / row->units);
+    if (!row->ran || row->seconds <= 0 || row->units <= 0)
+        return 0.0;
+    return row->seconds * 1e9 * (row->work_groups ? row->work_groups : 1) / row->units;
+}
+
+/* The note of a row that ran: its ns_per_item_per_group. */
+static void note_overhead(bench_row *row, double ns)
+{
+    if (ns > 0 && !row->message[0])
+        snprintf(row->message, sizeof row->message, "%.1f ns/item/group", ns);
 }
 
 /* Fastest rows so far, for the summary. */
@@ -128,7 +136,8 @@ static void run_perma(const bench_options *o, const bench_variant *v, queue_stat
         bench_perma_verbose(rt, o);
         perma_destroy(rt);
     }
-    note_overhead(&row);
+    double ns = ns_per_item_per_group(&row);
+    note_overhead(&row, ns);
     bench_report_add(report, &row, 0);
     double rate = row.ran && row.seconds > 0 && row.check != BENCH_CHECK_FAIL ? row.units / row.seconds : 0.0;
     if (rate > best->perma_rate) {
@@ -136,10 +145,9 @@ static void run_perma(const bench_options *o, const bench_variant *v, queue_stat
         snprintf(best->perma_variant, sizeof best->perma_variant, "%s", row.variant);
         best->perma_gs = row.group_size;
         best->perma_wg = row.work_groups;
-        best->perma_ns = row.seconds * 1e9 * row.work_groups / row.units;
+        best->perma_ns = ns;
     }
-    double ns = rate > 0 ? row.seconds * 1e9 * row.work_groups / row.units : 0.0;
-    if (ns > 0 && (best->cheapest_ns == 0 || ns < best->cheapest_ns)) {
+    if (rate > 0 && ns > 0 && (best->cheapest_ns == 0 || ns < best->cheapest_ns)) {
         best->cheapest_ns = ns;
         snprintf(best->cheapest_variant, sizeof best->cheapest_variant, "%s", row.variant);
         best->cheapest_gs = row.group_size;
@@ -229,7 +237,7 @@ static double add_baseline(const bench_options *o, baseline_arg *a, const char *
     row.ran = 1;
     /* Rate counts the tasks each implementation executed. */
     row.units = (double)a->executed;
-    note_overhead(&row);
+    note_overhead(&row, ns_per_item_per_group(&row));
     bench_report_add(report, &row, is_baseline);
     return row.seconds > 0 ? row.units / row.seconds : 0.0;
 }

@@ -50,9 +50,11 @@ static const unsigned stage_modes[STAGE_MODES] = { REYES_STAGES_ALL, REYES_STAGE
                                                    REYES_STAGES_SUBDIVIDE };
 static const char *const stage_names[STAGE_MODES] = { "full", "geometry", "subdivide" };
 
-/* Best seconds of one variant and workload, per stage mode. */
+/* Best seconds of one variant and workload, per stage mode, and the
+ * variant's name on its device (bench_variant_use_device). */
 typedef struct variant_times {
     int ran;
+    char name[96];
     double seconds[STAGE_MODES];
 } variant_times;
 
@@ -343,12 +345,11 @@ static void print_summary(const bench_options *options, const double reference[S
            reference[1] - reference[2], reference[0] - reference[1], reference[0]);
     for (unsigned v = 0; v < VARIANT_COUNT; ++v) {
         for (unsigned d = 0; d < bench_device_passes(options); ++d) {
-            bench_variant variant;
-            if (!times[SLOT(v, d)].ran || bench_variant_parse(reyes_variants[v], &variant, NULL) != PERMA_OK)
+            const variant_times *t = &times[SLOT(v, d)];
+            if (!t->ran)
                 continue;
-            bench_variant_use_device(options, d, &variant);
-            const double *s = times[SLOT(v, d)].seconds;
-            printf("  %-34s %9.4f %15.4f %14.4f %7.4f\n", variant.name, s[2], s[1] - s[2], s[0] - s[1], s[0]);
+            const double *s = t->seconds;
+            printf("  %-34s %9.4f %15.4f %14.4f %7.4f\n", t->name, s[2], s[1] - s[2], s[0] - s[1], s[0]);
         }
     }
     for (unsigned d = 0; d < bench_device_passes(options); ++d) {
@@ -451,7 +452,8 @@ static void run_workload(bench_report *report, const char *model, const reyes_sc
         return;
     }
     static stage_timing reference[STAGE_MODES], timings[SLOTS][STAGE_MODES];
-    static char names[SLOTS][96];
+    variant_times times[SLOTS];
+    memset(times, 0, sizeof times);
     reyes_options options_of[SLOTS];
     int usable[SLOTS] = {0};
     for (int m = 0; m < STAGE_MODES; ++m) {
@@ -469,7 +471,7 @@ static void run_workload(bench_report *report, const char *model, const reyes_sc
         if (!renderers[i] || bench_variant_parse(reyes_variants[v], &variant, NULL) != PERMA_OK)
             continue;
         bench_variant_use_device(options, d, &variant);
-        snprintf(names[i], sizeof names[i], "%s", variant.name);
+        snprintf(times[i].name, sizeof times[i].name, "%s", variant.name);
         options_of[i] = reyes_bench_render_options(a, options, &variant, width, height);
         options_of[i].crack_fix = REYES_CRACK_FIX_NONE;
         usable[i] = 1;
@@ -498,8 +500,6 @@ static void run_workload(bench_report *report, const char *model, const reyes_sc
     double reference_seconds[STAGE_MODES];
     for (int m = 0; m < STAGE_MODES; ++m)
         reference_seconds[m] = reference_row(report, workload, m, &reference[m]);
-    variant_times times[SLOTS];
-    memset(times, 0, sizeof times);
     for (unsigned i = 0; i < SLOTS; ++i) {
         if (!usable[i])
             continue;
@@ -507,7 +507,7 @@ static void run_workload(bench_report *report, const char *model, const reyes_sc
         for (int m = 0; m < STAGE_MODES; ++m) {
             char label[128];
             options_of[i].stages = stage_modes[m];
-            snprintf(label, sizeof label, "%s %s", names[i], stage_names[m]);
+            snprintf(label, sizeof label, "%s %s", times[i].name, stage_names[m]);
             times[i].seconds[m] = variant_row(report, workload, label, &timings[i][m], &options_of[i],
                                               &reference[1].counts);
             times[i].ran &= times[i].seconds[m] > 0.0;

@@ -149,12 +149,7 @@ static int make_seeds(tree_state *s)
     s->seeds = malloc((s->seed_count ? s->seed_count : 1) * sizeof *s->seeds);
     if (!s->seeds)
         return -1;
-    for (uint base = 0; base < s->seed_count; base += UTS_LANES) {
-        uint hashes[UTS_LANES];
-        uts_child_hashes(root.hash, base, t->rounds, hashes);
-        for (uint j = 0; j < UTS_LANES && base + j < s->seed_count; ++j)
-            s->seeds[base + j] = (uts_node){ hashes[j], 1 };
-    }
+    uts_child_nodes(root, s->seed_count, t->rounds, s->seeds);
     s->host_part.nodes = 1;
     s->host_part.hash_sum = root.hash;
     return 0;

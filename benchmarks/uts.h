@@ -92,6 +92,19 @@ typedef struct uts_node {
     uint hash, depth;
 } uts_node;
 
+/* Host only: the first k children of parent (depth parent.depth + 1),
+ * hashed UTS_LANES at a time and written one after another to out[0 .. k-1]
+ * (the device source and OpenMP's tasks hash theirs themselves). */
+static inline void uts_child_nodes(uts_node parent, uint k, uint rounds, uts_node *out)
+{
+    for (uint base = 0; base < k; base += UTS_LANES) {
+        uint hashes[UTS_LANES];
+        uts_child_hashes(parent.hash, base, rounds, hashes);
+        for (uint j = 0; j < UTS_LANES && base + j < k; ++j)
+            out[base + j] = (uts_node){ hashes[j], parent.depth + 1 };
+    }
+}
+
 typedef struct uts_result {
     uint64_t nodes;
     uint64_t hash_sum; /* sum of all node hashes: checks the shape, not only the size */

@@ -28,12 +28,8 @@ int uts_count_sequential(const uts_tree *tree, uts_result *out)
             }
             stack = grown;
         }
-        for (uint base = 0; base < k; base += UTS_LANES) {
-            uint hashes[UTS_LANES];
-            uts_child_hashes(n.hash, base, tree->rounds, hashes);
-            for (uint j = 0; j < UTS_LANES && base + j < k; ++j)
-                stack[top++] = (uts_node){ hashes[j], n.depth + 1 };
-        }
+        uts_child_nodes(n, k, tree->rounds, stack + top);
+        top += k;
     }
     free(stack);
     *out = r;

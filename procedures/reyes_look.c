@@ -26,7 +26,7 @@ uint64_t reyes_resolve(const uint64_t *samples, unsigned spp, uint32_t backgroun
             unsigned sum[3] = {0, 0, 0}, hits = 0;
             for (unsigned s = 0; s < spp; ++s) {
                 uint32_t rgba = background;
-                if (pixel[s] != REYES_EMPTY_SAMPLE_VALUE) {
+                if (pixel[s] != REYES_EMPTY_SAMPLE) {
                     rgba = (uint32_t)pixel[s];
                     ++hits;
                 }

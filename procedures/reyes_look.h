@@ -6,10 +6,6 @@
 #include "reyes.h"
 #include "reyes_shared.h"
 
-/* A sample nothing covered: the buffers start all ones, and a covered
- * sample holds its depth's bits above its packed colour. */
-#define REYES_EMPTY_SAMPLE_VALUE REYES_EMPTY_SAMPLE /* reyes.h: UINT64_MAX */
-
 /* The unit vector towards the light (REYES_LIGHT_X, _Y, _Z of
  * reyes_shared.h, with the shading weights REYES_AMBIENT ...
  * REYES_SHININESS). */

@@ -59,15 +59,9 @@ START_TEST(trace_events_cover_every_item)
     perma_config_init(&config);
     config.trace_path = path;
     perma_runtime *rt = test_runtime_config(&config);
-    ck_assert_perma_ok(rt, perma_add_source(rt, TREE_TYPES, "tree_types.cl"));
-    perma_procedure tree = { .name = "tree", .item_type = "struct tree_node", .item_size = sizeof(struct tree_node),
-                             .source = TREE_SOURCE, .function = "tree_split", .emits = { { "tree", 2 } } };
-    perma_proc id;
-    ck_assert_perma_ok(rt, perma_register(rt, &tree, &id));
     uint32_t counts[2] = { 0, 0 };
     uint64_t sums[1] = { 0 };
-    ck_assert_perma_ok(rt, perma_bind_host(rt, "counts", "__global uint *", counts, sizeof counts, PERMA_READ_WRITE));
-    ck_assert_perma_ok(rt, perma_bind_host(rt, "sums", "__global ulong *", sums, sizeof sums, PERMA_READ_WRITE));
+    perma_proc id = tree_add(rt, 0, counts, sums);
     struct tree_node root = { 0, 11, 1, 0 };
     ck_assert_perma_ok(rt, perma_seed(rt, id, &root, 1));
     ck_assert_perma_ok(rt, perma_run(rt));
