@@ -124,11 +124,7 @@ REYES_INLINE uint reyes_dice_visible_lanes(__global const struct reyes_params *p
     }
     reyes_lane_mask visible = has & front & (hi_x >= p->tile_x0) & (hi_y >= p->tile_y0) & (lo_x <= p->tile_x1)
                               & (lo_y <= p->tile_y1);
-    int16 ones = visible & 1;
-    int8 a = ones.lo + ones.hi;
-    int4 b = a.lo + a.hi;
-    int2 c2 = b.lo + b.hi;
-    return (uint)(c2.x + c2.y);
+    return (uint)reyes_sum16(visible & 1);
 }
 
 /* Visible quads of lattice g, REYES_LANES slots at a time. */
