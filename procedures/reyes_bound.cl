@@ -184,21 +184,24 @@ float2 reyes_rate_segments(__global const struct reyes_params *p, const float2 s
 
 /* Whether a projectable sub-patch is split, as the counter naming the
  * reason (0: dice it), and in which direction (*split_u).  A bound that
- * is too large splits along the longer hull (with a shading rate: a grid
- * that would need more than grid vertices along u or v splits across its
- * longer need); a tier over epsilon splits across the more curved
- * direction. */
+ * is too large splits along the longer hull; with a shading rate the
+ * bound is `need` (reyes_rate_segments, which the caller keeps for
+ * dice_size) instead of the box `size`: a grid that would need more than
+ * grid vertices along u or v splits across its longer need.  A tier over
+ * epsilon splits across the more curved direction. */
 uint reyes_split_reason(__global const struct reyes_params *p, __global const float4 *patches,
                         struct reyes_subpatch *sp, const float3 cp[16], const float4 clip[16],
-                        const float2 s[16], float2 size, int *split_u)
+                        const float2 s[16], float2 size, float2 need, int *split_u)
 {
-    *split_u = reyes_hull_extent(s, 1) >= reyes_hull_extent(s, 0);
-    int too_big = fmax(size.x, size.y) > (p->subdivision == REYES_SUBDIVISION_TIERED ? p->flat_cap_px : p->bound_px);
+    int too_big;
     if (p->shading_rate > 0.0f) {
-        float2 need = reyes_rate_segments(p, s);
         too_big = fmax(need.x, need.y) > (float)(p->grid - 1u);
         if (too_big)
             *split_u = need.x >= need.y;
+    } else {
+        too_big = fmax(size.x, size.y) > (p->subdivision == REYES_SUBDIVISION_TIERED ? p->flat_cap_px : p->bound_px);
+        if (too_big)
+            *split_u = reyes_hull_extent(s, 1) >= reyes_hull_extent(s, 0);
     }
     if (p->subdivision != REYES_SUBDIVISION_TIERED)
         return too_big ? REYES_COUNT_SPLIT_BOUND : 0u;
@@ -369,13 +372,14 @@ void reyes_bound(perma_ctx *ctx, __local const struct reyes_subpatch *item)
     }
     int split_u;
     sp.edge_levels = 0xffffffffu;
-    uint reason = reyes_split_reason(p, ctx->buf.patches, &sp, cp, clip, s, hi - lo, &split_u);
+    float2 need = p->shading_rate > 0.0f ? reyes_rate_segments(p, s) : (float2)(0.0f, 0.0f);
+    uint reason = reyes_split_reason(p, ctx->buf.patches, &sp, cp, clip, s, hi - lo, need, &split_u);
     if (forced || reason == 0u) {
         if (forced)
             atomic_inc(&counters[REYES_COUNT_FORCED_DICE]);
         if (p->shading_rate > 0.0f) {
-            uint2 need = convert_uint2(fmin(reyes_rate_segments(p, s), (float)(p->grid - 1u)));
-            sp.dice_size = (need.x + 1u) | ((need.y + 1u) << 8);
+            uint2 sides = convert_uint2(fmin(need, (float)(p->grid - 1u)));
+            sp.dice_size = (sides.x + 1u) | ((sides.y + 1u) << 8);
         }
         if (p->record_leaves) {
             if (p->blur)

@@ -137,12 +137,27 @@ REYES_INLINE float2 reyes_to_screen(__global const struct reyes_params *p, float
 
 /* A colour channel in [0,1] as a byte: clamped (NaN as 0), scaled and
  * rounded to nearest, ties to even (adding and subtracting 2^23 rounds a
- * float in [0, 2^23) so), as convert_uint_sat_rte would. */
-REYES_INLINE uint reyes_channel_byte(float c)
+ * float in [0, 2^23) so), as convert_uint_sat_rte would.  One definition
+ * for one lane and for the 8 and 16 lanes of rasterize and shading. */
+#define REYES_DEFINE_CHANNEL_BYTE(name, float_type, uint_type)                 \
+    REYES_INLINE uint_type name(float_type c)                                  \
+    {                                                                          \
+        float_type scaled = clamp(c, 0.0f, 1.0f) * 255.0f;                     \
+        float_type rounded = (scaled + 8388608.0f) - 8388608.0f;               \
+        return convert_##uint_type(rounded);                                   \
+    }
+REYES_DEFINE_CHANNEL_BYTE(reyes_channel_byte, float, uint)
+REYES_DEFINE_CHANNEL_BYTE(reyes_channel_byte8, float8, uint8)
+REYES_DEFINE_CHANNEL_BYTE(reyes_channel_byte16, float16, uint16)
+
+/* Sum of the sixteen lanes of m, halves added pairwise (dice's and
+ * rasterize's quad counts). */
+REYES_INLINE int reyes_sum16(int16 m)
 {
-    float scaled = clamp(c, 0.0f, 1.0f) * 255.0f;
-    float rounded = (scaled + 8388608.0f) - 8388608.0f;
-    return (uint)rounded;
+    int8 a = m.lo + m.hi;
+    int4 b = a.lo + a.hi;
+    int2 c = b.lo + b.hi;
+    return c.x + c.y;
 }
 
 /* Pack a color in [0,1]^3 as RGBA8 (alpha 255, red in the low byte). */

@@ -24,29 +24,26 @@ struct reyes_dice_scratch {
  * of the edge's settled segment (reyes_flatness.cl).  The sides of an
  * edge reach the same polyline, so together they close the crack.  Strip
  * e is vertex rows 2e (the grid's vertices along edge e, in the edge's
- * order) and 2e + 1 (their polyline points); its quads are quad row 2e. */
-void reyes_dice_strip_vertex(perma_ctx *ctx, const struct reyes_subpatch *sp, __local struct reyes_dice_scratch *s,
-                             int v)
+ * order) and 2e + 1 (their polyline points); its quads are quad row 2e.
+ * This makes strip `edge`, settled at `level`: the polyline once, then
+ * its points at the edge's n grid steps. */
+void reyes_dice_strip(__global const struct reyes_params *p, const float3 base[16], const struct reyes_subpatch *sp,
+                      __local struct reyes_dice_scratch *s, int edge, uint level)
 {
-    __global const struct reyes_params *p = ctx->buf.params;
     int n = (int)p->grid, side = n - 1;
-    int edge = v / n, step = v % n;
-    uint level = (sp->edge_levels >> (8 * edge)) & 0xffu;
-    if (level == REYES_EDGE_UNSETTLED)
-        return;
-    float3 base[16];
-    reyes_load_patch(ctx->buf.patches, sp->patch, base);
     struct reyes_polyline polyline = reyes_edge_polyline(base, sp, edge, level, (uint)side);
     int along_u;
     float fixed, a, b;
     reyes_edge_line(sp, edge, &along_u, &fixed, &a, &b);
-    int gi = along_u ? step : (edge == REYES_EDGE_U1 ? side : 0);
-    int gj = along_u ? (edge == REYES_EDGE_V1 ? side : 0) : step;
-    struct reyes_vertex on_polyline;
-    reyes_vertex_place(p, reyes_strip_point(&polyline, step), &on_polyline);
-    on_polyline.rgba = s->grid.rgba[gj * n + gi];
-    reyes_grid_copy_vertex(&s->grid, gj * n + gi, &s->strips, 2 * edge * n + step);
-    reyes_grid_store(p, &s->strips, (2 * edge + 1) * n + step, &on_polyline);
+    for (int step = 0; step < n; ++step) {
+        int gi = along_u ? step : (edge == REYES_EDGE_U1 ? side : 0);
+        int gj = along_u ? (edge == REYES_EDGE_V1 ? side : 0) : step;
+        struct reyes_vertex on_polyline;
+        reyes_vertex_place(p, reyes_strip_point(&polyline, step), &on_polyline);
+        on_polyline.rgba = s->grid.rgba[gj * n + gi];
+        reyes_grid_copy_vertex(&s->grid, gj * n + gi, &s->strips, 2 * edge * n + step);
+        reyes_grid_store(p, &s->strips, (2 * edge + 1) * n + step, &on_polyline);
+    }
 }
 
 /* Vertices i0 .. i0 + REYES_LANES - 1 of row j of an undisplaced grid n
@@ -127,11 +124,7 @@ REYES_INLINE uint reyes_dice_visible_lanes(__global const struct reyes_params *p
     }
     reyes_lane_mask visible = has & front & (hi_x >= p->tile_x0) & (hi_y >= p->tile_y0) & (lo_x <= p->tile_x1)
                               & (lo_y <= p->tile_y1);
-    int16 ones = visible & 1;
-    int8 a = ones.lo + ones.hi;
-    int4 b = a.lo + a.hi;
-    int2 c2 = b.lo + b.hi;
-    return (uint)(c2.x + c2.y);
+    return (uint)reyes_sum16(visible & 1);
 }
 
 /* Visible quads of lattice g, REYES_LANES slots at a time. */
@@ -251,15 +244,19 @@ void reyes_dice(perma_ctx *ctx, __local const struct reyes_subpatch *item)
         return;
     s->strips.columns = (uint)n;
     s->strips.rows = 8u;
-    uint rows = 0;
-    for (int edge = 0; edge < 4; ++edge)
-        if (((item->edge_levels >> (8 * edge)) & 0xffu) != REYES_EDGE_UNSETTLED)
-            rows |= 1u << (2 * edge);
-    s->strips.quad_rows = rows;
     s->strips.counted = 0u; /* fillers, counted here */
     struct reyes_subpatch sp = *item;
-    for (int v = 0; v < 4 * n; ++v)
-        reyes_dice_strip_vertex(ctx, &sp, s, v);
+    float3 base[16];
+    reyes_load_patch(ctx->buf.patches, sp.patch, base);
+    uint rows = 0;
+    for (int edge = 0; edge < 4; ++edge) {
+        uint level = (sp.edge_levels >> (8 * edge)) & 0xffu;
+        if (level == REYES_EDGE_UNSETTLED)
+            continue;
+        reyes_dice_strip(p, base, &sp, s, edge, level);
+        rows |= 1u << (2 * edge);
+    }
+    s->strips.quad_rows = rows;
     uint strip_quads = reyes_dice_count(p, &s->strips);
     if (strip_quads > 0u) {
         atomic_add(&counters[REYES_COUNT_FILLERS], 2u * strip_quads); /* two triangles each */

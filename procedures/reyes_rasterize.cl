@@ -170,14 +170,6 @@ REYES_INLINE float8 reyes_cell_offset(float8 cell, float8 jitter, float n, float
     return inverse != 0.0f ? (cell + jitter) * inverse : (cell + jitter) / n;
 }
 
-/* A colour channel in [0,1] as a byte in eight lanes, as reyes_channel_byte. */
-REYES_INLINE uint8 reyes_channel_byte8(float8 c)
-{
-    float8 scaled = clamp(c, 0.0f, 1.0f) * 255.0f;
-    float8 rounded = (scaled + 8388608.0f) - 8388608.0f;
-    return convert_uint8(rounded);
-}
-
 REYES_INLINE int reyes_any8(int8 m)
 {
     int4 a = m.lo | m.hi;
@@ -310,14 +302,6 @@ REYES_INLINE float16 reyes_edge_raw16(const struct reyes_quad_lanes *q, int t, i
 REYES_INLINE float16 reyes_cell_offset16(float cell, float16 jitter, float n, float inverse)
 {
     return inverse != 0.0f ? (cell + jitter) * inverse : (cell + jitter) / n;
-}
-
-/* A colour channel in [0,1] as a byte, as reyes_channel_byte. */
-REYES_INLINE uint16 reyes_channel_byte16(float16 c)
-{
-    float16 scaled = clamp(c, 0.0f, 1.0f) * 255.0f;
-    float16 rounded = (scaled + 8388608.0f) - 8388608.0f;
-    return convert_uint16(rounded);
 }
 
 /* The packed (depth, colour) of a triangle with corners a, b, c in
@@ -579,10 +563,7 @@ void reyes_rasterize(perma_ctx *ctx, __local const struct reyes_grid *item)
     if (item->counted) {
         /* The micropolygons: the quads set up live, the tests of
          * reyes_dice_count (which counts the grids of other renders). */
-        int8 a = visible.lo + visible.hi;
-        int4 b = a.lo + a.hi;
-        int2 c = b.lo + b.hi;
-        uint count = (uint)(c.x + c.y);
+        uint count = (uint)reyes_sum16(visible);
         if (count > 0u)
             atomic_add(&ctx->buf.counters[REYES_COUNT_MICROPOLYGONS], count);
     }

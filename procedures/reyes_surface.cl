@@ -60,6 +60,7 @@ typedef int16 reyes_lane_mask;
 typedef uint16 reyes_lane_uint;
 #define reyes_convert_lanes convert_float16
 #define reyes_convert_lane_uint convert_uint16
+#define reyes_channel_byte_lanes reyes_channel_byte16
 #define reyes_vstore_lanes vstore16
 #define reyes_vload_lanes vload16
 
@@ -314,14 +315,6 @@ REYES_INLINE void reyes_light_lanes(const struct reyes_lighting *l, const reyes_
     reyes_lanes highlight = select((reyes_lanes)0.0f, power, lambert > 0.0f & cos_h > 0.0f);
     *diffuse = l->ambient + l->diffuse * lambert;
     *specular = l->specular * highlight;
-}
-
-/* A colour channel in [0,1] as a byte, lane by lane, as reyes_channel_byte. */
-REYES_INLINE reyes_lane_uint reyes_channel_byte_lanes(reyes_lanes c)
-{
-    reyes_lanes scaled = clamp(c, 0.0f, 1.0f) * 255.0f;
-    reyes_lanes rounded = (scaled + 8388608.0f) - 8388608.0f;
-    return reyes_convert_lane_uint(rounded);
 }
 
 /* The shaded colours of base colour rgba (its alpha ignored), packed. */
