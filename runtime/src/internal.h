@@ -8,6 +8,7 @@
 
 #include <stdarg.h>
 #include <stdbool.h>
+#include <string.h>
 
 /* The host's view of a control block (kernels/perma_abi.h): the header and
  * the queue records, which follow it without a gap; the group records after
@@ -34,6 +35,13 @@ typedef struct perma_source_text {
     char *text;
     char *name;
 } perma_source_text;
+
+/* The same source: the same name and the same text (procedures registered
+ * from one source share it, and the program includes it once). */
+static inline bool perma_same_source(const perma_source_text *a, const perma_source_text *b)
+{
+    return strcmp(a->name, b->name) == 0 && strcmp(a->text, b->text) == 0;
+}
 
 /* A registered procedure: an owned copy of its description plus what the
  * build derives from it. */
