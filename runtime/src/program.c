@@ -67,8 +67,8 @@ static char *read_build_log(perma_runtime *rt)
     return log;
 }
 
-/* A build that succeeded: show its warnings (build_log.c). */
-/* Show the warnings of a build that succeeded; returns how many. */
+/* Show the warnings of a build that succeeded (build_log.c); returns how
+ * many. */
 static unsigned report_build_warnings(perma_runtime *rt)
 {
     char *log = read_build_log(rt);
