@@ -220,11 +220,22 @@ const char *perma_cl_error_name(cl_int code);
                                    perma_cl_error_name(perma_code_), (int)perma_code_);     \
     } while (0)
 
-/* program_cache.c: a built program from the disk cache (NULL: none); store
- * a program built from source when its build took long enough. */
-cl_program perma_cache_load(perma_runtime *rt, const char *source, const char *options);
-void perma_cache_store(perma_runtime *rt, cl_program program, const char *source, const char *options,
-                       double build_seconds);
+/* program_cache.c: the disk cache of built programs.  An entry is one
+ * build's key (everything its binary depends on) and file, worked out once
+ * for both the load and the store; without a cache it is not usable and
+ * both do nothing.  perma_cache_load gives the built program from the cache
+ * (NULL: none); perma_cache_store stores a program built from source when
+ * its build took long enough. */
+typedef struct perma_cache_entry {
+    bool usable;
+    perma_strbuf key;
+    char dir[1024];
+    char path[1100];
+} perma_cache_entry;
+void perma_cache_entry_open(perma_runtime *rt, const char *source, const char *options, perma_cache_entry *entry);
+void perma_cache_entry_close(perma_cache_entry *entry);
+cl_program perma_cache_load(perma_runtime *rt, const perma_cache_entry *entry, const char *options);
+void perma_cache_store(cl_program program, const perma_cache_entry *entry, double build_seconds);
 
 /* device.c */
 perma_status perma_device_open(perma_runtime *rt);
