@@ -45,7 +45,7 @@ static void procedures_with_source(const perma_runtime *rt, const perma_proc_inf
     out[0] = '\0';
     for (unsigned i = 0; i < rt->proc_count && used < size; ++i) {
         const perma_proc_info *q = &rt->procs[i];
-        if (strcmp(q->source.name, p->source.name) == 0 && strcmp(q->source.text, p->source.text) == 0)
+        if (perma_same_source(&q->source, &p->source))
             used += (size_t)snprintf(out + used, size - used, "%s'%s'", used ? ", " : "", q->name);
     }
 }

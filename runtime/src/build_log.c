@@ -91,29 +91,24 @@ static void collect_warnings(const char *log, perma_strbuf *out, unsigned *count
 unsigned perma_build_log_show(perma_runtime *rt, const char *log, bool failed)
 {
     const char *all = getenv("PERMA_BUILD_LOG");
-    perma_strbuf sb;
+    perma_strbuf sb, warnings;
     perma_strbuf_init(&sb);
+    perma_strbuf_init(&warnings);
+    /* The warnings are counted for the caller even when the whole log is
+     * shown instead of them. */
     unsigned count = 0;
-    if (!failed) {
-        perma_strbuf warnings;
-        perma_strbuf_init(&warnings);
+    if (!failed)
         collect_warnings(log, &warnings, &count);
-        perma_strbuf_free(&warnings);
-    }
     if (all && *all && strcmp(all, "0") != 0) {
         perma_strbuf_printf(&sb, "perma: build log%s:\n%s%s", failed ? " (the build failed)" : "", log,
                             log[0] && log[strlen(log) - 1] != '\n' ? "\n" : "");
-    } else if (!failed) {
-        perma_strbuf warnings;
-        perma_strbuf_init(&warnings);
-        collect_warnings(log, &warnings, &count);
-        if (count)
-            perma_strbuf_printf(&sb, "perma: the program built with %u compiler warning%s:\n%s", count,
-                                count == 1 ? "" : "s", warnings.data);
-        perma_strbuf_free(&warnings);
+    } else if (count) {
+        perma_strbuf_printf(&sb, "perma: the program built with %u compiler warning%s:\n%s", count,
+                            count == 1 ? "" : "s", warnings.data);
     }
     if (!sb.failed && sb.data && sb.data[0])
         emit(rt, sb.data);
+    perma_strbuf_free(&warnings);
     perma_strbuf_free(&sb);
     return count;
 }

@@ -145,8 +145,7 @@ static void append_procedure_sources(perma_runtime *rt, perma_strbuf *sb)
         const perma_source_text *src = &rt->procs[i].source;
         bool duplicate = false, cooperative = false;
         for (unsigned j = 0; j < rt->proc_count; ++j) {
-            bool same = strcmp(rt->procs[j].source.name, src->name) == 0 &&
-                        strcmp(rt->procs[j].source.text, src->text) == 0;
+            bool same = perma_same_source(&rt->procs[j].source, src);
             duplicate = duplicate || (same && j < i);
             cooperative = cooperative || (same && rt->procs[j].cooperative);
         }

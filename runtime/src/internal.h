@@ -8,6 +8,7 @@
 
 #include <stdarg.h>
 #include <stdbool.h>
+#include <string.h>
 
 /* The host's view of a control block (kernels/perma_abi.h): the header and
  * the queue records, which follow it without a gap; the group records after
@@ -34,6 +35,13 @@ typedef struct perma_source_text {
     char *text;
     char *name;
 } perma_source_text;
+
+/* The same source: the same name and the same text (procedures registered
+ * from one source share it, and the program includes it once). */
+static inline bool perma_same_source(const perma_source_text *a, const perma_source_text *b)
+{
+    return strcmp(a->name, b->name) == 0 && strcmp(a->text, b->text) == 0;
+}
 
 /* A registered procedure: an owned copy of its description plus what the
  * build derives from it. */
@@ -212,11 +220,22 @@ const char *perma_cl_error_name(cl_int code);
                                    perma_cl_error_name(perma_code_), (int)perma_code_);     \
     } while (0)
 
-/* program_cache.c: a built program from the disk cache (NULL: none); store
- * a program built from source when its build took long enough. */
-cl_program perma_cache_load(perma_runtime *rt, const char *source, const char *options);
-void perma_cache_store(perma_runtime *rt, cl_program program, const char *source, const char *options,
-                       double build_seconds);
+/* program_cache.c: the disk cache of built programs.  An entry is one
+ * build's key (everything its binary depends on) and file, worked out once
+ * for both the load and the store; without a cache it is not usable and
+ * both do nothing.  perma_cache_load gives the built program from the cache
+ * (NULL: none); perma_cache_store stores a program built from source when
+ * its build took long enough. */
+typedef struct perma_cache_entry {
+    bool usable;
+    perma_strbuf key;
+    char dir[1024];
+    char path[1100];
+} perma_cache_entry;
+void perma_cache_entry_open(perma_runtime *rt, const char *source, const char *options, perma_cache_entry *entry);
+void perma_cache_entry_close(perma_cache_entry *entry);
+cl_program perma_cache_load(perma_runtime *rt, const perma_cache_entry *entry, const char *options);
+void perma_cache_store(cl_program program, const perma_cache_entry *entry, double build_seconds);
 
 /* device.c */
 perma_status perma_device_open(perma_runtime *rt);

@@ -67,8 +67,8 @@ static char *read_build_log(perma_runtime *rt)
     return log;
 }
 
-/* A build that succeeded: show its warnings (build_log.c). */
-/* Show the warnings of a build that succeeded; returns how many. */
+/* Show the warnings of a build that succeeded (build_log.c); returns how
+ * many. */
 static unsigned report_build_warnings(perma_runtime *rt)
 {
     char *log = read_build_log(rt);
@@ -108,6 +108,50 @@ static perma_status warm_up(perma_runtime *rt)
     return PERMA_OK;
 }
 
+/* After clCreateProgramWithSource and clBuildProgram (or the cache): the
+ * error of a call that failed, with the log for a failed build; the
+ * program is then released. */
+static perma_status check_build(perma_runtime *rt, cl_int err)
+{
+    if (!rt->program)
+        PERMA_CL_CHECK(rt, "clCreateProgramWithSource", err);
+    if (err == CL_BUILD_PROGRAM_FAILURE || err == CL_INVALID_BUILD_OPTIONS) {
+        perma_status st = report_build_failure(rt, err);
+        perma_release_program(rt);
+        return st;
+    }
+    if (err != CL_SUCCESS) {
+        perma_release_program(rt);
+        PERMA_CL_CHECK(rt, "clBuildProgram", err);
+    }
+    return PERMA_OK;
+}
+
+/* rt->program for the generated `text`: from the disk cache
+ * (program_cache.c), else built from source and then stored, the cache
+ * entry worked out once for both. */
+static perma_status build_program(perma_runtime *rt, const char *text, const char *options)
+{
+    perma_cache_entry entry;
+    perma_cache_entry_open(rt, text, options, &entry);
+    cl_int err = CL_SUCCESS;
+    rt->program = perma_cache_load(rt, &entry, options);
+    double build_seconds = -1.0; /* not built here: loaded from the cache */
+    if (!rt->program) {
+        double start = perma_now();
+        rt->program = clCreateProgramWithSource(rt->context, 1, &text, NULL, &err);
+        if (err == CL_SUCCESS)
+            err = clBuildProgram(rt->program, 1, &rt->device, options, NULL, NULL);
+        build_seconds = perma_now() - start;
+    }
+    perma_status st = check_build(rt, err);
+    /* A program with warnings is not cached, so that every build shows them. */
+    if (st == PERMA_OK && report_build_warnings(rt) == 0 && build_seconds >= 0.0)
+        perma_cache_store(rt->program, &entry, build_seconds);
+    perma_cache_entry_close(&entry);
+    return st;
+}
+
 perma_status perma_build(perma_runtime *rt)
 {
     if (!rt)
@@ -136,39 +180,14 @@ perma_status perma_build(perma_runtime *rt)
             fclose(f);
         }
     }
-    cl_int err = CL_SUCCESS;
-    const char *text = sb.data;
     char options[1024];
     snprintf(options, sizeof options, "-cl-std=CL1.2 %s%s", rt->debug ? "-DPERMA_DEBUG=1 " : "",
              rt->config.build_options ? rt->config.build_options : "");
-    rt->program = perma_cache_load(rt, text, options);
-    double build_seconds = -1.0; /* not built here: loaded from the cache */
-    if (!rt->program) {
-        double start = perma_now();
-        rt->program = clCreateProgramWithSource(rt->context, 1, &text, NULL, &err);
-        if (err == CL_SUCCESS)
-            err = clBuildProgram(rt->program, 1, &rt->device, options, NULL, NULL);
-        build_seconds = perma_now() - start;
-    }
-    if (!rt->program) {
-        perma_strbuf_free(&sb);
-        PERMA_CL_CHECK(rt, "clCreateProgramWithSource", err);
-    }
-    if (err == CL_BUILD_PROGRAM_FAILURE || err == CL_INVALID_BUILD_OPTIONS) {
-        perma_strbuf_free(&sb);
-        st = report_build_failure(rt, err);
-        perma_release_program(rt);
-        return st;
-    }
-    if (err != CL_SUCCESS) {
-        perma_strbuf_free(&sb);
-        perma_release_program(rt);
-        PERMA_CL_CHECK(rt, "clBuildProgram", err);
-    }
-    /* A program with warnings is not cached, so that every build shows them. */
-    if (report_build_warnings(rt) == 0 && build_seconds >= 0.0)
-        perma_cache_store(rt, rt->program, text, options, build_seconds);
+    st = build_program(rt, sb.data, options);
     perma_strbuf_free(&sb);
+    if (st != PERMA_OK)
+        return st;
+    cl_int err;
     cl_kernel *kernels[KERNEL_COUNT];
     kernel_slots(rt, kernels);
     for (size_t i = 0; i < KERNEL_COUNT; ++i) {

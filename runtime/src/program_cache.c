@@ -127,32 +127,39 @@ static unsigned char *read_file(const char *path, size_t *size)
     return data;
 }
 
-static bool entry_path(perma_runtime *rt, const char *source, const char *options, perma_strbuf *key,
-                       char *path, size_t size)
+void perma_cache_entry_open(perma_runtime *rt, const char *source, const char *options, perma_cache_entry *entry)
 {
-    char dir[1024];
-    if (!cache_dir(dir, sizeof dir) || !cache_key(rt, source, options, key))
-        return false;
-    int n = snprintf(path, size, "%s/%016llx.bin", dir, (unsigned long long)hash_text(key->data, key->length));
-    return n > 0 && (size_t)n < size;
+    entry->usable = false;
+    perma_strbuf_init(&entry->key);
+    if (!cache_dir(entry->dir, sizeof entry->dir) || !cache_key(rt, source, options, &entry->key))
+        return;
+    const perma_strbuf *key = &entry->key;
+    int n = snprintf(entry->path, sizeof entry->path, "%s/%016llx.bin", entry->dir,
+                     (unsigned long long)hash_text(key->data, key->length));
+    entry->usable = n > 0 && (size_t)n < sizeof entry->path;
 }
 
-cl_program perma_cache_load(perma_runtime *rt, const char *source, const char *options)
+void perma_cache_entry_close(perma_cache_entry *entry)
 {
-    perma_strbuf key;
-    perma_strbuf_init(&key);
-    char path[1100];
+    perma_strbuf_free(&entry->key);
+    entry->usable = false;
+}
+
+cl_program perma_cache_load(perma_runtime *rt, const perma_cache_entry *entry, const char *options)
+{
+    const perma_strbuf *key = &entry->key;
+    const char *path = entry->path;
     cl_program program = NULL;
     size_t size = 0, magic = strlen(CACHE_MAGIC);
-    unsigned char *data = entry_path(rt, source, options, &key, path, sizeof path) ? read_file(path, &size) : NULL;
+    unsigned char *data = entry->usable ? read_file(path, &size) : NULL;
     /* magic, key length (8 bytes), key, binary */
     if (data && size > magic + 8 && memcmp(data, CACHE_MAGIC, magic) == 0) {
         uint64_t key_length;
         memcpy(&key_length, data + magic, 8);
         const unsigned char *binary = data + magic + 8 + key_length;
         size_t binary_size = size - magic - 8 - (size_t)key_length;
-        if (key_length == key.length && key_length < size - magic - 8
-            && memcmp(data + magic + 8, key.data, key.length) == 0) {
+        if (key_length == key->length && key_length < size - magic - 8
+            && memcmp(data + magic + 8, key->data, key->length) == 0) {
             cl_int status = CL_SUCCESS, err;
             program = clCreateProgramWithBinary(rt->context, 1, &rt->device, &binary_size, &binary, &status, &err);
             if (program && (err != CL_SUCCESS || status != CL_SUCCESS
@@ -167,7 +174,6 @@ cl_program perma_cache_load(perma_runtime *rt, const char *source, const char *o
         }
     }
     free(data);
-    perma_strbuf_free(&key);
     return program;
 }
 
@@ -214,37 +220,30 @@ static void evict(const char *dir)
     free(entries);
 }
 
-void perma_cache_store(perma_runtime *rt, cl_program program, const char *source, const char *options,
-                       double build_seconds)
+void perma_cache_store(cl_program program, const perma_cache_entry *entry, double build_seconds)
 {
-    if (build_seconds < min_seconds())
+    if (!entry->usable || build_seconds < min_seconds())
         return;
     size_t binary_size = 0;
     if (clGetProgramInfo(program, CL_PROGRAM_BINARY_SIZES, sizeof binary_size, &binary_size, NULL) != CL_SUCCESS
         || binary_size == 0)
         return;
     unsigned char *binary = malloc(binary_size);
-    perma_strbuf key;
-    perma_strbuf_init(&key);
-    char path[1100], temporary[1200];
-    if (binary && clGetProgramInfo(program, CL_PROGRAM_BINARIES, sizeof binary, &binary, NULL) == CL_SUCCESS
-        && entry_path(rt, source, options, &key, path, sizeof path)) {
-        snprintf(temporary, sizeof temporary, "%s.%ld.tmp", path, (long)getpid());
+    const perma_strbuf *key = &entry->key;
+    char temporary[1200];
+    if (binary && clGetProgramInfo(program, CL_PROGRAM_BINARIES, sizeof binary, &binary, NULL) == CL_SUCCESS) {
+        snprintf(temporary, sizeof temporary, "%s.%ld.tmp", entry->path, (long)getpid());
         FILE *f = fopen(temporary, "wb");
-        uint64_t key_length = key.length;
+        uint64_t key_length = key->length;
         bool written = f && fwrite(CACHE_MAGIC, 1, strlen(CACHE_MAGIC), f) == strlen(CACHE_MAGIC)
-                       && fwrite(&key_length, 8, 1, f) == 1 && fwrite(key.data, 1, key.length, f) == key.length
+                       && fwrite(&key_length, 8, 1, f) == 1 && fwrite(key->data, 1, key->length, f) == key->length
                        && fwrite(binary, 1, binary_size, f) == binary_size;
         if (f && fclose(f) != 0)
             written = false;
-        if (written && rename(temporary, path) == 0) {
-            char *slash = strrchr(path, '/');
-            *slash = '\0';
-            evict(path);
-        } else if (f) {
+        if (written && rename(temporary, entry->path) == 0)
+            evict(entry->dir);
+        else if (f)
             unlink(temporary);
-        }
     }
     free(binary);
-    perma_strbuf_free(&key);
 }

@@ -35,6 +35,21 @@ static size_t initial_capacity(const perma_runtime *rt)
     return rt->config.queue_capacity ? rt->config.queue_capacity : DEFAULT_CAPACITY;
 }
 
+/* The seeds each of `sets` queue sets starts with, rounded up (the last
+ * sets may get fewer, or none). */
+static size_t seed_share(size_t seeds, unsigned sets)
+{
+    return (seeds + sets - 1) / sets;
+}
+
+/* The capacity a queue starts with for its share of `seeds`: at least
+ * initial_capacity, a power of two. */
+static size_t starting_capacity(const perma_runtime *rt, size_t seeds, unsigned sets)
+{
+    size_t share = seed_share(seeds, sets), base = initial_capacity(rt);
+    return next_pow2(share > base ? share : base);
+}
+
 perma_status perma_queues_check_seeds(perma_runtime *rt, unsigned proc, size_t count)
 {
     const perma_proc_info *p = &rt->procs[proc];
@@ -44,8 +59,7 @@ perma_status perma_queues_check_seeds(perma_runtime *rt, unsigned proc, size_t c
                                "perma_seed('%s'): %zu more items would make %zu queued, more than a queue holds "
                                "(PERMA_MAX_QUEUED_ITEMS, 2^30)", p->name, count, total);
     unsigned sets = perma_queues_sets(rt);
-    size_t share = (total + sets - 1) / sets, cap = initial_capacity(rt);
-    cap = next_pow2(share > cap ? share : cap);
+    size_t cap = starting_capacity(rt, total, sets);
     size_t slot = p->item_size + PERMA_QUEUE_SLOT_OVERHEAD, bytes = sets * cap * slot;
     if (bytes > perma_queues_memory_limit(rt))
         return perma_set_error(rt, PERMA_ERR_CAPACITY,
@@ -85,7 +99,7 @@ void perma_queues_seed_share(const perma_runtime *rt, unsigned qi, size_t *first
 {
     unsigned sets = rt->queue_sets, set = qi / rt->proc_count;
     const perma_proc_info *p = proc_of(rt, qi);
-    size_t share = (p->seed_count + sets - 1) / sets;
+    size_t share = seed_share(p->seed_count, sets);
     *first = (size_t)set * share;
     *count = *first < p->seed_count ? p->seed_count - *first : 0;
     if (*count > share)
@@ -123,14 +137,10 @@ static void keep_learned_capacities(perma_runtime *rt, size_t *capacities)
 
 perma_status perma_queues_initial(perma_runtime *rt, size_t *capacities)
 {
-    unsigned n = rt->proc_count, sets = rt->queue_sets;
-    size_t base = initial_capacity(rt);
+    unsigned n = rt->proc_count;
     for (unsigned qi = 0; qi < perma_queues_count(rt); ++qi) {
         unsigned q = qi % n;
-        size_t share = (rt->procs[q].seed_count + sets - 1) / sets;
-        size_t cap = base;
-        if (share > cap)
-            cap = share;
+        size_t cap = starting_capacity(rt, rt->procs[q].seed_count, rt->queue_sets);
         /* One item of any producer must fit, or nothing could ever run. */
         for (unsigned i = 0; i < n; ++i)
             for (unsigned e = 0; e < rt->procs[i].emit_count; ++e)

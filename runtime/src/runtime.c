@@ -123,17 +123,18 @@ void perma_destroy(perma_runtime *rt)
 {
     if (!rt)
         return;
+    /* The watchdog's waiter thread is idle between launches, so it is
+     * stopped and joined before the queue is finished; the waiter of a
+     * kernel that never ended (rt->hung) is blocked on it and detached. */
+    perma_watchdog_close(rt);
     if (rt->hung) {
         /* A kernel is still running and would make every release block:
-         * leak the OpenCL objects rather than hang the caller.  The
-         * watchdog's waiter, blocked on that kernel, is detached. */
-        perma_watchdog_close(rt);
+         * leak the OpenCL objects rather than hang the caller. */
         return;
     }
     if (rt->queue)
         clFinish(rt->queue);
     perma_state_close(rt);
-    perma_watchdog_close(rt);
     perma_release_program(rt);
     for (unsigned i = 0; i < rt->buffer_count; ++i) {
         if (rt->buffers[i].mem)

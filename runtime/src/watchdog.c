@@ -259,11 +259,10 @@ static void wait_for_callback(unsigned long seen, double until)
     pthread_mutex_unlock(&callbacks_lock);
 }
 
-/* The procedures with items in flight, from the watch page. */
-static void describe_in_flight(perma_runtime *rt, char *out, size_t size)
+/* The procedures with items in flight: running[q] groups run procedure q
+ * (the watch page as perma_state_watch read it). */
+static void describe_in_flight(const perma_runtime *rt, const unsigned *running, char *out, size_t size)
 {
-    unsigned running[PERMA_MAX_PROCEDURES];
-    perma_state_watch(rt, running, rt->proc_count);
     size_t used = 0;
     out[0] = '\0';
     for (unsigned q = 0; q < rt->proc_count && used < size; ++q)
@@ -272,38 +271,38 @@ static void describe_in_flight(perma_runtime *rt, char *out, size_t size)
                                      rt->procs[q].name, running[q], running[q] == 1 ? "" : "s");
 }
 
-/* What the error message says about a stall. */
-static int stall_sentence(const perma_watchdog *w, double limit, char *out, size_t size)
+/* Why the watchdog stopped the last launch, as the opening of the error
+ * message: the stall (with what was in flight) or the time limit.  True
+ * for a stall. */
+static bool stop_reason(const perma_runtime *rt, char *out, size_t size)
 {
+    const perma_watchdog *w = rt->watchdog;
+    if (!w || !w->stalled) {
+        snprintf(out, size, "the run passed its time limit of %g s (config.time_limit)", perma_time_limit(rt));
+        return false;
+    }
     if (w->in_flight[0])
-        return snprintf(out, size, "no item completed for %g s (config.stall_limit): %s had items in flight "
-                                   "(a procedure that never returns?)", limit, w->in_flight);
-    return snprintf(out, size, "no item completed for %g s (config.stall_limit), and no procedure had an item in "
-                               "flight", limit);
+        snprintf(out, size, "no item completed for %g s (config.stall_limit): %s had items in flight "
+                            "(a procedure that never returns?)", perma_stall_limit(rt), w->in_flight);
+    else
+        snprintf(out, size, "no item completed for %g s (config.stall_limit), and no procedure had an item in "
+                            "flight", perma_stall_limit(rt));
+    return true;
 }
 
 perma_status perma_watchdog_stop_error(perma_runtime *rt)
 {
-    const perma_watchdog *w = rt->watchdog;
-    if (w && w->stalled) {
-        char stall[768];
-        stall_sentence(w, perma_stall_limit(rt), stall, sizeof stall);
-        return perma_set_error(rt, PERMA_ERR_TIMEOUT, "%s; the run was stopped", stall);
-    }
-    return perma_set_error(rt, PERMA_ERR_TIMEOUT, "the run passed its time limit of %g s (config.time_limit) and "
-                           "was stopped", perma_time_limit(rt));
+    char reason[768];
+    bool stalled = stop_reason(rt, reason, sizeof reason);
+    return perma_set_error(rt, PERMA_ERR_TIMEOUT, "%s%s", reason,
+                           stalled ? "; the run was stopped" : " and was stopped");
 }
 
 /* The kernel did not stop after being told to. */
 static perma_status give_up(perma_runtime *rt)
 {
-    const perma_watchdog *w = rt->watchdog;
     char reason[768];
-    if (w->stalled)
-        stall_sentence(w, perma_stall_limit(rt), reason, sizeof reason);
-    else
-        snprintf(reason, sizeof reason, "the run passed its time limit of %g s (config.time_limit)",
-                 perma_time_limit(rt));
+    stop_reason(rt, reason, sizeof reason);
     rt->hung = true;
     return perma_set_error(rt, PERMA_ERR_TIMEOUT,
                            "%s, and the kernel did not stop within %g s after being told to; this runtime can no "
@@ -349,7 +348,7 @@ static perma_status watch(perma_runtime *rt, cl_event done, double deadline)
         page_seen = page_seen || finished != 0;
         if (aborted_at == 0.0 && rt->watch_visible && page_seen && now - progress_at > stall_limit) {
             w->stalled = true;
-            describe_in_flight(rt, w->in_flight, sizeof w->in_flight);
+            describe_in_flight(rt, running, w->in_flight, sizeof w->in_flight);
             perma_state_raise_abort(rt);
             aborted_at = now;
         }
