@@ -262,7 +262,12 @@ typedef struct perma_config {
      * runtime, exit() (and returning from main) then waits for that kernel
      * forever: end such a process with _exit() or a signal. */
     double stall_limit;
-    /* Cap on the __local memory one group uses; 0 = the device's size. */
+    /* Cap on the __local memory one group uses; 0 = the device's size, or
+     * the PERMA_LOCAL_MEMORY_LIMIT environment variable if set (bytes, or
+     * with a K or M suffix KiB or MiB, e.g. PERMA_LOCAL_MEMORY_LIMIT=32K:
+     * try a program under a smaller device's limit, OpenCL's minimum being
+     * 32 KiB; a malformed value fails perma_create naming it).
+     * perma_get_local_memory tells what a group may use. */
     size_t local_memory_limit;
     /* Extra options for clBuildProgram, e.g. "-DTHRESHOLD=8"; may be NULL. */
     const char *build_options;
@@ -498,6 +503,12 @@ perma_status perma_get_procedure_stats(perma_runtime *rt, perma_proc proc, perma
  * size an array indexed by ctx->group.  Either pointer may be NULL, not
  * both. */
 perma_status perma_get_work_groups(perma_runtime *rt, unsigned *work_groups, unsigned *group_size);
+
+/* The __local memory one work-group may use, in bytes, from perma_create
+ * on: the device's CL_DEVICE_LOCAL_MEM_SIZE, or config.local_memory_limit
+ * (PERMA_LOCAL_MEMORY_LIMIT) when that is lower.  A batch's items, their
+ * scratch and their worst-case emits must fit it (perma_batch_cut). */
+perma_status perma_get_local_memory(perma_runtime *rt, size_t *bytes);
 
 /* Counters of persistent group `group` (0..work_groups-1) in the last run;
  * all zero for the host-driven techniques. */

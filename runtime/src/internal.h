@@ -241,6 +241,12 @@ void perma_cache_store(cl_program program, const perma_cache_entry *entry, doubl
 perma_status perma_device_open(perma_runtime *rt);
 void perma_device_close(perma_runtime *rt);
 
+/* environment.c: PERMA_LOCAL_MEMORY_LIMIT in bytes (0: unset); the
+ * __local memory one group may use (the device's, or the configured cap
+ * when lower). */
+perma_status perma_env_local_memory_limit(perma_runtime *rt, size_t *out);
+size_t perma_local_memory(const perma_runtime *rt);
+
 /* files.c: read a whole text file; the message names the path. */
 perma_status perma_read_text_file(perma_runtime *rt, const char *path, char **out);
 bool perma_is_identifier(const char *s);

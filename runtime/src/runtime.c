@@ -89,6 +89,8 @@ perma_status perma_create(const perma_config *config, perma_runtime **out, perma
             st = perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory copying the trace path");
         rt->trace_events = config->trace_events ? config->trace_events : 65536;
     }
+    if (st == PERMA_OK && !config->local_memory_limit)
+        st = perma_env_local_memory_limit(rt, &rt->config.local_memory_limit);
     if (st == PERMA_OK)
         st = perma_device_open(rt);
     if (st == PERMA_OK)
