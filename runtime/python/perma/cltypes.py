@@ -14,7 +14,7 @@ from .errors import ArgumentError
 
 SCALARS = {('i', 1): 'char', ('u', 1): 'uchar', ('i', 2): 'short', ('u', 2): 'ushort',
            ('i', 4): 'int', ('u', 4): 'uint', ('i', 8): 'long', ('u', 8): 'ulong',
-           ('f', 2): 'half', ('f', 4): 'float', ('f', 8): 'double'}
+           ('f', 4): 'float', ('f', 8): 'double'}  # no half: a struct member needs cl_khr_fp16
 IDENTIFIER = re.compile(r'[A-Za-z_][A-Za-z0-9_]*$')
 INDENT = '    '
 
@@ -42,7 +42,7 @@ def _member_type(dtype, where, depth):
         lines, align = _members(dtype, where, depth + 1)
         return 'struct', align, lines
     raise ArgumentError('%s: numpy type %s has no OpenCL C equivalent (signed or unsigned integers of '
-                        '1, 2, 4 or 8 bytes, float16/32/64, native byte order, or a structured dtype of '
+                        '1, 2, 4 or 8 bytes, float32 or float64, native byte order, or a structured dtype of '
                         'those)' % (where, dtype))
 
 
