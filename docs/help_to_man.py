@@ -85,7 +85,7 @@ def convert(help_text, name, summary, source, see_also):
     rest = lines[:usage_at] + lines[end:]
 
     out = ['.TH %s 1 "" "%s" "User Commands"' % (name.upper(), escape(source)),
-           '.SH NAME', '%s \\- %s' % (escape(name), escape(summary)),
+           '.SH NAME', '%s \\- %s' % (escape(name).replace('-', '\\-'), escape(summary)),
            '.SH SYNOPSIS']
     for i, line in enumerate(synopsis):
         if i:
