@@ -20,6 +20,17 @@ def test_status_names_match_the_library():
         assert perma.status_name(status) == expected
 
 
+def test_an_exception_class_per_status():
+    for status in perma.Status:
+        if status != perma.Status.OK:
+            error = perma.errors.error(status, 'text')
+            assert type(error) is perma.errors.ERRORS[status] and isinstance(error, perma.PermaError)
+            assert error.status == status and str(error) == 'text'
+            assert type(error).__name__.upper() == status.name.replace('_', '') + 'ERROR'
+    unknown = perma.errors.error(99, 'from a newer libperma')
+    assert type(unknown) is perma.PermaError and unknown.status == 99
+
+
 def test_bad_schedule():
     with pytest.raises(perma.ArgumentError,
                        match=r"schedule 'megakernel/stealng': unknown strategy 'stealng' \(shared, stealing") as info:
@@ -47,6 +58,19 @@ def test_unknown_option():
     check(info, ARGUMENT)
 
 
+@pytest.mark.parametrize('options, message', [
+    ({'work_groups': -1}, r'Runtime\(\): work_groups must be a whole number >= 0, not -1'),
+    ({'group_size': 2.5}, r'Runtime\(\): group_size must be a whole number >= 0, not 2.5'),
+    ({'time_limit': -1}, r'Runtime\(\): time_limit must be a number of seconds >= 0, not -1'),
+    ({'build_options': 3}, r'build_options must be a string, not int'),
+])
+def test_bad_option_values(options, message):
+    """Caught before ctypes would wrap -1 into a huge unsigned number."""
+    with pytest.raises(perma.ArgumentError, match=message) as info:
+        perma.Runtime(**options)
+    check(info, ARGUMENT)
+
+
 @pytest.fixture
 def rt():
     with perma.Runtime() as runtime:
@@ -57,6 +81,13 @@ def rt():
 def test_bad_procedure_name(rt):
     with pytest.raises(perma.ArgumentError, match=r"procedure name 'no-good' is not a C identifier") as info:
         rt.register('no-good', 'void f() {}', item=NODE, function='f')
+    check(info, ARGUMENT)
+
+
+def test_negative_emit_maximum(rt):
+    with pytest.raises(perma.ArgumentError, match=r"procedure p: emits\['p'\] must be a whole number >= 0, "
+                                                  r"not -1") as info:
+        rt.register('p', 'void p() {}', item=NODE, emits={'p': -1})
     check(info, ARGUMENT)
 
 

@@ -45,57 +45,29 @@ class PermaError(Exception):
         return self.message
 
 
-class ArgumentError(PermaError, ValueError):
-    status = Status.ARGUMENT
+ERRORS = {}  # Status -> its exception class
 
 
-class NoPlatformError(PermaError):
-    status = Status.NO_PLATFORM
+def _error_class(name, status, *bases):
+    """The PermaError subclass of a status (also a subclass of `bases`)."""
+    cls = type(name, (PermaError,) + bases,
+               {'status': status, '__module__': __name__, '__doc__': 'perma_status %s.' % status_name(status)})
+    ERRORS[status] = cls
+    return cls
 
 
-class NoDeviceError(PermaError):
-    status = Status.NO_DEVICE
-
-
-class OpenCLError(PermaError):
-    status = Status.OPENCL
-
-
-class BuildError(PermaError):
-    status = Status.BUILD
-
-
-class NoMemoryError(PermaError, MemoryError):
-    status = Status.NO_MEMORY
-
-
-class CapacityError(PermaError):
-    status = Status.CAPACITY
-
-
-class EmitLimitError(PermaError):
-    status = Status.EMIT_LIMIT
-
-
-class TimeoutError(PermaError, builtins.TimeoutError):
-    status = Status.TIMEOUT
-
-
-class StateError(PermaError):
-    status = Status.STATE
-
-
-class IOError(PermaError):
-    status = Status.IO
-
-
-class DeviceError(PermaError):
-    status = Status.DEVICE
-
-
-ERRORS = {cls.status: cls for cls in (ArgumentError, NoPlatformError, NoDeviceError, OpenCLError, BuildError,
-                                      NoMemoryError, CapacityError, EmitLimitError, TimeoutError, StateError,
-                                      IOError, DeviceError)}
+ArgumentError = _error_class('ArgumentError', Status.ARGUMENT, ValueError)
+NoPlatformError = _error_class('NoPlatformError', Status.NO_PLATFORM)
+NoDeviceError = _error_class('NoDeviceError', Status.NO_DEVICE)
+OpenCLError = _error_class('OpenCLError', Status.OPENCL)
+BuildError = _error_class('BuildError', Status.BUILD)
+NoMemoryError = _error_class('NoMemoryError', Status.NO_MEMORY, MemoryError)
+CapacityError = _error_class('CapacityError', Status.CAPACITY)
+EmitLimitError = _error_class('EmitLimitError', Status.EMIT_LIMIT)
+TimeoutError = _error_class('TimeoutError', Status.TIMEOUT, builtins.TimeoutError)
+StateError = _error_class('StateError', Status.STATE)
+IOError = _error_class('IOError', Status.IO)
+DeviceError = _error_class('DeviceError', Status.DEVICE)
 
 
 def error(status, message):

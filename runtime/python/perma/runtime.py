@@ -21,6 +21,13 @@ CONFIG_OPTIONS = ('work_groups', 'group_size', 'items_per_work_item', 'queue_cap
                   'trace_path', 'trace_events')
 
 
+def _count(value, what):
+    """A non-negative whole number for an unsigned C field (ctypes would wrap -1 silently)."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 0:
+        raise ArgumentError('%s must be a whole number >= 0, not %r' % (what, value))
+    return int(value)
+
+
 def _bytes(text, what):
     if text is None:
         return None
@@ -71,10 +78,12 @@ class Runtime:
                 value = _bytes(value, name)
             elif value is None:
                 continue
-            try:
-                setattr(config, name, value)
-            except TypeError:
-                raise ArgumentError('Runtime(): %s=%r is not a number' % (name, value)) from None
+            elif name in ('time_limit', 'stall_limit'):
+                if isinstance(value, bool) or not isinstance(value, (int, float)) or not value >= 0:
+                    raise ArgumentError('Runtime(): %s must be a number of seconds >= 0, not %r' % (name, value))
+            else:
+                value = _count(value, 'Runtime(): ' + name)
+            setattr(config, name, value)
         self._build_log = None
         if build_log is not None:
             if not callable(build_log):
@@ -113,7 +122,7 @@ class Runtime:
         self.close()
 
     def __del__(self):
-        if getattr(self, '_handle', None) is not None:
+        if getattr(self, '_handle', None) is not None and lib is not None:
             self.close()
 
     def _rt(self):
@@ -166,14 +175,17 @@ class Runtime:
         emits = tuple((emits or {}).items())
         if len(emits) > _capi.MAX_EMITS:
             raise ArgumentError('procedure %s: %d emit targets, at most %d' % (name, len(emits), _capi.MAX_EMITS))
+        what = 'procedure %s: ' % name
         d = _capi.Procedure(name=_bytes(name, 'name'), item_type=_bytes(item_type, 'item_type'),
-                            item_size=dtype.itemsize, threads_per_item=threads_per_item,
-                            local_bytes_per_item=local_bytes_per_item, source=_bytes(source, 'source'),
+                            item_size=dtype.itemsize,
+                            threads_per_item=_count(threads_per_item, what + 'threads_per_item'),
+                            local_bytes_per_item=_count(local_bytes_per_item, what + 'local_bytes_per_item'),
+                            source=_bytes(source, 'source'),
                             source_file=_bytes(source_file, 'source_file'),
                             function=_bytes(function if function is not None else name, 'function'),
                             priority=priority, cooperative=1 if cooperative else 0)
         for i, (target, max_items) in enumerate(emits):
-            d.emits[i] = _capi.Emit(_bytes(target, 'emit target'), max_items)
+            d.emits[i] = _capi.Emit(_bytes(target, 'emit target'), _count(max_items, what + 'emits[%r]' % target))
         handle = c_int()
         self._check(lib.perma_register(self._rt(), byref(d), byref(handle)))
         procedure = Procedure(handle.value, name, dtype, item_type, emits)
