@@ -45,6 +45,13 @@ def test_missing_device():
     check(info, perma.Status.NO_DEVICE)
 
 
+def test_device_not_text():
+    with pytest.raises(perma.ArgumentError, match=r"a device list is text such as '0:0', 'pocl' or 'all', "
+                                                  r"not 0") as info:
+        perma.Runtime(device=0)
+    check(info, ARGUMENT)
+
+
 def test_a_list_of_devices_for_one_runtime():
     with pytest.raises(perma.ArgumentError,
                        match=r"device '0:0/2' names 2 devices \(0:0/2.0, 0:0/2.1\); a runtime runs on one") as info:

@@ -4,7 +4,7 @@ from ctypes import byref, c_uint, create_string_buffer
 
 from . import _capi
 from ._capi import lib
-from .errors import check
+from .errors import ArgumentError, check
 
 
 class Device(collections.namedtuple('Device', 'platform device sub_devices sub_device')):
@@ -23,6 +23,8 @@ class Device(collections.namedtuple('Device', 'platform device sub_devices sub_d
 def devices(spec=None):
     """The devices of a device list (perma_device_list): 'P:D', 'NAME[:D]',
     'P:D/N', 'P:D/N.K', 'all', comma-separated; None: PERMA_DEVICE, else 0:0."""
+    if spec is not None and not isinstance(spec, str):
+        raise ArgumentError("a device list is text such as '0:0', 'pocl' or 'all', not %r" % (spec,))
     refs = (_capi.DeviceRef * _capi.MAX_DEVICES)()
     count, error = c_uint(), _capi.Error()
     status = lib.perma_device_list(spec.encode() if spec is not None else None, refs, _capi.MAX_DEVICES,
