@@ -13,7 +13,8 @@ its text into roff:
     subsection, whose indented lines "TERM   TEXT" become tagged paragraphs
     (TEXT starting at the column most items of the list use, or after two
     spaces), a line indented to that column continuing the previous one;
-  - a paragraph starting "exit status" (any case): EXIT STATUS;
+  - a line at the left margin starting "exit status" (any case), and the
+    lines after it up to a blank line: EXIT STATUS;
   - everything else: DESCRIPTION, one paragraph per block of lines.
 
 A program whose --help fails (exit status not 0, or no usage line) fails
@@ -92,9 +93,21 @@ def convert(help_text, name, summary, source, see_also):
             out.append('.br')
         words = line.split(' ', 1)
         out.append(term(words[0]) + (' ' + escape(words[1]) if len(words) > 1 else ''))
-    out.append('.SH DESCRIPTION')
-    exit_status = []
-    for block in blocks(rest):
+    description, exit_status = describe(rest)
+    out += ['.SH DESCRIPTION'] + description
+    if exit_status:
+        text = re.sub(r'(?i)^exit status:?\s*', '', ' '.join(exit_status))
+        out += ['.SH EXIT STATUS', escape(text[:1].upper() + text[1:])]
+    if see_also:
+        # \% keeps a word whole: no program name or path split at a line end.
+        out += ['.SH SEE ALSO', ' '.join('\\%' + escape(word).replace('-', '\\-') for word in see_also.split())]
+    return '\n'.join(out) + '\n'
+
+
+def describe(lines):
+    """The roff of the help text besides the usage, and its exit status lines."""
+    out, exit_status = [], []
+    for block in blocks(lines):
         heading = re.match(r'([A-Za-z][\w -]*):$', block[0])
         if heading:
             out.append('.SS %s' % escape(heading.group(1).capitalize()))
@@ -118,13 +131,7 @@ def convert(help_text, name, summary, source, see_also):
                 item, text = split_item(line, column)
                 out += ['.TP', term(item)] + ([escape(text)] if text else [])
                 state, item_indent = 'list', indent
-    if exit_status:
-        text = re.sub(r'(?i)^exit status:?\s*', '', ' '.join(exit_status))
-        out += ['.SH EXIT STATUS', escape(text[:1].upper() + text[1:])]
-    if see_also:
-        # \% keeps a word whole: no program name or path split at a line end.
-        out += ['.SH SEE ALSO', ' '.join('\\%' + escape(word).replace('-', '\\-') for word in see_also.split())]
-    return '\n'.join(out) + '\n'
+    return out, exit_status
 
 
 def main(argv):
