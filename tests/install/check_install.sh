@@ -83,8 +83,8 @@ for doc in "$source"/docs/*.md "$source"/docs/*.png; do
 done
 [ ! -e "$docdir/examples/meson.build" ] || { echo "$docdir/examples/meson.build: a build file was installed"; exit 1; }
 
-# The Python package (under $1) imports, loads the library below $1 and,
-# with numpy, counts the example's tree.
+# The Python package (under $1) imports and loads the library below $1;
+# with numpy and a second argument "count", it counts the example's tree.
 run_python() {
     package=$(find "$1" -path '*/perma/__init__.py' | head -n 1)
     [ -n "$package" ] || { echo "the Python package was not installed below $1"; exit 1; }
@@ -99,19 +99,18 @@ assert perma._capi.lib._name.startswith(sys.argv[1]), perma._capi.lib._name
 assert perma.__version__ == sys.argv[2], perma.__version__
 assert perma.schedule_label("megakernel") == "megakernel/shared"
 ' "$1" "$version"
+    [ "${2:-}" = count ] || return 0
     PYTHONPATH=$(dirname "$(dirname "$package")") "$python" "$docdir/examples/python/uts_count.py" 6 \
         > "$dest/out.txt" 2>&1 || { echo "the installed uts_count.py failed:"; cat "$dest/out.txt"; exit 1; }
     grep -q "^numpy counts the same" "$dest/out.txt" || { echo "uts_count.py:"; cat "$dest/out.txt"; exit 1; }
 }
-run_python "$dest$prefix"
+run_python "$dest$prefix" count
 
 # Moved elsewhere, the tree still runs.
 mv "$dest$prefix" "$dest/moved"
 run_programs "$dest/moved"
-docdir=$dest/moved/$(option datadir)/doc/perma
 run_python "$dest/moved"
 mv "$dest/moved" "$dest$prefix"
-docdir=$dest$prefix/$(option datadir)/doc/perma
 
 # Run the collatz example built as $1 (with $2 as LD_LIBRARY_PATH).
 run_collatz() {
