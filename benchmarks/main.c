@@ -39,6 +39,7 @@ static void usage(FILE *out)
             "                 workloads use the first)\n"
             "  --verbose      print perma's statistics after each perma run\n"
             "  --help         this text; `perma-bench COMMAND --help` for command options\n"
+            "  --version      the version\n"
             "\n"
             "Exit status: 0 all checks passed, 1 a result was wrong or output failed,\n"
             "2 bad usage.  Variants the runtime does not support print as n/a.\n");
@@ -125,6 +126,10 @@ int main(int argc, char **argv)
     if (argc < 2 || strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0) {
         usage(argc < 2 ? stderr : stdout);
         return argc < 2 ? 2 : 0;
+    }
+    if (strcmp(argv[1], "--version") == 0) {
+        printf("perma-bench %s\n", PERMA_VERSION_STRING);
+        return 0;
     }
     const bench_command *command = NULL;
     for (unsigned i = 0; i < command_count; ++i)

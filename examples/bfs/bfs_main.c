@@ -97,6 +97,10 @@ int main(int argc, char **argv)
         bfs_print_usage(stdout);
         return 0;
     }
+    if (o.version) {
+        printf("perma-bfs %s\n", PERMA_VERSION_STRING);
+        return 0;
+    }
     bfs_graph g;
     st = load_graph(&o, &g, message, sizeof message);
     if (st == BFS_OK) {

@@ -9,7 +9,7 @@ void bfs_print_usage(FILE *out)
 {
     fprintf(out,
         "usage: perma-bfs [options] EDGE_FILE\n"
-        "       bfs [options] --generate N\n"
+        "       perma-bfs [options] --generate N\n"
         "Breadth-first levels from a source vertex with perma procedures.\n"
         "EDGE_FILE has one edge 'u v' per line (vertex ids from 0); '#' starts a comment.\n"
         "  --generate N          a preferential-attachment (power-law) graph of N vertices\n"
@@ -25,6 +25,7 @@ void bfs_print_usage(FILE *out)
         "  --compare             time the sequential C BFS and every technique and strategy\n"
         "  --repeats N           runs per version in --compare, best is reported (default 3)\n"
         "  --help                this text\n"
+        "  --version             the version\n"
         "Exit status: 0 ok, 1 runtime or file failure (a bad edge file), 2 bad usage.\n");
 }
 
@@ -62,6 +63,8 @@ static int is_flag(const char *opt, bfs_options *o)
 {
     if (strcmp(opt, "--help") == 0 || strcmp(opt, "-h") == 0)
         o->help = 1;
+    else if (strcmp(opt, "--version") == 0)
+        o->version = 1;
     else if (strcmp(opt, "--compare") == 0)
         o->compare = 1;
     else if (strcmp(opt, "--directed") == 0)
@@ -132,7 +135,7 @@ bfs_status bfs_parse_options(int argc, char **argv, bfs_options *o, char *messag
         if (st != BFS_OK)
             return st;
     }
-    if (!o->help && !o->edge_file == !o->generate) {
+    if (!o->help && !o->version && !o->edge_file == !o->generate) {
         snprintf(message, size, "perma-bfs: give either an edge file or --generate N (try --help)");
         return BFS_ERR_USAGE;
     }

@@ -17,6 +17,7 @@ typedef struct bfs_options {
     unsigned repeats;
     int stats;
     int help;
+    int version;               /* --version */
 } bfs_options;
 
 /* Parse argv into *o (defaults first).  BFS_ERR_USAGE with a message naming

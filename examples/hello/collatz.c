@@ -12,6 +12,7 @@
 
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 /* Item types are shared by both procedures, so they go in a common source. */
 static const char *types =
@@ -48,9 +49,19 @@ static int fail(perma_runtime *rt, const char *what)
 
 int main(int argc, char **argv)
 {
+    const char *usage = "usage: perma-collatz [N]   (1 <= N <= 1000000, default 10000)\n";
+    if (argc > 1 && (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0)) {
+        printf("%sCounts the Collatz steps of 1..N with two perma procedures and prints\n"
+               "a histogram of them and the runtime's statistics.\n", usage);
+        return 0;
+    }
+    if (argc > 1 && strcmp(argv[1], "--version") == 0) {
+        printf("perma-collatz %s\n", PERMA_VERSION_STRING);
+        return 0;
+    }
     unsigned n = argc > 1 ? (unsigned)strtoul(argv[1], NULL, 10) : 10000;
     if (n < 1 || n > 1000000) {
-        fprintf(stderr, "usage: perma-collatz [N]   (1 <= N <= 1000000, default 10000)\n");
+        fprintf(stderr, "%s", usage);
         return 2;
     }
 

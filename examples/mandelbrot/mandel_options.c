@@ -25,6 +25,7 @@ void mandel_print_usage(FILE *out)
         "                        strategy; print a table (no image)\n"
         "  --repeats N           runs per version in --compare, best is reported (default 3)\n"
         "  --help                this text\n"
+        "  --version             the version\n"
         "Exit status: 0 ok, 1 runtime failure, 2 bad usage.\n");
 }
 
@@ -85,6 +86,10 @@ mandel_status mandel_parse_options(int argc, char **argv, mandel_options *o,
         const char *opt = argv[i];
         if (strcmp(opt, "--help") == 0 || strcmp(opt, "-h") == 0) {
             o->help = 1;
+            continue;
+        }
+        if (strcmp(opt, "--version") == 0) {
+            o->version = 1;
             continue;
         }
         if (strcmp(opt, "--compare") == 0) {

@@ -15,6 +15,7 @@ typedef struct mandel_options {
     int reference;             /* --reference: host brute force instead of perma */
     int stats;                 /* --stats: print the runtime's statistics */
     int help;
+    int version;               /* --version */
 } mandel_options;
 
 /* Parse argv into *o (defaults first).  MANDEL_ERR_USAGE with a message

@@ -45,6 +45,10 @@ int main(int argc, char **argv)
         mandel_print_usage(stdout);
         return 0;
     }
+    if (o.version) {
+        printf("perma-mandelbrot %s\n", PERMA_VERSION_STRING);
+        return 0;
+    }
     mandel_params p;
     mandel_params_init(&p, o.width, o.height, o.region[0], o.region[1], o.region[2], o.region[3],
                        o.max_iter, o.min_size);

@@ -1,20 +1,33 @@
 #!/usr/bin/env python3
 """Draw a perma trace (Chrome trace event JSON) as an SVG timeline.
 
-usage: trace_to_svg.py TRACE.json OUT.svg [--title TEXT]
+usage: perma-trace-to-svg TRACE.json OUT.svg [--title TEXT]
 
 One row per track (work-group or host steps), one box per batch, coloured by
 procedure; a legend lists the procedures with their batch and item counts.
 The same file opens in Perfetto (ui.perfetto.dev) or chrome://tracing.
+A run writes a trace when PERMA_TRACE names a file (or perma_config.trace_path).
+Installed as perma-trace-to-svg; in the source tree runtime/tools/trace_to_svg.py.
+
+exit status: 0 ok, 1 a trace without events, 2 bad usage
 """
 import json
 import sys
+
+# meson writes perma's version here in the installed copy (perma-trace-to-svg).
+VERSION = '@VERSION@'
 
 PALETTE = ['#4e79a7', '#f28e2b', '#e15759', '#76b7b2', '#59a14f', '#edc948', '#b07aa1', '#ff9da7',
            '#9c755f', '#bab0ac']
 
 
 def main(argv):
+    if len(argv) == 2 and argv[1] in ('--help', '-h'):
+        sys.stdout.write(__doc__)
+        return 0
+    if len(argv) == 2 and argv[1] == '--version':
+        print('perma-trace-to-svg %s' % ('(source tree)' if VERSION.startswith('@') else VERSION))
+        return 0
     if len(argv) < 3:
         sys.stderr.write(__doc__)
         return 2
