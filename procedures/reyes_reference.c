@@ -254,7 +254,11 @@ static void bound(context *c, struct reyes_subpatch sp)
     if (forced || !split_it) {
         c->counts->forced_dice += (uint64_t)forced;
         ++c->counts->grids;
-        if (o->stages != REYES_STAGES_SUBDIVIDE)
+        if (o->stages == REYES_STAGES_SUBDIVIDE)
+            return;
+        if (c->leaves)
+            reference_leaves_add(c->leaves, &sp);
+        else
             reference_dice(c, &sp);
     } else {
         split(c, sp, along_u);
@@ -279,18 +283,18 @@ static void split(context *c, struct reyes_subpatch sp, int along_u)
     bound(c, b);
 }
 
-static double seconds_since(const struct timespec *start)
+double reference_seconds_since(const struct timespec *start)
 {
     struct timespec end;
     clock_gettime(CLOCK_MONOTONIC, &end);
     return (double)(end.tv_sec - start->tv_sec) + 1e-9 * (double)(end.tv_nsec - start->tv_nsec);
 }
 
-/* Check the options and set up the context's camera. */
-static reyes_status begin(context *c, const reyes_scene *scene, const reyes_camera *camera,
-                          const reyes_options *options, reyes_reference_counts *out, reyes_error *error)
+reyes_status reference_begin(reference_context *c, const reyes_scene *scene, const reyes_camera *camera,
+                             const reyes_options *options, reyes_reference_counts *out, reyes_error *error)
 {
     memset(out, 0, sizeof *out);
+    *c = (context){ .scene = scene, .o = options, .counts = out };
     reyes_status status = reyes_options_check(options, error);
     if (status != REYES_OK)
         return status;
@@ -299,21 +303,37 @@ static reyes_status begin(context *c, const reyes_scene *scene, const reyes_came
                           "the C reference does not model the wedge crack fix's subdivision");
     if (options->shading_rate > 0.0f)
         return reyes_fail(error, REYES_ERR_ARGUMENT, "the C reference dices fixed grids only (shading rate 0)");
-    *c = (context){ .scene = scene, .o = options, .counts = out };
     c->near_w = reyes_near_plane(scene);
     for (int k = 0; k < 3; ++k)
         c->eye[k] = camera->eye[k];
     reyes_light_direction(c->light);
-    c->grid = malloc(sizeof *c->grid);
-    if (!c->grid)
-        return reyes_fail(error, REYES_ERR_NO_MEMORY, "out of memory for the C reference's grid");
     return reyes_camera_matrix(camera, (float)options->width / (float)options->height, c->near_w, c->m, error);
 }
 
-static void subdivide_all(context *c)
+reyes_status reference_grid_alloc(reference_context *c, reyes_error *error)
 {
-    for (size_t p = 0; p < c->scene->patch_count; ++p)
-        bound(c, (struct reyes_subpatch){ .patch = (uint32_t)p, .u1 = 1.0f, .v1 = 1.0f });
+    c->grid = calloc(1, sizeof *c->grid); /* the padding read past the vertices is zeros */
+    return c->grid ? REYES_OK : reyes_fail(error, REYES_ERR_NO_MEMORY, "out of memory for the C reference's grid");
+}
+
+void reference_subdivide_patch(reference_context *c, uint32_t patch)
+{
+    bound(c, (struct reyes_subpatch){ .patch = patch, .u1 = 1.0f, .v1 = 1.0f });
+}
+
+void reference_leaves_add(reference_leaves *leaves, const struct reyes_subpatch *sp)
+{
+    if (leaves->count == leaves->capacity) {
+        size_t capacity = leaves->capacity ? 2 * leaves->capacity : 1024;
+        struct reyes_subpatch *grown = realloc(leaves->items, capacity * sizeof *grown);
+        if (!grown) {
+            leaves->failed = 1;
+            return;
+        }
+        leaves->items = grown;
+        leaves->capacity = capacity;
+    }
+    leaves->items[leaves->count++] = *sp;
 }
 
 reyes_status reyes_reference_run(const reyes_scene *scene, const reyes_camera *camera,
@@ -321,65 +341,17 @@ reyes_status reyes_reference_run(const reyes_scene *scene, const reyes_camera *c
                                  reyes_error *error)
 {
     context c;
-    reyes_status status = begin(&c, scene, camera, options, out, error);
+    reyes_status status = reference_begin(&c, scene, camera, options, out, error);
+    if (status == REYES_OK)
+        status = reference_grid_alloc(&c, error);
     if (status == REYES_OK) {
         struct timespec start;
         clock_gettime(CLOCK_MONOTONIC, &start);
-        subdivide_all(&c);
-        out->seconds = seconds_since(&start);
+        for (size_t p = 0; p < scene->patch_count; ++p)
+            reference_subdivide_patch(&c, (uint32_t)p);
+        out->seconds = reference_seconds_since(&start);
     }
     free(c.grid);
-    return status;
-}
-
-reyes_status reyes_reference_render(const reyes_scene *scene, const reyes_camera *camera,
-                                    const reyes_options *options, reyes_image *image,
-                                    reyes_reference_counts *out, reyes_error *error)
-{
-    memset(image, 0, sizeof *image);
-    context c;
-    reyes_status status = begin(&c, scene, camera, options, out, error);
-    if (status == REYES_OK && (options->motion[0] != 0.0f || options->motion[1] != 0.0f
-                               || options->motion[2] != 0.0f || options->motion_angle_deg != 0.0f
-                               || options->aperture != 0.0f))
-        status = reyes_fail(error, REYES_ERR_ARGUMENT,
-                            "the C reference renders without motion blur or depth of field");
-    if (status == REYES_OK && options->displace_mode != REYES_DISPLACE_NONE && options->displace_amplitude != 0.0f)
-        status = reyes_fail(error, REYES_ERR_ARGUMENT, "the C reference renders without displacement");
-    size_t pixels = (size_t)options->width * options->height;
-    uint64_t *values = NULL;
-    float *positions = NULL;
-    if (status == REYES_OK) {
-        values = malloc(pixels * options->spp * sizeof *values);
-        positions = malloc(pixels * options->spp * 2 * sizeof *positions);
-        image->width = options->width;
-        image->height = options->height;
-        image->rgb = malloc(pixels * 3);
-        image->coverage = malloc(pixels);
-        if (!values || !positions || !image->rgb || !image->coverage)
-            status = reyes_fail(error, REYES_ERR_NO_MEMORY, "out of memory for a %ux%u image", options->width,
-                                options->height);
-    }
-    if (status == REYES_OK) {
-        reference_samples samples;
-        reyes_options full = *options;
-        full.stages = REYES_STAGES_ALL;
-        c.o = &full;
-        c.samples = &samples;
-        memset(values, 0xff, pixels * options->spp * sizeof *values);
-        struct timespec start;
-        clock_gettime(CLOCK_MONOTONIC, &start);
-        reference_samples_init(&samples, options->width, options->height, options->spp, values, positions);
-        subdivide_all(&c);
-        out->seconds = seconds_since(&start);
-        out->samples_written = reyes_resolve(values, options->spp, options->background, 0, 0, options->width,
-                                             options->height, image);
-    }
-    free(values);
-    free(positions);
-    free(c.grid);
-    if (status != REYES_OK)
-        reyes_image_free(image);
     return status;
 }
 
