@@ -1,6 +1,7 @@
 /* perma-bench reyes: the Reyes renderer (procedures/) on the teapot and
- * killeroo models, per technique and main strategy, against the
- * single-threaded C reference of the same pipeline (reyes_reference.c).
+ * killeroo models, per technique and main strategy, against the C
+ * reference of the same pipeline (reyes_reference.c) on one thread and on
+ * every core with OpenMP (reyes_reference_parallel.c).
  *
  * Per-procedure times cannot be measured inside one megakernel, so stages
  * are timed by difference: every variant renders each workload three times,
@@ -20,6 +21,7 @@
 
 #include "reyes.h"
 #include "reyes_reference.h"
+#include "reyes_reference_parallel.h"
 #include "reyes_shared.h"
 
 #ifndef REYES_BENCH_MODELS_DIR
@@ -68,10 +70,11 @@ static void usage(FILE *out)
             "  stages    teapot.bpt and killeroo.bpt from DIR (default %s)\n"
             "            at 512x512 and 1280x1024 (--size replaces them; --quick: teapot at\n"
             "            256x256) with every technique and the main strategies, in full and\n"
-            "            stopped after dice's geometry and after subdivision, and the\n"
+            "            stopped after dice's geometry and after subdivision, the\n"
             "            single-threaded C reference of the same pipeline (shading and\n"
-            "            sampling included) timed the same way.  No crack fix (the C\n"
-            "            reference has none); the cameras of issue 13 (docs/reyes.md).\n"
+            "            sampling included) timed the same way, and its full render on\n"
+            "            --threads OpenMP threads.  No crack fix (the C reference has none);\n"
+            "            the cameras of issue 13 (docs/reyes.md).\n"
             "            Rows: seconds are the best perma_run time of --repeat runs, the\n"
             "            configurations interleaved run by run; 'vs seq' is the C reference's\n"
             "            full render / row.\n"
@@ -212,9 +215,9 @@ typedef struct stage_timing {
 } stage_timing;
 
 /* One run of the C reference in mode o->stages (the full pipeline for
- * REYES_STAGES_ALL). */
+ * REYES_STAGES_ALL; on `threads` OpenMP threads when not 0). */
 static void time_reference(stage_timing *t, const reyes_scene *scene, const reyes_camera *camera,
-                           const reyes_options *o)
+                           const reyes_options *o, unsigned threads)
 {
     if (!t->ran || t->runs == MAX_RUNS)
         return;
@@ -222,7 +225,8 @@ static void time_reference(stage_timing *t, const reyes_scene *scene, const reye
     reyes_status status;
     if (o->stages == REYES_STAGES_ALL) {
         reyes_image image;
-        status = reyes_reference_render(scene, camera, o, &image, &t->counts, &error);
+        status = threads ? reyes_reference_render_parallel(scene, camera, o, threads, &image, &t->counts, &error)
+                         : reyes_reference_render(scene, camera, o, &image, &t->counts, &error);
         reyes_image_free(&image);
     } else {
         status = reyes_reference_run(scene, camera, o, &t->counts, &error);
@@ -259,14 +263,16 @@ static void time_render(stage_timing *t, reyes_renderer *renderer, const reyes_s
 }
 
 /* The row of the C reference in one mode (the full render is the
- * workload's baseline). */
-static double reference_row(bench_report *report, const char *workload, int mode, const stage_timing *t)
+ * workload's baseline; mode -1: the full render on `threads` OpenMP
+ * threads, its counts checked against the single-threaded one's). */
+static double reference_row(bench_report *report, const char *workload, int mode, const stage_timing *t,
+                            unsigned threads, const reyes_reference_counts *single)
 {
     const char *labels[STAGE_MODES] = { "C reference full render", "C reference bound/split/dice",
                                         "C reference bound/split" };
     bench_row row;
-    bench_row_init(&row, workload, labels[mode], "quads");
-    row.work_groups = 1;
+    bench_row_init(&row, workload, mode < 0 ? "C reference OpenMP full render" : labels[mode], "quads");
+    row.work_groups = mode < 0 ? threads : 1;
     row.ran = t->ran && t->runs > 0;
     snprintf(row.message, sizeof row.message, "%s", t->message);
     if (row.ran) {
@@ -275,6 +281,12 @@ static double reference_row(bench_report *report, const char *workload, int mode
         row.count = row.expected = t->counts.grids;
         snprintf(row.message, sizeof row.message, "splits %llu grids %llu", (unsigned long long)t->counts.splits,
                  (unsigned long long)t->counts.grids);
+        if (mode < 0) {
+            const reyes_reference_counts *c = &t->counts;
+            int same = c->splits == single->splits && c->grids == single->grids && c->culled == single->culled
+                       && c->micropolygons == single->micropolygons && c->samples_written == single->samples_written;
+            row.check = same ? BENCH_CHECK_PASS : BENCH_CHECK_FAIL;
+        }
     }
     bench_report_add(report, &row, mode == 0);
     return row.ran ? row.seconds : 0.0;
@@ -335,10 +347,12 @@ static double ratio(double numerator, double denominator)
     return numerator > 0.0 && denominator > 0.0 ? numerator / denominator : 0.0;
 }
 
-/* The stage times by difference and the ratios against both targets, per
- * device. */
-static void print_summary(const bench_options *options, const double reference[STAGE_MODES],
-                          const variant_times times[SLOTS])
+/* The stage times by difference and the ratios against the targets, per
+ * device: issue 13's (megakernel/shared against the single-threaded C
+ * reference and against kernel-per-procedure) and issue 25's (against the
+ * C reference on every core). */
+static void print_summary(const bench_options *options, const double reference[STAGE_MODES], double parallel,
+                          unsigned threads, const variant_times times[SLOTS])
 {
     printf("\n  stages (by difference, seconds):     subdivide   dice geometry   shade+sample   total\n");
     printf("  %-34s %9.4f %15.4f %14.4f %7.4f\n", "C reference (1 thread)", reference[2],
@@ -360,6 +374,10 @@ static void print_summary(const bench_options *options, const double reference[S
         double geometry = ratio(reference[1], mk->seconds[1]), full = ratio(reference[0], mk->seconds[0]);
         printf("  %s%smegakernel/shared vs C reference: full render %.2fx (target >= 1.6x: %s), geometry only "
                "(bound/split/dice) %.2fx\n", on, *on ? ": " : "", full, full >= 1.6 ? "met" : "NOT met", geometry);
+        double vs_openmp = ratio(parallel, mk->seconds[0]);
+        if (vs_openmp > 0.0)
+            printf("  %s%smegakernel/shared vs C reference OpenMP (%u threads): full render %.2fx (target >= 1.5x: "
+                   "%s)\n", on, *on ? ": " : "", threads, vs_openmp, vs_openmp >= 1.5 ? "met" : "NOT met");
         if (kpp->ran) {
             double vs_kpp = ratio(kpp->seconds[0], mk->seconds[0]);
             printf("  %s%smegakernel/shared vs kernel-per-procedure: full render %.2fx (target >= 2x: %s), "
@@ -451,11 +469,14 @@ static void run_workload(bench_report *report, const char *model, const reyes_sc
         printf("reyes: %s: %s\n", workload, error.message);
         return;
     }
-    static stage_timing reference[STAGE_MODES], timings[SLOTS][STAGE_MODES];
+    static stage_timing reference[STAGE_MODES], parallel, timings[SLOTS][STAGE_MODES];
+    unsigned threads = bench_threads(options);
     variant_times times[SLOTS];
     memset(times, 0, sizeof times);
     reyes_options options_of[SLOTS];
     int usable[SLOTS] = {0};
+    memset(&parallel, 0, sizeof parallel);
+    parallel.ran = 1;
     for (int m = 0; m < STAGE_MODES; ++m) {
         memset(&reference[m], 0, sizeof reference[m]);
         reference[m].ran = 1;
@@ -488,7 +509,9 @@ static void run_workload(bench_report *report, const char *model, const reyes_sc
     for (unsigned r = 0; r < runs; ++r) {
         for (int m = 0; m < STAGE_MODES; ++m) {
             base.stages = stage_modes[m];
-            time_reference(&reference[m], scene, &camera, &base);
+            time_reference(&reference[m], scene, &camera, &base, 0);
+            if (stage_modes[m] == REYES_STAGES_ALL)
+                time_reference(&parallel, scene, &camera, &base, threads);
             for (unsigned i = 0; i < SLOTS; ++i) {
                 if (!usable[i])
                     continue;
@@ -499,7 +522,8 @@ static void run_workload(bench_report *report, const char *model, const reyes_sc
     }
     double reference_seconds[STAGE_MODES];
     for (int m = 0; m < STAGE_MODES; ++m)
-        reference_seconds[m] = reference_row(report, workload, m, &reference[m]);
+        reference_seconds[m] = reference_row(report, workload, m, &reference[m], 1, NULL);
+    double parallel_seconds = reference_row(report, workload, -1, &parallel, threads, &reference[0].counts);
     for (unsigned i = 0; i < SLOTS; ++i) {
         if (!usable[i])
             continue;
@@ -515,7 +539,7 @@ static void run_workload(bench_report *report, const char *model, const reyes_sc
         if (options->verbose)
             printf("  (%s)\n", reyes_renderer_device(renderers[i]));
     }
-    print_summary(options, reference_seconds, times);
+    print_summary(options, reference_seconds, parallel_seconds, threads, times);
 }
 
 int bench_reyes(const bench_options *options, int argc, char **argv)
