@@ -292,12 +292,11 @@ static double reference_row(bench_report *report, const char *workload, int mode
     return row.ran ? row.seconds : 0.0;
 }
 
-static size_t peak_item_bytes(const reyes_stats *stats, const reyes_options *o)
+static size_t peak_item_bytes(const reyes_stats *stats)
 {
     size_t total = 0;
     for (int p = 0; p < REYES_PROC_COUNT; ++p) {
-        size_t size = p == REYES_PROC_RASTERIZE ? reyes_grid_item_bytes(o->grid, o->motion_angle_deg != 0.0f)
-                    : p == REYES_PROC_STITCH ? sizeof(struct reyes_stitch) : sizeof(struct reyes_subpatch);
+        size_t size = p == REYES_PROC_STITCH ? sizeof(struct reyes_stitch) : sizeof(struct reyes_subpatch);
         total += (size_t)stats->procedures[p].peak_queue_items * size;
     }
     return total;
@@ -325,18 +324,17 @@ static double variant_row(bench_report *report, const char *workload, const char
                    && (o->stages == REYES_STAGES_SUBDIVIDE || stats->micropolygons == reference->micropolygons);
         row.check = same ? BENCH_CHECK_PASS : BENCH_CHECK_FAIL;
         row.peak_queue_bytes = stats->peak_queue_bytes;
-        row.peak_item_bytes = peak_item_bytes(stats, o);
+        row.peak_item_bytes = peak_item_bytes(stats);
         row.steals = stats->run.steals;
         row.donations = stats->run.donations;
         row.spills = stats->run.spills;
         const perma_procedure_stats *p = stats->procedures;
         snprintf(row.message, sizeof row.message,
-                 "splits %llu grids %llu; items bound %llu split %llu dice %llu raster %llu; launches %u",
+                 "splits %llu grids %llu; items bound %llu split %llu dice %llu; launches %u",
                  (unsigned long long)stats->splits, (unsigned long long)stats->grids,
                  (unsigned long long)p[REYES_PROC_BOUND].items,
                  (unsigned long long)(p[REYES_PROC_SPLIT_U].items + p[REYES_PROC_SPLIT_V].items),
-                 (unsigned long long)p[REYES_PROC_DICE].items,
-                 (unsigned long long)p[REYES_PROC_RASTERIZE].items, stats->run.launches);
+                 (unsigned long long)p[REYES_PROC_DICE].items, stats->run.launches);
     }
     bench_report_add(report, &row, 0);
     return row.ran ? row.seconds : 0.0;

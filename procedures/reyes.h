@@ -275,8 +275,9 @@ typedef struct reyes_image {
 
 void reyes_image_free(reyes_image *image);
 
-enum { REYES_PROC_BOUND, REYES_PROC_SPLIT_U, REYES_PROC_SPLIT_V, REYES_PROC_DICE,
-       REYES_PROC_RASTERIZE, REYES_PROC_STITCH, REYES_PROC_COUNT };
+/* The procedures (dice rasterizes the grids it dices itself). */
+enum { REYES_PROC_BOUND, REYES_PROC_SPLIT_U, REYES_PROC_SPLIT_V, REYES_PROC_DICE, REYES_PROC_STITCH,
+       REYES_PROC_COUNT };
 
 typedef struct reyes_stats {
     uint64_t patches_in;
@@ -319,9 +320,9 @@ reyes_status reyes_renderer_create(const reyes_options *options, reyes_renderer 
                                    reyes_error *error);
 void reyes_renderer_destroy(reyes_renderer *renderer);
 
-/* Bytes of a rasterize item (one diced grid of shaded vertices, struct
- * reyes_grid of reyes_grid.cl) for a grid size, with or without the
- * per-vertex motion of a renderer made for a rotation. */
+/* Bytes of one diced grid of shaded vertices (struct reyes_grid of
+ * reyes_grid.cl, in dice's __local scratch) for a grid size, with or
+ * without the per-vertex motion of a renderer made for a rotation. */
 size_t reyes_grid_item_bytes(unsigned grid, int vertex_motion);
 
 /* One line describing the OpenCL device and groups. */

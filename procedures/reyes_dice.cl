@@ -1,13 +1,13 @@
 /*
  * dice: evaluate a sub-patch on a grid x grid vertex lattice (with a
  * shading rate: the size bound chose for it, reyes_subpatch.dice_size),
- * shade each vertex, count the quads that are visible as micropolygons and
- * hand the lattice to rasterize as one item (struct reyes_grid,
- * reyes_grid.cl).  One work-item dices one sub-patch, REYES_LANES
- * consecutive vertices at a time in SIMD lanes (OpenCL vector types), into
- * __local scratch laid out as the rasterize item; a batch holds as many
- * sub-patches as the group has work-items, so the runtime's cost per batch
- * is shared by that many grids.  Vertices are evaluated on the base patch
+ * shade each vertex and rasterize the lattice (struct reyes_grid,
+ * reyes_grid.cl) where it lies, in __local scratch (reyes_rasterize.cl),
+ * which counts the quads that are visible as micropolygons.  One work-item
+ * dices one sub-patch, REYES_LANES consecutive vertices at a time in SIMD
+ * lanes (OpenCL vector types); a batch holds as many sub-patches as the
+ * group has work-items, so the runtime's cost per batch is shared by that
+ * many grids.  Vertices are evaluated on the base patch
  * at global (u,v), so a vertex shared by two sub-patches is bit-identical
  * wherever it is computed.  The evaluation and shading are in
  * reyes_surface.cl.
@@ -142,13 +142,6 @@ uint reyes_dice_count(__global const struct reyes_params *p, __local const struc
     return visible;
 }
 
-/* Hand a lattice to rasterize (a full render). */
-void reyes_dice_emit(perma_ctx *ctx, __local const struct reyes_grid *g)
-{
-    struct reyes_grid item = *g;
-    emit_rasterize(ctx, &item);
-}
-
 /* The base colour dice shades a grid of columns x rows vertices with: its
  * patch's, or with show_grid_sizes a false colour by the micropolygons'
  * count, from blue (1) through green to red ((grid - 1) squared). */
@@ -231,10 +224,13 @@ void reyes_dice(perma_ctx *ctx, __local const struct reyes_subpatch *item)
         reyes_dice_plain(ctx, item, &s->grid, full);
     else
         reyes_dice_displaced(ctx, item, s, full);
+    struct reyes_raster_target target = { p, ctx->buf.samples, counters, ctx->buf.blur_tuples };
     if (full) {
-        /* rasterize counts the visible quads: it tests each one anyway
-         * (reyes_quad_setup_lanes), so the grid is not tested twice. */
-        reyes_dice_emit(ctx, &s->grid);
+        /* Rasterized where it lies, in __local scratch (no 4 KB item
+         * through a queue); reyes_rasterize counts the visible quads: it
+         * tests each one anyway (reyes_quad_setup_lanes), so the grid is
+         * not tested twice. */
+        reyes_rasterize(&target, &s->grid);
     } else {
         uint quads = reyes_dice_count(p, &s->grid);
         if (quads > 0u)
@@ -261,6 +257,6 @@ void reyes_dice(perma_ctx *ctx, __local const struct reyes_subpatch *item)
     if (strip_quads > 0u) {
         atomic_add(&counters[REYES_COUNT_FILLERS], 2u * strip_quads); /* two triangles each */
         if (full)
-            reyes_dice_emit(ctx, &s->strips);
+            reyes_rasterize(&target, &s->strips);
     }
 }

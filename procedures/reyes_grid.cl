@@ -1,5 +1,5 @@
 /*
- * The rasterize item: a lattice of shaded vertices diced from one
+ * A diced grid, what dice rasterizes: a lattice of shaded vertices from one
  * sub-patch (or the wedge strips along its edges), in screen space.
  * REYES_GRID_VERTICES comes from the renderer (reyes_renderer.c: the
  * length of the vertex arrays, reyes_shared.h's REYES_GRID_ARRAY).

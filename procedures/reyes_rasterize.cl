@@ -1,7 +1,7 @@
 /*
- * rasterize: one diced grid (or a sub-patch's wedge strips) per item,
- * struct reyes_grid of reyes_grid.cl, taken by one work-item (a batch holds
- * as many grids as the group has work-items).
+ * Rasterization of one diced grid (or a sub-patch's wedge strips), struct
+ * reyes_grid of reyes_grid.cl, by the work-item that diced it, from its
+ * __local scratch (reyes_dice.cl): a grid never goes through a queue.
  * Every sample in a quad's pixel box is tested against both of its
  * triangles; a covered sample stores (depth, color) with a 64-bit atomic
  * min, so the nearest surface wins whatever order work-items and
@@ -23,6 +23,15 @@
  * loops.  Every path tests the same samples of a quad with the same
  * arithmetic.
  */
+
+/* What rasterization reads and writes: the buffers dice's perma_ctx binds
+ * (this file comes before the runtime's definitions). */
+struct reyes_raster_target {
+    __global const struct reyes_params *params;
+    __global ulong *samples;
+    __global uint *counters;
+    __global const float4 *blur_tuples;
+};
 
 /* Sixteen quads (slots first .. first + 15 of a lattice), set up in SIMD
  * lanes as reyes_triangle_setup and reyes_tile_pixels would one by one:
@@ -459,9 +468,9 @@ void reyes_small_quads(__global const struct reyes_params *p, __global ulong *sa
 }
 
 /* Blurred items: each visible quad with the configured algorithm. */
-void reyes_rasterize_blurred_grid(perma_ctx *ctx, __local const struct reyes_grid *item)
+void reyes_rasterize_blurred_grid(const struct reyes_raster_target *t, __local const struct reyes_grid *item)
 {
-    __global const struct reyes_params *p = ctx->buf.params;
+    __global const struct reyes_params *p = t->params;
     int slots = (int)(item->rows - 1u) * (int)item->columns;
     uint visible = 0;
     for (int k = 0; k < slots; ++k) {
@@ -469,10 +478,10 @@ void reyes_rasterize_blurred_grid(perma_ctx *ctx, __local const struct reyes_gri
             continue;
         ++visible;
         struct reyes_moving_quad m = reyes_grid_moving(p, item, k);
-        reyes_rasterize_blurred(p, ctx->buf.blur_tuples, ctx->buf.samples, &m, 2);
+        reyes_rasterize_blurred(p, t->blur_tuples, t->samples, &m, 2);
     }
     if (item->counted && visible > 0u)
-        atomic_add(&ctx->buf.counters[REYES_COUNT_MICROPOLYGONS], visible);
+        atomic_add(&t->counters[REYES_COUNT_MICROPOLYGONS], visible);
 }
 
 /* Ask for the cache lines of the samples under the grid's screen box
@@ -527,14 +536,14 @@ REYES_INLINE void reyes_prefetch_samples(__global const struct reyes_params *p, 
 #endif
 }
 
-void reyes_rasterize(perma_ctx *ctx, __local const struct reyes_grid *item)
+void reyes_rasterize(const struct reyes_raster_target *t, __local const struct reyes_grid *item)
 {
-    __global const struct reyes_params *p = ctx->buf.params;
+    __global const struct reyes_params *p = t->params;
     if (p->blur) {
-        reyes_rasterize_blurred_grid(ctx, item);
+        reyes_rasterize_blurred_grid(t, item);
         return;
     }
-    __global ulong *samples = ctx->buf.samples;
+    __global ulong *samples = t->samples;
     struct reyes_sample_chunks chunks;
     reyes_sample_chunks_init(&chunks, p->spp);
     reyes_prefetch_samples(p, samples, item, p->spp);
@@ -565,6 +574,6 @@ void reyes_rasterize(perma_ctx *ctx, __local const struct reyes_grid *item)
          * reyes_dice_count (which counts the grids of other renders). */
         uint count = (uint)reyes_sum16(visible);
         if (count > 0u)
-            atomic_add(&ctx->buf.counters[REYES_COUNT_MICROPOLYGONS], count);
+            atomic_add(&t->counters[REYES_COUNT_MICROPOLYGONS], count);
     }
 }

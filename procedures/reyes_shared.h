@@ -86,7 +86,7 @@ struct reyes_stitch {
     REYES_U32 pad;
 };
 
-/* The rasterize item (struct reyes_grid, reyes_grid.cl): REYES_GRID_HEADER_WORDS
+/* A diced grid (struct reyes_grid, reyes_grid.cl): REYES_GRID_HEADER_WORDS
  * words, then arrays of REYES_GRID_ARRAY(grid) vertices: x, y, z and
  * rgba, and with per-vertex motion also mx, my and mw.  An array holds a
  * grid x grid lattice or the four wedge strips of 2 x grid vertices,
