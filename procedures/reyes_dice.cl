@@ -46,18 +46,14 @@ void reyes_dice_strip(__global const struct reyes_params *p, const float3 base[1
     }
 }
 
-/* Vertices i0 .. i0 + REYES_LANES - 1 of row j of an undisplaced grid n
- * vertices wide into g, from the row's curves, at parameters u0 .. u1
- * across the grid, shaded with base colour `base` when `shade` (else
- * colour 0), in SIMD lanes.  The lanes past the row write into the next
- * row (made after this one) or the lattice's padding.  The normal is not
- * fixed up at poles here: the returned mask has the lanes whose normal
- * vanished, for reyes_grid_vertex_color; otherwise each vertex is
- * reyes_grid_vertex's, bit for bit. */
-REYES_INLINE reyes_lane_mask reyes_dice_lanes(__global const struct reyes_params *p,
-                                              const struct reyes_row_curves *rc,
-                                              const struct reyes_lighting *light, float u0, float u1, uint base,
-                                              __local struct reyes_grid *g, int j, int i0, int n, int shade)
+/* A row has at most this many blocks of REYES_LANES vertices (32
+ * vertices, REYES_MAX_GRID). */
+#define REYES_DICE_ROW_BLOCKS 2
+
+/* The Bernstein weights (bu) and their derivatives (du) in u of vertices
+ * i0 .. i0 + REYES_LANES - 1 of a row n vertices wide, at parameters u0 ..
+ * u1 across the grid: the same for every row. */
+REYES_INLINE void reyes_dice_column_weights(float u0, float u1, int i0, int n, reyes_lanes bu[4], reyes_lanes du[4])
 {
     const reyes_lane_mask lane = (reyes_lane_mask)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
     reyes_lane_mask i = i0 + lane;
@@ -65,9 +61,32 @@ REYES_INLINE reyes_lane_mask reyes_dice_lanes(__global const struct reyes_params
     reyes_lanes tu = reyes_convert_lanes(i) / last;
     /* mix(a, b, 1) == b exactly, so shared patch edges get equal u. */
     reyes_lanes u = u0 * (1.0f - tu) + u1 * tu;
-    reyes_lanes x[3], normal[3];
-    reyes_row_point_lanes(rc, u, x);
-    reyes_row_normal_lanes(rc, u, normal);
+    reyes_bernstein_lanes(u, bu);
+    reyes_bernstein_deriv_lanes(u, du);
+}
+
+/* Vertices i0 .. i0 + REYES_LANES - 1 of row j of an undisplaced grid n
+ * vertices wide into g, from the row's curves (the same for the whole
+ * row, so scalars) and the columns' weights, shaded with base colour
+ * `base` when `shade` (else colour 0), in SIMD lanes.  The lanes past the
+ * row write into the next row (made after this one) or the lattice's
+ * padding.  The normal is not fixed up at poles here: the returned mask
+ * has the lanes whose normal vanished, for reyes_grid_vertex_color;
+ * otherwise each vertex is reyes_grid_vertex's, bit for bit (the same
+ * arithmetic as reyes_row_point_lanes and reyes_row_normal_lanes). */
+REYES_INLINE reyes_lane_mask reyes_dice_lanes(__global const struct reyes_params *p,
+                                              const struct reyes_row_curves_one *rc, const reyes_lanes bu[4],
+                                              const reyes_lanes du[4], const struct reyes_lighting *light,
+                                              uint base, __local struct reyes_grid *g, int j, int i0, int n,
+                                              int shade)
+{
+    reyes_lanes x[3], normal[3], tu[3], tv[3];
+    for (int d = 0; d < 3; ++d) {
+        x[d] = reyes_curve_at_one(bu, rc->q[d]);
+        tu[d] = reyes_curve_at_one(du, rc->q[d]);
+        tv[d] = reyes_curve_at_one(bu, rc->qv[d]);
+    }
+    reyes_cross_lanes(tu, tv, normal);
     __global const float *m = p->view_proj;
     reyes_lanes clip[4];
     for (int r = 0; r < 4; ++r)
@@ -168,15 +187,18 @@ void reyes_dice_plain(perma_ctx *ctx, __local const struct reyes_subpatch *item,
     struct reyes_lighting light = reyes_lighting_of(p);
     uint base = reyes_dice_base_color(p, ctx->buf.colors[item->patch], n, rows);
     float u0 = item->u0, v0 = item->v0, u1 = item->u1, v1 = item->v1;
+    reyes_lanes bu[REYES_DICE_ROW_BLOCKS][4], du[REYES_DICE_ROW_BLOCKS][4];
+    for (int b = 0; b * REYES_LANES < n; ++b)
+        reyes_dice_column_weights(u0, u1, b * REYES_LANES, n, bu[b], du[b]);
     float last = (float)(rows - 1);
     for (int j = 0; j < rows; ++j) {
         float tv = (float)j / last;
         float v = v0 * (1.0f - tv) + v1 * tv; /* as reyes_grid_uv_of */
-        struct reyes_row_curves rc;
-        reyes_row_curves_lanes(&h, (reyes_lanes)v, &rc);
-        for (int i0 = 0; i0 < n; i0 += REYES_LANES) {
-            reyes_lane_mask degenerate = reyes_dice_lanes(p, &rc, &light, u0, u1, base, g, j, i0, n, shade);
-            if (shade && any(degenerate)) {
+        struct reyes_row_curves_one rc;
+        reyes_row_curves_one(&h, v, &rc);
+        for (int b = 0, i0 = 0; i0 < n; ++b, i0 += REYES_LANES) {
+            reyes_lane_mask degenerate = reyes_dice_lanes(p, &rc, bu[b], du[b], &light, base, g, j, i0, n, shade);
+            if (shade && reyes_any16(degenerate)) {
                 struct reyes_subpatch sp = *item;
                 float3 cp[16];
                 reyes_load_patch(ctx->buf.patches, sp.patch, cp);

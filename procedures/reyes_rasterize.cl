@@ -272,7 +272,12 @@ void reyes_quad_pixels(__global const struct reyes_params *p, __global ulong *sa
 
 REYES_INLINE int reyes_any16(int16 m)
 {
+#if defined(__clang__) && __has_builtin(__builtin_reduce_or)
+    /* A reduction LLVM knows: a mask test (kortest) on AVX-512. */
+    return __builtin_reduce_or(m) != 0;
+#else
     return reyes_any8(m.lo | m.hi);
+#endif
 }
 
 /* Bit l set where lane l of m is set. */
@@ -381,10 +386,22 @@ REYES_INLINE int reyes_max16(int16 m)
  * reyes_triangle_sample; each covered sample's nearer value is merged
  * into the samples. */
 #define REYES_SMALL_STRATA 3
-void reyes_small_quads(__global const struct reyes_params *p, __global ulong *samples,
-                       __local const struct reyes_grid *g, const struct reyes_quad_lanes *q,
-                       const struct reyes_strata_lanes *strata, int16 small, int first,
-                       const struct reyes_sample_chunks *chunks)
+
+/* The stratum `cell` steps past the last of its pixel's cells (of n):
+ * on into the next pixel (at most REYES_SMALL_STRATA - 1 times, n = 1). */
+REYES_INLINE void reyes_carry16(int16 *cell, int16 *pixel, int n)
+{
+    for (int k = 1; k < REYES_SMALL_STRATA; ++k) {
+        int16 over = *cell >= n;
+        *cell -= n & over;
+        *pixel -= over;
+    }
+}
+
+REYES_INLINE void reyes_small_quads_on(__global const struct reyes_params *p, __global ulong *samples,
+                                       __local const struct reyes_grid *g, const struct reyes_quad_lanes *q,
+                                       const struct reyes_strata_lanes *strata, int16 small, int first,
+                                       const struct reyes_sample_chunks *chunks, int exact)
 {
     uint spp = chunks->spp, tile_x = (uint)p->tile_x0, tile_y = (uint)p->tile_y0;
     uint tile_width = (uint)p->tile_x1 - tile_x;
@@ -413,29 +430,35 @@ void reyes_small_quads(__global const struct reyes_params *p, __global ulong *sa
     }
     int width = reyes_max16(select((int16)0, strata->x1 - strata->x0 + 1, small));
     int height = reyes_max16(select((int16)0, strata->y1 - strata->y0 + 1, small));
+    /* Per lane, the pixel and cell of each stratum across (one division
+     * for the first, then a carry into the next pixel), made once for
+     * every row of strata. */
+    int16 px[REYES_SMALL_STRATA], cx[REYES_SMALL_STRATA];
+    int16 first_px = reyes_quotient16(strata->x0, chunks->columns);
+    int16 first_py = reyes_quotient16(strata->y0, chunks->rows);
+    for (int dx = 0; dx < width; ++dx) {
+        px[dx] = first_px;
+        cx[dx] = strata->x0 - first_px * columns + dx;
+        reyes_carry16(&cx[dx], &px[dx], columns);
+    }
     for (int dy = 0; dy < height; ++dy) {
-        int16 sy = strata->y0 + dy;
-        int16 row = small & (sy <= strata->y1);
-        int16 py = reyes_quotient16(sy, chunks->rows);
-        int16 cy = sy - py * rows;
+        int16 row = small & (strata->y0 + dy <= strata->y1);
+        int16 py = first_py, cy = strata->y0 - first_py * rows + dy;
+        reyes_carry16(&cy, &py, rows);
         float16 y_cell = convert_float16(py);
         float16 cell_y = convert_float16(cy);
         uint16 row_index = (as_uint16(py) - tile_y) * tile_width - tile_x;
         for (int dx = 0; dx < width; ++dx) {
-            int16 sx = strata->x0 + dx;
-            int16 px = reyes_quotient16(sx, chunks->columns);
-            int16 cx = sx - px * columns;
-            int16 sample = cy * columns + cx;
-            int16 lanes = row & (sx <= strata->x1) & (sample < (int)spp);
+            int16 sample = cy * columns + cx[dx];
+            int16 lanes = row & (strata->x0 + dx <= strata->x1) & (sample < (int)spp);
             uint16 row_hash = reyes_hash16(as_uint16(py) * 0x85ebca6bu ^ reyes_hash16(as_uint16(sample)));
-            uint16 h = reyes_hash16(as_uint16(px) * 0x9e3779b9u ^ row_hash);
+            uint16 h = reyes_hash16(as_uint16(px[dx]) * 0x9e3779b9u ^ row_hash);
             float16 jx = convert_float16(h & 0xffffu) * (1.0f / 65536.0f);
             float16 jy = convert_float16(h >> 16) * (1.0f / 65536.0f);
-            float16 x = convert_float16(px)
-                        + (chunks->inv_columns != 0.0f ? (convert_float16(cx) + jx) * chunks->inv_columns
-                                                        : (convert_float16(cx) + jx) / chunks->columns);
-            float16 y = y_cell
-                        + (chunks->inv_rows != 0.0f ? (cell_y + jy) * chunks->inv_rows : (cell_y + jy) / chunks->rows);
+            float16 x = convert_float16(px[dx])
+                        + (exact ? (convert_float16(cx[dx]) + jx) * chunks->inv_columns
+                                 : (convert_float16(cx[dx]) + jx) / chunks->columns);
+            float16 y = y_cell + (exact ? (cell_y + jy) * chunks->inv_rows : (cell_y + jy) / chunks->rows);
             /* Triangle 1's edge (0, 2) is triangle 0's (2, 0): the same
              * canonical value. */
             float16 diagonal = reyes_edge_raw16(q, 0, 1, x, y);
@@ -447,9 +470,9 @@ void reyes_small_quads(__global const struct reyes_params *p, __global ulong *sa
             float16 w1c = as_float16(as_uint16(diagonal) ^ flip[1][2]);
             int16 covered0 = lanes & has_area[0] & (w0a >= 0.0f) & (w0b >= 0.0f) & (w0c >= 0.0f);
             int16 covered1 = lanes & has_area[1] & (w1a >= 0.0f) & (w1b >= 0.0f) & (w1c >= 0.0f);
-            uint both = reyes_lane_bits_pair16(covered0, covered1);
-            if (!both)
+            if (!reyes_any16(covered0 | covered1))
                 continue;
+            uint both = reyes_lane_bits_pair16(covered0, covered1);
             uint bits0 = both & 0xffffu, bits1 = both >> 16, bits = bits0 | bits1;
             ulong16 nearest = (ulong16)REYES_EMPTY_SAMPLE;
             if (bits0)
@@ -457,7 +480,7 @@ void reyes_small_quads(__global const struct reyes_params *p, __global ulong *sa
             if (bits1)
                 nearest = min(nearest,
                               reyes_triangle_values16(w1a, w1b, w1c, inv_area[1], z, color, 0, 2, 3, covered1));
-            uint16 index = (row_index + as_uint16(px)) * spp + as_uint16(sample);
+            uint16 index = (row_index + as_uint16(px[dx])) * spp + as_uint16(sample);
             while (bits) {
                 uint l = 31u - clz(bits & (0u - bits));
                 bits &= bits - 1u;
@@ -465,6 +488,19 @@ void reyes_small_quads(__global const struct reyes_params *p, __global ulong *sa
             }
         }
     }
+}
+
+/* reyes_small_quads_on with the lattice's divisions as products where
+ * those are exact (columns and rows powers of two), decided once. */
+void reyes_small_quads(__global const struct reyes_params *p, __global ulong *samples,
+                       __local const struct reyes_grid *g, const struct reyes_quad_lanes *q,
+                       const struct reyes_strata_lanes *strata, int16 small, int first,
+                       const struct reyes_sample_chunks *chunks)
+{
+    if (chunks->inv_columns != 0.0f && chunks->inv_rows != 0.0f)
+        reyes_small_quads_on(p, samples, g, q, strata, small, first, chunks, 1);
+    else
+        reyes_small_quads_on(p, samples, g, q, strata, small, first, chunks, 0);
 }
 
 /* Blurred items: each visible quad with the configured algorithm. */

@@ -64,24 +64,27 @@ typedef uint16 reyes_lane_uint;
 #define reyes_vstore_lanes vstore16
 #define reyes_vload_lanes vload16
 
-/* Cubic Bernstein weights at t and their derivatives. */
-REYES_INLINE void reyes_bernstein_lanes(reyes_lanes t, reyes_lanes b[4])
-{
-    reyes_lanes s = 1.0f - t;
-    b[0] = s * s * s;
-    b[1] = 3.0f * t * s * s;
-    b[2] = 3.0f * t * t * s;
-    b[3] = t * t * t;
-}
-
-REYES_INLINE void reyes_bernstein_deriv_lanes(reyes_lanes t, reyes_lanes d[4])
-{
-    reyes_lanes s = 1.0f - t;
-    d[0] = -3.0f * s * s;
-    d[1] = 3.0f * s * s - 6.0f * t * s;
-    d[2] = 6.0f * t * s - 3.0f * t * t;
-    d[3] = 3.0f * t * t;
-}
+/* Cubic Bernstein weights at t and their derivatives, in lanes and (the
+ * same arithmetic, so the same bits) for one parameter. */
+#define REYES_DEFINE_BERNSTEIN(suffix, type)                                   \
+    REYES_INLINE void reyes_bernstein##suffix(type t, type b[4])               \
+    {                                                                          \
+        type s = 1.0f - t;                                                     \
+        b[0] = s * s * s;                                                      \
+        b[1] = 3.0f * t * s * s;                                               \
+        b[2] = 3.0f * t * t * s;                                               \
+        b[3] = t * t * t;                                                      \
+    }                                                                          \
+    REYES_INLINE void reyes_bernstein_deriv##suffix(type t, type d[4])         \
+    {                                                                          \
+        type s = 1.0f - t;                                                     \
+        d[0] = -3.0f * s * s;                                                  \
+        d[1] = 3.0f * s * s - 6.0f * t * s;                                    \
+        d[2] = 6.0f * t * s - 3.0f * t * t;                                    \
+        d[3] = 3.0f * t * t;                                                   \
+    }
+REYES_DEFINE_BERNSTEIN(_lanes, reyes_lanes)
+REYES_DEFINE_BERNSTEIN(_one, float)
 
 /* Control points of a base patch as three arrays of scalars. */
 struct reyes_hull {
@@ -150,34 +153,44 @@ REYES_INLINE void reyes_normalize_lanes(reyes_lanes *x, reyes_lanes *y, reyes_la
  * in u (q) and the derivative curve in v (qv), whose four control points
  * are then weighted by the Bernstein weights of u.  dice makes the curves
  * once per grid row and shares them by every vertex of the row. */
-struct reyes_row_curves {
-    reyes_lanes q[3][4], qv[3][4];
-};
-
-REYES_INLINE void reyes_row_curves_lanes(const struct reyes_hull *h, reyes_lanes v, struct reyes_row_curves *rc)
-{
-    reyes_lanes bv[4], dv[4];
-    reyes_bernstein_lanes(v, bv);
-    reyes_bernstein_deriv_lanes(v, dv);
-    for (int c = 0; c < 4; ++c) {
-        rc->q[0][c] = bv[0] * h->x[c] + bv[1] * h->x[4 + c] + bv[2] * h->x[8 + c] + bv[3] * h->x[12 + c];
-        rc->q[1][c] = bv[0] * h->y[c] + bv[1] * h->y[4 + c] + bv[2] * h->y[8 + c] + bv[3] * h->y[12 + c];
-        rc->q[2][c] = bv[0] * h->z[c] + bv[1] * h->z[4 + c] + bv[2] * h->z[8 + c] + bv[3] * h->z[12 + c];
-        rc->qv[0][c] = dv[0] * h->x[c] + dv[1] * h->x[4 + c] + dv[2] * h->x[8 + c] + dv[3] * h->x[12 + c];
-        rc->qv[1][c] = dv[0] * h->y[c] + dv[1] * h->y[4 + c] + dv[2] * h->y[8 + c] + dv[3] * h->y[12 + c];
-        rc->qv[2][c] = dv[0] * h->z[c] + dv[1] * h->z[4 + c] + dv[2] * h->z[8 + c] + dv[3] * h->z[12 + c];
+#define REYES_DEFINE_ROW_CURVES(suffix, type)                                                                  \
+    struct reyes_row_curves##suffix {                                                                          \
+        type q[3][4], qv[3][4];                                                                                \
+    };                                                                                                         \
+    REYES_INLINE void reyes_row_curves##suffix(const struct reyes_hull *h, type v,                             \
+                                               struct reyes_row_curves##suffix *rc)                            \
+    {                                                                                                          \
+        type bv[4], dv[4];                                                                                     \
+        reyes_bernstein##suffix(v, bv);                                                                        \
+        reyes_bernstein_deriv##suffix(v, dv);                                                                  \
+        for (int c = 0; c < 4; ++c) {                                                                          \
+            rc->q[0][c] = bv[0] * h->x[c] + bv[1] * h->x[4 + c] + bv[2] * h->x[8 + c] + bv[3] * h->x[12 + c];  \
+            rc->q[1][c] = bv[0] * h->y[c] + bv[1] * h->y[4 + c] + bv[2] * h->y[8 + c] + bv[3] * h->y[12 + c];  \
+            rc->q[2][c] = bv[0] * h->z[c] + bv[1] * h->z[4 + c] + bv[2] * h->z[8 + c] + bv[3] * h->z[12 + c];  \
+            rc->qv[0][c] = dv[0] * h->x[c] + dv[1] * h->x[4 + c] + dv[2] * h->x[8 + c] + dv[3] * h->x[12 + c]; \
+            rc->qv[1][c] = dv[0] * h->y[c] + dv[1] * h->y[4 + c] + dv[2] * h->y[8 + c] + dv[3] * h->y[12 + c]; \
+            rc->qv[2][c] = dv[0] * h->z[c] + dv[1] * h->z[4 + c] + dv[2] * h->z[8 + c] + dv[3] * h->z[12 + c]; \
+        }                                                                                                      \
     }
-}
+/* The row curves in lanes (struct reyes_row_curves_lanes) and, for dice's
+ * rows (v is the same for every vertex of a row), as scalars (struct
+ * reyes_row_curves_one): the same arithmetic, so the same bits. */
+REYES_DEFINE_ROW_CURVES(_lanes, reyes_lanes)
+REYES_DEFINE_ROW_CURVES(_one, float)
 
-/* w[0] q[0] + w[1] q[1] + w[2] q[2] + w[3] q[3]. */
-REYES_INLINE reyes_lanes reyes_curve_at(const reyes_lanes w[4], const reyes_lanes q[4])
-{
-    return w[0] * q[0] + w[1] * q[1] + w[2] * q[2] + w[3] * q[3];
-}
+/* w[0] q[0] + w[1] q[1] + w[2] q[2] + w[3] q[3], with the curve's
+ * control points in lanes or the same for every lane. */
+#define REYES_DEFINE_CURVE_AT(suffix, type)                                                        \
+    REYES_INLINE reyes_lanes reyes_curve_at##suffix(const reyes_lanes w[4], const type q[4])       \
+    {                                                                                              \
+        return w[0] * q[0] + w[1] * q[1] + w[2] * q[2] + w[3] * q[3];                              \
+    }
+REYES_DEFINE_CURVE_AT(, reyes_lanes)
+REYES_DEFINE_CURVE_AT(_one, float)
 
 /* Points, and unnormalised normals (cross products of the derivatives),
  * at u on the row curves. */
-REYES_INLINE void reyes_row_point_lanes(const struct reyes_row_curves *rc, reyes_lanes u, reyes_lanes x[3])
+REYES_INLINE void reyes_row_point_lanes(const struct reyes_row_curves_lanes *rc, reyes_lanes u, reyes_lanes x[3])
 {
     reyes_lanes bu[4];
     reyes_bernstein_lanes(u, bu);
@@ -185,16 +198,9 @@ REYES_INLINE void reyes_row_point_lanes(const struct reyes_row_curves *rc, reyes
         x[d] = reyes_curve_at(bu, rc->q[d]);
 }
 
-REYES_INLINE void reyes_row_normal_lanes(const struct reyes_row_curves *rc, reyes_lanes u, reyes_lanes n[3])
+/* cross(tu, tv), products rounded apart as PoCL's cross. */
+REYES_INLINE void reyes_cross_lanes(const reyes_lanes tu[3], const reyes_lanes tv[3], reyes_lanes n[3])
 {
-    reyes_lanes bu[4], du[4], tu[3], tv[3];
-    reyes_bernstein_lanes(u, bu);
-    reyes_bernstein_deriv_lanes(u, du);
-    for (int d = 0; d < 3; ++d) {
-        tu[d] = reyes_curve_at(du, rc->q[d]);
-        tv[d] = reyes_curve_at(bu, rc->qv[d]);
-    }
-    /* cross(tu, tv), products rounded apart as PoCL's cross. */
     reyes_lanes yz = tu[1] * tv[2], zy = tu[2] * tv[1];
     reyes_lanes zx = tu[2] * tv[0], xz = tu[0] * tv[2];
     reyes_lanes xy = tu[0] * tv[1], yx = tu[1] * tv[0];
@@ -203,11 +209,23 @@ REYES_INLINE void reyes_row_normal_lanes(const struct reyes_row_curves *rc, reye
     n[2] = xy - yx;
 }
 
+REYES_INLINE void reyes_row_normal_lanes(const struct reyes_row_curves_lanes *rc, reyes_lanes u, reyes_lanes n[3])
+{
+    reyes_lanes bu[4], du[4], tu[3], tv[3];
+    reyes_bernstein_lanes(u, bu);
+    reyes_bernstein_deriv_lanes(u, du);
+    for (int d = 0; d < 3; ++d) {
+        tu[d] = reyes_curve_at(du, rc->q[d]);
+        tv[d] = reyes_curve_at(bu, rc->qv[d]);
+    }
+    reyes_cross_lanes(tu, tv, n);
+}
+
 /* Points and unnormalised normals at (u,v) of a hull. */
 REYES_INLINE void reyes_hull_point_lanes(const struct reyes_hull *h, reyes_lanes u, reyes_lanes v,
                                          reyes_lanes x[3])
 {
-    struct reyes_row_curves rc;
+    struct reyes_row_curves_lanes rc;
     reyes_row_curves_lanes(h, v, &rc);
     reyes_row_point_lanes(&rc, u, x);
 }
@@ -215,7 +233,7 @@ REYES_INLINE void reyes_hull_point_lanes(const struct reyes_hull *h, reyes_lanes
 REYES_INLINE void reyes_hull_normal_lanes(const struct reyes_hull *h, reyes_lanes u, reyes_lanes v,
                                           reyes_lanes n[3])
 {
-    struct reyes_row_curves rc;
+    struct reyes_row_curves_lanes rc;
     reyes_row_curves_lanes(h, v, &rc);
     reyes_row_normal_lanes(&rc, u, n);
 }
