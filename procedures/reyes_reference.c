@@ -173,13 +173,32 @@ static float pixels_per_unit(const context *c, const vec4 clip[16])
                  0.5f * (float)c->o->height * (r1 + ndc_y * r3)) / w_min;
 }
 
-/* 1 to split (then *along_u), 0 to dice, as reyes_split_reason. */
-static int tiered_split(const context *c, const vec3 cp[16], const vec4 clip[16], float size,
-                        int *along_u)
+/* Shading-rate dicing (reyes_rate_segments): the micropolygons a
+ * sub-patch needs along u (need[0]) and v so that each is at most
+ * sqrt(rate) pixels long, from the longest row and column of its
+ * projected control net. */
+static void rate_segments(const context *c, const float sx[16], const float sy[16], float need[2])
 {
-    float cap = c->o->flat_bound_px > 0.0f ? c->o->flat_bound_px : (float)(c->o->grid - 1);
-    if (size > cap)
-        return 1;
+    float along_u = 0.0f, along_v = 0.0f;
+    for (int k = 0; k < 4; ++k) {
+        float row = 0.0f, column = 0.0f;
+        for (int i = 0; i < 3; ++i) {
+            int a = k * 4 + i, b = i * 4 + k;
+            row += sqrtf((sx[a + 1] - sx[a]) * (sx[a + 1] - sx[a]) + (sy[a + 1] - sy[a]) * (sy[a + 1] - sy[a]));
+            column += sqrtf((sx[b + 4] - sx[b]) * (sx[b + 4] - sx[b]) + (sy[b + 4] - sy[b]) * (sy[b + 4] - sy[b]));
+        }
+        along_u = fmaxf(along_u, row);
+        along_v = fmaxf(along_v, column);
+    }
+    float side = sqrtf(c->o->shading_rate);
+    need[0] = fmaxf(ceilf(along_u / side + 0.5f), 1.0f);
+    need[1] = fmaxf(ceilf(along_v / side + 0.5f), 1.0f);
+}
+
+/* The flatness tiers of the tiered criterion: 1 to split (then
+ * *along_u), 0 to dice, as reyes_split_reason after its size test. */
+static int tiered_split(const context *c, const vec3 cp[16], const vec4 clip[16], int *along_u)
+{
     float scale = pixels_per_unit(c, clip), along[2] = { 0.0f, 0.0f };
     int failed = 0;
     for (int line = 0; line < 4; ++line) {
@@ -246,13 +265,29 @@ static void bound(context *c, struct reyes_subpatch sp)
         ++c->counts->culled;
         return;
     }
-    float size = fmaxf(hix - lox, hiy - loy);
-    int along_u = extent(sx, sy, NULL, 1) >= extent(sx, sy, NULL, 0);
-    int split_it = o->subdivision == REYES_SUBDIVISION_TIERED
-                       ? tiered_split(c, cp, clip, size, &along_u)
-                       : size > o->bound_px;
+    /* As reyes_split_reason: too big for one grid (the screen bound, or
+     * with a shading rate the micropolygons needed), then the tiers. */
+    float size = fmaxf(hix - lox, hiy - loy), need[2] = { 0.0f, 0.0f };
+    int along_u, split_it;
+    if (o->shading_rate > 0.0f) {
+        rate_segments(c, sx, sy, need);
+        split_it = fmaxf(need[0], need[1]) > (float)(o->grid - 1);
+        along_u = need[0] >= need[1];
+    } else {
+        float cap = o->subdivision == REYES_SUBDIVISION_TIERED
+                        ? (o->flat_bound_px > 0.0f ? o->flat_bound_px : (float)(o->grid - 1))
+                        : o->bound_px;
+        split_it = size > cap;
+        along_u = extent(sx, sy, NULL, 1) >= extent(sx, sy, NULL, 0);
+    }
+    if (!split_it && o->subdivision == REYES_SUBDIVISION_TIERED)
+        split_it = tiered_split(c, cp, clip, &along_u);
     if (forced || !split_it) {
         c->counts->forced_dice += (uint64_t)forced;
+        if (o->shading_rate > 0.0f) {
+            unsigned nu = (unsigned)fminf(need[0], (float)(o->grid - 1)), nv = (unsigned)fminf(need[1], (float)(o->grid - 1));
+            sp.dice_size = (nu + 1u) | ((nv + 1u) << 8);
+        }
         ++c->counts->grids;
         if (o->stages == REYES_STAGES_SUBDIVIDE)
             return;
@@ -301,8 +336,6 @@ reyes_status reference_begin(reference_context *c, const reyes_scene *scene, con
     if (options->crack_fix == REYES_CRACK_FIX_WEDGE)
         return reyes_fail(error, REYES_ERR_ARGUMENT,
                           "the C reference does not model the wedge crack fix's subdivision");
-    if (options->shading_rate > 0.0f)
-        return reyes_fail(error, REYES_ERR_ARGUMENT, "the C reference dices fixed grids only (shading rate 0)");
     c->near_w = reyes_near_plane(scene);
     for (int k = 0; k < 3; ++k)
         c->eye[k] = camera->eye[k];

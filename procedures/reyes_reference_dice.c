@@ -88,7 +88,7 @@ static void eval_one_normal(const float hull[3][16], float u, float v, float x[3
 REFERENCE_VECTOR_HELPER void eval_row(reference_grid *g, unsigned j, const float hull[3][16], const float (*bu)[REYES_MAX_GRID],
                      const float (*du)[REYES_MAX_GRID], float v, int normals)
 {
-    unsigned n = g->n, o = j * n;
+    unsigned n = g->columns, o = j * n;
     float bv[4], dv[4], q[3][4], qv[3][4];
     bernstein(v, bv);
     bernstein_deriv(v, dv);
@@ -214,13 +214,13 @@ REFERENCE_VECTOR_HELPER void shade(reference_grid *g, unsigned count, uint32_t r
  * product vanishes: take the normal slightly inside, as reyes_safe_normal. */
 static inline void fix_poles(reference_grid *g, const float hull[3][16], const struct reyes_subpatch *sp)
 {
-    unsigned n = g->n;
-    for (unsigned k = 0; k < n * n; ++k) {
+    unsigned n = g->columns;
+    for (unsigned k = 0; k < n * g->rows; ++k) {
         float l2 = g->normal[0][k] * g->normal[0][k] + g->normal[1][k] * g->normal[1][k]
                    + g->normal[2][k] * g->normal[2][k];
         if (l2 >= 1e-24f)
             continue;
-        float u = grid_param(sp->u0, sp->u1, k % n, n), v = grid_param(sp->v0, sp->v1, k / n, n);
+        float u = grid_param(sp->u0, sp->u1, k % n, n), v = grid_param(sp->v0, sp->v1, k / n, g->rows);
         for (int step = 1; step <= 3 && l2 < 1e-24f; ++step) {
             float nudge = 1e-3f * (float)step, x[3], normal[3];
             eval_one_normal(hull, u + (0.5f - u) * nudge, v + (0.5f - v) * nudge, x, normal);
@@ -234,9 +234,13 @@ static inline void fix_poles(reference_grid *g, const float hull[3][16], const s
 REFERENCE_MACHINE_CLONES void reference_dice(reference_context *c, const struct reyes_subpatch *sp)
 {
     reference_grid *g = c->grid;
-    unsigned n = c->o->grid;
+    /* grid x grid, or with a shading rate the size bound chose (as
+     * reyes_dice_size). */
+    unsigned n = sp->dice_size ? sp->dice_size & 0xffu : c->o->grid;
+    unsigned rows = sp->dice_size ? (sp->dice_size >> 8) & 0xffu : c->o->grid;
     int full = c->samples != NULL;
-    g->n = n;
+    g->columns = n;
+    g->rows = rows;
     float hull[3][16], bu[4][REYES_MAX_GRID], du[4][REYES_MAX_GRID];
     load_hull(c->scene, sp->patch, hull);
     for (unsigned i = 0; i < n; ++i) {
@@ -248,13 +252,13 @@ REFERENCE_MACHINE_CLONES void reference_dice(reference_context *c, const struct 
             du[k][i] = d[k];
         }
     }
-    for (unsigned j = 0; j < n; ++j)
-        eval_row(g, j, hull, bu, du, grid_param(sp->v0, sp->v1, j, n), full);
-    project(c, g, n * n);
+    for (unsigned j = 0; j < rows; ++j)
+        eval_row(g, j, hull, bu, du, grid_param(sp->v0, sp->v1, j, rows), full);
+    project(c, g, n * rows);
     if (full) {
         fix_poles(g, hull, sp);
-        light(c, g, n * n);
-        shade(g, n * n, c->scene->colors[sp->patch]);
+        light(c, g, n * rows);
+        shade(g, n * rows, c->scene->colors[sp->patch]);
     }
     c->counts->micropolygons += reference_sample_grid(c, g);
 }

@@ -16,7 +16,7 @@
 
 /* One diced grid, structure of arrays (vertex j * n + i), and padding. */
 typedef struct reference_grid {
-    unsigned n;
+    unsigned columns, rows; /* vertices along u and v */
     float sx[REFERENCE_GRID_ARRAY], sy[REFERENCE_GRID_ARRAY]; /* pixels, y down */
     float w[REFERENCE_MAX_VERTICES];                              /* clip w, the depth */
     uint32_t rgba[REFERENCE_MAX_VERTICES];

@@ -7,16 +7,17 @@
  * A sample lies in its own stratum of its pixel (a cell of the columns x
  * rows lattice), so only the strata that a quad's screen box reaches can
  * hold samples it covers.  At the default bound and grid a micropolygon is
- * a fraction of a stratum: nearly every quad reaches one or two strata
- * across and down, and most cover no sample at all.  So a grid row's quads
- * are handled side by side, in loops over the row that the compiler
- * vectorises (structure of arrays, no branches): their set-up (screen box,
- * visibility, strata, both triangles' edges), then for each of the (at
- * most) 2 x 2 strata they reach, the sample there (its position made from
- * its pixel and index by the hash, as the device does) tested against both
- * triangles.  Only the samples covered take a branch: their values are
- * made and stored one by one.  The few quads that reach more strata are
- * sampled one by one.
+ * about a stratum (it reaches one or two strata across and down) and most
+ * cover no sample at all; with a shading rate of 1 it is about a pixel.
+ * So a grid row's quads are handled side by side, in loops over the row
+ * that the compiler vectorises (structure of arrays, no branches): their
+ * set-up (screen box, visibility, strata, both triangles' edges), then for
+ * each of the strata they reach, the sample there (its position made from
+ * its pixel and index by the hash, as the device does) tested against
+ * both triangles.  Only the samples covered take a branch: their values
+ * are made and stored one by one (made for every lane in the vector loop
+ * instead, they cost half as much again at the default bound).  The few
+ * quads that reach more strata are sampled one by one.
  */
 #include <stdlib.h>
 #include <string.h>
@@ -97,6 +98,14 @@ static inline void stratum_sample(int sx, int sy, int columns, int rows, float *
     *px = pixel_x;
     *py = pixel_y;
 }
+
+/* Quads whose box reaches at most this many strata across and down are
+ * sampled side by side (a step through the strata for all of a row's
+ * quads at once: as many steps as the row's widest and tallest quad
+ * reaches), the others one by one: 4 takes in the micropolygons of the
+ * default bound and grid (about a stratum: 2 x 2) and of a shading rate of
+ * 1 (about a pixel, up to 4 x 4 with the margin). */
+#define SMALL_STRATA 4
 
 /* Samples further than this outside a quad's screen box are not tested:
  * rounding never puts a covered sample anywhere near that far out, so the
@@ -234,7 +243,7 @@ REFERENCE_VECTOR_HELPER void row_candidates(quad_row *q, const reference_samples
         float x, y;
         int px, py, k;
         stratum_sample(q->sx0[i] + dx, q->sy0[i] + dy, columns, rows, &x, &y, &px, &py, &k);
-        int small = (q->wide[i] <= 1) & (q->tall[i] <= 1);
+        int small = (q->wide[i] < SMALL_STRATA) & (q->tall[i] < SMALL_STRATA);
         int ok = q->live[i] & small & (dx <= q->wide[i]) & (dy <= q->tall[i]) & (k < spp)
                  & (x >= q->lo_x[i]) & (x <= q->hi_x[i]) & (y >= q->lo_y[i]) & (y <= q->hi_y[i]);
         q->hit[i] = ok ? covers(q, i, x, y) : 0;
@@ -321,11 +330,11 @@ static void sample_large_quad(const reference_samples *s, const reference_grid *
 REFERENCE_VECTOR_HELPER uint64_t sample_rows(const reference_context *c, const reference_grid *g, unsigned lanes)
 {
     const reference_samples *s = c->samples;
-    unsigned n = g->n, count = n - 1;
+    unsigned n = g->columns, count = n - 1;
     float width = (float)c->o->width, height = (float)c->o->height;
     uint64_t visible = 0;
     quad_row q;
-    for (unsigned j = 0; j + 1 < n; ++j) {
+    for (unsigned j = 0; j + 1 < g->rows; ++j) {
         unsigned top = j * n, bottom = top + n;
         unsigned row_visible = quad_row_setup(&q, s, g, top, bottom, count, lanes, width, height);
         visible += row_visible;
@@ -333,9 +342,10 @@ REFERENCE_VECTOR_HELPER uint64_t sample_rows(const reference_context *c, const r
             continue;
         int wide = 0, tall = 0, large = 0;
         for (unsigned i = 0; i < lanes; ++i) {
-            wide |= q.live[i] & (q.wide[i] >= 1);
-            tall |= q.live[i] & (q.tall[i] >= 1);
-            large |= q.live[i] & ((q.wide[i] > 1) | (q.tall[i] > 1));
+            int small = q.live[i] & (q.wide[i] < SMALL_STRATA) & (q.tall[i] < SMALL_STRATA);
+            wide = max_i(wide, small ? q.wide[i] : 0);
+            tall = max_i(tall, small ? q.tall[i] : 0);
+            large |= q.live[i] & !small;
         }
         for (int dy = 0; dy <= tall; ++dy) {
             for (int dx = 0; dx <= wide; ++dx) {
@@ -347,7 +357,7 @@ REFERENCE_VECTOR_HELPER uint64_t sample_rows(const reference_context *c, const r
         }
         if (large)
             for (unsigned i = 0; i < count; ++i)
-                if (q.live[i] && (q.wide[i] > 1 || q.tall[i] > 1))
+                if (q.live[i] && (q.wide[i] >= SMALL_STRATA || q.tall[i] >= SMALL_STRATA))
                     sample_large_quad(s, g, &q, i, top, bottom);
     }
     return visible;
@@ -355,5 +365,5 @@ REFERENCE_VECTOR_HELPER uint64_t sample_rows(const reference_context *c, const r
 
 REFERENCE_MACHINE_CLONES uint64_t reference_sample_grid(const reference_context *c, const reference_grid *g)
 {
-    return g->n <= 17 ? sample_rows(c, g, 16) : sample_rows(c, g, REFERENCE_ROW_LANES);
+    return g->columns <= 17 ? sample_rows(c, g, 16) : sample_rows(c, g, REFERENCE_ROW_LANES);
 }
