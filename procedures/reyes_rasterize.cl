@@ -16,10 +16,11 @@
  * quad's screen box reaches are the only places its covered samples can
  * be: a micropolygon of the default bound and grid reaches two or three
  * of them across and down, where its pixel box holds up to sixteen
- * samples.  The quads whose box reaches at most 3 x 3 strata (nearly all)
- * are sampled side by side, one quad per lane, stepping through the
- * strata; the few larger ones one by one, four sample indices of both
- * triangles per pixel in eight lanes.  Blurred quads take the general
+ * samples, and one of a shading rate of 1 (about a pixel) up to four.  The
+ * quads whose box reaches at most 4 x 4 strata (nearly all) are sampled
+ * side by side, one quad per lane, stepping through the strata; the few
+ * larger ones one by one, four sample indices of both triangles per pixel
+ * in eight lanes.  Blurred quads take the general
  * loops.  Every path tests the same samples of a quad with the same
  * arithmetic.
  */
@@ -385,7 +386,7 @@ REYES_INLINE int reyes_max16(int16 m)
  * triangles tested in every step, with the tests and values of
  * reyes_triangle_sample; each covered sample's nearer value is merged
  * into the samples. */
-#define REYES_SMALL_STRATA 3
+#define REYES_SMALL_STRATA 4
 
 /* The stratum `cell` steps past the last of its pixel's cells (of n):
  * on into the next pixel (at most REYES_SMALL_STRATA - 1 times, n = 1). */
