@@ -112,17 +112,6 @@ REYES_INLINE struct reyes_hull reyes_hull_of(const float3 cp[16])
     return h;
 }
 
-/* a . b, lane by lane, as reyes_dot3. */
-REYES_INLINE reyes_lanes reyes_dot3_lanes(reyes_lanes ax, reyes_lanes ay, reyes_lanes az, reyes_lanes bx,
-                                          reyes_lanes by, reyes_lanes bz)
-{
-    reyes_lanes x = ax * bx;
-    reyes_lanes y = ay * by;
-    reyes_lanes z = az * bz;
-    reyes_lanes xy = x + y;
-    return xy + z;
-}
-
 /* a . (x, y, z, 1), lane by lane, as reyes_dot4. */
 REYES_INLINE reyes_lanes reyes_dot4_lanes(float ax, float ay, float az, float aw, reyes_lanes x, reyes_lanes y,
                                           reyes_lanes z)
@@ -136,17 +125,43 @@ REYES_INLINE reyes_lanes reyes_dot4_lanes(float ax, float ay, float az, float aw
     return xy + zw;
 }
 
-/* A vector over its length, lane by lane (the zero vector unchanged). */
-REYES_INLINE void reyes_normalize_lanes(reyes_lanes *x, reyes_lanes *y, reyes_lanes *z)
-{
-    reyes_lanes ax = *x, ay = *y, az = *z;
-    reyes_lanes l2 = reyes_dot3_lanes(ax, ay, az, ax, ay, az);
-    reyes_lanes inv = 1.0f / sqrt(l2);
-    reyes_lane_mask zero = l2 == 0.0f;
-    *x = select(ax * inv, ax, zero);
-    *y = select(ay * inv, ay, zero);
-    *z = select(az * inv, az, zero);
-}
+/* The shading arithmetic, written once and defined for lanes (suffix
+ * _lanes, in reyes_lanes) and for one point (suffix _one, in float): the
+ * same expressions, so a vertex shaded alone (stitch, displacement, the
+ * poles) gets the bits dice's lanes give it, at a sixteenth of the work of
+ * taking lane 0 of sixteen.  a . b (as reyes_dot3); a vector over its
+ * length (the zero vector unchanged). */
+#define REYES_DEFINE_VECTOR_MATH(suffix, type, mask)                                                 \
+    REYES_INLINE type reyes_dot3##suffix(type ax, type ay, type az, type bx, type by, type bz)      \
+    {                                                                                                \
+        type x = ax * bx;                                                                            \
+        type y = ay * by;                                                                            \
+        type z = az * bz;                                                                            \
+        type xy = x + y;                                                                             \
+        return xy + z;                                                                               \
+    }                                                                                                \
+    REYES_INLINE void reyes_normalize##suffix(type *x, type *y, type *z)                            \
+    {                                                                                                \
+        type ax = *x, ay = *y, az = *z;                                                              \
+        type l2 = reyes_dot3##suffix(ax, ay, az, ax, ay, az);                                        \
+        type inv = 1.0f / sqrt(l2);                                                                  \
+        mask zero = l2 == 0.0f;                                                                      \
+        *x = select(ax * inv, ax, zero);                                                             \
+        *y = select(ay * inv, ay, zero);                                                             \
+        *z = select(az * inv, az, zero);                                                             \
+    }                                                                                                \
+    /* cross(tu, tv), products rounded apart as PoCL's cross. */                                    \
+    REYES_INLINE void reyes_cross##suffix(const type tu[3], const type tv[3], type n[3])            \
+    {                                                                                                \
+        type yz = tu[1] * tv[2], zy = tu[2] * tv[1];                                                 \
+        type zx = tu[2] * tv[0], xz = tu[0] * tv[2];                                                 \
+        type xy = tu[0] * tv[1], yx = tu[1] * tv[0];                                                 \
+        n[0] = yz - zy;                                                                              \
+        n[1] = zx - xz;                                                                              \
+        n[2] = xy - yx;                                                                              \
+    }
+REYES_DEFINE_VECTOR_MATH(_lanes, reyes_lanes, reyes_lane_mask)
+REYES_DEFINE_VECTOR_MATH(_one, float, int)
 
 /* A patch is evaluated separably, the same way for every caller: at
  * parameter v its four rows of control points collapse to a cubic curve
@@ -179,14 +194,16 @@ REYES_DEFINE_ROW_CURVES(_lanes, reyes_lanes)
 REYES_DEFINE_ROW_CURVES(_one, float)
 
 /* w[0] q[0] + w[1] q[1] + w[2] q[2] + w[3] q[3], with the curve's
- * control points in lanes or the same for every lane. */
-#define REYES_DEFINE_CURVE_AT(suffix, type)                                                        \
-    REYES_INLINE reyes_lanes reyes_curve_at##suffix(const reyes_lanes w[4], const type q[4])       \
+ * control points in lanes or the same for every lane, or for one
+ * parameter. */
+#define REYES_DEFINE_CURVE_AT(suffix, type, weight)                                                \
+    REYES_INLINE weight reyes_curve_at##suffix(const weight w[4], const type q[4])                 \
     {                                                                                              \
         return w[0] * q[0] + w[1] * q[1] + w[2] * q[2] + w[3] * q[3];                              \
     }
-REYES_DEFINE_CURVE_AT(, reyes_lanes)
-REYES_DEFINE_CURVE_AT(_one, float)
+REYES_DEFINE_CURVE_AT(, reyes_lanes, reyes_lanes)
+REYES_DEFINE_CURVE_AT(_one, float, reyes_lanes)
+REYES_DEFINE_CURVE_AT(_scalar, float, float)
 
 /* Points, and unnormalised normals (cross products of the derivatives),
  * at u on the row curves. */
@@ -196,17 +213,6 @@ REYES_INLINE void reyes_row_point_lanes(const struct reyes_row_curves_lanes *rc,
     reyes_bernstein_lanes(u, bu);
     for (int d = 0; d < 3; ++d)
         x[d] = reyes_curve_at(bu, rc->q[d]);
-}
-
-/* cross(tu, tv), products rounded apart as PoCL's cross. */
-REYES_INLINE void reyes_cross_lanes(const reyes_lanes tu[3], const reyes_lanes tv[3], reyes_lanes n[3])
-{
-    reyes_lanes yz = tu[1] * tv[2], zy = tu[2] * tv[1];
-    reyes_lanes zx = tu[2] * tv[0], xz = tu[0] * tv[2];
-    reyes_lanes xy = tu[0] * tv[1], yx = tu[1] * tv[0];
-    n[0] = yz - zy;
-    n[1] = zx - xz;
-    n[2] = xy - yx;
 }
 
 REYES_INLINE void reyes_row_normal_lanes(const struct reyes_row_curves_lanes *rc, reyes_lanes u, reyes_lanes n[3])
@@ -238,33 +244,56 @@ REYES_INLINE void reyes_hull_normal_lanes(const struct reyes_hull *h, reyes_lane
     reyes_row_normal_lanes(&rc, u, n);
 }
 
-/* Unnormalised surface normal and point at (u,v) (lane 0 of the above). */
-REYES_INLINE float3 reyes_patch_normal(const float3 cp[16], float u, float v)
+/* Surface point and unnormalised normal at (u,v), from the row curves at
+ * v made once: the arithmetic of the above for one point (so lane for
+ * lane the same bits). */
+REYES_INLINE void reyes_patch_point_normal(const float3 cp[16], float u, float v, float3 *x, float3 *normal)
 {
     struct reyes_hull h = reyes_hull_of(cp);
-    reyes_lanes n[3];
-    reyes_hull_normal_lanes(&h, (reyes_lanes)u, (reyes_lanes)v, n);
-    return (float3)(n[0].s0, n[1].s0, n[2].s0);
+    struct reyes_row_curves_one rc;
+    reyes_row_curves_one(&h, v, &rc);
+    float bu[4], du[4], tu[3], tv[3], n[3];
+    reyes_bernstein_one(u, bu);
+    reyes_bernstein_deriv_one(u, du);
+    for (int d = 0; d < 3; ++d) {
+        tu[d] = reyes_curve_at_scalar(du, rc.q[d]);
+        tv[d] = reyes_curve_at_scalar(bu, rc.qv[d]);
+    }
+    reyes_cross_one(tu, tv, n);
+    *x = (float3)(reyes_curve_at_scalar(bu, rc.q[0]), reyes_curve_at_scalar(bu, rc.q[1]),
+                  reyes_curve_at_scalar(bu, rc.q[2]));
+    *normal = (float3)(n[0], n[1], n[2]);
+}
+
+REYES_INLINE float3 reyes_patch_normal(const float3 cp[16], float u, float v)
+{
+    float3 x, n;
+    reyes_patch_point_normal(cp, u, v, &x, &n);
+    return n;
 }
 
 REYES_INLINE float3 reyes_patch_point(const float3 cp[16], float u, float v)
 {
-    struct reyes_hull h = reyes_hull_of(cp);
-    reyes_lanes x[3];
-    reyes_hull_point_lanes(&h, (reyes_lanes)u, (reyes_lanes)v, x);
-    return (float3)(x[0].s0, x[1].s0, x[2].s0);
+    float3 x, n;
+    reyes_patch_point_normal(cp, u, v, &x, &n);
+    return x;
 }
 
 /* Normal at (u,v); where a patch edge collapses to a point (a pole) the
- * derivative cross product vanishes, so take it slightly inside. */
-float3 reyes_safe_normal(const float3 cp[16], float u, float v)
+ * derivative cross product vanishes, so take it slightly inside.  n: the
+ * normal at (u,v) already made. */
+float3 reyes_safe_normal_from(const float3 cp[16], float u, float v, float3 n)
 {
-    float3 n = reyes_patch_normal(cp, u, v);
     for (int step = 1; step <= 3 && dot(n, n) < 1e-24f; ++step) {
         float nudge = 1e-3f * (float)step;
         n = reyes_patch_normal(cp, mix(u, 0.5f, nudge), mix(v, 0.5f, nudge));
     }
     return n;
+}
+
+float3 reyes_safe_normal(const float3 cp[16], float u, float v)
+{
+    return reyes_safe_normal_from(cp, u, v, reyes_patch_normal(cp, u, v));
 }
 
 /* The light's parameters, loaded once per grid. */
@@ -290,67 +319,69 @@ REYES_INLINE struct reyes_lighting reyes_lighting_of(__global const struct reyes
 /* x^s: by squaring for a whole exponent up to 64 (the look's is 40: six
  * products, as the C reference), else exp2(s log2 x) at native precision
  * (pow() is PoCL's full-precision library call and took about a fifth of
- * a teapot render; native_log2 looks a table up lane by lane). */
-REYES_INLINE reyes_lanes reyes_power_lanes(reyes_lanes x, float s)
-{
-    uint n = (uint)s;
-    if (s >= 0.0f && s <= 64.0f && (float)n == s) {
-        reyes_lanes result = (reyes_lanes)1.0f, base = x;
-        for (; n != 0u; n >>= 1) {
-            if (n & 1u)
-                result *= base;
-            base *= base;
-        }
-        return result;
-    }
-    return native_exp2(s * native_log2(x));
-}
-
-/* Lambert plus Blinn-Phong, two-sided, one directional light plus
+ * a teapot render; native_log2 looks a table up lane by lane).
+ *
+ * Lambert plus Blinn-Phong, two-sided, one directional light plus
  * ambient, at points x with normals n: a colour c shades to
- * c * diffuse + specular (reyes_light_color). */
-REYES_INLINE void reyes_light_lanes(const struct reyes_lighting *l, const reyes_lanes x[3], const reyes_lanes n[3],
-                                    reyes_lanes *diffuse, reyes_lanes *specular)
-{
-    reyes_lanes vx = l->eye[0] - x[0], vy = l->eye[1] - x[1], vz = l->eye[2] - x[2];
-    reyes_normalize_lanes(&vx, &vy, &vz);
-    reyes_lanes mx = n[0], my = n[1], mz = n[2];
-    reyes_normalize_lanes(&mx, &my, &mz);
-    reyes_lane_mask has_normal = reyes_dot3_lanes(n[0], n[1], n[2], n[0], n[1], n[2]) > 0.0f;
-    mx = select(vx, mx, has_normal);
-    my = select(vy, my, has_normal);
-    mz = select(vz, mz, has_normal);
-    reyes_lane_mask away = reyes_dot3_lanes(mx, my, mz, vx, vy, vz) < 0.0f;
-    mx = select(mx, -mx, away);
-    my = select(my, -my, away);
-    mz = select(mz, -mz, away);
-    float lx = l->light[0], ly = l->light[1], lz = l->light[2];
-    reyes_lanes lambert = fmax(reyes_dot3_lanes(mx, my, mz, (reyes_lanes)lx, (reyes_lanes)ly, (reyes_lanes)lz), 0.0f);
-    reyes_lanes hx = lx + vx, hy = ly + vy, hz = lz + vz;
-    reyes_normalize_lanes(&hx, &hy, &hz);
-    reyes_lanes cos_h = reyes_dot3_lanes(mx, my, mz, hx, hy, hz);
-    reyes_lanes power = reyes_power_lanes(cos_h, l->shininess);
-    reyes_lanes highlight = select((reyes_lanes)0.0f, power, lambert > 0.0f & cos_h > 0.0f);
-    *diffuse = l->ambient + l->diffuse * lambert;
-    *specular = l->specular * highlight;
-}
-
-/* The shaded colours of base colour rgba (its alpha ignored), packed. */
-REYES_INLINE reyes_lane_uint reyes_light_color_lanes(uint rgba, reyes_lanes diffuse, reyes_lanes specular)
-{
-    float r = reyes_channel(rgba, 0u), g = reyes_channel(rgba, 8u), b = reyes_channel(rgba, 16u);
-    return reyes_channel_byte_lanes(r * diffuse + specular) | (reyes_channel_byte_lanes(g * diffuse + specular) << 8)
-           | (reyes_channel_byte_lanes(b * diffuse + specular) << 16) | (reyes_lane_uint)(255u << 24);
-}
+ * c * diffuse + specular (reyes_light_color).  The shaded colours of base
+ * colour rgba (its alpha ignored), packed.  For lanes and for one point,
+ * as REYES_DEFINE_VECTOR_MATH. */
+#define REYES_DEFINE_LIGHTING(suffix, type, mask, packed, channel_byte)                                              \
+    REYES_INLINE type reyes_power##suffix(type x, float s)                                                           \
+    {                                                                                                                \
+        uint n = (uint)s;                                                                                            \
+        if (s >= 0.0f && s <= 64.0f && (float)n == s) {                                                             \
+            type result = (type)1.0f, base = x;                                                                      \
+            for (; n != 0u; n >>= 1) {                                                                               \
+                if (n & 1u)                                                                                          \
+                    result *= base;                                                                                  \
+                base *= base;                                                                                        \
+            }                                                                                                        \
+            return result;                                                                                           \
+        }                                                                                                            \
+        return native_exp2(s * native_log2(x));                                                                      \
+    }                                                                                                                \
+    REYES_INLINE void reyes_light##suffix(const struct reyes_lighting *l, const type x[3], const type n[3],         \
+                                          type *diffuse, type *specular)                                             \
+    {                                                                                                                \
+        type vx = l->eye[0] - x[0], vy = l->eye[1] - x[1], vz = l->eye[2] - x[2];                                  \
+        reyes_normalize##suffix(&vx, &vy, &vz);                                                                      \
+        type mx = n[0], my = n[1], mz = n[2];                                                                        \
+        reyes_normalize##suffix(&mx, &my, &mz);                                                                      \
+        mask has_normal = reyes_dot3##suffix(n[0], n[1], n[2], n[0], n[1], n[2]) > 0.0f;                             \
+        mx = select(vx, mx, has_normal);                                                                             \
+        my = select(vy, my, has_normal);                                                                             \
+        mz = select(vz, mz, has_normal);                                                                             \
+        mask away = reyes_dot3##suffix(mx, my, mz, vx, vy, vz) < 0.0f;                                               \
+        mx = select(mx, -mx, away);                                                                                  \
+        my = select(my, -my, away);                                                                                  \
+        mz = select(mz, -mz, away);                                                                                  \
+        float lx = l->light[0], ly = l->light[1], lz = l->light[2];                                                  \
+        type lambert = fmax(reyes_dot3##suffix(mx, my, mz, (type)lx, (type)ly, (type)lz), 0.0f);                   \
+        type hx = lx + vx, hy = ly + vy, hz = lz + vz;                                                               \
+        reyes_normalize##suffix(&hx, &hy, &hz);                                                                      \
+        type cos_h = reyes_dot3##suffix(mx, my, mz, hx, hy, hz);                                                     \
+        type power = reyes_power##suffix(cos_h, l->shininess);                                                       \
+        type highlight = select((type)0.0f, power, lambert > 0.0f & cos_h > 0.0f);                                   \
+        *diffuse = l->ambient + l->diffuse * lambert;                                                                \
+        *specular = l->specular * highlight;                                                                         \
+    }                                                                                                                \
+    REYES_INLINE packed reyes_light_color##suffix(uint rgba, type diffuse, type specular)                            \
+    {                                                                                                                \
+        float r = reyes_channel(rgba, 0u), g = reyes_channel(rgba, 8u), b = reyes_channel(rgba, 16u);              \
+        return channel_byte(r * diffuse + specular) | (channel_byte(g * diffuse + specular) << 8)                    \
+               | (channel_byte(b * diffuse + specular) << 16) | (packed)(255u << 24);                                \
+    }
+REYES_DEFINE_LIGHTING(_lanes, reyes_lanes, reyes_lane_mask, reyes_lane_uint, reyes_channel_byte_lanes)
+REYES_DEFINE_LIGHTING(_one, float, int, uint, reyes_channel_byte)
 
 REYES_INLINE uint reyes_shade(__global const struct reyes_params *p, float3 x, float3 n, uint rgba)
 {
-    const reyes_lanes xs[3] = {(reyes_lanes)x.x, (reyes_lanes)x.y, (reyes_lanes)x.z};
-    const reyes_lanes ns[3] = {(reyes_lanes)n.x, (reyes_lanes)n.y, (reyes_lanes)n.z};
+    const float xs[3] = {x.x, x.y, x.z}, ns[3] = {n.x, n.y, n.z};
     struct reyes_lighting l = reyes_lighting_of(p);
-    reyes_lanes diffuse, specular;
-    reyes_light_lanes(&l, xs, ns, &diffuse, &specular);
-    return reyes_light_color_lanes(rgba, diffuse, specular).s0;
+    float diffuse, specular;
+    reyes_light_one(&l, xs, ns, &diffuse, &specular);
+    return reyes_light_color_one(rgba, diffuse, specular);
 }
 
 /* The displaced surface point at (u,v): the patch point moved along its
@@ -414,7 +445,9 @@ uint reyes_grid_vertex_color(__global const struct reyes_params *p, const float3
                              const struct reyes_subpatch *sp, uint rgba, int i, int j)
 {
     float2 uv = reyes_grid_uv(p, sp, i, j);
-    return reyes_shade(p, reyes_patch_point(cp, uv.x, uv.y), reyes_safe_normal(cp, uv.x, uv.y), rgba);
+    float3 x, n;
+    reyes_patch_point_normal(cp, uv.x, uv.y, &x, &n);
+    return reyes_shade(p, x, reyes_safe_normal_from(cp, uv.x, uv.y, n), rgba);
 }
 
 /* Position (clip space) of grid vertex (i,j), and its color when `shade`
@@ -437,9 +470,10 @@ struct reyes_vertex reyes_grid_vertex(const struct reyes_displacement *d, const 
     float u = uv.x, v = uv.y;
     struct reyes_vertex out;
     if (p->displace_mode == REYES_DISPLACE_NONE) {
-        float3 x = reyes_patch_point(cp, u, v);
+        float3 x, n;
+        reyes_patch_point_normal(cp, u, v, &x, &n);
         reyes_vertex_place(p, x, &out);
-        out.rgba = shade ? reyes_shade(p, x, reyes_safe_normal(cp, u, v), rgba) : 0u;
+        out.rgba = shade ? reyes_shade(p, x, reyes_safe_normal_from(cp, u, v, n), rgba) : 0u;
     } else {
         float3 x = reyes_displaced_point(d, cp, u, v);
         reyes_vertex_place(p, x, &out);
