@@ -148,6 +148,12 @@ int main(int argc, char **argv)
                    reyes_mpi_available() ? ", MPI" : "");
     } else if (reyes_mpi_launched()) {
         code = reyes_mpi_main(&cli, program);
+    } else if (cli.coordinator_only || cli.rank_timeout > 0.0f) {
+        /* Options of an MPI job would be silently ignored in one process. */
+        fprintf(stderr, "%s: %s applies only to a job started by mpirun (docs/scale-out.md); without "
+                        "it reyes-render runs in one process\n",
+                program, cli.coordinator_only ? "--coordinator-only" : "--rank-timeout");
+        code = EXIT_USAGE;
     } else {
         reyes_error error;
         reyes_status status = cli.devices || cli.frames ? run_farm(&cli, &error) : run(&cli, &error);
