@@ -307,8 +307,12 @@ static int on_schedule(reyes_cli *cli, const char *value, char *message, size_t 
 
 static int on_local_queue(reyes_cli *cli, const char *value, char *message, size_t size)
 {
-    if (!cli_parse_unsigned(value, 65536, &cli->render.schedule.local_queue_items))
-        return cli_usage_error(message, size, "--local-queue '%s': expected items 0..%s", value, "65536");
+    /* The runtime's range: what it would refuse is refused here, by the option's name. */
+    if (!cli_parse_unsigned(value, PERMA_MAX_LOCAL_QUEUE_ITEMS, &cli->render.schedule.local_queue_items)) {
+        char most[16];
+        snprintf(most, sizeof most, "%u", (unsigned)PERMA_MAX_LOCAL_QUEUE_ITEMS);
+        return cli_usage_error(message, size, "--local-queue '%s': expected items 0..%s", value, most);
+    }
     return REYES_CLI_OK;
 }
 
@@ -396,7 +400,7 @@ const cli_option cli_options[] = {
       CHOICE("strategy", strategy_name, render.schedule.strategy) },
     { "victim", 0, "NAME", NULL, "stealing victim: random (default) or round-robin",
       CHOICE("victim", victim_name, render.schedule.victim) },
-    { "local-queue", 0, "N", on_local_queue, "items per procedure in a per-group local queue (default 0)",
+    { "local-queue", 0, "N", on_local_queue, "items per procedure in a per-group local queue, 0..4096 (default 0)",
       NULL },
     { "batch-limit", 0, "N", on_batch_limit, "bounded-batches: items per host iteration (default 4096)", NULL },
     { "groups", 0, "N", on_groups, "persistent work-groups (default: as many as fit)", NULL },
