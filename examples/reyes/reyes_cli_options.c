@@ -8,6 +8,7 @@
  */
 #include <math.h>
 #include <stddef.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -422,6 +423,28 @@ const cli_option cli_options[] = {
 };
 
 const size_t cli_option_count = COUNT_OF(cli_options);
+
+int reyes_cli_field_text(const reyes_cli *cli, const char *name, char *out, size_t size)
+{
+    for (size_t i = 0; i < cli_option_count; ++i) {
+        const cli_field *field = cli_options[i].field;
+        if (!field || strcmp(cli_options[i].name, name) != 0)
+            continue;
+        const char *at = (const char *)cli + field->offset;
+        if (!field->names) {
+            int on;
+            memcpy(&on, at, sizeof on);
+            snprintf(out, size, "%s", on ? "on" : "off");
+        } else {
+            unsigned value;
+            memcpy(&value, at, sizeof value);
+            const char *text = value <= (unsigned)INT32_MAX ? field->names((int)value) : NULL;
+            snprintf(out, size, "%s", text ? text : "?");
+        }
+        return 1;
+    }
+    return 0;
+}
 
 int cli_option_apply(const cli_option *option, reyes_cli *cli, const char *value, char *message, size_t size)
 {
