@@ -33,8 +33,9 @@ typedef struct reyes_cli {
     unsigned frames;
     float orbit_deg;
     int orbit_given;
-    /* MPI: rank 0 aborts the job when a rank holds an item this long
-     * (seconds; 0: 660, the runtime's watchdog and a minute). */
+    /* MPI: rank 0 ends the job when a rank holds an item this long, a
+     * rank when rank 0 does not answer this long (seconds; 0: 660, the
+     * runtime's watchdog and a minute). */
     float rank_timeout;
     /* MPI: rank 0 only hands out and gathers (a head node); the others
      * render. */

@@ -411,7 +411,8 @@ const cli_option cli_options[] = {
     { "orbit", 0, "DEG", on_orbit,
       "frames: turn the camera DEG about the vertical through the target (default 360, 0 with motion)", NULL },
     { "rank-timeout", 0, "S", on_rank_timeout,
-      "mpirun: abort the job when a rank holds a bucket or frame S seconds (default 660)", NULL },
+      "mpirun: end the job when a rank holds a bucket or frame S seconds, or rank 0 is silent that long "
+      "(default 660)", NULL },
     { "coordinator-only", 0, NULL, NULL, "mpirun: rank 0 hands out and gathers but renders nothing (a head node)",
       FLAG(coordinator_only) },
     { "backface", 0, NULL, NULL, "cull patches that face away entirely", FLAG(render.backface_cull) },

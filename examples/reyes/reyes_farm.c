@@ -146,6 +146,37 @@ reyes_status reyes_pool_deliver(reyes_pool *pool, unsigned item, const unsigned 
     return status;
 }
 
+void reyes_pool_describe_written(reyes_pool *pool, char *out, size_t size)
+{
+    const reyes_job *job = pool->job;
+    pthread_mutex_lock(&pool->lock);
+    unsigned written = pool->delivered;
+    size_t used = 0;
+    if (!job->frames || written == 0) {
+        snprintf(out, size, "no %s written", job->frames ? "frame" : "image");
+    } else {
+        used = (size_t)snprintf(out, size, "%u of %u frames written:", written, job->items);
+        int ranges = 0;
+        for (unsigned f = 0; f < job->items && used < size; ++f) {
+            if (!pool->done[f] || (f > 0 && pool->done[f - 1]))
+                continue;
+            unsigned last = f;
+            while (last + 1 < job->items && pool->done[last + 1])
+                ++last;
+            char first_path[4200], last_path[4200];
+            reyes_job_frame_path(job, f, first_path, sizeof first_path);
+            reyes_job_frame_path(job, last, last_path, sizeof last_path);
+            if (used + strlen(first_path) + strlen(last_path) + 16 >= size) {
+                used += (size_t)snprintf(out + used, size - used, " ...");
+                break;
+            }
+            used += (size_t)snprintf(out + used, size - used, "%s %s%s%s", ranges++ ? "," : "", first_path,
+                                     last > f ? " to " : "", last > f ? last_path : "");
+        }
+    }
+    pthread_mutex_unlock(&pool->lock);
+}
+
 void reyes_pool_fail(reyes_pool *pool, const char *who, reyes_status status, const char *message)
 {
     pthread_mutex_lock(&pool->lock);

@@ -53,6 +53,12 @@ reyes_status reyes_pool_deliver(reyes_pool *pool, unsigned item, const unsigned 
                                 const uint8_t *rgb, const uint8_t *coverage, double seconds,
                                 reyes_error *error);
 
+/* What is written so far, as a message says it: "no image written" for a
+ * bucket job (the PNG comes at the end), "no frame written" or "3 of 24
+ * frames written: k-0001.png to k-0002.png, k-0004.png" (the frames'
+ * files, numbered as they are; " ..." when the list does not fit). */
+void reyes_pool_describe_written(reyes_pool *pool, char *out, size_t size);
+
 /* Record a failure of `who` ("device 0:0/2.1", "rank 2") unless one is
  * recorded already, and stop handing out. */
 void reyes_pool_fail(reyes_pool *pool, const char *who, reyes_status status, const char *message);

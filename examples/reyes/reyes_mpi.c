@@ -294,43 +294,11 @@ typedef struct holding {
     int active;                /* has not sent its report or failure */
 } holding;
 
-/* "no image written", or which frames were: "2 of 24 frames written: k-0001.png, k-0003.png". */
-static void describe_written(reyes_pool *pool, char *out, size_t size)
-{
-    const reyes_job *job = pool->job;
-    pthread_mutex_lock(&pool->lock);
-    unsigned written = pool->delivered;
-    size_t used = 0;
-    if (!job->frames || written == 0) {
-        snprintf(out, size, "no %s written", job->frames ? "frame" : "image");
-    } else {
-        used = (size_t)snprintf(out, size, "%u of %u frames written:", written, job->items);
-        int ranges = 0;
-        for (unsigned f = 0; f < job->items && used < size; ++f) {
-            if (!pool->done[f] || (f > 0 && pool->done[f - 1]))
-                continue;
-            unsigned last = f;
-            while (last + 1 < job->items && pool->done[last + 1])
-                ++last;
-            char first_path[4200], last_path[4200];
-            reyes_job_frame_path(job, f, first_path, sizeof first_path);
-            reyes_job_frame_path(job, last, last_path, sizeof last_path);
-            if (used + strlen(first_path) + strlen(last_path) + 16 >= size) {
-                used += (size_t)snprintf(out + used, size - used, " ...");
-                break;
-            }
-            used += (size_t)snprintf(out + used, size - used, "%s %s%s%s", ranges++ ? "," : "", first_path,
-                                     last > f ? " to " : "", last > f ? last_path : "");
-        }
-    }
-    pthread_mutex_unlock(&pool->lock);
-}
-
 /* What rank 0 says when the job is stopped: what is written, who held what. */
 static void update_state(reyes_pool *pool, const holding *held, int size)
 {
     char text[2048];
-    describe_written(pool, text, sizeof text);
+    reyes_pool_describe_written(pool, text, sizeof text);
     size_t used = strlen(text);
     for (int r = 1; r < size && used < sizeof text; ++r)
         if (held[r].item >= 0)
@@ -487,7 +455,7 @@ static int run_coordinator(rank_setup *s, const reyes_cli *cli, const char *prog
                 char what[64] = "sent nothing", written[2048];
                 if (held[r].item >= 0)
                     snprintf(what, sizeof what, "held %s %ld", item_kind(job), shown_item(job, held[r].item));
-                describe_written(&pool, written, sizeof written);
+                reyes_pool_describe_written(&pool, written, sizeof written);
                 mpi_job_abort(program, 0, "rank %d has %s for more than %g s (--rank-timeout); aborting the "
                               "job; %s", r, what, s->timeout, written);
             }
@@ -516,7 +484,7 @@ static int run_coordinator(rank_setup *s, const reyes_cli *cli, const char *prog
     if (status != REYES_OK) {
         char written[2048] = "";
         if (job->frames)
-            describe_written(&pool, written, sizeof written);
+            reyes_pool_describe_written(&pool, written, sizeof written);
         fprintf(stderr, "%s: %s%s%s\n", program, error.message, written[0] ? "; " : "", written);
     }
     reyes_pool_free(&pool);

@@ -120,6 +120,13 @@ static reyes_status run_farm(const reyes_cli *cli, reyes_error *error)
         status = reyes_report_save_json(cli->stats_path, &pool, reports, count, seconds, error);
     if (status == REYES_OK && cli->reference && !job.frames)
         status = run_reference(cli, &job.scene, &job.camera, error);
+    if (status != REYES_OK && job.frames) {
+        /* Say which frames are there (the message is the failure's). */
+        char written[480], message[REYES_MESSAGE_MAX];
+        reyes_pool_describe_written(&pool, written, sizeof written);
+        snprintf(message, sizeof message, "%s", error->message);
+        snprintf(error->message, sizeof error->message, "%.500s; %s", message, written);
+    }
     reyes_pool_free(&pool);
     reyes_job_free(&job);
     return status;
