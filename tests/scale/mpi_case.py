@@ -234,7 +234,7 @@ def case_interrupted(args, tmp):
     for number in (signal.SIGINT, signal.SIGTERM):
         job = subprocess.Popen(mpirun_command(args.mpirun, 2) + render, cwd=tmp, stdout=subprocess.PIPE,
                                stderr=subprocess.STDOUT, text=True)
-        time.sleep(3)
+        time.sleep(4)  # rank 0 has started (its handler is installed) and renders
         job.send_signal(number)
         out, _ = job.communicate(timeout=LIMIT)
         expect(job.returncode != 0, 'the job succeeded', out)
