@@ -7,6 +7,7 @@
 #include <errno.h>
 #include <sys/types.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -47,6 +48,21 @@ static int next_token(tokenizer *t)
     return 1;
 }
 
+/* The last token as a message shows it: bytes outside printable ASCII
+ * (a stray BOM, a control character) as \xHH, so none is invisible. */
+static const char *shown(const tokenizer *t, char *out, size_t size)
+{
+    size_t n = 0;
+    for (const unsigned char *c = (const unsigned char *)t->token; *c && n + 5 < size; ++c) {
+        if (*c >= 0x20 && *c < 0x7f)
+            out[n++] = (char)*c;
+        else
+            n += (size_t)snprintf(out + n, size - n, "\\x%02X", *c);
+    }
+    out[n] = '\0';
+    return out;
+}
+
 static reyes_status syntax_error(const tokenizer *t, reyes_error *error, const char *what)
 {
     return reyes_fail(error, REYES_ERR_FORMAT, "%s:%u: %s", t->name, t->token_line, what);
@@ -81,8 +97,9 @@ static reyes_status read_coordinate(tokenizer *t, size_t patch, int point, float
     /* Overflow gives an infinity (refused); underflow to a tiny or zero
      * value sets ERANGE too but is a fine coordinate. */
     if (t->truncated || *end || !isfinite(value)) {
+        char token[4 * TOKEN_MAX + 1];
         snprintf(what, sizeof what, "patch %zu, control point %d: '%s' is not a finite number",
-                 patch + 1, point + 1, t->token);
+                 patch + 1, point + 1, shown(t, token, sizeof token));
         return syntax_error(t, error, what);
     }
     *out = value;
@@ -98,8 +115,9 @@ static reyes_status read_degrees(tokenizer *t, size_t patch, reyes_error *error)
             return syntax_error(t, error, what);
         }
         if (strcmp(t->token, "3") != 0) {
+            char token[4 * TOKEN_MAX + 1];
             snprintf(what, sizeof what, "patch %zu: degree '%s', only bicubic '3 3' is supported",
-                     patch + 1, t->token);
+                     patch + 1, shown(t, token, sizeof token));
             return syntax_error(t, error, what);
         }
     }
@@ -109,13 +127,17 @@ static reyes_status read_degrees(tokenizer *t, size_t patch, reyes_error *error)
 reyes_status reyes_scene_parse_bpt(reyes_scene *scene, const char *text, const char *name,
                                    uint32_t rgba, reyes_error *error)
 {
+    /* A UTF-8 byte order mark (some editors write one) is not part of the model. */
+    static const char bom[] = "\xEF\xBB\xBF";
+    if (strncmp(text, bom, sizeof bom - 1) == 0)
+        text += sizeof bom - 1;
     tokenizer t = { .at = text, .name = name, .line = 1, .token_line = 1 };
-    char what[160];
+    char what[160], token[4 * TOKEN_MAX + 1];
     unsigned long count;
     if (!next_token(&t))
         return syntax_error(&t, error, "empty file, expected a patch count");
     if (!parse_count(&t, &count) || count == 0) {
-        snprintf(what, sizeof what, "patch count '%s' is not a positive integer", t.token);
+        snprintf(what, sizeof what, "patch count '%s' is not a positive integer", shown(&t, token, sizeof token));
         return syntax_error(&t, error, what);
     }
     if (count > REYES_MAX_PATCHES) {
@@ -139,7 +161,7 @@ reyes_status reyes_scene_parse_bpt(reyes_scene *scene, const char *text, const c
     }
     if (next_token(&t)) {
         scene->patch_count = first;
-        snprintf(what, sizeof what, "unexpected '%s' after the %lu patches", t.token, count);
+        snprintf(what, sizeof what, "unexpected '%s' after the %lu patches", shown(&t, token, sizeof token), count);
         return syntax_error(&t, error, what);
     }
     return REYES_OK;

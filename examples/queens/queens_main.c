@@ -15,7 +15,8 @@
 
 static void usage(FILE *out, const char *program)
 {
-    fprintf(out, "usage: %s [--n N] [--depth D] [--chunk C] [--start even|rank0] [--devices LIST]\n\n"
+    fprintf(out, "usage: %s [--n N] [--depth D] [--chunk C] [--start even|rank0] [--devices LIST]\n"
+                 "       [--rank-timeout S]\n\n"
                  "Counts the N-queens solutions and search-tree nodes with a perma procedure.\n"
                  "Under mpirun the subtrees below row D are spread over the ranks; a rank that\n"
                  "runs dry asks the others for work.\n\n"
@@ -24,8 +25,21 @@ static void usage(FILE *out, const char *program)
                  "  --chunk C       subtrees per perma run, 1..65536 (default 16)\n"
                  "  --start S       even: each rank starts with an equal share (default);\n"
                  "                  rank0: rank 0 starts with all, the others steal\n"
-                 "  --devices LIST  device list; rank r uses entry (local rank mod count)\n",
+                 "  --devices LIST  device list; rank r uses entry (local rank mod count)\n"
+                 "  --rank-timeout S  mpirun: end the job when a rank does not answer for S seconds,\n"
+                 "                  1..1e6 (default 660; a rank answers between runs of C subtrees)\n",
             program, QUEENS_MAX_N);
+}
+
+static int parse_seconds(const char *text, double *out)
+{
+    char *end;
+    errno = 0;
+    double value = strtod(text, &end);
+    if (!text[0] || *end || errno || !(value >= 1.0 && value <= 1e6))
+        return 0;
+    *out = value;
+    return 1;
 }
 
 static int parse_number(const char *text, unsigned long low, unsigned long high, unsigned *out)
@@ -58,7 +72,8 @@ static int parse(int argc, char **argv, queens_job *job, int quiet)
             return -1;
         }
         int known = strcmp(arg, "--n") == 0 || strcmp(arg, "--depth") == 0 || strcmp(arg, "--chunk") == 0
-                    || strcmp(arg, "--start") == 0 || strcmp(arg, "--devices") == 0;
+                    || strcmp(arg, "--start") == 0 || strcmp(arg, "--devices") == 0
+                    || strcmp(arg, "--rank-timeout") == 0;
         const char *problem = NULL;
         if (!known)
             problem = "unknown option";
@@ -78,6 +93,10 @@ static int parse(int argc, char **argv, queens_job *job, int quiet)
             problem = "expected even or rank0";
         else if (strcmp(arg, "--devices") == 0)
             job->devices = value;
+        else if (strcmp(arg, "--rank-timeout") == 0 && !parse_seconds(value, &job->rank_timeout))
+            problem = "expected seconds in 1..1e6";
+        else if (strcmp(arg, "--rank-timeout") == 0 && mpi_launch_size() == 0)
+            problem = "applies only to a job started by mpirun";
         if (problem) {
             if (!quiet)
                 fprintf(stderr, "%s: %s%s%s%s: %s (try --help)\n", program, arg, value && known ? " '" : "",

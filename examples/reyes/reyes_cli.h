@@ -33,8 +33,9 @@ typedef struct reyes_cli {
     unsigned frames;
     float orbit_deg;
     int orbit_given;
-    /* MPI: rank 0 aborts the job when a rank holds an item this long
-     * (seconds; 0: 660, the runtime's watchdog and a minute). */
+    /* MPI: rank 0 ends the job when a rank holds an item this long, a
+     * rank when rank 0 does not answer this long (seconds; 0: 660, the
+     * runtime's watchdog and a minute). */
     float rank_timeout;
     /* MPI: rank 0 only hands out and gathers (a head node); the others
      * render. */
@@ -47,6 +48,11 @@ typedef struct reyes_cli {
  * message in `message`.  Free with reyes_cli_free. */
 int reyes_cli_parse(int argc, char **argv, reyes_cli *cli, char *message, size_t message_size);
 void reyes_cli_free(reyes_cli *cli);
+
+/* The value of option `name` (without dashes) when it is a flag ("on" or
+ * "off") or a choice of names (the name, e.g. "stitch"), into out; 0 when
+ * it is neither (an option with its own parser) or no option. */
+int reyes_cli_field_text(const reyes_cli *cli, const char *name, char *out, size_t size);
 
 /* The --help text. */
 void reyes_cli_usage(FILE *out, const char *program);

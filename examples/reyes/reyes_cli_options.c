@@ -8,6 +8,7 @@
  */
 #include <math.h>
 #include <stddef.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -307,8 +308,12 @@ static int on_schedule(reyes_cli *cli, const char *value, char *message, size_t 
 
 static int on_local_queue(reyes_cli *cli, const char *value, char *message, size_t size)
 {
-    if (!cli_parse_unsigned(value, 65536, &cli->render.schedule.local_queue_items))
-        return cli_usage_error(message, size, "--local-queue '%s': expected items 0..%s", value, "65536");
+    /* The runtime's range: what it would refuse is refused here, by the option's name. */
+    if (!cli_parse_unsigned(value, PERMA_MAX_LOCAL_QUEUE_ITEMS, &cli->render.schedule.local_queue_items)) {
+        char most[16];
+        snprintf(most, sizeof most, "%u", (unsigned)PERMA_MAX_LOCAL_QUEUE_ITEMS);
+        return cli_usage_error(message, size, "--local-queue '%s': expected items 0..%s", value, most);
+    }
     return REYES_CLI_OK;
 }
 
@@ -396,7 +401,7 @@ const cli_option cli_options[] = {
       CHOICE("strategy", strategy_name, render.schedule.strategy) },
     { "victim", 0, "NAME", NULL, "stealing victim: random (default) or round-robin",
       CHOICE("victim", victim_name, render.schedule.victim) },
-    { "local-queue", 0, "N", on_local_queue, "items per procedure in a per-group local queue (default 0)",
+    { "local-queue", 0, "N", on_local_queue, "items per procedure in a per-group local queue, 0..4096 (default 0)",
       NULL },
     { "batch-limit", 0, "N", on_batch_limit, "bounded-batches: items per host iteration (default 4096)", NULL },
     { "groups", 0, "N", on_groups, "persistent work-groups (default: as many as fit)", NULL },
@@ -406,7 +411,8 @@ const cli_option cli_options[] = {
     { "orbit", 0, "DEG", on_orbit,
       "frames: turn the camera DEG about the vertical through the target (default 360, 0 with motion)", NULL },
     { "rank-timeout", 0, "S", on_rank_timeout,
-      "mpirun: abort the job when a rank holds a bucket or frame S seconds (default 660)", NULL },
+      "mpirun: end the job when a rank holds a bucket or frame S seconds, or rank 0 is silent that long "
+      "(default 660)", NULL },
     { "coordinator-only", 0, NULL, NULL, "mpirun: rank 0 hands out and gathers but renders nothing (a head node)",
       FLAG(coordinator_only) },
     { "backface", 0, NULL, NULL, "cull patches that face away entirely", FLAG(render.backface_cull) },
@@ -418,6 +424,28 @@ const cli_option cli_options[] = {
 };
 
 const size_t cli_option_count = COUNT_OF(cli_options);
+
+int reyes_cli_field_text(const reyes_cli *cli, const char *name, char *out, size_t size)
+{
+    for (size_t i = 0; i < cli_option_count; ++i) {
+        const cli_field *field = cli_options[i].field;
+        if (!field || strcmp(cli_options[i].name, name) != 0)
+            continue;
+        const char *at = (const char *)cli + field->offset;
+        if (!field->names) {
+            int on;
+            memcpy(&on, at, sizeof on);
+            snprintf(out, size, "%s", on ? "on" : "off");
+        } else {
+            unsigned value;
+            memcpy(&value, at, sizeof value);
+            const char *text = value <= (unsigned)INT32_MAX ? field->names((int)value) : NULL;
+            snprintf(out, size, "%s", text ? text : "?");
+        }
+        return 1;
+    }
+    return 0;
+}
 
 int cli_option_apply(const cli_option *option, reyes_cli *cli, const char *value, char *message, size_t size)
 {

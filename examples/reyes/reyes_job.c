@@ -7,15 +7,20 @@
 
 #include "reyes_job.h"
 
-static reyes_status build_scene(const reyes_cli *cli, reyes_scene *scene, reyes_error *error)
+static reyes_status build_scene(const reyes_cli *cli, reyes_job *job, reyes_error *error)
 {
     if (cli->model_count == 0)
-        return reyes_scene_add_builtin(scene, error);
+        return reyes_scene_add_builtin(&job->scene, error);
+    job->model_end = malloc(cli->model_count * sizeof *job->model_end);
+    if (!job->model_end)
+        return reyes_fail(error, REYES_ERR_NO_MEMORY, "out of memory for %zu models", cli->model_count);
     for (size_t m = 0; m < cli->model_count; ++m) {
-        reyes_status status = reyes_scene_load_bpt(scene, cli->models[m],
+        reyes_status status = reyes_scene_load_bpt(&job->scene, cli->models[m],
                                                    reyes_model_color((unsigned)m), error);
         if (status != REYES_OK)
             return status;
+        job->model_end[m] = job->scene.patch_count;
+        job->model_count = m + 1;
     }
     return REYES_OK;
 }
@@ -47,6 +52,7 @@ reyes_status reyes_job_init(reyes_job *job, const reyes_cli *cli, reyes_error *e
     job->options.bucket_source = NULL;
     job->options.device = NULL;
     job->output = cli->output;
+    job->models = cli->models;
     job->frames = cli->frames;
     job->orbit_deg = cli->orbit_given ? cli->orbit_deg : 0.0f;
     /* A turntable unless the frames follow a motion. */
@@ -56,7 +62,7 @@ reyes_status reyes_job_init(reyes_job *job, const reyes_cli *cli, reyes_error *e
         job->orbit_deg = 360.0f;
     reyes_status status = reyes_options_check(&job->options, error);
     if (status == REYES_OK)
-        status = build_scene(cli, &job->scene, error);
+        status = build_scene(cli, job, error);
     if (status == REYES_OK)
         status = choose_camera(cli, &job->scene, &job->camera, error);
     if (status != REYES_OK)
@@ -72,6 +78,8 @@ reyes_status reyes_job_init(reyes_job *job, const reyes_cli *cli, reyes_error *e
 void reyes_job_free(reyes_job *job)
 {
     reyes_scene_free(&job->scene);
+    free(job->model_end);
+    job->model_end = NULL;
 }
 
 void reyes_job_bucket_rect(const reyes_job *job, unsigned item, unsigned rect[4])

@@ -21,6 +21,12 @@ typedef struct reyes_job {
     float orbit_deg;           /* frames: the camera's turn over all frames */
     unsigned items;            /* buckets, or frames */
     unsigned bucket_columns;   /* of the image (1 unbucketed) */
+    /* Model m (of the command line's) is patches [model_end[m - 1],
+     * model_end[m]) of the scene (from 0 for the first); 0 models: the
+     * built-in scene. */
+    const char **models;
+    size_t model_count;
+    size_t *model_end;
 } reyes_job;
 
 /* Build the job of a command line: the scene (models or the built-in

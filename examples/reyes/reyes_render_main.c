@@ -120,6 +120,13 @@ static reyes_status run_farm(const reyes_cli *cli, reyes_error *error)
         status = reyes_report_save_json(cli->stats_path, &pool, reports, count, seconds, error);
     if (status == REYES_OK && cli->reference && !job.frames)
         status = run_reference(cli, &job.scene, &job.camera, error);
+    if (status != REYES_OK && job.frames) {
+        /* Say which frames are there (the message is the failure's). */
+        char written[480], message[REYES_MESSAGE_MAX];
+        reyes_pool_describe_written(&pool, written, sizeof written);
+        snprintf(message, sizeof message, "%s", error->message);
+        snprintf(error->message, sizeof error->message, "%.500s; %s", message, written);
+    }
     reyes_pool_free(&pool);
     reyes_job_free(&job);
     return status;
@@ -148,6 +155,12 @@ int main(int argc, char **argv)
                    reyes_mpi_available() ? ", MPI" : "");
     } else if (reyes_mpi_launched()) {
         code = reyes_mpi_main(&cli, program);
+    } else if (cli.coordinator_only || cli.rank_timeout > 0.0f) {
+        /* Options of an MPI job would be silently ignored in one process. */
+        fprintf(stderr, "%s: %s applies only to a job started by mpirun (docs/scale-out.md); without "
+                        "it reyes-render runs in one process\n",
+                program, cli.coordinator_only ? "--coordinator-only" : "--rank-timeout");
+        code = EXIT_USAGE;
     } else {
         reyes_error error;
         reyes_status status = cli.devices || cli.frames ? run_farm(&cli, &error) : run(&cli, &error);

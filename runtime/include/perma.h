@@ -85,6 +85,7 @@ extern "C" {
 #define PERMA_MAX_PROCEDURES 64
 #define PERMA_MAX_BUFFERS 32
 #define PERMA_MAX_QUEUED_ITEMS ((size_t)1 << 30) /* most items one queue holds (seeds included) */
+#define PERMA_MAX_LOCAL_QUEUE_ITEMS 4096 /* most perma_schedule.local_queue_items */
 #define PERMA_MESSAGE_MAX 1024
 
 typedef enum perma_status {
@@ -171,7 +172,8 @@ typedef struct perma_schedule {
     perma_victim victim;            /* stealing strategies only: how a thief picks */
     /* Megakernel only: items per procedure in a per-group front queue in
      * __local memory, in front of the global queues (spilling when full);
-     * 0 = none. */
+     * 0 = none, at most PERMA_MAX_LOCAL_QUEUE_ITEMS (the device's __local
+     * memory may allow fewer: perma_create says so). */
     unsigned local_queue_items;
     /* Bounded batches only: most items taken per host iteration; 0 = 4096. */
     unsigned batch_limit;

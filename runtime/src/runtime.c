@@ -41,9 +41,9 @@ static perma_status check_config(perma_runtime *rt, const perma_config *c)
     if (c->items_per_work_item > 64)
         return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.items_per_work_item %u is above 64",
                                c->items_per_work_item);
-    if (c->schedule.local_queue_items > 4096)
-        return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.schedule.local_queue_items %u is above 4096",
-                               c->schedule.local_queue_items);
+    if (c->schedule.local_queue_items > PERMA_MAX_LOCAL_QUEUE_ITEMS)
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.schedule.local_queue_items %u is above %u",
+                               c->schedule.local_queue_items, (unsigned)PERMA_MAX_LOCAL_QUEUE_ITEMS);
     return PERMA_OK;
 }
 

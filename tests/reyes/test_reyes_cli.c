@@ -299,6 +299,12 @@ START_TEST(test_bad_usage)
         { COUNT("--schedule", "kernel-per-procedure/shared"),
           ARGS("--schedule", "kernel-per-procedure/shared"), "a strategy is only valid with megakernel" },
         { COUNT("--local-queue", "-3"), ARGS("--local-queue", "-3"), "--local-queue" },
+        /* The runtime's range (PERMA_MAX_LOCAL_QUEUE_ITEMS), named as the option. */
+        { COUNT("--local-queue", "65536"), ARGS("--local-queue", "65536"),
+          "--local-queue '65536': expected items 0..4096" },
+        { COUNT("--local-queue", "4097"), ARGS("--local-queue", "4097"), "--local-queue '4097'" },
+        { COUNT("--schedule", "megakernel/shared+local65536"), ARGS("--schedule", "megakernel/shared+local65536"),
+          "'+local65536': at most 4096 items in a local queue" },
         { COUNT("--batch-limit", "0"), ARGS("--batch-limit", "0"), "--batch-limit" },
         { COUNT("--size", "100"), ARGS("--size", "100"), "WxH" },
         { COUNT("--size", "0x10"), ARGS("--size", "0x10"), "--size" },
@@ -400,6 +406,9 @@ START_TEST(test_program_exit_codes)
     ck_assert_int_eq(run_program("--strategy nope", output, sizeof output), 2);
     ck_assert_msg(strstr(output, "valid: shared stealing donation stealing-donation") != NULL, "%s",
                   output);
+    /* Refused by the option's range, before the runtime would refuse it. */
+    ck_assert_int_eq(run_program("--local-queue 65536 -o /tmp/unused.png", output, sizeof output), 2);
+    ck_assert_msg(strstr(output, "--local-queue '65536': expected items 0..4096") != NULL, "%s", output);
     ck_assert_int_eq(run_program("--bogus", output, sizeof output), 2);
     ck_assert_msg(strstr(output, "--bogus") != NULL, "%s", output);
     ck_assert_int_eq(run_program("--blur-algo fancy", output, sizeof output), 2);

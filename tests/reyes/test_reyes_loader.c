@@ -186,6 +186,23 @@ START_TEST(test_binary_file)
 }
 END_TEST
 
+/* A UTF-8 byte order mark before the count is skipped; anywhere else it
+ * is an error that shows its bytes (not an invisible character). */
+START_TEST(test_byte_order_mark)
+{
+    char text[4096];
+    size_t patches;
+    reyes_error error;
+    snprintf(text, sizeof text, "\xEF\xBB\xBF%s", one_patch_text());
+    ck_assert_msg(parse(text, &error, &patches) == REYES_OK, "%s", error.message);
+    ck_assert_uint_eq(patches, 1);
+    snprintf(text, sizeof text, "\xEF\xBB\xBF\xEF\xBB\xBF%s", one_patch_text());
+    expect_error(text, "model.bpt:1:", "patch count '\\xEF\\xBB\\xBF1' is not a positive integer");
+    snprintf(text, sizeof text, "1\n3 3\n\x01%s", one_patch_text() + 6);
+    expect_error(text, "model.bpt:3:", "control point 1: '\\x010' is not a finite number");
+}
+END_TEST
+
 static Suite *loader_suite(void)
 {
     Suite *s = suite_create("reyes_loader");
@@ -200,6 +217,7 @@ static Suite *loader_suite(void)
     tcase_add_test(tc, test_long_token);
     tcase_add_test(tc, test_load_file);
     tcase_add_test(tc, test_binary_file);
+    tcase_add_test(tc, test_byte_order_mark);
     suite_add_tcase(s, tc);
     return s;
 }
