@@ -333,8 +333,31 @@ reyes_status reyes_render(reyes_renderer *renderer, const reyes_scene *scene,
                           const reyes_camera *camera, const reyes_options *options,
                           reyes_image *image, reyes_stats *stats, reyes_error *error);
 
-/* ---- Output ---- */
+/* ---- Output ----
+ * Every output file is written whole or not at all (perma_output in
+ * perma.h): a full disk or a failed write leaves no partial file and an
+ * earlier file at the path unchanged, and the message names the path and
+ * the reason. */
 
+/* Fills `out` with `data` (what the writer expects), or fails with a message. */
+typedef reyes_status (*reyes_output_writer)(FILE *out, const void *data, reyes_error *error);
+typedef struct reyes_output_file {
+    const char *path;
+    reyes_output_writer write;
+    const void *data;
+} reyes_output_file;
+
+/* Write `count` files together: each is written and synced beside its
+ * path first, and only when all are complete are they renamed into place,
+ * so a failure leaves none of them changed (the message says so). */
+reyes_status reyes_write_outputs(const reyes_output_file *files, size_t count, reyes_error *error);
+
+/* Whether `path` can be written (perma_output_check), before work whose
+ * result goes there; `what` names it in the message ("--stats"). */
+reyes_status reyes_check_output(const char *path, const char *what, reyes_error *error);
+
+/* The PNG writer: data is a const reyes_image *. */
+reyes_status reyes_png_writer(FILE *out, const void *image, reyes_error *error);
 reyes_status reyes_write_png(const char *path, const reyes_image *image, reyes_error *error);
 
 /* A grayscale image read from a PNG of any format (converted to gray). */
@@ -352,5 +375,11 @@ reyes_status reyes_write_stats_json(FILE *out, const reyes_stats *stats,
                                     const reyes_options *options, reyes_error *error);
 reyes_status reyes_save_stats_json(const char *path, const reyes_stats *stats,
                                    const reyes_options *options, reyes_error *error);
+/* The statistics writer for reyes_write_outputs: data is a const reyes_stats_output *. */
+typedef struct reyes_stats_output {
+    const reyes_stats *stats;
+    const reyes_options *options;
+} reyes_stats_output;
+reyes_status reyes_stats_writer(FILE *out, const void *stats_output, reyes_error *error);
 
 #endif

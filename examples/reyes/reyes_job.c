@@ -69,6 +69,19 @@ reyes_status reyes_job_init(reyes_job *job, const reyes_cli *cli, reyes_error *e
     return REYES_OK;
 }
 
+reyes_status reyes_job_check_outputs(const reyes_job *job, const char *stats_path, reyes_error *error)
+{
+    char path[4200];
+    if (job->frames)
+        reyes_job_frame_path(job, 0, path, sizeof path);
+    else
+        snprintf(path, sizeof path, "%s", job->output);
+    reyes_status status = reyes_check_output(path, job->frames ? "--frames" : "--output", error);
+    if (status == REYES_OK && stats_path)
+        status = reyes_check_output(stats_path, "--stats", error);
+    return status;
+}
+
 void reyes_job_free(reyes_job *job)
 {
     reyes_scene_free(&job->scene);

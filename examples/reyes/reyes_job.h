@@ -28,6 +28,11 @@ typedef struct reyes_job {
 reyes_status reyes_job_init(reyes_job *job, const reyes_cli *cli, reyes_error *error);
 void reyes_job_free(reyes_job *job);
 
+/* Whether the job's files can be written (the image, or the first frame,
+ * and stats_path if not NULL), checked before rendering: a bad path fails
+ * at once, not after the work. */
+reyes_status reyes_job_check_outputs(const reyes_job *job, const char *stats_path, reyes_error *error);
+
 /* Pixels [x0,x1) x [y0,y1) of bucket `item` (bucket jobs). */
 void reyes_job_bucket_rect(const reyes_job *job, unsigned item, unsigned rect[4]);
 
