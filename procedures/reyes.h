@@ -42,6 +42,9 @@ reyes_status reyes_fail(reyes_error *error, reyes_status status, const char *for
 /* ---- Scenes: a list of bicubic Bézier patches with a color each. ---- */
 
 #define REYES_MAX_PATCHES 10000000u /* refuse larger scenes (and file counts) */
+/* Larger coordinates are refused by the loader: squared distances between
+ * such points overflow single precision (about 3.4e38). */
+#define REYES_MAX_COORDINATE 1e18f
 
 typedef struct reyes_scene {
     float *points;      /* 16 control points per patch, x y z w (w = 1), row-major */
@@ -79,6 +82,21 @@ reyes_status reyes_scene_add_ribbon(reyes_scene *scene, const float start[3], fl
  * Returns 0 for an empty scene. */
 int reyes_scene_bounds(const reyes_scene *scene, float lo[3], float hi[3]);
 
+/* The scene's bulk: its control points but those far from the rest (more
+ * than 64 times farther from the median point than 90% of the points;
+ * e.g. one stray point 1e6 units from a teapot).  Returns 0 for an empty
+ * scene. */
+typedef struct reyes_bulk {
+    float center[3];        /* the median point (per axis) */
+    float keep_radius;      /* points farther from center are left out; may be infinite */
+    float lo[3], hi[3];     /* the box of the points kept */
+    size_t left_out;        /* control points left out */
+    size_t first_left_out;  /* the first of them: patch first_left_out / 16, point % 16 */
+} reyes_bulk;
+int reyes_scene_bulk(const reyes_scene *scene, reyes_bulk *bulk);
+/* Whether the bulk holds a point. */
+int reyes_bulk_holds(const reyes_bulk *bulk, const float point[3]);
+
 /* A distinct color for the n-th model. */
 uint32_t reyes_model_color(unsigned n);
 
@@ -92,8 +110,9 @@ typedef struct reyes_camera {
     float fov_deg;     /* vertical field of view */
 } reyes_camera;
 
-/* Place the camera so the scene's bounding sphere fits the view
- * (fov_deg and aspect = width / height given). */
+/* Place the camera so every control point of the scene's bulk is in view
+ * (fov_deg and aspect = width / height given); points far from the rest
+ * (reyes_scene_bulk) are not framed. */
 reyes_status reyes_camera_frame(const reyes_scene *scene, float fov_deg, float aspect,
                                 reyes_camera *camera, reyes_error *error);
 
@@ -102,8 +121,10 @@ reyes_status reyes_camera_frame(const reyes_scene *scene, float fov_deg, float a
 reyes_status reyes_camera_matrix(const reyes_camera *camera, float aspect, float near_w,
                                  float m[16], reyes_error *error);
 
-/* Clip w of the near plane for a scene: a small fraction of its size. */
-float reyes_near_plane(const reyes_scene *scene);
+/* Clip w of the near plane for a scene seen by a camera: 1e-4 of the
+ * median depth of the control points in front of it, or of the scene's
+ * radius if that is smaller. */
+float reyes_near_plane(const reyes_scene *scene, const reyes_camera *camera);
 
 /* Pixel position (y down) and depth of a world point; 0 if behind the eye. */
 int reyes_camera_project(const float m[16], unsigned width, unsigned height, const float x[3],

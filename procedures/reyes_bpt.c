@@ -90,6 +90,12 @@ static reyes_status read_coordinate(tokenizer *t, size_t patch, int point, float
                  patch + 1, point + 1, t->token);
         return syntax_error(t, error, what);
     }
+    if (fabsf(value) > REYES_MAX_COORDINATE) {
+        snprintf(what, sizeof what, "patch %zu, control point %d: %s is beyond +-%g, where the renderer's "
+                 "single-precision arithmetic overflows", patch + 1, point + 1, t->token,
+                 (double)REYES_MAX_COORDINATE);
+        return syntax_error(t, error, what);
+    }
     *out = value;
     return REYES_OK;
 }

@@ -364,8 +364,10 @@ static int run_coordinator(rank_setup *s, const reyes_cli *cli, const char *prog
     /* Rank 0 writes the files: a path it cannot write ends the job now. */
     if (status == REYES_OK)
         status = reyes_job_check_outputs(&s->job, cli->stats_path, &error);
-    if (status == REYES_OK)
+    if (status == REYES_OK) {
+        reyes_job_print_notes(&s->job, stderr);
         status = reyes_pool_init(&pool, &s->job, &error);
+    }
     if (status != REYES_OK) {
         reyes_pool_init(&pool, &empty, NULL);
         reyes_pool_fail(&pool, "rank 0", status, error.message);

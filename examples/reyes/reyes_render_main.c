@@ -45,8 +45,10 @@ static reyes_status run(const reyes_cli *cli, reyes_error *error)
     camera = job.camera;
     if (status == REYES_OK)
         status = reyes_job_check_outputs(&job, cli->stats_path, error);
-    if (status == REYES_OK)
+    if (status == REYES_OK) {
+        reyes_job_print_notes(&job, stderr);
         status = reyes_renderer_create(&cli->render, &renderer, error);
+    }
     if (status == REYES_OK)
         status = reyes_render(renderer, &scene, &camera, &cli->render, &image, &stats, error);
     if (status == REYES_OK) {
@@ -108,8 +110,10 @@ static reyes_status run_farm(const reyes_cli *cli, reyes_error *error)
     status = reyes_job_init(&job, cli, error);
     if (status == REYES_OK)
         status = reyes_job_check_outputs(&job, cli->stats_path, error);
-    if (status == REYES_OK)
+    if (status == REYES_OK) {
+        reyes_job_print_notes(&job, stderr);
         status = reyes_pool_init(&pool, &job, error);
+    }
     else
         reyes_job_free(&job);
     if (status != REYES_OK)
