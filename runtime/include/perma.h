@@ -349,6 +349,16 @@ void perma_destroy(perma_runtime *rt);
  * so) every call that uses the device fails with PERMA_ERR_STATE. */
 const char *perma_errmsg(const perma_runtime *rt);
 
+/* Whether a buffer of `bytes` for `what` (named in the message, e.g. "the
+ * sample buffer") fits before it is created: not above the device's
+ * largest allocation and, on a CPU device, whose buffers are the
+ * process's memory, within the process's limits (ulimit -v, ulimit -d)
+ * with room left for the driver.  PERMA_ERR_NO_MEMORY naming what, its
+ * size and the limit otherwise.  The runtime checks its own buffers so;
+ * call it before clCreateBuffer on perma_cl_context() (an OpenCL driver
+ * may not survive an allocation that fails inside it). */
+perma_status perma_check_memory(perma_runtime *rt, size_t bytes, const char *what);
+
 /* The OpenCL context, device and queue the runtime uses (for user buffers). */
 cl_context perma_cl_context(const perma_runtime *rt);
 cl_device_id perma_cl_device(const perma_runtime *rt);
