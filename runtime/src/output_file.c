@@ -118,31 +118,6 @@ static perma_status check_target(const char *path, const struct stat *existing, 
     return PERMA_OK;
 }
 
-perma_status perma_output_check(const char *path, perma_error *error)
-{
-    if (!path || !*path)
-        return fail(error, PERMA_ERR_ARGUMENT, "an output file name is empty");
-    struct stat existing;
-    bool exists;
-    char *target = resolve(path, &existing, &exists);
-    if (!target)
-        return fail(error, PERMA_ERR_IO, "cannot write '%s': %s", path, strerror(errno));
-    perma_status st = check_target(path, &existing, exists, error);
-    if (st == PERMA_OK && !(exists && !S_ISREG(existing.st_mode))) {
-        char *name = NULL;
-        int fd = create_temporary(target, &name);
-        if (fd < 0) {
-            st = fail(error, PERMA_ERR_IO, "cannot create '%s': %s", path, strerror(errno));
-        } else {
-            close(fd);
-            unlink(name);
-        }
-        free(name);
-    }
-    free(target);
-    return st;
-}
-
 void perma_output_discard(perma_output *out)
 {
     if (!out)
@@ -158,24 +133,18 @@ void perma_output_discard(perma_output *out)
     free(out);
 }
 
-perma_status perma_output_open(const char *path, perma_output **result, perma_error *error)
+/* The file descriptor the output writes to: a new temporary file beside
+ * the target, or the target itself if it is there and not a regular file. */
+static perma_status open_file(perma_output *out, const char *path, perma_error *error)
 {
-    *result = NULL;
-    perma_status st = perma_output_check(path, error);
-    if (st != PERMA_OK)
-        return st;
-    perma_output *out = calloc(1, sizeof *out);
     struct stat existing;
     bool exists;
-    if (!out)
-        return fail(error, PERMA_ERR_NO_MEMORY, "out of memory opening '%s'", path);
-    out->fd = -1;
     out->path = resolve(path, &existing, &exists);
-    if (!out->path) {
-        st = fail(error, PERMA_ERR_IO, "cannot write '%s': %s", path, strerror(errno));
-        perma_output_discard(out);
+    if (!out->path)
+        return fail(error, PERMA_ERR_IO, "cannot write '%s': %s", path, strerror(errno));
+    perma_status st = check_target(path, &existing, exists, error);
+    if (st != PERMA_OK)
         return st;
-    }
     out->replaces = exists;
     if (exists && !S_ISREG(existing.st_mode)) {
         out->fd = open(out->path, O_WRONLY | O_CLOEXEC); /* /dev/null, /dev/stdout, a pipe */
@@ -184,19 +153,46 @@ perma_status perma_output_open(const char *path, perma_output **result, perma_er
         if (out->fd >= 0 && exists)
             fchmod(out->fd, existing.st_mode & 07777); /* keep the file's permissions */
     }
-    if (out->fd < 0) {
-        st = fail(error, PERMA_ERR_IO, "cannot create '%s': %s", path, strerror(errno));
+    if (out->fd < 0)
+        return fail(error, PERMA_ERR_IO, "cannot create '%s': %s", path, strerror(errno));
+    return PERMA_OK;
+}
+
+perma_status perma_output_open(const char *path, perma_output **result, perma_error *error)
+{
+    *result = NULL;
+    if (!path || !*path)
+        return fail(error, PERMA_ERR_ARGUMENT, "an output file name is empty");
+    perma_output *out = calloc(1, sizeof *out);
+    if (!out)
+        return fail(error, PERMA_ERR_NO_MEMORY, "out of memory opening '%s'", path);
+    out->fd = -1;
+    perma_status st = open_file(out, path, error);
+    if (st == PERMA_OK) {
+        cookie_io_functions_t io = { .read = NULL, .write = cookie_write, .seek = NULL, .close = NULL };
+        out->stream = fopencookie(out, "w", io);
+        if (!out->stream)
+            st = fail(error, PERMA_ERR_NO_MEMORY, "out of memory opening '%s'", path);
+    }
+    if (st != PERMA_OK) {
         perma_output_discard(out);
         return st;
     }
-    cookie_io_functions_t io = { .read = NULL, .write = cookie_write, .seek = NULL, .close = NULL };
-    out->stream = fopencookie(out, "w", io);
-    if (!out->stream) {
-        perma_output_discard(out);
-        return fail(error, PERMA_ERR_NO_MEMORY, "out of memory opening '%s'", path);
-    }
     *result = out;
     return PERMA_OK;
+}
+
+perma_status perma_output_check(const char *path, perma_error *error)
+{
+    /* A device or a pipe that is there is written in place: opening a
+     * pipe now would wait for its reader. */
+    struct stat existing;
+    if (path && stat(path, &existing) == 0 && !S_ISREG(existing.st_mode) && !S_ISDIR(existing.st_mode))
+        return PERMA_OK;
+    perma_output *out;
+    perma_status st = perma_output_open(path, &out, error);
+    perma_output_discard(out);
+    return st;
 }
 
 FILE *perma_output_stream(perma_output *out)
