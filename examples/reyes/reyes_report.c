@@ -111,5 +111,15 @@ reyes_status reyes_report_write_outputs(const reyes_pool *pool, const reyes_work
         files[n++] = (reyes_output_file){ pool->job->output, reyes_png_writer, &pool->image };
     if (stats_path)
         files[n++] = (reyes_output_file){ stats_path, write_json, &report };
-    return reyes_write_outputs(files, n, error);
+    reyes_status status = reyes_write_outputs(files, n, error);
+    if (status != REYES_OK && pool->job->frames && error) {
+        /* The frames were written as they came: say so. */
+        char first[4200], last[4200];
+        reyes_job_frame_path(pool->job, 0, first, sizeof first);
+        reyes_job_frame_path(pool->job, pool->job->frames - 1, last, sizeof last);
+        size_t used = strlen(error->message);
+        snprintf(error->message + used, sizeof error->message - used, "; the %u frames %s .. %s were written",
+                 pool->job->frames, first, last);
+    }
+    return status;
 }

@@ -58,7 +58,16 @@ grep -q "frame 1: writing '$dir/f-0001.png' failed: File too large" "$dir/out.tx
 [ ! -e "$dir/f-0001.png" ] && [ ! -e "$dir/f-0002.png" ] || fail "frames: a partial frame was left"
 [ "$(leftovers)" -eq 0 ] || fail "frames: a temporary file was left"
 
+# Frames that fit and --stats that does not (over 1 KiB: 24 frames): the
+# message says which files were written.
+limited --size 8x8 --frames 24 -o "$dir/g.png" --stats "$dir/g.json"
+[ "$status" -eq 1 ] || fail "frames and stats: exit $status, expected 1"
+grep -q "writing '$dir/g.json' failed: File too large (no file was written); the 24 frames $dir/g-0001.png .. $dir/g-0024.png were written" \
+    "$dir/out.txt" || fail "frames and stats: no message saying what was written"
+[ -s "$dir/g-0024.png" ] && [ ! -e "$dir/g.json" ] || fail "frames and stats: not the frames without the statistics"
+[ "$(leftovers)" -eq 0 ] || fail "frames and stats: a temporary file was left"
+
 if [ "$failed" -ne 0 ]; then
     exit 1
 fi
-echo "3 passed, 0 failed"
+echo "4 passed, 0 failed"
