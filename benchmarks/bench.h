@@ -79,7 +79,8 @@ void bench_report_workload(bench_report *report, const char *title);
 void bench_report_add(bench_report *report, const bench_row *row, int is_baseline);
 /* Number of rows whose check failed. */
 unsigned bench_report_failures(const bench_report *report);
-/* Finish the table, close the CSV file; returns 0, or 1 when writing failed. */
+/* Finish the table and write the CSV file; returns 0, or 1 when writing failed or
+ * no perma variant was measured (every perma row n/a, or none at all). */
 int bench_report_close(bench_report *report);
 
 /* Initialise a row with a workload and variant name. */

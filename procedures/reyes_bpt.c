@@ -5,9 +5,14 @@
  */
 #include <ctype.h>
 #include <errno.h>
-#include <sys/types.h>
+#include <fcntl.h>
 #include <math.h>
+#include <poll.h>
+#include <stdint.h>
 #include <stdio.h>
+#include <sys/stat.h>
+#include <sys/types.h>
+#include <unistd.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -102,6 +107,12 @@ static reyes_status read_coordinate(tokenizer *t, size_t patch, int point, float
                  patch + 1, point + 1, shown(t, token, sizeof token));
         return syntax_error(t, error, what);
     }
+    if (fabsf(value) > REYES_MAX_COORDINATE) {
+        snprintf(what, sizeof what, "patch %zu, control point %d: %s is beyond +-%g, where the renderer's "
+                 "single-precision arithmetic overflows", patch + 1, point + 1, t->token,
+                 (double)REYES_MAX_COORDINATE);
+        return syntax_error(t, error, what);
+    }
     *out = value;
     return REYES_OK;
 }
@@ -172,46 +183,87 @@ reyes_status reyes_scene_parse_bpt(reyes_scene *scene, const char *text, const c
  * memory. */
 #define REYES_MAX_FILE_BYTES ((size_t)4 << 30)
 
-/* Read a whole file into a NUL-terminated buffer. */
+static const char *file_kind(mode_t mode)
+{
+    return S_ISDIR(mode) ? "directory" : S_ISCHR(mode) ? "character device" : S_ISBLK(mode) ? "block device"
+         : S_ISSOCK(mode) ? "socket" : "special file";
+}
+
+/* Open a model: a regular file no larger than the limit, or a named pipe
+ * (read up to the limit).  Anything else (a directory, /dev/zero, a
+ * terminal) is refused by kind before a byte is read. */
+static reyes_status open_model(const char *path, FILE **out, reyes_error *error)
+{
+    /* Not blocking: opening a pipe or a device must not wait before we know what it is. */
+    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    struct stat st;
+    if (fd < 0 || fstat(fd, &st) != 0) {
+        reyes_status status = reyes_fail(error, REYES_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+        if (fd >= 0)
+            close(fd);
+        return status;
+    }
+    if (!S_ISREG(st.st_mode) && !S_ISFIFO(st.st_mode)) {
+        close(fd);
+        return reyes_fail(error, REYES_ERR_IO, "%s: a %s is not a model file (a model is a regular file or "
+                          "a named pipe)", path, file_kind(st.st_mode));
+    }
+    if (S_ISREG(st.st_mode) && (uintmax_t)st.st_size > REYES_MAX_FILE_BYTES) {
+        close(fd);
+        return reyes_fail(error, REYES_ERR_FORMAT, "%s: file of %lld bytes is larger than the %zu bytes a "
+                          "model may have", path, (long long)st.st_size, REYES_MAX_FILE_BYTES);
+    }
+    if (S_ISFIFO(st.st_mode)) {
+        /* Wait for a writer, as cat would: until one opens the pipe, a
+         * read would see an empty file. */
+        struct pollfd wait = { .fd = fd, .events = POLLIN };
+        while (poll(&wait, 1, -1) < 0 && errno == EINTR)
+            continue;
+    }
+    fcntl(fd, F_SETFL, fcntl(fd, F_GETFL) & ~O_NONBLOCK);
+    *out = fdopen(fd, "rb");
+    if (!*out) {
+        close(fd);
+        return reyes_fail(error, REYES_ERR_NO_MEMORY, "%s: out of memory opening the file", path);
+    }
+    return REYES_OK;
+}
+
+/* Read a whole model into a NUL-terminated buffer, never more than the
+ * limit (a pipe or a file that grew is refused there). */
 static reyes_status read_file(const char *path, char **out, reyes_error *error)
 {
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return reyes_fail(error, REYES_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
-    if (fseeko(f, 0, SEEK_END) == 0) {
-        off_t length = ftello(f);
-        if (length > (off_t)REYES_MAX_FILE_BYTES) {
-            fclose(f);
-            return reyes_fail(error, REYES_ERR_FORMAT, "%s: file of %lld bytes is larger than the %zu bytes a "
-                              "model may have", path, (long long)length, REYES_MAX_FILE_BYTES);
-        }
-        rewind(f);
-    }
+    FILE *f;
+    reyes_status status = open_model(path, &f, error);
+    if (status != REYES_OK)
+        return status;
     size_t size = 0, capacity = 1 << 16;
     char *text = malloc(capacity);
-    reyes_status status = text ? REYES_OK : REYES_ERR_NO_MEMORY;
+    status = text ? REYES_OK : REYES_ERR_NO_MEMORY;
     while (status == REYES_OK) {
         if (capacity - size < 2) {
-            char *bigger = realloc(text, capacity * 2);
+            /* Room for one byte past the limit, which tells that it is passed. */
+            size_t grown = capacity * 2 < REYES_MAX_FILE_BYTES + 2 ? capacity * 2 : REYES_MAX_FILE_BYTES + 2;
+            char *bigger = realloc(text, grown);
             if (!bigger) {
                 status = REYES_ERR_NO_MEMORY;
                 break;
             }
             text = bigger;
-            capacity *= 2;
+            capacity = grown;
         }
         size_t got = fread(text + size, 1, capacity - size - 1, f);
         size += got;
-        if (size > REYES_MAX_FILE_BYTES) /* a pipe or a file that grew */
+        if (size > REYES_MAX_FILE_BYTES)
             status = reyes_fail(error, REYES_ERR_FORMAT, "%s: larger than the %zu bytes a model may have",
                                 path, REYES_MAX_FILE_BYTES);
         if (got == 0)
             break;
     }
     if (status == REYES_OK && ferror(f))
-        status = reyes_fail(error, REYES_ERR_IO, "%s: read error", path);
+        status = reyes_fail(error, REYES_ERR_IO, "%s: read error: %s", path, strerror(errno));
     else if (status == REYES_ERR_NO_MEMORY)
-        reyes_fail(error, status, "%s: out of memory reading the file", path);
+        reyes_fail(error, status, "%s: out of memory reading the file (%zu bytes so far)", path, size);
     fclose(f);
     if (status != REYES_OK) {
         free(text);

@@ -1,5 +1,4 @@
 /* bfs: breadth-first levels of a graph with perma, or --compare. */
-#include <errno.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -46,15 +45,17 @@ static void print_summary(const bfs_graph *g, uint32_t source, const uint32_t *l
 static bfs_status write_levels(const char *path, const bfs_graph *g, const uint32_t *levels,
                                char *message, size_t size)
 {
-    FILE *f = fopen(path, "w");
-    if (!f) {
-        snprintf(message, size, "%s: cannot create: %s", path, strerror(errno));
+    perma_output *out;
+    perma_error error;
+    if (perma_output_open(path, &out, &error) != PERMA_OK) {
+        snprintf(message, size, "%s", error.message);
         return BFS_ERR_RUNTIME;
     }
+    FILE *f = perma_output_stream(out);
     for (uint32_t v = 0; v < g->vertices; ++v)
         fprintf(f, "%u %lld\n", v, levels[v] == BFS_UNREACHED ? -1LL : (long long)levels[v]);
-    if (fclose(f) != 0) {
-        snprintf(message, size, "%s: write failed: %s", path, strerror(errno));
+    if (perma_output_commit(out, &error) != PERMA_OK) {
+        snprintf(message, size, "%s", error.message);
         return BFS_ERR_RUNTIME;
     }
     return BFS_OK;

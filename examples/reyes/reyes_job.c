@@ -25,12 +25,29 @@ static reyes_status build_scene(const reyes_cli *cli, reyes_job *job, reyes_erro
     return REYES_OK;
 }
 
-static reyes_status choose_camera(const reyes_cli *cli, const reyes_scene *scene,
-                                  reyes_camera *camera, reyes_error *error)
+/* What automatic framing left out, for the user: "" if nothing. */
+static void note_framing(const reyes_scene *scene, char *note, size_t size)
 {
+    reyes_bulk bulk;
+    note[0] = '\0';
+    if (!reyes_scene_bulk(scene, &bulk) || bulk.left_out == 0)
+        return;
+    const float *p = scene->points + bulk.first_left_out * 4;
+    snprintf(note, size, "%zu control point%s far from the rest %s not framed (the first: patch %zu, point %zu, "
+             "at %g %g %g); --camera can frame %s", bulk.left_out, bulk.left_out == 1 ? "" : "s",
+             bulk.left_out == 1 ? "is" : "are", bulk.first_left_out / 16 + 1, bulk.first_left_out % 16 + 1,
+             (double)p[0], (double)p[1], (double)p[2], bulk.left_out == 1 ? "it" : "them");
+}
+
+static reyes_status choose_camera(const reyes_cli *cli, reyes_job *job, reyes_error *error)
+{
+    const reyes_scene *scene = &job->scene;
+    reyes_camera *camera = &job->camera;
     float aspect = (float)cli->render.width / (float)cli->render.height;
-    if (!cli->has_camera)
+    if (!cli->has_camera) {
+        note_framing(scene, job->framing_note, sizeof job->framing_note);
         return reyes_camera_frame(scene, cli->fov_deg, aspect, camera, error);
+    }
     for (int k = 0; k < 3; ++k) {
         camera->eye[k] = cli->camera[k];
         camera->at[k] = cli->camera[3 + k];
@@ -64,7 +81,7 @@ reyes_status reyes_job_init(reyes_job *job, const reyes_cli *cli, reyes_error *e
     if (status == REYES_OK)
         status = build_scene(cli, job, error);
     if (status == REYES_OK)
-        status = choose_camera(cli, &job->scene, &job->camera, error);
+        status = choose_camera(cli, job, error);
     if (status != REYES_OK)
         return status;
     unsigned bw = bucket_side(job->options.bucket_width, job->options.width);
@@ -73,6 +90,25 @@ reyes_status reyes_job_init(reyes_job *job, const reyes_cli *cli, reyes_error *e
     job->items = job->frames ? job->frames
                              : job->bucket_columns * ((job->options.height + bh - 1) / bh);
     return REYES_OK;
+}
+
+void reyes_job_print_notes(const reyes_job *job, FILE *out)
+{
+    if (job->framing_note[0])
+        fprintf(out, "reyes-render: note: %s\n", job->framing_note);
+}
+
+reyes_status reyes_job_check_outputs(const reyes_job *job, const char *stats_path, reyes_error *error)
+{
+    char path[4200];
+    if (job->frames)
+        reyes_job_frame_path(job, 0, path, sizeof path);
+    else
+        snprintf(path, sizeof path, "%s", job->output);
+    reyes_status status = reyes_check_output(path, job->frames ? "--frames" : "--output", error);
+    if (status == REYES_OK && stats_path)
+        status = reyes_check_output(stats_path, "--stats", error);
+    return status;
 }
 
 void reyes_job_free(reyes_job *job)

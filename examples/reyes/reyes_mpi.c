@@ -18,6 +18,7 @@
  * thread does all of its MPI calls (MPI_THREAD_FUNNELED); its render
  * thread only takes from and delivers to the pool.
  */
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -389,12 +390,15 @@ static int run_coordinator(rank_setup *s, const reyes_cli *cli, const char *prog
     memset(&empty, 0, sizeof empty);
     empty.frames = 1;
     reyes_pool pool;
-    reyes_error error;
+    reyes_error error = s->error;
     reyes_status status = s->status;
+    /* Rank 0 writes the files: a path it cannot write ends the job now. */
     if (status == REYES_OK)
+        status = reyes_job_check_outputs(&s->job, cli->stats_path, &error);
+    if (status == REYES_OK) {
+        reyes_job_print_notes(&s->job, stderr);
         status = reyes_pool_init(&pool, &s->job, &error);
-    else
-        error = s->error;
+    }
     if (status != REYES_OK) {
         reyes_pool_init(&pool, &empty, NULL);
         reyes_pool_fail(&pool, "rank 0", status, error.message);
@@ -471,19 +475,18 @@ static int run_coordinator(rank_setup *s, const reyes_cli *cli, const char *prog
     mpi_job_unwatch();
 
     status = reyes_pool_finish(&pool, &error);
-    if (status == REYES_OK && !s->job.frames)
-        status = reyes_write_png(s->job.output, &pool.image, &error);
+    const bool pool_failed = status != REYES_OK; /* else only writing the outputs can fail */
     double seconds = mpi_job_now() - start;
     reports[0] = local.report;
     if (cli->coordinator_only)
         snprintf(reports[0].device, sizeof reports[0].device, "none");
     if (status == REYES_OK)
+        status = reyes_report_write_outputs(&pool, reports, (unsigned)size, seconds, cli->stats_path, &error);
+    if (status == REYES_OK)
         reyes_report_print(stdout, &s->job, reports, (unsigned)size, "rank", seconds);
-    if (status == REYES_OK && cli->stats_path)
-        status = reyes_report_save_json(cli->stats_path, &pool, reports, (unsigned)size, seconds, &error);
     if (status != REYES_OK) {
         char written[2048] = "";
-        if (job->frames)
+        if (job->frames && pool_failed)
             reyes_pool_describe_written(&pool, written, sizeof written);
         fprintf(stderr, "%s: %s%s%s\n", program, error.message, written[0] ? "; " : "", written);
     }

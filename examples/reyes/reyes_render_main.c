@@ -44,13 +44,20 @@ static reyes_status run(const reyes_cli *cli, reyes_error *error)
     scene = job.scene;
     camera = job.camera;
     if (status == REYES_OK)
+        status = reyes_job_check_outputs(&job, cli->stats_path, error);
+    if (status == REYES_OK) {
+        reyes_job_print_notes(&job, stderr);
         status = reyes_renderer_create(&cli->render, &renderer, error);
+    }
     if (status == REYES_OK)
         status = reyes_render(renderer, &scene, &camera, &cli->render, &image, &stats, error);
-    if (status == REYES_OK)
-        status = reyes_write_png(cli->output, &image, error);
-    if (status == REYES_OK && cli->stats_path)
-        status = reyes_save_stats_json(cli->stats_path, &stats, &cli->render, error);
+    if (status == REYES_OK) {
+        /* The image and its statistics: both or neither. */
+        const reyes_stats_output stats_output = { &stats, &cli->render };
+        const reyes_output_file files[] = { { cli->output, reyes_png_writer, &image },
+                                            { cli->stats_path, reyes_stats_writer, &stats_output } };
+        status = reyes_write_outputs(files, cli->stats_path ? 2 : 1, error);
+    }
     if (status == REYES_OK)
         printf("%s: %ux%u, %zu patches, %llu splits, %llu grids, %llu micropolygons, %.3f s, "
                "%s/%s (%s)\n",
@@ -102,22 +109,24 @@ static reyes_status run_farm(const reyes_cli *cli, reyes_error *error)
     double start = now();
     status = reyes_job_init(&job, cli, error);
     if (status == REYES_OK)
+        status = reyes_job_check_outputs(&job, cli->stats_path, error);
+    if (status == REYES_OK) {
+        reyes_job_print_notes(&job, stderr);
         status = reyes_pool_init(&pool, &job, error);
+    }
     else
         reyes_job_free(&job);
     if (status != REYES_OK)
         return status;
     status = reyes_farm_run(&pool, devices, count, workers, error);
-    if (status == REYES_OK && !job.frames)
-        status = reyes_write_png(job.output, &pool.image, error);
     double seconds = now() - start;
     reyes_work_report reports[PERMA_MAX_DEVICES];
     for (unsigned k = 0; k < count; ++k)
         reports[k] = workers[k].report;
     if (status == REYES_OK)
+        status = reyes_report_write_outputs(&pool, reports, count, seconds, cli->stats_path, error);
+    if (status == REYES_OK)
         reyes_report_print(stdout, &job, reports, count, "device", seconds);
-    if (status == REYES_OK && cli->stats_path)
-        status = reyes_report_save_json(cli->stats_path, &pool, reports, count, seconds, error);
     if (status == REYES_OK && cli->reference && !job.frames)
         status = run_reference(cli, &job.scene, &job.camera, error);
     if (status != REYES_OK && job.frames) {

@@ -356,6 +356,16 @@ void perma_destroy(perma_runtime *rt);
  * so) every call that uses the device fails with PERMA_ERR_STATE. */
 const char *perma_errmsg(const perma_runtime *rt);
 
+/* Whether a buffer of `bytes` for `what` (named in the message, e.g. "the
+ * sample buffer") fits before it is created: not above the device's
+ * largest allocation and, on a CPU device, whose buffers are the
+ * process's memory, within the process's limits (ulimit -v, ulimit -d)
+ * with room left for the driver.  PERMA_ERR_NO_MEMORY naming what, its
+ * size and the limit otherwise.  The runtime checks its own buffers so;
+ * call it before clCreateBuffer on perma_cl_context() (an OpenCL driver
+ * may not survive an allocation that fails inside it). */
+perma_status perma_check_memory(perma_runtime *rt, size_t bytes, const char *what);
+
 /* The OpenCL context, device and queue the runtime uses (for user buffers). */
 cl_context perma_cl_context(const perma_runtime *rt);
 cl_device_id perma_cl_device(const perma_runtime *rt);
@@ -523,6 +533,40 @@ void perma_print_stats(perma_runtime *rt, FILE *out);
 
 /* Description of the device and the chosen work-group count, one line. */
 const char *perma_device_summary(const perma_runtime *rt);
+
+/* ---- Output files ----
+ * Files written whole or not at all (the trace here; images, statistics
+ * and CSV in the renderer and the benchmarks): the writer fills a stream
+ * on a new temporary file in the target's directory, and only a complete,
+ * synced file is renamed over the target.  On failure the temporary file
+ * is removed, a file that was there before is unchanged, and the message
+ * names the path and the reason ("No space left on device").  A symbolic
+ * link to a regular file is kept (its target is replaced); a path that is
+ * there and is not a regular file (/dev/null, a named pipe) is written in
+ * place.  Linux (glibc or musl: fopencookie). */
+typedef struct perma_output perma_output;
+
+/* Whether `path` can be written, without writing it: not a directory, not
+ * a read-only file, and its directory takes a new file (one is created and
+ * removed).  For a check before long work whose result goes there. */
+perma_status perma_output_check(const char *path, perma_error *error);
+
+/* Start writing `path`; write to perma_output_stream(*out). */
+perma_status perma_output_open(const char *path, perma_output **out, perma_error *error);
+FILE *perma_output_stream(perma_output *out);
+
+/* Flush, sync and close the file, which is complete but not yet in place:
+ * a writer of several files finishes each before committing any.  On
+ * failure (a write failed now or earlier) the output is discarded and
+ * freed. */
+perma_status perma_output_finish(perma_output *out, perma_error *error);
+
+/* Finish (if not yet) and rename the file into place; frees `out`, also
+ * on failure, which leaves the target as it was. */
+perma_status perma_output_commit(perma_output *out, perma_error *error);
+
+/* Give up: remove the temporary file and free `out` (NULL is fine). */
+void perma_output_discard(perma_output *out);
 
 #ifdef __cplusplus
 }

@@ -1,6 +1,7 @@
 /* User buffers, passed to the megakernel as arguments. */
 #include "internal.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -92,6 +93,11 @@ perma_status perma_bind_host(perma_runtime *rt, const char *name, const char *ty
                                name ? name : "(null)", flags);
     perma_buffer_binding *b;
     perma_status st = binding_for(rt, name, type, &b);
+    if (st != PERMA_OK)
+        return st;
+    char what[PERMA_NAME_MAX + 16];
+    snprintf(what, sizeof what, "buffer '%s'", b->name);
+    st = perma_check_memory(rt, bytes, what);
     if (st != PERMA_OK)
         return st;
     cl_int err;

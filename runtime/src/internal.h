@@ -239,6 +239,18 @@ void perma_cache_store(cl_program program, const perma_cache_entry *entry, doubl
 
 /* device.c */
 perma_status perma_device_open(perma_runtime *rt);
+
+/* The tighter of the process's memory limits (memory.c): false if none is set. */
+typedef struct perma_headroom {
+    size_t free, limit, used; /* bytes */
+    const char *name;         /* "address-space limit (ulimit -v)" */
+} perma_headroom;
+bool perma_memory_headroom(perma_headroom *out);
+/* False, with the message, if the limits leave less than the OpenCL
+ * driver needs to load, start and run at all (checked before the first
+ * OpenCL call of the process), or, for a `runtime` after the first, less
+ * than another runtime needs. */
+bool perma_memory_driver_fits(char *message, size_t size, bool runtime);
 void perma_device_close(perma_runtime *rt);
 
 /* environment.c: PERMA_LOCAL_MEMORY_LIMIT in bytes (0: unset); the

@@ -174,10 +174,11 @@ perma_status perma_build(perma_runtime *rt)
     }
     const char *dump = getenv("PERMA_DUMP_PROGRAM");
     if (dump && *dump) {
-        FILE *f = fopen(dump, "w");
-        if (f) {
-            fputs(sb.data, f);
-            fclose(f);
+        perma_output *out;
+        perma_error ignored; /* a debugging aid: the build goes on without it */
+        if (perma_output_open(dump, &out, &ignored) == PERMA_OK) {
+            fputs(sb.data, perma_output_stream(out));
+            perma_output_commit(out, &ignored);
         }
     }
     char options[1024];

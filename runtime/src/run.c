@@ -115,6 +115,16 @@ static perma_status launch_until_done(perma_runtime *rt, double deadline)
     return st;
 }
 
+/* A trace that cannot be written fails the run before it starts, not
+ * after all its work. */
+static perma_status check_trace_path(perma_runtime *rt)
+{
+    perma_error error;
+    if (rt->config.trace_path && perma_output_check(rt->config.trace_path, &error) != PERMA_OK)
+        return perma_set_error(rt, error.status, "cannot write the trace: %s", error.message);
+    return PERMA_OK;
+}
+
 /* The trace is written after a failure too (it shows what ran before it),
  * keeping the failure's message. */
 static perma_status write_trace(perma_runtime *rt, perma_status st)
@@ -144,6 +154,8 @@ perma_status perma_run(perma_runtime *rt)
     if (!rt)
         return PERMA_ERR_ARGUMENT;
     perma_status st = perma_call_begin(rt, "perma_run", true);
+    if (st == PERMA_OK)
+        st = check_trace_path(rt);
     if (st == PERMA_OK)
         st = perma_build(rt);
     if (st != PERMA_OK) {

@@ -6,6 +6,7 @@
 #include "internal.h"
 
 #include <stddef.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -38,6 +39,11 @@ static perma_status create(perma_runtime *rt, perma_device_buffer *b, size_t byt
 {
     if (bytes < 4)
         bytes = 4;
+    char name[64];
+    snprintf(name, sizeof name, "the %s", what);
+    perma_status st = perma_check_memory(rt, bytes, name);
+    if (st != PERMA_OK)
+        return st;
     cl_int err;
     b->mem = clCreateBuffer(rt->context, CL_MEM_READ_WRITE, bytes, NULL, &err);
     if (err != CL_SUCCESS) {

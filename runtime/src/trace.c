@@ -2,7 +2,6 @@
  * viewable in Perfetto (ui.perfetto.dev) or chrome://tracing. */
 #include "internal.h"
 
-#include <errno.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -93,10 +92,11 @@ perma_status perma_trace_write(perma_runtime *rt)
 {
     if (!rt->config.trace_path)
         return PERMA_OK;
-    FILE *f = fopen(rt->config.trace_path, "w");
-    if (!f)
-        return perma_set_error(rt, PERMA_ERR_IO, "cannot write the trace '%s': %s", rt->config.trace_path,
-                               strerror(errno));
+    perma_output *out;
+    perma_error error;
+    if (perma_output_open(rt->config.trace_path, &out, &error) != PERMA_OK)
+        return perma_set_error(rt, error.status, "cannot write the trace: %s", error.message);
+    FILE *f = perma_output_stream(out);
     bool host = !tracing_on_device(rt);
     fprintf(f, "{\"displayTimeUnit\":\"ns\",\"otherData\":{\"runtime\":\"perma %s\",\"technique\":\"%s\","
                "\"strategy\":\"%s\",\"clock\":\"%s\"},\n\"traceEvents\":[\n",
@@ -119,8 +119,7 @@ perma_status perma_trace_write(perma_runtime *rt)
                 duration, e->items, kind_names[e->kind]);
     }
     fprintf(f, "\n]}\n");
-    bool failed = ferror(f) != 0;
-    if (fclose(f) != 0 || failed)
-        return perma_set_error(rt, PERMA_ERR_IO, "error writing the trace '%s'", rt->config.trace_path);
+    if (perma_output_commit(out, &error) != PERMA_OK)
+        return perma_set_error(rt, error.status, "cannot write the trace: %s", error.message);
     return PERMA_OK;
 }

@@ -4,6 +4,7 @@
 #include "perma_test.h"
 
 #include <stdbool.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
@@ -432,6 +433,33 @@ START_TEST(no_platform_names_the_package)
 }
 END_TEST
 
+/* A registered driver that does not load is not "no driver installed":
+ * the message says which is registered and that it did not load. */
+START_TEST(driver_that_does_not_load_is_named)
+{
+    const char *fork = getenv("CK_FORK");
+    if (fork && strcmp(fork, "no") == 0)
+        return; /* would poison the loader for the other tests */
+    char vendors[] = "/tmp/perma-broken-vendors-XXXXXX", icd[96];
+    ck_assert_ptr_nonnull(mkdtemp(vendors));
+    snprintf(icd, sizeof icd, "%s/broken.icd", vendors);
+    FILE *f = fopen(icd, "w");
+    ck_assert_ptr_nonnull(f);
+    fputs("/nonexistent/libbroken-opencl.so\n", f);
+    fclose(f);
+    setenv("OCL_ICD_VENDORS", vendors, 1);
+    perma_runtime *rt = NULL;
+    perma_error error;
+    ck_assert_int_eq(perma_create(NULL, &rt, &error), PERMA_ERR_NO_PLATFORM);
+    char expected[256];
+    snprintf(expected, sizeof expected, "no OpenCL platform could be loaded, though 1 driver is registered in %s "
+             "(broken.icd); OCL_ICD_DEBUG=7 shows why", vendors);
+    ck_assert_str_eq(error.message, expected);
+    remove(icd);
+    rmdir(vendors);
+}
+END_TEST
+
 START_TEST(bad_config_values)
 {
     perma_config config;
@@ -827,6 +855,7 @@ int main(void)
     tcase_add_test(tc, cycle_without_priority_order);
     tcase_add_test(tc, missing_device_from_environment);
     tcase_add_test(tc, no_platform_names_the_package);
+    tcase_add_test(tc, driver_that_does_not_load_is_named);
     tcase_add_test(tc, bad_config_values);
     tcase_add_test(tc, emitting_beyond_the_declared_maximum);
     tcase_add_test(tc, emitting_into_an_undeclared_target);

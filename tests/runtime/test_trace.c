@@ -1,11 +1,15 @@
 /* Trace mode: the Chrome trace JSON holds one event per batch, whose item
- * counts add up to the items executed; a bad path is a clear error. */
+ * counts add up to the items executed; a bad path is a clear error before
+ * the run, a full disk one after it that leaves the earlier trace. */
 #include "perma_test.h"
 #include "tree_procedure.h"
 
+#include <errno.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 static char *read_file(const char *path)
@@ -109,7 +113,49 @@ START_TEST(unwritable_trace_path_is_an_error)
     uint32_t one = 1;
     ck_assert_perma_ok(rt, perma_seed(rt, id, &one, 1));
     ck_assert_int_eq(perma_run(rt), PERMA_ERR_IO);
-    ck_assert_contains(perma_errmsg(rt), "cannot write the trace '/nonexistent-dir/trace.json'");
+    ck_assert_str_eq(perma_errmsg(rt), "cannot write the trace: cannot create '/nonexistent-dir/trace.json': "
+                                       "No such file or directory");
+    /* Checked before the run, not after its work. */
+    perma_stats st;
+    ck_assert_perma_ok(rt, perma_get_stats(rt, &st));
+    ck_assert_uint_eq(st.launches, 0);
+    perma_destroy(rt);
+}
+END_TEST
+
+/* A trace that does not fit the disk (a file size limit, SIGXFSZ ignored)
+ * fails the run naming the reason and leaves the earlier trace as it was. */
+START_TEST(full_disk_keeps_the_earlier_trace)
+{
+    char dir[] = "/tmp/perma-trace-XXXXXX", path[64];
+    ck_assert_ptr_nonnull(mkdtemp(dir));
+    snprintf(path, sizeof path, "%s/trace.json", dir);
+    perma_config config;
+    perma_config_init(&config);
+    config.trace_path = path;
+    perma_runtime *rt = test_runtime_config(&config);
+    uint32_t counts[2] = { 0, 0 };
+    uint64_t sums[1] = { 0 };
+    perma_proc id = tree_add(rt, 0, counts, sums);
+    struct tree_node root = { 0, 6, 1, 0 };
+    ck_assert_perma_ok(rt, perma_seed(rt, id, &root, 1));
+    ck_assert_perma_ok(rt, perma_run(rt)); /* builds the program, unlimited */
+    char *earlier = read_file(path);
+    signal(SIGXFSZ, SIG_IGN);
+    struct rlimit limit = { 200, 200 };
+    ck_assert_int_eq(setrlimit(RLIMIT_FSIZE, &limit), 0);
+    ck_assert_perma_ok(rt, perma_seed(rt, id, &root, 1));
+    ck_assert_int_eq(perma_run(rt), PERMA_ERR_IO);
+    char expected[256];
+    snprintf(expected, sizeof expected, "cannot write the trace: writing '%s' failed: %s (the file there "
+             "before is unchanged)", path, strerror(EFBIG));
+    ck_assert_str_eq(perma_errmsg(rt), expected);
+    char *now = read_file(path);
+    ck_assert_str_eq(now, earlier);
+    free(now);
+    free(earlier);
+    remove(path);
+    ck_assert_int_eq(rmdir(dir), 0); /* empty: no temporary file left */
     perma_destroy(rt);
 }
 END_TEST
@@ -121,6 +167,7 @@ int main(void)
     tcase_set_timeout(tc, PERMA_TEST_TIMEOUT);
     tcase_add_test(tc, trace_events_cover_every_item);
     tcase_add_test(tc, unwritable_trace_path_is_an_error);
+    tcase_add_test(tc, full_disk_keeps_the_earlier_trace);
     suite_add_tcase(s, tc);
     return test_run_suite(s) ? EXIT_FAILURE : EXIT_SUCCESS;
 }
