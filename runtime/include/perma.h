@@ -406,6 +406,80 @@ perma_status perma_bind_cl(perma_runtime *rt, const char *name, const char *type
 perma_status perma_bind_host(perma_runtime *rt, const char *name, const char *type,
                              void *host, size_t bytes, unsigned flags);
 
+/* ---- Typed host arrays --------------------------------------------------
+ * Bind a host array so that the device type and the byte count come from
+ * its one C declaration:
+ *
+ *     double weights[1024];
+ *     PERMA_BIND_HOST_ARRAY(rt, "weights", weights, PERMA_READ);
+ *         // = perma_bind_host(rt, "weights", "__global const double *",
+ *         //                   weights, sizeof weights, PERMA_READ)
+ *     struct pair *pairs = malloc(n * sizeof *pairs);
+ *     PERMA_BIND_HOST_POINTER(rt, "pairs", pairs, n, PERMA_READ_WRITE);
+ *
+ * The element type's OpenCL C name comes from PERMA_CL_TYPE_NAME (a
+ * _Generic over the C type): char (signed or unsigned as the host's char
+ * is), signed/unsigned char, short, int, long and long long (by size: 4
+ * bytes "int", 8 "long"), their unsigned forms, float, double (the device
+ * needs fp64: perma-info), and OpenCL's host vector types cl_float2/4/8/16,
+ * cl_double2/4, cl_int2/4, cl_uint2/4, cl_uchar4 (3-component ones are not
+ * listed: cl_float3 is cl_float4 on the host).  So int32_t is "int",
+ * uint64_t and size_t "ulong".  Struct types are named by the program:
+ * define PERMA_HOST_TYPE_NAMES as `TYPE: "OPENCL C NAME",` pairs before
+ * including perma.h, e.g.
+ *
+ *     #define PERMA_HOST_TYPE_NAMES struct pair: "struct pair",
+ *     #include <perma.h>
+ *
+ * (declare the struct for the device with perma_add_source).  Any other
+ * element type does not compile ("'_Generic' selector of type ... is not
+ * compatible with any association"), nor does PERMA_BIND_HOST_ARRAY given
+ * a pointer instead of an array (with GCC and Clang; elsewhere use
+ * PERMA_BIND_HOST_POINTER for pointers).  The pointer type is "__global
+ * const T *" for PERMA_READ alone, else "__global T *".  The generated
+ * program checks sizeof(T) on the device against the host's element size:
+ * a difference (a struct the device lays out otherwise) fails the build
+ * with PERMA_ERR_BUILD naming the buffer and both sizes. */
+perma_status perma_bind_host_array(perma_runtime *rt, const char *name, const char *element_type, void *host,
+                                   size_t count, size_t element_size, unsigned flags);
+
+#ifndef __cplusplus
+#ifndef PERMA_HOST_TYPE_NAMES
+#define PERMA_HOST_TYPE_NAMES
+#endif
+/* The OpenCL C name of the type of expression x (a string literal's
+ * value); a compile error for a type without one. */
+#define PERMA_CL_TYPE_NAME(x)                                                                 \
+    _Generic((x), PERMA_HOST_TYPE_NAMES                                                       \
+        char: (char)-1 < 0 ? "char" : "uchar", signed char: "char", unsigned char: "uchar",  \
+        short: "short", unsigned short: "ushort", int: "int", unsigned int: "uint",          \
+        long: sizeof(long) == 8 ? "long" : "int", unsigned long: sizeof(long) == 8 ? "ulong" : "uint", \
+        long long: "long", unsigned long long: "ulong", float: "float", double: "double",    \
+        cl_float2: "float2", cl_float4: "float4", cl_float8: "float8", cl_float16: "float16", \
+        cl_double2: "double2", cl_double4: "double4", cl_int2: "int2", cl_int4: "int4",       \
+        cl_uint2: "uint2", cl_uint4: "uint4", cl_uchar4: "uchar4")
+
+#if defined(__GNUC__) || defined(__clang__)
+/* Zero, or a compile error when `array` is a pointer rather than an array. */
+#define PERMA_ASSERT_ARRAY_(array)                                                            \
+    (0 * sizeof(struct {                                                                      \
+        _Static_assert(!__builtin_types_compatible_p(__typeof__(array), __typeof__(&(array)[0])), \
+                       "PERMA_BIND_HOST_ARRAY needs an array; use PERMA_BIND_HOST_POINTER for a pointer"); \
+        int perma_unused_;                                                                    \
+    }))
+#else
+#define PERMA_ASSERT_ARRAY_(array) 0
+#endif
+
+#define PERMA_BIND_HOST_ARRAY(rt, name, array, flags)                                         \
+    perma_bind_host_array((rt), (name), PERMA_CL_TYPE_NAME((array)[0]), (array),              \
+                          sizeof(array) / sizeof((array)[0]) + PERMA_ASSERT_ARRAY_(array),    \
+                          sizeof((array)[0]), (flags))
+#define PERMA_BIND_HOST_POINTER(rt, name, pointer, count, flags)                              \
+    perma_bind_host_array((rt), (name), PERMA_CL_TYPE_NAME(*(pointer)), (pointer), (count),   \
+                          sizeof(*(pointer)), (flags))
+#endif
+
 /* Generate and compile the megakernel now (perma_run does it when needed),
  * including the driver's compile at the first launch.  A compile error in a
  * procedure reports the procedure's file and line; the build also checks

@@ -84,6 +84,11 @@ typedef struct perma_buffer_binding {
     void *host;      /* perma_bind_host: memory copied in and/or out */
     size_t bytes;
     unsigned flags;
+    /* perma_bind_host_array: the element type and its size on the host,
+     * checked against the device's when the program is built; NULL, 0
+     * for the other bindings. */
+    char *element_type;
+    size_t element_size;
 } perma_buffer_binding;
 
 /* A device buffer and its size. */
@@ -249,6 +254,7 @@ bool perma_is_identifier(const char *s);
  * build log in which one failed (false when none did). */
 void perma_abi_append_struct_checks(perma_strbuf *sb);
 void perma_abi_append_item_checks(const perma_runtime *rt, perma_strbuf *sb);
+void perma_abi_append_element_checks(const perma_runtime *rt, perma_strbuf *sb);
 bool perma_abi_explain_log(const perma_runtime *rt, const char *log, char *out, size_t size);
 
 /* barriers.c: around the source of a procedure that is not .cooperative,

@@ -141,6 +141,7 @@ void perma_destroy(perma_runtime *rt)
             clReleaseMemObject(rt->buffers[i].mem);
         free(rt->buffers[i].name);
         free(rt->buffers[i].type);
+        free(rt->buffers[i].element_type);
     }
     for (unsigned i = 0; i < rt->source_count; ++i) {
         free(rt->sources[i].text);
