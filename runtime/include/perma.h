@@ -114,6 +114,7 @@ typedef struct perma_error {
 
 typedef struct perma_runtime perma_runtime;
 typedef int perma_proc; /* procedure handle returned by perma_register */
+struct perma_progress;  /* a run's progress (below) */
 
 /* How the work is executed.  Every technique runs the same procedure
  * sources and gives the same results. */
@@ -290,6 +291,13 @@ typedef struct perma_config {
     const char *trace_path;
     /* Most events recorded per work-group and launch; 0 = 65536. */
     unsigned trace_events;
+    /* Progress (see perma_progress below): if set, called from the thread
+     * in perma_run when a run starts, at most every progress_interval
+     * seconds while it runs (0 = 0.5), and once when it ends, successfully
+     * or not. */
+    void (*progress)(void *user, const struct perma_progress *progress);
+    void *progress_user;
+    double progress_interval;
 } perma_config;
 
 /* Fill *config with the defaults described above. */
@@ -581,6 +589,44 @@ perma_status perma_get_group_stats(perma_runtime *rt, unsigned group, perma_grou
  * for each procedure whose batches were cut (perma_batch_cut) naming the
  * declaration responsible. */
 void perma_print_stats(perma_runtime *rt, FILE *out);
+
+/* ---- Progress -------------------------------------------------------------
+ * What a run has done so far, for a progress display.  Two ways to get it:
+ * config.progress, a callback called from perma_run's thread (at the start
+ * of a run, at most every config.progress_interval seconds while it runs,
+ * and at its end), or perma_get_progress from any thread at any time.
+ * Both give a copy of the same snapshot, which the runtime takes from the
+ * watch page the watchdog reads (docs/design.md, Progress) while a kernel
+ * runs, and makes exact from the statistics after each launch: at the end
+ * of a run, completed equals perma_procedure_stats.items, procedure by
+ * procedure, and queued is 0.  Counts never decrease within a run.  On a
+ * device that does not share memory with the host (a discrete GPU) they
+ * move only between launches (`live` is 0).  A callback must not call
+ * other perma functions on the runtime than perma_get_progress. */
+typedef struct perma_procedure_progress {
+    const char *name;
+    uint64_t completed;     /* items executed so far in this run */
+    uint64_t queued;        /* items seeded or emitted into it and not yet completed (waiting or
+                               running); between launches exact, while a kernel runs an estimate */
+} perma_procedure_progress;
+
+typedef struct perma_progress {
+    unsigned run;           /* runs this runtime started: 1 during and after the first */
+    int running;            /* 1 from the start of perma_run (after the build) to its end */
+    double elapsed;         /* seconds since the run started (its perma_stats.seconds at the end) */
+    unsigned launches;      /* kernels launched so far: the megakernel's launches, or the host steps */
+    int live;               /* 1: the counts move while a kernel runs; 0: only between launches */
+    uint64_t completed;     /* sums over the procedures */
+    uint64_t queued;
+    unsigned procedure_count;
+    perma_procedure_progress procedures[PERMA_MAX_PROCEDURES]; /* by perma_proc */
+} perma_progress;
+
+/* The progress of the current (or last) run of rt, from any thread.  Does
+ * not change perma_errmsg.  PERMA_ERR_ARGUMENT if rt or out is NULL.
+ * Before the first run everything is 0.  The counts are sampled every
+ * 50 ms at most while a kernel runs (once any progress was asked for). */
+perma_status perma_get_progress(perma_runtime *rt, perma_progress *out);
 
 /* Description of the device and the chosen work-group count, one line. */
 const char *perma_device_summary(const perma_runtime *rt);
