@@ -376,6 +376,14 @@ static int run_coordinator(rank_setup *s, const reyes_cli *cli, const char *prog
     const char *kind = s->job.frames ? "frame" : "bucket";
 
     update_term_text(program, kind, held, size);
+    /* The progress line, for the whole job: every rank's deliveries. */
+    reyes_progress progress;
+    int terminal, shown = status == REYES_OK && reyes_progress_wanted(cli->progress, cli->quiet, &terminal);
+    if (shown) {
+        reyes_progress_start(&progress, stderr, terminal, program, s->job.frames ? "frames" : "buckets",
+                             s->job.items);
+        pool.progress = &progress;
+    }
     /* Rank 0 renders too, in a thread, as renderer 0 of the pool. */
     reyes_farm_worker local;
     char device[64], who[96];
@@ -423,11 +431,15 @@ static int run_coordinator(rank_setup *s, const reyes_cli *cli, const char *prog
     status = reyes_pool_finish(&pool, &error);
     if (status == REYES_OK && !s->job.frames)
         status = reyes_write_png(s->job.output, &pool.image, &error);
+    if (shown) {
+        reyes_progress_finish(&progress, status == REYES_OK);
+        reyes_progress_free(&progress);
+    }
     double seconds = now() - start;
     reports[0] = local.report;
     if (cli->coordinator_only)
         snprintf(reports[0].device, sizeof reports[0].device, "none");
-    if (status == REYES_OK)
+    if (status == REYES_OK && !cli->quiet)
         reyes_report_print(stdout, &s->job, reports, (unsigned)size, "rank", seconds);
     if (status == REYES_OK && cli->stats_path)
         status = reyes_report_save_json(cli->stats_path, &pool, reports, (unsigned)size, seconds, &error);
