@@ -286,8 +286,13 @@ typedef struct perma_config {
      * every run writes its batches as Chrome trace events (JSON, viewable
      * in Perfetto or chrome://tracing): one track per work-group, one event
      * per batch with procedure, items and kind (run, steal, local,
-     * donate).  Megakernel events use a logical clock (one tick per batch
-     * start or end); host-driven steps use host time. */
+     * donate).  Every run of the process stays in the file, one track
+     * group ("process") per run, on one time line: host microseconds since
+     * the process's first traced run.  Host-driven steps are timed on the
+     * host; the megakernel's batches by ticks of a device-side counter
+     * that the host reads against its clock while the kernel runs (within
+     * about a millisecond where the device shares memory with the host).
+     * runtime/tools/trace_to_svg.py summarises and draws the file. */
     const char *trace_path;
     /* Most events recorded per work-group and launch; 0 = 65536. */
     unsigned trace_events;
