@@ -606,8 +606,9 @@ void perma_print_stats(perma_runtime *rt, FILE *out);
  * of a run, completed equals perma_procedure_stats.items, procedure by
  * procedure, and queued is 0.  Counts never decrease within a run.  On a
  * device that does not share memory with the host (a discrete GPU) they
- * move only between launches (`live` is 0).  A callback must not call
- * other perma functions on the runtime than perma_get_progress. */
+ * move only between launches (`live` is 0).  A callback runs on the thread
+ * that watches the kernel, while it runs: keep it short, and call no other
+ * perma function on the runtime than perma_get_progress. */
 typedef struct perma_procedure_progress {
     const char *name;
     uint64_t completed;     /* items executed so far in this run */
