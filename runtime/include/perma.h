@@ -630,8 +630,9 @@ typedef struct perma_progress {
 
 /* The progress of the current (or last) run of rt, from any thread.  Does
  * not change perma_errmsg.  PERMA_ERR_ARGUMENT if rt or out is NULL.
- * Before the first run everything is 0.  The counts are sampled every
- * 50 ms at most while a kernel runs (once any progress was asked for). */
+ * Before the first run everything is 0.  While a kernel runs the counts
+ * are sampled at least every 50 ms, once any progress was asked for (a
+ * callback, or a first call of this function). */
 perma_status perma_get_progress(perma_runtime *rt, perma_progress *out);
 
 /* Description of the device and the chosen work-group count, one line. */

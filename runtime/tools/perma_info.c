@@ -411,8 +411,10 @@ int main(int argc, char **argv)
         } else if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
             printf("usage: perma-info [--json] [--devices LIST] [--check]\n"
                    "Lists every OpenCL platform and device, whether perma and reyes-render can run on\n"
-                   "it (and why not) and how perma would use it.  --check also builds and runs a\n"
-                   "small tree on each device perma can run on (exit status 1 if one fails).\n"
+                   "it (and why not), how perma would use it and what a procedure may use there:\n"
+                   "local memory per work-group, 32- and 64-bit atomics, double and half precision,\n"
+                   "preferred and native vector widths.  --check also builds and runs a small tree\n"
+                   "on each device perma can run on (exit status 1 if one fails).\n"
                    "LIST: comma-separated P:D (a device), NAME[:D] (device D, default 0, of the\n"
                    "platform whose name or vendor contains NAME: intel, pocl), P:D/N (it split into\n"
                    "N equal sub-devices), P:D/N.K (the K-th of them) or 'all' (the default).\n");
