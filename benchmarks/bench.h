@@ -83,8 +83,17 @@ unsigned bench_report_failures(const bench_report *report);
  * no perma variant was measured (every perma row n/a, or none at all). */
 int bench_report_close(bench_report *report);
 
-/* Initialise a row with a workload and variant name. */
+/* Initialise a row with a workload and variant name (and show that its
+ * measurement starts: bench_status_show). */
 void bench_row_init(bench_row *row, const char *workload, const char *variant, const char *unit);
+
+/* ---- the row being measured, on a terminal (status.c) ---- */
+
+/* When stderr is a terminal: "perma-bench: row N, T s: WORKLOAD: VARIANT"
+ * on one line of it, redrawn in place. */
+void bench_status_show(const char *workload, const char *variant);
+/* A row was printed: clear the line (bench_report_add). */
+void bench_status_row_printed(void);
 
 /* ---- timing (timing.c) ---- */
 

@@ -95,6 +95,8 @@ int reyes_cli_parse(int argc, char **argv, reyes_cli *cli, char *message, size_t
     }
     if (cli->orbit_given && !cli->frames)
         return cli_usage_error(message, size, "--orbit needs --frames%s%s", "", "");
+    if (cli->progress && cli->quiet)
+        return cli_usage_error(message, size, "--progress and --quiet contradict each other%s%s", "", "");
     return check_subdivision_options(cli, message, size);
 }
 

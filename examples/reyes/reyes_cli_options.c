@@ -417,6 +417,9 @@ const cli_option cli_options[] = {
       FLAG(coordinator_only) },
     { "backface", 0, NULL, NULL, "cull patches that face away entirely", FLAG(render.backface_cull) },
     { "stats", 0, "FILE", on_stats, "write statistics as JSON", NULL },
+    { "progress", 0, NULL, NULL, "show the progress line on stderr even when it is not a terminal (under mpirun: rank 0's, "
+      "for the whole job)", FLAG(progress) },
+    { "quiet", 'q', NULL, NULL, "print nothing but errors (no progress line, no summary)", FLAG(quiet) },
     { "reference", 0, NULL, NULL, "also run the single-threaded C bound/split/dice and print its counts",
       FLAG(reference) },
     { "help", 'h', NULL, NULL, "show this help", FLAG(help) },

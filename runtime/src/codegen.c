@@ -281,6 +281,7 @@ perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *sb)
     append_procedure_sources(rt, sb);
     perma_strbuf_append(sb, "#ifdef PERMA_PROFILE_PHASES\n#pragma clang attribute pop\n#endif\n");
     perma_abi_append_item_checks(rt, sb);
+    perma_abi_append_element_checks(rt, sb);
     resume_generated(sb);
     append_kernel_params(rt, sb);
     perma_strbuf_append(sb, perma_kernel_batch);

@@ -84,6 +84,11 @@ typedef struct perma_buffer_binding {
     void *host;      /* perma_bind_host: memory copied in and/or out */
     size_t bytes;
     unsigned flags;
+    /* perma_bind_host_array: the element type and its size on the host,
+     * checked against the device's when the program is built; NULL, 0
+     * for the other bindings. */
+    char *element_type;
+    size_t element_size;
 } perma_buffer_binding;
 
 /* A device buffer and its size. */
@@ -111,6 +116,7 @@ typedef struct perma_device_state {
     perma_device_buffer relayout; /* a regrowth's perma_relayout_records */
     cl_mem abort_mem;             /* the watch page (kernels/perma_abi.h): the abort */
     uint32_t *abort_flag;         /* flag, each group's progress; page-aligned host memory */
+    size_t watch_bytes;           /* its size (whole pages) */
     perma_queue_state *queues;    /* queue_count entries, index set * procs + proc */
     unsigned queue_count;
     /* queues[].capacity are what the last run of this build grew to, and it
@@ -120,6 +126,7 @@ typedef struct perma_device_state {
 
 struct perma_executor;
 typedef struct perma_watchdog perma_watchdog;
+typedef struct perma_progress_state perma_progress_state;
 
 /* What the host-driven techniques keep between launches of a run
  * (steps.c). */
@@ -176,6 +183,7 @@ struct perma_runtime {
     bool hung;                      /* a kernel ignored the watchdog; do not wait on it */
     bool grow_starved;              /* a group starved of room may stop a launch to grow queues */
     perma_watchdog *watchdog;       /* watchdog.c */
+    perma_progress_state *progress; /* progress.c */
     bool debug;                     /* PERMA_DEBUG: one group, -DPERMA_DEBUG */
 
     perma_stats stats;
@@ -185,8 +193,12 @@ struct perma_runtime {
     unsigned trace_events;          /* per group and launch */
     struct perma_trace_event *trace;
     size_t trace_count, trace_alloc;
-    double trace_clock_base;        /* logical ticks of earlier launches */
     double trace_start_time;        /* host time of the run's start */
+    /* The launch's trace clock as the host saw it (trace.c). */
+    struct perma_trace_sample *trace_samples;
+    size_t trace_sample_count, trace_sample_alloc;
+    bool trace_pending;             /* the clock showed the last sample's tick still at: */
+    double trace_pending_time;
 };
 
 typedef struct perma_trace_event {
@@ -194,8 +206,14 @@ typedef struct perma_trace_event {
     uint32_t proc;
     uint32_t kind;      /* 0 run, 1 steal, 2 local, 3 donate */
     uint32_t items;
-    double start, end;  /* microseconds (host) or ticks (logical) */
+    double start, end;  /* host time (perma_now) */
 } perma_trace_event;
+
+/* At host time `time` the trace clock (PERMA_WATCH_CLOCK) showed `tick`. */
+typedef struct perma_trace_sample {
+    double time;
+    uint32_t tick;
+} perma_trace_sample;
 
 /* Format the runtime's message and return `status`. */
 perma_status perma_set_error(perma_runtime *rt, perma_status status, const char *fmt, ...)
@@ -267,6 +285,7 @@ bool perma_is_identifier(const char *s);
  * build log in which one failed (false when none did). */
 void perma_abi_append_struct_checks(perma_strbuf *sb);
 void perma_abi_append_item_checks(const perma_runtime *rt, perma_strbuf *sb);
+void perma_abi_append_element_checks(const perma_runtime *rt, perma_strbuf *sb);
 bool perma_abi_explain_log(const perma_runtime *rt, const char *log, char *out, size_t size);
 
 /* barriers.c: around the source of a procedure that is not .cooperative,
@@ -372,6 +391,8 @@ void perma_state_raise_abort(perma_runtime *rt);
  * finished so far (a sum that moves while items complete), and in
  * running[0..procs) how many groups run a batch of each procedure. */
 uint64_t perma_state_watch(const perma_runtime *rt, unsigned *running, unsigned procs);
+/* Group `group`'s record on the watch page (PERMA_WATCH_RUNNING, ...). */
+const uint32_t *perma_state_watch_record(const perma_runtime *rt, unsigned group);
 
 /* watchdog.c: waiting for a kernel under the time limit and the stall
  * limit.  Past the deadline, or when no item completed anywhere for the
@@ -392,6 +413,18 @@ perma_status perma_watch_event(perma_runtime *rt, cl_event done, double deadline
  * limit, or the stall with the procedures that had items in flight. */
 perma_status perma_watchdog_stop_error(perma_runtime *rt);
 
+/* progress.c: the progress of a run (perma_get_progress, config.progress),
+ * told by the run loop and sampled by the watchdog from the watch page. */
+perma_status perma_progress_open(perma_runtime *rt);
+void perma_progress_close(perma_runtime *rt);
+void perma_progress_run_begins(perma_runtime *rt, double start); /* the seeds are uploaded */
+void perma_progress_launch_begins(perma_runtime *rt);            /* the watch page is cleared */
+void perma_progress_kernel_started(perma_runtime *rt);           /* a watched kernel is enqueued */
+void perma_progress_sample(perma_runtime *rt, double now);       /* while it runs */
+void perma_progress_launch_ends(perma_runtime *rt);              /* the statistics are collected */
+double perma_progress_stop_clock(perma_runtime *rt);             /* the run's seconds, as readers see them */
+void perma_progress_run_ends(perma_runtime *rt);                 /* the final statistics are in */
+
 /* outcome.c: the error of a launch's failure status (not DONE or
  * NEEDS_ROOM). */
 perma_status perma_outcome_error(perma_runtime *rt, const perma_ctl_header *outcome);
@@ -401,12 +434,22 @@ void perma_stats_reset(perma_runtime *rt);
 perma_status perma_stats_collect(perma_runtime *rt);  /* after each launch */
 void perma_stats_finish(perma_runtime *rt);           /* at the end of a run */
 
-/* trace.c */
+/* trace.c: the run's batches in host time. */
+bool perma_trace_on_device(const perma_runtime *rt);     /* the megakernel records batches */
 void perma_trace_reset(perma_runtime *rt, double start); /* at the start of a run */
+void perma_trace_launch_begins(perma_runtime *rt, double now); /* the megakernel is enqueued */
+void perma_trace_read_clock(perma_runtime *rt, double now); /* while it runs */
+void perma_trace_launch_ends(perma_runtime *rt, double now); /* it ended */
 perma_status perma_trace_collect(perma_runtime *rt);       /* after each launch */
 perma_status perma_trace_host_step(perma_runtime *rt, unsigned proc, uint32_t items, double start, double end);
-perma_status perma_trace_write(perma_runtime *rt);         /* at the end of a run */
 void perma_trace_release(perma_runtime *rt);
+/* Most seconds between two readings of the trace clock while the
+ * megakernel runs (the watchdog's loop wakes that often). */
+#define PERMA_TRACE_SAMPLE_SECONDS 0.001
+
+/* trace_file.c: every traced run of the process in its file. */
+void perma_trace_file_run_begins(double start);           /* a traced run starts */
+perma_status perma_trace_write(perma_runtime *rt);         /* at the end of a run */
 
 /* clock.c */
 double perma_now(void);

@@ -36,6 +36,10 @@ static perma_status check_config(perma_runtime *rt, const perma_config *c)
     if (!perma_victim_name(c->schedule.victim))
         return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.schedule.victim %d is not a known victim policy",
                                (int)c->schedule.victim);
+    if (!(c->progress_interval >= 0.0) || c->progress_interval > 1e6)
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT,
+                               "config.progress_interval %g is not a number of seconds in 0..1e6",
+                               c->progress_interval);
     if (c->trace_events > (1u << 24))
         return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.trace_events %u is above 2^24", c->trace_events);
     if (c->items_per_work_item > 64)
@@ -97,6 +101,8 @@ perma_status perma_create(const perma_config *config, perma_runtime **out, perma
         st = perma_state_open(rt);
     if (st == PERMA_OK)
         st = perma_watchdog_open(rt);
+    if (st == PERMA_OK)
+        st = perma_progress_open(rt);
     if (error) {
         error->status = st;
         snprintf(error->message, sizeof error->message, "%s", st == PERMA_OK ? "" : rt->message);
@@ -143,6 +149,7 @@ void perma_destroy(perma_runtime *rt)
             clReleaseMemObject(rt->buffers[i].mem);
         free(rt->buffers[i].name);
         free(rt->buffers[i].type);
+        free(rt->buffers[i].element_type);
     }
     for (unsigned i = 0; i < rt->source_count; ++i) {
         free(rt->sources[i].text);
@@ -154,6 +161,7 @@ void perma_destroy(perma_runtime *rt)
     free((char *)rt->config.build_options);
     free((char *)rt->config.trace_path);
     perma_trace_release(rt);
+    perma_progress_close(rt);
     free(rt->group_stats);
     free(rt);
 }

@@ -339,6 +339,8 @@ static perma_status watch(perma_runtime *rt, cl_event done, double deadline)
             return PERMA_OK;
         now = perma_now();
         uint64_t finished = perma_state_watch(rt, running, rt->proc_count);
+        perma_progress_sample(rt, now);
+        perma_trace_read_clock(rt, now);
         if (finished != batches) {
             batches = finished;
             progress_at = now;
@@ -359,13 +361,14 @@ static perma_status watch(perma_runtime *rt, cl_event done, double deadline)
         if (aborted_at != 0.0 && now > aborted_at + GRACE_SECONDS)
             return give_up(rt);
         wait_for_callback(seen, now + pause);
-        if (pause < CHECK_SECONDS)
+        if (pause < (perma_trace_on_device(rt) ? PERMA_TRACE_SAMPLE_SECONDS : CHECK_SECONDS))
             pause *= 2;
     }
 }
 
 perma_status perma_watch_event(perma_runtime *rt, cl_event done, double deadline)
 {
+    perma_progress_kernel_started(rt);
     bool lent = waiter_lend(rt->watchdog, done);
     perma_status st = watch(rt, done, deadline);
     if (lent && !rt->hung)
