@@ -414,6 +414,26 @@ perma_status perma_bind_host(perma_runtime *rt, const char *name, const char *ty
  * declared in a shared source (perma_add_source). */
 perma_status perma_build(perma_runtime *rt);
 
+/* Where the last perma_build got its program: compiled from source, or
+ * loaded from the disk cache of compiled programs (PERMA_CACHE_DIR; see
+ * README).  Processes that build the same program at once, e.g. the ranks
+ * of a farm sharing a cache directory, compile it once: the others wait
+ * for that build (wait_seconds) and load it. */
+typedef enum perma_program_origin {
+    PERMA_PROGRAM_NOT_BUILT = 0,
+    PERMA_PROGRAM_COMPILED,    /* from source */
+    PERMA_PROGRAM_CACHED       /* from the disk cache */
+} perma_program_origin;
+
+typedef struct perma_build_info {
+    perma_program_origin origin;
+    double seconds;            /* perma_build's time: compile or load, and the warm-up launch */
+    double wait_seconds;       /* part of it spent waiting for another process's build */
+    int stored;                /* the compiled program was stored in the disk cache */
+} perma_build_info;
+
+perma_status perma_get_build_info(perma_runtime *rt, perma_build_info *out);
+
 /* Queue `count` items of procedure `proc` (item_size bytes each) for the next
  * run.  Checked before anything is copied: PERMA_ERR_ARGUMENT if the
  * procedure's seeds would pass PERMA_MAX_QUEUED_ITEMS, PERMA_ERR_CAPACITY
