@@ -23,6 +23,7 @@ void bench_row_init(bench_row *row, const char *workload, const char *variant, c
     snprintf(row->workload, sizeof row->workload, "%s", workload);
     snprintf(row->variant, sizeof row->variant, "%s", variant);
     row->unit = unit;
+    bench_activity("measuring %s (%s)", variant, workload);
 }
 
 int bench_report_open(bench_report **out, const char *benchmark, const bench_options *options)

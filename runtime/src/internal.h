@@ -361,6 +361,10 @@ perma_status perma_state_ensure_input(perma_runtime *rt, size_t words);
 perma_status perma_state_bind(perma_runtime *rt, cl_kernel kernel, cl_uint first_user_arg);
 /* Ask every group of a running kernel to stop (the watchdog). */
 void perma_state_raise_abort(perma_runtime *rt);
+/* Whether the watchdog raised it during this launch (a host-driven run
+ * checks between its steps: a procedure that polls perma_stop_requested
+ * returns and its step completes). */
+bool perma_state_abort_raised(const perma_runtime *rt);
 /* What the watch page says while a kernel runs: the batches the groups
  * finished so far (a sum that moves while items complete), and in
  * running[0..procs) how many groups run a batch of each procedure. */

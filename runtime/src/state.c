@@ -254,6 +254,11 @@ void perma_state_raise_abort(perma_runtime *rt)
     __atomic_store_n(rt->state.abort_flag + PERMA_WATCH_ABORT, 1u, __ATOMIC_SEQ_CST);
 }
 
+bool perma_state_abort_raised(const perma_runtime *rt)
+{
+    return __atomic_load_n(rt->state.abort_flag + PERMA_WATCH_ABORT, __ATOMIC_SEQ_CST) != 0;
+}
+
 uint64_t perma_state_watch(const perma_runtime *rt, unsigned *running, unsigned procs)
 {
     uint64_t done = 0;
