@@ -253,14 +253,16 @@ typedef struct perma_config {
      * longer than this counts as stuck: raise it for such procedures.
      *
      * When either limit passes, the watchdog asks every work-group to stop
-     * and gives the kernel 10 s (the grace period) to do so.  A procedure
-     * that never returns cannot be stopped: the run then fails saying so,
-     * and the runtime can no longer be used (every call that uses the
-     * device returns PERMA_ERR_STATE; perma_destroy frees what it can).
-     * OpenCL cannot end a running kernel, so the stuck kernel keeps its
-     * compute unit busy until the process exits.  With Intel's OpenCL CPU
-     * runtime, exit() (and returning from main) then waits for that kernel
-     * forever: end such a process with _exit() or a signal. */
+     * and gives the kernel 10 s (the grace period) to do so; a procedure
+     * with a long loop sees the request through perma_stop_requested(ctx)
+     * (docs/writing-procedures.md).  A procedure that never returns cannot
+     * be stopped: the run then fails saying so, and the runtime can no
+     * longer be used (every call that uses the device returns
+     * PERMA_ERR_STATE, perma_cl_queue returns NULL; perma_destroy frees
+     * what it can).  OpenCL cannot end a running kernel, so the stuck
+     * kernel keeps its compute unit busy until the process exits; the
+     * process exits normally (the runtime's command queue is released so
+     * that Intel's OpenCL CPU runtime does not wait for it at exit). */
     double stall_limit;
     /* Cap on the __local memory one group uses; 0 = the device's size. */
     size_t local_memory_limit;
