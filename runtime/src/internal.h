@@ -236,6 +236,7 @@ typedef struct perma_cache_entry {
     perma_strbuf key;
     char dir[1024];
     char path[1100];
+    bool stores;          /* the implementation's programs are stored here (not PoCL's) */
     int lock_fd;          /* the build lock while held; -1 otherwise */
     double waited;        /* seconds perma_cache_lock waited */
 } perma_cache_entry;

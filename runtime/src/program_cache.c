@@ -42,7 +42,8 @@
  *     sharing a cache directory): the first to miss holds the entry's
  *     build lock (flock on NAME.lock) while it builds and stores; the
  *     others wait for it, then load its entry instead of compiling N
- *     times.  The wait is bounded (LOCK_WAIT_SECONDS), a dead builder's
+ *     times (PoCL's programs, which PoCL caches itself: a lock per host,
+ *     see lock_path).  The wait is bounded (LOCK_WAIT_SECONDS), a dead builder's
  *     lock is released by the kernel, and a holder removes the lock file
  *     before it lets go (a waiter that then holds a removed file tries
  *     again), so no lock files are left behind.
@@ -215,20 +216,31 @@ void perma_cache_entry_open(perma_runtime *rt, const char *source, const char *o
     int n = snprintf(entry->path, sizeof entry->path, "%s/%016llx.bin", entry->dir,
                      (unsigned long long)checksum(CHECKSUM_SEED, key->data, key->length));
     entry->usable = n > 0 && (size_t)n < sizeof entry->path;
+    entry->stores = !keeps_own_cache(rt) || min_seconds() <= 0.0;
 }
 
-/* The lock file's name: the entry's with .lock for .bin. */
+/* The lock file's name: the entry's with .lock for .bin.  A program that
+ * will not be stored here (PoCL's, in its own cache) is locked per host,
+ * NAME.HOST.lock: the ranks on one node share PoCL's cache and compile
+ * once, while nodes whose PoCL caches are their own (the usual case) must
+ * not wait for each other's compiles, from which they gain nothing. */
 static void lock_path(const perma_cache_entry *entry, char *out, size_t size)
 {
     size_t n = strlen(entry->path) - strlen(".bin");
-    snprintf(out, size, "%.*s.lock", (int)n, entry->path);
+    char host[256] = "";
+    if (!entry->stores && gethostname(host, sizeof host - 1) != 0)
+        host[0] = '\0';
+    for (char *c = host; *c; ++c)
+        if (*c == '/')
+            *c = '_';
+    snprintf(out, size, "%.*s%s%s.lock", (int)n, entry->path, host[0] ? "." : "", host);
 }
 
 static void cache_unlock(perma_cache_entry *entry)
 {
     if (entry->lock_fd < 0)
         return;
-    char path[sizeof entry->path + 8];
+    char path[sizeof entry->path + 300];
     lock_path(entry, path, sizeof path);
     unlink(path); /* before letting go: a waiter then sees it gone and tries again */
     close(entry->lock_fd);
@@ -246,7 +258,7 @@ bool perma_cache_lock(perma_cache_entry *entry)
 {
     if (!entry->usable || entry->lock_fd >= 0)
         return entry->lock_fd >= 0;
-    char path[sizeof entry->path + 8];
+    char path[sizeof entry->path + 300];
     lock_path(entry, path, sizeof path);
     double start = perma_now();
     while (perma_now() - start < LOCK_WAIT_SECONDS) {
@@ -445,7 +457,7 @@ static bool write_entry(const perma_cache_entry *entry, const unsigned char *bin
 bool perma_cache_store(perma_runtime *rt, const perma_cache_entry *entry, double cpu_seconds)
 {
     double least = min_seconds();
-    if (!entry->usable || cpu_seconds < least || (least > 0.0 && keeps_own_cache(rt)))
+    if (!entry->usable || !entry->stores || cpu_seconds < least)
         return false;
     size_t binary_size = 0;
     if (clGetProgramInfo(rt->program, CL_PROGRAM_BINARY_SIZES, sizeof binary_size, &binary_size, NULL) != CL_SUCCESS
