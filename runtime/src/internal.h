@@ -175,6 +175,7 @@ struct perma_runtime {
     perma_device_state state;
     perma_group_stats *group_stats; /* work_groups entries */
     bool hung;                      /* a kernel ignored the watchdog; do not wait on it */
+    perma_runtime *next_hung;       /* runtime.c's list of the hung runtimes perma_destroy kept */
     bool grow_starved;              /* a group starved of room may stop a launch to grow queues */
     perma_watchdog *watchdog;       /* watchdog.c */
     bool debug;                     /* PERMA_DEBUG: one group, -DPERMA_DEBUG */
