@@ -170,4 +170,13 @@ double bench_time_baseline(const bench_options *options, void (*fn)(void *), voi
 /* Number of OpenMP threads to use. */
 unsigned bench_threads(const bench_options *options);
 
+/* ---- what it is doing (activity.c) ---- */
+
+/* Catch SIGTERM, SIGINT and SIGHUP: each then ends perma-bench with a
+ * line on stderr naming the benchmark, the seconds since this call and the
+ * activity last set, and exit status 1. */
+void bench_activity_start(const char *benchmark);
+/* Set the activity, e.g. "building %s (%s)" with a variant and workload. */
+void bench_activity(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+
 #endif

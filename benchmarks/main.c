@@ -145,5 +145,6 @@ int main(int argc, char **argv)
     int rest = parse_common(argc - 1, argv + 1, &options);
     if (rest < 0)
         return 2;
+    bench_activity_start(command->name);
     return command->run(&options, rest, argv + 1);
 }

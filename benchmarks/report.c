@@ -24,6 +24,7 @@ void bench_row_init(bench_row *row, const char *workload, const char *variant, c
     snprintf(row->variant, sizeof row->variant, "%s", variant);
     row->unit = unit;
     bench_status_show(workload, variant);
+    bench_activity("measuring %s (%s)", variant, workload);
 }
 
 int bench_report_open(bench_report **out, const char *benchmark, const bench_options *options)

@@ -57,6 +57,16 @@ inline int perma_load_int(__global uint *p)
     return (int)perma_load(p);
 }
 
+/* For a procedure with a long or unbounded loop: nonzero once the host's
+ * watchdog has asked the run to stop (its time or stall limit passed,
+ * config.time_limit, config.stall_limit).  The scheduler polls the same
+ * flag between batches, but a procedure that never returns never gets
+ * there, and OpenCL cannot cancel a running kernel: such a kernel runs on
+ * until the process exits.  A loop that tests this flag ends instead, the
+ * run fails with the watchdog's error and the runtime stays usable
+ * (docs/writing-procedures.md). */
+#define perma_stop_requested(ctx) ((ctx)->buf.perma_watch_page[PERMA_WATCH_ABORT] != 0u)
+
 /* Record a failure status once (the first one wins) and stop all groups. */
 inline void perma_fail(__global uint *ctl, uint status, uint proc, uint edge)
 {

@@ -256,14 +256,16 @@ typedef struct perma_config {
      * longer than this counts as stuck: raise it for such procedures.
      *
      * When either limit passes, the watchdog asks every work-group to stop
-     * and gives the kernel 10 s (the grace period) to do so.  A procedure
-     * that never returns cannot be stopped: the run then fails saying so,
-     * and the runtime can no longer be used (every call that uses the
-     * device returns PERMA_ERR_STATE; perma_destroy frees what it can).
-     * OpenCL cannot end a running kernel, so the stuck kernel keeps its
-     * compute unit busy until the process exits.  With Intel's OpenCL CPU
-     * runtime, exit() (and returning from main) then waits for that kernel
-     * forever: end such a process with _exit() or a signal. */
+     * and gives the kernel 10 s (the grace period) to do so; a procedure
+     * with a long loop sees the request through perma_stop_requested(ctx)
+     * (docs/writing-procedures.md).  A procedure that never returns cannot
+     * be stopped: the run then fails saying so, and the runtime can no
+     * longer be used (every call that uses the device returns
+     * PERMA_ERR_STATE, perma_cl_queue returns NULL; perma_destroy frees
+     * what it can).  OpenCL cannot end a running kernel, so the stuck
+     * kernel keeps its compute unit busy until the process exits; the
+     * process exits normally (the runtime's command queue is released so
+     * that Intel's OpenCL CPU runtime does not wait for it at exit). */
     double stall_limit;
     /* Cap on the __local memory one group uses; 0 = the device's size, or
      * the PERMA_LOCAL_MEMORY_LIMIT environment variable if set (bytes, or
@@ -517,6 +519,26 @@ perma_status perma_bind_host_array(perma_runtime *rt, const char *name, const ch
  * cycles are ordered by priority.  Item types that something emits must be
  * declared in a shared source (perma_add_source). */
 perma_status perma_build(perma_runtime *rt);
+
+/* Where the last perma_build got its program: compiled from source, or
+ * loaded from the disk cache of compiled programs (PERMA_CACHE_DIR; see
+ * README).  Processes that build the same program at once, e.g. the ranks
+ * of a farm sharing a cache directory, compile it once: the others wait
+ * for that build (wait_seconds) and load it. */
+typedef enum perma_program_origin {
+    PERMA_PROGRAM_NOT_BUILT = 0,
+    PERMA_PROGRAM_COMPILED,    /* from source */
+    PERMA_PROGRAM_CACHED       /* from the disk cache */
+} perma_program_origin;
+
+typedef struct perma_build_info {
+    perma_program_origin origin;
+    double seconds;            /* perma_build's time: compile or load, and the warm-up launch */
+    double wait_seconds;       /* part of it spent waiting for another process's build */
+    int stored;                /* the compiled program was stored in the disk cache */
+} perma_build_info;
+
+perma_status perma_get_build_info(perma_runtime *rt, perma_build_info *out);
 
 /* Queue `count` items of procedure `proc` (item_size bytes each) for the next
  * run.  Checked before anything is copied: PERMA_ERR_ARGUMENT if the

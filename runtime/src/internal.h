@@ -165,6 +165,7 @@ struct perma_runtime {
 
     /* Build products. */
     bool built;
+    perma_build_info build_info;   /* how the last build got its program */
     cl_program program;
     cl_kernel kernel;          /* perma_megakernel */
     cl_kernel step_kernel;     /* perma_step_kernel (host-driven techniques) */
@@ -181,6 +182,7 @@ struct perma_runtime {
     perma_device_state state;
     perma_group_stats *group_stats; /* work_groups entries */
     bool hung;                      /* a kernel ignored the watchdog; do not wait on it */
+    perma_runtime *next_hung;       /* runtime.c's list of the hung runtimes perma_destroy kept */
     bool grow_starved;              /* a group starved of room may stop a launch to grow queues */
     perma_watchdog *watchdog;       /* watchdog.c */
     perma_progress_state *progress; /* progress.c */
@@ -240,20 +242,28 @@ const char *perma_cl_error_name(cl_int code);
 
 /* program_cache.c: the disk cache of built programs.  An entry is one
  * build's key (everything its binary depends on) and file, worked out once
- * for both the load and the store; without a cache it is not usable and
- * both do nothing.  perma_cache_load gives the built program from the cache
- * (NULL: none); perma_cache_store stores a program built from source when
- * its build took long enough. */
+ * for the load, the lock and the store; without a cache it is not usable
+ * and they all do nothing.  perma_cache_load gives the built program from
+ * the cache (NULL: none; a damaged entry is removed with a notice).
+ * perma_cache_lock takes the entry's build lock, waiting (bounded) while
+ * another process or thread holds it: after it, load again before
+ * building.  perma_cache_store stores rt->program, built from source,
+ * when its build took enough CPU time (true: stored);
+ * perma_cache_entry_close lets go of the lock. */
 typedef struct perma_cache_entry {
     bool usable;
     perma_strbuf key;
     char dir[1024];
     char path[1100];
+    bool stores;          /* the implementation's programs are stored here (not PoCL's) */
+    int lock_fd;          /* the build lock while held; -1 otherwise */
+    double waited;        /* seconds perma_cache_lock waited */
 } perma_cache_entry;
 void perma_cache_entry_open(perma_runtime *rt, const char *source, const char *options, perma_cache_entry *entry);
 void perma_cache_entry_close(perma_cache_entry *entry);
 cl_program perma_cache_load(perma_runtime *rt, const perma_cache_entry *entry, const char *options);
-void perma_cache_store(cl_program program, const perma_cache_entry *entry, double build_seconds);
+bool perma_cache_lock(perma_cache_entry *entry);
+bool perma_cache_store(perma_runtime *rt, const perma_cache_entry *entry, double cpu_seconds);
 
 /* device.c */
 perma_status perma_device_open(perma_runtime *rt);
@@ -304,6 +314,9 @@ bool perma_build_log_diagnostic(const char *line, size_t length, const char *kin
  * PERMA_BUILD_LOG, to config.build_log or stderr.  Returns the number of
  * warnings (0 for a failed build). */
 unsigned perma_build_log_show(perma_runtime *rt, const char *log, bool failed);
+/* A one-line notice about the build (e.g. a damaged cache entry), to
+ * config.build_log or stderr; the newline is added. */
+void perma_notice(perma_runtime *rt, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 
 /* layout.c, codegen.c, program.c */
 perma_status perma_build_layout(perma_runtime *rt);
@@ -387,6 +400,10 @@ perma_status perma_state_ensure_input(perma_runtime *rt, size_t words);
 perma_status perma_state_bind(perma_runtime *rt, cl_kernel kernel, cl_uint first_user_arg);
 /* Ask every group of a running kernel to stop (the watchdog). */
 void perma_state_raise_abort(perma_runtime *rt);
+/* Whether the watchdog raised it during this launch (a host-driven run
+ * checks between its steps: a procedure that polls perma_stop_requested
+ * returns and its step completes). */
+bool perma_state_abort_raised(const perma_runtime *rt);
 /* What the watch page says while a kernel runs: the batches the groups
  * finished so far (a sum that moves while items complete), and in
  * running[0..procs) how many groups run a batch of each procedure. */
@@ -453,6 +470,7 @@ perma_status perma_trace_write(perma_runtime *rt);         /* at the end of a ru
 
 /* clock.c */
 double perma_now(void);
+double perma_cpu_now(void);
 double perma_time_limit(const perma_runtime *rt);
 double perma_stall_limit(const perma_runtime *rt);
 

@@ -1,6 +1,7 @@
 /* Creating and destroying a runtime. */
 #include "executor.h"
 
+#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -127,6 +128,21 @@ static void free_proc(perma_proc_info *p)
     free(p->seeds);
 }
 
+/* Runtimes whose kernel never ended (rt->hung): kept, not freed, since
+ * that kernel still uses their buffers, and kept reachable, so that a leak
+ * checker at exit (the sanitize suite's) does not report them: the
+ * process exits normally after a hang. */
+static pthread_mutex_t hung_lock = PTHREAD_MUTEX_INITIALIZER;
+static perma_runtime *hung_runtimes;
+
+static void keep_hung(perma_runtime *rt)
+{
+    pthread_mutex_lock(&hung_lock);
+    rt->next_hung = hung_runtimes;
+    hung_runtimes = rt;
+    pthread_mutex_unlock(&hung_lock);
+}
+
 void perma_destroy(perma_runtime *rt)
 {
     if (!rt)
@@ -138,6 +154,7 @@ void perma_destroy(perma_runtime *rt)
     if (rt->hung) {
         /* A kernel is still running and would make every release block:
          * leak the OpenCL objects rather than hang the caller. */
+        keep_hung(rt);
         return;
     }
     if (rt->queue)

@@ -293,6 +293,11 @@ const uint32_t *perma_state_watch_record(const perma_runtime *rt, unsigned group
     return rt->state.abort_flag + PERMA_WATCH_RECORDS + (size_t)group * PERMA_WATCH_RECORD_WORDS_FOR(rt->proc_count);
 }
 
+bool perma_state_abort_raised(const perma_runtime *rt)
+{
+    return __atomic_load_n(rt->state.abort_flag + PERMA_WATCH_ABORT, __ATOMIC_SEQ_CST) != 0;
+}
+
 uint64_t perma_state_watch(const perma_runtime *rt, unsigned *running, unsigned procs)
 {
     uint64_t done = 0;
