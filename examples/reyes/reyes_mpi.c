@@ -321,17 +321,49 @@ static int result_fits(const reyes_pool *pool, const result_header *header, int3
     return (size_t)bytes == sizeof *header + pixels * 4;
 }
 
-/* Receive and handle one message from a worker: a result is delivered
- * and answered with the next item; a report or failure ends the rank. */
-static void handle_message(reyes_pool *pool, MPI_Status *probe, holding *held, reyes_work_report *reports,
-                           int *active)
+/* Rank 0's view of the job for its stop message: the state is refreshed
+ * whenever its own render thread delivered since the last look, also while
+ * rank 0 waits for a message's body (a rank killed in the middle of sending
+ * one never completes it, and the frames written meanwhile must be in the
+ * message mpirun's SIGTERM prints). */
+typedef struct coordinator_view {
+    reyes_pool *pool;
+    const holding *held;
+    int size;
+    unsigned delivered; /* pool->delivered at the last refresh */
+} coordinator_view;
+
+static void refresh_state(void *user)
 {
+    coordinator_view *v = user;
+    pthread_mutex_lock(&v->pool->lock);
+    int changed = v->pool->delivered != v->delivered;
+    v->delivered = v->pool->delivered;
+    pthread_mutex_unlock(&v->pool->lock);
+    if (changed)
+        update_state(v->pool, v->held, v->size);
+}
+
+/* Receive and handle one message from a worker: a result is delivered
+ * and answered with the next item; a report or failure ends the rank.
+ * The body is waited for at most `timeout` seconds. */
+static void handle_message(coordinator_view *view, MPI_Status *probe, holding *held, reyes_work_report *reports,
+                           int *active, double timeout, const char *program)
+{
+    reyes_pool *pool = view->pool;
     int source = probe->MPI_SOURCE, bytes = 0;
     MPI_Get_count(probe, MPI_BYTE, &bytes);
     uint8_t *message = malloc(bytes > 0 ? (size_t)bytes : 1);
     if (!message)
-        mpi_job_abort("reyes-render", 0, "out of memory for a %d-byte message from rank %d", bytes, source);
-    MPI_Recv(message, bytes, MPI_BYTE, source, probe->MPI_TAG, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+        mpi_job_abort(program, 0, "out of memory for a %d-byte message from rank %d", bytes, source);
+    MPI_Request request;
+    MPI_Irecv(message, bytes, MPI_BYTE, source, probe->MPI_TAG, MPI_COMM_WORLD, &request);
+    if (!mpi_job_wait(1, &request, MPI_STATUSES_IGNORE, timeout, refresh_state, view)) {
+        char written[2048];
+        reyes_pool_describe_written(pool, written, sizeof written);
+        mpi_job_abort(program, 0, "rank %d stopped in the middle of a %d-byte message for more than %g s "
+                      "(--rank-timeout); aborting the job; %s", source, bytes, timeout, written);
+    }
     held[source].since = mpi_job_now();
     if (probe->MPI_TAG == TAG_RESULT && (size_t)bytes >= sizeof(result_header)) {
         result_header header;
@@ -429,7 +461,7 @@ static int run_coordinator(rank_setup *s, const reyes_cli *cli, const char *prog
         if (!local_running)
             reyes_pool_fail(&pool, "rank 0", REYES_ERR_NO_MEMORY, "cannot start the render thread");
     }
-    unsigned delivered = 0;
+    coordinator_view view = { &pool, held, size, 0 };
     double alive_sent = start, last_look = start;
     while (active > 0 || (local_running && !local.finished)) {
         double t = mpi_job_now();
@@ -441,17 +473,11 @@ static int run_coordinator(rank_setup *s, const reyes_cli *cli, const char *prog
         MPI_Status probe;
         MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &probe);
         if (flag) {
-            handle_message(&pool, &probe, held, reports, &active);
+            handle_message(&view, &probe, held, reports, &active, s->timeout, program);
             update_state(&pool, held, size);
             continue;
         }
-        /* Frames this rank's own thread wrote. */
-        pthread_mutex_lock(&pool.lock);
-        int changed = pool.delivered != delivered;
-        delivered = pool.delivered;
-        pthread_mutex_unlock(&pool.lock);
-        if (changed)
-            update_state(&pool, held, size);
+        refresh_state(&view); /* frames this rank's own thread wrote */
         /* Ranks that reported wait for the others: tell them rank 0 runs. */
         if (t - alive_sent > s->timeout / 4) {
             char alive = 0;
