@@ -306,7 +306,11 @@ def case_queens(args, tmp):
     print(out)
 
 
-QUEENS_LONG = ['--n', '14', '--rank-timeout', '3']
+# Long enough that a rank is still searching when the cases below stop or
+# kill it 1.5 s in (14 queens took under a second on an idle machine), and
+# short enough that rank 0 runs out of its own share and asks the stopped
+# rank for work within seconds (it notices a silent rank only then).
+QUEENS_LONG = ['--n', '15', '--rank-timeout', '3']
 
 
 def case_queens_killed(args, tmp):
