@@ -16,7 +16,14 @@ fail() {
     failed=$((failed + 1))
 }
 # The limit applies to every file the process writes, the OpenCL
-# driver's kernel cache too: build the programs first, unlimited.
+# driver's too: PoCL writes a program's source to a temporary file at
+# every build from source, even when its kernel cache has the result. So
+# the programs are built first, unlimited, into a private perma cache
+# that keeps PoCL's programs too (PERMA_CACHE_MIN_SECONDS=0), and the
+# limited runs load them from there as binaries.
+PERMA_CACHE_DIR="$dir/cache"
+PERMA_CACHE_MIN_SECONDS=0
+export PERMA_CACHE_DIR PERMA_CACHE_MIN_SECONDS
 "$render" --size 32x32 -o "$dir/warm.png" > /dev/null
 "$render" --size 32x32 --frames 2 -o "$dir/warm.png" > /dev/null
 rm -f "$dir"/warm*
