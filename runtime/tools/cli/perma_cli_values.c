@@ -165,20 +165,35 @@ int perma_cli_apply(const perma_cli_option *option, const char *value, char *com
     return 1;
 }
 
+/* A bound as %g writes it, its exponent without '+' and leading zeros
+ * ("1e6", not "1e+06"). */
+static const char *bound(double value, char out[32])
+{
+    snprintf(out, 32, "%g", value);
+    char *e = strchr(out, 'e');
+    if (e) {
+        char *digits = e + 1 + (e[1] == '+' || e[1] == '-');
+        size_t zeros = strspn(digits, "0");
+        memmove(e[1] == '+' ? e + 1 : digits, digits + zeros, strlen(digits + zeros) + 1);
+    }
+    return out;
+}
+
 /* "L..H", or the bounds that hold ("> 0.5 and < 179", ">= 0"); "" if none. */
 static void bounds_text(const perma_cli_option *o, char *out, size_t size)
 {
+    char low[32], high[32];
     const char *above = o->open & PERMA_CLI_ABOVE_LOW ? ">" : ">=";
     const char *below = o->open & PERMA_CLI_BELOW_HIGH ? "<" : "<=";
     int has_low = isfinite(o->low), has_high = isfinite(o->high);
     if (has_low && has_high && !o->open)
-        snprintf(out, size, " in %g..%g", o->low, o->high);
+        snprintf(out, size, " in %s..%s", bound(o->low, low), bound(o->high, high));
     else if (has_low && has_high)
-        snprintf(out, size, " %s %g and %s %g", above, o->low, below, o->high);
+        snprintf(out, size, " %s %s and %s %s", above, bound(o->low, low), below, bound(o->high, high));
     else if (has_low)
-        snprintf(out, size, " %s %g", above, o->low);
+        snprintf(out, size, " %s %s", above, bound(o->low, low));
     else if (has_high)
-        snprintf(out, size, " %s %g", below, o->high);
+        snprintf(out, size, " %s %s", below, bound(o->high, high));
     else
         out[0] = '\0';
 }
