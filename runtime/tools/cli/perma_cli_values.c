@@ -58,14 +58,14 @@ static int parse_whole(const char *text, unsigned long long least, unsigned long
     return 1;
 }
 
-/* A finite number within the row's bounds (an overflow is an infinity,
- * refused; an underflow a tiny number, taken). */
+/* Whether a number is within the row's bounds; a FLOAT row compares in
+ * float, so that "--epsilon 0.01" meets a bound of 0.01 (0.01f < 0.01). */
 static int within(const perma_cli_option *o, double value)
 {
-    if (!isfinite(value))
-        return 0;
-    int above = o->open & PERMA_CLI_ABOVE_LOW ? value > o->low : value >= o->low;
-    int below = o->open & PERMA_CLI_BELOW_HIGH ? value < o->high : value <= o->high;
+    double low = o->kind == PERMA_CLI_KIND_FLOAT ? (float)o->low : o->low;
+    double high = o->kind == PERMA_CLI_KIND_FLOAT ? (float)o->high : o->high;
+    int above = o->open & PERMA_CLI_ABOVE_LOW ? value > low : value >= low;
+    int below = o->open & PERMA_CLI_BELOW_HIGH ? value < high : value <= high;
     return above && below;
 }
 
