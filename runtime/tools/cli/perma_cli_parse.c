@@ -90,8 +90,9 @@ static perma_cli_status answer(const perma_cli *cli, const perma_cli_option *row
 {
     if (!cli->quiet && row == HELP_ROW)
         perma_cli_help(cli, stdout);
-    else if (!cli->quiet)
-        printf("%s %s\n", cli->program, cli->version ? cli->version : PERMA_VERSION_STRING);
+    else if (!cli->quiet) /* the program's name, not the path it was run by */
+        printf("%s %s\n", strrchr(cli->program, '/') ? strrchr(cli->program, '/') + 1 : cli->program,
+               cli->version ? cli->version : PERMA_VERSION_STRING);
     return row == HELP_ROW ? PERMA_CLI_HELP : PERMA_CLI_VERSION;
 }
 
