@@ -37,6 +37,8 @@ static int without_command(int argc, char **argv)
     for (unsigned i = 0; i < command_count && used > 0 && (size_t)used < sizeof about; ++i)
         used += snprintf(about + used, sizeof about - (size_t)used, "  %-10s %s\n", commands[i].name,
                          commands[i].summary);
+    if (used > 0 && (size_t)used < sizeof about)
+        snprintf(about + used, sizeof about - (size_t)used, "\n`perma-bench COMMAND --help` lists a command's own options.");
     const perma_cli_table table = { "common options", common, BENCH_COMMON_OPTIONS };
     const perma_cli cli = {
         .program = "perma-bench",
@@ -47,7 +49,7 @@ static int without_command(int argc, char **argv)
         .operand = &operand,
         .max_operands = 1,
         .operand_count = &given,
-        .notes = "`perma-bench COMMAND --help` lists the options of a command.\n\n" BENCH_EXIT_STATUS,
+        .notes = BENCH_EXIT_STATUS,
     };
     perma_cli_status status = perma_cli_parse(&cli, argc, argv, message, sizeof message);
     if (status == PERMA_CLI_OK)
