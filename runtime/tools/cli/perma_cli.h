@@ -37,7 +37,7 @@
 #ifndef PERMA_CLI_H
 #define PERMA_CLI_H
 
-#include <math.h>
+#include <math.h> /* INFINITY, the bound of a FLOAT or DOUBLE row without one */
 #include <stddef.h>
 #include <stdio.h>
 
