@@ -104,8 +104,17 @@ unsigned bench_report_failures(const bench_report *report);
  * no perma variant was measured (every perma row n/a, or none at all). */
 int bench_report_close(bench_report *report);
 
-/* Initialise a row with a workload and variant name. */
+/* Initialise a row with a workload and variant name (and show that its
+ * measurement starts: bench_status_show). */
 void bench_row_init(bench_row *row, const char *workload, const char *variant, const char *unit);
+
+/* ---- the row being measured, on a terminal (status.c) ---- */
+
+/* When stderr is a terminal: "perma-bench: row N, T s: WORKLOAD: VARIANT"
+ * on one line of it, redrawn in place. */
+void bench_status_show(const char *workload, const char *variant);
+/* A row was printed: clear the line (bench_report_add). */
+void bench_status_row_printed(void);
 
 /* ---- timing (timing.c) ---- */
 
@@ -181,5 +190,14 @@ double bench_time_baseline(const bench_options *options, void (*fn)(void *), voi
 
 /* Number of OpenMP threads to use. */
 unsigned bench_threads(const bench_options *options);
+
+/* ---- what it is doing (activity.c) ---- */
+
+/* Catch SIGTERM, SIGINT and SIGHUP: each then ends perma-bench with a
+ * line on stderr naming the benchmark, the seconds since this call and the
+ * activity last set, and exit status 1. */
+void bench_activity_start(const char *benchmark);
+/* Set the activity, e.g. "building %s (%s)" with a variant and workload. */
+void bench_activity(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 
 #endif

@@ -64,6 +64,7 @@ int main(int argc, char **argv)
     for (unsigned i = 0; argc > 1 && i < command_count; ++i) {
         if (strcmp(argv[1], commands[i].name) == 0) {
             bench_options options = { .repeat = 3 };
+            bench_activity_start(commands[i].name);
             /* The command sees argv[0] = its name and the rest. */
             return commands[i].run(&options, argc - 1, argv + 1);
         }

@@ -23,6 +23,8 @@ void bench_row_init(bench_row *row, const char *workload, const char *variant, c
     snprintf(row->workload, sizeof row->workload, "%s", workload);
     snprintf(row->variant, sizeof row->variant, "%s", variant);
     row->unit = unit;
+    bench_status_show(workload, variant);
+    bench_activity("measuring %s (%s)", variant, workload);
 }
 
 int bench_report_open(bench_report **out, const char *benchmark, const bench_options *options)
@@ -116,6 +118,7 @@ void bench_report_add(bench_report *r, const bench_row *row, int is_baseline)
         ++r->perma_measured;
     if (!row->ran && !r->first_skip[0])
         snprintf(r->first_skip, sizeof r->first_skip, "%s", note[0] ? note : row->variant);
+    bench_status_row_printed();
     double rate = row->ran && row->seconds > 0 ? row->units / row->seconds : 0.0;
     double ratio = row->ran && row->seconds > 0 && r->baseline_seconds > 0 ? r->baseline_seconds / row->seconds : 0.0;
 

@@ -257,6 +257,13 @@ typedef struct reyes_options {
     /* The OpenCL device (reyes_renderer_create); NULL (default): the
      * first of PERMA_DEVICE, or 0:0. */
     const perma_device_ref *device;
+    /* The progress of each perma run (perma_config.progress, every
+     * progress_interval seconds, 0: the runtime's default), passed when
+     * the renderer is created; called on the rendering thread.  NULL
+     * (default): none. */
+    void (*progress)(void *user, const perma_progress *progress);
+    void *progress_user;
+    double progress_interval;
 } reyes_options;
 
 void reyes_options_init(reyes_options *options);
@@ -330,7 +337,7 @@ void reyes_stats_free(reyes_stats *stats);
 
 /* A perma runtime with the Reyes procedures registered (for options->grid
  * and the scheduling fields: group_size, work_groups, schedule,
- * time_limit; the other options may change per render).  With options->motion_angle_deg not 0 the renderer
+ * time_limit, progress; the other options may change per render).  With options->motion_angle_deg not 0 the renderer
  * carries a clip-space motion per micropolygon vertex (112-byte items
  * instead of 64), which renders with a rotation need; it renders
  * everything else too, to the same bytes. */

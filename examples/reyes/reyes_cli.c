@@ -55,6 +55,8 @@ perma_cli_status reyes_cli_parse(int argc, char **argv, reyes_cli *cli, char *me
     cli->render.bucket_height = cli->bucket[1];
     if (cli->orbit_given && !cli->frames)
         return perma_cli_fail(&d.cli, message, size, "--orbit needs --frames");
+    if (cli->progress && cli->quiet)
+        return perma_cli_fail(&d.cli, message, size, "--progress and --quiet contradict each other");
     return check_subdivision_options(cli, &d.cli, message, size);
 }
 

@@ -40,6 +40,9 @@ typedef struct reyes_cli {
     /* MPI: rank 0 only hands out and gathers (a head node); the others
      * render. */
     int coordinator_only;
+    /* --progress: the progress line on stderr even when it is not a
+     * terminal; --quiet: nothing but errors. */
+    int progress, quiet;
     char displace_map[4096]; /* --displace png:FILE:A (render.displace_map points here) */
 } reyes_cli;
 

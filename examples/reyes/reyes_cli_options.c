@@ -196,6 +196,10 @@ void reyes_cli_describe(reyes_cli *cli, const char *program, reyes_cli_descripti
                          "mpirun: rank 0 hands out and gathers but renders nothing (a head node)") },
         { PERMA_CLI_FLAG("backface", &r->backface_cull, "cull patches that face away entirely") },
         { PERMA_CLI_TEXT("stats", "FILE", &cli->stats_path, "write statistics as JSON") },
+        { PERMA_CLI_FLAG("progress", &cli->progress, "show the progress line on stderr even when it is not a "
+                                                     "terminal (under mpirun: rank 0's, for the whole job)") },
+        { PERMA_CLI_FLAG("quiet", &cli->quiet, "print nothing but errors (no progress line, no summary)"),
+          .short_name = 'q' },
         { PERMA_CLI_FLAG("reference", &cli->reference,
                          "also run the single-threaded C bound/split/dice and print its counts") },
     };

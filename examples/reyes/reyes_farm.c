@@ -72,7 +72,7 @@ int reyes_pool_take(reyes_pool *pool, int renderer, unsigned *item)
     return have;
 }
 
-/* Count a delivery and its times. */
+/* Count a delivery and its times, and show it. */
 static void delivered(reyes_pool *pool, unsigned item, double seconds)
 {
     pthread_mutex_lock(&pool->lock);
@@ -80,7 +80,10 @@ static void delivered(reyes_pool *pool, unsigned item, double seconds)
     pool->done[item] = 1;
     pool->turnaround[item] = now() - pool->taken_at[item];
     pool->render_seconds[item] = seconds >= 0.0 ? seconds : pool->turnaround[item];
+    int renderer = pool->renderer[item];
     pthread_mutex_unlock(&pool->lock);
+    if (pool->progress)
+        reyes_progress_item_done(pool->progress, renderer);
 }
 
 void reyes_image_pack_rect(const reyes_image *image, const unsigned rect[4], uint8_t *rgb,
@@ -244,6 +247,12 @@ void *reyes_farm_worker_run(void *worker)
     reyes_pool *pool = w->client.pool;
     reyes_options options = pool->job->options;
     options.device = &w->device;
+    if (pool->progress) {
+        w->slot = (reyes_progress_slot){ pool->progress, (unsigned)w->client.renderer };
+        options.progress = reyes_progress_runtime;
+        options.progress_user = &w->slot;
+        options.progress_interval = REYES_PROGRESS_INTERVAL;
+    }
     reyes_renderer *renderer = NULL;
     reyes_error error;
     double start = now();

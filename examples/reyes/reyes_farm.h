@@ -13,6 +13,7 @@
 #include <pthread.h>
 
 #include "reyes_job.h"
+#include "reyes_progress.h"
 
 typedef struct reyes_pool {
     const reyes_job *job;
@@ -23,6 +24,7 @@ typedef struct reyes_pool {
     reyes_status status;       /* the first failure */
     char message[REYES_MESSAGE_MAX]; /* "device 0:0/2.1: ..." */
     reyes_image image;         /* bucket jobs: the image being assembled */
+    reyes_progress *progress;  /* NULL, or the progress line deliveries move (set before rendering) */
     /* Per item: the renderer that took it (-1: not handed out), the
      * seconds its renderer spent on it, and the seconds from handing out
      * to delivery as the pool saw them (a remote rank's messages included). */
@@ -86,6 +88,7 @@ typedef struct reyes_farm_worker {
     perma_device_ref device;
     char who[96];              /* how failures name it: "device 0:0/2.1" */
     reyes_work_report report;
+    reyes_progress_slot slot;  /* its place on the pool's progress line */
     pthread_t thread;
     int started;
     volatile int finished;     /* set when the thread is done */

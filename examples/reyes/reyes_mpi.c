@@ -396,7 +396,8 @@ static int run_coordinator(rank_setup *s, const reyes_cli *cli, const char *prog
     if (status == REYES_OK)
         status = reyes_job_check_outputs(&s->job, cli->stats_path, &error);
     if (status == REYES_OK) {
-        reyes_job_print_notes(&s->job, stderr);
+        if (!cli->quiet)
+            reyes_job_print_notes(&s->job, stderr);
         status = reyes_pool_init(&pool, &s->job, &error);
     }
     if (status != REYES_OK) {
@@ -409,6 +410,13 @@ static int run_coordinator(rank_setup *s, const reyes_cli *cli, const char *prog
     const reyes_job *job = pool.job;
 
     update_state(&pool, held, size);
+    /* The progress line, for the whole job: every rank's deliveries. */
+    reyes_progress progress;
+    int terminal, shown = status == REYES_OK && reyes_progress_wanted(cli->progress, cli->quiet, &terminal);
+    if (shown) {
+        reyes_progress_start(&progress, stderr, terminal, program, job->frames ? "frames" : "buckets", job->items);
+        pool.progress = &progress;
+    }
     /* Rank 0 renders too, in a thread, as renderer 0 of the pool. */
     reyes_farm_worker local;
     char device[64], who[96];
@@ -482,7 +490,11 @@ static int run_coordinator(rank_setup *s, const reyes_cli *cli, const char *prog
         snprintf(reports[0].device, sizeof reports[0].device, "none");
     if (status == REYES_OK)
         status = reyes_report_write_outputs(&pool, reports, (unsigned)size, seconds, cli->stats_path, &error);
-    if (status == REYES_OK)
+    if (shown) {
+        reyes_progress_finish(&progress, status == REYES_OK);
+        reyes_progress_free(&progress);
+    }
+    if (status == REYES_OK && !cli->quiet)
         reyes_report_print(stdout, &s->job, reports, (unsigned)size, "rank", seconds);
     if (status != REYES_OK) {
         char written[2048] = "";

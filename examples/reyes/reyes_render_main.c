@@ -2,7 +2,9 @@
  * reyes-render: parse the command line, build the scene (models or the
  * built-in one), render it with the Reyes procedures, write PNG and stats.
  * With --devices or --frames the buckets or frames are spread over
- * devices (reyes_farm.h); under mpirun over ranks (reyes_mpi.h).
+ * devices (reyes_farm.h); under mpirun over ranks (reyes_mpi.h).  A
+ * progress line on stderr when it is a terminal (or --progress), nothing
+ * but errors with --quiet (reyes_progress.h).
  * Exit status: 0 ok, 1 rendering or file failure, 2 bad usage.
  */
 #include <stdio.h>
@@ -12,6 +14,7 @@
 #include "reyes_cli.h"
 #include "reyes_farm.h"
 #include "reyes_mpi.h"
+#include "reyes_progress.h"
 #include "reyes_reference.h"
 #include "reyes_report.h"
 
@@ -20,7 +23,7 @@ static reyes_status run_reference(const reyes_cli *cli, const reyes_scene *scene
 {
     reyes_reference_counts counts;
     reyes_status status = reyes_reference_run(scene, camera, &cli->render, &counts, error);
-    if (status == REYES_OK)
+    if (status == REYES_OK && !cli->quiet)
         printf("reference (C, 1 thread, no shading or sampling): %llu splits, %llu grids, "
                "%llu culled, %llu micropolygons, %.3f s\n",
                (unsigned long long)counts.splits, (unsigned long long)counts.grids,
@@ -29,8 +32,32 @@ static reyes_status run_reference(const reyes_cli *cli, const reyes_scene *scene
     return status;
 }
 
+/* The buckets of one image in order, each counted on the progress line
+ * when it is done. */
+typedef struct progress_source {
+    reyes_progress *progress;
+    unsigned next, count;
+} progress_source;
+
+static int progress_next(void *user, unsigned *bucket)
+{
+    progress_source *s = user;
+    if (s->next >= s->count)
+        return 0;
+    *bucket = s->next++;
+    return 1;
+}
+
+static reyes_status progress_done(void *user, unsigned bucket, const reyes_image *image, unsigned x0,
+                                  unsigned y0, unsigned x1, unsigned y1, reyes_error *error)
+{
+    (void)bucket, (void)image, (void)x0, (void)y0, (void)x1, (void)y1, (void)error;
+    reyes_progress_item_done(((progress_source *)user)->progress, 0);
+    return REYES_OK;
+}
+
 /* One image on one device: the full statistics. */
-static reyes_status run(const reyes_cli *cli, reyes_error *error)
+static reyes_status run(const reyes_cli *cli, const char *program, reyes_error *error)
 {
     reyes_job job;
     reyes_scene scene = {0};
@@ -38,17 +65,32 @@ static reyes_status run(const reyes_cli *cli, reyes_error *error)
     reyes_renderer *renderer = NULL;
     reyes_image image = {0};
     reyes_stats stats = {0};
+    reyes_options options = cli->render;
+    reyes_progress progress;
+    reyes_progress_slot slot = { &progress, 0 };
+    progress_source buckets = { &progress, 0, 0 };
+    reyes_bucket_source source = { progress_next, progress_done, &buckets };
+    int terminal, shown = reyes_progress_wanted(cli->progress, cli->quiet, &terminal);
     reyes_status status = reyes_job_init(&job, cli, error);
     scene = job.scene;
     camera = job.camera;
+    if (status == REYES_OK && shown) {
+        buckets.count = job.items;
+        reyes_progress_start(&progress, stderr, terminal, program, "buckets", job.items);
+        options.bucket_source = &source;
+        options.progress = reyes_progress_runtime;
+        options.progress_user = &slot;
+        options.progress_interval = REYES_PROGRESS_INTERVAL;
+    }
     if (status == REYES_OK)
         status = reyes_job_check_outputs(&job, cli->stats_path, error);
     if (status == REYES_OK) {
-        reyes_job_print_notes(&job, stderr);
-        status = reyes_renderer_create(&cli->render, &renderer, error);
+        if (!cli->quiet)
+            reyes_job_print_notes(&job, stderr);
+        status = reyes_renderer_create(&options, &renderer, error);
     }
     if (status == REYES_OK)
-        status = reyes_render(renderer, &scene, &camera, &cli->render, &image, &stats, error);
+        status = reyes_render(renderer, &scene, &camera, &options, &image, &stats, error);
     if (status == REYES_OK) {
         /* The image and its statistics: both or neither. */
         const reyes_stats_output stats_output = { &stats, &cli->render };
@@ -56,7 +98,11 @@ static reyes_status run(const reyes_cli *cli, reyes_error *error)
                                             { cli->stats_path, reyes_stats_writer, &stats_output } };
         status = reyes_write_outputs(files, cli->stats_path ? 2 : 1, error);
     }
-    if (status == REYES_OK)
+    if (shown && buckets.count) {
+        reyes_progress_finish(&progress, status == REYES_OK);
+        reyes_progress_free(&progress);
+    }
+    if (status == REYES_OK && !cli->quiet)
         printf("%s: %ux%u, %zu patches, %llu splits, %llu grids, %llu micropolygons, %.3f s, "
                "%s/%s (%s)\n",
                cli->output, image.width, image.height, scene.patch_count,
@@ -94,7 +140,7 @@ static reyes_status list_devices(const char *list, perma_device_ref *devices, un
 }
 
 /* Buckets or frames spread over the devices of --devices (docs/scale-out.md). */
-static reyes_status run_farm(const reyes_cli *cli, reyes_error *error)
+static reyes_status run_farm(const reyes_cli *cli, const char *program, reyes_error *error)
 {
     perma_device_ref devices[PERMA_MAX_DEVICES];
     unsigned count = 0;
@@ -109,13 +155,20 @@ static reyes_status run_farm(const reyes_cli *cli, reyes_error *error)
     if (status == REYES_OK)
         status = reyes_job_check_outputs(&job, cli->stats_path, error);
     if (status == REYES_OK) {
-        reyes_job_print_notes(&job, stderr);
+        if (!cli->quiet)
+            reyes_job_print_notes(&job, stderr);
         status = reyes_pool_init(&pool, &job, error);
     }
     else
         reyes_job_free(&job);
     if (status != REYES_OK)
         return status;
+    reyes_progress progress;
+    int terminal, shown = reyes_progress_wanted(cli->progress, cli->quiet, &terminal);
+    if (shown) {
+        reyes_progress_start(&progress, stderr, terminal, program, job.frames ? "frames" : "buckets", job.items);
+        pool.progress = &progress;
+    }
     status = reyes_farm_run(&pool, devices, count, workers, error);
     double seconds = now() - start;
     reyes_work_report reports[PERMA_MAX_DEVICES];
@@ -123,7 +176,11 @@ static reyes_status run_farm(const reyes_cli *cli, reyes_error *error)
         reports[k] = workers[k].report;
     if (status == REYES_OK)
         status = reyes_report_write_outputs(&pool, reports, count, seconds, cli->stats_path, error);
-    if (status == REYES_OK)
+    if (shown) {
+        reyes_progress_finish(&progress, status == REYES_OK);
+        reyes_progress_free(&progress);
+    }
+    if (status == REYES_OK && !cli->quiet)
         reyes_report_print(stdout, &job, reports, count, "device", seconds);
     if (status == REYES_OK && cli->reference && !job.frames)
         status = run_reference(cli, &job.scene, &job.camera, error);
@@ -170,7 +227,7 @@ int main(int argc, char **argv)
         code = PERMA_CLI_EXIT_USAGE;
     } else {
         reyes_error error;
-        reyes_status status = cli.devices || cli.frames ? run_farm(&cli, &error) : run(&cli, &error);
+        reyes_status status = cli.devices || cli.frames ? run_farm(&cli, program, &error) : run(&cli, program, &error);
         /* Options that parse but do not fit together are bad usage too. */
         if (status == REYES_ERR_ARGUMENT)
             perma_cli_print_error(program, error.message);

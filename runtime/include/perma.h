@@ -115,6 +115,7 @@ typedef struct perma_error {
 
 typedef struct perma_runtime perma_runtime;
 typedef int perma_proc; /* procedure handle returned by perma_register */
+struct perma_progress;  /* a run's progress (below) */
 
 /* How the work is executed.  Every technique runs the same procedure
  * sources and gives the same results. */
@@ -255,14 +256,16 @@ typedef struct perma_config {
      * longer than this counts as stuck: raise it for such procedures.
      *
      * When either limit passes, the watchdog asks every work-group to stop
-     * and gives the kernel 10 s (the grace period) to do so.  A procedure
-     * that never returns cannot be stopped: the run then fails saying so,
-     * and the runtime can no longer be used (every call that uses the
-     * device returns PERMA_ERR_STATE; perma_destroy frees what it can).
-     * OpenCL cannot end a running kernel, so the stuck kernel keeps its
-     * compute unit busy until the process exits.  With Intel's OpenCL CPU
-     * runtime, exit() (and returning from main) then waits for that kernel
-     * forever: end such a process with _exit() or a signal. */
+     * and gives the kernel 10 s (the grace period) to do so; a procedure
+     * with a long loop sees the request through perma_stop_requested(ctx)
+     * (docs/writing-procedures.md).  A procedure that never returns cannot
+     * be stopped: the run then fails saying so, and the runtime can no
+     * longer be used (every call that uses the device returns
+     * PERMA_ERR_STATE, perma_cl_queue returns NULL; perma_destroy frees
+     * what it can).  OpenCL cannot end a running kernel, so the stuck
+     * kernel keeps its compute unit busy until the process exits; the
+     * process exits normally (the runtime's command queue is released so
+     * that Intel's OpenCL CPU runtime does not wait for it at exit). */
     double stall_limit;
     /* Cap on the __local memory one group uses; 0 = the device's size, or
      * the PERMA_LOCAL_MEMORY_LIMIT environment variable if set (bytes, or
@@ -292,11 +295,23 @@ typedef struct perma_config {
      * every run writes its batches as Chrome trace events (JSON, viewable
      * in Perfetto or chrome://tracing): one track per work-group, one event
      * per batch with procedure, items and kind (run, steal, local,
-     * donate).  Megakernel events use a logical clock (one tick per batch
-     * start or end); host-driven steps use host time. */
+     * donate).  Every run of the process stays in the file, one track
+     * group ("process") per run, on one time line: host microseconds since
+     * the process's first traced run.  Host-driven steps are timed on the
+     * host; the megakernel's batches by ticks of a device-side counter
+     * that the host reads against its clock while the kernel runs (within
+     * about a millisecond where the device shares memory with the host).
+     * runtime/tools/trace_to_svg.py summarises and draws the file. */
     const char *trace_path;
     /* Most events recorded per work-group and launch; 0 = 65536. */
     unsigned trace_events;
+    /* Progress (see perma_progress below): if set, called from the thread
+     * in perma_run when a run starts, at most every progress_interval
+     * seconds while it runs (0 = 0.5), and once when it ends, successfully
+     * or not. */
+    void (*progress)(void *user, const struct perma_progress *progress);
+    void *progress_user;
+    double progress_interval;
 } perma_config;
 
 /* Fill *config with the defaults described above. */
@@ -423,6 +438,80 @@ perma_status perma_bind_cl(perma_runtime *rt, const char *name, const char *type
 perma_status perma_bind_host(perma_runtime *rt, const char *name, const char *type,
                              void *host, size_t bytes, unsigned flags);
 
+/* ---- Typed host arrays --------------------------------------------------
+ * Bind a host array so that the device type and the byte count come from
+ * its one C declaration:
+ *
+ *     double weights[1024];
+ *     PERMA_BIND_HOST_ARRAY(rt, "weights", weights, PERMA_READ);
+ *         // = perma_bind_host(rt, "weights", "__global const double *",
+ *         //                   weights, sizeof weights, PERMA_READ)
+ *     struct pair *pairs = malloc(n * sizeof *pairs);
+ *     PERMA_BIND_HOST_POINTER(rt, "pairs", pairs, n, PERMA_READ_WRITE);
+ *
+ * The element type's OpenCL C name comes from PERMA_CL_TYPE_NAME (a
+ * _Generic over the C type): char (signed or unsigned as the host's char
+ * is), signed/unsigned char, short, int, long and long long (by size: 4
+ * bytes "int", 8 "long"), their unsigned forms, float, double (the device
+ * needs fp64: perma-info), and OpenCL's host vector types cl_float2/4/8/16,
+ * cl_double2/4, cl_int2/4, cl_uint2/4, cl_uchar4 (3-component ones are not
+ * listed: cl_float3 is cl_float4 on the host).  So int32_t is "int",
+ * uint64_t and size_t "ulong".  Struct types are named by the program:
+ * define PERMA_HOST_TYPE_NAMES as `TYPE: "OPENCL C NAME",` pairs before
+ * including perma.h, e.g.
+ *
+ *     #define PERMA_HOST_TYPE_NAMES struct pair: "struct pair",
+ *     #include <perma.h>
+ *
+ * (declare the struct for the device with perma_add_source).  Any other
+ * element type does not compile ("'_Generic' selector of type ... is not
+ * compatible with any association"), nor does PERMA_BIND_HOST_ARRAY given
+ * a pointer instead of an array (with GCC and Clang; elsewhere use
+ * PERMA_BIND_HOST_POINTER for pointers).  The pointer type is "__global
+ * const T *" for PERMA_READ alone, else "__global T *".  The generated
+ * program checks sizeof(T) on the device against the host's element size:
+ * a difference (a struct the device lays out otherwise) fails the build
+ * with PERMA_ERR_BUILD naming the buffer and both sizes. */
+perma_status perma_bind_host_array(perma_runtime *rt, const char *name, const char *element_type, void *host,
+                                   size_t count, size_t element_size, unsigned flags);
+
+#ifndef __cplusplus
+#ifndef PERMA_HOST_TYPE_NAMES
+#define PERMA_HOST_TYPE_NAMES
+#endif
+/* The OpenCL C name of the type of expression x (a string literal's
+ * value); a compile error for a type without one. */
+#define PERMA_CL_TYPE_NAME(x)                                                                 \
+    _Generic((x), PERMA_HOST_TYPE_NAMES                                                       \
+        char: (char)-1 < 0 ? "char" : "uchar", signed char: "char", unsigned char: "uchar",  \
+        short: "short", unsigned short: "ushort", int: "int", unsigned int: "uint",          \
+        long: sizeof(long) == 8 ? "long" : "int", unsigned long: sizeof(long) == 8 ? "ulong" : "uint", \
+        long long: "long", unsigned long long: "ulong", float: "float", double: "double",    \
+        cl_float2: "float2", cl_float4: "float4", cl_float8: "float8", cl_float16: "float16", \
+        cl_double2: "double2", cl_double4: "double4", cl_int2: "int2", cl_int4: "int4",       \
+        cl_uint2: "uint2", cl_uint4: "uint4", cl_uchar4: "uchar4")
+
+#if defined(__GNUC__) || defined(__clang__)
+/* Zero, or a compile error when `array` is a pointer rather than an array. */
+#define PERMA_ASSERT_ARRAY_(array)                                                            \
+    (0 * sizeof(struct {                                                                      \
+        _Static_assert(!__builtin_types_compatible_p(__typeof__(array), __typeof__(&(array)[0])), \
+                       "PERMA_BIND_HOST_ARRAY needs an array; use PERMA_BIND_HOST_POINTER for a pointer"); \
+        int perma_unused_;                                                                    \
+    }))
+#else
+#define PERMA_ASSERT_ARRAY_(array) 0
+#endif
+
+#define PERMA_BIND_HOST_ARRAY(rt, name, array, flags)                                         \
+    perma_bind_host_array((rt), (name), PERMA_CL_TYPE_NAME((array)[0]), (array),              \
+                          sizeof(array) / sizeof((array)[0]) + PERMA_ASSERT_ARRAY_(array),    \
+                          sizeof((array)[0]), (flags))
+#define PERMA_BIND_HOST_POINTER(rt, name, pointer, count, flags)                              \
+    perma_bind_host_array((rt), (name), PERMA_CL_TYPE_NAME(*(pointer)), (pointer), (count),   \
+                          sizeof(*(pointer)), (flags))
+#endif
+
 /* Generate and compile the megakernel now (perma_run does it when needed),
  * including the driver's compile at the first launch.  A compile error in a
  * procedure reports the procedure's file and line; the build also checks
@@ -430,6 +519,26 @@ perma_status perma_bind_host(perma_runtime *rt, const char *name, const char *ty
  * cycles are ordered by priority.  Item types that something emits must be
  * declared in a shared source (perma_add_source). */
 perma_status perma_build(perma_runtime *rt);
+
+/* Where the last perma_build got its program: compiled from source, or
+ * loaded from the disk cache of compiled programs (PERMA_CACHE_DIR; see
+ * README).  Processes that build the same program at once, e.g. the ranks
+ * of a farm sharing a cache directory, compile it once: the others wait
+ * for that build (wait_seconds) and load it. */
+typedef enum perma_program_origin {
+    PERMA_PROGRAM_NOT_BUILT = 0,
+    PERMA_PROGRAM_COMPILED,    /* from source */
+    PERMA_PROGRAM_CACHED       /* from the disk cache */
+} perma_program_origin;
+
+typedef struct perma_build_info {
+    perma_program_origin origin;
+    double seconds;            /* perma_build's time: compile or load, and the warm-up launch */
+    double wait_seconds;       /* part of it spent waiting for another process's build */
+    int stored;                /* the compiled program was stored in the disk cache */
+} perma_build_info;
+
+perma_status perma_get_build_info(perma_runtime *rt, perma_build_info *out);
 
 /* Queue `count` items of procedure `proc` (item_size bytes each) for the next
  * run.  Checked before anything is copied: PERMA_ERR_ARGUMENT if the
@@ -530,6 +639,46 @@ perma_status perma_get_group_stats(perma_runtime *rt, unsigned group, perma_grou
  * for each procedure whose batches were cut (perma_batch_cut) naming the
  * declaration responsible. */
 void perma_print_stats(perma_runtime *rt, FILE *out);
+
+/* ---- Progress -------------------------------------------------------------
+ * What a run has done so far, for a progress display.  Two ways to get it:
+ * config.progress, a callback called from perma_run's thread (at the start
+ * of a run, at most every config.progress_interval seconds while it runs,
+ * and at its end), or perma_get_progress from any thread at any time.
+ * Both give a copy of the same snapshot, which the runtime takes from the
+ * watch page the watchdog reads (docs/design.md, Progress) while a kernel
+ * runs, and makes exact from the statistics after each launch: at the end
+ * of a run, completed equals perma_procedure_stats.items, procedure by
+ * procedure, and queued is 0.  Counts never decrease within a run.  On a
+ * device that does not share memory with the host (a discrete GPU) they
+ * move only between launches (`live` is 0).  A callback runs on the thread
+ * that watches the kernel, while it runs: keep it short, and call no other
+ * perma function on the runtime than perma_get_progress. */
+typedef struct perma_procedure_progress {
+    const char *name;
+    uint64_t completed;     /* items executed so far in this run */
+    uint64_t queued;        /* items seeded or emitted into it and not yet completed (waiting or
+                               running); between launches exact, while a kernel runs an estimate */
+} perma_procedure_progress;
+
+typedef struct perma_progress {
+    unsigned run;           /* runs this runtime started: 1 during and after the first */
+    int running;            /* 1 from the start of perma_run (after the build) to its end */
+    double elapsed;         /* seconds since the run started (its perma_stats.seconds at the end) */
+    unsigned launches;      /* kernels launched so far: the megakernel's launches, or the host steps */
+    int live;               /* 1: the counts move while a kernel runs; 0: only between launches */
+    uint64_t completed;     /* sums over the procedures */
+    uint64_t queued;
+    unsigned procedure_count;
+    perma_procedure_progress procedures[PERMA_MAX_PROCEDURES]; /* by perma_proc */
+} perma_progress;
+
+/* The progress of the current (or last) run of rt, from any thread.  Does
+ * not change perma_errmsg.  PERMA_ERR_ARGUMENT if rt or out is NULL.
+ * Before the first run everything is 0.  While a kernel runs the counts
+ * are sampled at least every 50 ms, once any progress was asked for (a
+ * callback, or a first call of this function). */
+perma_status perma_get_progress(perma_runtime *rt, perma_progress *out);
 
 /* Description of the device and the chosen work-group count, one line. */
 const char *perma_device_summary(const perma_runtime *rt);

@@ -99,12 +99,16 @@ static perma_status launch_until_done(perma_runtime *rt, double deadline)
         perma_launch_outcome outcome;
         memset(&outcome, 0, sizeof outcome);
         st = perma_state_begin_launch(rt);
-        if (st == PERMA_OK)
+        if (st == PERMA_OK) {
+            perma_progress_launch_begins(rt);
             st = executor->launch(rt, deadline, &outcome);
+        }
         if (st != PERMA_OK)
             break;
         rt->stats.launches += outcome.launches;
         st = perma_stats_collect(rt);
+        if (st == PERMA_OK)
+            perma_progress_launch_ends(rt);
         if (st == PERMA_OK)
             st = perma_trace_collect(rt);
         if (st == PERMA_OK)
@@ -167,20 +171,24 @@ perma_status perma_run(perma_runtime *rt)
     perma_stats_reset(rt);
     double start = perma_now();
     perma_trace_reset(rt, start);
+    if (rt->config.trace_path)
+        perma_trace_file_run_begins(start);
     double deadline = start + perma_time_limit(rt);
     rt->grow_starved = true;
 
     st = upload_seeds(rt);
+    perma_progress_run_begins(rt, start);
     if (st == PERMA_OK)
         st = perma_buffers_copy(rt, PERMA_READ);
     if (st == PERMA_OK)
         st = launch_until_done(rt, deadline);
     if (st == PERMA_OK)
         st = perma_buffers_copy(rt, PERMA_WRITE);
-    rt->stats.seconds = perma_now() - start;
+    rt->stats.seconds = perma_progress_stop_clock(rt);
     rt->state.capacities_learned = st == PERMA_OK;
     st = write_trace(rt, st);
     perma_stats_finish(rt);
+    perma_progress_run_ends(rt);
     if (st == PERMA_OK)
         rt->message[0] = '\0';
     return st;

@@ -377,12 +377,13 @@ START_TEST(test_bad_usage)
 }
 END_TEST
 
-/* Run the program; returns its exit status and the start of its output. */
-static int run_program(const char *arguments, char *output, size_t size)
+/* Run the program with its output streams redirected so (e.g. "2>&1");
+ * returns its exit status and the start of what it wrote to the pipe. */
+static int run_redirected(const char *arguments, const char *redirect, char *output, size_t size)
 {
     const char *program = getenv("REYES_RENDER");
     char command[1024];
-    snprintf(command, sizeof command, "'%s' %s 2>&1", program, arguments);
+    snprintf(command, sizeof command, "'%s' %s %s", program, arguments, redirect);
     FILE *p = popen(command, "r");
     ck_assert_ptr_nonnull(p);
     size_t n = fread(output, 1, size - 1, p);
@@ -393,6 +394,12 @@ static int run_program(const char *arguments, char *output, size_t size)
     }
     int status = pclose(p);
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+/* Its exit status and the start of its output (both streams). */
+static int run_program(const char *arguments, char *output, size_t size)
+{
+    return run_redirected(arguments, "2>&1", output, size);
 }
 
 START_TEST(test_program_exit_codes)
@@ -435,6 +442,97 @@ START_TEST(test_program_exit_codes)
 }
 END_TEST
 
+/* Every line of `text` is a progress line of the program for `unit`
+ * ("PROGRAM: D/T UNIT, P%, E elapsed[, about L left]"), the items done
+ * never go back, and the last line is the whole job, 100%.  Returns the
+ * lines. */
+static unsigned expect_progress_lines(const char *text, const char *unit, unsigned total)
+{
+    unsigned lines = 0, last_done = 0;
+    double last_percent = -1.0;
+    for (const char *line = text; *line;) {
+        const char *end = strchr(line, '\n');
+        ck_assert_msg(end != NULL, "a progress line without its newline: '%s'", line);
+        char copy[512];
+        size_t length = (size_t)(end - line);
+        ck_assert_uint_lt(length, sizeof copy);
+        memcpy(copy, line, length);
+        copy[length] = '\0';
+        const char *colon = strstr(copy, ": ");
+        ck_assert_msg(colon != NULL, "not a progress line: '%s'", copy);
+        unsigned done = 0, all = 0;
+        double percent = 0, elapsed = 0;
+        char seen_unit[32], rest[128] = "";
+        int fields = sscanf(colon + 2, "%u/%u %31[a-z], %lf%%, %lf s elapsed%127[^\n]", &done, &all, seen_unit,
+                            &percent, &elapsed, rest);
+        ck_assert_msg(fields >= 5, "not a progress line: '%s'", copy);
+        ck_assert_str_eq(seen_unit, unit);
+        ck_assert_uint_eq(all, total);
+        ck_assert_uint_ge(done, last_done);
+        ck_assert_msg(percent >= 0.0 && percent <= 100.0, "'%s'", copy);
+        ck_assert_msg(!rest[0] || strncmp(rest, ", about ", 8) == 0, "after the time: '%s'", rest);
+        last_done = done;
+        last_percent = percent;
+        ++lines;
+        line = end + 1;
+    }
+    ck_assert_uint_eq(last_done, total);
+    ck_assert_msg(last_percent == 100.0, "the last line says %.1f%%", last_percent);
+    return lines;
+}
+
+START_TEST(test_program_progress)
+{
+    if (!getenv("REYES_RENDER"))
+        return;
+    char output[16384];
+    /* --progress into a pipe: a line at the start and one at the end (at
+     * least), stdout's summary elsewhere. */
+    ck_assert_int_eq(run_redirected("--size 64x64 --bucket 32x32 --progress -o /tmp/reyes-progress.png",
+                                    "2>&1 >/dev/null", output, sizeof output), 0);
+    ck_assert_uint_ge(expect_progress_lines(output, "buckets", 4), 2);
+    ck_assert_msg(strstr(output, ": 0/4 buckets, 0.0%, ") != NULL, "no line at the start: %s", output);
+    /* Frames (the farm's pool). */
+    ck_assert_int_eq(run_redirected("--size 32x24 --frames 2 --progress -o /tmp/reyes-progress.png",
+                                    "2>&1 >/dev/null", output, sizeof output), 0);
+    ck_assert_uint_ge(expect_progress_lines(output, "frames", 2), 2);
+    /* Not a terminal and no --progress: no line. */
+    ck_assert_int_eq(run_redirected("--size 64x64 --bucket 32x32 -o /tmp/reyes-progress.png", "2>&1 >/dev/null",
+                                    output, sizeof output), 0);
+    ck_assert_str_eq(output, "");
+    ck_assert_int_eq(run_program("--progress --quiet", output, sizeof output), 2);
+    ck_assert_msg(strstr(output, "--progress and --quiet contradict each other") != NULL, "%s", output);
+    remove("/tmp/reyes-progress.png");
+    remove("/tmp/reyes-progress-0001.png");
+    remove("/tmp/reyes-progress-0002.png");
+}
+END_TEST
+
+/* --quiet: nothing at all on success (the image is written), the error on
+ * failure. */
+START_TEST(test_program_quiet)
+{
+    if (!getenv("REYES_RENDER"))
+        return;
+    char output[8192];
+    remove("/tmp/reyes-quiet.png");
+    ck_assert_int_eq(run_program("--size 64x64 --bucket 32x32 --quiet -o /tmp/reyes-quiet.png", output,
+                                 sizeof output), 0);
+    ck_assert_msg(output[0] == '\0', "--quiet printed: %s", output);
+    FILE *png = fopen("/tmp/reyes-quiet.png", "rb");
+    ck_assert_ptr_nonnull(png);
+    fclose(png);
+    ck_assert_int_eq(run_program("--size 32x24 --frames 2 -q -o /tmp/reyes-quiet.png", output, sizeof output), 0);
+    ck_assert_msg(output[0] == '\0', "--quiet printed: %s", output);
+    ck_assert_int_eq(run_program("--quiet /nonexistent/model.bpt -o /tmp/reyes-quiet.png", output, sizeof output),
+                     1);
+    ck_assert_msg(strstr(output, "/nonexistent/model.bpt") != NULL, "%s", output);
+    remove("/tmp/reyes-quiet.png");
+    remove("/tmp/reyes-quiet-0001.png");
+    remove("/tmp/reyes-quiet-0002.png");
+}
+END_TEST
+
 static Suite *cli_suite(void)
 {
     Suite *s = suite_create("reyes_cli");
@@ -451,6 +549,12 @@ static Suite *cli_suite(void)
     tcase_add_test(tc, test_scale_out_options);
     tcase_add_test(tc, test_program_exit_codes);
     suite_add_tcase(s, tc);
+    /* Renders: the first compiles the Reyes megakernel unless PoCL has it. */
+    TCase *renders = tcase_create("renders");
+    tcase_set_timeout(renders, 300);
+    tcase_add_test(renders, test_program_progress);
+    tcase_add_test(renders, test_program_quiet);
+    suite_add_tcase(s, renders);
     return s;
 }
 

@@ -10,8 +10,10 @@ checks the result against a single-process run.  Without Open MPI
 is skipped (exit 77) with a message saying why.
 
 Cases:
-  buckets      reyes-render --bucket over N ranks: the one-process PNG bytes
-  frames       reyes-render --frames over N ranks: each frame's bytes
+  buckets      reyes-render --bucket over N ranks: the one-process PNG bytes,
+               and rank 0's --progress lines for the whole job
+  frames       reyes-render --frames over N ranks: each frame's bytes, and
+               rank 0's --progress lines
   bad-device   rank 1 on a missing device: exit 1, rank 0 names rank 1's error
   mismatch     ranks started with another size, another model, a model file
                that differs between working directories: every rank refuses
@@ -81,6 +83,21 @@ def splittable(program, cwd):
 RENDER = ['--size', '96x64', '--bucket', '16x16']
 
 
+def expect_progress(out, count, unit):
+    """Rank 0 alone drew the progress of the whole job: its first line, its
+    last at 100 %, every line well formed, the items done never going back."""
+    lines = re.findall(r'^reyes-render: (\d+)/(\d+) (\w+), ([0-9.]+)%, [0-9.]+ s elapsed(, about .* left)?$', out,
+                       re.M)
+    expect(len(re.findall(r'^reyes-render: \d+/', out, re.M)) == len(lines), 'a malformed progress line', out)
+    expect(len(re.findall(r'^reyes-render: 0/%d %s, 0\.0%%' % (count, unit), out, re.M)) == 1,
+           'not one progress line at the start (rank 0 only)', out)
+    done = [int(line[0]) for line in lines]
+    expect(done == sorted(done) and all(int(l[1]) == count and l[2] == unit for l in lines),
+           'progress lines out of order or of the wrong job', out)
+    expect(re.search(r'^reyes-render: %d/%d %s, 100\.0%%, [0-9.]+ s elapsed$' % (count, count, unit), out, re.M),
+           'no progress line for the whole job at the end', out)
+
+
 def case_buckets(args, tmp):
     alone = os.path.join(tmp, 'alone.png')
     spread = os.path.join(tmp, 'spread.png')
@@ -92,9 +109,10 @@ def case_buckets(args, tmp):
         extra = ['--coordinator-only']
     else:
         extra = ['--devices', '0:0/2'] if splittable(args.program, tmp) else []
-    status, out = run(mpirun_command(args.mpirun, args.ranks) + [args.program, '-o', spread] + RENDER
+    status, out = run(mpirun_command(args.mpirun, args.ranks) + [args.program, '-o', spread, '--progress'] + RENDER
                       + extra, tmp)
     expect(status == 0, 'mpirun -n %d failed' % args.ranks, out)
+    expect_progress(out, 24, 'buckets')
     expect(read(alone) == read(spread), 'the %d-rank PNG differs from the one-process PNG' % args.ranks, out)
     expect(re.search(r'24 buckets on %d ranks' % args.ranks, out), 'no summary line', out)
     taken = [int(n) for n in re.findall(r'rank \d+, device \S+: (\d+) buckets', out)]
@@ -108,9 +126,10 @@ def case_frames(args, tmp):
     status, out = run([args.program, '-o', os.path.join(tmp, 'alone.png')] + frames, tmp)
     expect(status == 0, 'the one-process frames failed', out)
     status, out = run(mpirun_command(args.mpirun, args.ranks)
-                      + [args.program, '-o', os.path.join(tmp, 'spread.png'), '--coordinator-only'] + frames,
-                      tmp)
+                      + [args.program, '-o', os.path.join(tmp, 'spread.png'), '--coordinator-only', '--progress']
+                      + frames, tmp)
     expect(status == 0, 'mpirun -n %d failed' % args.ranks, out)
+    expect_progress(out, 3, 'frames')
     for f in range(1, 4):
         a, b = ('%s/%s-%04d.png' % (tmp, name, f) for name in ('alone', 'spread'))
         expect(read(a) == read(b), 'frame %d differs' % f, out)
