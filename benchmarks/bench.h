@@ -7,6 +7,7 @@
 #define BENCH_H
 
 #include <perma.h>
+#include <perma_cli.h>
 
 #include <stddef.h>
 #include <stdint.h>
@@ -28,19 +29,39 @@ typedef struct bench_options {
      * row is measured once per device, the rows of a variant side by side. */
     const char *devices[BENCH_MAX_DEVICES];
     unsigned device_count;
+    char device_list[256];  /* the list the devices point into */
 } bench_options;
 
-/* A subcommand: one entry of the table in main.c. */
+/* A subcommand: one entry of the table in main.c.  `run` gets the
+ * command's argv (argv[0]: its name) and parses it with bench_parse. */
 typedef struct bench_command {
     const char *name;
     const char *summary;
-    int (*run)(const bench_options *options, int argc, char **argv);
+    int (*run)(bench_options *options, int argc, char **argv);
 } bench_command;
 
-int bench_queue(const bench_options *options, int argc, char **argv);
-int bench_tree(const bench_options *options, int argc, char **argv);
-int bench_pipeline(const bench_options *options, int argc, char **argv);
-int bench_reyes(const bench_options *options, int argc, char **argv);
+int bench_queue(bench_options *options, int argc, char **argv);
+int bench_tree(bench_options *options, int argc, char **argv);
+int bench_pipeline(bench_options *options, int argc, char **argv);
+int bench_reyes(bench_options *options, int argc, char **argv);
+
+/* ---- command lines (bench_cli.c) ---- */
+
+#define BENCH_COMMON_OPTIONS 9
+#define BENCH_EXIT_STATUS \
+    "exit status: 0 all checks passed, 1 a result was wrong or output failed, 2 bad usage.\n" \
+    "Variants the runtime does not support print as n/a."
+
+/* The rows of the options every command takes, their targets in *o. */
+void bench_common_options(bench_options *o, perma_cli_option rows[BENCH_COMMON_OPTIONS]);
+
+/* Parse a command's argv (argv[0]: its name) with its own `rows` (listed
+ * as "NAME options") and the common ones (into *options); `synopsis`
+ * follows "usage: perma-bench NAME".  PERMA_CLI_OK: run; otherwise the
+ * command returns perma_cli_exit_status(status) (help, version or bad
+ * usage printed). */
+perma_cli_status bench_parse(bench_options *options, const char *synopsis, const char *about,
+                             const perma_cli_option *rows, size_t count, int argc, char **argv);
 
 /* ---- results (report.c) ---- */
 

@@ -18,8 +18,6 @@
 #include "reyes_reference.h"
 #include "reyes_report.h"
 
-#define EXIT_USAGE 2
-
 static reyes_status run_reference(const reyes_cli *cli, const reyes_scene *scene,
                                   const reyes_camera *camera, reyes_error *error)
 {
@@ -205,17 +203,16 @@ int main(int argc, char **argv)
     char message[512];
     /* Under mpirun every rank parses the same line; rank 0 speaks. */
     int quiet = reyes_mpi_launched() && reyes_mpi_launched_rank() != 0;
-    if (reyes_cli_parse(argc, argv, &cli, message, sizeof message) != REYES_CLI_OK) {
-        if (!quiet)
-            fprintf(stderr, "%s: %s\n", program, message);
-        reyes_cli_free(&cli);
-        return EXIT_USAGE;
-    }
+    perma_cli_status parsed = reyes_cli_parse(argc, argv, &cli, message, sizeof message);
     int code = EXIT_SUCCESS;
-    if (cli.help) {
+    if (parsed == PERMA_CLI_USAGE) {
+        if (!quiet)
+            perma_cli_print_error(program, message);
+        code = PERMA_CLI_EXIT_USAGE;
+    } else if (parsed == PERMA_CLI_HELP) {
         if (!quiet)
             reyes_cli_usage(stdout, program);
-    } else if (cli.version) {
+    } else if (parsed == PERMA_CLI_VERSION) {
         if (!quiet)
             printf("reyes-render %s (perma %s%s)\n", REYES_VERSION_STRING, PERMA_VERSION_STRING,
                    reyes_mpi_available() ? ", MPI" : "");
@@ -223,18 +220,20 @@ int main(int argc, char **argv)
         code = reyes_mpi_main(&cli, program);
     } else if (cli.coordinator_only || cli.rank_timeout > 0.0f) {
         /* Options of an MPI job would be silently ignored in one process. */
-        fprintf(stderr, "%s: %s applies only to a job started by mpirun (docs/scale-out.md); without "
-                        "it reyes-render runs in one process\n",
-                program, cli.coordinator_only ? "--coordinator-only" : "--rank-timeout");
-        code = EXIT_USAGE;
+        snprintf(message, sizeof message, "%s applies only to a job started by mpirun (docs/scale-out.md); without "
+                                          "it reyes-render runs in one process",
+                 cli.coordinator_only ? "--coordinator-only" : "--rank-timeout");
+        perma_cli_print_error(program, message);
+        code = PERMA_CLI_EXIT_USAGE;
     } else {
         reyes_error error;
         reyes_status status = cli.devices || cli.frames ? run_farm(&cli, program, &error) : run(&cli, program, &error);
-        if (status != REYES_OK) {
+        /* Options that parse but do not fit together are bad usage too. */
+        if (status == REYES_ERR_ARGUMENT)
+            perma_cli_print_error(program, error.message);
+        else if (status != REYES_OK)
             fprintf(stderr, "%s: %s\n", program, error.message);
-            /* Options that parse but do not fit together are bad usage too. */
-            code = status == REYES_ERR_ARGUMENT ? EXIT_USAGE : EXIT_FAILURE;
-        }
+        code = status == REYES_OK ? EXIT_SUCCESS : status == REYES_ERR_ARGUMENT ? PERMA_CLI_EXIT_USAGE : EXIT_FAILURE;
     }
     reyes_cli_free(&cli);
     return code;

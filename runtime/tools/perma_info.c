@@ -16,6 +16,7 @@
  * failure or a failed check, 2 bad usage.
  */
 #include <perma.h>
+#include <perma_cli.h>
 
 #include <stdbool.h>
 #include <stdio.h>
@@ -281,7 +282,7 @@ static void run_check(const perma_device_ref *ref, device_info *info)
 
 /* With the default list, platforms that report no device (they are not in
  * the list) are named too (on stderr with --json). */
-static void list_platforms_without_devices(bool json)
+static void list_platforms_without_devices(int json)
 {
     cl_platform_id platforms[64];
     cl_uint count = 0;
@@ -399,35 +400,35 @@ static void print_json(const device_info *i, const perma_device_ref *ref, bool f
 
 int main(int argc, char **argv)
 {
-    bool json = false, check = false;
+    int json = 0, check = 0;
     const char *list = "all";
-    for (int i = 1; i < argc; ++i) {
-        if (strcmp(argv[i], "--json") == 0) {
-            json = true;
-        } else if (strcmp(argv[i], "--check") == 0) {
-            check = true;
-        } else if (strcmp(argv[i], "--devices") == 0 && i + 1 < argc) {
-            list = argv[++i];
-        } else if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
-            printf("usage: perma-info [--json] [--devices LIST] [--check]\n"
-                   "Lists every OpenCL platform and device, whether perma and reyes-render can run on\n"
-                   "it (and why not), how perma would use it and what a procedure may use there:\n"
-                   "local memory per work-group, 32- and 64-bit atomics, double and half precision,\n"
-                   "preferred and native vector widths.  --check also builds and runs a small tree\n"
-                   "on each device perma can run on (exit status 1 if one fails).\n"
-                   "LIST: comma-separated P:D (a device), NAME[:D] (device D, default 0, of the\n"
-                   "platform whose name or vendor contains NAME: intel, pocl), P:D/N (it split into\n"
-                   "N equal sub-devices), P:D/N.K (the K-th of them) or 'all' (the default).\n");
-            return 0;
-        } else if (strcmp(argv[i], "--version") == 0) {
-            printf("perma-info %s\n", PERMA_VERSION_STRING);
-            return 0;
-        } else {
-            fprintf(stderr, "perma-info: %s '%s' (try --help)\n",
-                    strcmp(argv[i], "--devices") == 0 ? "missing the list after" : "unknown option", argv[i]);
-            return 2;
-        }
-    }
+    const perma_cli_option rows[] = {
+        { PERMA_CLI_FLAG("json", &json, "print JSON (for scripts) instead of text") },
+        { PERMA_CLI_TEXT("devices", "LIST", &list, "the devices of a device list (default all)") },
+        { PERMA_CLI_FLAG("check", &check,
+                         "also build and run a small tree on each device perma can run on (exit status 1 if one "
+                         "fails)") },
+    };
+    const perma_cli_table table = { "options", rows, sizeof rows / sizeof rows[0] };
+    const perma_cli cli = {
+        .program = "perma-info",
+        .synopsis = "[--json] [--devices LIST] [--check]",
+        .about = "Lists every OpenCL platform and device, whether perma and reyes-render can run on\n"
+                 "it (and why not), how perma would use it and what a procedure may use there:\n"
+                 "local memory per work-group, 32- and 64-bit atomics, double and half precision,\n"
+                 "preferred and native vector widths.\n"
+                 "LIST: comma-separated P:D (a device), NAME[:D] (device D, default 0, of the\n"
+                 "platform whose name or vendor contains NAME: intel, pocl), P:D/N (it split into\n"
+                 "N equal sub-devices), P:D/N.K (the K-th of them) or 'all' (the default).",
+        .tables = &table,
+        .table_count = 1,
+        .notes = "exit status: 0 ok, 1 no OpenCL platform, a bad device list, an OpenCL failure or a\n"
+                 "failed check, 2 bad usage",
+    };
+    char message[PERMA_CLI_MESSAGE_MAX];
+    perma_cli_status parsed = perma_cli_parse(&cli, argc, argv, message, sizeof message);
+    if (parsed != PERMA_CLI_OK)
+        return perma_cli_exit_status(parsed);
     perma_device_ref refs[PERMA_MAX_DEVICES];
     unsigned count = 0;
     perma_error error;

@@ -23,7 +23,7 @@ static const char *two_devices(void)
 static void make_job(reyes_job *job, reyes_cli *cli, int argc, char **argv)
 {
     char message[512];
-    ck_assert_msg(reyes_cli_parse(argc, argv, cli, message, sizeof message) == REYES_CLI_OK, "%s", message);
+    ck_assert_msg(reyes_cli_parse(argc, argv, cli, message, sizeof message) == PERMA_CLI_OK, "%s", message);
     reyes_error error;
     ck_assert_msg(reyes_job_init(job, cli, &error) == REYES_OK, "%s", error.message);
 }

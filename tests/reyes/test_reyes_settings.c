@@ -20,7 +20,7 @@ typedef struct made {
 static void make(made *m, int argc, char **argv)
 {
     char message[512];
-    ck_assert_msg(reyes_cli_parse(argc, argv, &m->cli, message, sizeof message) == REYES_CLI_OK, "%s", message);
+    ck_assert_msg(reyes_cli_parse(argc, argv, &m->cli, message, sizeof message) == PERMA_CLI_OK, "%s", message);
     reyes_error error;
     ck_assert_msg(reyes_job_init(&m->job, &m->cli, &error) == REYES_OK, "%s", error.message);
     m->settings = reyes_job_settings(&m->job, &m->cli, &m->count);

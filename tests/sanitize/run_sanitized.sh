@@ -20,5 +20,5 @@ meson test -C "$dir" --no-rebuild --print-errorlogs \
     chain@kernel-per-procedure overflow@megakernel-shared overflow@megakernel-stealing-local-queue \
     overflow@bounded-batches cooperative@megakernel-shared trace@megakernel-stealing \
     errors@megakernel-shared progress@megakernel-shared progress@kernel-per-procedure bind faults cache output \
-    devices collatz_example perma_info_json queens_count \
+    devices collatz_example perma_info_json queens_count cli cli_programs \
     $(meson test -C "$dir" --list 2>/dev/null | sed -n 's/^perma:reyes \/ //p')
