@@ -336,7 +336,7 @@ reyes_status reference_begin(reference_context *c, const reyes_scene *scene, con
     if (options->crack_fix == REYES_CRACK_FIX_WEDGE)
         return reyes_fail(error, REYES_ERR_ARGUMENT,
                           "the C reference does not model the wedge crack fix's subdivision");
-    c->near_w = reyes_near_plane(scene);
+    c->near_w = reyes_near_plane(scene, camera);
     for (int k = 0; k < 3; ++k)
         c->eye[k] = camera->eye[k];
     reyes_light_direction(c->light);

@@ -1,7 +1,8 @@
 #!/bin/sh
 # `meson install` into a scratch directory, then:
-#   - the library, perma.h, perma.pc and the programs under their perma-
-#     names (no generic name such as `collatz` in bin/);
+#   - the library, perma.h, perma.pc, the command-line engine
+#     (libperma-cli.a, perma_cli.h, perma-cli.pc) and the programs under
+#     their perma- names (no generic name such as `collatz` in bin/);
 #   - every installed program runs (--help, --version) without
 #     LD_LIBRARY_PATH, loading the installed libperma (its rpath), also
 #     after the whole tree is moved elsewhere;
@@ -39,6 +40,9 @@ for generic in collatz bfs mandelbrot; do
     [ ! -e "$dest$prefix/bin/$generic" ] || { echo "$prefix/bin/$generic: a generic name was installed"; exit 1; }
 done
 [ -f "$dest$prefix/include/perma.h" ] || { echo "perma.h was not installed"; exit 1; }
+[ -f "$dest$prefix/include/perma_cli.h" ] || { echo "perma_cli.h was not installed"; exit 1; }
+[ -n "$(find "$dest" -name 'libperma-cli.a')" ] || { echo "libperma-cli.a was not installed"; exit 1; }
+[ -n "$(find "$dest" -name perma-cli.pc)" ] || { echo "perma-cli.pc was not installed"; exit 1; }
 
 # Each program (of $1/bin) answers --help and --version, exit status 0,
 # without LD_LIBRARY_PATH; the compiled ones load libperma from below $1.
@@ -116,14 +120,19 @@ mv "$dest/moved" "$dest$prefix"
 run_collatz() {
     LD_LIBRARY_PATH="$2" "$1" 1000 > "$dest/out.txt"
     grep -q "longest: 178 steps" "$dest/out.txt" || { echo "$1 gave:"; cat "$dest/out.txt"; exit 1; }
+    # Its command line through the engine: bad usage exits 2 saying why.
+    status=0
+    LD_LIBRARY_PATH="$2" "$1" 0 > "$dest/out.txt" 2>&1 || status=$?
+    [ "$status" = 2 ] && grep -q "N '0': expected a whole number in 1..1000000 (see --help)" "$dest/out.txt" \
+        || { echo "$1 0 exited with $status:"; cat "$dest/out.txt"; exit 1; }
 }
 
-# 1. The installed tree, through pkg-config.
+# 1. The installed tree, through pkg-config (perma-cli requires perma).
 (
     export PKG_CONFIG_PATH="$(dirname "$pc")"
     export PKG_CONFIG_SYSROOT_DIR="$dest"
     cc -std=c11 -Wall -Wextra -Werror -o "$dest/collatz-installed" "$source/examples/hello/collatz.c" \
-       $(pkg-config --cflags --libs perma)
+       $(pkg-config --cflags --libs perma-cli)
 )
 run_collatz "$dest/collatz-installed" "$(dirname "$(find "$dest" -name 'libperma.so*' | head -n 1)")"
 
@@ -131,13 +140,14 @@ run_collatz "$dest/collatz-installed" "$(dirname "$(find "$dest" -name 'libperma
 (
     export PKG_CONFIG_PATH="$build/meson-uninstalled"
     cc -std=c11 -Wall -Wextra -Werror -o "$dest/collatz-uninstalled" "$source/examples/hello/collatz.c" \
-       $(pkg-config --cflags --libs perma)
+       $(pkg-config --cflags --libs perma-cli)
 )
 run_collatz "$dest/collatz-uninstalled" "$build/runtime"
 
-# 3. The build tree with plain flags: the header in the source tree, the
-#    library in the build tree (rpath instead of LD_LIBRARY_PATH).
+# 3. The build tree with plain flags: the headers in the source tree, the
+#    libraries in the build tree (rpath instead of LD_LIBRARY_PATH).
 cc -std=c11 -Wall -Wextra -Werror -o "$dest/collatz-plain" "$source/examples/hello/collatz.c" \
-   -I"$source/runtime/include" -L"$build/runtime" -Wl,-rpath,"$build/runtime" -lperma -lOpenCL
+   -I"$source/runtime/include" -I"$source/runtime/tools/cli" -L"$build/runtime/tools/cli" -L"$build/runtime" \
+   -Wl,-rpath,"$build/runtime" -lperma-cli -lperma -lOpenCL
 run_collatz "$dest/collatz-plain" ""
 echo "programs, man pages, docs, the Python package and 3 builds passed"

@@ -32,7 +32,8 @@ int main(void)
     FIELD(perma_config, queue_memory_limit); FIELD(perma_config, time_limit); FIELD(perma_config, stall_limit);
     FIELD(perma_config, local_memory_limit); FIELD(perma_config, build_options); FIELD(perma_config, build_log);
     FIELD(perma_config, build_log_user); FIELD(perma_config, schedule); FIELD(perma_config, donation_threshold);
-    FIELD(perma_config, trace_path); FIELD(perma_config, trace_events);
+    FIELD(perma_config, trace_path); FIELD(perma_config, trace_events); FIELD(perma_config, progress);
+    FIELD(perma_config, progress_user); FIELD(perma_config, progress_interval);
     STRUCT(perma_device_ref);
     FIELD(perma_device_ref, platform_index); FIELD(perma_device_ref, device_index);
     FIELD(perma_device_ref, sub_devices); FIELD(perma_device_ref, sub_device);

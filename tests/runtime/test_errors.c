@@ -3,9 +3,13 @@
  * targets, missing devices, emit limits, the watchdog. */
 #include "perma_test.h"
 
+#include <signal.h>
 #include <stdbool.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/wait.h>
+#include <time.h>
 #include <unistd.h>
 
 static const char *noop_source = "void noop(perma_ctx *ctx, __local const uint *x) { (void)ctx; (void)x; }\n";
@@ -432,6 +436,33 @@ START_TEST(no_platform_names_the_package)
 }
 END_TEST
 
+/* A registered driver that does not load is not "no driver installed":
+ * the message says which is registered and that it did not load. */
+START_TEST(driver_that_does_not_load_is_named)
+{
+    const char *fork = getenv("CK_FORK");
+    if (fork && strcmp(fork, "no") == 0)
+        return; /* would poison the loader for the other tests */
+    char vendors[] = "/tmp/perma-broken-vendors-XXXXXX", icd[96];
+    ck_assert_ptr_nonnull(mkdtemp(vendors));
+    snprintf(icd, sizeof icd, "%s/broken.icd", vendors);
+    FILE *f = fopen(icd, "w");
+    ck_assert_ptr_nonnull(f);
+    fputs("/nonexistent/libbroken-opencl.so\n", f);
+    fclose(f);
+    setenv("OCL_ICD_VENDORS", vendors, 1);
+    perma_runtime *rt = NULL;
+    perma_error error;
+    ck_assert_int_eq(perma_create(NULL, &rt, &error), PERMA_ERR_NO_PLATFORM);
+    char expected[256];
+    snprintf(expected, sizeof expected, "no OpenCL platform could be loaded, though 1 driver is registered in %s "
+             "(broken.icd); OCL_ICD_DEBUG=7 shows why", vendors);
+    ck_assert_str_eq(error.message, expected);
+    remove(icd);
+    rmdir(vendors);
+}
+END_TEST
+
 START_TEST(bad_config_values)
 {
     perma_config config;
@@ -541,11 +572,54 @@ START_TEST(watchdog_stops_an_endless_run)
 }
 END_TEST
 
+/* The procedures of the stuck tests: `fine` items complete, item 0 emits
+ * one `stuck` item, which loops until the host sets release[0] (never) or,
+ * if `cooperative`, until the watchdog asks the run to stop. */
+static void add_stuck_procedures(perma_runtime *rt, int cooperative, perma_proc *f, perma_proc *s, uint32_t release[1])
+{
+    perma_procedure fine = {
+        .name = "fine", .item_type = "uint", .item_size = 4, .source_file = "stuck.cl", .function = "fine",
+        .source = cooperative
+                      ? "void fine(perma_ctx *ctx, __local const uint *x) { if (*x == 0u) { uint v = 1u; emit_stuck(ctx, &v); } }\n"
+                        "void stuck(perma_ctx *ctx, __local const uint *x)\n"
+                        "{\n"
+                        "    while (atomic_add(&ctx->buf.release[0], 0u) == 0u && !perma_stop_requested(ctx))\n"
+                        "        ;\n"
+                        "    (void)x;\n"
+                        "}\n"
+                      : "void fine(perma_ctx *ctx, __local const uint *x) { if (*x == 0u) { uint v = 1u; emit_stuck(ctx, &v); } }\n"
+                        "void stuck(perma_ctx *ctx, __local const uint *x)\n"
+                        "{\n"
+                        "    while (atomic_add(&ctx->buf.release[0], 0u) == 0u)\n"
+                        "        ;\n"
+                        "    (void)x;\n"
+                        "}\n",
+        .emits = { { "stuck", 1 } },
+    };
+    perma_procedure stuck = fine;
+    stuck.name = stuck.function = "stuck";
+    memset(stuck.emits, 0, sizeof stuck.emits);
+    ck_assert_perma_ok(rt, perma_register(rt, &fine, f));
+    ck_assert_perma_ok(rt, perma_register(rt, &stuck, s));
+    ck_assert_perma_ok(rt, perma_bind_host(rt, "release", "__global uint *", release, sizeof(uint32_t), PERMA_READ));
+}
+
+/* 99 items that complete and one that emits the stuck item. */
+static void seed_stuck_run(perma_runtime *rt, perma_proc f)
+{
+    uint32_t values[100] = { 0 };
+    for (unsigned i = 1; i < 100; ++i)
+        values[i] = i;
+    ck_assert_perma_ok(rt, perma_seed(rt, f, values, 100));
+}
+
 /* A procedure that never returns: nothing completes, so the watchdog stops
  * the run after config.stall_limit (1 s here) instead of the time limit
  * (600 s), names the procedure in flight, and gives up on the kernel after
  * the grace period.  The runtime is then unusable: every call that uses the
- * device says so. */
+ * device says so.  The test's process (check forks one per test) then
+ * exits normally: with the runtime's command queue held, Intel's runtime
+ * made exit() wait for the stuck kernel forever. */
 static void stuck_procedure(perma_technique technique)
 {
     perma_config config;
@@ -553,30 +627,11 @@ static void stuck_procedure(perma_technique technique)
     config.schedule.technique = technique;
     config.stall_limit = 1.0;
     perma_runtime *rt = test_runtime_config(&config);
-    perma_procedure fine = {
-        .name = "fine", .item_type = "uint", .item_size = 4, .source_file = "stuck.cl", .function = "fine",
-        .source = "void fine(perma_ctx *ctx, __local const uint *x) { if (*x == 0u) { uint v = 1u; emit_stuck(ctx, &v); } }\n"
-                  "void stuck(perma_ctx *ctx, __local const uint *x)\n"
-                  "{\n"
-                  "    while (atomic_add(&ctx->buf.release[0], 0u) == 0u)\n"
-                  "        ;\n"
-                  "    (void)x;\n"
-                  "}\n",
-        .emits = { { "stuck", 1 } },
-    };
-    perma_procedure stuck = fine;
-    stuck.name = stuck.function = "stuck";
-    memset(stuck.emits, 0, sizeof stuck.emits);
     perma_proc f, s;
-    ck_assert_perma_ok(rt, perma_register(rt, &fine, &f));
-    ck_assert_perma_ok(rt, perma_register(rt, &stuck, &s));
     uint32_t release[1] = { 0 };
-    ck_assert_perma_ok(rt, perma_bind_host(rt, "release", "__global uint *", release, sizeof release, PERMA_READ));
-    uint32_t values[100] = { 0 };
-    for (unsigned i = 1; i < 100; ++i)
-        values[i] = i;
+    add_stuck_procedures(rt, 0, &f, &s, release);
     ck_assert_perma_ok(rt, perma_build(rt));
-    ck_assert_perma_ok(rt, perma_seed(rt, f, values, 100)); /* 99 complete, one emits the stuck item */
+    seed_stuck_run(rt, f);
     double start = perma_test_now();
     ck_assert_int_eq(perma_run(rt), PERMA_ERR_TIMEOUT);
     double seconds = perma_test_now() - start;
@@ -585,16 +640,12 @@ static void stuck_procedure(perma_technique technique)
     ck_assert_contains(perma_errmsg(rt), "the kernel did not stop within 10 s after being told to; this runtime "
                                          "can no longer be used");
     ck_assert_msg(seconds < 25.0, "the stall took %.1f s to end the run", seconds);
-    ck_assert_int_eq(perma_seed(rt, f, values, 1), PERMA_ERR_STATE);
+    ck_assert_int_eq(perma_seed(rt, f, release, 1), PERMA_ERR_STATE);
     ck_assert_contains(perma_errmsg(rt), "perma_seed: a previous run's kernel did not stop");
     ck_assert_int_eq(perma_run(rt), PERMA_ERR_STATE);
     ck_assert_contains(perma_errmsg(rt), "perma_run: a previous run's kernel did not stop");
+    ck_assert_ptr_null(perma_cl_queue(rt)); /* released: see stuck_kernel_lets_the_process_exit */
     perma_destroy(rt); /* returns; the stuck kernel spins until the test process exits */
-    /* Intel's CPU runtime makes exit() wait for the stuck kernel, forever:
-     * end the test's own process (check forks one per test) without it. */
-    const char *fork_mode = getenv("CK_FORK");
-    if (!fork_mode || strcmp(fork_mode, "no") != 0)
-        _exit(0);
 }
 
 START_TEST(stuck_procedure_megakernel)
@@ -606,6 +657,106 @@ END_TEST
 START_TEST(stuck_procedure_kernel_per_procedure)
 {
     stuck_procedure(PERMA_TECHNIQUE_KERNEL_PER_PROCEDURE);
+}
+END_TEST
+
+/* Issue 23.7: after the watchdog gave up on a stuck kernel, the process
+ * must still exit, promptly and with its status and its buffered output:
+ * Intel's runtime used to wait in its exit handler for the runtime's
+ * command queue, forever.  The stuck run happens in a child process (one
+ * that has not set up OpenCL may fork), which reports when perma_destroy
+ * returned and then returns from its work with exit(3). */
+START_TEST(stuck_kernel_lets_the_process_exit)
+{
+    int report[2];
+    ck_assert_int_eq(pipe(report), 0);
+    pid_t child = fork();
+    ck_assert_int_ge(child, 0);
+    if (child == 0) {
+        close(report[0]);
+        perma_config config;
+        perma_config_init(&config);
+        config.stall_limit = 1.0;
+        perma_runtime *rt = NULL;
+        perma_proc f, s;
+        uint32_t release[1] = { 0 };
+        if (perma_create(&config, &rt, NULL) != PERMA_OK)
+            _exit(90);
+        add_stuck_procedures(rt, 0, &f, &s, release);
+        seed_stuck_run(rt, f);
+        if (perma_run(rt) != PERMA_ERR_TIMEOUT || !strstr(perma_errmsg(rt), "did not stop"))
+            _exit(91);
+        perma_destroy(rt);
+        printf("buffered output of the child\n"); /* stdout is a pipe here: buffered until exit */
+        char done = 'd';
+        if (write(report[1], &done, 1) != 1)
+            _exit(92);
+        exit(3);
+    }
+    close(report[1]);
+    char done = 0;
+    ck_assert_int_eq(read(report[0], &done, 1), 1); /* the run takes the 1 s stall limit and the 10 s grace */
+    close(report[0]);
+    double start = perma_test_now();
+    int status = 0;
+    pid_t ended = 0;
+    while ((ended = waitpid(child, &status, WNOHANG)) == 0 && perma_test_now() - start < 20.0) {
+        const struct timespec pause = { 0, 20000000 };
+        nanosleep(&pause, NULL);
+    }
+    if (ended == 0) {
+        kill(child, SIGKILL);
+        waitpid(child, &status, 0);
+        ck_abort_msg("the process had not exited 20 s after perma_destroy of a runtime whose kernel never ended");
+    }
+    ck_assert_msg(WIFEXITED(status) && WEXITSTATUS(status) == 3, "the process ended with status %d", status);
+    ck_assert_msg(perma_test_now() - start < 5.0, "exit took %.1f s", perma_test_now() - start);
+}
+END_TEST
+
+/* A procedure whose loop polls perma_stop_requested ends when the
+ * watchdog stops the run: the run fails with the stall error, the kernel
+ * is not given up on, and the runtime runs the next work. */
+static void cooperative_stop(perma_technique technique)
+{
+    perma_config config;
+    perma_config_init(&config);
+    config.schedule.technique = technique;
+    config.stall_limit = 1.0;
+    perma_runtime *rt = test_runtime_config(&config);
+    perma_proc f, s;
+    uint32_t release[1] = { 0 };
+    add_stuck_procedures(rt, 1, &f, &s, release);
+    seed_stuck_run(rt, f);
+    double start = perma_test_now();
+    ck_assert_int_eq(perma_run(rt), PERMA_ERR_TIMEOUT);
+    double seconds = perma_test_now() - start;
+    ck_assert_contains(perma_errmsg(rt), "no item completed for 1 s (config.stall_limit): procedure 'stuck' "
+                                         "(1 work-group) had items in flight");
+    ck_assert_contains(perma_errmsg(rt), "; the run was stopped");
+    ck_assert_msg(!strstr(perma_errmsg(rt), "did not stop"), "given up on: %s", perma_errmsg(rt));
+    ck_assert_msg(seconds < 10.0, "the stall took %.1f s to end the run", seconds);
+    /* Usable: 100 items of which none is 0, so nothing gets stuck. */
+    uint32_t values[100];
+    for (unsigned i = 0; i < 100; ++i)
+        values[i] = i + 1;
+    ck_assert_perma_ok(rt, perma_seed(rt, f, values, 100));
+    ck_assert_perma_ok(rt, perma_run(rt));
+    perma_procedure_stats ps;
+    ck_assert_perma_ok(rt, perma_get_procedure_stats(rt, f, &ps));
+    ck_assert_uint_eq(ps.items, 100);
+    perma_destroy(rt);
+}
+
+START_TEST(cooperative_stop_megakernel)
+{
+    cooperative_stop(PERMA_TECHNIQUE_MEGAKERNEL);
+}
+END_TEST
+
+START_TEST(cooperative_stop_kernel_per_procedure)
+{
+    cooperative_stop(PERMA_TECHNIQUE_KERNEL_PER_PROCEDURE);
 }
 END_TEST
 
@@ -827,12 +978,16 @@ int main(void)
     tcase_add_test(tc, cycle_without_priority_order);
     tcase_add_test(tc, missing_device_from_environment);
     tcase_add_test(tc, no_platform_names_the_package);
+    tcase_add_test(tc, driver_that_does_not_load_is_named);
     tcase_add_test(tc, bad_config_values);
     tcase_add_test(tc, emitting_beyond_the_declared_maximum);
     tcase_add_test(tc, emitting_into_an_undeclared_target);
     tcase_add_test(tc, watchdog_stops_an_endless_run);
     tcase_add_test(tc, stuck_procedure_megakernel);
     tcase_add_test(tc, stuck_procedure_kernel_per_procedure);
+    tcase_add_test(tc, stuck_kernel_lets_the_process_exit);
+    tcase_add_test(tc, cooperative_stop_megakernel);
+    tcase_add_test(tc, cooperative_stop_kernel_per_procedure);
     tcase_add_test(tc, debug_mode);
     tcase_add_test(tc, cut_batches_are_explained);
     suite_add_tcase(s, tc);

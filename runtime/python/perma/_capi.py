@@ -45,7 +45,8 @@ class Config(ctypes.Structure):
                 ('local_memory_limit', c_size_t), ('build_options', c_char_p),
                 ('build_log', BUILD_LOG), ('build_log_user', c_void_p),
                 ('schedule', Schedule), ('donation_threshold', c_uint),
-                ('trace_path', c_char_p), ('trace_events', c_uint)]
+                ('trace_path', c_char_p), ('trace_events', c_uint),
+                ('progress', c_void_p), ('progress_user', c_void_p), ('progress_interval', c_double)]
 
 
 class DeviceRef(ctypes.Structure):
