@@ -49,11 +49,12 @@ void reyes_dice_strip(__global const struct reyes_params *p, const float3 base[1
 /* Vertices i0 .. i0 + REYES_LANES - 1 of row j of an undisplaced grid n
  * vertices wide into g, from the row's curves, at parameters u0 .. u1
  * across the grid, shaded with base colour `base` when `shade` (else
- * colour 0), in SIMD lanes.  The lanes past the row write into the next
- * row (made after this one) or the lattice's padding.  The normal is not
- * fixed up at poles here: the returned mask has the lanes whose normal
- * vanished, for reyes_grid_vertex_color; otherwise each vertex is
- * reyes_grid_vertex's, bit for bit. */
+ * colour 0; with sample shading its packed normal), in SIMD lanes.  The
+ * lanes past the row write into the next row (made after this one) or
+ * the lattice's padding.  The normal is not fixed up at poles here: the
+ * returned mask has the lanes whose normal vanished (with sample shading:
+ * collapsed, reyes_collapsed_lanes), for reyes_grid_vertex_color;
+ * otherwise each vertex is reyes_grid_vertex's, bit for bit. */
 REYES_INLINE reyes_lane_mask reyes_dice_lanes(__global const struct reyes_params *p,
                                               const struct reyes_row_curves *rc,
                                               const struct reyes_lighting *light, float u0, float u1, uint base,
@@ -67,7 +68,7 @@ REYES_INLINE reyes_lane_mask reyes_dice_lanes(__global const struct reyes_params
     reyes_lanes u = u0 * (1.0f - tu) + u1 * tu;
     reyes_lanes x[3], normal[3];
     reyes_row_point_lanes(rc, u, x);
-    reyes_row_normal_lanes(rc, u, normal);
+    reyes_lane_mask collapsed = reyes_row_normal_lanes(rc, u, normal);
     __global const float *m = p->view_proj;
     reyes_lanes clip[4];
     for (int r = 0; r < 4; ++r)
@@ -89,12 +90,16 @@ REYES_INLINE reyes_lane_mask reyes_dice_lanes(__global const struct reyes_params
     }
 #endif
     reyes_lane_uint rgba = (reyes_lane_uint)0u;
-    if (shade) {
+    if (shade && p->sample_shading) {
+        rgba = reyes_pack_normal16(normal[0], normal[1], normal[2]);
+    } else if (shade) {
         reyes_lanes diffuse, specular;
         reyes_light_lanes(light, x, normal, &diffuse, &specular);
         rgba = reyes_light_color_lanes(base, diffuse, specular);
     }
     reyes_vstore_lanes(rgba, 0, g->rgba + first);
+    if (p->sample_shading)
+        return collapsed;
     return reyes_dot3_lanes(normal[0], normal[1], normal[2], normal[0], normal[1], normal[2]) < 1e-24f;
 }
 
@@ -174,6 +179,7 @@ void reyes_dice_plain(perma_ctx *ctx, __local const struct reyes_subpatch *item,
     reyes_load_hull(ctx->buf.patches, item->patch, &h);
     struct reyes_lighting light = reyes_lighting_of(p);
     uint base = reyes_dice_base_color(p, ctx->buf.colors[item->patch], n, rows);
+    g->base = base;
     float u0 = item->u0, v0 = item->v0, u1 = item->u1, v1 = item->v1;
     float last = (float)(rows - 1);
     for (int j = 0; j < rows; ++j) {
@@ -206,6 +212,7 @@ void reyes_dice_displaced(perma_ctx *ctx, __local const struct reyes_subpatch *i
     float3 cp[16];
     reyes_load_patch(ctx->buf.patches, sp.patch, cp);
     uint base = reyes_dice_base_color(p, ctx->buf.colors[sp.patch], n, rows);
+    s->grid.base = base;
     for (int v = 0; v < n * rows; ++v) {
         struct reyes_vertex vertex = reyes_grid_vertex(&d, cp, &sp, base, v % n, v / n, shade);
         reyes_grid_store(p, &s->grid, v, &vertex);
@@ -245,6 +252,7 @@ void reyes_dice(perma_ctx *ctx, __local const struct reyes_subpatch *item)
     s->strips.columns = (uint)n;
     s->strips.rows = 8u;
     s->strips.counted = 0u; /* fillers, counted here */
+    s->strips.base = s->grid.base;
     struct reyes_subpatch sp = *item;
     float3 base[16];
     reyes_load_patch(ctx->buf.patches, sp.patch, base);

@@ -20,6 +20,10 @@ struct reyes_grid {
     /* 1: rasterize adds the visible quads to REYES_COUNT_MICROPOLYGONS as
      * it sets them up (a full render's grids; dice counts the others). */
     uint counted;
+    /* With sample shading (reyes_params.sample_shading): the packed base
+     * colour every sample of the grid is lit with, rgba holding the
+     * vertices' packed normals. */
+    uint base;
     /* Pixels (y down), or clip x and y when blurred; z is the clip w. */
     float x[REYES_GRID_VERTICES];
     float y[REYES_GRID_VERTICES];

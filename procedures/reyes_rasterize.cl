@@ -232,21 +232,33 @@ void reyes_quad_pixels(__global const struct reyes_params *p, __global ulong *sa
                     za = (float8)g->z[corner[0]];
                     zb = reyes_pair(g->z[corner[1]], g->z[corner[2]]);
                     zc = reyes_pair(g->z[corner[2]], g->z[corner[3]]);
+                    /* The corners' colour channels, or their normals. */
+                    float v[4][3];
+                    for (int i = 0; i < 4; ++i) {
+                        uint rgba = g->rgba[corner[i]];
+                        if (p->sample_shading)
+                            reyes_unpack_normal(rgba, &v[i][0], &v[i][1], &v[i][2]);
+                        else
+                            for (int ch = 0; ch < 3; ++ch)
+                                v[i][ch] = reyes_channel(rgba, 8u * (uint)ch);
+                    }
                     for (int ch = 0; ch < 3; ++ch) {
-                        uint shift = 8u * (uint)ch;
-                        ca[ch] = (float8)reyes_channel(g->rgba[corner[0]], shift);
-                        cb[ch] = reyes_pair(reyes_channel(g->rgba[corner[1]], shift),
-                                            reyes_channel(g->rgba[corner[2]], shift));
-                        cc[ch] = reyes_pair(reyes_channel(g->rgba[corner[2]], shift),
-                                            reyes_channel(g->rgba[corner[3]], shift));
+                        ca[ch] = (float8)v[0][ch];
+                        cb[ch] = reyes_pair(v[1][ch], v[2][ch]);
+                        cc[ch] = reyes_pair(v[2][ch], v[3][ch]);
                     }
                 }
                 float8 ba = wa * inv_area, bb = wb * inv_area, bc = wc * inv_area;
                 float8 depth = fmax(ba * za + bb * zb + bc * zc, 0.0f);
-                uint8 rgba = reyes_channel_byte8(ba * ca[0] + bb * cb[0] + bc * cc[0])
-                             | (reyes_channel_byte8(ba * ca[1] + bb * cb[1] + bc * cc[1]) << 8)
-                             | (reyes_channel_byte8(ba * ca[2] + bb * cb[2] + bc * cc[2]) << 16)
-                             | (uint8)(255u << 24);
+                uint8 rgba;
+                if (p->sample_shading)
+                    rgba = reyes_sample_light8(p, ba * ca[0] + bb * cb[0] + bc * cc[0], ba * ca[1] + bb * cb[1] + bc * cc[1],
+                                               ba * ca[2] + bb * cb[2] + bc * cc[2], x, y, g->base);
+                else
+                    rgba = reyes_channel_byte8(ba * ca[0] + bb * cb[0] + bc * cc[0])
+                           | (reyes_channel_byte8(ba * ca[1] + bb * cb[1] + bc * cc[1]) << 8)
+                           | (reyes_channel_byte8(ba * ca[2] + bb * cb[2] + bc * cc[2]) << 16)
+                           | (uint8)(255u << 24);
                 ulong8 packed = convert_ulong8(as_uint8(depth)) << 32 | convert_ulong8(rgba);
                 packed = select((ulong8)REYES_EMPTY_SAMPLE, packed, convert_long8(covered));
                 ulong4 nearest = min(packed.lo, packed.hi);
@@ -322,6 +334,24 @@ REYES_INLINE ulong16 reyes_triangle_values16(float16 wa, float16 wb, float16 wc,
     return select((ulong16)REYES_EMPTY_SAMPLE, packed, convert_long16(covered));
 }
 
+/* The same with sample shading: `normal` holds the corners' unit normals
+ * (x, y, z) where `color` holds their channels, and each covered sample
+ * at (x, y) is lit with its interpolated normal (reyes_sample_light16). */
+REYES_INLINE ulong16 reyes_triangle_lit16(__global const struct reyes_params *p, float16 wa, float16 wb,
+                                          float16 wc, float16 inv_area, const float16 z[4],
+                                          const float16 normal[4][3], int a, int b, int c, int16 covered,
+                                          float16 x, float16 y, uint base)
+{
+    float16 ba = wa * inv_area, bb = wb * inv_area, bc = wc * inv_area;
+    float16 depth = fmax(ba * z[a] + bb * z[b] + bc * z[c], 0.0f);
+    float16 n[3];
+    for (int k = 0; k < 3; ++k)
+        n[k] = ba * normal[a][k] + bb * normal[b][k] + bc * normal[c][k];
+    uint16 rgba = reyes_sample_light16(p, n[0], n[1], n[2], x, y, base);
+    ulong16 packed = convert_ulong16(as_uint16(depth)) << 32 | convert_ulong16(rgba);
+    return select((ulong16)REYES_EMPTY_SAMPLE, packed, convert_long16(covered));
+}
+
 /* Samples further than this outside a quad's screen box are not tested:
  * rounding never puts a covered sample anywhere near that far out (the
  * edge functions' errors are millionths of a pixel), so the samples
@@ -382,12 +412,17 @@ void reyes_small_quads(__global const struct reyes_params *p, __global ulong *sa
     int columns = (int)chunks->columns, rows = (int)chunks->rows;
     int c = (int)g->columns;
     const int corner[4] = { 0, 1, c + 1, c };
+    /* The corners' colour channels, or with sample shading their normals. */
     float16 z[4], color[4][3];
+    int lit = p->sample_shading;
     for (int i = 0; i < 4; ++i) {
         z[i] = vload16(0, g->z + first + corner[i]);
         uint16 rgba = vload16(0, g->rgba + first + corner[i]);
-        for (int ch = 0; ch < 3; ++ch)
-            color[i][ch] = convert_float16((rgba >> (uint)(8 * ch)) & 255u) * (1.0f / 255.0f);
+        if (lit)
+            reyes_unpack_normal16(rgba, &color[i][0], &color[i][1], &color[i][2]);
+        else
+            for (int ch = 0; ch < 3; ++ch)
+                color[i][ch] = convert_float16((rgba >> (uint)(8 * ch)) & 255u) * (1.0f / 255.0f);
     }
     /* Each edge value's sign: the edge's own (canonical order) and, where
      * the area is not positive, the flip that makes "inside" every value
@@ -443,11 +478,20 @@ void reyes_small_quads(__global const struct reyes_params *p, __global ulong *sa
                 continue;
             uint bits0 = both & 0xffffu, bits1 = both >> 16, bits = bits0 | bits1;
             ulong16 nearest = (ulong16)REYES_EMPTY_SAMPLE;
-            if (bits0)
-                nearest = reyes_triangle_values16(w0a, w0b, w0c, inv_area[0], z, color, 0, 1, 2, covered0);
-            if (bits1)
-                nearest = min(nearest,
-                              reyes_triangle_values16(w1a, w1b, w1c, inv_area[1], z, color, 0, 2, 3, covered1));
+            if (lit) {
+                if (bits0)
+                    nearest = reyes_triangle_lit16(p, w0a, w0b, w0c, inv_area[0], z, color, 0, 1, 2, covered0, x, y,
+                                                   g->base);
+                if (bits1)
+                    nearest = min(nearest, reyes_triangle_lit16(p, w1a, w1b, w1c, inv_area[1], z, color, 0, 2, 3,
+                                                                covered1, x, y, g->base));
+            } else {
+                if (bits0)
+                    nearest = reyes_triangle_values16(w0a, w0b, w0c, inv_area[0], z, color, 0, 1, 2, covered0);
+                if (bits1)
+                    nearest = min(nearest, reyes_triangle_values16(w1a, w1b, w1c, inv_area[1], z, color, 0, 2, 3,
+                                                                   covered1));
+            }
             uint16 index = (row_index + as_uint16(px)) * spp + as_uint16(sample);
             while (bits) {
                 uint l = 31u - clz(bits & (0u - bits));

@@ -92,7 +92,7 @@ struct reyes_stitch {
  * grid x grid lattice or the four wedge strips of 2 x grid vertices,
  * rounded up to whole vectors of REYES_GRID_LANES, plus one vector of
  * padding that the SIMD code may read past the last vertex. */
-#define REYES_GRID_HEADER_WORDS 4u
+#define REYES_GRID_HEADER_WORDS 5u
 #define REYES_GRID_LANES 16u
 #define REYES_GRID_CAPACITY(n) ((n) >= 8u ? (n) * (n) : 8u * (n))
 #define REYES_GRID_ARRAY(n) \
@@ -239,7 +239,16 @@ struct reyes_params {
     /* 1: shade every grid in a false colour by its size instead of its
      * patch's colour (reyes_options.show_grid_sizes). */
     REYES_U32 show_grid_sizes;
-    REYES_U32 pad5[2];
+    /* 1 (with a shading rate and no blur): shade every sample, not every
+     * vertex.  dice stores each vertex's unit normal (reyes_pack_normal)
+     * where it would store its colour, and rasterize and stitch light
+     * each covered sample with the normal interpolated from its
+     * triangle's vertices, seen along the sample's own ray: its direction
+     * is ray_origin + x ray_dx + y ray_dy (world space, away from the
+     * eye) for the sample at pixel coordinates (x, y). */
+    REYES_U32 sample_shading;
+    REYES_U32 pad5;
+    float ray_origin[4], ray_dx[4], ray_dy[4];
 };
 
 #endif

@@ -11,6 +11,7 @@ extern const char reyes_split_v_cl_source[];
 extern const char reyes_dice_cl_source[];
 extern const char reyes_rasterize_cl_source[];
 extern const char reyes_sample_cl_source[];
+extern const char reyes_sample_shading_cl_source[];
 extern const char reyes_blur_cl_source[];
 extern const char reyes_displace_cl_source[];
 extern const char reyes_surface_cl_source[];

@@ -185,7 +185,25 @@ REYES_INLINE void reyes_row_point_lanes(const struct reyes_row_curves *rc, reyes
         x[d] = reyes_curve_at(bu, rc->q[d]);
 }
 
-REYES_INLINE void reyes_row_normal_lanes(const struct reyes_row_curves *rc, reyes_lanes u, reyes_lanes n[3])
+/* Whether lanes' normals are unusable: they vanish, or one derivative is
+ * a millionth of the other or less, where a patch edge collapses to a
+ * point (a pole) and rounding leaves that derivative a few ulps long in
+ * an arbitrary direction.  Sample shading lights every sample with these
+ * normals, so it tests them this way; fixed grids keep the plain test of
+ * a vanishing normal (their bytes are unchanged). */
+REYES_INLINE reyes_lane_mask reyes_collapsed_lanes(const reyes_lanes tu[3], const reyes_lanes tv[3],
+                                                   const reyes_lanes n[3])
+{
+    reyes_lanes uu = reyes_dot3_lanes(tu[0], tu[1], tu[2], tu[0], tu[1], tu[2]);
+    reyes_lanes vv = reyes_dot3_lanes(tv[0], tv[1], tv[2], tv[0], tv[1], tv[2]);
+    reyes_lanes nn = reyes_dot3_lanes(n[0], n[1], n[2], n[0], n[1], n[2]);
+    return (nn < 1e-24f) | (uu < 1e-12f * vv) | (vv < 1e-12f * uu);
+}
+
+/* The unnormalised normals at u on the row curves; returns the lanes
+ * where they are collapsed (reyes_collapsed_lanes). */
+REYES_INLINE reyes_lane_mask reyes_row_normal_lanes(const struct reyes_row_curves *rc, reyes_lanes u,
+                                                    reyes_lanes n[3])
 {
     reyes_lanes bu[4], du[4], tu[3], tv[3];
     reyes_bernstein_lanes(u, bu);
@@ -201,6 +219,7 @@ REYES_INLINE void reyes_row_normal_lanes(const struct reyes_row_curves *rc, reye
     n[0] = yz - zy;
     n[1] = zx - xz;
     n[2] = xy - yx;
+    return reyes_collapsed_lanes(tu, tv, n);
 }
 
 /* Points and unnormalised normals at (u,v) of a hull. */
@@ -212,21 +231,28 @@ REYES_INLINE void reyes_hull_point_lanes(const struct reyes_hull *h, reyes_lanes
     reyes_row_point_lanes(&rc, u, x);
 }
 
-REYES_INLINE void reyes_hull_normal_lanes(const struct reyes_hull *h, reyes_lanes u, reyes_lanes v,
-                                          reyes_lanes n[3])
+REYES_INLINE reyes_lane_mask reyes_hull_normal_lanes(const struct reyes_hull *h, reyes_lanes u, reyes_lanes v,
+                                                     reyes_lanes n[3])
 {
     struct reyes_row_curves rc;
     reyes_row_curves_lanes(h, v, &rc);
-    reyes_row_normal_lanes(&rc, u, n);
+    return reyes_row_normal_lanes(&rc, u, n);
 }
 
-/* Unnormalised surface normal and point at (u,v) (lane 0 of the above). */
-REYES_INLINE float3 reyes_patch_normal(const float3 cp[16], float u, float v)
+/* Unnormalised surface normal and point at (u,v) (lane 0 of the above);
+ * *collapsed as reyes_collapsed_lanes. */
+REYES_INLINE float3 reyes_patch_normal_of(const float3 cp[16], float u, float v, int *collapsed)
 {
     struct reyes_hull h = reyes_hull_of(cp);
     reyes_lanes n[3];
-    reyes_hull_normal_lanes(&h, (reyes_lanes)u, (reyes_lanes)v, n);
+    *collapsed = reyes_hull_normal_lanes(&h, (reyes_lanes)u, (reyes_lanes)v, n).s0 != 0;
     return (float3)(n[0].s0, n[1].s0, n[2].s0);
+}
+
+REYES_INLINE float3 reyes_patch_normal(const float3 cp[16], float u, float v)
+{
+    int collapsed;
+    return reyes_patch_normal_of(cp, u, v, &collapsed);
 }
 
 REYES_INLINE float3 reyes_patch_point(const float3 cp[16], float u, float v)
@@ -249,6 +275,26 @@ float3 reyes_safe_normal(const float3 cp[16], float u, float v)
     return n;
 }
 
+/* The same for sample shading, where a pole is a collapsed normal
+ * (reyes_collapsed_lanes) and fixed grids' bytes do not constrain it. */
+float3 reyes_lit_normal(const float3 cp[16], float u, float v)
+{
+    int collapsed;
+    float3 n = reyes_patch_normal_of(cp, u, v, &collapsed);
+    for (int step = 1; step <= 3 && collapsed; ++step) {
+        float nudge = 1e-3f * (float)step;
+        n = reyes_patch_normal_of(cp, mix(u, 0.5f, nudge), mix(v, 0.5f, nudge), &collapsed);
+    }
+    return n;
+}
+
+/* The normal a vertex is shaded with: reyes_lit_normal with sample
+ * shading, else reyes_safe_normal. */
+REYES_INLINE float3 reyes_vertex_normal(__global const struct reyes_params *p, const float3 cp[16], float u, float v)
+{
+    return p->sample_shading ? reyes_lit_normal(cp, u, v) : reyes_safe_normal(cp, u, v);
+}
+
 /* The light's parameters, loaded once per grid. */
 struct reyes_lighting {
     float eye[3], light[3];
@@ -267,25 +313,6 @@ REYES_INLINE struct reyes_lighting reyes_lighting_of(__global const struct reyes
     l.specular = p->specular;
     l.shininess = p->shininess;
     return l;
-}
-
-/* x^s: by squaring for a whole exponent up to 64 (the look's is 40: six
- * products, as the C reference), else exp2(s log2 x) at native precision
- * (pow() is PoCL's full-precision library call and took about a fifth of
- * a teapot render; native_log2 looks a table up lane by lane). */
-REYES_INLINE reyes_lanes reyes_power_lanes(reyes_lanes x, float s)
-{
-    uint n = (uint)s;
-    if (s >= 0.0f && s <= 64.0f && (float)n == s) {
-        reyes_lanes result = (reyes_lanes)1.0f, base = x;
-        for (; n != 0u; n >>= 1) {
-            if (n & 1u)
-                result *= base;
-            base *= base;
-        }
-        return result;
-    }
-    return native_exp2(s * native_log2(x));
 }
 
 /* Lambert plus Blinn-Phong, two-sided, one directional light plus
@@ -325,10 +352,14 @@ REYES_INLINE reyes_lane_uint reyes_light_color_lanes(uint rgba, reyes_lanes diff
            | (reyes_channel_byte_lanes(b * diffuse + specular) << 16) | (reyes_lane_uint)(255u << 24);
 }
 
+/* A vertex's colour (base colour rgba lit at point x with normal n) or,
+ * with sample shading, its unit normal packed (reyes_pack_normal16). */
 REYES_INLINE uint reyes_shade(__global const struct reyes_params *p, float3 x, float3 n, uint rgba)
 {
     const reyes_lanes xs[3] = {(reyes_lanes)x.x, (reyes_lanes)x.y, (reyes_lanes)x.z};
     const reyes_lanes ns[3] = {(reyes_lanes)n.x, (reyes_lanes)n.y, (reyes_lanes)n.z};
+    if (p->sample_shading)
+        return reyes_pack_normal16(ns[0], ns[1], ns[2]).s0;
     struct reyes_lighting l = reyes_lighting_of(p);
     reyes_lanes diffuse, specular;
     reyes_light_lanes(&l, xs, ns, &diffuse, &specular);
@@ -389,14 +420,14 @@ REYES_INLINE float2 reyes_grid_uv(__global const struct reyes_params *p, const s
     return (float2)(u, v);
 }
 
-/* The colour of undisplaced grid vertex (i,j) for the patch's packed base
- * colour rgba, the normal taken slightly inside where it vanishes
- * (reyes_safe_normal). */
+/* The colour (or packed normal, reyes_shade) of undisplaced grid vertex
+ * (i,j) for the patch's packed base colour rgba, the normal taken slightly
+ * inside where it vanishes (reyes_vertex_normal). */
 uint reyes_grid_vertex_color(__global const struct reyes_params *p, const float3 cp[16],
                              const struct reyes_subpatch *sp, uint rgba, int i, int j)
 {
     float2 uv = reyes_grid_uv(p, sp, i, j);
-    return reyes_shade(p, reyes_patch_point(cp, uv.x, uv.y), reyes_safe_normal(cp, uv.x, uv.y), rgba);
+    return reyes_shade(p, reyes_patch_point(cp, uv.x, uv.y), reyes_vertex_normal(p, cp, uv.x, uv.y), rgba);
 }
 
 /* Position (clip space) of grid vertex (i,j), and its color when `shade`
@@ -421,7 +452,7 @@ struct reyes_vertex reyes_grid_vertex(const struct reyes_displacement *d, const 
     if (p->displace_mode == REYES_DISPLACE_NONE) {
         float3 x = reyes_patch_point(cp, u, v);
         reyes_vertex_place(p, x, &out);
-        out.rgba = shade ? reyes_shade(p, x, reyes_safe_normal(cp, u, v), rgba) : 0u;
+        out.rgba = shade ? reyes_shade(p, x, reyes_vertex_normal(p, cp, u, v), rgba) : 0u;
     } else {
         float3 x = reyes_displaced_point(d, cp, u, v);
         reyes_vertex_place(p, x, &out);

@@ -190,6 +190,42 @@ static void project(const float m[16], unsigned width, unsigned height, const do
     out->sy = (0.5 - clip[1] / clip[3] * 0.5) * height;
 }
 
+/* Quads per side for a patch so that each is at most half a pixel long
+ * in space at the patch's nearest depth (the chords then miss the
+ * surface, seen from any side, by at most a few thousandths of a pixel
+ * where it curves over a pixel or more): the longest row or column of
+ * its control net in world units times the pixels per world unit there.
+ * The most when the net reaches the near plane. */
+static unsigned adaptive_tessellation(const float *points, const float m[16], unsigned width, unsigned height,
+                                      float near_w)
+{
+    double nearest = INFINITY, longest = 0.0;
+    for (int k = 0; k < 16; ++k) {
+        const float *x = points + 4 * k;
+        double w = m[12] * x[0] + m[13] * x[1] + m[14] * x[2] + m[15];
+        nearest = fmin(nearest, w);
+    }
+    if (!(nearest > near_w))
+        return REYES_BRUTE_MAX_TESSELLATION;
+    for (int line = 0; line < 4; ++line) {
+        double row = 0.0, column = 0.0;
+        for (int k = 0; k < 3; ++k) {
+            const float *a = points + 4 * (line * 4 + k), *b = a + 4;
+            const float *c = points + 4 * (k * 4 + line), *d = c + 16;
+            row += sqrt((double)(b[0] - a[0]) * (b[0] - a[0]) + (double)(b[1] - a[1]) * (b[1] - a[1])
+                        + (double)(b[2] - a[2]) * (b[2] - a[2]));
+            column += sqrt((double)(d[0] - c[0]) * (d[0] - c[0]) + (double)(d[1] - c[1]) * (d[1] - c[1])
+                           + (double)(d[2] - c[2]) * (d[2] - c[2]));
+        }
+        longest = fmax(longest, fmax(row, column));
+    }
+    double scale_x = 0.5 * width * sqrt((double)m[0] * m[0] + (double)m[1] * m[1] + (double)m[2] * m[2]);
+    double scale_y = 0.5 * height * sqrt((double)m[4] * m[4] + (double)m[5] * m[5] + (double)m[6] * m[6]);
+    double pixels = longest * fmax(scale_x, scale_y) / nearest;
+    double quads = ceil(pixels / 0.5);
+    return quads < 4.0 ? 4u : quads > REYES_BRUTE_MAX_TESSELLATION ? REYES_BRUTE_MAX_TESSELLATION : (unsigned)quads;
+}
+
 void reyes_brute_free(reyes_brute_image *image)
 {
     if (!image)
@@ -208,15 +244,17 @@ reyes_status reyes_brute_render(const reyes_scene *scene, const reyes_camera *ca
                                 reyes_brute_image *out, reyes_error *error)
 {
     memset(out, 0, sizeof *out);
-    if (tessellation < 1 || tessellation > 1024)
-        return reyes_fail(error, REYES_ERR_ARGUMENT, "brute-force tessellation %u is not in 1..1024",
+    if (tessellation > 1024)
+        return reyes_fail(error, REYES_ERR_ARGUMENT, "brute-force tessellation %u is not in 0..1024",
                           tessellation);
     unsigned width = options->width, height = options->height, spp = options->spp;
     float m[16], near_w = reyes_near_plane(scene);
     reyes_status status = reyes_camera_matrix(camera, (float)width / (float)height, near_w, m, error);
     if (status != REYES_OK)
         return status;
-    size_t pixels = (size_t)width * height, samples = pixels * spp, side = tessellation + 1;
+    int adaptive = tessellation == 0;
+    size_t pixels = (size_t)width * height, samples = pixels * spp;
+    size_t side = (adaptive ? REYES_BRUTE_MAX_TESSELLATION : tessellation) + 1;
     float *positions = malloc(samples * 2 * sizeof *positions);
     hit *hits = malloc(samples * sizeof *hits);
     vertex *grid = malloc(side * side * sizeof *grid);
@@ -247,6 +285,10 @@ reyes_status reyes_brute_render(const reyes_scene *scene, const reyes_camera *ca
     raster r = { width, height, spp, positions, hits };
     for (size_t p = 0; p < scene->patch_count; ++p) {
         const float *points = scene->points + p * 64;
+        if (adaptive) {
+            tessellation = adaptive_tessellation(points, m, width, height, near_w);
+            side = tessellation + 1;
+        }
         for (size_t j = 0; j < side; ++j)
             for (size_t i = 0; i < side; ++i) {
                 vertex *v = &grid[j * side + i];
@@ -305,7 +347,7 @@ reyes_status reyes_brute_render(const reyes_scene *scene, const reyes_camera *ca
  * (a fold or the rim of an open surface, where its front and its back
  * meet at one depth) or two patches (a seam, maybe a crease: a sample
  * within a hair of it may take either side's colour). */
-static int near_edge(const reyes_brute_image *ref, unsigned x, unsigned y)
+static int near_edge(const reyes_brute_image *ref, unsigned x, unsigned y, float *farthest)
 {
     int covered = 0, empty = 0, sides = 0, seam = 0;
     uint32_t patch = UINT32_MAX;
@@ -330,7 +372,17 @@ static int near_edge(const reyes_brute_image *ref, unsigned x, unsigned y)
                 }
             }
         }
+    *farthest = empty ? INFINITY : hi;
     return (covered && empty) || (covered && hi > lo * 1.02f) || sides == 3 || seam;
+}
+
+void reyes_brute_edge_map(const reyes_brute_image *ref, uint8_t *map)
+{
+    for (unsigned y = 0; y < ref->height; ++y)
+        for (unsigned x = 0; x < ref->width; ++x) {
+            float farthest;
+            map[(size_t)y * ref->width + x] = (uint8_t)near_edge(ref, x, y, &farthest);
+        }
 }
 
 reyes_status reyes_brute_compare(const reyes_image *image, const reyes_brute_image *ref,
@@ -347,7 +399,8 @@ reyes_status reyes_brute_compare(const reyes_image *image, const reyes_brute_ima
     for (unsigned y = 0; y < ref->height; ++y)
         for (unsigned x = 0; x < ref->width; ++x) {
             size_t px = (size_t)y * ref->width + x;
-            int edge = near_edge(ref, x, y);
+            float farthest;
+            int edge = near_edge(ref, x, y, &farthest);
             for (unsigned s = 0; s < spp; ++s) {
                 size_t index = px * spp + s;
                 uint64_t value = image->samples[index];
@@ -361,9 +414,11 @@ reyes_status reyes_brute_compare(const reyes_image *image, const reyes_brute_ima
                 } else if (!rendered && reference) {
                     ++out->missing;
                     out->interior_missing += !edge;
+                    out->holes += farthest < INFINITY;
                 } else if (rendered && fabsf(depth.f - ref->depth[index]) > 0.01f * ref->depth[index]) {
                     ++out->other_surface;
                     out->interior_other_surface += !edge;
+                    out->see_through += depth.f > 1.01f * farthest;
                 }
             }
             if (!ref->coverage[px] && !image->coverage[px])
@@ -396,10 +451,11 @@ void reyes_brute_print(FILE *out, const char *label, const reyes_brute_compariso
 {
     fprintf(out,
             "%s: samples %zu covered %zu near edges %zu | coverage extra %zu (interior %zu) missing %zu "
-            "(interior %zu) | other surface %zu (interior %zu) | colour mean %.3f max %u, pixels >8 %zu "
-            ">32 %zu; interior mean %.3f max %u >8 %zu of %zu\n",
+            "(interior %zu) | other surface %zu (interior %zu) | see-through %zu holes %zu | colour mean %.3f "
+            "max %u, pixels >8 %zu >32 %zu; interior mean %.3f max %u >8 %zu of %zu\n",
             label, c->samples, c->reference_covered, c->edge_samples, c->extra, c->interior_extra, c->missing,
-            c->interior_missing, c->other_surface, c->interior_other_surface, c->mean_error, c->max_error,
+            c->interior_missing, c->other_surface, c->interior_other_surface, c->see_through, c->holes,
+            c->mean_error, c->max_error,
             c->pixels_over_8, c->pixels_over_32, c->interior_mean_error, c->interior_max_error,
             c->interior_pixels_over_8, c->interior_pixels);
 }
