@@ -46,15 +46,69 @@ void reyes_dice_strip(__global const struct reyes_params *p, const float3 base[1
     }
 }
 
+/* REYES_LANES vertices as a lattice stores them: x, y (pixels, or clip x
+ * and y when blurred), z (clip w), rgba and, with per-vertex motion, the
+ * motion. */
+struct reyes_vertex_lanes {
+    reyes_lanes x, y, z;
+    reyes_lane_uint rgba;
+#ifdef REYES_VERTEX_MOTION
+    reyes_lanes motion[3];
+#endif
+};
+
+/* The vertices at parameters u on the row curves rc (one v per lane),
+ * shaded with base colour `base` when `shade` (else colour 0; with
+ * sample shading their packed normals), in SIMD lanes.  The normal is
+ * not fixed up at poles here: the returned mask has the lanes whose
+ * normal vanished (with sample shading: collapsed, reyes_collapsed_lanes),
+ * for reyes_grid_vertex_color; otherwise each vertex is
+ * reyes_grid_vertex's, bit for bit. */
+REYES_INLINE reyes_lane_mask reyes_dice_vertex_lanes(__global const struct reyes_params *p,
+                                                     const struct reyes_row_curves *rc,
+                                                     const struct reyes_lighting *light, reyes_lanes u, uint base,
+                                                     int shade, struct reyes_vertex_lanes *out)
+{
+    reyes_lanes x[3], normal[3];
+    reyes_row_point_lanes(rc, u, x);
+    reyes_lane_mask collapsed = reyes_row_normal_lanes(rc, u, normal);
+    __global const float *m = p->view_proj;
+    reyes_lanes clip[4];
+    for (int r = 0; r < 4; ++r)
+        clip[r] = reyes_dot4_lanes(m[4 * r], m[4 * r + 1], m[4 * r + 2], m[4 * r + 3], x[0], x[1], x[2]);
+    reyes_lanes inv_w = 1.0f / clip[3];
+    reyes_lanes sx = (clip[0] * inv_w * 0.5f + 0.5f) * p->width;
+    reyes_lanes sy = (0.5f - clip[1] * inv_w * 0.5f) * p->height;
+    out->x = p->blur ? clip[0] : sx;
+    out->y = p->blur ? clip[1] : sy;
+    out->z = clip[3];
+#ifdef REYES_VERTEX_MOTION
+    __global const float *mr = p->motion_rows;
+    for (int k = 0; k < 3; ++k) {
+        out->motion[k] = (reyes_lanes)mr[4 * k + 3];
+        if (p->motion_rotates)
+            out->motion[k] = reyes_dot4_lanes(mr[4 * k], mr[4 * k + 1], mr[4 * k + 2], mr[4 * k + 3], x[0], x[1],
+                                              x[2]);
+    }
+#endif
+    out->rgba = (reyes_lane_uint)0u;
+    if (shade && p->sample_shading) {
+        out->rgba = reyes_pack_normal16(normal[0], normal[1], normal[2]);
+    } else if (shade) {
+        reyes_lanes diffuse, specular;
+        reyes_light_lanes(light, x, normal, &diffuse, &specular);
+        out->rgba = reyes_light_color_lanes(base, diffuse, specular);
+    }
+    if (p->sample_shading)
+        return collapsed;
+    return reyes_dot3_lanes(normal[0], normal[1], normal[2], normal[0], normal[1], normal[2]) < 1e-24f;
+}
+
 /* Vertices i0 .. i0 + REYES_LANES - 1 of row j of an undisplaced grid n
  * vertices wide into g, from the row's curves, at parameters u0 .. u1
- * across the grid, shaded with base colour `base` when `shade` (else
- * colour 0; with sample shading its packed normal), in SIMD lanes.  The
- * lanes past the row write into the next row (made after this one) or
- * the lattice's padding.  The normal is not fixed up at poles here: the
- * returned mask has the lanes whose normal vanished (with sample shading:
- * collapsed, reyes_collapsed_lanes), for reyes_grid_vertex_color;
- * otherwise each vertex is reyes_grid_vertex's, bit for bit. */
+ * across the grid (reyes_dice_vertex_lanes).  The lanes past the row
+ * write into the next row (made after this one) or the lattice's
+ * padding. */
 REYES_INLINE reyes_lane_mask reyes_dice_lanes(__global const struct reyes_params *p,
                                               const struct reyes_row_curves *rc,
                                               const struct reyes_lighting *light, float u0, float u1, uint base,
@@ -66,41 +120,19 @@ REYES_INLINE reyes_lane_mask reyes_dice_lanes(__global const struct reyes_params
     reyes_lanes tu = reyes_convert_lanes(i) / last;
     /* mix(a, b, 1) == b exactly, so shared patch edges get equal u. */
     reyes_lanes u = u0 * (1.0f - tu) + u1 * tu;
-    reyes_lanes x[3], normal[3];
-    reyes_row_point_lanes(rc, u, x);
-    reyes_lane_mask collapsed = reyes_row_normal_lanes(rc, u, normal);
-    __global const float *m = p->view_proj;
-    reyes_lanes clip[4];
-    for (int r = 0; r < 4; ++r)
-        clip[r] = reyes_dot4_lanes(m[4 * r], m[4 * r + 1], m[4 * r + 2], m[4 * r + 3], x[0], x[1], x[2]);
-    reyes_lanes inv_w = 1.0f / clip[3];
-    reyes_lanes sx = (clip[0] * inv_w * 0.5f + 0.5f) * p->width;
-    reyes_lanes sy = (0.5f - clip[1] * inv_w * 0.5f) * p->height;
+    struct reyes_vertex_lanes v;
+    reyes_lane_mask degenerate = reyes_dice_vertex_lanes(p, rc, light, u, base, shade, &v);
     int first = j * n + i0;
-    reyes_vstore_lanes(p->blur ? clip[0] : sx, 0, g->x + first);
-    reyes_vstore_lanes(p->blur ? clip[1] : sy, 0, g->y + first);
-    reyes_vstore_lanes(clip[3], 0, g->z + first);
+    reyes_vstore_lanes(v.x, 0, g->x + first);
+    reyes_vstore_lanes(v.y, 0, g->y + first);
+    reyes_vstore_lanes(v.z, 0, g->z + first);
 #ifdef REYES_VERTEX_MOTION
-    __global const float *mr = p->motion_rows;
-    for (int k = 0; k < 3; ++k) {
-        reyes_lanes motion = (reyes_lanes)mr[4 * k + 3];
-        if (p->motion_rotates)
-            motion = reyes_dot4_lanes(mr[4 * k], mr[4 * k + 1], mr[4 * k + 2], mr[4 * k + 3], x[0], x[1], x[2]);
-        reyes_vstore_lanes(motion, 0, (k == 0 ? g->mx : k == 1 ? g->my : g->mw) + first);
-    }
+    reyes_vstore_lanes(v.motion[0], 0, g->mx + first);
+    reyes_vstore_lanes(v.motion[1], 0, g->my + first);
+    reyes_vstore_lanes(v.motion[2], 0, g->mw + first);
 #endif
-    reyes_lane_uint rgba = (reyes_lane_uint)0u;
-    if (shade && p->sample_shading) {
-        rgba = reyes_pack_normal16(normal[0], normal[1], normal[2]);
-    } else if (shade) {
-        reyes_lanes diffuse, specular;
-        reyes_light_lanes(light, x, normal, &diffuse, &specular);
-        rgba = reyes_light_color_lanes(base, diffuse, specular);
-    }
-    reyes_vstore_lanes(rgba, 0, g->rgba + first);
-    if (p->sample_shading)
-        return collapsed;
-    return reyes_dot3_lanes(normal[0], normal[1], normal[2], normal[0], normal[1], normal[2]) < 1e-24f;
+    reyes_vstore_lanes(v.rgba, 0, g->rgba + first);
+    return degenerate;
 }
 
 /* The visible quads among the REYES_LANES slots from `first` of lattice g, as
@@ -168,6 +200,88 @@ uint reyes_dice_base_color(__global const struct reyes_params *p, uint patch_col
     return reyes_pack_rgba(c);
 }
 
+/* Shading-rate grids follow their edges (reyes_rate.cl): an edge with
+ * fewer segments c than the lattice's n along it gets its own c + 1
+ * vertices, at the parameters a grid of c segments puts there, in the
+ * lattice's n + 1 boundary slots: slot i holds edge vertex
+ * (i c + n / 2) / n (integer division), which visits every edge vertex
+ * in order, each one or more times.  The boundary quads then join the
+ * edge's segments to the lattice's next row, a quad whose two edge
+ * corners are the same vertex being a triangle, so the grid's border is
+ * exactly the edge's polyline on both sides of the edge.  These give
+ * edge `edge`'s vertex count c, the lattice's segments n along it, and
+ * slot i's lattice index. */
+REYES_INLINE int reyes_edge_step(int i, int c, int n)
+{
+    return (i * c + n / 2) / n;
+}
+
+REYES_INLINE int reyes_edge_slot(int edge, int i, int columns, int rows)
+{
+    switch (edge) {
+    case REYES_EDGE_V0: return i;
+    case REYES_EDGE_U1: return i * columns + columns - 1;
+    case REYES_EDGE_V1: return (rows - 1) * columns + i;
+    default: return i * columns;
+    }
+}
+
+/* Re-dice the boundary of an undisplaced lattice along its edges with
+ * fewer segments, REYES_LANES slots at a time: the row curves are made
+ * per lane at each slot's v, so every vertex gets the bits of the
+ * lattice row (or the stitch's reyes_grid_vertex) that puts a vertex at
+ * the same (u,v). */
+void reyes_dice_edges(perma_ctx *ctx, __local const struct reyes_subpatch *item, const struct reyes_hull *h,
+                      const struct reyes_lighting *light, uint base, __local struct reyes_grid *g, int shade)
+{
+    __global const struct reyes_params *p = ctx->buf.params;
+    struct reyes_subpatch sp = *item;
+    int columns = (int)g->columns, rows = (int)g->rows;
+    for (int edge = 0; edge < 4; ++edge) {
+        int along_u = edge == REYES_EDGE_V0 || edge == REYES_EDGE_V1;
+        int n = (along_u ? columns : rows) - 1, c = reyes_edge_count(&sp, edge);
+        if (c >= n)
+            continue;
+        float fixed = edge == REYES_EDGE_V0 ? sp.v0 : edge == REYES_EDGE_V1 ? sp.v1
+                      : edge == REYES_EDGE_U0 ? sp.u0 : sp.u1;
+        float a = along_u ? sp.u0 : sp.v0, b = along_u ? sp.u1 : sp.v1;
+        for (int i0 = 0; i0 <= n; i0 += REYES_LANES) {
+            float along[REYES_LANES];
+            for (int k = 0; k < REYES_LANES; ++k) {
+                float t = (float)reyes_edge_step(min(i0 + k, n), c, n) / (float)c;
+                along[k] = a * (1.0f - t) + b * t; /* as reyes_grid_uv_of */
+            }
+            reyes_lanes s = reyes_vload_lanes(0, along);
+            struct reyes_row_curves rc;
+            reyes_row_curves_lanes(h, along_u ? (reyes_lanes)fixed : s, &rc);
+            struct reyes_vertex_lanes v;
+            reyes_lane_mask degenerate = reyes_dice_vertex_lanes(p, &rc, light, along_u ? s : (reyes_lanes)fixed,
+                                                                 base, shade, &v);
+            struct reyes_subpatch edge_sp = reyes_edge_subpatch(p, &sp, edge);
+            float3 cp[16];
+            if (shade && any(degenerate))
+                reyes_load_patch(ctx->buf.patches, sp.patch, cp);
+            for (int k = 0; k < REYES_LANES && i0 + k <= n; ++k) {
+                int slot = reyes_edge_slot(edge, i0 + k, columns, rows);
+                g->x[slot] = ((float *)&v.x)[k];
+                g->y[slot] = ((float *)&v.y)[k];
+                g->z[slot] = ((float *)&v.z)[k];
+                g->rgba[slot] = ((uint *)&v.rgba)[k];
+#ifdef REYES_VERTEX_MOTION
+                g->mx[slot] = ((float *)&v.motion[0])[k];
+                g->my[slot] = ((float *)&v.motion[1])[k];
+                g->mw[slot] = ((float *)&v.motion[2])[k];
+#endif
+                if (shade && ((int *)&degenerate)[k]) {
+                    int2 ij = reyes_edge_vertex((uint)edge, reyes_edge_step(i0 + k, c, n),
+                                                reyes_dice_size(p, edge_sp.dice_size));
+                    g->rgba[slot] = reyes_grid_vertex_color(p, cp, &edge_sp, base, ij.x, ij.y);
+                }
+            }
+        }
+    }
+}
+
 /* The vertices of an undisplaced grid, row by row (the row's curves made
  * once) and REYES_LANES at a time, and the poles' colours. */
 void reyes_dice_plain(perma_ctx *ctx, __local const struct reyes_subpatch *item, __local struct reyes_grid *g,
@@ -199,6 +313,8 @@ void reyes_dice_plain(perma_ctx *ctx, __local const struct reyes_subpatch *item,
             }
         }
     }
+    if (p->shading_rate > 0.0f)
+        reyes_dice_edges(ctx, item, &h, &light, base, g, shade);
 }
 
 /* The vertices of a displaced grid (scalar). */
@@ -216,6 +332,17 @@ void reyes_dice_displaced(perma_ctx *ctx, __local const struct reyes_subpatch *i
     for (int v = 0; v < n * rows; ++v) {
         struct reyes_vertex vertex = reyes_grid_vertex(&d, cp, &sp, base, v % n, v / n, shade);
         reyes_grid_store(p, &s->grid, v, &vertex);
+    }
+    /* Edges with fewer segments, as reyes_dice_edges. */
+    for (int edge = 0; edge < 4 && p->shading_rate > 0.0f; ++edge) {
+        int along = (edge == REYES_EDGE_V0 || edge == REYES_EDGE_V1 ? n : rows) - 1, c = reyes_edge_count(&sp, edge);
+        struct reyes_subpatch edge_sp = reyes_edge_subpatch(p, &sp, edge);
+        int2 size = reyes_dice_size(p, edge_sp.dice_size);
+        for (int i = 0; i <= along && c < along; ++i) {
+            int2 ij = reyes_edge_vertex((uint)edge, reyes_edge_step(i, c, along), size);
+            struct reyes_vertex vertex = reyes_grid_vertex(&d, cp, &edge_sp, base, ij.x, ij.y, shade);
+            reyes_grid_store(p, &s->grid, reyes_edge_slot(edge, i, n, rows), &vertex);
+        }
     }
 }
 

@@ -207,6 +207,7 @@ void reyes_quad_pixels(__global const struct reyes_params *p, __global ulong *sa
     const int corner[4] = { k, k + 1, k + c + 1, k + c };
     int loaded = 0;
     float8 inv_area, za, zb, zc, ca[3], cb[3], cc[3];
+    int8 fold = (int8)0;
     for (uint chunk = 0; chunk < chunks->count; ++chunk) {
         const struct reyes_sample_chunk *sc = &chunks->chunk[chunk];
         uint s0 = 4u * chunk;
@@ -232,16 +233,23 @@ void reyes_quad_pixels(__global const struct reyes_params *p, __global ulong *sa
                     za = (float8)g->z[corner[0]];
                     zb = reyes_pair(g->z[corner[1]], g->z[corner[2]]);
                     zc = reyes_pair(g->z[corner[2]], g->z[corner[3]]);
-                    /* The corners' colour channels, or their normals. */
+                    /* The corners' colour channels, or their normals and
+                     * which triangles span a fold. */
                     float v[4][3];
+                    int faces[4];
                     for (int i = 0; i < 4; ++i) {
                         uint rgba = g->rgba[corner[i]];
-                        if (p->sample_shading)
+                        if (p->sample_shading) {
                             reyes_unpack_normal(rgba, &v[i][0], &v[i][1], &v[i][2]);
-                        else
+                            faces[i] = reyes_faces_eye(p, v[i][0], v[i][1], v[i][2], g->x[corner[i]], g->y[corner[i]]);
+                        } else {
                             for (int ch = 0; ch < 3; ++ch)
                                 v[i][ch] = reyes_channel(rgba, 8u * (uint)ch);
+                        }
                     }
+                    if (p->sample_shading)
+                        fold = (int8)((int4)-(faces[0] != faces[1] || faces[0] != faces[2]),
+                                      (int4)-(faces[0] != faces[2] || faces[0] != faces[3]));
                     for (int ch = 0; ch < 3; ++ch) {
                         ca[ch] = (float8)v[0][ch];
                         cb[ch] = reyes_pair(v[1][ch], v[2][ch]);
@@ -253,7 +261,7 @@ void reyes_quad_pixels(__global const struct reyes_params *p, __global ulong *sa
                 uint8 rgba;
                 if (p->sample_shading)
                     rgba = reyes_sample_light8(p, ba * ca[0] + bb * cb[0] + bc * cc[0], ba * ca[1] + bb * cb[1] + bc * cc[1],
-                                               ba * ca[2] + bb * cb[2] + bc * cc[2], x, y, g->base);
+                                               ba * ca[2] + bb * cb[2] + bc * cc[2], x, y, fold, g->base);
                 else
                     rgba = reyes_channel_byte8(ba * ca[0] + bb * cb[0] + bc * cc[0])
                            | (reyes_channel_byte8(ba * ca[1] + bb * cb[1] + bc * cc[1]) << 8)
@@ -336,18 +344,19 @@ REYES_INLINE ulong16 reyes_triangle_values16(float16 wa, float16 wb, float16 wc,
 
 /* The same with sample shading: `normal` holds the corners' unit normals
  * (x, y, z) where `color` holds their channels, and each covered sample
- * at (x, y) is lit with its interpolated normal (reyes_sample_light16). */
+ * at (x, y) is lit with its interpolated normal (reyes_sample_light16;
+ * `fold`: the triangle's corners face different ways). */
 REYES_INLINE ulong16 reyes_triangle_lit16(__global const struct reyes_params *p, float16 wa, float16 wb,
                                           float16 wc, float16 inv_area, const float16 z[4],
                                           const float16 normal[4][3], int a, int b, int c, int16 covered,
-                                          float16 x, float16 y, uint base)
+                                          float16 x, float16 y, int16 fold, uint base)
 {
     float16 ba = wa * inv_area, bb = wb * inv_area, bc = wc * inv_area;
     float16 depth = fmax(ba * z[a] + bb * z[b] + bc * z[c], 0.0f);
     float16 n[3];
     for (int k = 0; k < 3; ++k)
         n[k] = ba * normal[a][k] + bb * normal[b][k] + bc * normal[c][k];
-    uint16 rgba = reyes_sample_light16(p, n[0], n[1], n[2], x, y, base);
+    uint16 rgba = reyes_sample_light16(p, n[0], n[1], n[2], x, y, fold, base);
     ulong16 packed = convert_ulong16(as_uint16(depth)) << 32 | convert_ulong16(rgba);
     return select((ulong16)REYES_EMPTY_SAMPLE, packed, convert_long16(covered));
 }
@@ -412,17 +421,26 @@ void reyes_small_quads(__global const struct reyes_params *p, __global ulong *sa
     int columns = (int)chunks->columns, rows = (int)chunks->rows;
     int c = (int)g->columns;
     const int corner[4] = { 0, 1, c + 1, c };
-    /* The corners' colour channels, or with sample shading their normals. */
+    /* The corners' colour channels, or with sample shading their normals
+     * and which triangles span a fold (corners facing different ways). */
     float16 z[4], color[4][3];
     int lit = p->sample_shading;
+    int16 faces[4], fold[2];
     for (int i = 0; i < 4; ++i) {
         z[i] = vload16(0, g->z + first + corner[i]);
         uint16 rgba = vload16(0, g->rgba + first + corner[i]);
-        if (lit)
+        if (lit) {
             reyes_unpack_normal16(rgba, &color[i][0], &color[i][1], &color[i][2]);
-        else
+            faces[i] = reyes_faces_eye16(p, color[i][0], color[i][1], color[i][2], vload16(0, g->x + first + corner[i]),
+                                         vload16(0, g->y + first + corner[i]));
+        } else {
             for (int ch = 0; ch < 3; ++ch)
                 color[i][ch] = convert_float16((rgba >> (uint)(8 * ch)) & 255u) * (1.0f / 255.0f);
+        }
+    }
+    if (lit) {
+        fold[0] = (faces[0] != faces[1]) | (faces[0] != faces[2]);
+        fold[1] = (faces[0] != faces[2]) | (faces[0] != faces[3]);
     }
     /* Each edge value's sign: the edge's own (canonical order) and, where
      * the area is not positive, the flip that makes "inside" every value
@@ -481,10 +499,10 @@ void reyes_small_quads(__global const struct reyes_params *p, __global ulong *sa
             if (lit) {
                 if (bits0)
                     nearest = reyes_triangle_lit16(p, w0a, w0b, w0c, inv_area[0], z, color, 0, 1, 2, covered0, x, y,
-                                                   g->base);
+                                                   fold[0], g->base);
                 if (bits1)
                     nearest = min(nearest, reyes_triangle_lit16(p, w1a, w1b, w1c, inv_area[1], z, color, 0, 2, 3,
-                                                                covered1, x, y, g->base));
+                                                                covered1, x, y, fold[1], g->base));
             } else {
                 if (bits0)
                     nearest = reyes_triangle_values16(w0a, w0b, w0c, inv_area[0], z, color, 0, 1, 2, covered0);

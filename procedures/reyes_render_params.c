@@ -2,6 +2,7 @@
  * matrix, the lighting, the subdivision and dicing settings, and motion
  * blur and depth of field. */
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "reyes_look.h"
@@ -77,6 +78,12 @@ static void set_blur(const reyes_camera *camera, const reyes_options *o, struct 
         p->focus = 1.0f;
 }
 
+/* Shading-rate counts (reyes_rate.cl): the length over the rate's side
+ * rounded to nearest, and chords within a tenth of a pixel of the
+ * surface on screen. */
+#define REYES_RATE_ROUND 0.5f
+#define REYES_RATE_SAG 0.1f
+
 /* Sample shading: the world direction of the ray through pixel point
  * (x, y), away from the eye, is ray_origin + x ray_dx + y ray_dy.  With
  * a0, a1, a3 the xyz of the matrix rows x, y and w, the points with
@@ -146,5 +153,17 @@ reyes_status render_fill_params(const reyes_scene *scene, const reyes_camera *ca
     set_blur(camera, o, p);
     p->sample_shading = o->shading_rate > 0.0f && !p->blur;
     set_rays(p);
+    p->rate_round = REYES_RATE_ROUND;
+    p->rate_sag = REYES_RATE_SAG;
+    if (getenv("REYES_RATE_ROUND"))
+        p->rate_round = (float)atof(getenv("REYES_RATE_ROUND"));
+    p->rate_min_piece = 0.5f;
+    p->rate_turn = 100.0f;
+    if (getenv("REYES_RATE_TURN"))
+        p->rate_turn = (float)atof(getenv("REYES_RATE_TURN"));
+    if (getenv("REYES_RATE_MIN_PIECE"))
+        p->rate_min_piece = (float)atof(getenv("REYES_RATE_MIN_PIECE"));
+    if (getenv("REYES_RATE_SAG"))
+        p->rate_sag = (float)atof(getenv("REYES_RATE_SAG"));
     return REYES_OK;
 }

@@ -90,6 +90,8 @@ static perma_status register_all(struct reyes_renderer *r)
     if (status == PERMA_OK)
         status = perma_add_source(r->rt, reyes_flatness_cl_source, "reyes_flatness.cl");
     if (status == PERMA_OK)
+        status = perma_add_source(r->rt, reyes_rate_cl_source, "reyes_rate.cl");
+    if (status == PERMA_OK)
         status = perma_add_source(r->rt, reyes_sample_shading_cl_source, "reyes_sample_shading.cl");
     if (status == PERMA_OK)
         status = perma_add_source(r->rt, reyes_sample_cl_source, "reyes_sample.cl");

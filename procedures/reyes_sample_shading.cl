@@ -71,12 +71,30 @@ REYES_INLINE uint16 reyes_pack_normal16(float16 x, float16 y, float16 z)
 REYES_DEFINE_UNPACK_NORMAL(reyes_unpack_normal, float, uint, convert_float)
 REYES_DEFINE_UNPACK_NORMAL(reyes_unpack_normal16, float16, uint16, convert_float16)
 
+/* Whether a vertex faces the eye: its normal against the ray through
+ * its pixel point (any length). */
+#define REYES_DEFINE_FACES_EYE(name, F, I)                                     \
+    REYES_INLINE I name(__global const struct reyes_params *p, F nx, F ny, F nz, F sx, F sy) \
+    {                                                                          \
+        F vx = p->ray_origin[0] + sx * p->ray_dx[0] + sy * p->ray_dy[0];       \
+        F vy = p->ray_origin[1] + sx * p->ray_dx[1] + sy * p->ray_dy[1];       \
+        F vz = p->ray_origin[2] + sx * p->ray_dx[2] + sy * p->ray_dy[2];       \
+        return nx * vx + ny * vy + nz * vz <= 0.0f;                            \
+    }
+REYES_DEFINE_FACES_EYE(reyes_faces_eye, float, int)
+REYES_DEFINE_FACES_EYE(reyes_faces_eye16, float16, int16)
+
 /* The colour of base colour `base` lit at a sample at pixel point
  * (sx, sy) whose interpolated normal is (nx, ny, nz) (any length; a zero
- * one faces the eye): Lambert plus Blinn-Phong, two-sided (the normal
- * turned towards the eye), packed as reyes_light_color_lanes. */
-#define REYES_DEFINE_SAMPLE_LIGHT(name, F, U, power, byte)                     \
-    REYES_INLINE U name(__global const struct reyes_params *p, F nx, F ny, F nz, F sx, F sy, uint base)  \
+ * one faces the eye): Lambert plus Blinn-Phong, two-sided, packed as
+ * reyes_light_color_lanes.  A normal facing away is turned towards the
+ * eye as the look does (negated), except on a micropolygon whose corners
+ * face different ways (`fold`: it spans a silhouette where the surface
+ * turns away, and the sample stands for the front of the fold, whose
+ * normal is nearly across the ray): there only its part along the ray is
+ * turned round, so it keeps its direction across the ray. */
+#define REYES_DEFINE_SAMPLE_LIGHT(name, F, U, I, power, byte)                  \
+    REYES_INLINE U name(__global const struct reyes_params *p, F nx, F ny, F nz, F sx, F sy, I fold, uint base) \
     {                                                                          \
         F vx = -(p->ray_origin[0] + sx * p->ray_dx[0] + sy * p->ray_dy[0]);    \
         F vy = -(p->ray_origin[1] + sx * p->ray_dx[1] + sy * p->ray_dy[1]);    \
@@ -90,11 +108,16 @@ REYES_DEFINE_UNPACK_NORMAL(reyes_unpack_normal16, float16, uint16, convert_float
         nx = select(vx, nx * inv_n, n2 > 0.0f);                                \
         ny = select(vy, ny * inv_n, n2 > 0.0f);                                \
         nz = select(vz, nz * inv_n, n2 > 0.0f);                                \
-        F side = select((F)1.0f, (F)-1.0f, nx * vx + ny * vy + nz * vz < 0.0f); \
+        F along = nx * vx + ny * vy + nz * vz;                                 \
+        F turn = select((F)0.0f, -2.0f * along, (along < 0.0f) & (fold != 0));   \
+        F side = select((F)1.0f, (F)-1.0f, (along < 0.0f) & (fold == 0));      \
+        nx = side * (nx + turn * vx);                                          \
+        ny = side * (ny + turn * vy);                                          \
+        nz = side * (nz + turn * vz);                                          \
         float lx = p->light_dir[0], ly = p->light_dir[1], lz = p->light_dir[2]; \
-        F lambert = fmax(side * (nx * lx + ny * ly + nz * lz), 0.0f);          \
+        F lambert = fmax(nx * lx + ny * ly + nz * lz, 0.0f);                   \
         F hx = lx + vx, hy = ly + vy, hz = lz + vz;                            \
-        F cos_h = side * (nx * hx + ny * hy + nz * hz) * rsqrt(hx * hx + hy * hy + hz * hz); \
+        F cos_h = (nx * hx + ny * hy + nz * hz) * rsqrt(hx * hx + hy * hy + hz * hz); \
         F highlight = select((F)0.0f, power(cos_h, p->shininess), (lambert > 0.0f) & (cos_h > 0.0f)); \
         F diffuse = p->ambient + p->diffuse * lambert;                         \
         F specular = p->specular * highlight;                                  \
@@ -102,6 +125,6 @@ REYES_DEFINE_UNPACK_NORMAL(reyes_unpack_normal16, float16, uint16, convert_float
         return byte(r * diffuse + specular) | (byte(g * diffuse + specular) << 8) \
                | (byte(b * diffuse + specular) << 16) | (U)(255u << 24);      \
     }
-REYES_DEFINE_SAMPLE_LIGHT(reyes_sample_light, float, uint, reyes_power, reyes_channel_byte)
-REYES_DEFINE_SAMPLE_LIGHT(reyes_sample_light8, float8, uint8, reyes_power8, reyes_channel_byte8)
-REYES_DEFINE_SAMPLE_LIGHT(reyes_sample_light16, float16, uint16, reyes_power_lanes, reyes_channel_byte16)
+REYES_DEFINE_SAMPLE_LIGHT(reyes_sample_light, float, uint, int, reyes_power, reyes_channel_byte)
+REYES_DEFINE_SAMPLE_LIGHT(reyes_sample_light8, float8, uint8, int8, reyes_power8, reyes_channel_byte8)
+REYES_DEFINE_SAMPLE_LIGHT(reyes_sample_light16, float16, uint16, int16, reyes_power_lanes, reyes_channel_byte16)

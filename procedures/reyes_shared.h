@@ -115,7 +115,16 @@ struct reyes_stitch {
 #define REYES_COUNT_SPLIT_EDGE 8
 #define REYES_COUNT_SPLIT_INNER 9
 #define REYES_COUNT_SPLIT_NEAR 10
-#define REYES_COUNTERS 12
+/* With reyes_params.area_stats: the micropolygons' total screen area in
+ * units of 2^-10 square pixels (a 64-bit count in words 12 and 13), and
+ * how many fell in each of REYES_AREA_BINS bins by area: bin 0 below
+ * 2^-10 square pixels, then half octaves starting at 2^e and 1.5 * 2^e,
+ * bin 31 from 32 up (reyes_area_bin_lower). */
+#define REYES_COUNT_AREA_SUM 12
+#define REYES_COUNT_AREA_BINS 14
+#define REYES_AREA_BINS 32
+#define REYES_AREA_UNITS 1024.0f
+#define REYES_COUNTERS (REYES_COUNT_AREA_BINS + REYES_AREA_BINS)
 
 /* Subdivision criteria (reyes_params.subdivision). */
 #define REYES_SUBDIVISION_BOUND 0
@@ -247,8 +256,11 @@ struct reyes_params {
      * is ray_origin + x ray_dx + y ray_dy (world space, away from the
      * eye) for the sample at pixel coordinates (x, y). */
     REYES_U32 sample_shading;
-    REYES_U32 pad5;
+    REYES_U32 area_stats;   /* 1: rasterize counts micropolygon areas (REYES_COUNT_AREA_*) */
     float ray_origin[4], ray_dx[4], ray_dy[4];
+    /* Shading-rate counts (reyes_rate.cl): the rounding of length over
+     * the rate's side and the most a piece's chord may stray on screen. */
+    float rate_round, rate_sag, rate_min_piece, rate_turn;
 };
 
 #endif

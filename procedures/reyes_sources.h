@@ -6,6 +6,7 @@ extern const char reyes_shared_h_source[];
 extern const char reyes_common_cl_source[];
 extern const char reyes_bound_cl_source[];
 extern const char reyes_flatness_cl_source[];
+extern const char reyes_rate_cl_source[];
 extern const char reyes_split_u_cl_source[];
 extern const char reyes_split_v_cl_source[];
 extern const char reyes_dice_cl_source[];

@@ -11,35 +11,27 @@
  * functions leave no sample uncovered between them.
  */
 
-/* Grid coordinates (i, j) of vertex k along edge `edge` (k in the edge's
- * own direction: increasing u or v) of a grid of size.x x size.y. */
-int2 reyes_edge_vertex(uint edge, int k, int2 size)
-{
-    switch (edge) {
-    case REYES_EDGE_V0: return (int2)(k, 0);
-    case REYES_EDGE_U1: return (int2)(size.x - 1, k);
-    case REYES_EDGE_V1: return (int2)(k, size.y - 1);
-    default: return (int2)(0, k);
-    }
-}
-
-/* Segments of sub-patch sp's grid along edge `edge`. */
+/* Segments of sub-patch sp's grid along edge `edge`: the edge's own with
+ * a shading rate (reyes_edge_count), else the grid's. */
 int reyes_edge_segments(__global const struct reyes_params *p, const struct reyes_subpatch *sp, uint edge)
 {
-    int2 size = reyes_dice_size(p, sp->dice_size);
+    struct reyes_subpatch edge_sp = reyes_edge_subpatch(p, sp, (int)edge);
+    int2 size = reyes_dice_size(p, edge_sp.dice_size);
     return edge == REYES_EDGE_V0 || edge == REYES_EDGE_V1 ? size.x - 1 : size.y - 1;
 }
 
-/* A shaded vertex of sub-patch sp's grid, evaluated as dice does. */
+/* Shaded vertex k along edge `edge` of sub-patch sp's grid, evaluated as
+ * dice does. */
 struct reyes_vertex reyes_stitch_vertex(perma_ctx *ctx, const struct reyes_subpatch *sp, uint edge,
                                         int k)
 {
     __global const struct reyes_params *p = ctx->buf.params;
     float3 cp[16];
     reyes_load_patch(ctx->buf.patches, sp->patch, cp);
-    int2 ij = reyes_edge_vertex(edge, k, reyes_dice_size(p, sp->dice_size));
+    struct reyes_subpatch edge_sp = reyes_edge_subpatch(p, sp, (int)edge);
+    int2 ij = reyes_edge_vertex(edge, k, reyes_dice_size(p, edge_sp.dice_size));
     struct reyes_displacement d = { p, ctx->buf.displacement_map };
-    return reyes_grid_vertex(&d, cp, sp, ctx->buf.colors[sp->patch], ij.x, ij.y, 1);
+    return reyes_grid_vertex(&d, cp, &edge_sp, ctx->buf.colors[sp->patch], ij.x, ij.y, 1);
 }
 
 /* Where the zipper is on the neighbours' polyline: vertex k of piece

@@ -11,7 +11,7 @@ typedef struct edge_record {
     uint32_t axis, side;
     float line, s0, s1;
     uint32_t leaf, edge;
-    uint32_t vertices; /* along the edge with a shading rate (reyes_subpatch.dice_size), else 0 */
+    uint32_t vertices; /* segments along the edge with a shading rate (its byte of edge_levels), else 0 */
 } edge_record;
 
 /* A base patch boundary glued to another patch's boundary. */
@@ -78,7 +78,8 @@ static edge_record leaf_edge(const struct reyes_subpatch *sp, uint32_t leaf, uin
              : edge == REYES_EDGE_U0 ? sp->u0 : sp->u1;
     r.s0 = along_u ? sp->u0 : sp->v0;
     r.s1 = along_u ? sp->u1 : sp->v1;
-    r.vertices = along_u ? sp->dice_size & 0xffu : (sp->dice_size >> 8) & 0xffu;
+    /* With a shading rate each edge has its own count (reyes_rate.cl). */
+    r.vertices = sp->dice_size ? (sp->edge_levels >> (8 * edge)) & 0xffu : 0u;
     return r;
 }
 

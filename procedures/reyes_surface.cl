@@ -412,6 +412,42 @@ REYES_INLINE void reyes_grid_uv_of(int2 size, float u0, float v0, float u1, floa
     *v = v0 * (1.0f - tv) + v1 * tv;
 }
 
+/* With a shading rate: the segments bound chose for edge `edge`
+ * (REYES_EDGE_*) of sp (reyes_rate.cl), a byte of edge_levels. */
+REYES_INLINE int reyes_edge_count(const struct reyes_subpatch *sp, int edge)
+{
+    return (int)((sp->edge_levels >> (8 * edge)) & 0xffu);
+}
+
+/* Grid coordinates (i, j) of vertex k along edge `edge` (k in the edge's
+ * own direction: increasing u or v) of a grid of size.x x size.y. */
+REYES_INLINE int2 reyes_edge_vertex(uint edge, int k, int2 size)
+{
+    switch (edge) {
+    case REYES_EDGE_V0: return (int2)(k, 0);
+    case REYES_EDGE_U1: return (int2)(size.x - 1, k);
+    case REYES_EDGE_V1: return (int2)(k, size.y - 1);
+    default: return (int2)(0, k);
+    }
+}
+
+/* sp with the grid size whose vertices along edge `edge` are the edge's
+ * own (reyes_edge_count + 1 of them with a shading rate; the grid's
+ * without one), for reyes_grid_vertex and reyes_edge_vertex. */
+REYES_INLINE struct reyes_subpatch reyes_edge_subpatch(__global const struct reyes_params *p,
+                                                      const struct reyes_subpatch *sp, int edge)
+{
+    struct reyes_subpatch out = *sp;
+    if (sp->dice_size == 0u || p->shading_rate <= 0.0f)
+        return out;
+    uint c = (uint)reyes_edge_count(sp, edge) + 1u;
+    if (edge == REYES_EDGE_V0 || edge == REYES_EDGE_V1)
+        out.dice_size = (sp->dice_size & ~0xffu) | c;
+    else
+        out.dice_size = (sp->dice_size & ~0xff00u) | (c << 8);
+    return out;
+}
+
 REYES_INLINE float2 reyes_grid_uv(__global const struct reyes_params *p, const struct reyes_subpatch *sp, int i,
                                   int j)
 {

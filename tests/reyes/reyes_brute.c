@@ -373,7 +373,9 @@ static int near_edge(const reyes_brute_image *ref, unsigned x, unsigned y, float
             }
         }
     *farthest = empty ? INFINITY : hi;
-    return (covered && empty) || (covered && hi > lo * 1.02f) || sides == 3 || seam;
+    if ((covered && empty) || (covered && hi > lo * 1.02f) || sides == 3)
+        return 2;
+    return seam;
 }
 
 void reyes_brute_edge_map(const reyes_brute_image *ref, uint8_t *map)

@@ -78,7 +78,8 @@ typedef struct reyes_brute_comparison {
 reyes_status reyes_brute_compare(const reyes_image *image, const reyes_brute_image *reference,
                                  reyes_brute_comparison *out, reyes_error *error);
 
-/* Per pixel: 1 near an edge (as the comparison decides it), else 0. */
+/* Per pixel: 2 near a silhouette, fold, rim or one surface in front of
+ * another, 1 near a seam between patches only, else 0 (interior). */
 void reyes_brute_edge_map(const reyes_brute_image *reference, uint8_t *map);
 
 /* One line of the comparison's numbers (for the test logs and docs). */

@@ -63,9 +63,9 @@ static int load(const char *name, reyes_scene *scene, reyes_error *error)
 static void print_line(const char *model, unsigned view, const char *config, const reyes_quality_result *r)
 {
     printf("%-14s view %u %-8s | mp/px %6.2f (%zu px) | area mean %.3f p10 %.3f p50 %.3f p90 %.3f p99 %.3f | "
-           "see-through %3zu holes %3zu | FLIP %.5f (edges %.5f) | mean err %.3f >32 %zu\n",
+           "see-through %3zu holes %3zu | FLIP %.5f (silhouettes %.5f seams %.5f) | mean err %.3f >32 %zu\n",
            model, view, config, r->micropolygons_per_pixel, r->covered_pixels, r->area_mean, r->area_percentile[0],
-           r->area_percentile[1], r->area_percentile[2], r->area_percentile[3], r->see_through, r->holes, r->flip, r->flip_edges,
+           r->area_percentile[1], r->area_percentile[2], r->area_percentile[3], r->see_through, r->holes, r->flip, r->flip_edges, r->flip_seams,
            r->colour.mean_error, r->colour.pixels_over_32);
     fflush(stdout);
 }

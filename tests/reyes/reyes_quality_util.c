@@ -122,10 +122,27 @@ reyes_status reyes_quality_colour(reyes_renderer *renderer, const reyes_scene *s
                                  : -1.0;
         if (out->flip >= 0.0) {
             reyes_brute_edge_map(&reference->many, edges);
-            double sum = 0.0;
-            for (size_t k = 0; k < n; ++k)
-                sum += edges[k] ? map[k] : 0.0f;
+            double sum = 0.0, seams = 0.0;
+            for (size_t k = 0; k < n; ++k) {
+                sum += edges[k] == 2 ? map[k] : 0.0f;
+                seams += edges[k] == 1 ? map[k] : 0.0f;
+            }
             out->flip_edges = sum / (double)n;
+            out->flip_seams = seams / (double)n;
+            if (getenv("REYES_QUALITY_TOP")) {
+                for (int t = 0; t < atoi(getenv("REYES_QUALITY_TOP")); ++t) {
+                    size_t best = 0;
+                    int only = getenv("REYES_QUALITY_CLASS") ? atoi(getenv("REYES_QUALITY_CLASS")) : -1;
+                    for (size_t k = 1; k < n; ++k)
+                        if (map[k] > map[best] && (only < 0 || edges[k] == only))
+                            best = k;
+                    printf("  top %zu,%zu class %u flip %.3f ref %u,%u,%u render %u,%u,%u\n", best % image.width,
+                           best / image.width, edges[best], map[best], reference->many.rgb[3 * best],
+                           reference->many.rgb[3 * best + 1], reference->many.rgb[3 * best + 2], image.rgb[3 * best],
+                           image.rgb[3 * best + 1], image.rgb[3 * best + 2]);
+                    map[best] = -1.0f;
+                }
+            }
         }
         free(map);
         free(edges);

@@ -37,7 +37,7 @@ typedef struct reyes_quality_result {
     /* At the options' samples per pixel. */
     reyes_brute_comparison colour;
     double flip;                     /* mean FLIP against the reference's pixels */
-    double flip_edges;               /* its part from pixels near edges (reyes_brute_edge_map) */
+    double flip_edges, flip_seams;   /* its part from pixels near silhouettes and near seams only */
     double micropolygons_per_pixel;  /* micropolygons / pixels with any covered sample */
     double area_mean;                /* square pixels (stats) */
     double area_percentile[4];       /* 10th, 50th, 90th and 99th */
