@@ -57,17 +57,17 @@ struct reyes_vertex_lanes {
 #endif
 };
 
-/* The vertices at parameters u on the row curves rc (one v per lane),
+/* The vertices at parameters (u, v) on the row curves rc (made at v),
  * shaded with base colour `base` when `shade` (else colour 0; with
- * sample shading their packed normals), in SIMD lanes.  The normal is
- * not fixed up at poles here: the returned mask has the lanes whose
- * normal vanished (with sample shading: collapsed, reyes_collapsed_lanes),
- * for reyes_grid_vertex_color; otherwise each vertex is
- * reyes_grid_vertex's, bit for bit. */
+ * sample shading their parameters in sub-patch sp, REYES_SHADE_SURFACE),
+ * in SIMD lanes.  The normal is not fixed up at poles here: the returned
+ * mask has the lanes whose normal vanished, for reyes_grid_vertex_color;
+ * otherwise each vertex is reyes_grid_vertex's, bit for bit. */
 REYES_INLINE reyes_lane_mask reyes_dice_vertex_lanes(__global const struct reyes_params *p,
                                                      const struct reyes_row_curves *rc,
-                                                     const struct reyes_lighting *light, reyes_lanes u, uint base,
-                                                     int shade, struct reyes_vertex_lanes *out)
+                                                     const struct reyes_lighting *light, reyes_lanes u, reyes_lanes v,
+                                                     const struct reyes_subpatch *sp, uint base, int shade,
+                                                     struct reyes_vertex_lanes *out)
 {
     reyes_lanes x[3], normal[3];
     reyes_row_point_lanes(rc, u, x);
@@ -93,7 +93,7 @@ REYES_INLINE reyes_lane_mask reyes_dice_vertex_lanes(__global const struct reyes
 #endif
     out->rgba = (reyes_lane_uint)0u;
     if (shade && p->sample_shading) {
-        out->rgba = reyes_pack_normal16(normal[0], normal[1], normal[2]);
+        out->rgba = reyes_pack_surface16((u - sp->u0) / (sp->u1 - sp->u0), (v - sp->v0) / (sp->v1 - sp->v0));
     } else if (shade) {
         reyes_lanes diffuse, specular;
         reyes_light_lanes(light, x, normal, &diffuse, &specular);
@@ -111,27 +111,29 @@ REYES_INLINE reyes_lane_mask reyes_dice_vertex_lanes(__global const struct reyes
  * padding. */
 REYES_INLINE reyes_lane_mask reyes_dice_lanes(__global const struct reyes_params *p,
                                               const struct reyes_row_curves *rc,
-                                              const struct reyes_lighting *light, float u0, float u1, uint base,
-                                              __local struct reyes_grid *g, int j, int i0, int n, int shade)
+                                              const struct reyes_lighting *light, const struct reyes_subpatch *sp,
+                                              float v, uint base, __local struct reyes_grid *g, int j, int i0, int n,
+                                              int shade)
 {
+    float u0 = sp->u0, u1 = sp->u1;
     const reyes_lane_mask lane = (reyes_lane_mask)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
     reyes_lane_mask i = i0 + lane;
     float last = (float)(n - 1);
     reyes_lanes tu = reyes_convert_lanes(i) / last;
     /* mix(a, b, 1) == b exactly, so shared patch edges get equal u. */
     reyes_lanes u = u0 * (1.0f - tu) + u1 * tu;
-    struct reyes_vertex_lanes v;
-    reyes_lane_mask degenerate = reyes_dice_vertex_lanes(p, rc, light, u, base, shade, &v);
+    struct reyes_vertex_lanes out;
+    reyes_lane_mask degenerate = reyes_dice_vertex_lanes(p, rc, light, u, (reyes_lanes)v, sp, base, shade, &out);
     int first = j * n + i0;
-    reyes_vstore_lanes(v.x, 0, g->x + first);
-    reyes_vstore_lanes(v.y, 0, g->y + first);
-    reyes_vstore_lanes(v.z, 0, g->z + first);
+    reyes_vstore_lanes(out.x, 0, g->x + first);
+    reyes_vstore_lanes(out.y, 0, g->y + first);
+    reyes_vstore_lanes(out.z, 0, g->z + first);
 #ifdef REYES_VERTEX_MOTION
-    reyes_vstore_lanes(v.motion[0], 0, g->mx + first);
-    reyes_vstore_lanes(v.motion[1], 0, g->my + first);
-    reyes_vstore_lanes(v.motion[2], 0, g->mw + first);
+    reyes_vstore_lanes(out.motion[0], 0, g->mx + first);
+    reyes_vstore_lanes(out.motion[1], 0, g->my + first);
+    reyes_vstore_lanes(out.motion[2], 0, g->mw + first);
 #endif
-    reyes_vstore_lanes(v.rgba, 0, g->rgba + first);
+    reyes_vstore_lanes(out.rgba, 0, g->rgba + first);
     return degenerate;
 }
 
@@ -256,10 +258,12 @@ void reyes_dice_edges(perma_ctx *ctx, __local const struct reyes_subpatch *item,
             reyes_row_curves_lanes(h, along_u ? (reyes_lanes)fixed : s, &rc);
             struct reyes_vertex_lanes v;
             reyes_lane_mask degenerate = reyes_dice_vertex_lanes(p, &rc, light, along_u ? s : (reyes_lanes)fixed,
-                                                                 base, shade, &v);
+                                                                 along_u ? (reyes_lanes)fixed : s, &sp, base, shade,
+                                                                 &v);
             struct reyes_subpatch edge_sp = reyes_edge_subpatch(p, &sp, edge);
             float3 cp[16];
-            if (shade && any(degenerate))
+            int fix = shade && !p->sample_shading && any(degenerate);
+            if (fix)
                 reyes_load_patch(ctx->buf.patches, sp.patch, cp);
             for (int k = 0; k < REYES_LANES && i0 + k <= n; ++k) {
                 int slot = reyes_edge_slot(edge, i0 + k, columns, rows);
@@ -272,7 +276,7 @@ void reyes_dice_edges(perma_ctx *ctx, __local const struct reyes_subpatch *item,
                 g->my[slot] = ((float *)&v.motion[1])[k];
                 g->mw[slot] = ((float *)&v.motion[2])[k];
 #endif
-                if (shade && ((int *)&degenerate)[k]) {
+                if (fix && ((int *)&degenerate)[k]) {
                     int2 ij = reyes_edge_vertex((uint)edge, reyes_edge_step(i0 + k, c, n),
                                                 reyes_dice_size(p, edge_sp.dice_size));
                     g->rgba[slot] = reyes_grid_vertex_color(p, cp, &edge_sp, base, ij.x, ij.y);
@@ -280,6 +284,21 @@ void reyes_dice_edges(perma_ctx *ctx, __local const struct reyes_subpatch *item,
             }
         }
     }
+}
+
+/* The grid's header for rasterize's shading: vertex colours, or with
+ * sample shading `mode` (REYES_SHADE_*), the base colour and the
+ * sub-patch. */
+REYES_INLINE void reyes_grid_shading(__global const struct reyes_params *p, __local struct reyes_grid *g,
+                                     const struct reyes_subpatch *sp, uint base, uint mode)
+{
+    g->shading = p->sample_shading ? mode : REYES_SHADE_VERTICES;
+    g->base = base;
+    g->patch = sp->patch;
+    g->u0 = sp->u0;
+    g->v0 = sp->v0;
+    g->u1 = sp->u1;
+    g->v1 = sp->v1;
 }
 
 /* The vertices of an undisplaced grid, row by row (the row's curves made
@@ -293,8 +312,9 @@ void reyes_dice_plain(perma_ctx *ctx, __local const struct reyes_subpatch *item,
     reyes_load_hull(ctx->buf.patches, item->patch, &h);
     struct reyes_lighting light = reyes_lighting_of(p);
     uint base = reyes_dice_base_color(p, ctx->buf.colors[item->patch], n, rows);
-    g->base = base;
-    float u0 = item->u0, v0 = item->v0, u1 = item->u1, v1 = item->v1;
+    struct reyes_subpatch item_sp = *item;
+    reyes_grid_shading(p, g, &item_sp, base, REYES_SHADE_SURFACE);
+    float v0 = item->v0, v1 = item->v1;
     float last = (float)(rows - 1);
     for (int j = 0; j < rows; ++j) {
         float tv = (float)j / last;
@@ -302,8 +322,8 @@ void reyes_dice_plain(perma_ctx *ctx, __local const struct reyes_subpatch *item,
         struct reyes_row_curves rc;
         reyes_row_curves_lanes(&h, (reyes_lanes)v, &rc);
         for (int i0 = 0; i0 < n; i0 += REYES_LANES) {
-            reyes_lane_mask degenerate = reyes_dice_lanes(p, &rc, &light, u0, u1, base, g, j, i0, n, shade);
-            if (shade && any(degenerate)) {
+            reyes_lane_mask degenerate = reyes_dice_lanes(p, &rc, &light, &item_sp, v, base, g, j, i0, n, shade);
+            if (shade && !p->sample_shading && any(degenerate)) {
                 struct reyes_subpatch sp = *item;
                 float3 cp[16];
                 reyes_load_patch(ctx->buf.patches, sp.patch, cp);
@@ -328,7 +348,7 @@ void reyes_dice_displaced(perma_ctx *ctx, __local const struct reyes_subpatch *i
     float3 cp[16];
     reyes_load_patch(ctx->buf.patches, sp.patch, cp);
     uint base = reyes_dice_base_color(p, ctx->buf.colors[sp.patch], n, rows);
-    s->grid.base = base;
+    reyes_grid_shading(p, &s->grid, &sp, base, REYES_SHADE_NORMALS);
     for (int v = 0; v < n * rows; ++v) {
         struct reyes_vertex vertex = reyes_grid_vertex(&d, cp, &sp, base, v % n, v / n, shade);
         reyes_grid_store(p, &s->grid, v, &vertex);
@@ -379,7 +399,8 @@ void reyes_dice(perma_ctx *ctx, __local const struct reyes_subpatch *item)
     s->strips.columns = (uint)n;
     s->strips.rows = 8u;
     s->strips.counted = 0u; /* fillers, counted here */
-    s->strips.base = s->grid.base;
+    struct reyes_subpatch strip_sp = *item;
+    reyes_grid_shading(p, &s->strips, &strip_sp, s->grid.base, REYES_SHADE_VERTICES);
     struct reyes_subpatch sp = *item;
     float3 base[16];
     reyes_load_patch(ctx->buf.patches, sp.patch, base);

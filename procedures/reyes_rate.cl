@@ -10,20 +10,19 @@
  */
 
 /* Micropolygons along a cubic curve with control points b[0..3] (world)
- * projecting to pixels s[0..3] (clip points clip[0..3]): its control
- * polygon's length over the rate's side sqrt(R) (rounded by rate_round:
- * 0.5 rounds to nearest), and where the curve bends, enough that each
- * piece's chord stays within rate_sag pixels of it on screen and that
- * its tangent turns by at most rate_turn radians per piece, though no
- * piece shorter than rate_min_piece sides in space (pixels at the
- * curve's nearest depth, so that distant patches are not diced finer
- * than they show while a curve seen end-on at a silhouette still is).
- * A cubic strays from its chord by at most 3/4 of its inner control
- * points' distance from it, which falls with the square of the number of
- * equal pieces; the distance counts both the part across the chord and
- * how far past its ends the curve reaches (where the surface folds away
- * from the eye, its rows double back on screen).  Its tangent turns by
- * at most its control polygon's turns.  At least 1. */
+ * projecting to pixels s[0..3] (clip points clip[0..3]): its length on
+ * screen over the rate's side sqrt(R), rounded to nearest, and where it
+ * bends, enough that each piece's chord stays within rate_sag pixels of
+ * it on screen, though no piece shorter than rate_min_piece sides in
+ * space (pixels at the curve's nearest depth: distant patches are not
+ * diced finer than they show, while a curve seen end-on at a silhouette
+ * still is).  The length lies between the chord's and the control
+ * polygon's (their mean is within a few percent for a cubic's arcs).  A
+ * cubic strays from its chord by at most 3/4 of its inner control points'
+ * distance from it, which falls with the square of the number of equal
+ * pieces; that distance counts both the part across the chord and how far
+ * past its ends the curve reaches (where the surface folds away from the
+ * eye its lines double back on screen).  At least 1. */
 float reyes_rate_curve(__global const struct reyes_params *p, const float3 b[4], const float4 clip[4],
                        const float2 s[4])
 {
@@ -41,49 +40,46 @@ float reyes_rate_curve(__global const struct reyes_params *p, const float3 b[4],
             stray = fmax(stray, length(inner));
         }
     }
-    float3 leg[3] = {b[1] - b[0], b[2] - b[1], b[3] - b[2]};
-    float turn = 0.0f, space = 0.0f;
-    for (int k = 0; k < 3; ++k) {
-        space += length(leg[k]);
-        if (k > 0) {
-            float lengths = length(leg[k - 1]) * length(leg[k]);
-            if (lengths > 0.0f)
-                turn += acos(clamp(dot(leg[k - 1], leg[k]) / lengths, -1.0f, 1.0f));
-        }
-    }
+    float space = distance(b[0], b[1]) + distance(b[1], b[2]) + distance(b[2], b[3]);
     float side = rsqrt(p->shading_rate);
-    float by_rate = floor(polygon * side + p->rate_round);
-    float by_shape = fmax(ceil(sqrt(0.75f * stray / p->rate_sag)), ceil(turn / p->rate_turn));
+    float by_rate = floor(0.5f * (polygon + sqrt(chord2)) * side + 0.5f);
+    float by_stray = ceil(sqrt(0.75f * stray / p->rate_sag));
     float finest = ceil(space * reyes_pixels_per_unit(p, clip, 4) * side / p->rate_min_piece);
-    return fmax(fmax(by_rate, fmin(by_shape, finest)), 1.0f);
+    return fmax(fmax(by_rate, fmin(by_stray, finest)), 1.0f);
 }
 
-/* Micropolygons a projected sub-patch needs along u and v: the most any
- * of its control net's rows (along u) or columns (along v) asks for (the
- * rows and columns hold the surface's lines between them). */
+/* Micropolygons a projected sub-patch needs along u and v: the most that
+ * three of its lines along u ask for (its two edges and the middle line
+ * v = 1/2, whose control points are the rows' blend 1/8, 3/8, 3/8, 1/8:
+ * lines of the surface, not the control net's inner rows, which bulge
+ * out past it), and likewise along v. */
 float2 reyes_rate_segments(__global const struct reyes_params *p, const float3 cp[16], const float4 clip[16],
                            const float2 s[16])
 {
-    float along_u = 0.0f, along_v = 0.0f;
-    for (int line = 0; line < 4; ++line) {
-        for (int along = 0; along < 2; ++along) {
+    float need[2] = {0.0f, 0.0f};
+    for (int along = 0; along < 2; ++along) {
+        for (int line = 0; line < 3; ++line) {
             float3 b[4];
             float4 c[4];
             float2 t[4];
             for (int k = 0; k < 4; ++k) {
-                int i = along ? k * 4 + line : line * 4 + k;
-                b[k] = cp[i];
-                c[k] = clip[i];
-                t[k] = s[i];
+                if (line < 2) {
+                    int i = along ? k * 4 + 3 * line : 3 * line * 4 + k;
+                    b[k] = cp[i];
+                    c[k] = clip[i];
+                    t[k] = s[i];
+                } else {
+                    int stride = along ? 1 : 4, first = along ? k * 4 : k;
+                    b[k] = (cp[first] + 3.0f * (cp[first + stride] + cp[first + 2 * stride]) + cp[first + 3 * stride])
+                           * 0.125f;
+                    c[k] = reyes_to_clip(p, b[k]);
+                    t[k] = reyes_to_screen(p, c[k]);
+                }
             }
-            float need = reyes_rate_curve(p, b, c, t);
-            if (along)
-                along_v = fmax(along_v, need);
-            else
-                along_u = fmax(along_u, need);
+            need[along] = fmax(need[along], reyes_rate_curve(p, b, c, t));
         }
     }
-    return (float2)(along_u, along_v);
+    return (float2)(need[0], need[1]);
 }
 
 /* Segments along edge `edge` (REYES_EDGE_*) of sub-patch sp, from the

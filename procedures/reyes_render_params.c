@@ -2,7 +2,6 @@
  * matrix, the lighting, the subdivision and dicing settings, and motion
  * blur and depth of field. */
 #include <math.h>
-#include <stdlib.h>
 #include <string.h>
 
 #include "reyes_look.h"
@@ -78,11 +77,12 @@ static void set_blur(const reyes_camera *camera, const reyes_options *o, struct 
         p->focus = 1.0f;
 }
 
-/* Shading-rate counts (reyes_rate.cl): the length over the rate's side
- * rounded to nearest, and chords within a tenth of a pixel of the
- * surface on screen. */
-#define REYES_RATE_ROUND 0.5f
-#define REYES_RATE_SAG 0.1f
+/* Shading-rate counts (reyes_rate.cl): chords within a fiftieth of a
+ * pixel of the surface on screen where it bends, in pieces no shorter
+ * than half the rate's side in space (docs/reyes.md: what these buy and
+ * cost). */
+#define REYES_RATE_SAG 0.02f
+#define REYES_RATE_MIN_PIECE 0.5f
 
 /* Sample shading: the world direction of the ray through pixel point
  * (x, y), away from the eye, is ray_origin + x ray_dx + y ray_dy.  With
@@ -152,18 +152,9 @@ reyes_status render_fill_params(const reyes_scene *scene, const reyes_camera *ca
     p->stages = o->stages;
     set_blur(camera, o, p);
     p->sample_shading = o->shading_rate > 0.0f && !p->blur;
+    p->area_stats = o->area_stats && !p->blur && o->stages == REYES_STAGES_ALL;
     set_rays(p);
-    p->rate_round = REYES_RATE_ROUND;
     p->rate_sag = REYES_RATE_SAG;
-    if (getenv("REYES_RATE_ROUND"))
-        p->rate_round = (float)atof(getenv("REYES_RATE_ROUND"));
-    p->rate_min_piece = 0.5f;
-    p->rate_turn = 100.0f;
-    if (getenv("REYES_RATE_TURN"))
-        p->rate_turn = (float)atof(getenv("REYES_RATE_TURN"));
-    if (getenv("REYES_RATE_MIN_PIECE"))
-        p->rate_min_piece = (float)atof(getenv("REYES_RATE_MIN_PIECE"));
-    if (getenv("REYES_RATE_SAG"))
-        p->rate_sag = (float)atof(getenv("REYES_RATE_SAG"));
+    p->rate_min_piece = REYES_RATE_MIN_PIECE;
     return REYES_OK;
 }

@@ -177,16 +177,13 @@ REYES_INLINE ulong reyes_triangle_sample_lit(__global const struct reyes_params 
     const int corner[3] = {t->a, t->b, t->c};
     const float weight[3] = {ba, bb, bc};
     float n[3] = {0.0f, 0.0f, 0.0f};
-    int faces[3];
     for (int i = 0; i < 3; ++i) {
         float v[3];
         reyes_unpack_normal(q->rgba[corner[i]], &v[0], &v[1], &v[2]);
-        faces[i] = reyes_faces_eye(p, v[0], v[1], v[2], q->x[corner[i]], q->y[corner[i]]);
         for (int k = 0; k < 3; ++k)
             n[k] += weight[i] * v[k];
     }
-    int fold = faces[0] != faces[1] || faces[0] != faces[2];
-    uint rgba = reyes_sample_light(p, n[0], n[1], n[2], x, y, fold, base);
+    uint rgba = reyes_sample_light(p, n[0], n[1], n[2], x, y, base);
     return ((ulong)as_uint(depth) << 32) | (ulong)rgba;
 }
 

@@ -92,7 +92,15 @@ struct reyes_stitch {
  * grid x grid lattice or the four wedge strips of 2 x grid vertices,
  * rounded up to whole vectors of REYES_GRID_LANES, plus one vector of
  * padding that the SIMD code may read past the last vertex. */
-#define REYES_GRID_HEADER_WORDS 5u
+#define REYES_GRID_HEADER_WORDS 11u
+/* What a grid's rgba hold (reyes_grid.shading): the vertices' colours;
+ * with sample shading their packed normals (displaced grids, whose
+ * normals are central differences); or their packed parameters in the
+ * grid's sub-patch and which way they face, each sample being lit with
+ * the patch's own normal at its parameters (reyes_sample_shading.cl). */
+#define REYES_SHADE_VERTICES 0u
+#define REYES_SHADE_NORMALS 1u
+#define REYES_SHADE_SURFACE 2u
 #define REYES_GRID_LANES 16u
 #define REYES_GRID_CAPACITY(n) ((n) >= 8u ? (n) * (n) : 8u * (n))
 #define REYES_GRID_ARRAY(n) \
@@ -258,9 +266,11 @@ struct reyes_params {
     REYES_U32 sample_shading;
     REYES_U32 area_stats;   /* 1: rasterize counts micropolygon areas (REYES_COUNT_AREA_*) */
     float ray_origin[4], ray_dx[4], ray_dy[4];
-    /* Shading-rate counts (reyes_rate.cl): the rounding of length over
-     * the rate's side and the most a piece's chord may stray on screen. */
-    float rate_round, rate_sag, rate_min_piece, rate_turn;
+    /* Shading-rate counts (reyes_rate.cl): how far a piece's chord may
+     * stray from its curve on screen (pixels), and the shortest piece
+     * that bending asks for, in sides of the rate in space. */
+    float rate_sag, rate_min_piece;
+    REYES_U32 pad6[2];
 };
 
 #endif

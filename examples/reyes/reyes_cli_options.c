@@ -107,6 +107,7 @@ static int on_stats(reyes_cli *cli, const char *value, char *message, size_t siz
     (void)message;
     (void)size;
     cli->stats_path = value;
+    cli->render.area_stats = 1; /* the JSON reports the micropolygons' areas */
     return REYES_CLI_OK;
 }
 

@@ -239,6 +239,24 @@ void reyes_brute_free(reyes_brute_image *image)
     memset(image, 0, sizeof *image);
 }
 
+/* The converged image's sample positions: a side x side regular lattice
+ * per pixel (0: the renderer's). */
+static unsigned regular_side;
+
+reyes_status reyes_brute_render_truth(const reyes_scene *scene, const reyes_camera *camera,
+                                      const reyes_options *options, unsigned side, reyes_brute_image *out,
+                                      reyes_error *error)
+{
+    if (side < 1 || side > 8)
+        return reyes_fail(error, REYES_ERR_ARGUMENT, "brute-force lattice side %u is not in 1..8", side);
+    reyes_options o = *options;
+    o.spp = side * side;
+    regular_side = side;
+    reyes_status status = reyes_brute_render(scene, camera, &o, 0, out, error);
+    regular_side = 0;
+    return status;
+}
+
 reyes_status reyes_brute_render(const reyes_scene *scene, const reyes_camera *camera,
                                 const reyes_options *options, unsigned tessellation,
                                 reyes_brute_image *out, reyes_error *error)
@@ -279,7 +297,12 @@ reyes_status reyes_brute_render(const reyes_scene *scene, const reyes_camera *ca
         for (unsigned px = 0; px < width; ++px)
             for (unsigned s = 0; s < spp; ++s) {
                 size_t index = ((size_t)py * width + px) * spp + s;
-                sample_position(px, py, s, spp, &positions[2 * index], &positions[2 * index + 1]);
+                if (regular_side) {
+                    positions[2 * index] = (float)px + ((float)(s % regular_side) + 0.5f) / (float)regular_side;
+                    positions[2 * index + 1] = (float)py + ((float)(s / regular_side) + 0.5f) / (float)regular_side;
+                } else {
+                    sample_position(px, py, s, spp, &positions[2 * index], &positions[2 * index + 1]);
+                }
                 hits[index] = (hit){ .depth = INFINITY, .patch = UINT32_MAX };
             }
     raster r = { width, height, spp, positions, hits };

@@ -41,6 +41,14 @@ reyes_status reyes_brute_render(const reyes_scene *scene, const reyes_camera *ca
                                 reyes_brute_image *out, reyes_error *error);
 void reyes_brute_free(reyes_brute_image *image);
 
+/* The converged image of the view, adaptively tessellated (tessellation
+ * 0) and sampled on a side x side regular lattice per pixel (1..8)
+ * instead of the renderer's sample positions: what a render's pixels
+ * approximate, sampling noise and all. */
+reyes_status reyes_brute_render_truth(const reyes_scene *scene, const reyes_camera *camera,
+                                      const reyes_options *options, unsigned side, reyes_brute_image *out,
+                                      reyes_error *error);
+
 /* A render held against the reference.  A sample or pixel is *near an
  * edge* when the reference's 3x3 pixels around it have both covered and
  * empty samples, depths more than 2 % apart (a silhouette, one surface in

@@ -10,7 +10,8 @@
  *
  *   reyes-quality [--size N] [--spp N] [--rate R] [--crack-fix NAME] [--no-grid] [--views LIST] MODEL...
  *
- * MODEL: a .bpt file, `builtin` or `subdivision[:LEVELS]`; LIST: views
+ * MODEL: a .bpt file, `builtin` or `subdivision[:LEVELS][:loose]` (loose:
+ * boundaries that agree only to rounding); LIST: views
  * `azimuth,elevation,distance` separated by `/` (degrees about the
  * framed camera's target, distance in framed distances).
  */
@@ -54,8 +55,10 @@ static int load(const char *name, reyes_scene *scene, reyes_error *error)
     if (strcmp(name, "builtin") == 0)
         return reyes_scene_add_builtin(scene, error) == REYES_OK;
     if (strncmp(name, "subdivision", 11) == 0) {
+        /* subdivision[:LEVELS][:loose] */
         unsigned levels = name[11] == ':' ? (unsigned)atoi(name + 12) : 4u;
-        return reyes_subdivision_model_add(scene, levels, reyes_model_color(0), error) == REYES_OK;
+        int glued = strstr(name, "loose") == NULL;
+        return reyes_subdivision_model_add(scene, levels, glued, reyes_model_color(0), error) == REYES_OK;
     }
     return reyes_scene_load_bpt(scene, name, reyes_model_color(0), error) == REYES_OK;
 }
@@ -63,9 +66,9 @@ static int load(const char *name, reyes_scene *scene, reyes_error *error)
 static void print_line(const char *model, unsigned view, const char *config, const reyes_quality_result *r)
 {
     printf("%-14s view %u %-8s | mp/px %6.2f (%zu px) | area mean %.3f p10 %.3f p50 %.3f p90 %.3f p99 %.3f | "
-           "see-through %3zu holes %3zu | FLIP %.5f (silhouettes %.5f seams %.5f) | mean err %.3f >32 %zu\n",
+           "see-through %3zu holes %3zu | extra %zu missing %zu other %zu | FLIP %.5f (silhouettes %.5f seams %.5f) truth %.5f | mean err %.3f >32 %zu\n",
            model, view, config, r->micropolygons_per_pixel, r->covered_pixels, r->area_mean, r->area_percentile[0],
-           r->area_percentile[1], r->area_percentile[2], r->area_percentile[3], r->see_through, r->holes, r->flip, r->flip_edges, r->flip_seams,
+           r->area_percentile[1], r->area_percentile[2], r->area_percentile[3], r->see_through, r->holes, r->colour.extra, r->colour.missing, r->colour.other_surface, r->flip, r->flip_silhouettes, r->flip_seams, r->flip_truth,
            r->colour.mean_error, r->colour.pixels_over_32);
     fflush(stdout);
 }
@@ -132,10 +135,17 @@ int main(int argc, char **argv)
         for (unsigned v = 0; v < s.view_count; ++v) {
             reyes_camera camera = reyes_quality_orbit(&framed, s.views[v]);
             reyes_quality_reference reference;
-            if (reyes_quality_reference_make(&scene, &camera, &base, s.cracks_only, &reference, &error) != REYES_OK) {
+            unsigned what = s.cracks_only ? REYES_QUALITY_CRACKS
+                                           : REYES_QUALITY_CRACKS | REYES_QUALITY_SAMPLES | REYES_QUALITY_TRUTH;
+            if (reyes_quality_reference_make(&scene, &camera, &base, what, &reference, &error) != REYES_OK) {
                 fprintf(stderr, "reyes-quality: %s\n", error.message);
                 return 1;
             }
+            if (!s.cracks_only)
+                printf("%-14s view %u sampling floor: FLIP of the reference at the render's samples against the "
+                       "converged image %.5f\n", name, v,
+                       reyes_flip_mean(reference.truth.rgb, reference.many.rgb, s.size, s.size, REYES_FLIP_DEFAULT_PPD,
+                                       NULL));
             for (int config = s.grid ? 0 : 1; config < 2; ++config) {
                 reyes_options o = base;
                 o.shading_rate = config == 0 ? 0.0f : s.rate;

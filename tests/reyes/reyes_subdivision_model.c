@@ -170,8 +170,9 @@ static void lumps(mesh *m, double amount, uint32_t seed)
  * (n + 5) for a corner v of valence n with its neighbours m1, m2 and the
  * diagonal d in the face, and edge points the mean of the two interior
  * points next to them.  Each corner and edge point is computed once and
- * shared by the faces around it. */
-static reyes_status add_patches(const mesh *m, reyes_scene *scene, uint32_t rgba, reyes_error *error)
+ * shared by the faces around it, so the patches' boundaries agree bit for
+ * bit when rounded to float, unless not `glued`. */
+static reyes_status add_patches(const mesh *m, reyes_scene *scene, uint32_t rgba, int glued, reyes_error *error)
 {
     size_t ne;
     edge *edges = mesh_edges(m, &ne);
@@ -239,8 +240,15 @@ static reyes_status add_patches(const mesh *m, reyes_scene *scene, uint32_t rgba
         float points[4][4][3];
         for (int r = 0; r < 4; ++r)
             for (int c = 0; c < 4; ++c)
-                for (int k = 0; k < 3; ++k)
-                    points[r][c][k] = (float)cp[r][c][k];
+                for (int k = 0; k < 3; ++k) {
+                    float x = (float)cp[r][c][k];
+                    /* Not glued: this patch rounds its own way, to the
+                     * float on the other side of the exact value in every
+                     * other patch. */
+                    if (!glued && (f & 1u) && (double)x != cp[r][c][k])
+                        x = nextafterf(x, (double)x < cp[r][c][k] ? INFINITY : -INFINITY);
+                    points[r][c][k] = x;
+                }
         status = reyes_scene_add_patch(scene, points, rgba, error);
     }
     free(edges);
@@ -251,7 +259,8 @@ static reyes_status add_patches(const mesh *m, reyes_scene *scene, uint32_t rgba
     return status;
 }
 
-reyes_status reyes_subdivision_model_add(reyes_scene *scene, unsigned levels, uint32_t rgba, reyes_error *error)
+reyes_status reyes_subdivision_model_add(reyes_scene *scene, unsigned levels, int glued, uint32_t rgba,
+                                         reyes_error *error)
 {
     if (levels < 1 || levels > 6)
         return reyes_fail(error, REYES_ERR_ARGUMENT, "subdivision model levels %u is not in 1..6", levels);
@@ -271,7 +280,7 @@ reyes_status reyes_subdivision_model_add(reyes_scene *scene, unsigned levels, ui
             return reyes_fail(error, REYES_ERR_NO_MEMORY, "out of memory subdividing level %u", level + 1);
         m = next;
     }
-    reyes_status status = add_patches(&m, scene, rgba, error);
+    reyes_status status = add_patches(&m, scene, rgba, glued, error);
     mesh_free(&m);
     return status;
 }
