@@ -235,6 +235,7 @@ void reyes_brute_free(reyes_brute_image *image)
     free(image->rgb);
     free(image->coverage);
     free(image->facing);
+    free(image->slant);
     free(image->patch);
     memset(image, 0, sizeof *image);
 }
@@ -281,8 +282,9 @@ reyes_status reyes_brute_render(const reyes_scene *scene, const reyes_camera *ca
     out->rgb = malloc(pixels * 3);
     out->coverage = malloc(pixels);
     out->facing = calloc(samples, 1);
+    out->slant = calloc(samples, sizeof *out->slant);
     out->patch = malloc(samples * sizeof *out->patch);
-    if (!out->facing || !out->patch || !positions || !hits || !grid || !out->depth || !out->rgba || !out->rgb || !out->coverage) {
+    if (!out->facing || !out->slant || !out->patch || !positions || !hits || !grid || !out->depth || !out->rgba || !out->rgb || !out->coverage) {
         free(positions);
         free(hits);
         free(grid);
@@ -342,6 +344,10 @@ reyes_status reyes_brute_render(const reyes_scene *scene, const reyes_camera *ca
             out->rgba[index] = shade(eye, x, n, scene->colors[h->patch]);
             double view[3] = {eye[0] - x[0], eye[1] - x[1], eye[2] - x[2]};
             out->facing[index] = dot3(n, view) >= 0.0 ? 1 : 2;
+            normalize3(view);
+            if (dot3(n, n) > 0.0)
+                normalize3(n);
+            out->slant[index] = (float)fabs(dot3(n, view));
             out->patch[index] = h->patch;
         }
     }
@@ -372,7 +378,7 @@ reyes_status reyes_brute_render(const reyes_scene *scene, const reyes_camera *ca
  * within a hair of it may take either side's colour). */
 static int near_edge(const reyes_brute_image *ref, unsigned x, unsigned y, float *farthest)
 {
-    int covered = 0, empty = 0, sides = 0, seam = 0;
+    int covered = 0, empty = 0, sides = 0, seam = 0, grazing = 0;
     uint32_t patch = UINT32_MAX;
     float lo = INFINITY, hi = 0.0f;
     for (int dy = -1; dy <= 1; ++dy)
@@ -385,6 +391,7 @@ static int near_edge(const reyes_brute_image *ref, unsigned x, unsigned y, float
                 if (depth[s] < INFINITY) {
                     covered = 1;
                     size_t index = (size_t)(depth - ref->depth) + s;
+                    grazing |= ref->slant[index] < REYES_BRUTE_GRAZING;
                     sides |= ref->facing[index];
                     seam |= patch != UINT32_MAX && ref->patch[index] != patch;
                     patch = ref->patch[index];
@@ -395,7 +402,10 @@ static int near_edge(const reyes_brute_image *ref, unsigned x, unsigned y, float
                 }
             }
         }
-    *farthest = empty ? INFINITY : hi;
+    /* Where the front is seen at a grazing angle (a fold, a rim seen
+     * edge-on) a tessellation cuts the contour by its chords' error: not
+     * a crack.  INFINITY: no crack can be told here. */
+    *farthest = empty || grazing ? INFINITY : hi;
     if ((covered && empty) || (covered && hi > lo * 1.02f) || sides == 3)
         return 2;
     return seam;

@@ -22,9 +22,13 @@ typedef struct reyes_brute_image {
     uint8_t *coverage;  /* per pixel: covered samples */
     uint32_t *patch;    /* per sample: the patch seen (UINT32_MAX: none) */
     uint8_t *facing;    /* per sample: 1 the surface's front (its normal towards the eye), 2 its back, 0 empty */
+    float *slant;       /* per sample: |cos| of the angle between the surface's normal and the ray (0: empty) */
 } reyes_brute_image;
 
 #define REYES_BRUTE_MAX_TESSELLATION 128u
+/* The slant below which a surface is seen at a grazing angle (about 84
+ * degrees from facing the eye): the cracks are not counted there. */
+#define REYES_BRUTE_GRAZING 0.1f
 
 /* Render scene through camera at options' width, height, spp and
  * background, tessellating every patch into tessellation x tessellation
@@ -67,9 +71,13 @@ typedef struct reyes_brute_comparison {
     size_t other_surface, interior_other_surface;
     /* Cracks: samples that show a surface more than 1 % farther than
      * any the reference shows in the 3x3 pixels around them (see-through)
-     * or the background where the reference shows none there (holes).
-     * What a tessellation may legitimately see past a silhouette, fold or
-     * rim within a pixel, the reference shows nearby too. */
+     * or the background where the reference shows none there (holes),
+     * where the reference's surface there faces the eye (|cos| of the
+     * angle to the ray at least REYES_BRUTE_GRAZING).  What a tessellation
+     * may legitimately see past a silhouette within a pixel the reference
+     * shows nearby too, and where a fold or a rim is seen edge-on its
+     * chords cut the contour (silhouette errors, in the colour and FLIP
+     * figures, not cracks). */
     size_t see_through, holes;
     /* Colour per pixel channel, in levels (0..255), over the pixels
      * either covers (`pixels`): mean, largest, and pixels whose largest
