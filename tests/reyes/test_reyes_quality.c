@@ -152,7 +152,7 @@ START_TEST(test_micropolygon_areas)
     reyes_stats stats;
     reyes_test_render(reyes_test_renderer(0), &scene, &camera, &o, &image, &stats);
     float m[16], corners[4][2];
-    ck_assert_int_eq(reyes_camera_matrix(&camera, 1.0f, reyes_near_plane(&scene), m, &error), REYES_OK);
+    ck_assert_int_eq(reyes_camera_matrix(&camera, 1.0f, reyes_near_plane(&scene, &camera), m, &error), REYES_OK);
     const float world[4][3] = { {-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0} };
     for (int k = 0; k < 4; ++k) {
         float depth;
