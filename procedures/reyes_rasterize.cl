@@ -32,6 +32,7 @@ struct reyes_raster_target {
     __global ulong *samples;
     __global uint *counters;
     __global const float4 *blur_tuples;
+    __global const float4 *patches; /* for sample shading's derivative nets */
 };
 
 /* Sixteen quads (slots first .. first + 15 of a lattice), set up in SIMD
@@ -194,7 +195,7 @@ REYES_INLINE int reyes_any8(int8 m)
  * covered sample is merged into the samples. */
 void reyes_quad_pixels(__global const struct reyes_params *p, __global ulong *samples,
                        __local const struct reyes_grid *g, const struct reyes_quad_lanes *ql, int l, int k,
-                       const struct reyes_sample_chunks *chunks)
+                       const struct reyes_sample_chunks *chunks, const struct reyes_derivative_net *net)
 {
     uint spp = chunks->spp, tile_x = (uint)p->tile_x0, tile_y = (uint)p->tile_y0;
     uint tile_width = (uint)p->tile_x1 - tile_x;
@@ -242,21 +243,41 @@ void reyes_quad_pixels(__global const struct reyes_params *p, __global ulong *sa
                     za = (float8)g->z[corner[0]];
                     zb = reyes_pair(g->z[corner[1]], g->z[corner[2]]);
                     zc = reyes_pair(g->z[corner[2]], g->z[corner[3]]);
+                    /* The corners' colour channels, or their normals or
+                     * parameters. */
+                    float v[4][3];
+                    for (int i = 0; i < 4; ++i) {
+                        uint rgba = g->rgba[corner[i]];
+                        if (g->shading == REYES_SHADE_SURFACE) {
+                            reyes_unpack_surface(rgba, &v[i][0], &v[i][1]);
+                            v[i][2] = 0.0f;
+                        } else if (g->shading == REYES_SHADE_NORMALS) {
+                            reyes_unpack_normal(rgba, &v[i][0], &v[i][1], &v[i][2]);
+                        } else {
+                            for (int ch = 0; ch < 3; ++ch)
+                                v[i][ch] = reyes_channel(rgba, 8u * (uint)ch);
+                        }
+                    }
                     for (int ch = 0; ch < 3; ++ch) {
-                        uint shift = 8u * (uint)ch;
-                        ca[ch] = (float8)reyes_channel(g->rgba[corner[0]], shift);
-                        cb[ch] = reyes_pair(reyes_channel(g->rgba[corner[1]], shift),
-                                            reyes_channel(g->rgba[corner[2]], shift));
-                        cc[ch] = reyes_pair(reyes_channel(g->rgba[corner[2]], shift),
-                                            reyes_channel(g->rgba[corner[3]], shift));
+                        ca[ch] = (float8)v[0][ch];
+                        cb[ch] = reyes_pair(v[1][ch], v[2][ch]);
+                        cc[ch] = reyes_pair(v[2][ch], v[3][ch]);
                     }
                 }
                 float8 ba = wa * inv_area, bb = wb * inv_area, bc = wc * inv_area;
                 float8 depth = fmax(ba * za + bb * zb + bc * zc, 0.0f);
-                uint8 rgba = reyes_channel_byte8(ba * ca[0] + bb * cb[0] + bc * cc[0])
-                             | (reyes_channel_byte8(ba * ca[1] + bb * cb[1] + bc * cc[1]) << 8)
-                             | (reyes_channel_byte8(ba * ca[2] + bb * cb[2] + bc * cc[2]) << 16)
-                             | (uint8)(255u << 24);
+                uint8 rgba;
+                if (g->shading != REYES_SHADE_VERTICES) {
+                    float8 n[3] = {ba * ca[0] + bb * cb[0] + bc * cc[0], ba * ca[1] + bb * cb[1] + bc * cc[1],
+                                   ba * ca[2] + bb * cb[2] + bc * cc[2]};
+                    if (g->shading == REYES_SHADE_SURFACE)
+                        reyes_net_normal8(net, g->u0 + n[0] * (g->u1 - g->u0), g->v0 + n[1] * (g->v1 - g->v0), n);
+                    rgba = reyes_sample_light8(p, n[0], n[1], n[2], x, y, g->base);
+                } else
+                    rgba = reyes_channel_byte8(ba * ca[0] + bb * cb[0] + bc * cc[0])
+                           | (reyes_channel_byte8(ba * ca[1] + bb * cb[1] + bc * cc[1]) << 8)
+                           | (reyes_channel_byte8(ba * ca[2] + bb * cb[2] + bc * cc[2]) << 16)
+                           | (uint8)(255u << 24);
                 ulong8 packed = convert_ulong8(as_uint8(depth)) << 32 | convert_ulong8(rgba);
                 packed = select((ulong8)REYES_EMPTY_SAMPLE, packed, convert_long8(covered));
                 ulong4 nearest = min(packed.lo, packed.hi);
@@ -337,6 +358,30 @@ REYES_INLINE ulong16 reyes_triangle_values16(float16 wa, float16 wb, float16 wc,
     return select((ulong16)REYES_EMPTY_SAMPLE, packed, convert_long16(covered));
 }
 
+/* The same with sample shading: `normal` holds the corners' unit normals
+ * (REYES_SHADE_NORMALS) or their parameters s and t in the sub-patch
+ * (REYES_SHADE_SURFACE) where `color` holds their channels, and each
+ * covered sample at (x, y) is lit with the normal interpolated from them
+ * or the patch's own at the interpolated parameters
+ * (reyes_sample_light16). */
+REYES_INLINE ulong16 reyes_triangle_lit16(__global const struct reyes_params *p, __local const struct reyes_grid *g,
+                                          const struct reyes_derivative_net *net, float16 wa, float16 wb,
+                                          float16 wc, float16 inv_area, const float16 z[4],
+                                          const float16 normal[4][3], int a, int b, int c, int16 covered,
+                                          float16 x, float16 y)
+{
+    float16 ba = wa * inv_area, bb = wb * inv_area, bc = wc * inv_area;
+    float16 depth = fmax(ba * z[a] + bb * z[b] + bc * z[c], 0.0f);
+    float16 n[3];
+    for (int k = 0; k < 3; ++k)
+        n[k] = ba * normal[a][k] + bb * normal[b][k] + bc * normal[c][k];
+    if (g->shading == REYES_SHADE_SURFACE) /* n holds the sub-patch parameters s, t */
+        reyes_net_normal16(net, g->u0 + n[0] * (g->u1 - g->u0), g->v0 + n[1] * (g->v1 - g->v0), n);
+    uint16 rgba = reyes_sample_light16(p, n[0], n[1], n[2], x, y, g->base);
+    ulong16 packed = convert_ulong16(as_uint16(depth)) << 32 | convert_ulong16(rgba);
+    return select((ulong16)REYES_EMPTY_SAMPLE, packed, convert_long16(covered));
+}
+
 /* Samples further than this outside a quad's screen box are not tested:
  * rounding never puts a covered sample anywhere near that far out (the
  * edge functions' errors are millionths of a pixel), so the samples
@@ -402,19 +447,30 @@ REYES_INLINE void reyes_carry16(int16 *cell, int16 *pixel, int n)
 REYES_INLINE void reyes_small_quads_on(__global const struct reyes_params *p, __global ulong *samples,
                                        __local const struct reyes_grid *g, const struct reyes_quad_lanes *q,
                                        const struct reyes_strata_lanes *strata, int16 small, int first,
-                                       const struct reyes_sample_chunks *chunks, int exact)
+                                       const struct reyes_sample_chunks *chunks,
+                                       const struct reyes_derivative_net *net, int exact)
 {
     uint spp = chunks->spp, tile_x = (uint)p->tile_x0, tile_y = (uint)p->tile_y0;
     uint tile_width = (uint)p->tile_x1 - tile_x;
     int columns = (int)chunks->columns, rows = (int)chunks->rows;
     int c = (int)g->columns;
     const int corner[4] = { 0, 1, c + 1, c };
+    /* The corners' colour channels, or with sample shading their normals
+     * or parameters. */
     float16 z[4], color[4][3];
+    int lit = g->shading != REYES_SHADE_VERTICES;
     for (int i = 0; i < 4; ++i) {
         z[i] = vload16(0, g->z + first + corner[i]);
         uint16 rgba = vload16(0, g->rgba + first + corner[i]);
-        for (int ch = 0; ch < 3; ++ch)
-            color[i][ch] = convert_float16((rgba >> (uint)(8 * ch)) & 255u) * (1.0f / 255.0f);
+        if (g->shading == REYES_SHADE_SURFACE) {
+            reyes_unpack_surface16(rgba, &color[i][0], &color[i][1]);
+            color[i][2] = 0.0f;
+        } else if (lit) {
+            reyes_unpack_normal16(rgba, &color[i][0], &color[i][1], &color[i][2]);
+        } else {
+            for (int ch = 0; ch < 3; ++ch)
+                color[i][ch] = convert_float16((rgba >> (uint)(8 * ch)) & 255u) * (1.0f / 255.0f);
+        }
     }
     /* Each edge value's sign: the edge's own (canonical order) and, where
      * the area is not positive, the flip that makes "inside" every value
@@ -476,11 +532,20 @@ REYES_INLINE void reyes_small_quads_on(__global const struct reyes_params *p, __
             uint both = reyes_lane_bits_pair16(covered0, covered1);
             uint bits0 = both & 0xffffu, bits1 = both >> 16, bits = bits0 | bits1;
             ulong16 nearest = (ulong16)REYES_EMPTY_SAMPLE;
-            if (bits0)
-                nearest = reyes_triangle_values16(w0a, w0b, w0c, inv_area[0], z, color, 0, 1, 2, covered0);
-            if (bits1)
-                nearest = min(nearest,
-                              reyes_triangle_values16(w1a, w1b, w1c, inv_area[1], z, color, 0, 2, 3, covered1));
+            if (lit) {
+                if (bits0)
+                    nearest = reyes_triangle_lit16(p, g, net, w0a, w0b, w0c, inv_area[0], z, color, 0, 1, 2, covered0,
+                                                   x, y);
+                if (bits1)
+                    nearest = min(nearest, reyes_triangle_lit16(p, g, net, w1a, w1b, w1c, inv_area[1], z, color, 0, 2,
+                                                                3, covered1, x, y));
+            } else {
+                if (bits0)
+                    nearest = reyes_triangle_values16(w0a, w0b, w0c, inv_area[0], z, color, 0, 1, 2, covered0);
+                if (bits1)
+                    nearest = min(nearest, reyes_triangle_values16(w1a, w1b, w1c, inv_area[1], z, color, 0, 2, 3,
+                                                                   covered1));
+            }
             uint16 index = (row_index + as_uint16(px[dx])) * spp + as_uint16(sample);
             while (bits) {
                 uint l = 31u - clz(bits & (0u - bits));
@@ -491,17 +556,61 @@ REYES_INLINE void reyes_small_quads_on(__global const struct reyes_params *p, __
     }
 }
 
+/* The micropolygons' areas (reyes_params.area_stats): a grid's quads
+ * are tallied in private bins, then added to the counters once per bin
+ * that got any (REYES_COUNT_AREA_*, reyes_shared.h). */
+struct reyes_area_tally {
+    uint bins[REYES_AREA_BINS];
+    float16 sum;
+};
+
+REYES_INLINE void reyes_area_tally_init(struct reyes_area_tally *t)
+{
+    for (int b = 0; b < REYES_AREA_BINS; ++b)
+        t->bins[b] = 0u;
+    t->sum = (float16)0.0f;
+}
+
+/* The live quads' areas (half the two triangles' doubled areas): bin
+ * (bits >> 22) - 233 is 2 e + h + 1 for an area of 2^e (1 + h / 2 ...)
+ * with e >= -10, clamped to the first and last bins. */
+REYES_INLINE void reyes_area_tally_add(struct reyes_area_tally *t, const struct reyes_quad_lanes *q)
+{
+    float16 area = select((float16)0.0f, 0.5f * (fabs(q->area[0]) + fabs(q->area[1])), q->live);
+    t->sum += area;
+    int16 bin = clamp((as_int16(area) >> 22) - 233, 0, REYES_AREA_BINS - 1);
+    uint live = reyes_lane_bits16(q->live);
+    while (live) {
+        int l = 31 - (int)clz(live & (0u - live));
+        live &= live - 1u;
+        ++t->bins[((int *)&bin)[l]];
+    }
+}
+
+REYES_INLINE void reyes_area_tally_flush(const struct reyes_area_tally *t, __global uint *counters)
+{
+    float8 a = t->sum.lo + t->sum.hi;
+    float4 b = a.lo + a.hi;
+    float2 c = b.lo + b.hi;
+    ulong units = convert_ulong_sat_rte((c.x + c.y) * REYES_AREA_UNITS);
+    if (units > 0ul)
+        atom_add((__global ulong *)(counters + REYES_COUNT_AREA_SUM), units);
+    for (int b = 0; b < REYES_AREA_BINS; ++b)
+        if (t->bins[b] > 0u)
+            atomic_add(&counters[REYES_COUNT_AREA_BINS + b], t->bins[b]);
+}
+
 /* reyes_small_quads_on with the lattice's divisions as products where
  * those are exact (columns and rows powers of two), decided once. */
 void reyes_small_quads(__global const struct reyes_params *p, __global ulong *samples,
                        __local const struct reyes_grid *g, const struct reyes_quad_lanes *q,
                        const struct reyes_strata_lanes *strata, int16 small, int first,
-                       const struct reyes_sample_chunks *chunks)
+                       const struct reyes_sample_chunks *chunks, const struct reyes_derivative_net *net)
 {
     if (chunks->inv_columns != 0.0f && chunks->inv_rows != 0.0f)
-        reyes_small_quads_on(p, samples, g, q, strata, small, first, chunks, 1);
+        reyes_small_quads_on(p, samples, g, q, strata, small, first, chunks, net, 1);
     else
-        reyes_small_quads_on(p, samples, g, q, strata, small, first, chunks, 0);
+        reyes_small_quads_on(p, samples, g, q, strata, small, first, chunks, net, 0);
 }
 
 /* Blurred items: each visible quad with the configured algorithm. */
@@ -584,26 +693,35 @@ void reyes_rasterize(const struct reyes_raster_target *t, __local const struct r
     struct reyes_sample_chunks chunks;
     reyes_sample_chunks_init(&chunks, p->spp);
     reyes_prefetch_samples(p, samples, item, p->spp);
+    struct reyes_derivative_net net;
+    if (item->shading == REYES_SHADE_SURFACE)
+        reyes_derivative_net_of(t->patches, item->patch, &net);
     int slots = (int)(item->rows - 1u) * (int)item->columns;
     /* Sixteen quads at a time set up in SIMD lanes, then the small ones
      * sampled side by side stratum by stratum and the larger ones one by
      * one. */
     int16 visible = (int16)0;
+    struct reyes_area_tally tally;
+    int tallied = item->counted && p->area_stats;
+    if (tallied)
+        reyes_area_tally_init(&tally);
     for (int first = 0; first < slots; first += 16) {
         struct reyes_quad_lanes quads = reyes_quad_setup_lanes(p, item, first, slots);
         visible -= quads.live; /* live lanes are -1 */
         if (!reyes_any16(quads.live))
             continue;
+        if (tallied)
+            reyes_area_tally_add(&tally, &quads);
         struct reyes_strata_lanes strata = reyes_strata_of(&quads, &chunks);
         int16 small = quads.live & (strata.x1 - strata.x0 < REYES_SMALL_STRATA)
                       & (strata.y1 - strata.y0 < REYES_SMALL_STRATA);
         if (reyes_any16(small))
-            reyes_small_quads(p, samples, item, &quads, &strata, small, first, &chunks);
+            reyes_small_quads(p, samples, item, &quads, &strata, small, first, &chunks, &net);
         uint large = reyes_lane_bits16(quads.live & ~small);
         while (large) {
             int l = 31 - (int)clz(large & (0u - large));
             large &= large - 1u;
-            reyes_quad_pixels(p, samples, item, &quads, l, first + l, &chunks);
+            reyes_quad_pixels(p, samples, item, &quads, l, first + l, &chunks, &net);
         }
     }
     if (item->counted) {
@@ -612,5 +730,7 @@ void reyes_rasterize(const struct reyes_raster_target *t, __local const struct r
         uint count = (uint)reyes_sum16(visible);
         if (count > 0u)
             atomic_add(&t->counters[REYES_COUNT_MICROPOLYGONS], count);
+        if (tallied)
+            reyes_area_tally_flush(&tally, t->counters);
     }
 }

@@ -5,6 +5,13 @@
  * reyes_reference_sample.c).  Float rounding may differ from the device's
  * (contractions, vector code), so a patch right at a threshold can rarely
  * be decided differently, and a sample on an edge covered differently.
+ * With a shading rate it dices each sub-patch to the grid size its
+ * longest control-polygon rows ask for and shades vertices: the
+ * renderer's shading-rate pipeline before issue 25's edge-conforming
+ * dicing and sample shading (reyes_rate.cl, reyes_sample_shading.cl),
+ * which it does not model; it stays the speed baseline of that workload
+ * (perma-bench reyes --workload defaults), not a check of its counts or
+ * images.
  */
 #include <math.h>
 #include <stdlib.h>

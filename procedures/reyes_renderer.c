@@ -86,6 +86,10 @@ static perma_status register_all(struct reyes_renderer *r)
     if (status == PERMA_OK)
         status = perma_add_source(r->rt, reyes_flatness_cl_source, "reyes_flatness.cl");
     if (status == PERMA_OK)
+        status = perma_add_source(r->rt, reyes_rate_cl_source, "reyes_rate.cl");
+    if (status == PERMA_OK)
+        status = perma_add_source(r->rt, reyes_sample_shading_cl_source, "reyes_sample_shading.cl");
+    if (status == PERMA_OK)
         status = perma_add_source(r->rt, reyes_sample_cl_source, "reyes_sample.cl");
     if (status == PERMA_OK)
         status = perma_add_source(r->rt, reyes_blur_cl_source, "reyes_blur.cl");

@@ -159,6 +159,20 @@ REYES_INLINE reyes_lanes reyes_dot4_lanes(float ax, float ay, float az, float aw
         n[0] = yz - zy;                                                                              \
         n[1] = zx - xz;                                                                              \
         n[2] = xy - yx;                                                                              \
+    }                                                                                                \
+    /* Whether normals n = cross(tu, tv) are unusable: they vanish, or one                          \
+     * derivative is a millionth of the other or less, where a patch edge                           \
+     * collapses to a point (a pole) and rounding leaves that derivative a                          \
+     * few ulps long in an arbitrary direction.  Sample shading lights every                        \
+     * sample with these normals, so it tests them this way; fixed grids                            \
+     * keep the plain test of a vanishing normal (their bytes are                                   \
+     * unchanged). */                                                                               \
+    REYES_INLINE mask reyes_collapsed##suffix(const type tu[3], const type tv[3], const type n[3])  \
+    {                                                                                                \
+        type uu = reyes_dot3##suffix(tu[0], tu[1], tu[2], tu[0], tu[1], tu[2]);                      \
+        type vv = reyes_dot3##suffix(tv[0], tv[1], tv[2], tv[0], tv[1], tv[2]);                      \
+        type nn = reyes_dot3##suffix(n[0], n[1], n[2], n[0], n[1], n[2]);                            \
+        return (nn < 1e-24f) | (uu < 1e-12f * vv) | (vv < 1e-12f * uu);                              \
     }
 REYES_DEFINE_VECTOR_MATH(_lanes, reyes_lanes, reyes_lane_mask)
 REYES_DEFINE_VECTOR_MATH(_one, float, int)
@@ -215,7 +229,10 @@ REYES_INLINE void reyes_row_point_lanes(const struct reyes_row_curves_lanes *rc,
         x[d] = reyes_curve_at(bu, rc->q[d]);
 }
 
-REYES_INLINE void reyes_row_normal_lanes(const struct reyes_row_curves_lanes *rc, reyes_lanes u, reyes_lanes n[3])
+/* The unnormalised normals at u on the row curves; returns the lanes
+ * where they are collapsed (reyes_collapsed_lanes). */
+REYES_INLINE reyes_lane_mask reyes_row_normal_lanes(const struct reyes_row_curves_lanes *rc, reyes_lanes u,
+                                                    reyes_lanes n[3])
 {
     reyes_lanes bu[4], du[4], tu[3], tv[3];
     reyes_bernstein_lanes(u, bu);
@@ -225,6 +242,7 @@ REYES_INLINE void reyes_row_normal_lanes(const struct reyes_row_curves_lanes *rc
         tv[d] = reyes_curve_at(bu, rc->qv[d]);
     }
     reyes_cross_lanes(tu, tv, n);
+    return reyes_collapsed_lanes(tu, tv, n);
 }
 
 /* Points and unnormalised normals at (u,v) of a hull. */
@@ -236,18 +254,19 @@ REYES_INLINE void reyes_hull_point_lanes(const struct reyes_hull *h, reyes_lanes
     reyes_row_point_lanes(&rc, u, x);
 }
 
-REYES_INLINE void reyes_hull_normal_lanes(const struct reyes_hull *h, reyes_lanes u, reyes_lanes v,
-                                          reyes_lanes n[3])
+REYES_INLINE reyes_lane_mask reyes_hull_normal_lanes(const struct reyes_hull *h, reyes_lanes u, reyes_lanes v,
+                                                     reyes_lanes n[3])
 {
     struct reyes_row_curves_lanes rc;
     reyes_row_curves_lanes(h, v, &rc);
-    reyes_row_normal_lanes(&rc, u, n);
+    return reyes_row_normal_lanes(&rc, u, n);
 }
 
 /* Surface point and unnormalised normal at (u,v), from the row curves at
  * v made once: the arithmetic of the above for one point (so lane for
- * lane the same bits). */
-REYES_INLINE void reyes_patch_point_normal(const float3 cp[16], float u, float v, float3 *x, float3 *normal)
+ * lane the same bits); returns whether the normal is collapsed
+ * (reyes_collapsed_lanes). */
+REYES_INLINE int reyes_patch_point_normal(const float3 cp[16], float u, float v, float3 *x, float3 *normal)
 {
     struct reyes_hull h = reyes_hull_of(cp);
     struct reyes_row_curves_one rc;
@@ -263,13 +282,22 @@ REYES_INLINE void reyes_patch_point_normal(const float3 cp[16], float u, float v
     *x = (float3)(reyes_curve_at_scalar(bu, rc.q[0]), reyes_curve_at_scalar(bu, rc.q[1]),
                   reyes_curve_at_scalar(bu, rc.q[2]));
     *normal = (float3)(n[0], n[1], n[2]);
+    return reyes_collapsed_one(tu, tv, n) != 0;
+}
+
+/* Unnormalised surface normal at (u,v); *collapsed as
+ * reyes_collapsed_lanes. */
+REYES_INLINE float3 reyes_patch_normal_of(const float3 cp[16], float u, float v, int *collapsed)
+{
+    float3 x, n;
+    *collapsed = reyes_patch_point_normal(cp, u, v, &x, &n);
+    return n;
 }
 
 REYES_INLINE float3 reyes_patch_normal(const float3 cp[16], float u, float v)
 {
-    float3 x, n;
-    reyes_patch_point_normal(cp, u, v, &x, &n);
-    return n;
+    int collapsed;
+    return reyes_patch_normal_of(cp, u, v, &collapsed);
 }
 
 REYES_INLINE float3 reyes_patch_point(const float3 cp[16], float u, float v)
@@ -296,6 +324,26 @@ float3 reyes_safe_normal(const float3 cp[16], float u, float v)
     return reyes_safe_normal_from(cp, u, v, reyes_patch_normal(cp, u, v));
 }
 
+/* The same for sample shading, where a pole is a collapsed normal
+ * (reyes_collapsed_lanes) and fixed grids' bytes do not constrain it.
+ * n, collapsed: the normal at (u,v) already made and whether it is. */
+float3 reyes_lit_normal_from(const float3 cp[16], float u, float v, float3 n, int collapsed)
+{
+    for (int step = 1; step <= 3 && collapsed; ++step) {
+        float nudge = 1e-3f * (float)step;
+        n = reyes_patch_normal_of(cp, mix(u, 0.5f, nudge), mix(v, 0.5f, nudge), &collapsed);
+    }
+    return n;
+}
+
+/* The normal a vertex is shaded with: reyes_lit_normal_from with sample
+ * shading, else reyes_safe_normal_from (n, collapsed as there). */
+REYES_INLINE float3 reyes_vertex_normal_from(__global const struct reyes_params *p, const float3 cp[16], float u,
+                                             float v, float3 n, int collapsed)
+{
+    return p->sample_shading ? reyes_lit_normal_from(cp, u, v, n, collapsed) : reyes_safe_normal_from(cp, u, v, n);
+}
+
 /* The light's parameters, loaded once per grid. */
 struct reyes_lighting {
     float eye[3], light[3];
@@ -316,31 +364,12 @@ REYES_INLINE struct reyes_lighting reyes_lighting_of(__global const struct reyes
     return l;
 }
 
-/* x^s: by squaring for a whole exponent up to 64 (the look's is 40: six
- * products, as the C reference), else exp2(s log2 x) at native precision
- * (pow() is PoCL's full-precision library call and took about a fifth of
- * a teapot render; native_log2 looks a table up lane by lane).
- *
- * Lambert plus Blinn-Phong, two-sided, one directional light plus
+/* Lambert plus Blinn-Phong, two-sided, one directional light plus
  * ambient, at points x with normals n: a colour c shades to
  * c * diffuse + specular (reyes_light_color).  The shaded colours of base
  * colour rgba (its alpha ignored), packed.  For lanes and for one point,
  * as REYES_DEFINE_VECTOR_MATH. */
-#define REYES_DEFINE_LIGHTING(suffix, type, mask, packed, channel_byte)                                              \
-    REYES_INLINE type reyes_power##suffix(type x, float s)                                                           \
-    {                                                                                                                \
-        uint n = (uint)s;                                                                                            \
-        if (s >= 0.0f && s <= 64.0f && (float)n == s) {                                                             \
-            type result = (type)1.0f, base = x;                                                                      \
-            for (; n != 0u; n >>= 1) {                                                                               \
-                if (n & 1u)                                                                                          \
-                    result *= base;                                                                                  \
-                base *= base;                                                                                        \
-            }                                                                                                        \
-            return result;                                                                                           \
-        }                                                                                                            \
-        return native_exp2(s * native_log2(x));                                                                      \
-    }                                                                                                                \
+#define REYES_DEFINE_LIGHTING(suffix, type, mask, packed, channel_byte, power)                                       \
     REYES_INLINE void reyes_light##suffix(const struct reyes_lighting *l, const type x[3], const type n[3],         \
                                           type *diffuse, type *specular)                                             \
     {                                                                                                                \
@@ -361,8 +390,8 @@ REYES_INLINE struct reyes_lighting reyes_lighting_of(__global const struct reyes
         type hx = lx + vx, hy = ly + vy, hz = lz + vz;                                                               \
         reyes_normalize##suffix(&hx, &hy, &hz);                                                                      \
         type cos_h = reyes_dot3##suffix(mx, my, mz, hx, hy, hz);                                                     \
-        type power = reyes_power##suffix(cos_h, l->shininess);                                                       \
-        type highlight = select((type)0.0f, power, lambert > 0.0f & cos_h > 0.0f);                                   \
+        type highlight_power = power(cos_h, l->shininess);                                                           \
+        type highlight = select((type)0.0f, highlight_power, lambert > 0.0f & cos_h > 0.0f);                         \
         *diffuse = l->ambient + l->diffuse * lambert;                                                                \
         *specular = l->specular * highlight;                                                                         \
     }                                                                                                                \
@@ -372,12 +401,17 @@ REYES_INLINE struct reyes_lighting reyes_lighting_of(__global const struct reyes
         return channel_byte(r * diffuse + specular) | (channel_byte(g * diffuse + specular) << 8)                    \
                | (channel_byte(b * diffuse + specular) << 16) | (packed)(255u << 24);                                \
     }
-REYES_DEFINE_LIGHTING(_lanes, reyes_lanes, reyes_lane_mask, reyes_lane_uint, reyes_channel_byte_lanes)
-REYES_DEFINE_LIGHTING(_one, float, int, uint, reyes_channel_byte)
+REYES_DEFINE_LIGHTING(_lanes, reyes_lanes, reyes_lane_mask, reyes_lane_uint, reyes_channel_byte_lanes,
+                      reyes_power_lanes)
+REYES_DEFINE_LIGHTING(_one, float, int, uint, reyes_channel_byte, reyes_power)
 
+/* A vertex's colour (base colour rgba lit at point x with normal n) or,
+ * with sample shading, its unit normal packed (reyes_pack_normal16). */
 REYES_INLINE uint reyes_shade(__global const struct reyes_params *p, float3 x, float3 n, uint rgba)
 {
     const float xs[3] = {x.x, x.y, x.z}, ns[3] = {n.x, n.y, n.z};
+    if (p->sample_shading)
+        return reyes_pack_normal16((float16)n.x, (float16)n.y, (float16)n.z).s0;
     struct reyes_lighting l = reyes_lighting_of(p);
     float diffuse, specular;
     reyes_light_one(&l, xs, ns, &diffuse, &specular);
@@ -430,6 +464,42 @@ REYES_INLINE void reyes_grid_uv_of(int2 size, float u0, float v0, float u1, floa
     *v = v0 * (1.0f - tv) + v1 * tv;
 }
 
+/* With a shading rate: the segments bound chose for edge `edge`
+ * (REYES_EDGE_*) of sp (reyes_rate.cl), a byte of edge_levels. */
+REYES_INLINE int reyes_edge_count(const struct reyes_subpatch *sp, int edge)
+{
+    return (int)((sp->edge_levels >> (8 * edge)) & 0xffu);
+}
+
+/* Grid coordinates (i, j) of vertex k along edge `edge` (k in the edge's
+ * own direction: increasing u or v) of a grid of size.x x size.y. */
+REYES_INLINE int2 reyes_edge_vertex(uint edge, int k, int2 size)
+{
+    switch (edge) {
+    case REYES_EDGE_V0: return (int2)(k, 0);
+    case REYES_EDGE_U1: return (int2)(size.x - 1, k);
+    case REYES_EDGE_V1: return (int2)(k, size.y - 1);
+    default: return (int2)(0, k);
+    }
+}
+
+/* sp with the grid size whose vertices along edge `edge` are the edge's
+ * own (reyes_edge_count + 1 of them with a shading rate; the grid's
+ * without one), for reyes_grid_vertex and reyes_edge_vertex. */
+REYES_INLINE struct reyes_subpatch reyes_edge_subpatch(__global const struct reyes_params *p,
+                                                      const struct reyes_subpatch *sp, int edge)
+{
+    struct reyes_subpatch out = *sp;
+    if (sp->dice_size == 0u || p->shading_rate <= 0.0f)
+        return out;
+    uint c = (uint)reyes_edge_count(sp, edge) + 1u;
+    if (edge == REYES_EDGE_V0 || edge == REYES_EDGE_V1)
+        out.dice_size = (sp->dice_size & ~0xffu) | c;
+    else
+        out.dice_size = (sp->dice_size & ~0xff00u) | (c << 8);
+    return out;
+}
+
 REYES_INLINE float2 reyes_grid_uv(__global const struct reyes_params *p, const struct reyes_subpatch *sp, int i,
                                   int j)
 {
@@ -438,16 +508,16 @@ REYES_INLINE float2 reyes_grid_uv(__global const struct reyes_params *p, const s
     return (float2)(u, v);
 }
 
-/* The colour of undisplaced grid vertex (i,j) for the patch's packed base
- * colour rgba, the normal taken slightly inside where it vanishes
- * (reyes_safe_normal). */
+/* The colour (or packed normal, reyes_shade) of undisplaced grid vertex
+ * (i,j) for the patch's packed base colour rgba, the normal taken slightly
+ * inside where it vanishes (reyes_vertex_normal_from). */
 uint reyes_grid_vertex_color(__global const struct reyes_params *p, const float3 cp[16],
                              const struct reyes_subpatch *sp, uint rgba, int i, int j)
 {
     float2 uv = reyes_grid_uv(p, sp, i, j);
     float3 x, n;
-    reyes_patch_point_normal(cp, uv.x, uv.y, &x, &n);
-    return reyes_shade(p, x, reyes_safe_normal_from(cp, uv.x, uv.y, n), rgba);
+    int collapsed = reyes_patch_point_normal(cp, uv.x, uv.y, &x, &n);
+    return reyes_shade(p, x, reyes_vertex_normal_from(p, cp, uv.x, uv.y, n, collapsed), rgba);
 }
 
 /* Position (clip space) of grid vertex (i,j), and its color when `shade`
@@ -471,9 +541,9 @@ struct reyes_vertex reyes_grid_vertex(const struct reyes_displacement *d, const 
     struct reyes_vertex out;
     if (p->displace_mode == REYES_DISPLACE_NONE) {
         float3 x, n;
-        reyes_patch_point_normal(cp, u, v, &x, &n);
+        int collapsed = reyes_patch_point_normal(cp, u, v, &x, &n);
         reyes_vertex_place(p, x, &out);
-        out.rgba = shade ? reyes_shade(p, x, reyes_safe_normal_from(cp, u, v, n), rgba) : 0u;
+        out.rgba = shade ? reyes_shade(p, x, reyes_vertex_normal_from(p, cp, u, v, n, collapsed), rgba) : 0u;
     } else {
         float3 x = reyes_displaced_point(d, cp, u, v);
         reyes_vertex_place(p, x, &out);

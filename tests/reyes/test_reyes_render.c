@@ -312,28 +312,6 @@ START_TEST(test_image_matches_reference)
 }
 END_TEST
 
-/* With a shading rate (the command's default dicing, no crack fix) the C
- * reference dices the same grids (the sizes bound chose) and its counts
- * and image equal the renderer's as with fixed grids. */
-START_TEST(test_shading_rate_matches_reference)
-{
-    reyes_scene scene;
-    reyes_camera camera;
-    reyes_test_builtin_scene(&scene, &camera, 256, 192);
-    reyes_options o;
-    small_options(&o, 256, 192);
-    o.crack_fix = REYES_CRACK_FIX_NONE;
-    o.shading_rate = 1.0f;
-    reyes_image image;
-    reyes_stats stats;
-    reyes_test_render(reyes_test_renderer(0), &scene, &camera, &o, &image, &stats);
-    reyes_test_expect_reference_counts(&scene, &camera, &o, &stats);
-    reyes_test_expect_reference_image(&scene, &camera, &o, &image, "shading rate 1");
-    reyes_image_free(&image);
-    reyes_scene_free(&scene);
-}
-END_TEST
-
 /* Solve the 3x3 system a x = b (Cramer); 0 if singular. */
 static int solve3(const double a[3][3], const double b[3], double x[3])
 {
@@ -494,7 +472,6 @@ static Suite *render_suite(void)
     tcase_add_test(tc, test_options_match_reference);
     tcase_add_test(tc, test_stages);
     tcase_add_test(tc, test_image_matches_reference);
-    tcase_add_test(tc, test_shading_rate_matches_reference);
     tcase_add_test(tc, test_render_arguments);
     tcase_add_test(tc, test_sphere_shading);
     suite_add_tcase(s, tc);
