@@ -17,6 +17,7 @@
 
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "reyes.h"
@@ -195,10 +196,20 @@ typedef struct stage_timing {
     int ran;
     unsigned runs;
     double seconds[MAX_RUNS], walls[MAX_RUNS];
+    double cpus[MAX_RUNS]; /* the process's CPU seconds over the whole call */
     reyes_stats stats;
     reyes_reference_counts counts;
     char message[REYES_MESSAGE_MAX];
 } stage_timing;
+
+/* CPU seconds of the whole process (every thread: OpenMP's and the
+ * OpenCL runtime's workers). */
+static double process_cpu_seconds(void)
+{
+    struct timespec now;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &now);
+    return (double)now.tv_sec + 1e-9 * (double)now.tv_nsec;
+}
 
 /* One run of the C reference in mode o->stages (the full pipeline for
  * REYES_STAGES_ALL; on `threads` OpenMP threads when not 0). */
@@ -209,6 +220,7 @@ static void time_reference(stage_timing *t, const reyes_scene *scene, const reye
         return;
     reyes_error error;
     reyes_status status;
+    double cpu = process_cpu_seconds();
     if (o->stages == REYES_STAGES_ALL) {
         reyes_image image;
         status = threads ? reyes_reference_render_parallel(scene, camera, o, threads, &image, &t->counts, &error)
@@ -223,6 +235,7 @@ static void time_reference(stage_timing *t, const reyes_scene *scene, const reye
         return;
     }
     t->seconds[t->runs] = t->walls[t->runs] = t->counts.seconds;
+    t->cpus[t->runs] = process_cpu_seconds() - cpu;
     ++t->runs;
 }
 
@@ -236,13 +249,14 @@ static void time_render(stage_timing *t, reyes_renderer *renderer, const reyes_s
     reyes_error error;
     reyes_image image;
     reyes_stats_free(&t->stats);
-    double start = bench_now();
+    double start = bench_now(), cpu = process_cpu_seconds();
     if (reyes_render(renderer, scene, camera, o, &image, &t->stats, &error) != REYES_OK) {
         snprintf(t->message, sizeof t->message, "%s", error.message);
         t->ran = 0;
         return;
     }
     t->walls[t->runs] = bench_now() - start;
+    t->cpus[t->runs] = process_cpu_seconds() - cpu;
     t->seconds[t->runs] = t->stats.seconds;
     ++t->runs;
     reyes_image_free(&image);
@@ -338,6 +352,20 @@ static double variant_row(bench_report *report, const char *workload, const char
 static double ratio(double numerator, double denominator)
 {
     return numerator > 0.0 && denominator > 0.0 ? numerator / denominator : 0.0;
+}
+
+/* The least CPU time of a full render's runs against the OpenMP C
+ * reference's: on a shared machine the CPU a render takes moves less with
+ * the load than its wall time, and on an idle machine a render that keeps
+ * every core busy takes its CPU time / cores (run with
+ * OMP_WAIT_POLICY=passive, or OpenMP's spinning threads bill their wait). */
+static void print_cpu_ratio(const char *label, const stage_timing *openmp, const stage_timing *render)
+{
+    if (!openmp->ran || !render->ran || !openmp->runs || !render->runs)
+        return;
+    double c = best_of(openmp->cpus, openmp->runs), m = best_of(render->cpus, render->runs);
+    printf("  %s: CPU per render (least of %u runs, the whole call): C reference OpenMP %.4f s, megakernel %.4f s: "
+           "%.2fx\n", label, render->runs, c, m, ratio(c, m));
 }
 
 /* The stage times by difference and the ratios against the targets, per
@@ -533,6 +561,9 @@ static void run_workload(bench_report *report, const char *model, const reyes_sc
             printf("  (%s)\n", reyes_renderer_device(renderers[i]));
     }
     print_summary(options, reference_seconds, parallel_seconds, threads, times);
+    for (unsigned d = 0; d < bench_device_passes(options); ++d)
+        if (usable[SLOT(0, d)])
+            print_cpu_ratio(times[SLOT(0, d)].name, &parallel, &timings[SLOT(0, d)][0]);
 }
 
 /* The defaults workload of one model and size (issue 25): the command's
@@ -607,6 +638,8 @@ static void run_defaults(bench_report *report, const char *model, const reyes_sc
                    "(the whole stitched render, planning, clear and resolve included: %.4f s, %.2fx) (target >= "
                    "1.5x: %s)\n", names[d], threads, ratio(openmp, none), ratio(openmp, stitch), whole,
                    ratio(openmp, whole), ratio(openmp, stitch) >= 1.5 ? "met" : "NOT met");
+        print_cpu_ratio("no crack fix", &parallel, &plain[d]);
+        print_cpu_ratio("stitched", &parallel, &stitched[d]);
     }
 }
 
