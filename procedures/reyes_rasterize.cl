@@ -292,10 +292,19 @@ void reyes_quad_pixels(__global const struct reyes_params *p, __global ulong *sa
     }
 }
 
+/* PoCL (which defines POCL_DEVICE_ADDRESS_BITS for kernels) lowers
+ * __builtin_reduce_or to a mask test (kortest on AVX-512); oclgrind's
+ * interpreter has no llvm.vector.reduce.or and refuses the kernel, so
+ * other implementations take the halving reduction. */
+#if defined(POCL_DEVICE_ADDRESS_BITS) && defined(__has_builtin)
+#if __has_builtin(__builtin_reduce_or)
+#define REYES_REDUCE_OR 1
+#endif
+#endif
+
 REYES_INLINE int reyes_any16(int16 m)
 {
-#if defined(__clang__) && __has_builtin(__builtin_reduce_or)
-    /* A reduction LLVM knows: a mask test (kortest) on AVX-512. */
+#ifdef REYES_REDUCE_OR
     return __builtin_reduce_or(m) != 0;
 #else
     return reyes_any8(m.lo | m.hi);
