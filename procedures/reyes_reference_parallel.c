@@ -62,7 +62,8 @@ static int render_on(worker *workers, int count, const reyes_scene *scene, struc
             failed |= !*all;
         }
         if (!failed) {
-            memcpy(*all + w->first, w->leaves.items, w->leaves.count * sizeof **all);
+            if (w->leaves.count) /* a thread without leaves may have no list (NULL) */
+                memcpy(*all + w->first, w->leaves.items, w->leaves.count * sizeof **all);
 #pragma omp barrier
 #pragma omp for schedule(dynamic, DICE_CHUNK)
             for (size_t k = 0; k < total; ++k)
