@@ -2,7 +2,10 @@
  *
  * G generator items each emit K empty items into a procedure that does
  * nothing, so the time is the scheduler's own cost per task: taking a
- * batch, dispatching, reserving and publishing emits.  Measured for every
+ * batch, dispatching, reserving and publishing emits.  With --emits
+ * random:A..B generator g emits A + hash(g) % (B - A + 1) items instead,
+ * declaring B as its maximum: what variable fan-out costs (an item that
+ * declares up to B emits and makes fewer).  Measured for every
  * perma variant, group size (= batch size of the empty procedure) and
  * work-group count, against a sequential FIFO loop and OpenMP tasks.
  * Rate = (G + G*K) executed items per second.  Each row's note gives the
@@ -15,15 +18,28 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* The emit count of generator g: a 32-bit integer hash (lowbias32), the
+ * same text in C and OpenCL C. */
+#define QUEUE_HASH_CODE                                   \
+    "uint queue_hash(uint x)\n"                           \
+    "{\n"                                                 \
+    "    x ^= x >> 16; x *= 0x7feb352dU;\n"               \
+    "    x ^= x >> 15; x *= 0x846ca68bU;\n"               \
+    "    return x ^ (x >> 16);\n"                         \
+    "}\n"
+
 static const char *device_types =
     "struct generator_item { uint index; };\n"
-    "struct empty_item { uint value; };\n";
+    "struct empty_item { uint value; };\n" QUEUE_HASH_CODE;
 
+/* EMITS_MIN and EMITS_SPAN (0: always EMITS_MIN) are defined in front of
+ * the shared source. */
 static const char *generate_source =
     "void generate(perma_ctx *ctx, __local const struct generator_item *g)\n"
     "{\n"
+    "    uint k = EMITS_SPAN ? EMITS_MIN + queue_hash(g->index) % EMITS_SPAN : EMITS_MIN;\n"
     "    struct empty_item e;\n"
-    "    for (uint i = 0; i < EMPTY_PER_GENERATOR; ++i) {\n"
+    "    for (uint i = 0; i < k; ++i) {\n"
     "        e.value = g->index + i;\n"
     "        emit_empty(ctx, &e);\n"
     "    }\n"
@@ -37,12 +53,40 @@ static const char *empty_source =
     "}\n";
 
 typedef struct queue_params {
-    unsigned generators, per_generator; /* G, K */
+    unsigned generators, per_generator; /* G, and K: the most one generator emits (declared) */
+    unsigned min_emits;                 /* random: the fewest one emits; else K */
+    int random;                         /* each emits min_emits + hash(g) % (K - min_emits + 1) */
 } queue_params;
+
+static uint32_t queue_hash(uint32_t x)
+{
+    x ^= x >> 16;
+    x *= 0x7feb352dU;
+    x ^= x >> 15;
+    x *= 0x846ca68bU;
+    return x ^ (x >> 16);
+}
+
+/* Items generator g emits. */
+static uint32_t emits_of(const queue_params *p, uint32_t g)
+{
+    if (!p->random)
+        return p->per_generator;
+    return p->min_emits + queue_hash(g) % (p->per_generator - p->min_emits + 1u);
+}
+
+/* Empty items all generators emit together. */
+static uint64_t total_emits(const queue_params *p)
+{
+    uint64_t total = 0;
+    for (uint32_t g = 0; g < p->generators; ++g)
+        total += emits_of(p, g);
+    return total;
+}
 
 static double total_items(const queue_params *p)
 {
-    return (double)p->generators * (1.0 + p->per_generator);
+    return (double)p->generators + (double)total_emits(p);
 }
 
 /* ---- perma ---- */
@@ -68,7 +112,7 @@ static int queue_verify(void *state, perma_runtime *rt, bench_row *row)
     if (perma_get_procedure_stats(rt, s->procs[0], &gen) != PERMA_OK ||
         perma_get_procedure_stats(rt, s->procs[1], &empty) != PERMA_OK)
         return 0;
-    uint64_t expected = (uint64_t)s->params.generators * s->params.per_generator;
+    uint64_t expected = total_emits(&s->params);
     row->count = gen.items + empty.items;
     row->expected = s->params.generators + expected;
     return gen.items == s->params.generators && empty.items == expected;
@@ -117,14 +161,16 @@ static void run_perma(const bench_options *o, const bench_variant *v, queue_stat
             .name = "empty", .item_type = "struct empty_item", .item_size = 4,
             .source = empty_source, .source_file = "queue_empty.cl", .function = "empty",
         };
-        /* EMPTY_PER_GENERATOR is defined in the shared source. */
-        char *types = malloc(strlen(device_types) + 64);
+        /* EMITS_MIN and EMITS_SPAN are defined in the shared source. */
+        char *types = malloc(strlen(device_types) + 96);
         size_t sizes[2] = { 4, 4 };
         bench_workload w = { queue_prepare, queue_verify, s, 2, s->procs, sizes };
         if (!types) {
             snprintf(row.message, sizeof row.message, "out of memory");
         } else {
-            sprintf(types, "#define EMPTY_PER_GENERATOR %uu\n%s", s->params.per_generator, device_types);
+            const queue_params *p = &s->params;
+            sprintf(types, "#define EMITS_MIN %uu\n#define EMITS_SPAN %uu\n%s", p->random ? p->min_emits : p->per_generator,
+                    p->random ? p->per_generator - p->min_emits + 1u : 0u, device_types);
             if (perma_add_source(rt, types, "queue_types.cl") != PERMA_OK ||
                 perma_register(rt, &generate, &s->procs[0]) != PERMA_OK ||
                 perma_register(rt, &empty, &s->procs[1]) != PERMA_OK)
@@ -186,7 +232,7 @@ static void sequential_once(void *p)
         ++executed;
         if (item & generator_bit) {
             uint32_t base = item & ~generator_bit;
-            for (uint32_t i = 0; i < a->params.per_generator; ++i)
+            for (uint32_t i = 0, k = emits_of(&a->params, base); i < k; ++i)
                 a->ring[tail++ & mask] = base + i;
         } else {
             run_empty(item);
@@ -199,15 +245,15 @@ static void sequential_once(void *p)
 static void openmp_single_producer_once(void *p)
 {
     baseline_arg *a = p;
-    uint64_t n = (uint64_t)a->params.generators * a->params.per_generator;
 #pragma omp parallel num_threads(a->threads)
 #pragma omp single
-    for (uint64_t i = 0; i < n; ++i) {
-#pragma omp task
-        run_empty((uint32_t)i);
-    }
+    for (uint32_t g = 0; g < a->params.generators; ++g)
+        for (uint32_t i = 0, k = emits_of(&a->params, g); i < k; ++i) {
+#pragma omp task firstprivate(g, i)
+            run_empty(g + i);
+        }
     /* Every created task runs before the parallel region's barrier. */
-    a->executed = n;
+    a->executed = total_emits(&a->params);
 }
 
 /* OpenMP with the same shape as the perma workload: generator tasks that
@@ -219,12 +265,12 @@ static void openmp_generators_once(void *p)
 #pragma omp single
     for (uint32_t g = 0; g < a->params.generators; ++g) {
 #pragma omp task firstprivate(g)
-        for (uint32_t i = 0; i < a->params.per_generator; ++i) {
+        for (uint32_t i = 0, k = emits_of(&a->params, g); i < k; ++i) {
 #pragma omp task firstprivate(i)
             run_empty(g + i);
         }
     }
-    a->executed = (uint64_t)a->params.generators * (1 + a->params.per_generator);
+    a->executed = a->params.generators + total_emits(&a->params);
 }
 
 static double add_baseline(const bench_options *o, baseline_arg *a, const char *variant, void (*fn)(void *),
@@ -244,14 +290,17 @@ static double add_baseline(const bench_options *o, baseline_arg *a, const char *
 
 static void queue_usage(FILE *out)
 {
-    fprintf(out, "usage: perma-bench queue [common options] [--generators G] [--per-generator K]\n"
-                 "  G generator items each emit K empty items (default G=8192 K=256; quick G=256 K=256)\n"
+    fprintf(out, "usage: perma-bench queue [common options] [--generators G] [--emits K | --emits random:A..B]\n"
+                 "  G generator items each emit K empty items (default G=8192 K=256; quick G=256 K=256);\n"
+                 "  --per-generator K is --emits K.  With random:A..B generator g emits A + hash(g) %% (B-A+1)\n"
+                 "  items and declares B (default G=131072; quick G=4096)\n"
                  "  group sizes 32, 64, 128 and work-groups 1, 2 (--groups N: only N; quick: 64 and 2)\n");
 }
 
 int bench_queue(const bench_options *o, int argc, char **argv)
 {
-    queue_params params = { o->quick ? 256 : 8192, 256 };
+    queue_params params = { o->quick ? 256 : 8192, 256, 256, 0 };
+    int generators_given = 0;
     for (int i = 1; i < argc; ++i) {
         const char *next = i + 1 < argc ? argv[i + 1] : NULL;
         unsigned *target = NULL, max = 0;
@@ -259,8 +308,23 @@ int bench_queue(const bench_options *o, int argc, char **argv)
             queue_usage(stdout);
             return 0;
         } else if (strcmp(argv[i], "--generators") == 0 && next) {
-            target = &params.generators, max = 1u << 20;
-        } else if (strcmp(argv[i], "--per-generator") == 0 && next) {
+            target = &params.generators, max = 1u << 24;
+            generators_given = 1;
+        } else if (strcmp(argv[i], "--emits") == 0 && next && strncmp(next, "random:", 7) == 0) {
+            unsigned a, b;
+            int used = 0;
+            if (sscanf(next + 7, "%u..%u%n", &a, &b, &used) != 2 || next[7 + used] || a > b ||
+                b < 1 || b > PERMA_MAX_EMIT_ITEMS) {
+                fprintf(stderr, "perma-bench queue: --emits random:A..B needs 0 <= A <= B, 1 <= B <= %d, got '%s'\n",
+                        PERMA_MAX_EMIT_ITEMS, next);
+                return 2;
+            }
+            params.random = 1;
+            params.min_emits = a;
+            params.per_generator = b;
+            ++i;
+            continue;
+        } else if ((strcmp(argv[i], "--per-generator") == 0 || strcmp(argv[i], "--emits") == 0) && next) {
             target = &params.per_generator, max = PERMA_MAX_EMIT_ITEMS;
         } else {
             fprintf(stderr, "perma-bench queue: unknown or incomplete option '%s'\n", argv[i]);
@@ -276,6 +340,10 @@ int bench_queue(const bench_options *o, int argc, char **argv)
         *target = (unsigned)value;
         ++i;
     }
+    if (!params.random)
+        params.min_emits = params.per_generator;
+    else if (!generators_given)
+        params.generators = o->quick ? 4096 : 131072;
 
     static const unsigned all_sizes[] = { 32, 64, 128 }, quick_sizes[] = { 64 };
     static const unsigned all_groups[] = { 1, 2 }, quick_groups[] = { 2 };
@@ -289,7 +357,11 @@ int bench_queue(const bench_options *o, int argc, char **argv)
     }
 
     char title[96];
-    snprintf(title, sizeof title, "%u generators x %u empty tasks", params.generators, params.per_generator);
+    if (params.random)
+        snprintf(title, sizeof title, "%u generators x %u..%u empty tasks", params.generators, params.min_emits,
+                 params.per_generator);
+    else
+        snprintf(title, sizeof title, "%u generators x %u empty tasks", params.generators, params.per_generator);
     bench_report *report;
     if (bench_report_open(&report, "queue", o))
         return 1;
@@ -297,7 +369,7 @@ int bench_queue(const bench_options *o, int argc, char **argv)
 
     baseline_arg a = { .params = params, .threads = bench_threads(o) };
     /* The FIFO holds at most all items at once. */
-    size_t needed = (size_t)params.generators * (1 + (size_t)params.per_generator);
+    size_t needed = (size_t)params.generators + (size_t)total_emits(&params);
     a.ring_size = 1;
     while (a.ring_size < needed)
         a.ring_size *= 2;
@@ -324,7 +396,7 @@ int bench_queue(const bench_options *o, int argc, char **argv)
 
     s->params = params;
     for (uint32_t g = 0; g < params.generators; ++g)
-        s->seeds[g] = g * params.per_generator;
+        s->seeds[g] = g;
     for (unsigned gi = 0; gi < group_count; ++gi)
         for (unsigned si = 0; si < size_count; ++si)
             for (unsigned i = 0; i < bench_variant_count; ++i) {

@@ -101,6 +101,23 @@ static void append_buffers(perma_runtime *rt, perma_strbuf *sb)
     perma_strbuf_append(sb, "} perma_buffers;\n");
 }
 
+/* PERMA_SWITCH_WORDS(words, call): `call` with PERMA_WORDS a constant equal
+ * to `words` for every item size of the program, so the copies of the
+ * batch code (kernels/perma_batch.cl) compile to fixed moves per size. */
+static void append_word_switch(perma_runtime *rt, perma_strbuf *sb)
+{
+    perma_strbuf_append(sb, "#define PERMA_SWITCH_WORDS(words, call) switch (words) {");
+    for (unsigned i = 0; i < rt->proc_count; ++i) {
+        unsigned words = (unsigned)(rt->procs[i].item_size / 4);
+        bool seen = false;
+        for (unsigned j = 0; j < i; ++j)
+            seen = seen || rt->procs[j].item_size == rt->procs[i].item_size;
+        if (!seen)
+            perma_strbuf_printf(sb, " case %uu: { const uint PERMA_WORDS = %uu; call; break; }", words, words);
+    }
+    perma_strbuf_append(sb, " default: { const uint PERMA_WORDS = (words); call; break; } }\n");
+}
+
 static void append_kernel_params(perma_runtime *rt, perma_strbuf *sb)
 {
     perma_strbuf_append(sb, "#define PERMA_BUFFER_PARAMS");
@@ -167,7 +184,8 @@ static void append_procedure_sources(perma_runtime *rt, perma_strbuf *sb)
  * procedures may be larger than the group). */
 static void append_dispatch(perma_runtime *rt, perma_strbuf *sb)
 {
-    perma_strbuf_append(sb, "PERMA_PHASE void perma_dispatch(uint lid, __local perma_group_mem *mem, perma_buffers buf)\n"
+    perma_strbuf_append(sb, "PERMA_PHASE void perma_dispatch(uint lid, __local perma_group_mem *mem, __global uint *stage,\n"
+                            "                             perma_buffers buf)\n"
                             "{\n"
                             "    const uint proc = mem->batch[PERMA_B_PROC];\n"
                             "    const uint run = perma_batch_run(mem);\n"
@@ -177,7 +195,7 @@ static void append_dispatch(perma_runtime *rt, perma_strbuf *sb)
                             "    perma_ctx context;\n"
                             "    perma_ctx *ctx = &context;\n"
                             "    ctx->group = get_group_id(0);\n"
-                            "    ctx->stage = arena;\n"
+                            "    ctx->stage = stage;\n"
                             "    ctx->error_code = &mem->error_code;\n"
                             "    ctx->buf = buf;\n"
                             "    switch (proc) {\n");
@@ -241,6 +259,7 @@ perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *sb)
                             "#define PERMA_NUM_PROCS %uu\n"
                             "#define PERMA_MAX_EDGES %uu\n"
                             "#define PERMA_ARENA_WORDS %uu\n"
+                            "#define PERMA_STAGE_WORDS %uu\n"
                             "#define PERMA_QUEUE_SETS %uu\n"
                             "#define PERMA_STEALING %d\n"
                             "#define PERMA_DONATION %d\n"
@@ -250,7 +269,7 @@ perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *sb)
                             "#define PERMA_LQ_WORDS %uu\n"
                             "#define PERMA_TRACE_EVENTS %uu\n",
                         rt->proc_count, rt->group_size, item_barrier, rt->proc_count, rt->max_edges, rt->arena_words,
-                        rt->queue_sets,
+                        rt->stage_words, rt->queue_sets,
                         rt->queue_sets > 1 && (rt->config.schedule.strategy == PERMA_STRATEGY_STEALING ||
                                                rt->config.schedule.strategy == PERMA_STRATEGY_STEALING_DONATION),
                         rt->queue_sets > 1 && (rt->config.schedule.strategy == PERMA_STRATEGY_DONATION ||
@@ -283,6 +302,7 @@ perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *sb)
     perma_abi_append_item_checks(rt, sb);
     resume_generated(sb);
     append_kernel_params(rt, sb);
+    append_word_switch(rt, sb);
     perma_strbuf_append(sb, perma_kernel_batch);
     resume_generated(sb);
     append_dispatch(rt, sb);

@@ -63,11 +63,13 @@ typedef struct perma_proc_info {
     int emit_target[PERMA_MAX_EMITS];  /* procedure ids */
     unsigned depth;                    /* distance from a root of the graph */
     unsigned max_batch;                /* items per batch */
+    unsigned max_batch_local;          /* items per batch __local memory allows (>= max_batch; more when the
+                                          staging of the emits cut it) */
     unsigned items_off, scratch_off, counters_off; /* arena offsets, words */
     unsigned lane_counts_off;          /* per work-item emit counters (simple procedures) */
     unsigned lane_items;               /* items a lane stages for (0: staging per item) */
     unsigned scratch_words;            /* per item */
-    unsigned stage_off[PERMA_MAX_EMITS];
+    unsigned stage_off[PERMA_MAX_EMITS]; /* words into the group's staging area, per edge */
     unsigned lq_off;                   /* local front queue offset, words */
 
     /* Items seeded for the next run (item_size bytes each). */
@@ -108,7 +110,10 @@ typedef struct perma_device_state {
     perma_device_buffer stats;    /* a statistics record per group */
     perma_device_buffer trace;    /* trace records per group */
     perma_device_buffer input;    /* the items a step kernel consumes */
-    perma_device_buffer relayout; /* a regrowth's perma_relayout_records */
+    perma_device_buffer relayout; /* a regrowth's perma_relayout_records, then its overflow segments */
+    perma_device_buffer emit_areas; /* a group's emit area each: staging, overflow (kernels/perma_abi.h) */
+    uint32_t *overflow_headers;   /* the areas' headers as the last launch left them (perma_state_read_overflow) */
+    bool overflow_known;          /* overflow_headers were read for the growth to come */
     cl_mem abort_mem;             /* the watch page (kernels/perma_abi.h): the abort */
     uint32_t *abort_flag;         /* flag, each group's progress; page-aligned host memory */
     perma_queue_state *queues;    /* queue_count entries, index set * procs + proc */
@@ -165,6 +170,7 @@ struct perma_runtime {
     cl_kernel relayout_kernel; /* perma_relayout_kernel (queue growth) */
     unsigned max_edges;
     unsigned arena_words;
+    unsigned stage_words;      /* a group's staging area for emits (global memory), words */
     unsigned local_queue_items;        /* 0: no local front queue */
     unsigned lq_words;
     unsigned order[PERMA_MAX_PROCEDURES];
@@ -311,9 +317,12 @@ void perma_queues_seed_share(const perma_runtime *rt, unsigned qi, size_t *first
  * (a group's batches kept being cut by its room), only that queue. */
 perma_status perma_queues_grow_stalled(perma_runtime *rt, const perma_ctl_block *ctl, unsigned starved_queue,
                                        size_t *capacities);
-/* Every queue with fewer free slots than needed[qi] grows to fit. */
+/* Every queue with fewer free slots than needed[qi] grows to fit (doubling). */
 perma_status perma_queues_grow_to_fit(perma_runtime *rt, const perma_ctl_block *ctl, const size_t *needed,
                                       size_t *capacities);
+/* The same from the capacities already in capacities[]. */
+perma_status perma_queues_fit_more(perma_runtime *rt, const perma_ctl_block *ctl, const size_t *needed,
+                                   size_t *capacities);
 /* Bytes a queue slot costs beside its item: two completion marks
  * (kernels/perma_queue.cl). */
 #define PERMA_QUEUE_SLOT_OVERHEAD 8
@@ -330,6 +339,10 @@ perma_status perma_state_empty(perma_runtime *rt);
 perma_status perma_state_upload(perma_runtime *rt, const size_t *capacities);
 /* Before each launch: statistics zeroed, watchdog flag down. */
 perma_status perma_state_begin_launch(perma_runtime *rt);
+/* After a launch that stopped for room: the items each queue's groups left
+ * in their overflow areas (per_queue[qi], queue_count entries), kept for
+ * perma_state_grow, which appends them to the grown queues. */
+perma_status perma_state_read_overflow(perma_runtime *rt, size_t *per_queue);
 /* The header and the first `queues` queue records, read back. */
 perma_status perma_state_read_control(perma_runtime *rt, perma_ctl_block *out, unsigned queues);
 perma_status perma_state_read_header(perma_runtime *rt, perma_ctl_header *out);
@@ -338,8 +351,9 @@ perma_status perma_state_read_header(perma_runtime *rt, perma_ctl_header *out);
  * blocking call on the queue. */
 perma_status perma_state_write_queue_counters(perma_runtime *rt, unsigned q, const perma_queue_record *record);
 /* Between launches: give the queues these capacities on the device, their
- * items moved by perma_relayout_kernel; `ctl` is the control block as the
- * last launch left it. */
+ * items moved by perma_relayout_kernel and the overflowed items of the
+ * last perma_state_read_overflow appended; `ctl` is the control block as
+ * the last launch left it. */
 perma_status perma_state_grow(perma_runtime *rt, const perma_ctl_block *ctl, const size_t *capacities);
 perma_status perma_state_read_stats(perma_runtime *rt, uint32_t *words, size_t count);
 perma_status perma_state_read_trace(perma_runtime *rt, uint32_t *words, size_t count);

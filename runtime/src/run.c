@@ -15,19 +15,28 @@
 #include <string.h>
 
 /* Grow the queues a launch stopped for, as the outcome says, on the
- * device. */
+ * device: for the items groups left in their overflow areas (which the
+ * growth appends to the queues), a starved group's target, the targets of
+ * a stall, or what a host-driven step needs. */
 static perma_status grow_queues(perma_runtime *rt, const perma_launch_outcome *outcome)
 {
     unsigned queues = perma_queues_count(rt);
     perma_ctl_block *ctl = malloc(perma_ctl_block_bytes(queues));
     size_t *capacities = malloc(queues * sizeof *capacities);
-    perma_status st = ctl && capacities ? perma_state_read_control(rt, ctl, queues)
-                                        : perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory growing queues");
-    bool starved = outcome->header.detail_proc == PERMA_DETAIL_STARVED;
-    if (st == PERMA_OK)
-        st = outcome->needed_given ? perma_queues_grow_to_fit(rt, ctl, outcome->needed, capacities)
-                                   : perma_queues_grow_stalled(rt, ctl, starved ? outcome->header.detail_edge
-                                                                                : UINT32_MAX, capacities);
+    size_t *overflow = calloc(queues, sizeof *overflow);
+    perma_status st = ctl && capacities && overflow
+                          ? perma_state_read_control(rt, ctl, queues)
+                          : perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory growing queues");
+    if (st == PERMA_OK && rt->executor->persistent)
+        st = perma_state_read_overflow(rt, overflow);
+    uint32_t detail = outcome->header.detail_proc;
+    bool starved = detail == PERMA_DETAIL_STARVED;
+    if (st == PERMA_OK && outcome->needed_given)
+        st = perma_queues_grow_to_fit(rt, ctl, outcome->needed, capacities);
+    else if (st == PERMA_OK && detail == PERMA_DETAIL_OVERFLOW)
+        st = perma_queues_grow_to_fit(rt, ctl, overflow, capacities);
+    else if (st == PERMA_OK)
+        st = perma_queues_grow_stalled(rt, ctl, starved ? outcome->header.detail_edge : UINT32_MAX, capacities);
     bool grows = st == PERMA_OK;
     if (starved && st == PERMA_ERR_CAPACITY) {
         /* Growing for full batches is an optimisation: past the memory
@@ -38,12 +47,16 @@ static perma_status grow_queues(perma_runtime *rt, const perma_launch_outcome *o
             capacities[qi] = rt->state.queues[qi].capacity;
         st = PERMA_OK;
     }
+    /* Whatever the launch stopped for, the overflowed items must fit. */
+    if (st == PERMA_OK && detail != PERMA_DETAIL_OVERFLOW)
+        st = perma_queues_fit_more(rt, ctl, overflow, capacities);
     if (st == PERMA_OK)
         st = perma_state_grow(rt, ctl, capacities);
     if (st == PERMA_OK && grows)
         rt->stats.regrowths++;
     free(ctl);
     free(capacities);
+    free(overflow);
     return st;
 }
 
