@@ -437,12 +437,17 @@ perma_status perma_run(perma_runtime *rt);
 /* Why a procedure's batches held fewer items than a group could run. */
 typedef enum perma_batch_cut {
     PERMA_BATCH_FULL = 0,         /* nothing cut them */
-    PERMA_BATCH_CUT_LOCAL_MEMORY, /* __local memory holds fewer items (their copies, scratch and
-                                     worst-case emits): batch_size is below group_size *
-                                     items_per_work_item (group_size / threads_per_item for a
-                                     procedure of several threads per item or a cooperative one) */
-    PERMA_BATCH_CUT_ROOM          /* a full batch's worst-case emits did not fit the target's queue,
-                                     so batches started with the few items whose worst case fit */
+    PERMA_BATCH_CUT_LOCAL_MEMORY, /* __local memory holds fewer items (their copies, scratch and emit
+                                     counters): batch_size is below group_size * items_per_work_item
+                                     (group_size / threads_per_item for a procedure of several threads per
+                                     item or a cooperative one) */
+    PERMA_BATCH_CUT_ROOM,         /* a full batch's expected emits (what its items emitted so far, per
+                                     item; the declared maximum before a group's first batch of a launch)
+                                     did not fit the target's queue, which may not grow further (the queue
+                                     memory limit), so batches started with the few items that fit */
+    PERMA_BATCH_CUT_STAGING       /* staging the declared maximum of emits of a full batch would need more
+                                     than the global memory a work-group may stage in (a quarter of the
+                                     device's largest allocation over all groups, at most 16 MiB each) */
 } perma_batch_cut;
 
 /* Statistics of the last run. */
@@ -487,6 +492,10 @@ typedef struct perma_stats {
                                   and all queues fit the memory limit) */
     uint64_t items;            /* items executed, all procedures */
     uint64_t steals, donations, spills, idle_polls; /* sums over groups */
+    /* Emitted items a megakernel batch could not queue because their target
+     * had no room for more than the batch reserved (its expected emits): the
+     * launch stopped, the queue grew and they were appended to it. */
+    uint64_t overflowed_items;
     perma_technique technique;
     perma_strategy strategy;
 } perma_stats;

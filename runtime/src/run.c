@@ -29,6 +29,8 @@ static perma_status grow_queues(perma_runtime *rt, const perma_launch_outcome *o
                           : perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory growing queues");
     if (st == PERMA_OK && rt->executor->persistent)
         st = perma_state_read_overflow(rt, overflow);
+    for (unsigned qi = 0; st == PERMA_OK && qi < queues; ++qi)
+        rt->stats.overflowed_items += overflow[qi];
     uint32_t detail = outcome->header.detail_proc;
     bool starved = detail == PERMA_DETAIL_STARVED;
     if (st == PERMA_OK && outcome->needed_given)

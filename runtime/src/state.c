@@ -422,7 +422,8 @@ static void plan_overflow(const perma_runtime *rt, unsigned qi, perma_relayout_r
  * (next, the control block to write), the items of the overflow areas
  * after them, and where they all come from (map, then the segments). */
 static void plan_relayout(const perma_runtime *rt, const perma_ctl_block *ctl, const size_t *capacities,
-                          perma_ctl_block *next, perma_relayout_record *map, size_t *data_words, size_t *slots)
+                          perma_ctl_block *next, perma_relayout_record *map, size_t *map_bytes, size_t *data_words,
+                          size_t *slots)
 {
     *data_words = *slots = 0;
     next->header.outstanding = ctl->header.outstanding;
@@ -444,6 +445,7 @@ static void plan_relayout(const perma_runtime *rt, const perma_ctl_block *ctl, c
         *data_words += capacities[qi] * item_words(rt, qi);
         *slots += capacities[qi];
     }
+    *map_bytes = 4 * (segments_at + used);
 }
 
 static perma_status run_relayout(perma_runtime *rt, unsigned queues, size_t slots, perma_device_buffer *data,
@@ -491,7 +493,7 @@ perma_status perma_state_grow(perma_runtime *rt, const perma_ctl_block *ctl, con
         goto done;
     }
     size_t data_words, slots;
-    plan_relayout(rt, ctl, capacities, next, map, &data_words, &slots);
+    plan_relayout(rt, ctl, capacities, next, map, &map_bytes, &data_words, &slots);
     if ((st = create(rt, &data, data_words * 4, "queue items")) != PERMA_OK ||
         (st = create(rt, &seq, 2 * slots * 4, "queue completion marks")) != PERMA_OK ||
         (st = ensure(rt, &s->relayout, map_bytes, "queue relayout")) != PERMA_OK ||

@@ -624,18 +624,14 @@ static const char *fanout_source =
     "}\n"
     "void root(perma_ctx *ctx, __local const struct fan *n) { node(ctx, n); }\n";
 
-/* Run the fan-out tree, its root declared by procedure `root_name`, with
- * `items_per_work_item` and `queue_memory_limit` (0: the defaults); the
+/* Run the fan-out tree, its root declared by procedure `root_name`: the
  * statistics of `node` and what perma_print_stats printed. */
-static void run_fanout(const char *root_name, unsigned items_per_work_item, size_t queue_memory_limit,
-                       perma_procedure_stats *node_stats, char **printed)
+static void run_fanout(const char *root_name, perma_procedure_stats *node_stats, char **printed)
 {
     perma_config config;
     perma_config_init(&config);
     config.group_size = 64;
     config.time_limit = 120;
-    config.items_per_work_item = items_per_work_item;
-    config.queue_memory_limit = queue_memory_limit;
     perma_runtime *rt = test_runtime_config(&config);
     bool separate = strcmp(root_name, "root") == 0;
     ck_assert_perma_ok(rt, perma_add_source(rt, fanout_types, "fan_types.cl"));
@@ -665,60 +661,103 @@ static void run_fanout(const char *root_name, unsigned items_per_work_item, size
     perma_destroy(rt);
 }
 
-/* The warning for node's batches cut by __local memory: its 1000 staged
- * emits of 8 bytes per item leave room for fewer than `full` items. */
-static void expect_local_memory_cut(const perma_procedure_stats *ps, const char *printed, unsigned full)
+/* `wide` items (8 bytes) each emit `emits` leaves of `leaf_size` bytes into
+ * `leaf`, declaring `declared`; `count` of them seeded, a queue memory
+ * limit (0: the default), one item per work-item per batch or the default
+ * (0).  The statistics of `wide` and what perma_print_stats printed. */
+#define WIDE_SOURCE                                                          \
+    "struct wide { uint emits; uint pad; };\n"                               \
+    "void wide(perma_ctx *ctx, __local const struct wide *w)\n"              \
+    "{\n"                                                                    \
+    "    struct leaf l = { 0 };\n"                                           \
+    "    for (uint i = 0; i < w->emits; ++i)\n"                              \
+    "        emit_leaf(ctx, &l);\n"                                          \
+    "}\n"                                                                    \
+    "void leaf(perma_ctx *ctx, __local const struct leaf *l) { atomic_inc(&ctx->buf.leaves[0]); }\n"
+static void run_wide(unsigned declared, unsigned leaf_size, unsigned emits, unsigned count, size_t memory_limit,
+                     unsigned items_per_work_item, perma_procedure_stats *wide_stats, char **printed)
 {
-    ck_assert_uint_lt(ps->batch_size, full);
-    ck_assert_contains(printed, "warning: procedure 'node' runs at most ");
-    ck_assert_contains(printed, ".emits[0] (up to 1000 items of 8 bytes into 'node' per item) needs 8000 bytes");
+    perma_config config;
+    perma_config_init(&config);
+    config.group_size = 64;
+    config.time_limit = 120;
+    config.queue_memory_limit = memory_limit;
+    config.items_per_work_item = items_per_work_item;
+    perma_runtime *rt = test_runtime_config(&config);
+    char types[64];
+    snprintf(types, sizeof types, "struct leaf { uint w[%u]; };\n", leaf_size / 4);
+    ck_assert_perma_ok(rt, perma_add_source(rt, types, "leaf_types.cl"));
+    perma_procedure w = { .name = "wide", .item_type = "struct wide", .item_size = 8, .function = "wide",
+                          .source = WIDE_SOURCE, .source_file = "wide.cl", .emits = { { "leaf", declared } } };
+    perma_procedure l = { .name = "leaf", .item_type = "struct leaf", .item_size = leaf_size, .function = "leaf",
+                          .source = WIDE_SOURCE, .source_file = "wide.cl" };
+    perma_proc wide_id, leaf_id;
+    ck_assert_perma_ok(rt, perma_register(rt, &w, &wide_id));
+    ck_assert_perma_ok(rt, perma_register(rt, &l, &leaf_id));
+    uint32_t leaves[1] = { 0 };
+    ck_assert_perma_ok(rt, perma_bind_host(rt, "leaves", "__global uint *", leaves, sizeof leaves, PERMA_READ_WRITE));
+    struct { uint32_t emits, pad; } *seeds = calloc(count, sizeof *seeds);
+    for (unsigned i = 0; i < count; ++i)
+        seeds[i].emits = emits;
+    ck_assert_perma_ok(rt, perma_seed(rt, wide_id, seeds, count));
+    free(seeds);
+    ck_assert_perma_ok(rt, perma_run(rt));
+    ck_assert_uint_eq(leaves[0], count * emits);
+    ck_assert_perma_ok(rt, perma_get_procedure_stats(rt, wide_id, wide_stats));
+    size_t size;
+    FILE *out = open_memstream(printed, &size);
+    perma_print_stats(rt, out);
+    fclose(out);
+    perma_destroy(rt);
 }
 
-/* One procedure for root and nodes declares the root's 1000 children for
- * every node, which cuts its batches twice: staging 1000 emits per item
- * leaves __local memory for fewer items than a batch holds, and a full
- * batch's worst case does not fit the queue, so with queues that may not
- * grow (past the memory limit) batches run a few items each.  The
- * statistics say so, naming the declaration; a separate root procedure
- * (the fix the docs show) runs full batches. */
+/* A batch reserves room for the emits its items are expected to make (the
+ * mean so far), not for the declared maximum, and stages them in global
+ * memory: one procedure for root and nodes that declares the root's 1000
+ * children for every node runs full batches.  What still cuts batches is
+ * said, naming the declaration: staging the declared maximum of a full
+ * batch beyond what a group may stage (4096 emits of 64 bytes per item),
+ * and expected emits that do not fit a queue the memory limit keeps small
+ * (1000 real emits per item). */
 START_TEST(cut_batches_are_explained)
 {
     perma_procedure_stats ps;
     char *printed = NULL;
-    /* Defaults: batches of up to 4 items per work-item, which no device's
-     * __local memory stages here (PoCL: about 130 of 256). */
-    run_fanout("node", 0, 0, &ps, &printed);
-    ck_assert_int_eq(ps.batch_cut, PERMA_BATCH_CUT_LOCAL_MEMORY);
-    ck_assert_int_eq(ps.batch_cut_emit, 0);
-    expect_local_memory_cut(&ps, printed, 4 * 64);
-    ck_assert_contains(printed, "instead of 256: ");
-    ck_assert_contains(printed, "a separate procedure");
-    free(printed);
-
-    /* One item per work-item, and a queue memory limit that lets the
-     * queue grow when nothing can start (up to 16384 items of 8 bytes and
-     * two completion marks) but not to the 2 x 64 x 1000 items that full
-     * batches of two groups need: the room cuts the batches. */
-    printed = NULL;
-    run_fanout("node", 1, (size_t)16384 * 16, &ps, &printed);
-    ck_assert_int_eq(ps.batch_cut_emit, 0);
-    if (ps.batch_cut == PERMA_BATCH_CUT_LOCAL_MEMORY) {
-        /* A device with little __local memory (Intel's CPU runtime: 32 KiB)
-         * cannot even stage the emits of 64 items. */
-        expect_local_memory_cut(&ps, printed, 64);
-    } else {
-        ck_assert_uint_lt(ps.items, ps.batches * 16); /* a few items per batch */
-        ck_assert_uint_eq(ps.batch_size, 64);
-        ck_assert_int_eq(ps.batch_cut, PERMA_BATCH_CUT_ROOM);
-        ck_assert_contains(printed, "warning: procedure 'node' ran batches of ");
-        ck_assert_contains(printed, "instead of up to 64: a full batch must reserve room for 64 x 1000 items in "
-                                    "'node' (.emits[0].max_items = 1000)");
-    }
-    ck_assert_contains(printed, "a separate procedure");
+    run_fanout("node", &ps, &printed);
+    ck_assert_int_eq(ps.batch_cut, PERMA_BATCH_FULL);
+    ck_assert_uint_eq(ps.batch_size, 4 * 64);
+    ck_assert_uint_ge(ps.items, ps.batches * 16);
+    ck_assert_msg(strstr(printed, "warning") == NULL, "unexpected warning: %s", printed);
     free(printed);
 
     printed = NULL;
-    run_fanout("root", 0, 0, &ps, &printed);
+    run_wide(4096, 64, 1, 1000, 0, 0, &ps, &printed);
+    ck_assert_int_eq(ps.batch_cut, PERMA_BATCH_CUT_STAGING);
+    ck_assert_int_eq(ps.batch_cut_emit, 0);
+    ck_assert_uint_lt(ps.batch_size, 4 * 64);
+    ck_assert_contains(printed, "warning: procedure 'wide' runs at most ");
+    ck_assert_contains(printed, ".emits[0] (up to 4096 items of 64 bytes into 'leaf' per item) needs 262144 bytes "
+                                "of staging per item");
+    ck_assert_contains(printed, "a separate procedure");
+    free(printed);
+
+    /* The leaf queue may hold at most 16384 items of 8 bytes and two
+     * completion marks beside the wide queue's 1024: full batches of 64
+     * wide items would need room for 64000. */
+    printed = NULL;
+    run_wide(1000, 8, 1000, 512, (size_t)16384 * 16 + 1024 * 16, 1, &ps, &printed);
+    ck_assert_int_eq(ps.batch_cut_emit, 0);
+    ck_assert_int_eq(ps.batch_cut, PERMA_BATCH_CUT_ROOM);
+    ck_assert_uint_eq(ps.batch_size, 64);
+    ck_assert_uint_lt(ps.items, ps.batches * 32);
+    ck_assert_contains(printed, "warning: procedure 'wide' ran batches of ");
+    ck_assert_contains(printed, "instead of up to 64: a full batch reserves room for the emits it is expected to "
+                                "make (1000.0 per item into 'leaf'");
+    ck_assert_contains(printed, "config.queue_memory_limit");
+    free(printed);
+
+    printed = NULL;
+    run_fanout("root", &ps, &printed);
     ck_assert_int_eq(ps.batch_cut, PERMA_BATCH_FULL);
     ck_assert_int_eq(ps.batch_cut_emit, -1);
     ck_assert_uint_eq(ps.batch_size, 4 * 64);
