@@ -18,9 +18,11 @@
 
 #ifdef __OPENCL_VERSION__
 typedef uint perma_word;
+typedef ulong perma_word64;
 #else
 #include <stdint.h>
 typedef uint32_t perma_word;
+typedef uint64_t perma_word64;
 #endif
 
 /* ---- Control block ----------------------------------------------------
@@ -195,6 +197,16 @@ typedef struct perma_relayout_record {
  * the emit-area buffer (words) and how many there are. */
 #define PERMA_RELAYOUT_SEGMENT_WORDS 2
 
+/* ---- Reductions --------------------------------------------------------
+ * The exact float and double sums (kernels/perma_reduce.cl): digits of 32
+ * bits in signed 64-bit words, then a control word whose high bits say
+ * which infinities and NaNs were added. */
+#define PERMA_EXACT_FLOAT_DIGITS 9   /* bits 0 .. 287 >= 23 + 253 + carries, in units of 2^-149 */
+#define PERMA_EXACT_DOUBLE_DIGITS 66 /* bits 0 .. 2111 >= 52 + 2045 + carries, in units of 2^-1074 */
+#define PERMA_EXACT_POS_INF_SEEN ((perma_word64)1 << 32)
+#define PERMA_EXACT_NEG_INF_SEEN ((perma_word64)1 << 33)
+#define PERMA_EXACT_NAN_SEEN ((perma_word64)1 << 34)
+
 /* ---- Emit areas -------------------------------------------------------
  * One area per persistent work-group in the emit-area buffer, in global
  * memory: a header, the staging of a batch's emits (the procedures write
@@ -253,7 +265,8 @@ typedef struct perma_relayout_record {
     X(PERMA_ARG_GROUP_STATS, __global uint *, group_stats),        \
     X(PERMA_ARG_ABORT_FLAG, volatile __global uint *, abort_flag), \
     X(PERMA_ARG_TRACE, __global uint *, trace),                    \
-    X(PERMA_ARG_EMIT_AREAS, __global uint *, emit_areas)
+    X(PERMA_ARG_EMIT_AREAS, __global uint *, emit_areas),          \
+    X(PERMA_ARG_REDUCTIONS, __global ulong *, reductions)
 
 /* perma_step_kernel's arguments after the common ones. */
 #define PERMA_STEP_ARGS(X)                                   \

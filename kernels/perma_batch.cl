@@ -470,7 +470,8 @@ PERMA_PHASE void perma_publish_emits(__global uint *ctl, __global uint *queue_da
 
 /* Phase "dispatch": run each item of the batch with its procedure
  * (generated after this file, since it follows the batch layout above). */
-PERMA_PHASE void perma_dispatch(uint lid, __local perma_group_mem *mem, __global uint *stage, perma_buffers buf);
+PERMA_PHASE void perma_dispatch(uint lid, __local perma_group_mem *mem, __global uint *stage, ulong *lane,
+                                perma_buffers buf);
 
 /* Run the batch in mem->batch: `count` items of `proc` (command RUN) or
  * move them to the donee (command DONATE).  The items come from the source
@@ -482,7 +483,7 @@ PERMA_PHASE void perma_dispatch(uint lid, __local perma_group_mem *mem, __global
  * last barrier in here. */
 inline void perma_run_batch(__global uint *ctl, __global uint *queue_data, __global uint *queue_seq,
                             __global uint *emit_areas, volatile __global uint *abort_flag, __local perma_group_mem *mem,
-                            perma_buffers buf, __global const uint *input, uint own)
+                            ulong *lane, perma_buffers buf, __global const uint *input, uint own)
 {
     /* The group's record in the watch page: the host's watchdog names the
      * procedure running if it never returns, and sees progress in DONE. */
@@ -498,7 +499,7 @@ inline void perma_run_batch(__global uint *ctl, __global uint *queue_data, __glo
 #endif
 
     /* Run the procedure (the generated dispatch). */
-    perma_dispatch(get_local_id(0), mem, perma_emit_area(emit_areas) + PERMA_EMIT_AREA_STAGE, buf);
+    perma_dispatch(get_local_id(0), mem, perma_emit_area(emit_areas) + PERMA_EMIT_AREA_STAGE, lane, buf);
     barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
 
     if (get_local_id(0) == 0)

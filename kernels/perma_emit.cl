@@ -28,6 +28,9 @@ typedef struct perma_ctx {
     __local uint *lane_counts;        /* lane staging: per edge, items this work-item staged; else null */
     uint lane;                        /* lane staging: this work-item's local id */
     __global uint *stage;             /* the group's staging area */
+#if PERMA_NUM_REDUCTIONS
+    ulong *reduce;                    /* this work-item's lane of the reductions (kernels/perma_reduce.cl) */
+#endif
     __local uint *error_code;         /* 0, or PERMA_EMIT_ERROR_* | detail (perma_abi.h) */
     perma_buffers buf;                /* user buffers, by name */
 } perma_ctx;

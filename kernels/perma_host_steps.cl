@@ -38,6 +38,7 @@ void perma_step_kernel(PERMA_COMMON_ARGS(PERMA_ARG_PARAM), PERMA_STEP_ARGS(PERMA
     (void)trace;      /* the host records the steps of host-driven techniques */
     perma_buffers buf;
     PERMA_BIND_BUFFERS(buf);
+    PERMA_LANE_BEGIN(lane);
     for (uint i = lid; i < PERMA_STAT_GROUP_WORDS; i += PERMA_GROUP_SIZE)
         mem->stats[i] = 0;
     if (lid == 0) {
@@ -61,7 +62,7 @@ void perma_step_kernel(PERMA_COMMON_ARGS(PERMA_ARG_PARAM), PERMA_STEP_ARGS(PERMA
         }
         barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
         more = b < batches;
-        perma_run_batch(ctl, queue_data, queue_seq, emit_areas, abort_flag, mem, buf, input, 0);
+        perma_run_batch(ctl, queue_data, queue_seq, emit_areas, abort_flag, mem, lane, buf, input, 0);
         b += get_num_groups(0);
     }
     barrier(CLK_LOCAL_MEM_FENCE);
@@ -69,4 +70,5 @@ void perma_step_kernel(PERMA_COMMON_ARGS(PERMA_ARG_PARAM), PERMA_STEP_ARGS(PERMA
     for (uint i = lid; i < PERMA_STAT_GROUP_WORDS; i += PERMA_GROUP_SIZE)
         if (mem->stats[i])
             atomic_add(group_stats + i, mem->stats[i]);
+    PERMA_LANE_END(lane, reductions);
 }

@@ -408,6 +408,7 @@ void perma_megakernel(PERMA_COMMON_ARGS(PERMA_ARG_PARAM) PERMA_BUFFER_PARAMS)
 #endif
     perma_buffers buf;
     PERMA_BIND_BUFFERS(buf);
+    PERMA_LANE_BEGIN(lane);
 
     for (uint i = lid; i < PERMA_STAT_GROUP_WORDS; i += PERMA_GROUP_SIZE)
         mem->stats[i] = 0;
@@ -434,7 +435,8 @@ void perma_megakernel(PERMA_COMMON_ARGS(PERMA_ARG_PARAM) PERMA_BUFFER_PARAMS)
         if (lid == 0 && mem->batch[PERMA_B_COUNT])
             trace_start = atomic_inc(ctl + PERMA_CTL_CLOCK);
 #endif
-        perma_run_batch(ctl, queue_data, queue_seq, emit_areas, abort_flag, mem, buf, (__global const uint *)0, own);
+        perma_run_batch(ctl, queue_data, queue_seq, emit_areas, abort_flag, mem, lane, buf, (__global const uint *)0,
+                        own);
 #if PERMA_TRACE_EVENTS
         /* Before work-item 0 schedules the next batch. */
         if (lid == 0 && mem->batch[PERMA_B_COUNT] && trace_count < PERMA_TRACE_EVENTS) {
@@ -453,6 +455,7 @@ void perma_megakernel(PERMA_COMMON_ARGS(PERMA_ARG_PARAM) PERMA_BUFFER_PARAMS)
 
     for (uint i = lid; i < PERMA_STAT_GROUP_WORDS; i += PERMA_GROUP_SIZE)
         group_stats[group * PERMA_STAT_GROUP_WORDS + i] = mem->stats[i];
+    PERMA_LANE_END(lane, reductions);
     if (lid == 0)
         atomic_xchg(group_words + PERMA_G_STATE, 2u);
 }

@@ -13,6 +13,7 @@ extern const char perma_kernel_batch[];
 extern const char perma_kernel_scheduler[];
 extern const char perma_kernel_host_steps[];
 extern const char perma_kernel_relayout[];
+extern const char perma_kernel_reduce[];
 
 #define GENERATED_NAME "perma-generated.cl"
 
@@ -185,7 +186,7 @@ static void append_procedure_sources(perma_runtime *rt, perma_strbuf *sb)
 static void append_dispatch(perma_runtime *rt, perma_strbuf *sb)
 {
     perma_strbuf_append(sb, "PERMA_PHASE void perma_dispatch(uint lid, __local perma_group_mem *mem, __global uint *stage,\n"
-                            "                             perma_buffers buf)\n"
+                            "                             ulong *lane, perma_buffers buf)\n"
                             "{\n"
                             "    const uint proc = mem->batch[PERMA_B_PROC];\n"
                             "    const uint run = perma_batch_run(mem);\n"
@@ -196,6 +197,11 @@ static void append_dispatch(perma_runtime *rt, perma_strbuf *sb)
                             "    perma_ctx *ctx = &context;\n"
                             "    ctx->group = get_group_id(0);\n"
                             "    ctx->stage = stage;\n"
+                            "#if PERMA_NUM_REDUCTIONS\n"
+                            "    ctx->reduce = lane;\n"
+                            "#else\n"
+                            "    (void)lane;\n"
+                            "#endif\n"
                             "    ctx->error_code = &mem->error_code;\n"
                             "    ctx->buf = buf;\n"
                             "    switch (proc) {\n");
@@ -277,12 +283,15 @@ perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *sb)
                         rt->config.schedule.victim == PERMA_VICTIM_ROUND_ROBIN, rt->config.donation_threshold,
                         rt->local_queue_items, rt->lq_words ? rt->lq_words : 1u,
                         rt->device_trace_events);
+    perma_reductions_append_constants(rt, sb);
     perma_strbuf_append(sb, perma_kernel_abi);
     perma_abi_append_struct_checks(sb);
     resume_generated(sb);
     perma_strbuf_append(sb, perma_kernel_prelude);
     resume_generated(sb);
     perma_strbuf_append(sb, perma_kernel_queue);
+    resume_generated(sb);
+    perma_strbuf_append(sb, perma_kernel_reduce);
     resume_generated(sb);
     for (unsigned i = 0; i < rt->source_count; ++i)
         append_user_source(sb, &rt->sources[i]);
@@ -291,6 +300,7 @@ perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *sb)
     perma_strbuf_append(sb, perma_kernel_emit);
     resume_generated(sb);
     append_emit_helpers(rt, sb);
+    perma_reductions_append_helpers(rt, sb);
     /* Procedures are inlined into the dispatch (a call per item otherwise,
      * and the case's constants fold into their emits); a profile of the
      * phases keeps them apart instead. */

@@ -88,6 +88,24 @@ typedef struct perma_buffer_binding {
     unsigned flags;
 } perma_buffer_binding;
 
+/* A declared reduction (reductions.c). */
+typedef struct perma_reduction {
+    char *name;
+    perma_reduce_op op;
+    perma_value_type type;
+    void *result;          /* the host variable every successful run sets, or NULL */
+    unsigned offset;       /* its first word in a work-item's lane (64-bit words) */
+    unsigned words;        /* its words in a lane */
+    union {
+        uint32_t u;
+        int32_t i;
+        uint64_t ul;
+        int64_t l;
+        float f;
+        double d;
+    } value;               /* the result of the last run */
+} perma_reduction;
+
 /* A device buffer and its size. */
 typedef struct perma_device_buffer {
     cl_mem mem;
@@ -112,6 +130,7 @@ typedef struct perma_device_state {
     perma_device_buffer input;    /* the items a step kernel consumes */
     perma_device_buffer relayout; /* a regrowth's perma_relayout_records, then its overflow segments */
     perma_device_buffer emit_areas; /* a group's emit area each: staging, overflow (kernels/perma_abi.h) */
+    perma_device_buffer reductions; /* a slot of reduce_words words per work-item (kernels/perma_reduce.cl) */
     uint32_t *overflow_headers;   /* the areas' headers as the last launch left them (perma_state_read_overflow) */
     bool overflow_known;          /* overflow_headers were read for the growth to come */
     cl_mem abort_mem;             /* the watch page (kernels/perma_abi.h): the abort */
@@ -160,6 +179,10 @@ struct perma_runtime {
     unsigned proc_count;
     perma_buffer_binding buffers[PERMA_MAX_BUFFERS];
     unsigned buffer_count;
+    perma_reduction reductions[PERMA_MAX_REDUCTIONS];
+    unsigned reduction_count;
+    unsigned reduce_words;          /* words of a work-item's lane, all reductions (set at build) */
+    bool reductions_valid;          /* the values are those of the last run, which succeeded */
 
     /* Build products. */
     bool built;
@@ -288,6 +311,32 @@ static inline bool perma_proc_is_simple(const perma_proc_info *p)
 unsigned perma_full_batch(const perma_runtime *rt, const perma_proc_info *p);
 perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *out);
 void perma_release_program(perma_runtime *rt);
+
+/* reductions.c: the lane layout (at build), the generated device code
+ * (the constants, then after perma_ctx the reduce_NAME() helpers and the
+ * lane's initialisation and fold), the slots' identities before a run and
+ * the results after one. */
+void perma_reductions_layout(perma_runtime *rt);
+void perma_reductions_append_constants(const perma_runtime *rt, perma_strbuf *sb);
+void perma_reductions_append_helpers(const perma_runtime *rt, perma_strbuf *sb);
+/* Fill every work-item's slot with the identities (before a run). */
+perma_status perma_reductions_reset(perma_runtime *rt);
+/* Combine the slots into the results and set the host variables (after a
+ * successful run); invalidate the results (after a failed one). */
+perma_status perma_reductions_collect(perma_runtime *rt);
+void perma_reductions_invalidate(perma_runtime *rt);
+void perma_reductions_release(perma_runtime *rt);
+
+/* exact_sum.c: the host's half of the exact float and double sums: add
+ * one slot's digits (and its infinity and NaN flags) into a total, and
+ * round a total once to the type. */
+typedef struct perma_exact_total {
+    int64_t digits[PERMA_EXACT_DOUBLE_DIGITS];
+    uint64_t flags;
+} perma_exact_total;
+void perma_exact_total_add(perma_exact_total *total, const uint64_t *slot, unsigned digits);
+double perma_exact_total_double(perma_exact_total *total);
+float perma_exact_total_float(perma_exact_total *total);
 
 /* buffers.c: copy the host memory of perma_bind_host buffers to the
  * device (PERMA_READ) or back (PERMA_WRITE). */

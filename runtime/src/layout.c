@@ -262,6 +262,7 @@ perma_status perma_build_layout(perma_runtime *rt)
         return st;
     compute_depths(rt);
     compute_order(rt);
+    perma_reductions_layout(rt);
     /* Queues can belong to groups, and groups keep local front queues,
      * only when the groups live for the whole launch. */
     bool persistent = rt->executor->persistent;

@@ -160,6 +160,8 @@ perma_status perma_run(perma_runtime *rt)
         return PERMA_ERR_ARGUMENT;
     perma_status st = perma_call_begin(rt, "perma_run", true);
     if (st == PERMA_OK)
+        perma_reductions_invalidate(rt);
+    if (st == PERMA_OK)
         st = perma_build(rt);
     if (st != PERMA_OK) {
         /* A run consumes its seeds whether it succeeds or not. */
@@ -175,11 +177,15 @@ perma_status perma_run(perma_runtime *rt)
 
     st = upload_seeds(rt);
     if (st == PERMA_OK)
+        st = perma_reductions_reset(rt);
+    if (st == PERMA_OK)
         st = perma_buffers_copy(rt, PERMA_READ);
     if (st == PERMA_OK)
         st = launch_until_done(rt, deadline);
     if (st == PERMA_OK)
         st = perma_buffers_copy(rt, PERMA_WRITE);
+    if (st == PERMA_OK)
+        st = perma_reductions_collect(rt);
     rt->stats.seconds = perma_now() - start;
     rt->state.capacities_learned = st == PERMA_OK;
     st = write_trace(rt, st);

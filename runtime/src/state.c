@@ -126,7 +126,7 @@ void perma_state_close(perma_runtime *rt)
 {
     perma_device_state *s = &rt->state;
     perma_device_buffer *buffers[] = { &s->ctl, &s->data, &s->seq, &s->stats, &s->trace, &s->input, &s->relayout,
-                                       &s->emit_areas };
+                                       &s->emit_areas, &s->reductions };
     for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; ++i)
         release(buffers[i]);
     if (s->abort_mem)
@@ -152,6 +152,9 @@ static perma_status ensure_launch_buffers(perma_runtime *rt)
         st = ensure(rt, &s->trace, trace_bytes(rt), "trace");
     if (st == PERMA_OK)
         st = ensure(rt, &s->emit_areas, emit_areas_bytes(rt), "emit areas");
+    if (st == PERMA_OK)
+        st = ensure(rt, &s->reductions, 8 * (size_t)rt->work_groups * rt->group_size * (rt->reduce_words ? rt->reduce_words : 1),
+                    "reductions");
     if (st == PERMA_OK && !s->abort_mem) {
         cl_int err;
         s->abort_mem = clCreateBuffer(rt->context, CL_MEM_READ_WRITE | CL_MEM_USE_HOST_PTR, watch_bytes(rt),
@@ -546,6 +549,7 @@ perma_status perma_state_bind(perma_runtime *rt, cl_kernel kernel, cl_uint first
     common[PERMA_ARG_ABORT_FLAG] = s->abort_mem;
     common[PERMA_ARG_TRACE] = s->trace.mem;
     common[PERMA_ARG_EMIT_AREAS] = s->emit_areas.mem;
+    common[PERMA_ARG_REDUCTIONS] = s->reductions.mem;
     for (cl_uint i = 0; i < PERMA_MEGAKERNEL_USER_ARGS; ++i)
         PERMA_CL_CHECK(rt, "clSetKernelArg", clSetKernelArg(kernel, i, sizeof(cl_mem), &common[i]));
     for (unsigned b = 0; b < rt->buffer_count; ++b) {
