@@ -4,20 +4,13 @@
  * node count and hash sum), OpenMP tasks, then every perma variant with one
  * procedure `uts_visit` that counts its node and emits its children.  A perma
  * row passes its check only if the node count and the hash sum equal the
- * sequential ones. */
+ * sequential ones.  The procedure counts with two reductions
+ * (perma_declare_reduction): no atomic, no counter array. */
 #include "bench.h"
 #include "uts.h"
 
 #include <stdlib.h>
 #include <string.h>
-
-/* Device counters (nodes, hash sum): one pair per work-item of the first
- * COUNTER_GROUPS work-groups, added to without atomics, like the per-thread
- * counters of the OpenMP count (a work-item runs the items of batch slots
- * lid, lid + group size, ... one after another, so slot % group size names
- * it); work-groups beyond them (only with --groups above it) share one pair
- * with atomics. */
-enum { COUNTER_GROUPS = 64 };
 
 static const char *device_types =
     "#pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable\n"
@@ -58,8 +51,7 @@ static void tree_title(const uts_tree *t, char *out, size_t size)
 typedef struct tree_state {
     const uts_tree *tree;
     perma_proc proc;
-    uint64_t *counters;   /* 2 * (COUNTER_GROUPS * group_size + 1) */
-    size_t counter_count;
+    uint64_t nodes, hash_sum; /* the reductions of the last run */
     uts_node *seeds;
     size_t seed_count;
     uts_result host_part; /* nodes counted on the host (the expanded binomial root) */
@@ -69,18 +61,13 @@ typedef struct tree_state {
 static perma_status tree_prepare(void *state, perma_runtime *rt)
 {
     tree_state *s = state;
-    memset(s->counters, 0, s->counter_count * sizeof *s->counters);
     return perma_seed(rt, s->proc, s->seeds, s->seed_count);
 }
 
 static int tree_verify(void *state, perma_runtime *rt, bench_row *row)
 {
     tree_state *s = state;
-    uint64_t nodes = s->host_part.nodes, sum = s->host_part.hash_sum;
-    for (size_t i = 0; i < s->counter_count; i += 2) {
-        nodes += s->counters[i];
-        sum += s->counters[i + 1];
-    }
+    uint64_t nodes = s->host_part.nodes + s->nodes, sum = s->host_part.hash_sum + s->hash_sum;
     perma_stats st;
     int items_ok = perma_get_stats(rt, &st) == PERMA_OK && st.items + s->host_part.nodes == nodes;
     row->count = nodes;
@@ -88,7 +75,7 @@ static int tree_verify(void *state, perma_runtime *rt, bench_row *row)
     return nodes == s->expected.nodes && sum == s->expected.hash_sum && items_ok;
 }
 
-static char *procedure_source(const uts_tree *t, unsigned group_size)
+static char *procedure_source(const uts_tree *t)
 {
     char children[160];
     if (t->shape == UTS_GEOMETRIC)
@@ -100,15 +87,8 @@ static char *procedure_source(const uts_tree *t, unsigned group_size)
     const char *format =
         "void uts_visit(perma_ctx *ctx, __local const struct uts_node *n)\n"
         "{\n"
-        "    if (ctx->group < %uu) {\n"
-        "        __global ulong *c = ctx->buf.uts_counters + 2u * (ctx->group * %uu + ctx->slot %% %uu);\n"
-        "        c[0] += 1ul;\n"
-        "        c[1] += (ulong)n->hash;\n"
-        "    } else {\n"
-        "        __global ulong *c = ctx->buf.uts_counters + 2u * %uu;\n"
-        "        atom_inc(&c[0]);\n"
-        "        atom_add(&c[1], (ulong)n->hash);\n"
-        "    }\n"
+        "    reduce_nodes(ctx, 1ul);\n"
+        "    reduce_hash_sum(ctx, (ulong)n->hash);\n"
         "    uint k = %s;\n"
         "    struct uts_node child;\n"
         "    child.depth = n->depth + 1u;\n"
@@ -124,8 +104,7 @@ static char *procedure_source(const uts_tree *t, unsigned group_size)
     size_t size = strlen(format) + strlen(children) + 64;
     char *text = malloc(size);
     if (text)
-        snprintf(text, size, format, (unsigned)COUNTER_GROUPS, group_size, group_size,
-                 (unsigned)COUNTER_GROUPS * group_size, children, t->rounds);
+        snprintf(text, size, format, children, t->rounds);
     return text;
 }
 
@@ -174,9 +153,8 @@ static void run_perma_variant(const bench_options *o, const bench_variant *v, tr
         bench_workload w = { tree_prepare, tree_verify, s, 1, &s->proc, &item_size };
         if (perma_add_source(rt, device_types, "uts_types.cl") != PERMA_OK ||
             perma_register(rt, &visit, &s->proc) != PERMA_OK ||
-            perma_bind_host(rt, "uts_counters", "__global ulong *", s->counters,
-                            s->counter_count * sizeof *s->counters,
-                            PERMA_READ_WRITE) != PERMA_OK)
+            perma_declare_reduction(rt, "nodes", PERMA_REDUCE_SUM, PERMA_TYPE_ULONG, &s->nodes) != PERMA_OK ||
+            perma_declare_reduction(rt, "hash_sum", PERMA_REDUCE_SUM, PERMA_TYPE_ULONG, &s->hash_sum) != PERMA_OK)
             snprintf(row.message, sizeof row.message, "setup: %s", perma_errmsg(rt));
         else
             bench_perma_measure(rt, v, o, &w, &row);
@@ -257,18 +235,13 @@ static int run_tree(const bench_options *o, const uts_tree *t, unsigned group_si
     add_openmp_row(o, t, &seq.result, UINT32_MAX, title, report);
     add_openmp_row(o, t, &seq.result, cutoff, title, report);
 
-    unsigned work_items = group_size ? group_size : 64; /* the runtime's default */
     tree_state *s = calloc(1, sizeof *s);
-    char *source = procedure_source(t, work_items);
+    char *source = procedure_source(t);
     if (s) {
         s->tree = t;
         s->expected = seq.result;
-        s->counter_count = 2 * ((size_t)COUNTER_GROUPS * work_items + 1);
-        s->counters = calloc(s->counter_count, sizeof *s->counters);
     }
-    if (!s || !source || !s->counters || make_seeds(s) != 0) {
-        if (s)
-            free(s->counters);
+    if (!s || !source || make_seeds(s) != 0) {
         free(s);
         free(source);
         fprintf(stderr, "perma-bench: out of memory\n");
@@ -284,7 +257,6 @@ static int run_tree(const bench_options *o, const uts_tree *t, unsigned group_si
         }
     }
     free(s->seeds);
-    free(s->counters);
     free(s);
     free(source);
     return 0;
