@@ -5,7 +5,10 @@
  * batch, dispatching, reserving and publishing emits.  With --emits
  * random:A..B generator g emits A + hash(g) % (B - A + 1) items instead,
  * declaring B as its maximum: what variable fan-out costs (an item that
- * declares up to B emits and makes fewer).  Measured for every
+ * declares up to B emits and makes fewer).  With --count MODE the empty
+ * procedure counts itself: `atomic` one global atomic_inc on one counter
+ * (what contention costs), `group` an atomic_inc on a 64-byte line per
+ * work-group, `reduce` a reduction (perma_declare_reduction).  Measured for every
  * perma variant, group size (= batch size of the empty procedure) and
  * work-group count, against a sequential FIFO loop and OpenMP tasks.
  * Rate = (G + G*K) executed items per second.  Each row's note gives the
@@ -45,17 +48,33 @@ static const char *generate_source =
     "    }\n"
     "}\n";
 
+/* QUEUE_COUNT (0 none, 1 atomic, 2 group, 3 reduce) is defined in the
+ * shared source. */
 static const char *empty_source =
     "void empty(perma_ctx *ctx, __local const struct empty_item *e)\n"
     "{\n"
-    "    (void)ctx;\n"
     "    (void)e;\n"
+    "#if QUEUE_COUNT == 1\n"
+    "    atomic_inc(&ctx->buf.queue_count[0]);\n"
+    "#elif QUEUE_COUNT == 2\n"
+    "    atomic_inc(&ctx->buf.queue_count[16u * ctx->group]);\n"
+    "#elif QUEUE_COUNT == 3\n"
+    "    reduce_count(ctx, 1u);\n"
+    "#else\n"
+    "    (void)ctx;\n"
+    "#endif\n"
     "}\n";
+
+/* How the empty procedure counts itself (--count). */
+typedef enum queue_count { COUNT_NONE = 0, COUNT_ATOMIC, COUNT_GROUP, COUNT_REDUCE } queue_count;
+static const char *const count_names[] = { "none", "atomic", "group", "reduce" };
+enum { COUNT_LINES = 1024 }; /* 64-byte lines: one per work-group (--groups is at most 1024) */
 
 typedef struct queue_params {
     unsigned generators, per_generator; /* G, and K: the most one generator emits (declared) */
     unsigned min_emits;                 /* random: the fewest one emits; else K */
     int random;                         /* each emits min_emits + hash(g) % (K - min_emits + 1) */
+    queue_count count;                  /* how the empty procedure counts itself */
 } queue_params;
 
 static uint32_t queue_hash(uint32_t x)
@@ -95,16 +114,19 @@ typedef struct queue_state {
     queue_params params;
     perma_proc procs[2]; /* generate, empty */
     uint32_t *seeds;
+    uint32_t counters[16 * COUNT_LINES]; /* --count atomic, group */
+    uint32_t counted;                    /* --count reduce */
 } queue_state;
 
 static perma_status queue_prepare(void *state, perma_runtime *rt)
 {
     queue_state *s = state;
+    memset(s->counters, 0, sizeof s->counters);
     return perma_seed(rt, s->procs[0], s->seeds, s->params.generators);
 }
 
-/* The empty procedure has nothing to count with, so the check uses the
- * runtime's per-procedure item counts. */
+/* The runtime's per-procedure item counts, and what the empty procedure
+ * counted if it counts. */
 static int queue_verify(void *state, perma_runtime *rt, bench_row *row)
 {
     queue_state *s = state;
@@ -112,10 +134,15 @@ static int queue_verify(void *state, perma_runtime *rt, bench_row *row)
     if (perma_get_procedure_stats(rt, s->procs[0], &gen) != PERMA_OK ||
         perma_get_procedure_stats(rt, s->procs[1], &empty) != PERMA_OK)
         return 0;
-    uint64_t expected = total_emits(&s->params);
+    uint64_t expected = total_emits(&s->params), counted = expected;
+    if (s->params.count == COUNT_REDUCE)
+        counted = s->counted;
+    else if (s->params.count != COUNT_NONE)
+        for (unsigned l = counted = 0; l < COUNT_LINES; ++l)
+            counted += s->counters[16 * l];
     row->count = gen.items + empty.items;
     row->expected = s->params.generators + expected;
-    return gen.items == s->params.generators && empty.items == expected;
+    return gen.items == s->params.generators && empty.items == expected && counted == (uint32_t)expected;
 }
 
 /* What an item costs one work-group (thread) in nanoseconds: seconds *
@@ -161,19 +188,25 @@ static void run_perma(const bench_options *o, const bench_variant *v, queue_stat
             .name = "empty", .item_type = "struct empty_item", .item_size = 4,
             .source = empty_source, .source_file = "queue_empty.cl", .function = "empty",
         };
-        /* EMITS_MIN and EMITS_SPAN are defined in the shared source. */
-        char *types = malloc(strlen(device_types) + 96);
+        /* EMITS_MIN, EMITS_SPAN and QUEUE_COUNT are defined in the shared source. */
+        char *types = malloc(strlen(device_types) + 128);
         size_t sizes[2] = { 4, 4 };
         bench_workload w = { queue_prepare, queue_verify, s, 2, s->procs, sizes };
         if (!types) {
             snprintf(row.message, sizeof row.message, "out of memory");
         } else {
             const queue_params *p = &s->params;
-            sprintf(types, "#define EMITS_MIN %uu\n#define EMITS_SPAN %uu\n%s", p->random ? p->min_emits : p->per_generator,
-                    p->random ? p->per_generator - p->min_emits + 1u : 0u, device_types);
+            sprintf(types, "#define EMITS_MIN %uu\n#define EMITS_SPAN %uu\n#define QUEUE_COUNT %d\n%s",
+                    p->random ? p->min_emits : p->per_generator, p->random ? p->per_generator - p->min_emits + 1u : 0u,
+                    (int)p->count, device_types);
             if (perma_add_source(rt, types, "queue_types.cl") != PERMA_OK ||
                 perma_register(rt, &generate, &s->procs[0]) != PERMA_OK ||
-                perma_register(rt, &empty, &s->procs[1]) != PERMA_OK)
+                perma_register(rt, &empty, &s->procs[1]) != PERMA_OK ||
+                (p->count == COUNT_REDUCE &&
+                 perma_declare_reduction(rt, "count", PERMA_REDUCE_SUM, PERMA_TYPE_UINT, &s->counted) != PERMA_OK) ||
+                ((p->count == COUNT_ATOMIC || p->count == COUNT_GROUP) &&
+                 perma_bind_host(rt, "queue_count", "__global uint *", s->counters, sizeof s->counters,
+                                 PERMA_READ_WRITE) != PERMA_OK))
                 snprintf(row.message, sizeof row.message, "setup: %s", perma_errmsg(rt));
             else
                 bench_perma_measure(rt, v, o, &w, &row);
@@ -294,12 +327,14 @@ static void queue_usage(FILE *out)
                  "  G generator items each emit K empty items (default G=8192 K=256; quick G=256 K=256);\n"
                  "  --per-generator K is --emits K.  With random:A..B generator g emits A + hash(g) %% (B-A+1)\n"
                  "  items and declares B (default G=131072; quick G=4096)\n"
+                 "  --count none|atomic|group|reduce: the empty procedure counts itself with one global atomic,\n"
+                 "  an atomic on a 64-byte line per work-group, or a reduction (default none)\n"
                  "  group sizes 32, 64, 128 and work-groups 1, 2 (--groups N: only N; quick: 64 and 2)\n");
 }
 
 int bench_queue(const bench_options *o, int argc, char **argv)
 {
-    queue_params params = { o->quick ? 256 : 8192, 256, 256, 0 };
+    queue_params params = { o->quick ? 256 : 8192, 256, 256, 0, COUNT_NONE };
     int generators_given = 0;
     for (int i = 1; i < argc; ++i) {
         const char *next = i + 1 < argc ? argv[i + 1] : NULL;
@@ -322,6 +357,17 @@ int bench_queue(const bench_options *o, int argc, char **argv)
             params.random = 1;
             params.min_emits = a;
             params.per_generator = b;
+            ++i;
+            continue;
+        } else if (strcmp(argv[i], "--count") == 0 && next) {
+            unsigned c = 0;
+            while (c < 4 && strcmp(next, count_names[c]) != 0)
+                ++c;
+            if (c == 4) {
+                fprintf(stderr, "perma-bench queue: --count must be none, atomic, group or reduce, got '%s'\n", next);
+                return 2;
+            }
+            params.count = (queue_count)c;
             ++i;
             continue;
         } else if ((strcmp(argv[i], "--per-generator") == 0 || strcmp(argv[i], "--emits") == 0) && next) {
@@ -357,11 +403,15 @@ int bench_queue(const bench_options *o, int argc, char **argv)
     }
 
     char title[96];
+    char counting[32] = "";
+    if (params.count != COUNT_NONE)
+        snprintf(counting, sizeof counting, ", counted: %s", count_names[params.count]);
     if (params.random)
-        snprintf(title, sizeof title, "%u generators x %u..%u empty tasks", params.generators, params.min_emits,
-                 params.per_generator);
+        snprintf(title, sizeof title, "%u generators x %u..%u empty tasks%s", params.generators, params.min_emits,
+                 params.per_generator, counting);
     else
-        snprintf(title, sizeof title, "%u generators x %u empty tasks", params.generators, params.per_generator);
+        snprintf(title, sizeof title, "%u generators x %u empty tasks%s", params.generators, params.per_generator,
+                 counting);
     bench_report *report;
     if (bench_report_open(&report, "queue", o))
         return 1;

@@ -228,18 +228,27 @@ inline uint perma_try_take_local(__global uint *ctl, __local perma_group_mem *me
 }
 #endif
 
-/* Count a schedule that room cut short for procedure `starved` (-1: it did
- * not, which resets the count).  After PERMA_STARVE_LIMIT in a row, if the
- * host allows it and a target of that procedure in set `own` is smaller
- * than its occupancy plus a full batch of emits for every group, stop the
- * launch so the host doubles that queue (named in DETAIL_EDGE): batches of a
- * few items cost nearly as much as full ones, and a group that sees work
- * but can start none is idle.  Returns 1 when it stopped the launch. */
+/* Count a schedule that room cut short for procedure `starved` (-1: the
+ * batch of procedure `taken` was not cut, which resets the count if the
+ * count is that procedure's; batches of other procedures in between, such
+ * as the consumers of its emits, do not).  *count holds the procedure + 1
+ * in its high half and the count in its low half.  After
+ * PERMA_STARVE_LIMIT, if the host allows it and a target of that procedure
+ * in set `own` is smaller than its occupancy plus a full batch of expected
+ * emits for every group, stop the launch so the host doubles that queue
+ * (named in DETAIL_EDGE): batches of a few items cost nearly as much as
+ * full ones, and a group that sees work but can start none is idle.
+ * Returns 1 when it stopped the launch. */
 inline int perma_note_starved(__global uint *ctl, __local const perma_group_mem *mem, uint groups, uint own,
-                              int starved, uint *count)
+                              int starved, uint taken, uint *count)
 {
-    *count = starved >= 0 ? *count + 1u : 0u;
-    if (*count < PERMA_STARVE_LIMIT || !perma_load(ctl + PERMA_CTL_GROW_STARVED))
+    if (starved < 0) {
+        if (*count >> 16 == taken + 1u)
+            *count = 0;
+        return 0;
+    }
+    *count = *count >> 16 == (uint)starved + 1u ? *count + 1u : ((uint)starved + 1u) << 16 | 1u;
+    if ((*count & 0xffffu) < PERMA_STARVE_LIMIT || !perma_load(ctl + PERMA_CTL_GROW_STARVED))
         return 0;
     *count = 0;
     uint q = (uint)starved;
@@ -283,7 +292,7 @@ PERMA_PHASE void perma_schedule(__global uint *ctl, __global uint *queue_data, _
             q = perma_order[i];
             got = perma_try_take_local(ctl, mem, own, q, &start, &starved);
             if (got) {
-                perma_note_starved(ctl, mem, groups, own, starved, starve_count);
+                perma_note_starved(ctl, mem, groups, own, starved, q, starve_count);
                 perma_set_blocked(group_words, 0u);
                 perma_set_batch(batch, PERMA_CMD_RUN_LOCAL, q, start, got, PERMA_QINDEX(own, q), 0);
                 return;
@@ -307,7 +316,7 @@ PERMA_PHASE void perma_schedule(__global uint *ctl, __global uint *queue_data, _
                 q = perma_order[i];
                 got = perma_try_take(ctl, mem, own, own, q, pass == 0, &start, &starved);
                 if (got) {
-                    perma_note_starved(ctl, mem, groups, own, starved, starve_count);
+                    perma_note_starved(ctl, mem, groups, own, starved, q, starve_count);
                     perma_set_blocked(group_words, 0u);
                     perma_set_batch(batch, PERMA_CMD_RUN, q, start, got, PERMA_QINDEX(own, q), 0);
                     return;
@@ -324,7 +333,7 @@ PERMA_PHASE void perma_schedule(__global uint *ctl, __global uint *queue_data, _
                 q = perma_order[i];
                 got = perma_try_take(ctl, mem, own, victim, q, 0, &start, &starved);
                 if (got) {
-                    perma_note_starved(ctl, mem, groups, own, starved, starve_count);
+                    perma_note_starved(ctl, mem, groups, own, starved, q, starve_count);
                     group_stat[PERMA_GSTAT_STEALS] += 1u;
                     perma_set_blocked(group_words, 0u);
                     perma_set_batch(batch, PERMA_CMD_RUN, q, start, got, PERMA_QINDEX(victim, q), 0);
@@ -365,7 +374,7 @@ PERMA_PHASE void perma_schedule(__global uint *ctl, __global uint *queue_data, _
             break;
         }
         /* Work in sight but no room to start any of it. */
-        if (starved >= 0 && perma_note_starved(ctl, mem, groups, own, starved, starve_count))
+        if (starved >= 0 && perma_note_starved(ctl, mem, groups, own, starved, q, starve_count))
             break;
         (void)dest;
         if (poll >= PERMA_IDLE_POLLS) {

@@ -225,17 +225,19 @@ typedef struct perma_config {
     /* Items one work-item runs one after another in a batch of a procedure
      * with one thread per item that is not cooperative, so such a batch
      * holds up to group_size * items_per_work_item items (fewer if its
-     * items, scratch and worst-case emits do not fit the __local memory);
+     * items and scratch do not fit the __local memory, or staging the
+     * declared maximum of its emits would pass a group's staging memory);
      * 0 = 4.  Larger batches spread the fixed cost of a batch (claiming,
      * barriers, publishing) over more items.  Procedures with several
      * threads per item and cooperative ones take group_size /
      * threads_per_item items per batch. */
     unsigned items_per_work_item;
     /* Initial capacity of each queue in items; 0 = 1024.  Rounded up to a
-     * power of two; queues grow on demand (when no group can start anything
-     * for lack of room, and when a group's batches keep being cut to a
-     * fraction by the room their worst-case emits need, up to
-     * queue_memory_limit), and a run starts each queue at the capacity the
+     * power of two; queues grow on demand (when a batch emitted more than
+     * its target had room for, when no group can start anything for lack of
+     * room, and when a group's batches keep being cut to a fraction by the
+     * room their expected emits need, up to queue_memory_limit), and a run
+     * starts each queue at the capacity the
      * last successful run of the same program grew it to, if that is more
      * and all queues fit queue_memory_limit (perma_stats.queues_kept counts
      * them; perma_forget_capacities). */

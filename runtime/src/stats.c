@@ -247,8 +247,8 @@ static void print_batch_warning(const perma_runtime *rt, unsigned q, FILE *out)
     else if (ps->batch_cut == PERMA_BATCH_CUT_ROOM)
         fprintf(out, "warning: procedure '%s' ran batches of %.1f items on average instead of up to %u: a full "
                      "batch reserves room for the emits it is expected to make (%.1f per item into '%s', its mean "
-                     "so far), more than the queue of %zu holds, and the queue may not grow further (the queue "
-                     "memory limit, %zu bytes); raise config.queue_memory_limit, or let fewer items wait "
+                     "so far), more than the queue of %zu holds (a queue grows when a group's batches keep being "
+                     "cut, up to config.queue_memory_limit, %zu bytes); raise the limit, or let fewer items wait "
                      "(docs/writing-procedures.md, section 6)\n",
                 p->name, (double)ps->items / (double)ps->batches, ps->batch_size,
                 (double)ps->emitted[e] / (double)ps->items, target, target_capacity(rt, (unsigned)p->emit_target[e]),
