@@ -67,7 +67,7 @@ static const char *empty_source =
 
 /* How the empty procedure counts itself (--count). */
 typedef enum queue_count { COUNT_NONE = 0, COUNT_ATOMIC, COUNT_GROUP, COUNT_REDUCE } queue_count;
-static const char *const count_names[] = { "none", "atomic", "group", "reduce" };
+static const char *const count_names[] = { "none", "atomic", "group", "reduce", NULL };
 enum { COUNT_LINES = 1024 }; /* 64-byte lines: one per work-group (--groups is at most 1024) */
 
 typedef struct queue_params {
@@ -321,75 +321,57 @@ static double add_baseline(const bench_options *o, baseline_arg *a, const char *
     return row.seconds > 0 ? row.units / row.seconds : 0.0;
 }
 
-static void queue_usage(FILE *out)
+/* --emits K or --emits random:A..B into the queue_params. */
+static int parse_emits(const perma_cli_option *option, const char *value, char *complaint, size_t size)
 {
-    fprintf(out, "usage: perma-bench queue [common options] [--generators G] [--emits K | --emits random:A..B]\n"
-                 "  G generator items each emit K empty items (default G=8192 K=256; quick G=256 K=256);\n"
-                 "  --per-generator K is --emits K.  With random:A..B generator g emits A + hash(g) %% (B-A+1)\n"
-                 "  items and declares B (default G=131072; quick G=4096)\n"
-                 "  --count none|atomic|group|reduce: the empty procedure counts itself with one global atomic,\n"
-                 "  an atomic on a 64-byte line per work-group, or a reduction (default none)\n"
-                 "  group sizes 32, 64, 128 and work-groups 1, 2 (--groups N: only N; quick: 64 and 2)\n");
+    queue_params *p = option->target;
+    unsigned a, b;
+    int used = 0;
+    if (strncmp(value, "random:", 7) == 0) {
+        if (sscanf(value + 7, "%u..%u%n", &a, &b, &used) != 2 || value[7 + used] || a > b || b < 1 ||
+            b > PERMA_MAX_EMIT_ITEMS) {
+            snprintf(complaint, size, "expected random:A..B with 0 <= A <= B, 1 <= B <= %d", PERMA_MAX_EMIT_ITEMS);
+            return 1;
+        }
+        p->random = 1;
+        p->min_emits = a;
+        p->per_generator = b;
+        return 0;
+    }
+    if (sscanf(value, "%u%n", &b, &used) != 1 || value[used] || b < 1 || b > PERMA_MAX_EMIT_ITEMS) {
+        snprintf(complaint, size, "expected a number in 1..%d or random:A..B", PERMA_MAX_EMIT_ITEMS);
+        return 1;
+    }
+    p->random = 0;
+    p->per_generator = b;
+    return 0;
 }
 
-int bench_queue(const bench_options *o, int argc, char **argv)
+int bench_queue(bench_options *o, int argc, char **argv)
 {
-    queue_params params = { o->quick ? 256 : 8192, 256, 256, 0, COUNT_NONE };
-    int generators_given = 0;
-    for (int i = 1; i < argc; ++i) {
-        const char *next = i + 1 < argc ? argv[i + 1] : NULL;
-        unsigned *target = NULL, max = 0;
-        if (strcmp(argv[i], "--help") == 0) {
-            queue_usage(stdout);
-            return 0;
-        } else if (strcmp(argv[i], "--generators") == 0 && next) {
-            target = &params.generators, max = 1u << 24;
-            generators_given = 1;
-        } else if (strcmp(argv[i], "--emits") == 0 && next && strncmp(next, "random:", 7) == 0) {
-            unsigned a, b;
-            int used = 0;
-            if (sscanf(next + 7, "%u..%u%n", &a, &b, &used) != 2 || next[7 + used] || a > b ||
-                b < 1 || b > PERMA_MAX_EMIT_ITEMS) {
-                fprintf(stderr, "perma-bench queue: --emits random:A..B needs 0 <= A <= B, 1 <= B <= %d, got '%s'\n",
-                        PERMA_MAX_EMIT_ITEMS, next);
-                return 2;
-            }
-            params.random = 1;
-            params.min_emits = a;
-            params.per_generator = b;
-            ++i;
-            continue;
-        } else if (strcmp(argv[i], "--count") == 0 && next) {
-            unsigned c = 0;
-            while (c < 4 && strcmp(next, count_names[c]) != 0)
-                ++c;
-            if (c == 4) {
-                fprintf(stderr, "perma-bench queue: --count must be none, atomic, group or reduce, got '%s'\n", next);
-                return 2;
-            }
-            params.count = (queue_count)c;
-            ++i;
-            continue;
-        } else if ((strcmp(argv[i], "--per-generator") == 0 || strcmp(argv[i], "--emits") == 0) && next) {
-            target = &params.per_generator, max = PERMA_MAX_EMIT_ITEMS;
-        } else {
-            fprintf(stderr, "perma-bench queue: unknown or incomplete option '%s'\n", argv[i]);
-            queue_usage(stderr);
-            return 2;
-        }
-        char *end;
-        unsigned long value = strtoul(next, &end, 10);
-        if (!*next || *end || value < 1 || value > max) {
-            fprintf(stderr, "perma-bench queue: %s needs a number in 1..%u, got '%s'\n", argv[i], max, next);
-            return 2;
-        }
-        *target = (unsigned)value;
-        ++i;
-    }
+    queue_params params = { 0, 256, 0, 0, COUNT_NONE }; /* generators: 0 = the default */
+    const perma_cli_option rows[] = {
+        { PERMA_CLI_WHOLE("generators", "G", &params.generators, 1, 1u << 20,
+                          "generator items (default 8192, quick 256; with random emits 131072, quick 4096)") },
+        { PERMA_CLI_CUSTOM("emits", "K|random:A..B", parse_emits, &params,
+                           "what each generator emits: K empty items (default 256), or A + hash(g) % (B-A+1) "
+                           "declaring B as its maximum") },
+        { PERMA_CLI_WHOLE("per-generator", "K", &params.per_generator, 1, PERMA_MAX_EMIT_ITEMS,
+                          "the same as --emits K") },
+        { PERMA_CLI_CHOICE("count", "MODE", &params.count, count_names,
+                           "how the empty procedure counts itself: not at all, one global atomic, an atomic on a "
+                           "64-byte line per work-group, or a reduction (default none)") },
+    };
+    perma_cli_status parsed = bench_parse(o, "[options]",
+                                          "Group sizes 32, 64, 128 and work-groups 1, 2 (--groups N: only N; "
+                                          "quick: 64 and 2).",
+                                          rows, sizeof rows / sizeof rows[0], argc, argv);
+    if (parsed != PERMA_CLI_OK)
+        return perma_cli_exit_status(parsed);
     if (!params.random)
         params.min_emits = params.per_generator;
-    else if (!generators_given)
-        params.generators = o->quick ? 4096 : 131072;
+    if (!params.generators)
+        params.generators = params.random ? (o->quick ? 4096 : 131072) : (o->quick ? 256 : 8192);
 
     static const unsigned all_sizes[] = { 32, 64, 128 }, quick_sizes[] = { 64 };
     static const unsigned all_groups[] = { 1, 2 }, quick_groups[] = { 2 };

@@ -19,6 +19,7 @@
 #define PERMA_TRACE_GROUP_WORDS PERMA_TRACE_GROUP_WORDS_FOR(PERMA_TRACE_EVENTS)
 #define PERMA_EMIT_AREA_WORDS PERMA_EMIT_AREA_WORDS_FOR(PERMA_STAGE_WORDS)
 #define PERMA_EMIT_AREA_OVERFLOW PERMA_EMIT_AREA_OVERFLOW_FOR(PERMA_STAGE_WORDS)
+#define PERMA_WATCH_GROUP_WORDS PERMA_WATCH_RECORD_WORDS_FOR(PERMA_NUM_PROCS)
 
 #define PERMA_QUEUE(ctl, q) ((ctl) + PERMA_CTL_HEADER_WORDS + (q) * PERMA_QUEUE_WORDS)
 #define PERMA_GROUP(ctl, g) \
@@ -67,6 +68,15 @@ inline __global uint *perma_emit_area(__global uint *emit_areas)
 {
     return emit_areas + get_group_id(0) * PERMA_EMIT_AREA_WORDS;
 }
+/* For a procedure with a long or unbounded loop: nonzero once the host's
+ * watchdog has asked the run to stop (its time or stall limit passed,
+ * config.time_limit, config.stall_limit).  The scheduler polls the same
+ * flag between batches, but a procedure that never returns never gets
+ * there, and OpenCL cannot cancel a running kernel: such a kernel runs on
+ * until the process exits.  A loop that tests this flag ends instead, the
+ * run fails with the watchdog's error and the runtime stays usable
+ * (docs/writing-procedures.md). */
+#define perma_stop_requested(ctx) ((ctx)->buf.perma_watch_page[PERMA_WATCH_ABORT] != 0u)
 
 /* Record a failure status once (the first one wins) and stop all groups. */
 inline void perma_fail(__global uint *ctl, uint status, uint proc, uint edge)

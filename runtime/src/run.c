@@ -114,12 +114,16 @@ static perma_status launch_until_done(perma_runtime *rt, double deadline)
         perma_launch_outcome outcome;
         memset(&outcome, 0, sizeof outcome);
         st = perma_state_begin_launch(rt);
-        if (st == PERMA_OK)
+        if (st == PERMA_OK) {
+            perma_progress_launch_begins(rt);
             st = executor->launch(rt, deadline, &outcome);
+        }
         if (st != PERMA_OK)
             break;
         rt->stats.launches += outcome.launches;
         st = perma_stats_collect(rt);
+        if (st == PERMA_OK)
+            perma_progress_launch_ends(rt);
         if (st == PERMA_OK)
             st = perma_trace_collect(rt);
         if (st == PERMA_OK)
@@ -128,6 +132,16 @@ static perma_status launch_until_done(perma_runtime *rt, double deadline)
             break;
     }
     return st;
+}
+
+/* A trace that cannot be written fails the run before it starts, not
+ * after all its work. */
+static perma_status check_trace_path(perma_runtime *rt)
+{
+    perma_error error;
+    if (rt->config.trace_path && perma_output_check(rt->config.trace_path, &error) != PERMA_OK)
+        return perma_set_error(rt, error.status, "cannot write the trace: %s", error.message);
+    return PERMA_OK;
 }
 
 /* The trace is written after a failure too (it shows what ran before it),
@@ -160,6 +174,8 @@ perma_status perma_run(perma_runtime *rt)
         return PERMA_ERR_ARGUMENT;
     perma_status st = perma_call_begin(rt, "perma_run", true);
     if (st == PERMA_OK)
+        st = check_trace_path(rt);
+    if (st == PERMA_OK)
         perma_reductions_invalidate(rt);
     if (st == PERMA_OK)
         st = perma_build(rt);
@@ -172,10 +188,13 @@ perma_status perma_run(perma_runtime *rt)
     perma_stats_reset(rt);
     double start = perma_now();
     perma_trace_reset(rt, start);
+    if (rt->config.trace_path)
+        perma_trace_file_run_begins(start);
     double deadline = start + perma_time_limit(rt);
     rt->grow_starved = true;
 
     st = upload_seeds(rt);
+    perma_progress_run_begins(rt, start);
     if (st == PERMA_OK)
         st = perma_reductions_reset(rt);
     if (st == PERMA_OK)
@@ -186,10 +205,11 @@ perma_status perma_run(perma_runtime *rt)
         st = perma_buffers_copy(rt, PERMA_WRITE);
     if (st == PERMA_OK)
         st = perma_reductions_collect(rt);
-    rt->stats.seconds = perma_now() - start;
+    rt->stats.seconds = perma_progress_stop_clock(rt);
     rt->state.capacities_learned = st == PERMA_OK;
     st = write_trace(rt, st);
     perma_stats_finish(rt);
+    perma_progress_run_ends(rt);
     if (st == PERMA_OK)
         rt->message[0] = '\0';
     return st;
