@@ -41,6 +41,7 @@ int bench_queue(const bench_options *options, int argc, char **argv);
 int bench_tree(const bench_options *options, int argc, char **argv);
 int bench_pipeline(const bench_options *options, int argc, char **argv);
 int bench_reyes(const bench_options *options, int argc, char **argv);
+int bench_plain(const bench_options *options, int argc, char **argv);
 
 /* ---- results (report.c) ---- */
 
@@ -156,6 +157,9 @@ void bench_perma_verbose(perma_runtime *rt, const bench_options *options);
 
 /* Time `repeat` runs of fn (after one warm-up run) and return the median. */
 double bench_time_baseline(const bench_options *options, void (*fn)(void *), void *arg);
+/* The same with prepare(arg) before every call of fn, outside the timing
+ * (e.g. restoring an input that fn changes in place). */
+double bench_time_prepared(const bench_options *options, void (*prepare)(void *), void (*fn)(void *), void *arg);
 
 /* Number of OpenMP threads to use. */
 unsigned bench_threads(const bench_options *options);

@@ -39,14 +39,21 @@ double bench_summary(const bench_options *options, double *values, unsigned coun
 
 double bench_time_baseline(const bench_options *options, void (*fn)(void *), void *arg)
 {
+    return bench_time_prepared(options, NULL, fn, arg);
+}
+
+double bench_time_prepared(const bench_options *options, void (*prepare)(void *), void (*fn)(void *), void *arg)
+{
     enum { MAX_REPEAT = 1000 };
     static double times[MAX_REPEAT];
     unsigned n = options->repeat < MAX_REPEAT ? options->repeat : MAX_REPEAT;
-    fn(arg); /* warm-up: page faults, OpenMP thread pool, caches */
-    for (unsigned i = 0; i < n; ++i) {
+    for (unsigned i = 0; i <= n; ++i) { /* run 0: warm-up (page faults, OpenMP thread pool, caches) */
+        if (prepare)
+            prepare(arg);
         double start = bench_now();
         fn(arg);
-        times[i] = bench_now() - start;
+        if (i > 0)
+            times[i - 1] = bench_now() - start;
     }
     return bench_summary(options, times, n);
 }

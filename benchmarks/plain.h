@@ -1,0 +1,100 @@
+/* `perma-bench plain`: workloads written the way a newcomer writes them
+ * after README.md and docs/writing-procedures.md (one item = one node,
+ * interval, board or range; emit_<target> for the children; results added
+ * with global atomics), each against sequential C and OpenMP tasks.
+ *
+ * bench_plain.c holds the command and the rows every workload shares;
+ * plain_uts.c, plain_simpson.c, plain_queens.c and plain_sort.c one
+ * workload each (host side), plain_*.cl their procedures, plain_work.h the
+ * per-item work that the procedures and the baselines (plain_baselines.h)
+ * share. */
+#ifndef PLAIN_H
+#define PLAIN_H
+
+#include "bench.h"
+
+#include <stdint.h>
+
+/* The procedure sources, embedded at build time (kernels/embed.py). */
+extern const char plain_work_source[], plain_uts_source[], plain_simpson_source[], plain_queens_source[],
+    plain_sort_source[];
+
+typedef enum plain_count {
+    PLAIN_COUNT_ATOMIC = 1, /* one global atomic per result per item (README.md) */
+    PLAIN_COUNT_GROUP = 2   /* one 64-byte line per work-group */
+} plain_count;
+
+typedef struct plain_options {
+    const bench_options *common;
+    unsigned counts;        /* plain_count bits: the ways of counting measured */
+    unsigned group_size;    /* perma work-items per group */
+    unsigned cutoff;        /* OpenMP spawn depth for every workload; 0: each one's default */
+} plain_options;
+
+/* The OpenMP spawn depth: --cutoff, or the workload's default. */
+unsigned plain_cutoff(const plain_options *o, unsigned workload_default);
+
+/* ---- rows ---- */
+
+/* The sequential C row (the ratio's baseline); note: e.g. the node count. */
+void plain_sequential_row(bench_report *report, const char *title, const char *unit, double units, double seconds,
+                          const char *note);
+/* An OpenMP row, `label` after "openmp tasks ", checked by `ok`. */
+void plain_openmp_row(bench_report *report, const plain_options *o, const char *title, const char *label,
+                      const char *unit, double units, double seconds, int ok);
+
+/* A workload's perma side.  `setup` adds its sources (plain_add_sources
+ * first), registers its procedures into run.procs and binds its buffers on
+ * a new runtime of `work_groups` groups; run.prepare seeds, run.verify
+ * checks one run (see bench_workload). */
+typedef struct plain_perma {
+    perma_status (*setup)(void *state, perma_runtime *rt, unsigned work_groups, plain_count count);
+    bench_workload run;
+} plain_perma;
+
+/* A row per selected perma variant, device and way of counting. */
+void plain_perma_rows(const plain_options *o, bench_report *report, const char *title, const char *unit,
+                      double units, const plain_perma *w);
+
+/* ---- helpers of the workloads' perma side ---- */
+
+/* plain_work.h, `#define PLAIN_COUNT_GROUP` when counting per group, then
+ * `defines` (the workload's constants). */
+perma_status plain_add_sources(perma_runtime *rt, plain_count count, const char *defines);
+
+/* Register a procedure of one thread per item whose source is `source`
+ * (one of the embedded plain_*.cl, named `file`: procedures of the same
+ * source and file share it) and that emits at most max_emits items into
+ * `target` (NULL: none). */
+perma_status plain_register(perma_runtime *rt, const char *name, const char *item_type, size_t item_size,
+                            const char *source, const char *file, const char *target, unsigned max_emits,
+                            perma_proc *out);
+
+/* Result buffers: one 64-byte line per work-group (a counter at the start
+ * of each), bound read-write.  With global atomics only line 0 is used. */
+typedef struct plain_lines {
+    unsigned char *bytes;
+    unsigned groups;
+} plain_lines;
+
+/* (Re)size to `groups` lines and bind under `name` as `type`. */
+perma_status plain_lines_bind(perma_runtime *rt, plain_lines *lines, unsigned groups, const char *name,
+                              const char *type);
+void plain_lines_clear(plain_lines *lines);
+void plain_lines_free(plain_lines *lines);
+/* The sum over the lines of their first uint32, uint64 or double. */
+uint64_t plain_lines_sum_u32(const plain_lines *lines);
+uint64_t plain_lines_sum_u64(const plain_lines *lines);
+double plain_lines_sum_double(const plain_lines *lines);
+
+/* perma_stats.items of the run that just finished (UINT64_MAX if unknown). */
+uint64_t plain_items_run(perma_runtime *rt);
+
+/* ---- the workloads ---- */
+
+int plain_uts(const plain_options *o, bench_report *report);
+int plain_simpson(const plain_options *o, bench_report *report);
+int plain_queens(const plain_options *o, bench_report *report);
+int plain_sort(const plain_options *o, bench_report *report);
+
+#endif
