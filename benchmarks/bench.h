@@ -74,6 +74,8 @@ typedef struct bench_row {
 typedef struct bench_report bench_report;
 
 int bench_report_open(bench_report **out, const char *benchmark, const bench_options *options);
+/* Widen the variant column by `extra` characters (for longer row names). */
+void bench_report_widen(bench_report *report, int extra);
 /* Start a new workload: its first row should be the sequential baseline. */
 void bench_report_workload(bench_report *report, const char *title);
 /* Print and record one row; the sequential row sets the ratio baseline. */

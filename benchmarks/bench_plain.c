@@ -39,12 +39,14 @@ unsigned plain_cutoff(const plain_options *o, unsigned workload_default)
     return o->cutoff ? o->cutoff : workload_default;
 }
 
+#define GROUP_SUFFIX " [group lines]"
+
 static void perma_row(const plain_options *o, const bench_variant *v, plain_count count, bench_report *report,
                       const char *title, const char *unit, double units, const plain_perma *w)
 {
     bench_row row;
     char name[96];
-    snprintf(name, sizeof name, "%s%s", v->name, count == PLAIN_COUNT_GROUP ? " [group lines]" : "");
+    snprintf(name, sizeof name, "%s%s", v->name, count == PLAIN_COUNT_GROUP ? GROUP_SUFFIX : "");
     bench_row_init(&row, title, name, unit);
     row.group_size = o->group_size;
     row.work_groups = o->common->groups;
@@ -279,6 +281,8 @@ int bench_plain(const bench_options *common, int argc, char **argv)
     bench_report *report;
     if (bench_report_open(&report, "plain", common))
         return 1;
+    if (o.counts & PLAIN_COUNT_GROUP)
+        bench_report_widen(report, (int)strlen(GROUP_SUFFIX));
     int failed = 0;
     for (unsigned i = 0; i < WORKLOAD_COUNT && !failed; ++i)
         if (selected & (1u << i))

@@ -21,7 +21,7 @@
 #include <string.h>
 
 enum { MAX_DEPTH = 40, OPENMP_CUTOFF = 10 };
-static const double eps_default = 1e-13, eps_quick = 1e-9;
+static const double eps_default = 1e-9, eps_quick = 1e-4;
 
 typedef struct simpson_state {
     struct simpson_interval root;

@@ -16,7 +16,7 @@ typedef struct sort_size {
     uint keys, cutoff;
 } sort_size;
 
-static const sort_size size_default = { 1u << 22, 2048 }, size_quick = { 1u << 16, 2048 };
+static const sort_size size_default = { 1u << 21, 2048 }, size_quick = { 1u << 16, 2048 };
 enum { OPENMP_CUTOFF = 8, KEY_SEED = 2026 };
 
 typedef struct sort_state {

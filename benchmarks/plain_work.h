@@ -16,6 +16,7 @@
 #define PLAIN_FN
 #define PLAIN_GLOBAL __global
 #else
+#include <math.h>
 #include <stdint.h>
 typedef uint32_t uint;
 typedef uint64_t ulong;
@@ -85,12 +86,18 @@ struct simpson_interval {
     uint pad;
 };
 
-/* The integrand on [0, 1]: a smooth part and two narrow peaks, which make
- * the interval tree deep near 0.3 and 0.71 and shallow elsewhere. */
+/* The integrand on [0, 1]: a chirp of 100,000 smooth bumps (w (1 - w))^2,
+ * w the fractional part of 100000 x^2, ever narrower towards 1, over a
+ * cubic, plus a narrow peak at 0.3.  The interval tree is deep where the
+ * bumps are narrow and at the peak, shallow elsewhere.  floor is exact, and
+ * w (1 - w) is written so that no cancellation makes f noisy near x = 0 (a
+ * noisy f never meets the tolerance and splits down to the depth limit). */
 PLAIN_FN double simpson_f(double x)
 {
-    double p = x - 0.3, q = x - 0.71;
-    return x * x * (1.0 - x) + 1e-4 / (p * p + 1e-6) + 1e-3 / (q * q + 1e-5);
+    double t = 100000.0 * x * x;
+    double w = t - floor(t);
+    double bump = w * (1.0 - w), p = x - 0.3;
+    return bump * bump + x * x * (1.0 - x) + 1e-4 / (p * p + 1e-6);
 }
 
 PLAIN_FN double simpson_rule(double a, double b, double fa, double fm, double fb)

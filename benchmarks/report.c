@@ -50,6 +50,11 @@ int bench_report_open(bench_report **out, const char *benchmark, const bench_opt
     return 0;
 }
 
+void bench_report_widen(bench_report *r, int extra)
+{
+    r->width += extra;
+}
+
 static const char *check_name(bench_check check)
 {
     return check == BENCH_CHECK_PASS ? "ok" : check == BENCH_CHECK_FAIL ? "WRONG" : "-";
