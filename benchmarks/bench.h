@@ -22,7 +22,8 @@ typedef struct bench_options {
     int quick;              /* --quick: small sizes (tests) */
     unsigned groups;        /* --groups N: perma work-groups, 0 = runtime default */
     unsigned threads;       /* OpenMP threads: --threads N, 0 = online CPUs */
-    const char *only;       /* --only TEXT: run only perma variants whose label contains it */
+    const char *only;       /* --only TEXT: run only perma variants whose label contains it
+                             * (=LABEL: only that label) */
     int verbose;            /* --verbose: perma_print_stats after each perma row */
     /* --devices LIST: PERMA_DEVICE values (e.g. pocl,intel); every perma
      * row is measured once per device, the rows of a variant side by side. */
@@ -120,7 +121,8 @@ unsigned bench_device_passes(const bench_options *options);
  * and name v's rows after it. */
 void bench_variant_use_device(const bench_options *options, unsigned d, bench_variant *v);
 
-/* Whether --only selects `label` (a substring of it); if so, parse it into
+/* Whether --only selects `label` (a substring of it, or the whole label
+ * after '=': --only =megakernel/shared); if so, parse it into
  * *out.  A label that does not parse prints as n/a with the parser's
  * message and is not selected. */
 int bench_variant_select(const bench_options *options, const char *label, bench_variant *out);

@@ -184,7 +184,8 @@ static const struct {
     const char *name;
     int (*run)(const plain_options *o, bench_report *report);
 } workloads[] = {
-    { "uts", plain_uts },
+    { "uts-geometric", plain_uts_geometric },
+    { "uts-binomial", plain_uts_binomial },
     { "simpson", plain_simpson },
     { "queens", plain_queens },
     { "sort", plain_sort },
@@ -196,8 +197,8 @@ static void plain_usage(FILE *out)
     fprintf(out,
             "usage: perma-bench plain [common options] [--workload LIST] [--count atomic|group|both]\n"
             "                         [--group-size N] [--cutoff D]\n"
-            "  --workload LIST  comma-separated: uts (geometric and binomial trees), simpson,\n"
-            "                   queens, sort (default: all)\n"
+            "  --workload LIST  comma-separated: uts-geometric, uts-binomial, simpson, queens,\n"
+            "                   sort (default: all)\n"
             "  --count HOW      how the procedures add to their results: atomic (a global atomic\n"
             "                   per result per item, as README.md does; default), group (one\n"
             "                   64-byte line per work-group) or both (a row for each)\n"
@@ -217,7 +218,7 @@ static unsigned parse_workloads(const char *list)
         while (i < WORKLOAD_COUNT && strcmp(name, workloads[i].name) != 0)
             ++i;
         if (i == WORKLOAD_COUNT) {
-            fprintf(stderr, "perma-bench plain: unknown workload '%s' (uts, simpson, queens, sort)\n", name);
+            fprintf(stderr, "perma-bench plain: unknown workload '%s' (uts-geometric, uts-binomial, simpson, queens, sort)\n", name);
             return 0;
         }
         selected |= 1u << i;

@@ -35,6 +35,7 @@ static void usage(FILE *out)
             "  --groups N     perma work-groups (default: the runtime's choice)\n"
             "  --threads N    OpenMP threads (default: online CPUs)\n"
             "  --only TEXT    run only perma variants whose label contains TEXT\n"
+            "                 (--only =LABEL: only the variant of exactly that label)\n"
             "  --devices LIST measure every perma variant on each device of LIST, side by side\n"
             "                 (PERMA_DEVICE values: pocl,intel or 0:0,1:0; the reyes effect\n"
             "                 workloads use the first)\n"

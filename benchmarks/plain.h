@@ -92,7 +92,8 @@ uint64_t plain_items_run(perma_runtime *rt);
 
 /* ---- the workloads ---- */
 
-int plain_uts(const plain_options *o, bench_report *report);
+int plain_uts_geometric(const plain_options *o, bench_report *report);
+int plain_uts_binomial(const plain_options *o, bench_report *report);
 int plain_simpson(const plain_options *o, bench_report *report);
 int plain_queens(const plain_options *o, bench_report *report);
 int plain_sort(const plain_options *o, bench_report *report);

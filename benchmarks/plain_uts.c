@@ -1,4 +1,4 @@
-/* `perma-bench plain --workload uts`: the UTS geometric and binomial trees
+/* `perma-bench plain --workload uts-geometric,uts-binomial`: the UTS geometric and binomial trees
  * with one node per item and a splitmix64 hash per child (plain_uts.cl),
  * against plain_uts_sequential and plain_uts_openmp.  A perma row passes
  * if the node count and the sum of the node hashes equal the sequential
@@ -152,11 +152,12 @@ static int uts_tree(const plain_options *o, bench_report *report, const plain_ut
     return 0;
 }
 
-int plain_uts(const plain_options *o, bench_report *report)
+int plain_uts_geometric(const plain_options *o, bench_report *report)
 {
-    const int quick = o->common->quick;
-    int failed = uts_tree(o, report, quick ? &geometric_quick : &geometric_default);
-    if (!failed)
-        failed = uts_tree(o, report, quick ? &binomial_quick : &binomial_default);
-    return failed;
+    return uts_tree(o, report, o->common->quick ? &geometric_quick : &geometric_default);
+}
+
+int plain_uts_binomial(const plain_options *o, bench_report *report)
+{
+    return uts_tree(o, report, o->common->quick ? &binomial_quick : &binomial_default);
 }
