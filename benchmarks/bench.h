@@ -61,6 +61,7 @@ typedef struct bench_row {
     char message[PERMA_MESSAGE_MAX + 64];
     double seconds;          /* median of the timed runs */
     double wall_seconds;     /* perma rows: median wall time around perma_run */
+    double cpu_seconds;      /* median CPU time of the process (all threads) per run; 0: not measured */
     double units;            /* items or nodes processed per run */
     const char *unit;        /* "items" or "nodes" */
     uint64_t count, expected;
@@ -77,6 +78,9 @@ typedef struct bench_report bench_report;
 int bench_report_open(bench_report **out, const char *benchmark, const bench_options *options);
 /* Widen the variant column by `extra` characters (for longer row names). */
 void bench_report_widen(bench_report *report, int extra);
+/* Print a "cpu vs seq" column: the CPU time (all threads) of sequential C
+ * over the row's, from bench_row.cpu_seconds. */
+void bench_report_show_cpu(bench_report *report);
 /* Start a new workload: its first row should be the sequential baseline. */
 void bench_report_workload(bench_report *report, const char *title);
 /* Print and record one row; the sequential row sets the ratio baseline. */
@@ -92,6 +96,7 @@ void bench_row_init(bench_row *row, const char *workload, const char *variant, c
 /* ---- timing (timing.c) ---- */
 
 double bench_now(void);                         /* monotonic seconds */
+double bench_cpu_now(void);                     /* CPU seconds of the process, all threads */
 double bench_median(double *values, unsigned count); /* sorts values */
 /* The median of the timed runs, or the fastest with --best. */
 double bench_summary(const bench_options *options, double *values, unsigned count);
@@ -164,6 +169,12 @@ double bench_time_baseline(const bench_options *options, void (*fn)(void *), voi
 /* The same with prepare(arg) before every call of fn, outside the timing
  * (e.g. restoring an input that fn changes in place). */
 double bench_time_prepared(const bench_options *options, void (*prepare)(void *), void (*fn)(void *), void *arg);
+/* The same, with the median (or, with --best, least) CPU time of the
+ * process per call too. */
+typedef struct bench_timing {
+    double seconds, cpu_seconds;
+} bench_timing;
+bench_timing bench_time_runs(const bench_options *options, void (*prepare)(void *), void (*fn)(void *), void *arg);
 
 /* Number of OpenMP threads to use. */
 unsigned bench_threads(const bench_options *options);

@@ -7,12 +7,13 @@
 
 /* ---- rows ---- */
 
-void plain_sequential_row(bench_report *report, const char *title, const char *unit, double units, double seconds,
-                          const char *note)
+void plain_sequential_row(bench_report *report, const char *title, const char *unit, double units,
+                          bench_timing time, const char *note)
 {
     bench_row row;
     bench_row_init(&row, title, "sequential C", unit);
-    row.seconds = seconds;
+    row.seconds = time.seconds;
+    row.cpu_seconds = time.cpu_seconds;
     row.ran = 1;
     row.units = units;
     snprintf(row.message, sizeof row.message, "%s", note);
@@ -20,14 +21,15 @@ void plain_sequential_row(bench_report *report, const char *title, const char *u
 }
 
 void plain_openmp_row(bench_report *report, const plain_options *o, const char *title, const char *label,
-                      const char *unit, double units, double seconds, int ok)
+                      const char *unit, double units, bench_timing time, int ok)
 {
     bench_row row;
     char variant[64];
     snprintf(variant, sizeof variant, "openmp tasks %s", label);
     bench_row_init(&row, title, variant, unit);
     row.work_groups = bench_threads(o->common);
-    row.seconds = seconds;
+    row.seconds = time.seconds;
+    row.cpu_seconds = time.cpu_seconds;
     row.ran = 1;
     row.units = units;
     row.check = ok ? BENCH_CHECK_PASS : BENCH_CHECK_FAIL;
@@ -282,6 +284,7 @@ int bench_plain(const bench_options *common, int argc, char **argv)
     bench_report *report;
     if (bench_report_open(&report, "plain", common))
         return 1;
+    bench_report_show_cpu(report);
     if (o.counts & PLAIN_COUNT_GROUP)
         bench_report_widen(report, (int)strlen(GROUP_SUFFIX));
     int failed = 0;

@@ -37,11 +37,11 @@ unsigned plain_cutoff(const plain_options *o, unsigned workload_default);
 /* ---- rows ---- */
 
 /* The sequential C row (the ratio's baseline); note: e.g. the node count. */
-void plain_sequential_row(bench_report *report, const char *title, const char *unit, double units, double seconds,
-                          const char *note);
+void plain_sequential_row(bench_report *report, const char *title, const char *unit, double units,
+                          bench_timing time, const char *note);
 /* An OpenMP row, `label` after "openmp tasks ", checked by `ok`. */
 void plain_openmp_row(bench_report *report, const plain_options *o, const char *title, const char *label,
-                      const char *unit, double units, double seconds, int ok);
+                      const char *unit, double units, bench_timing time, int ok);
 
 /* A workload's perma side.  `setup` adds its sources (plain_add_sources
  * first), registers its procedures into run.procs and binds its buffers on

@@ -91,14 +91,14 @@ static void queens_openmp_row(const plain_options *o, bench_report *report, cons
                               const queens_state *s, uint spawn_depth)
 {
     queens_baseline b = { .n = s->size.n, .threads = bench_threads(o->common), .spawn_depth = spawn_depth };
-    double seconds = bench_time_baseline(o->common, queens_openmp_once, &b);
+    bench_timing time = bench_time_runs(o->common, NULL, queens_openmp_once, &b);
     char label[48];
     /* At perma's cutoff a task is what perma makes an item of. */
     if (spawn_depth == s->size.cutoff)
         snprintf(label, sizeof label, "(task per board)");
     else
         snprintf(label, sizeof label, "(tasks above depth %u)", spawn_depth);
-    plain_openmp_row(report, o, title, label, "boards", (double)s->boards, seconds, b.solutions == s->expected);
+    plain_openmp_row(report, o, title, label, "boards", (double)s->boards, time, b.solutions == s->expected);
 }
 
 int plain_queens(const plain_options *o, bench_report *report)
@@ -111,12 +111,12 @@ int plain_queens(const plain_options *o, bench_report *report)
 
     s.boards = boards_above(s.size.n, s.size.cutoff, (struct queens_board){ 0u, 0u, 0u, 0u });
     queens_baseline seq = { .n = s.size.n };
-    double seconds = bench_time_baseline(o->common, queens_sequential_once, &seq);
+    bench_timing time = bench_time_runs(o->common, NULL, queens_sequential_once, &seq);
     s.expected = seq.solutions;
     char note[96];
     snprintf(note, sizeof note, "%llu solutions; perma: %llu boards", (unsigned long long)s.expected,
              (unsigned long long)s.boards);
-    plain_sequential_row(report, title, "boards", (double)s.boards, seconds, note);
+    plain_sequential_row(report, title, "boards", (double)s.boards, time, note);
 
     queens_openmp_row(o, report, title, &s, s.size.cutoff);
     uint cutoff = plain_cutoff(o, OPENMP_CUTOFF);

@@ -109,7 +109,7 @@ static void simpson_openmp_row(const plain_options *o, bench_report *report, con
                                const simpson_state *s, uint spawn_depth)
 {
     simpson_baseline b = { .root = &s->root, .threads = bench_threads(o->common), .spawn_depth = spawn_depth };
-    double seconds = bench_time_baseline(o->common, simpson_openmp_once, &b);
+    bench_timing time = bench_time_runs(o->common, NULL, simpson_openmp_once, &b);
     char label[48];
     if (spawn_depth == UINT32_MAX)
         snprintf(label, sizeof label, "(task per interval)");
@@ -117,7 +117,7 @@ static void simpson_openmp_row(const plain_options *o, bench_report *report, con
         snprintf(label, sizeof label, "(tasks above depth %u)", spawn_depth);
     int ok = b.result.accepted == s->expected.accepted && b.result.area_bits == s->expected.area_bits &&
              b.result.area == s->expected.area;
-    plain_openmp_row(report, o, title, label, "intervals", 2.0 * (double)s->expected.accepted - 1.0, seconds, ok);
+    plain_openmp_row(report, o, title, label, "intervals", 2.0 * (double)s->expected.accepted - 1.0, time, ok);
 }
 
 int plain_simpson(const plain_options *o, bench_report *report)
@@ -129,13 +129,13 @@ int plain_simpson(const plain_options *o, bench_report *report)
 
     simpson_state s = { .root = simpson_root(0.0, 1.0, eps), .item_size = sizeof(struct simpson_interval) };
     simpson_baseline seq = { .root = &s.root };
-    double seconds = bench_time_baseline(o->common, simpson_sequential_once, &seq);
+    bench_timing time = bench_time_runs(o->common, NULL, simpson_sequential_once, &seq);
     s.expected = seq.result;
     double intervals = 2.0 * (double)s.expected.accepted - 1.0;
     char note[96];
     snprintf(note, sizeof note, "%llu accepted, integral %.17g", (unsigned long long)s.expected.accepted,
              s.expected.area);
-    plain_sequential_row(report, title, "intervals", intervals, seconds, note);
+    plain_sequential_row(report, title, "intervals", intervals, time, note);
 
     simpson_openmp_row(o, report, title, &s, UINT32_MAX);
     simpson_openmp_row(o, report, title, &s, plain_cutoff(o, OPENMP_CUTOFF));

@@ -109,13 +109,13 @@ static void sort_openmp_row(const plain_options *o, bench_report *report, const 
                             uint spawn_depth)
 {
     sort_baseline b = { .s = s, .threads = bench_threads(o->common), .spawn_depth = spawn_depth };
-    double seconds = bench_time_prepared(o->common, sort_restore, sort_openmp_once, &b);
+    bench_timing time = bench_time_runs(o->common, sort_restore, sort_openmp_once, &b);
     char label[48];
     if (spawn_depth == UINT32_MAX)
         snprintf(label, sizeof label, "(task per range)");
     else
         snprintf(label, sizeof label, "(tasks above depth %u)", spawn_depth);
-    plain_openmp_row(report, o, title, label, "keys", (double)s->size.keys, seconds,
+    plain_openmp_row(report, o, title, label, "keys", (double)s->size.keys, time,
                      sorted_keys(s) == s->size.keys);
 }
 
@@ -143,11 +143,11 @@ int plain_sort(const plain_options *o, bench_report *report)
              s.size.cutoff);
     bench_report_workload(report, title);
     sort_baseline seq = { .s = &s };
-    double seconds = bench_time_prepared(o->common, sort_restore, sort_sequential_once, &seq);
+    bench_timing time = bench_time_runs(o->common, sort_restore, sort_sequential_once, &seq);
     char note[96];
     snprintf(note, sizeof note, "%s; perma: %llu ranges", sorted_keys(&s) == s.size.keys ? "sorted" : "NOT SORTED",
              (unsigned long long)s.ranges);
-    plain_sequential_row(report, title, "keys", (double)s.size.keys, seconds, note);
+    plain_sequential_row(report, title, "keys", (double)s.size.keys, time, note);
     int failed = sorted_keys(&s) != s.size.keys;
 
     sort_openmp_row(o, report, title, &s, UINT32_MAX);

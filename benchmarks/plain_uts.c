@@ -110,14 +110,14 @@ static void uts_openmp_row(const plain_options *o, bench_report *report, const c
                            uint spawn_depth)
 {
     uts_baseline b = { .tree = s->tree, .threads = bench_threads(o->common), .spawn_depth = spawn_depth };
-    double seconds = bench_time_baseline(o->common, uts_openmp_once, &b);
+    bench_timing time = bench_time_runs(o->common, NULL, uts_openmp_once, &b);
     char label[48];
     if (spawn_depth == UINT32_MAX)
         snprintf(label, sizeof label, "(task per node)");
     else
         snprintf(label, sizeof label, "(tasks above depth %u)", spawn_depth);
     int ok = b.result.nodes == s->expected.nodes && b.result.hash_sum == s->expected.hash_sum;
-    plain_openmp_row(report, o, title, label, "nodes", (double)s->expected.nodes, seconds, ok);
+    plain_openmp_row(report, o, title, label, "nodes", (double)s->expected.nodes, time, ok);
 }
 
 static int uts_tree(const plain_options *o, bench_report *report, const plain_uts_tree *t)
@@ -131,14 +131,14 @@ static int uts_tree(const plain_options *o, bench_report *report, const plain_ut
     bench_report_workload(report, title);
 
     uts_baseline seq = { .tree = t };
-    double seconds = bench_time_baseline(o->common, uts_sequential_once, &seq);
+    bench_timing time = bench_time_runs(o->common, NULL, uts_sequential_once, &seq);
     if (seq.failed) {
         fprintf(stderr, "perma-bench plain: out of memory in the sequential tree count\n");
         return 1;
     }
     char note[64];
     snprintf(note, sizeof note, "%llu nodes", (unsigned long long)seq.result.nodes);
-    plain_sequential_row(report, title, "nodes", (double)seq.result.nodes, seconds, note);
+    plain_sequential_row(report, title, "nodes", (double)seq.result.nodes, time, note);
 
     uts_state s = { .tree = t, .expected = seq.result };
     s.item_sizes[0] = s.item_sizes[1] = sizeof(struct uts_node);
