@@ -1,6 +1,7 @@
 /* The plain workloads with OpenMP tasks (gcc's libgomp), as a CPU
  * programmer would write them: recursive tasks above a depth cutoff, the
- * rest inline, each thread counting into its own cache line. */
+ * subtrees below it inside one task counted in locals, each thread adding
+ * its tasks' counts into its own cache line. */
 #include "plain_baselines.h"
 
 #include <omp.h>
@@ -8,9 +9,11 @@
 
 enum { MAX_THREADS = 256 };
 
+/* One cache line per thread (aligned: otherwise two threads' sums may
+ * share a line, and every update bounces it between the cores). */
 struct thread_sums {
-    uint64_t a, b;
-    char pad[64 - 2 * sizeof(uint64_t)];
+    _Alignas(64) uint64_t a;
+    uint64_t b;
 };
 
 static struct thread_sums sums[MAX_THREADS];
@@ -23,7 +26,7 @@ static unsigned clamp_threads(unsigned threads)
 
 static struct thread_sums add_sums(unsigned threads)
 {
-    struct thread_sums total = { 0, 0, { 0 } };
+    struct thread_sums total = { 0, 0 };
     for (unsigned t = 0; t < threads; ++t) {
         total.a += sums[t].a;
         total.b += sums[t].b;
@@ -33,20 +36,33 @@ static struct thread_sums add_sums(unsigned threads)
 
 /* ---- UTS ---- */
 
+/* A subtree inside one task, counted in locals. */
+static void uts_inline(const plain_uts_tree *t, struct uts_node n, plain_uts_result *r)
+{
+    r->nodes++;
+    r->hash_sum += n.hash;
+    uint k = plain_uts_children(t, &n);
+    for (uint i = 0; i < k; ++i)
+        uts_inline(t, uts_child(n.hash, n.depth, i), r);
+}
+
 static void uts_visit(const plain_uts_tree *t, struct uts_node n, uint spawn_depth)
 {
     struct thread_sums *s = &sums[omp_get_thread_num()];
+    if (n.depth >= spawn_depth) {
+        plain_uts_result r = { 0, 0 };
+        uts_inline(t, n, &r);
+        s->a += r.nodes;
+        s->b += r.hash_sum;
+        return;
+    }
     s->a++;
     s->b += n.hash;
     uint k = plain_uts_children(t, &n);
     for (uint i = 0; i < k; ++i) {
         struct uts_node child = uts_child(n.hash, n.depth, i);
-        if (n.depth < spawn_depth) {
 #pragma omp task firstprivate(child)
-            uts_visit(t, child, spawn_depth);
-        } else {
-            uts_visit(t, child, spawn_depth);
-        }
+        uts_visit(t, child, spawn_depth);
     }
 }
 

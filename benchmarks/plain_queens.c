@@ -58,10 +58,16 @@ static perma_status queens_prepare(void *state, perma_runtime *rt)
     return perma_seed(rt, s->proc, &empty, 1);
 }
 
+/* The result of a run: where the counting of plain_queens.cl ends up. */
+static uint64_t queens_results(const queens_state *s)
+{
+    return plain_lines_sum_u32(&s->solutions);
+}
+
 static int queens_verify(void *state, perma_runtime *rt, bench_row *row)
 {
     queens_state *s = state;
-    row->count = plain_lines_sum_u32(&s->solutions);   /* the counting of plain_queens.cl */
+    row->count = queens_results(s);
     row->expected = s->expected;
     return row->count == s->expected && plain_items_run(rt) == s->boards;
 }

@@ -20,7 +20,7 @@ static const plain_uts_tree binomial_default = { .binomial = 1, .root_hash = 2, 
 static const plain_uts_tree binomial_quick = { .binomial = 1, .root_hash = 7, .b0 = 200, .m = 8,
                                                .q64 = 0x1fae147ae147ae00UL /* 0.12375 */ };
 /* OpenMP spawns tasks above this depth (--cutoff overrides). */
-enum { GEOMETRIC_CUTOFF = 3, BINOMIAL_CUTOFF = 12 };
+enum { GEOMETRIC_CUTOFF = 3, BINOMIAL_CUTOFF = 64 };
 
 typedef struct uts_state {
     const plain_uts_tree *tree;
