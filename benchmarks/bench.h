@@ -7,6 +7,7 @@
 #define BENCH_H
 
 #include <perma.h>
+#include <perma_cli.h>
 
 #include <stddef.h>
 #include <stdint.h>
@@ -29,20 +30,40 @@ typedef struct bench_options {
      * row is measured once per device, the rows of a variant side by side. */
     const char *devices[BENCH_MAX_DEVICES];
     unsigned device_count;
+    char device_list[256];  /* the list the devices point into */
 } bench_options;
 
-/* A subcommand: one entry of the table in main.c. */
+/* A subcommand: one entry of the table in main.c.  `run` gets the
+ * command's argv (argv[0]: its name) and parses it with bench_parse. */
 typedef struct bench_command {
     const char *name;
     const char *summary;
-    int (*run)(const bench_options *options, int argc, char **argv);
+    int (*run)(bench_options *options, int argc, char **argv);
 } bench_command;
 
-int bench_queue(const bench_options *options, int argc, char **argv);
-int bench_tree(const bench_options *options, int argc, char **argv);
-int bench_pipeline(const bench_options *options, int argc, char **argv);
-int bench_reyes(const bench_options *options, int argc, char **argv);
-int bench_plain(const bench_options *options, int argc, char **argv);
+int bench_queue(bench_options *options, int argc, char **argv);
+int bench_tree(bench_options *options, int argc, char **argv);
+int bench_pipeline(bench_options *options, int argc, char **argv);
+int bench_reyes(bench_options *options, int argc, char **argv);
+int bench_plain(bench_options *options, int argc, char **argv);
+
+/* ---- command lines (bench_cli.c) ---- */
+
+#define BENCH_COMMON_OPTIONS 9
+#define BENCH_EXIT_STATUS \
+    "exit status: 0 all checks passed, 1 a result was wrong or output failed, 2 bad usage.\n" \
+    "Variants the runtime does not support print as n/a."
+
+/* The rows of the options every command takes, their targets in *o. */
+void bench_common_options(bench_options *o, perma_cli_option rows[BENCH_COMMON_OPTIONS]);
+
+/* Parse a command's argv (argv[0]: its name) with its own `rows` (listed
+ * as "NAME options") and the common ones (into *options); `synopsis`
+ * follows "usage: perma-bench NAME".  PERMA_CLI_OK: run; otherwise the
+ * command returns perma_cli_exit_status(status) (help, version or bad
+ * usage printed). */
+perma_cli_status bench_parse(bench_options *options, const char *synopsis, const char *about,
+                             const perma_cli_option *rows, size_t count, int argc, char **argv);
 
 /* ---- results (report.c) ---- */
 
@@ -87,11 +108,21 @@ void bench_report_workload(bench_report *report, const char *title);
 void bench_report_add(bench_report *report, const bench_row *row, int is_baseline);
 /* Number of rows whose check failed. */
 unsigned bench_report_failures(const bench_report *report);
-/* Finish the table, close the CSV file; returns 0, or 1 when writing failed. */
+/* Finish the table and write the CSV file; returns 0, or 1 when writing failed or
+ * no perma variant was measured (every perma row n/a, or none at all). */
 int bench_report_close(bench_report *report);
 
-/* Initialise a row with a workload and variant name. */
+/* Initialise a row with a workload and variant name (and show that its
+ * measurement starts: bench_status_show). */
 void bench_row_init(bench_row *row, const char *workload, const char *variant, const char *unit);
+
+/* ---- the row being measured, on a terminal (status.c) ---- */
+
+/* When stderr is a terminal: "perma-bench: row N, T s: WORKLOAD: VARIANT"
+ * on one line of it, redrawn in place. */
+void bench_status_show(const char *workload, const char *variant);
+/* A row was printed: clear the line (bench_report_add). */
+void bench_status_row_printed(void);
 
 /* ---- timing (timing.c) ---- */
 
@@ -178,5 +209,14 @@ bench_timing bench_time_runs(const bench_options *options, void (*prepare)(void 
 
 /* Number of OpenMP threads to use. */
 unsigned bench_threads(const bench_options *options);
+
+/* ---- what it is doing (activity.c) ---- */
+
+/* Catch SIGTERM, SIGINT and SIGHUP: each then ends perma-bench with a
+ * line on stderr naming the benchmark, the seconds since this call and the
+ * activity last set, and exit status 1. */
+void bench_activity_start(const char *benchmark);
+/* Set the activity, e.g. "building %s (%s)" with a variant and workload. */
+void bench_activity(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 
 #endif

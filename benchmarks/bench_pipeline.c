@@ -200,44 +200,22 @@ static int run_order(const bench_options *o, pipe_state *s, int upstream_first, 
     return 0;
 }
 
-static void pipeline_usage(FILE *out)
+int bench_pipeline(bench_options *o, int argc, char **argv)
 {
-    fprintf(out, "usage: perma-bench pipeline [common options] [--producers N] [--rounds R] [--group-size N]\n"
-                 "  --producers N   seeded producer items (default 262144, quick 4096)\n"
-                 "  --rounds R      hash rounds per transform (default 16)\n"
-                 "  --group-size N  perma work-items per group (default 64)\n");
-}
-
-int bench_pipeline(const bench_options *o, int argc, char **argv)
-{
-    pipe_params params = { o->quick ? 4096 : 262144, 16 };
+    pipe_params params = { 0, 16 }; /* producers: 0 = 262144, quick 4096 */
     unsigned group_size = 64;
-    for (int i = 1; i < argc; ++i) {
-        const char *next = i + 1 < argc ? argv[i + 1] : NULL;
-        unsigned *target = NULL, max = 0;
-        if (strcmp(argv[i], "--help") == 0) {
-            pipeline_usage(stdout);
-            return 0;
-        } else if (strcmp(argv[i], "--producers") == 0 && next) {
-            target = &params.producers, max = 1u << 24;
-        } else if (strcmp(argv[i], "--rounds") == 0 && next) {
-            target = &params.rounds, max = 4096;
-        } else if (strcmp(argv[i], "--group-size") == 0 && next) {
-            target = &group_size, max = 4096;
-        } else {
-            fprintf(stderr, "perma-bench pipeline: unknown or incomplete option '%s'\n", argv[i]);
-            pipeline_usage(stderr);
-            return 2;
-        }
-        char *end;
-        unsigned long value = strtoul(next, &end, 10);
-        if (!*next || *end || value < 1 || value > max) {
-            fprintf(stderr, "perma-bench pipeline: %s needs a number in 1..%u, got '%s'\n", argv[i], max, next);
-            return 2;
-        }
-        *target = (unsigned)value;
-        ++i;
-    }
+    const perma_cli_option rows[] = {
+        { PERMA_CLI_WHOLE("producers", "N", &params.producers, 1, 1u << 24,
+                          "seeded producer items (default 262144, quick 4096)") },
+        { PERMA_CLI_WHOLE("rounds", "R", &params.rounds, 1, 4096, "hash rounds per transform (default 16)") },
+        { PERMA_CLI_WHOLE("group-size", "N", &group_size, 1, 4096, "perma work-items per group (default 64)") },
+    };
+    perma_cli_status parsed = bench_parse(o, "[options]",
+                                          NULL, rows, sizeof rows / sizeof rows[0], argc, argv);
+    if (parsed != PERMA_CLI_OK)
+        return perma_cli_exit_status(parsed);
+    if (!params.producers)
+        params.producers = o->quick ? 4096 : 262144;
 
     pipe_state *s = calloc(1, sizeof *s);
     if (s)

@@ -194,92 +194,51 @@ static const struct {
 };
 enum { WORKLOAD_COUNT = sizeof workloads / sizeof workloads[0] };
 
-static void plain_usage(FILE *out)
+/* --workload LIST: bits of `workloads` for comma-separated names. */
+static int parse_workloads(const perma_cli_option *option, const char *value, char *complaint, size_t size)
 {
-    fprintf(out,
-            "usage: perma-bench plain [common options] [--workload LIST] [--count atomic|group|both]\n"
-            "                         [--group-size N] [--cutoff D]\n"
-            "  --workload LIST  comma-separated: uts-geometric, uts-binomial, simpson, queens,\n"
-            "                   sort (default: all)\n"
-            "  --count HOW      how the procedures add to their results: atomic (a global atomic\n"
-            "                   per result per item, as README.md does; default), group (one\n"
-            "                   64-byte line per work-group) or both (a row for each)\n"
-            "  --group-size N   perma work-items per group (default 64)\n"
-            "  --cutoff D       OpenMP: spawn tasks only above depth D, in every workload\n"
-            "                   (default: each workload's own, shown in its row)\n");
-}
-
-/* Which workloads LIST names, as bits of `workloads`; 0 on a bad name. */
-static unsigned parse_workloads(const char *list)
-{
-    unsigned selected = 0;
-    char copy[128];
-    snprintf(copy, sizeof copy, "%s", list);
-    for (char *name = strtok(copy, ","); name; name = strtok(NULL, ",")) {
-        unsigned i = 0;
-        while (i < WORKLOAD_COUNT && strcmp(name, workloads[i].name) != 0)
-            ++i;
-        if (i == WORKLOAD_COUNT) {
-            fprintf(stderr, "perma-bench plain: unknown workload '%s' (uts-geometric, uts-binomial, simpson, queens, sort)\n", name);
-            return 0;
-        }
-        selected |= 1u << i;
+    unsigned selected = 0, found = 1;
+    for (const char *at = value; *at && found;) {
+        size_t n = strcspn(at, ",");
+        found = 0;
+        for (unsigned i = 0; i < WORKLOAD_COUNT; ++i)
+            if (strlen(workloads[i].name) == n && strncmp(workloads[i].name, at, n) == 0)
+                found = 1u << i;
+        selected |= found;
+        at += n + (at[n] == ',');
     }
-    return selected;
-}
-
-static int parse_number(const char *option, const char *text, unsigned min, unsigned max, unsigned *out)
-{
-    char *end;
-    unsigned long value = strtoul(text, &end, 10);
-    if (!*text || *end || value < min || value > max) {
-        fprintf(stderr, "perma-bench plain: %s needs a number in %u..%u, got '%s'\n", option, min, max, text);
-        return -1;
+    if (!found || !selected) {
+        snprintf(complaint, size, "expected a comma-separated list of uts-geometric, uts-binomial, simpson, "
+                                  "queens or sort");
+        return 1;
     }
-    *out = (unsigned)value;
+    *(unsigned *)option->target = selected;
     return 0;
 }
 
-int bench_plain(const bench_options *common, int argc, char **argv)
+int bench_plain(bench_options *common, int argc, char **argv)
 {
-    plain_options o = { .common = common, .counts = PLAIN_COUNT_ATOMIC, .group_size = 64 };
-    unsigned selected = (1u << WORKLOAD_COUNT) - 1u;
-    for (int i = 1; i < argc; ++i) {
-        const char *next = i + 1 < argc ? argv[i + 1] : NULL;
-        if (strcmp(argv[i], "--help") == 0) {
-            plain_usage(stdout);
-            return 0;
-        }
-        if (!next) {
-            fprintf(stderr, "perma-bench plain: unknown or incomplete option '%s'\n", argv[i]);
-            plain_usage(stderr);
-            return 2;
-        }
-        if (strcmp(argv[i], "--workload") == 0) {
-            if (!(selected = parse_workloads(next)))
-                return 2;
-        } else if (strcmp(argv[i], "--count") == 0) {
-            o.counts = strcmp(next, "atomic") == 0 ? PLAIN_COUNT_ATOMIC
-                     : strcmp(next, "group") == 0  ? PLAIN_COUNT_GROUP
-                     : strcmp(next, "both") == 0   ? PLAIN_COUNT_ATOMIC | PLAIN_COUNT_GROUP
-                                                   : 0;
-            if (!o.counts) {
-                fprintf(stderr, "perma-bench plain: --count must be atomic, group or both, got '%s'\n", next);
-                return 2;
-            }
-        } else if (strcmp(argv[i], "--group-size") == 0) {
-            if (parse_number(argv[i], next, 1, 4096, &o.group_size))
-                return 2;
-        } else if (strcmp(argv[i], "--cutoff") == 0) {
-            if (parse_number(argv[i], next, 1, 4096, &o.cutoff))
-                return 2;
-        } else {
-            fprintf(stderr, "perma-bench plain: unknown option '%s'\n", argv[i]);
-            plain_usage(stderr);
-            return 2;
-        }
-        ++i;
-    }
+    static const char *const count_names[] = { "atomic", "group", "both", NULL };
+    static const unsigned count_bits[] = { PLAIN_COUNT_ATOMIC, PLAIN_COUNT_GROUP,
+                                           PLAIN_COUNT_ATOMIC | PLAIN_COUNT_GROUP };
+    plain_options o = { .common = common, .group_size = 64 };
+    unsigned selected = (1u << WORKLOAD_COUNT) - 1u, count = 0;
+    const perma_cli_option rows[] = {
+        { PERMA_CLI_CUSTOM("workload", "LIST", parse_workloads, &selected,
+                           "comma-separated: uts-geometric, uts-binomial, simpson, queens, sort (default: all)") },
+        { PERMA_CLI_CHOICE("count", "HOW", &count, count_names,
+                           "how the procedures add to their results: atomic (a global atomic per result per "
+                           "item, as README.md does; default), group (one 64-byte line per work-group) or both "
+                           "(a row for each)") },
+        { PERMA_CLI_WHOLE("group-size", "N", &o.group_size, 1, 4096, "perma work-items per group (default 64)") },
+        { PERMA_CLI_WHOLE("cutoff", "D", &o.cutoff, 1, 4096,
+                          "OpenMP: spawn tasks only above depth D, in every workload (default: each workload's "
+                          "own, shown in its row)") },
+    };
+    perma_cli_status parsed = bench_parse(common, "[options]", NULL, rows, sizeof rows / sizeof rows[0], argc, argv);
+    if (parsed != PERMA_CLI_OK)
+        return perma_cli_exit_status(parsed);
+    o.counts = count_bits[count];
 
     bench_report *report;
     if (bench_report_open(&report, "plain", common))

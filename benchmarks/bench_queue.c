@@ -242,40 +242,23 @@ static double add_baseline(const bench_options *o, baseline_arg *a, const char *
     return row.seconds > 0 ? row.units / row.seconds : 0.0;
 }
 
-static void queue_usage(FILE *out)
+int bench_queue(bench_options *o, int argc, char **argv)
 {
-    fprintf(out, "usage: perma-bench queue [common options] [--generators G] [--per-generator K]\n"
-                 "  G generator items each emit K empty items (default G=8192 K=256; quick G=256 K=256)\n"
-                 "  group sizes 32, 64, 128 and work-groups 1, 2 (--groups N: only N; quick: 64 and 2)\n");
-}
-
-int bench_queue(const bench_options *o, int argc, char **argv)
-{
-    queue_params params = { o->quick ? 256 : 8192, 256 };
-    for (int i = 1; i < argc; ++i) {
-        const char *next = i + 1 < argc ? argv[i + 1] : NULL;
-        unsigned *target = NULL, max = 0;
-        if (strcmp(argv[i], "--help") == 0) {
-            queue_usage(stdout);
-            return 0;
-        } else if (strcmp(argv[i], "--generators") == 0 && next) {
-            target = &params.generators, max = 1u << 20;
-        } else if (strcmp(argv[i], "--per-generator") == 0 && next) {
-            target = &params.per_generator, max = PERMA_MAX_EMIT_ITEMS;
-        } else {
-            fprintf(stderr, "perma-bench queue: unknown or incomplete option '%s'\n", argv[i]);
-            queue_usage(stderr);
-            return 2;
-        }
-        char *end;
-        unsigned long value = strtoul(next, &end, 10);
-        if (!*next || *end || value < 1 || value > max) {
-            fprintf(stderr, "perma-bench queue: %s needs a number in 1..%u, got '%s'\n", argv[i], max, next);
-            return 2;
-        }
-        *target = (unsigned)value;
-        ++i;
-    }
+    queue_params params = { 0, 256 }; /* generators: 0 = 8192, quick 256 */
+    const perma_cli_option rows[] = {
+        { PERMA_CLI_WHOLE("generators", "G", &params.generators, 1, 1u << 20,
+                          "generator items, each emitting K empty items (default 8192; quick 256)") },
+        { PERMA_CLI_WHOLE("per-generator", "K", &params.per_generator, 1, PERMA_MAX_EMIT_ITEMS,
+                          "empty items each generator emits (default 256)") },
+    };
+    perma_cli_status parsed = bench_parse(o, "[options]",
+                                          "Group sizes 32, 64, 128 and work-groups 1, 2 (--groups N: only N; "
+                                          "quick: 64 and 2).",
+                                          rows, sizeof rows / sizeof rows[0], argc, argv);
+    if (parsed != PERMA_CLI_OK)
+        return perma_cli_exit_status(parsed);
+    if (!params.generators)
+        params.generators = o->quick ? 256 : 8192;
 
     static const unsigned all_sizes[] = { 32, 64, 128 }, quick_sizes[] = { 64 };
     static const unsigned all_groups[] = { 1, 2 }, quick_groups[] = { 2 };

@@ -58,112 +58,93 @@ typedef struct variant_times {
     double seconds[STAGE_MODES];
 } variant_times;
 
-static void usage(FILE *out)
+/* The workloads, for --help. */
+static const char workloads_help[] =
+    "workloads (--workload, comma-separated; default stages; all = every one):\n"
+    "  stages    teapot.bpt and killeroo.bpt from DIR (default " REYES_BENCH_MODELS_DIR ")\n"
+    "            at 512x512 and 1280x1024 (--size replaces them; --quick: teapot at\n"
+    "            256x256) with every technique and the main strategies, in full and\n"
+    "            stopped after dice's geometry and after subdivision, and the\n"
+    "            single-threaded C reference of the same pipeline (shading and\n"
+    "            sampling included) timed the same way.  No crack fix (the C\n"
+    "            reference has none); the cameras of issue 13 (docs/reyes.md).\n"
+    "            Rows: seconds are the best perma_run time of --repeat runs, the\n"
+    "            configurations interleaved run by run; 'vs seq' is the C reference's\n"
+    "            full render / row.\n"
+    "  displace  the same models and sizes plain and with bumps displacement.\n"
+    "  blur      killeroo at 800x600 (or --size) at 16, 25 and 64 spp, unblurred and\n"
+    "            with each blur algorithm (simple, interleaved, bbox) under a\n"
+    "            moderate motion and aperture.\n"
+    "  buckets   the models and sizes without buckets and with 256, 128, 64 and 32\n"
+    "            pixel buckets: peak queue memory and time (megakernel/shared and\n"
+    "            kernel-per-procedure).\n"
+    "The effect workloads use the first variant --only selects (buckets: those of\n"
+    "megakernel/shared and kernel-per-procedure), run the configurations of a\n"
+    "comparison in turn --repeat times and report the best time of each; their\n"
+    "'vs seq' column is the first row's time / row (1/cost).  With --quick they\n"
+    "render the built-in scene at small sizes (no model files needed).";
+
+/* --size WxH, up to MAX_SIZES times: one size more. */
+static int parse_size(const perma_cli_option *option, const char *value, char *complaint, size_t size)
 {
-    fprintf(out,
-            "usage: perma-bench reyes [--models DIR] [--size WxH] [--bound PX]\n"
-            "                         [--workload LIST] [common options]\n"
-            "\n"
-            "Workloads (--workload, comma-separated; default stages; all = every one):\n"
-            "  stages    teapot.bpt and killeroo.bpt from DIR (default %s)\n"
-            "            at 512x512 and 1280x1024 (--size replaces them; --quick: teapot at\n"
-            "            256x256) with every technique and the main strategies, in full and\n"
-            "            stopped after dice's geometry and after subdivision, and the\n"
-            "            single-threaded C reference of the same pipeline (shading and\n"
-            "            sampling included) timed the same way.  No crack fix (the C\n"
-            "            reference has none); the cameras of issue 13 (docs/reyes.md).\n"
-            "            Rows: seconds are the best perma_run time of --repeat runs, the\n"
-            "            configurations interleaved run by run; 'vs seq' is the C reference's\n"
-            "            full render / row.\n"
-            "  displace  the same models and sizes plain and with bumps displacement.\n"
-            "  blur      killeroo at 800x600 (or --size) at 16, 25 and 64 spp, unblurred and\n"
-            "            with each blur algorithm (simple, interleaved, bbox) under a\n"
-            "            moderate motion and aperture.\n"
-            "  buckets   the models and sizes without buckets and with 256, 128, 64 and 32\n"
-            "            pixel buckets: peak queue memory and time (megakernel/shared and\n"
-            "            kernel-per-procedure).\n"
-            "The effect workloads use the first variant --only selects (buckets: those of\n"
-            "megakernel/shared and kernel-per-procedure), run the configurations of a\n"
-            "comparison in turn --repeat times and report the best time of each; their\n"
-            "'vs seq' column is the first row's time / row (1/cost).  With --quick they\n"
-            "render the built-in scene at small sizes (no model files needed).\n",
-            REYES_BENCH_MODELS_DIR);
+    reyes_bench_args *a = option->target;
+    unsigned wxh[2];
+    const perma_cli_option side = { PERMA_CLI_SIZE("size", "WxH", wxh, 1, REYES_MAX_SIZE, NULL) };
+    if (a->size_count == MAX_SIZES) {
+        snprintf(complaint, size, "expected at most %d sizes", MAX_SIZES);
+        return 1;
+    }
+    if (perma_cli_apply(&side, value, complaint, size) != 0)
+        return 1;
+    a->widths[a->size_count] = wxh[0];
+    a->heights[a->size_count++] = wxh[1];
+    return 0;
 }
 
-static int parse_size(const char *text, unsigned *width, unsigned *height)
-{
-    char *end;
-    unsigned long w = strtoul(text, &end, 10);
-    if (*end != 'x' || w < 1 || w > REYES_MAX_SIZE)
-        return 0;
-    unsigned long h = strtoul(end + 1, &end, 10);
-    if (*end || h < 1 || h > REYES_MAX_SIZE)
-        return 0;
-    *width = (unsigned)w;
-    *height = (unsigned)h;
-    return 1;
-}
-
-/* The REYES_BENCH_* bits of a comma-separated list of workload names; 0
- * if a name is unknown. */
-static unsigned parse_workloads(const char *list)
+/* --workload LIST: the REYES_BENCH_* bits of comma-separated names. */
+static int parse_workloads(const perma_cli_option *option, const char *value, char *complaint, size_t size)
 {
     static const struct { const char *name; unsigned bits; } names[] = {
         { "stages", REYES_BENCH_STAGES }, { "displace", REYES_BENCH_DISPLACE },
         { "blur", REYES_BENCH_BLUR }, { "buckets", REYES_BENCH_BUCKETS },
         { "all", REYES_BENCH_STAGES | REYES_BENCH_DISPLACE | REYES_BENCH_BLUR | REYES_BENCH_BUCKETS },
     };
-    unsigned bits = 0;
-    for (const char *at = list; *at;) {
+    unsigned bits = 0, found = 1;
+    for (const char *at = value; *at && found;) {
         size_t n = strcspn(at, ",");
-        unsigned found = 0;
+        found = 0;
         for (size_t k = 0; k < sizeof names / sizeof names[0]; ++k)
             if (strlen(names[k].name) == n && strncmp(names[k].name, at, n) == 0)
                 found = names[k].bits;
-        if (!found)
-            return 0;
         bits |= found;
         at += n + (at[n] == ',');
     }
-    return bits;
+    if (!found || !bits) {
+        snprintf(complaint, size, "expected a comma-separated list of stages, displace, blur, buckets or all");
+        return 1;
+    }
+    *(unsigned *)option->target = bits;
+    return 0;
 }
 
-/* Returns 0, or 2 for a usage error, or -1 after --help. */
-static int parse_args(int argc, char **argv, const bench_options *options, reyes_bench_args *a)
+/* PERMA_CLI_OK, or what the command returns perma_cli_exit_status of. */
+static perma_cli_status parse_args(int argc, char **argv, bench_options *options, reyes_bench_args *a)
 {
     memset(a, 0, sizeof *a);
     a->models_dir = REYES_BENCH_MODELS_DIR;
     a->bound_px = 8.0f;
     a->workloads = REYES_BENCH_STAGES;
-    for (int i = 1; i < argc; ++i) {
-        const char *next = i + 1 < argc ? argv[i + 1] : NULL;
-        if (strcmp(argv[i], "--help") == 0) {
-            usage(stdout);
-            return -1;
-        } else if (strcmp(argv[i], "--models") == 0 && next) {
-            a->models_dir = next;
-            ++i;
-        } else if (strcmp(argv[i], "--size") == 0 && next && a->size_count < MAX_SIZES
-                   && parse_size(next, &a->widths[a->size_count], &a->heights[a->size_count])) {
-            ++a->size_count;
-            ++i;
-        } else if (strcmp(argv[i], "--bound") == 0 && next && atof(next) >= 0.5) {
-            a->bound_px = (float)atof(next);
-            ++i;
-        } else if (strcmp(argv[i], "--workload") == 0 && next) {
-            a->workloads = parse_workloads(next);
-            if (!a->workloads) {
-                fprintf(stderr, "perma-bench reyes: --workload '%s': expected a comma-separated list "
-                                "of stages, displace, blur, buckets or all\n", next);
-                return 2;
-            }
-            ++i;
-        } else {
-            fprintf(stderr, "perma-bench reyes: bad option '%s'\n", argv[i]);
-            usage(stderr);
-            return 2;
-        }
-    }
+    const perma_cli_option rows[] = {
+        { PERMA_CLI_TEXT("models", "DIR", &a->models_dir, "where teapot.bpt and killeroo.bpt are") },
+        { PERMA_CLI_CUSTOM("size", "WxH", parse_size, a,
+                           "an image size (up to 4 times; default: the workload's sizes)") },
+        { PERMA_CLI_FLOAT("bound", "PX", &a->bound_px, 0.5, INFINITY, "dice patches of at most PX pixels (default 8)") },
+        { PERMA_CLI_CUSTOM("workload", "LIST", parse_workloads, &a->workloads, "the workloads below (default stages)") },
+    };
+    perma_cli_status parsed = bench_parse(options, "[options]", workloads_help, rows, sizeof rows / sizeof rows[0],
+                                          argc, argv);
+    if (parsed != PERMA_CLI_OK)
+        return parsed;
     a->sizes_given = a->size_count > 0;
     if (a->size_count == 0) {
         const unsigned w[2] = {512, 1280}, h[2] = {512, 1024};
@@ -173,7 +154,7 @@ static int parse_args(int argc, char **argv, const bench_options *options, reyes
             a->heights[s] = options->quick ? 256 : h[s];
         }
     }
-    return 0;
+    return PERMA_CLI_OK;
 }
 
 reyes_options reyes_bench_render_options(const reyes_bench_args *a, const bench_options *options,
@@ -518,12 +499,12 @@ static void run_workload(bench_report *report, const char *model, const reyes_sc
     print_summary(options, reference_seconds, times);
 }
 
-int bench_reyes(const bench_options *options, int argc, char **argv)
+int bench_reyes(bench_options *options, int argc, char **argv)
 {
     reyes_bench_args a;
-    int parsed = parse_args(argc, argv, options, &a);
-    if (parsed)
-        return parsed < 0 ? 0 : parsed;
+    perma_cli_status parsed = parse_args(argc, argv, options, &a);
+    if (parsed != PERMA_CLI_OK)
+        return perma_cli_exit_status(parsed);
     const char *models[] = { "teapot", "killeroo" };
     unsigned model_count = a.workloads & REYES_BENCH_STAGES ? (options->quick ? 1 : 2) : 0;
     bench_report *report;

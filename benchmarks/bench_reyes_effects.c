@@ -76,6 +76,7 @@ static void render_round(comparison *c, effect_config *config, unsigned round)
     reyes_image image;
     reyes_stats stats;
     reyes_error error;
+    bench_status_show(c->title, config->label);
     double start = bench_now();
     if (reyes_render(c->renderer, c->scene, &c->camera, &config->options, &image, &stats, &error)
         != REYES_OK) {

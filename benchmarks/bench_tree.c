@@ -290,63 +290,23 @@ static int run_tree(const bench_options *o, const uts_tree *t, unsigned group_si
     return 0;
 }
 
-static void tree_usage(FILE *out)
+int bench_tree(bench_options *o, int argc, char **argv)
 {
-    fprintf(out, "usage: perma-bench tree [common options] [--shape geometric|binomial|both] [--rounds N]\n"
-                 "                        [--depth D] [--group-size N] [--cutoff D]\n"
-                 "  --shape       which tree (default both)\n"
-                 "  --rounds N    hash rounds per child: the work per node (default 16)\n"
-                 "  --depth D     depth limit of the geometric tree (default 10, quick 7)\n"
-                 "  --group-size  perma work-items per group (default 64)\n"
-                 "  --cutoff D    OpenMP: nodes above depth D spawn tasks (default 3)\n");
-}
-
-int bench_tree(const bench_options *o, int argc, char **argv)
-{
-    const char *shape = "both";
-    unsigned rounds = 0, depth = 0, group_size = 64, cutoff = 3;
-    for (int i = 1; i < argc; ++i) {
-        const char *next = i + 1 < argc ? argv[i + 1] : NULL;
-        unsigned *target = NULL;
-        if (strcmp(argv[i], "--help") == 0) {
-            tree_usage(stdout);
-            return 0;
-        } else if (strcmp(argv[i], "--shape") == 0 && next) {
-            shape = next;
-        } else if (strcmp(argv[i], "--rounds") == 0 && next) {
-            target = &rounds;
-        } else if (strcmp(argv[i], "--depth") == 0 && next) {
-            target = &depth;
-        } else if (strcmp(argv[i], "--group-size") == 0 && next) {
-            target = &group_size;
-        } else if (strcmp(argv[i], "--cutoff") == 0 && next) {
-            target = &cutoff;
-        } else {
-            fprintf(stderr, "perma-bench tree: unknown or incomplete option '%s'\n", argv[i]);
-            tree_usage(stderr);
-            return 2;
-        }
-        if (target) {
-            char *end;
-            unsigned long value = strtoul(next, &end, 10);
-            if (!*next || *end || value > 4096) {
-                fprintf(stderr, "perma-bench tree: %s needs a number in 0..4096, got '%s'\n", argv[i], next);
-                return 2;
-            }
-            *target = (unsigned)value;
-        }
-        ++i;
-    }
-    int geometric = strcmp(shape, "geometric") == 0 || strcmp(shape, "both") == 0;
-    int binomial = strcmp(shape, "binomial") == 0 || strcmp(shape, "both") == 0;
-    if (!geometric && !binomial) {
-        fprintf(stderr, "perma-bench tree: --shape must be geometric, binomial or both, got '%s'\n", shape);
-        return 2;
-    }
-    if (depth > 40) {
-        fprintf(stderr, "perma-bench tree: --depth above 40 would not finish\n");
-        return 2;
-    }
+    static const char *const shapes[] = { "both", "geometric", "binomial", NULL };
+    unsigned shape = 0, rounds = 0, depth = 0, group_size = 64, cutoff = 3;
+    const perma_cli_option rows[] = {
+        { PERMA_CLI_CHOICE("shape", "NAME", &shape, shapes, "which tree (default both)") },
+        { PERMA_CLI_WHOLE("rounds", "N", &rounds, 0, 4096, "hash rounds per child: the work per node (default 16)") },
+        { PERMA_CLI_WHOLE("depth", "D", &depth, 0, 40,
+                          "depth limit of the geometric tree (default 10, quick 7; deeper would not finish)") },
+        { PERMA_CLI_WHOLE("group-size", "N", &group_size, 0, 4096, "perma work-items per group (default 64)") },
+        { PERMA_CLI_WHOLE("cutoff", "D", &cutoff, 0, 4096, "OpenMP: nodes above depth D spawn tasks (default 3)") },
+    };
+    perma_cli_status parsed = bench_parse(o, "[options]",
+                                          NULL, rows, sizeof rows / sizeof rows[0], argc, argv);
+    if (parsed != PERMA_CLI_OK)
+        return perma_cli_exit_status(parsed);
+    int geometric = shape != 2, binomial = shape != 1;
 
     uts_tree trees[2];
     unsigned count = 0;

@@ -47,6 +47,7 @@ void bench_perma_measure(perma_runtime *rt, const bench_variant *variant, const 
     static double seconds[MAX_REPEAT], walls[MAX_REPEAT], cpu[MAX_REPEAT];
     unsigned repeat = options->repeat < MAX_REPEAT ? options->repeat : MAX_REPEAT;
 
+    bench_activity("building %s (%s)", variant->name, row->workload);
     if (perma_build(rt) != PERMA_OK) {
         fail(row, rt, "build");
         return;
@@ -59,6 +60,10 @@ void bench_perma_measure(perma_runtime *rt, const bench_variant *variant, const 
             fail(row, rt, "seed");
             return;
         }
+        if (i == 0)
+            bench_activity("the warm-up run of %s (%s)", variant->name, row->workload);
+        else
+            bench_activity("timed run %u of %u of %s (%s)", i, repeat, variant->name, row->workload);
         double start = bench_now(), cpu_start = bench_cpu_now();
         if (perma_run(rt) != PERMA_OK) {
             fail(row, rt, "run");

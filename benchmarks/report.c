@@ -3,19 +3,19 @@
  * above 1 means faster than sequential C. */
 #include "bench.h"
 
-#include <errno.h>
 #include <stdlib.h>
 #include <string.h>
 
 struct bench_report {
     const char *benchmark;
+    perma_output *csv_output; /* written whole at the end, or not at all */
     FILE *csv;
-    const char *csv_path;
-    int csv_failed;
     double baseline_seconds; /* sequential C time of the current workload */
     double baseline_cpu;     /* and its CPU time */
     int show_cpu;            /* print the "cpu vs seq" column */
     unsigned failures;
+    unsigned perma_measured;     /* perma rows that ran (they carry a group size) */
+    char first_skip[96];         /* why the first row that did not run did not */
     int width;               /* of the variant column: wider for " @DEVICE" names */
 };
 
@@ -25,6 +25,8 @@ void bench_row_init(bench_row *row, const char *workload, const char *variant, c
     snprintf(row->workload, sizeof row->workload, "%s", workload);
     snprintf(row->variant, sizeof row->variant, "%s", variant);
     row->unit = unit;
+    bench_status_show(workload, variant);
+    bench_activity("measuring %s (%s)", variant, workload);
 }
 
 int bench_report_open(bench_report **out, const char *benchmark, const bench_options *options)
@@ -37,13 +39,13 @@ int bench_report_open(bench_report **out, const char *benchmark, const bench_opt
     r->benchmark = benchmark;
     r->width = options->device_count ? 44 : 36;
     if (options->csv_path) {
-        r->csv = fopen(options->csv_path, "w");
-        if (!r->csv) {
-            fprintf(stderr, "perma-bench: cannot write %s: %s\n", options->csv_path, strerror(errno));
+        perma_error error;
+        if (perma_output_open(options->csv_path, &r->csv_output, &error) != PERMA_OK) {
+            fprintf(stderr, "perma-bench: --csv: %s\n", error.message);
             free(r);
             return 1;
         }
-        r->csv_path = options->csv_path;
+        r->csv = perma_output_stream(r->csv_output);
         fprintf(r->csv, "benchmark,workload,variant,group_size,work_groups,status,seconds,wall_seconds,"
                         "units,unit,rate,speedup_vs_sequential,count,expected,check,peak_queue_bytes,"
                         "peak_item_bytes,steals,donations,spills,message,cpu_seconds\n");
@@ -126,6 +128,11 @@ void bench_report_add(bench_report *r, const bench_row *row, int is_baseline)
     }
     if (row->check == BENCH_CHECK_FAIL)
         ++r->failures;
+    if (row->ran && row->group_size)
+        ++r->perma_measured;
+    if (!row->ran && !r->first_skip[0])
+        snprintf(r->first_skip, sizeof r->first_skip, "%s", note[0] ? note : row->variant);
+    bench_status_row_printed();
     double rate = row->ran && row->seconds > 0 ? row->units / row->seconds : 0.0;
     double ratio = row->ran && row->seconds > 0 && r->baseline_seconds > 0 ? r->baseline_seconds / row->seconds : 0.0;
 
@@ -175,8 +182,6 @@ void bench_report_add(bench_report *r, const bench_row *row, int is_baseline)
             (unsigned long long)row->spills);
     csv_text(r->csv, row->message);
     fprintf(r->csv, ",%.6f\n", row->cpu_seconds);
-    if (ferror(r->csv))
-        r->csv_failed = 1;
 }
 
 unsigned bench_report_failures(const bench_report *r)
@@ -189,11 +194,17 @@ int bench_report_close(bench_report *r)
     int failed = 0;
     if (r->failures)
         printf("\n%u row(s) produced a WRONG result\n", r->failures);
-    if (r->csv) {
-        if (fclose(r->csv) != 0 || r->csv_failed) {
-            fprintf(stderr, "perma-bench: writing %s failed\n", r->csv_path);
-            failed = 1;
-        }
+    /* A run that measured no perma variant is a failure, not an empty success. */
+    if (!r->perma_measured) {
+        fprintf(stderr, "perma-bench %s: nothing was measured: no perma variant ran%s%s%s\n", r->benchmark,
+                r->first_skip[0] ? " (the first row that did not: " : "", r->first_skip,
+                r->first_skip[0] ? ")" : "");
+        failed = 1;
+    }
+    perma_error error;
+    if (r->csv_output && perma_output_commit(r->csv_output, &error) != PERMA_OK) {
+        fprintf(stderr, "perma-bench: --csv: %s\n", error.message);
+        failed = 1;
     }
     free(r);
     return failed;

@@ -3,7 +3,7 @@
 inputs of the N-node speedup model (docs/benchmarks.md, docs/scale-out.md).
 
 usage: scale_out.py [--build DIR] [--repeat N] [--size WxH] [--bucket WxH] [--spp N]
-                    [--mpirun PATH|none]
+                    [--mpirun PATH|none] [--cold-build SECONDS]
 
 Every configuration renders the same image; the rounds interleave the
 configurations (round 1: all of them, round 2: all of them, ...) so that
@@ -17,7 +17,11 @@ which a busy machine changes less than wall time.  Then the model's inputs from 
 bucket count, per-bucket render times, the fixed part (wall - sum of the
 bucket times), the bytes of one tile message, and the per-bucket message
 overhead a remote rank sees (turnaround at rank 0 - its render time), each
-from the fastest round of its row; and the model's predicted speedups.
+from the fastest round of its row; mpirun's start-up and finalisation M
+(the `mpirun -n 1` row's wall - render, less the one-device row's); and the
+model's predicted speedups on warm program caches and, for a first job of a
+new program, with a cold build of --cold-build seconds on every node (default
+40; benchmarks/cold_farm.py measures one).
 """
 import json
 import os
@@ -32,7 +36,7 @@ import time
 
 def parse_args(argv):
     args = {'build': 'build', 'repeat': 3, 'size': '512x512', 'bucket': '64x64', 'spp': '4',
-            'mpirun': None}
+            'mpirun': None, 'cold-build': '40'}
     i = 1
     while i < len(argv):
         key = argv[i].lstrip('-')
@@ -44,6 +48,7 @@ def parse_args(argv):
         args[key] = argv[i + 1]
         i += 2
     args['repeat'] = int(args['repeat'])
+    args['cold-build'] = float(args['cold-build'])
     if args['mpirun'] is None:
         args['mpirun'] = next((os.path.join(d, 'mpirun') for d in os.environ.get('PATH', '').split(':')
                                if os.access(os.path.join(d, 'mpirun'), os.X_OK)), 'none')
@@ -156,24 +161,36 @@ def main(argv):
             print('  remote rank, per bucket: turnaround - render time: mean %.2f ms, median %.2f ms'
                   % (1e3 * statistics.mean(gaps), 1e3 * statistics.median(gaps)))
     # The model (docs/benchmarks.md): N nodes with one such device each,
-    # buckets handed out one at a time.  T(1) = F + S; T(N) between
-    # F + max((S + B m) / N, t_max) and F + (S + B m) / N + t_max.
+    # buckets handed out one at a time, started by mpirun (M) after a build
+    # of C seconds on every node (in parallel; 0 on warm caches).
+    # T(1) = C + F + S; T(N) between M + C + F + max((S + B m) / N, t_max)
+    # and M + C + F + (S + B m) / N + t_max.
     fixed, total, longest = one_wall - sum(times), sum(times), max(times)
+    start_up = 0.0
+    mpi_one = 'mpirun -n 1 (rank 0 renders on 0:0)'
+    if mpi_one in wall:
+        start_up = max(0.0, (min(wall[mpi_one]) - min(render[mpi_one]))
+                       - (min(wall[ONE_DEVICE]) - min(render[ONE_DEVICE])))
+        print('  mpirun start-up and finalisation M = %.2f s (wall - render of the mpirun -n 1 row, less the '
+              'one-device row\'s)' % start_up)
     links = [('m measured here (shared memory): %.2f ms' % (1e3 * statistics.mean(gaps)) if gaps
               else 'm = 1 ms (not measured)', statistics.mean(gaps) if gaps else 1e-3),
              ('1 GbE: m = 2 x 50 us + %d B at 117 MB/s' % tile_bytes, 2 * 50e-6 + tile_bytes / 117e6),
              ('InfiniBand: m = 2 x 2 us + %d B at 10 GB/s' % tile_bytes, 2 * 2e-6 + tile_bytes / 10e9)]
-    print('\npredicted speedup T(1) / T(N), lower - upper bound:\n')
-    print('| N | ' + ' | '.join(name for name, _ in links) + ' |')
-    print('| ---: | ' + ' | '.join('---' for _ in links) + ' |')
-    for n in (1, 2, 4, 8, 16, 32, 64):
-        cells = []
-        for _, m in links:
-            spread = (total + len(times) * m) / n
-            best = fixed + max(spread, longest)
-            worst = fixed + spread + (longest if n > 1 else 0.0)
-            cells.append('%.1f - %.1f' % ((fixed + total) / worst, (fixed + total) / best))
-        print('| %d | %s |' % (n, ' | '.join(cells)))
+    for cold in (0.0, args['cold-build']):
+        print('\npredicted speedup T(1) / T(N), lower - upper bound, %s:\n'
+              % ('warm program caches' if cold == 0.0 else 'a new program: a %g s build on every node' % cold))
+        print('| N | ' + ' | '.join(name for name, _ in links) + ' |')
+        print('| ---: | ' + ' | '.join('---' for _ in links) + ' |')
+        for n in (1, 2, 4, 8, 16, 32, 64):
+            cells = []
+            for _, m in links:
+                spread = (total + len(times) * m) / n if n > 1 else total
+                launch = start_up if n > 1 else 0.0
+                best = launch + cold + fixed + max(spread, longest)
+                worst = launch + cold + fixed + spread + (longest if n > 1 else 0.0)
+                cells.append('%.2f - %.2f' % ((cold + fixed + total) / worst, (cold + fixed + total) / best))
+            print('| %d | %s |' % (n, ' | '.join(cells)))
     return 0 if all(identical.values()) else 1
 
 

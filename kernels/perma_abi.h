@@ -34,7 +34,7 @@ typedef uint32_t perma_word;
 #define PERMA_CTL_DETAIL_PROC 3 /* procedure (or queue) that caused a failure status */
 #define PERMA_CTL_DETAIL_EDGE 4 /* edge or position detail of a failure status */
 #define PERMA_CTL_PROGRESS 5    /* epoch, bumped whenever queue room grows */
-#define PERMA_CTL_CLOCK 6       /* logical clock of the trace */
+#define PERMA_CTL_CLOCK 6       /* unused (the trace clock is on the watch page) */
 #define PERMA_CTL_GROW_STARVED 7 /* nonzero: a group starved of room may stop the launch to grow queues */
 #define PERMA_CTL_HEADER_WORDS 16
 
@@ -157,7 +157,7 @@ typedef struct perma_group_counters {
 typedef struct perma_trace_record {
     perma_word proc_kind; /* procedure | kind << 8 */
     perma_word items;
-    perma_word start;     /* logical clock */
+    perma_word start;     /* ticks of the clock PERMA_WATCH_CLOCK */
     perma_word end;
 } perma_trace_record;
 
@@ -187,20 +187,26 @@ typedef struct perma_relayout_record {
 /* ---- Watch page --------------------------------------------------------
  * Host memory the kernels see through a CL_MEM_USE_HOST_PTR buffer (their
  * abort_flag argument), so that the host can watch a running kernel
- * (runtime/src/watchdog.c).  Word ABORT is the host's request to stop,
- * which every group polls.  Each work-group has a record of its own, a
- * cache line apart, in which its work-item 0 writes the procedure of the
- * batch it is running and counts the batches it finished: the host tells
- * a stuck run from a slow one by whether the counts move, and names the
- * procedures in flight.  (Only where the device shares memory with the
- * host does the host see these writes while the kernel runs.) */
+ * (runtime/src/watchdog.c, progress.c).  Word ABORT is the host's request
+ * to stop, which every group polls.  Each work-group has a record of its
+ * own, cache lines apart, in which its work-item 0 writes the procedure of
+ * the batch it is running and counts the batches it finished (the host
+ * tells a stuck run from a slow one by whether the counts move, and names
+ * the procedures in flight), and per procedure the items it completed and
+ * the items its batches emitted into that procedure (perma_get_progress).
+ * Plain stores of words only that group writes; the host reads them
+ * while the kernel runs only where the device shares memory with it. */
 
 #define PERMA_WATCH_ABORT 0         /* nonzero: every group stops */
+#define PERMA_WATCH_CLOCK 1         /* the trace's clock: ticks of batch starts and ends (atomic_inc),
+                                       which the host reads with its own clock (runtime/src/trace.c) */
 #define PERMA_WATCH_RECORDS 16      /* word of group 0's record */
-#define PERMA_WATCH_RECORD_WORDS 16
 #define PERMA_WATCH_RUNNING 0       /* procedure + 1 of the batch running; 0 between batches */
 #define PERMA_WATCH_DONE 1          /* batches of items this group finished (wraps) */
-#define PERMA_WATCH_WORDS_FOR(groups) (PERMA_WATCH_RECORDS + (groups) * PERMA_WATCH_RECORD_WORDS)
+#define PERMA_WATCH_COUNTS 16       /* items completed per procedure, then items emitted into each
+                                       procedure: 2 * procedures words (wrap) */
+#define PERMA_WATCH_RECORD_WORDS_FOR(procs) ((PERMA_WATCH_COUNTS + 2u * (procs) + 15u) / 16u * 16u)
+#define PERMA_WATCH_WORDS_FOR(groups, procs) (PERMA_WATCH_RECORDS + (groups) * PERMA_WATCH_RECORD_WORDS_FOR(procs))
 
 /* ---- Kernel arguments --------------------------------------------------
  * Each list gives (host index name, OpenCL C type, parameter name) in

@@ -348,6 +348,18 @@ PERMA_PHASE void perma_publish_emits(__global uint *ctl, __global uint *queue_da
  * (generated after this file, since it follows the batch layout above). */
 PERMA_PHASE void perma_dispatch(uint lid, __local perma_group_mem *mem, perma_buffers buf);
 
+/* Work-item 0 after a batch it ran: the progress counts in the group's
+ * watch page record (kernels/perma_abi.h), its items and what it emitted
+ * into each target. */
+inline void perma_watch_counts(volatile __global uint *watch, __local const perma_group_mem *mem)
+{
+    const uint proc = mem->batch[PERMA_B_PROC];
+    watch[PERMA_WATCH_COUNTS + proc] += perma_batch_run(mem);
+    for (uint e = 0; e < perma_edge_count[proc]; ++e)
+        watch[PERMA_WATCH_COUNTS + PERMA_NUM_PROCS + perma_edge_target[proc * PERMA_MAX_EDGES + e]] +=
+            mem->edge_counts[e];
+}
+
 /* Run the batch in mem->batch: `count` items of `proc` (command RUN) or
  * move them to the donee (command DONATE).  The items come from the source
  * queue at `start`, from input[start..] when `input` is not null (the
@@ -362,7 +374,7 @@ inline void perma_run_batch(__global uint *ctl, __global uint *queue_data, __glo
 {
     /* The group's record in the watch page: the host's watchdog names the
      * procedure running if it never returns, and sees progress in DONE. */
-    volatile __global uint *watch = abort_flag + PERMA_WATCH_RECORDS + get_group_id(0) * PERMA_WATCH_RECORD_WORDS;
+    volatile __global uint *watch = abort_flag + PERMA_WATCH_RECORDS + get_group_id(0) * PERMA_WATCH_GROUP_WORDS;
     if (get_local_id(0) == 0 && perma_batch_run(mem))
         watch[PERMA_WATCH_RUNNING] = mem->batch[PERMA_B_PROC] + 1u;
     /* The phases take the local id as an argument: PoCL inlines every
@@ -387,6 +399,7 @@ inline void perma_run_batch(__global uint *ctl, __global uint *queue_data, __glo
         if (perma_batch_run(mem)) {
             watch[PERMA_WATCH_RUNNING] = 0u;
             watch[PERMA_WATCH_DONE] += 1u;
+            perma_watch_counts(watch, mem);
         }
     }
 }

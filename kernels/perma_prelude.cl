@@ -17,6 +17,7 @@
 #define PERMA_STAT_PROC_WORDS PERMA_STAT_PROC_WORDS_FOR(PERMA_MAX_EDGES)
 #define PERMA_STAT_GROUP_WORDS PERMA_STAT_GROUP_WORDS_FOR(PERMA_NUM_PROCS, PERMA_MAX_EDGES)
 #define PERMA_TRACE_GROUP_WORDS PERMA_TRACE_GROUP_WORDS_FOR(PERMA_TRACE_EVENTS)
+#define PERMA_WATCH_GROUP_WORDS PERMA_WATCH_RECORD_WORDS_FOR(PERMA_NUM_PROCS)
 
 #define PERMA_QUEUE(ctl, q) ((ctl) + PERMA_CTL_HEADER_WORDS + (q) * PERMA_QUEUE_WORDS)
 #define PERMA_GROUP(ctl, g) \
@@ -55,6 +56,16 @@ inline int perma_load_int(__global uint *p)
 {
     return (int)perma_load(p);
 }
+
+/* For a procedure with a long or unbounded loop: nonzero once the host's
+ * watchdog has asked the run to stop (its time or stall limit passed,
+ * config.time_limit, config.stall_limit).  The scheduler polls the same
+ * flag between batches, but a procedure that never returns never gets
+ * there, and OpenCL cannot cancel a running kernel: such a kernel runs on
+ * until the process exits.  A loop that tests this flag ends instead, the
+ * run fails with the watchdog's error and the runtime stays usable
+ * (docs/writing-procedures.md). */
+#define perma_stop_requested(ctx) ((ctx)->buf.perma_watch_page[PERMA_WATCH_ABORT] != 0u)
 
 /* Record a failure status once (the first one wins) and stop all groups. */
 inline void perma_fail(__global uint *ctl, uint status, uint proc, uint edge)

@@ -428,7 +428,7 @@ void perma_megakernel(PERMA_COMMON_ARGS(PERMA_ARG_PARAM) PERMA_BUFFER_PARAMS)
         command = mem->batch[PERMA_B_COMMAND];
 #if PERMA_TRACE_EVENTS
         if (lid == 0 && mem->batch[PERMA_B_COUNT])
-            trace_start = atomic_inc(ctl + PERMA_CTL_CLOCK);
+            trace_start = atomic_inc(abort_flag + PERMA_WATCH_CLOCK);
 #endif
         perma_run_batch(ctl, queue_data, queue_seq, abort_flag, mem, buf, (__global const uint *)0, own);
 #if PERMA_TRACE_EVENTS
@@ -438,7 +438,7 @@ void perma_megakernel(PERMA_COMMON_ARGS(PERMA_ARG_PARAM) PERMA_BUFFER_PARAMS)
             record[0] = mem->batch[PERMA_B_PROC] | mem->batch[PERMA_B_KIND] << 8;
             record[1] = mem->batch[PERMA_B_COUNT];
             record[2] = trace_start;
-            record[3] = atomic_inc(ctl + PERMA_CTL_CLOCK);
+            record[3] = atomic_inc(abort_flag + PERMA_WATCH_CLOCK);
         }
 #endif
     }

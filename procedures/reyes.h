@@ -42,6 +42,9 @@ reyes_status reyes_fail(reyes_error *error, reyes_status status, const char *for
 /* ---- Scenes: a list of bicubic Bézier patches with a color each. ---- */
 
 #define REYES_MAX_PATCHES 10000000u /* refuse larger scenes (and file counts) */
+/* Larger coordinates are refused by the loader: squared distances between
+ * such points overflow single precision (about 3.4e38). */
+#define REYES_MAX_COORDINATE 1e18f
 
 typedef struct reyes_scene {
     float *points;      /* 16 control points per patch, x y z w (w = 1), row-major */
@@ -79,6 +82,21 @@ reyes_status reyes_scene_add_ribbon(reyes_scene *scene, const float start[3], fl
  * Returns 0 for an empty scene. */
 int reyes_scene_bounds(const reyes_scene *scene, float lo[3], float hi[3]);
 
+/* The scene's bulk: its control points but those far from the rest (more
+ * than 64 times farther from the median point than 90% of the points;
+ * e.g. one stray point 1e6 units from a teapot).  Returns 0 for an empty
+ * scene. */
+typedef struct reyes_bulk {
+    float center[3];        /* the median point (per axis) */
+    float keep_radius;      /* points farther from center are left out; may be infinite */
+    float lo[3], hi[3];     /* the box of the points kept */
+    size_t left_out;        /* control points left out */
+    size_t first_left_out;  /* the first of them: patch first_left_out / 16, point % 16 */
+} reyes_bulk;
+int reyes_scene_bulk(const reyes_scene *scene, reyes_bulk *bulk);
+/* Whether the bulk holds a point. */
+int reyes_bulk_holds(const reyes_bulk *bulk, const float point[3]);
+
 /* A distinct color for the n-th model. */
 uint32_t reyes_model_color(unsigned n);
 
@@ -92,8 +110,9 @@ typedef struct reyes_camera {
     float fov_deg;     /* vertical field of view */
 } reyes_camera;
 
-/* Place the camera so the scene's bounding sphere fits the view
- * (fov_deg and aspect = width / height given). */
+/* Place the camera so every control point of the scene's bulk is in view
+ * (fov_deg and aspect = width / height given); points far from the rest
+ * (reyes_scene_bulk) are not framed. */
 reyes_status reyes_camera_frame(const reyes_scene *scene, float fov_deg, float aspect,
                                 reyes_camera *camera, reyes_error *error);
 
@@ -102,8 +121,10 @@ reyes_status reyes_camera_frame(const reyes_scene *scene, float fov_deg, float a
 reyes_status reyes_camera_matrix(const reyes_camera *camera, float aspect, float near_w,
                                  float m[16], reyes_error *error);
 
-/* Clip w of the near plane for a scene: a small fraction of its size. */
-float reyes_near_plane(const reyes_scene *scene);
+/* Clip w of the near plane for a scene seen by a camera: 1e-4 of the
+ * median depth of the control points in front of it, or of the scene's
+ * radius if that is smaller. */
+float reyes_near_plane(const reyes_scene *scene, const reyes_camera *camera);
 
 /* Pixel position (y down) and depth of a world point; 0 if behind the eye. */
 int reyes_camera_project(const float m[16], unsigned width, unsigned height, const float x[3],
@@ -236,6 +257,13 @@ typedef struct reyes_options {
     /* The OpenCL device (reyes_renderer_create); NULL (default): the
      * first of PERMA_DEVICE, or 0:0. */
     const perma_device_ref *device;
+    /* The progress of each perma run (perma_config.progress, every
+     * progress_interval seconds, 0: the runtime's default), passed when
+     * the renderer is created; called on the rendering thread.  NULL
+     * (default): none. */
+    void (*progress)(void *user, const perma_progress *progress);
+    void *progress_user;
+    double progress_interval;
 } reyes_options;
 
 void reyes_options_init(reyes_options *options);
@@ -309,7 +337,7 @@ void reyes_stats_free(reyes_stats *stats);
 
 /* A perma runtime with the Reyes procedures registered (for options->grid
  * and the scheduling fields: group_size, work_groups, schedule,
- * time_limit; the other options may change per render).  With options->motion_angle_deg not 0 the renderer
+ * time_limit, progress; the other options may change per render).  With options->motion_angle_deg not 0 the renderer
  * carries a clip-space motion per micropolygon vertex (112-byte items
  * instead of 64), which renders with a rotation need; it renders
  * everything else too, to the same bytes. */
@@ -333,8 +361,31 @@ reyes_status reyes_render(reyes_renderer *renderer, const reyes_scene *scene,
                           const reyes_camera *camera, const reyes_options *options,
                           reyes_image *image, reyes_stats *stats, reyes_error *error);
 
-/* ---- Output ---- */
+/* ---- Output ----
+ * Every output file is written whole or not at all (perma_output in
+ * perma.h): a full disk or a failed write leaves no partial file and an
+ * earlier file at the path unchanged, and the message names the path and
+ * the reason. */
 
+/* Fills `out` with `data` (what the writer expects), or fails with a message. */
+typedef reyes_status (*reyes_output_writer)(FILE *out, const void *data, reyes_error *error);
+typedef struct reyes_output_file {
+    const char *path;
+    reyes_output_writer write;
+    const void *data;
+} reyes_output_file;
+
+/* Write `count` files together: each is written and synced beside its
+ * path first, and only when all are complete are they renamed into place,
+ * so a failure leaves none of them changed (the message says so). */
+reyes_status reyes_write_outputs(const reyes_output_file *files, size_t count, reyes_error *error);
+
+/* Whether `path` can be written (perma_output_check), before work whose
+ * result goes there; `what` names it in the message ("--stats"). */
+reyes_status reyes_check_output(const char *path, const char *what, reyes_error *error);
+
+/* The PNG writer: data is a const reyes_image *. */
+reyes_status reyes_png_writer(FILE *out, const void *image, reyes_error *error);
 reyes_status reyes_write_png(const char *path, const reyes_image *image, reyes_error *error);
 
 /* A grayscale image read from a PNG of any format (converted to gray). */
@@ -352,5 +403,11 @@ reyes_status reyes_write_stats_json(FILE *out, const reyes_stats *stats,
                                     const reyes_options *options, reyes_error *error);
 reyes_status reyes_save_stats_json(const char *path, const reyes_stats *stats,
                                    const reyes_options *options, reyes_error *error);
+/* The statistics writer for reyes_write_outputs: data is a const reyes_stats_output *. */
+typedef struct reyes_stats_output {
+    const reyes_stats *stats;
+    const reyes_options *options;
+} reyes_stats_output;
+reyes_status reyes_stats_writer(FILE *out, const void *stats_output, reyes_error *error);
 
 #endif

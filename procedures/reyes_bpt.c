@@ -5,8 +5,14 @@
  */
 #include <ctype.h>
 #include <errno.h>
-#include <sys/types.h>
+#include <fcntl.h>
 #include <math.h>
+#include <poll.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <sys/stat.h>
+#include <sys/types.h>
+#include <unistd.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -47,6 +53,21 @@ static int next_token(tokenizer *t)
     return 1;
 }
 
+/* The last token as a message shows it: bytes outside printable ASCII
+ * (a stray BOM, a control character) as \xHH, so none is invisible. */
+static const char *shown(const tokenizer *t, char *out, size_t size)
+{
+    size_t n = 0;
+    for (const unsigned char *c = (const unsigned char *)t->token; *c && n + 5 < size; ++c) {
+        if (*c >= 0x20 && *c < 0x7f)
+            out[n++] = (char)*c;
+        else
+            n += (size_t)snprintf(out + n, size - n, "\\x%02X", *c);
+    }
+    out[n] = '\0';
+    return out;
+}
+
 static reyes_status syntax_error(const tokenizer *t, reyes_error *error, const char *what)
 {
     return reyes_fail(error, REYES_ERR_FORMAT, "%s:%u: %s", t->name, t->token_line, what);
@@ -81,8 +102,15 @@ static reyes_status read_coordinate(tokenizer *t, size_t patch, int point, float
     /* Overflow gives an infinity (refused); underflow to a tiny or zero
      * value sets ERANGE too but is a fine coordinate. */
     if (t->truncated || *end || !isfinite(value)) {
+        char token[4 * TOKEN_MAX + 1];
         snprintf(what, sizeof what, "patch %zu, control point %d: '%s' is not a finite number",
-                 patch + 1, point + 1, t->token);
+                 patch + 1, point + 1, shown(t, token, sizeof token));
+        return syntax_error(t, error, what);
+    }
+    if (fabsf(value) > REYES_MAX_COORDINATE) {
+        snprintf(what, sizeof what, "patch %zu, control point %d: %s is beyond +-%g, where the renderer's "
+                 "single-precision arithmetic overflows", patch + 1, point + 1, t->token,
+                 (double)REYES_MAX_COORDINATE);
         return syntax_error(t, error, what);
     }
     *out = value;
@@ -98,8 +126,9 @@ static reyes_status read_degrees(tokenizer *t, size_t patch, reyes_error *error)
             return syntax_error(t, error, what);
         }
         if (strcmp(t->token, "3") != 0) {
+            char token[4 * TOKEN_MAX + 1];
             snprintf(what, sizeof what, "patch %zu: degree '%s', only bicubic '3 3' is supported",
-                     patch + 1, t->token);
+                     patch + 1, shown(t, token, sizeof token));
             return syntax_error(t, error, what);
         }
     }
@@ -109,13 +138,17 @@ static reyes_status read_degrees(tokenizer *t, size_t patch, reyes_error *error)
 reyes_status reyes_scene_parse_bpt(reyes_scene *scene, const char *text, const char *name,
                                    uint32_t rgba, reyes_error *error)
 {
+    /* A UTF-8 byte order mark (some editors write one) is not part of the model. */
+    static const char bom[] = "\xEF\xBB\xBF";
+    if (strncmp(text, bom, sizeof bom - 1) == 0)
+        text += sizeof bom - 1;
     tokenizer t = { .at = text, .name = name, .line = 1, .token_line = 1 };
-    char what[160];
+    char what[160], token[4 * TOKEN_MAX + 1];
     unsigned long count;
     if (!next_token(&t))
         return syntax_error(&t, error, "empty file, expected a patch count");
     if (!parse_count(&t, &count) || count == 0) {
-        snprintf(what, sizeof what, "patch count '%s' is not a positive integer", t.token);
+        snprintf(what, sizeof what, "patch count '%s' is not a positive integer", shown(&t, token, sizeof token));
         return syntax_error(&t, error, what);
     }
     if (count > REYES_MAX_PATCHES) {
@@ -139,7 +172,7 @@ reyes_status reyes_scene_parse_bpt(reyes_scene *scene, const char *text, const c
     }
     if (next_token(&t)) {
         scene->patch_count = first;
-        snprintf(what, sizeof what, "unexpected '%s' after the %lu patches", t.token, count);
+        snprintf(what, sizeof what, "unexpected '%s' after the %lu patches", shown(&t, token, sizeof token), count);
         return syntax_error(&t, error, what);
     }
     return REYES_OK;
@@ -150,46 +183,87 @@ reyes_status reyes_scene_parse_bpt(reyes_scene *scene, const char *text, const c
  * memory. */
 #define REYES_MAX_FILE_BYTES ((size_t)4 << 30)
 
-/* Read a whole file into a NUL-terminated buffer. */
+static const char *file_kind(mode_t mode)
+{
+    return S_ISDIR(mode) ? "directory" : S_ISCHR(mode) ? "character device" : S_ISBLK(mode) ? "block device"
+         : S_ISSOCK(mode) ? "socket" : "special file";
+}
+
+/* Open a model: a regular file no larger than the limit, or a named pipe
+ * (read up to the limit).  Anything else (a directory, /dev/zero, a
+ * terminal) is refused by kind before a byte is read. */
+static reyes_status open_model(const char *path, FILE **out, reyes_error *error)
+{
+    /* Not blocking: opening a pipe or a device must not wait before we know what it is. */
+    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    struct stat st;
+    if (fd < 0 || fstat(fd, &st) != 0) {
+        reyes_status status = reyes_fail(error, REYES_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+        if (fd >= 0)
+            close(fd);
+        return status;
+    }
+    if (!S_ISREG(st.st_mode) && !S_ISFIFO(st.st_mode)) {
+        close(fd);
+        return reyes_fail(error, REYES_ERR_IO, "%s: a %s is not a model file (a model is a regular file or "
+                          "a named pipe)", path, file_kind(st.st_mode));
+    }
+    if (S_ISREG(st.st_mode) && (uintmax_t)st.st_size > REYES_MAX_FILE_BYTES) {
+        close(fd);
+        return reyes_fail(error, REYES_ERR_FORMAT, "%s: file of %lld bytes is larger than the %zu bytes a "
+                          "model may have", path, (long long)st.st_size, REYES_MAX_FILE_BYTES);
+    }
+    if (S_ISFIFO(st.st_mode)) {
+        /* Wait for a writer, as cat would: until one opens the pipe, a
+         * read would see an empty file. */
+        struct pollfd wait = { .fd = fd, .events = POLLIN };
+        while (poll(&wait, 1, -1) < 0 && errno == EINTR)
+            continue;
+    }
+    fcntl(fd, F_SETFL, fcntl(fd, F_GETFL) & ~O_NONBLOCK);
+    *out = fdopen(fd, "rb");
+    if (!*out) {
+        close(fd);
+        return reyes_fail(error, REYES_ERR_NO_MEMORY, "%s: out of memory opening the file", path);
+    }
+    return REYES_OK;
+}
+
+/* Read a whole model into a NUL-terminated buffer, never more than the
+ * limit (a pipe or a file that grew is refused there). */
 static reyes_status read_file(const char *path, char **out, reyes_error *error)
 {
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return reyes_fail(error, REYES_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
-    if (fseeko(f, 0, SEEK_END) == 0) {
-        off_t length = ftello(f);
-        if (length > (off_t)REYES_MAX_FILE_BYTES) {
-            fclose(f);
-            return reyes_fail(error, REYES_ERR_FORMAT, "%s: file of %lld bytes is larger than the %zu bytes a "
-                              "model may have", path, (long long)length, REYES_MAX_FILE_BYTES);
-        }
-        rewind(f);
-    }
+    FILE *f;
+    reyes_status status = open_model(path, &f, error);
+    if (status != REYES_OK)
+        return status;
     size_t size = 0, capacity = 1 << 16;
     char *text = malloc(capacity);
-    reyes_status status = text ? REYES_OK : REYES_ERR_NO_MEMORY;
+    status = text ? REYES_OK : REYES_ERR_NO_MEMORY;
     while (status == REYES_OK) {
         if (capacity - size < 2) {
-            char *bigger = realloc(text, capacity * 2);
+            /* Room for one byte past the limit, which tells that it is passed. */
+            size_t grown = capacity * 2 < REYES_MAX_FILE_BYTES + 2 ? capacity * 2 : REYES_MAX_FILE_BYTES + 2;
+            char *bigger = realloc(text, grown);
             if (!bigger) {
                 status = REYES_ERR_NO_MEMORY;
                 break;
             }
             text = bigger;
-            capacity *= 2;
+            capacity = grown;
         }
         size_t got = fread(text + size, 1, capacity - size - 1, f);
         size += got;
-        if (size > REYES_MAX_FILE_BYTES) /* a pipe or a file that grew */
+        if (size > REYES_MAX_FILE_BYTES)
             status = reyes_fail(error, REYES_ERR_FORMAT, "%s: larger than the %zu bytes a model may have",
                                 path, REYES_MAX_FILE_BYTES);
         if (got == 0)
             break;
     }
     if (status == REYES_OK && ferror(f))
-        status = reyes_fail(error, REYES_ERR_IO, "%s: read error", path);
+        status = reyes_fail(error, REYES_ERR_IO, "%s: read error: %s", path, strerror(errno));
     else if (status == REYES_ERR_NO_MEMORY)
-        reyes_fail(error, status, "%s: out of memory reading the file", path);
+        reyes_fail(error, status, "%s: out of memory reading the file (%zu bytes so far)", path, size);
     fclose(f);
     if (status != REYES_OK) {
         free(text);

@@ -42,15 +42,17 @@ static reyes_status check_fov(float fov_deg, reyes_error *error)
     return REYES_OK;
 }
 
-/* Distance from the target at which every control point is in view: a
- * point at (x, y) across the view and z along it (towards the scene) needs
- * distance + z >= |x| / tan(half_h) and >= |y| / tan(half_v). */
-static float fit_distance(const reyes_scene *scene, const float center[3], const float forward[3],
-                          const float side[3], const float up[3], float tan_v, float tan_h,
-                          float radius)
+/* Distance from the target at which every control point of the bulk is in
+ * view: a point at (x, y) across the view and z along it (towards the
+ * scene) needs distance + z >= |x| / tan(half_h) and >= |y| / tan(half_v). */
+static float fit_distance(const reyes_scene *scene, const reyes_bulk *bulk, const float center[3],
+                          const float forward[3], const float side[3], const float up[3], float tan_v,
+                          float tan_h, float radius)
 {
     float distance = 0.0f;
     for (size_t i = 0; i < scene->patch_count * 16; ++i) {
+        if (!reyes_bulk_holds(bulk, scene->points + i * 4))
+            continue;
         float d[3];
         sub3(scene->points + i * 4, center, d);
         float need = fmaxf(fabsf(dot3(d, side)) / tan_h, fabsf(dot3(d, up)) / tan_v) - dot3(d, forward);
@@ -70,7 +72,12 @@ reyes_status reyes_camera_frame(const reyes_scene *scene, float fov_deg, float a
     if (!(aspect > 0.0f))
         return reyes_fail(error, REYES_ERR_ARGUMENT, "aspect ratio must be positive");
     float lo[3] = {-1, -1, -1}, hi[3] = {1, 1, 1};
-    reyes_scene_bounds(scene, lo, hi);
+    reyes_bulk bulk;
+    if (reyes_scene_bulk(scene, &bulk))
+        for (int k = 0; k < 3; ++k) {
+            lo[k] = bulk.lo[k];
+            hi[k] = bulk.hi[k];
+        }
     float center[3], diagonal[3];
     for (int k = 0; k < 3; ++k) {
         center[k] = 0.5f * (lo[k] + hi[k]);
@@ -89,7 +96,7 @@ reyes_status reyes_camera_frame(const reyes_scene *scene, float fov_deg, float a
     normalize3(side);
     cross3(side, forward, up);
     float tan_v = tanf(0.5f * fov_deg * DEG_TO_RAD);
-    float distance = fit_distance(scene, center, forward, side, up, tan_v, tan_v * aspect, radius);
+    float distance = fit_distance(scene, &bulk, center, forward, side, up, tan_v, tan_v * aspect, radius);
     distance *= 1.04f; /* a small border */
     for (int k = 0; k < 3; ++k) {
         camera->at[k] = center[k];
@@ -142,13 +149,4 @@ int reyes_camera_project(const float m[16], unsigned width, unsigned height, con
     *py = (0.5f - clip[1] / clip[3] * 0.5f) * (float)height;
     *depth = clip[3];
     return 1;
-}
-
-float reyes_near_plane(const reyes_scene *scene)
-{
-    float lo[3], hi[3], diagonal[3];
-    if (!reyes_scene_bounds(scene, lo, hi))
-        return 1e-4f;
-    sub3(hi, lo, diagonal);
-    return 1e-4f * fmaxf(0.5f * sqrtf(dot3(diagonal, diagonal)), 1e-3f);
 }

@@ -1,5 +1,4 @@
 /* PNG output, and grayscale PNG input (displacement maps), through libpng. */
-#include <errno.h>
 #include <png.h>
 #include <setjmp.h>
 #include <stdlib.h>
@@ -7,18 +6,27 @@
 
 #include "reyes.h"
 
-/* libpng reports errors by longjmp; keep the stream outside the jump. */
-static int write_rows(FILE *f, const reyes_image *image, char *message, size_t size)
+/* libpng's message (instead of its default printing to stderr), then its
+ * longjmp back to write_rows. */
+static void png_failed(png_structp png, png_const_charp message)
 {
-    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL);
+    snprintf((char *)png_get_error_ptr(png), 256, "%s", message);
+    png_longjmp(png, 1);
+}
+
+/* libpng reports errors by longjmp; keep the stream outside the jump. */
+static int write_rows(FILE *f, const reyes_image *image, char message[256])
+{
+    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, message, png_failed, NULL);
     if (!png) {
-        snprintf(message, size, "png_create_write_struct failed");
+        snprintf(message, 256, "png_create_write_struct failed");
         return 0;
     }
     png_infop info = png_create_info_struct(png);
     if (!info || setjmp(png_jmpbuf(png))) {
         png_destroy_write_struct(&png, info ? &info : NULL);
-        snprintf(message, size, "libpng failed to encode the image");
+        if (!info)
+            snprintf(message, 256, "png_create_info_struct failed");
         return 0;
     }
     png_init_io(png, f);
@@ -32,22 +40,21 @@ static int write_rows(FILE *f, const reyes_image *image, char *message, size_t s
     return 1;
 }
 
+reyes_status reyes_png_writer(FILE *out, const void *data, reyes_error *error)
+{
+    const reyes_image *image = data;
+    char message[256] = "";
+    if (!write_rows(out, image, message))
+        return reyes_fail(error, REYES_ERR_IO, "libpng failed to encode the image: %s", message);
+    return REYES_OK;
+}
+
 reyes_status reyes_write_png(const char *path, const reyes_image *image, reyes_error *error)
 {
     if (!image->rgb || image->width == 0 || image->height == 0)
         return reyes_fail(error, REYES_ERR_ARGUMENT, "%s: empty image", path);
-    FILE *f = fopen(path, "wb");
-    if (!f)
-        return reyes_fail(error, REYES_ERR_IO, "%s: cannot create: %s", path, strerror(errno));
-    char message[256];
-    int ok = write_rows(f, image, message, sizeof message);
-    if (fclose(f) != 0 && ok) {
-        ok = 0;
-        snprintf(message, sizeof message, "write failed: %s", strerror(errno));
-    }
-    if (!ok)
-        return reyes_fail(error, REYES_ERR_IO, "%s: %s", path, message);
-    return REYES_OK;
+    const reyes_output_file file = { path, reyes_png_writer, image };
+    return reyes_write_outputs(&file, 1, error);
 }
 
 reyes_status reyes_read_gray_png(const char *path, reyes_gray_map *map, reyes_error *error)

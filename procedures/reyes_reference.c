@@ -300,7 +300,7 @@ static reyes_status begin(context *c, const reyes_scene *scene, const reyes_came
     if (options->shading_rate > 0.0f)
         return reyes_fail(error, REYES_ERR_ARGUMENT, "the C reference dices fixed grids only (shading rate 0)");
     *c = (context){ .scene = scene, .o = options, .counts = out };
-    c->near_w = reyes_near_plane(scene);
+    c->near_w = reyes_near_plane(scene, camera);
     for (int k = 0; k < 3; ++k)
         c->eye[k] = camera->eye[k];
     reyes_light_direction(c->light);

@@ -92,8 +92,8 @@ static reyes_status allocate(const reyes_scene *scene, const reyes_options *o, r
             memset(image->samples, 0xff, pixels * o->spp * sizeof *image->samples);
     }
     if (!b->seeds || !image->rgb || !image->coverage || (o->keep_samples && !image->samples))
-        return reyes_fail(error, REYES_ERR_NO_MEMORY, "out of memory for a %ux%u image", o->width,
-                          o->height);
+        return reyes_fail(error, REYES_ERR_NO_MEMORY, "out of memory for a %ux%u image (%zu bytes)", o->width,
+                          o->height, pixels * (4 + (o->keep_samples ? o->spp * sizeof *image->samples : 0)));
     memset(b->counters, 0, sizeof b->counters);
     for (size_t i = 0; i < scene->patch_count; ++i)
         b->seeds[i] = (struct reyes_subpatch){ .patch = (uint32_t)i, .depth = 0,
@@ -226,7 +226,11 @@ static reyes_status reserve_samples(reyes_renderer *r, size_t bytes, reyes_error
         return REYES_OK;
     if (r->samples)
         clReleaseMemObject(r->samples);
+    r->samples = NULL;
     r->samples_bytes = 0;
+    /* Checked here: the driver may not survive the allocation failing inside it. */
+    if (perma_check_memory(r->rt, bytes, "the sample buffer") != PERMA_OK)
+        return reyes_fail(error, REYES_ERR_NO_MEMORY, "%s", perma_errmsg(r->rt));
     cl_int err;
     r->samples = clCreateBuffer(perma_cl_context(r->rt), CL_MEM_READ_WRITE, bytes, NULL, &err);
     if (err != CL_SUCCESS) {

@@ -82,7 +82,7 @@ reyes_status render_fill_params(const reyes_scene *scene, const reyes_camera *ca
 {
     memset(p, 0, sizeof *p);
     /* Nothing closer than this is projected; patches crossing it are split. */
-    p->near_w = reyes_near_plane(scene);
+    p->near_w = reyes_near_plane(scene, camera);
     reyes_status status = reyes_camera_matrix(camera, (float)o->width / (float)o->height, p->near_w,
                                               p->view_proj, error);
     if (status != REYES_OK)

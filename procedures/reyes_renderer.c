@@ -115,6 +115,9 @@ static perma_status create_runtime(const reyes_options *options, unsigned group_
     config.group_size = group_size;
     config.schedule = options->schedule;
     config.time_limit = options->time_limit;
+    config.progress = options->progress;
+    config.progress_user = options->progress_user;
+    config.progress_interval = options->progress_interval;
     if (options->device)
         perma_config_set_device(&config, options->device);
     return perma_create(&config, rt, perr);

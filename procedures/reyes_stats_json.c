@@ -1,5 +1,4 @@
 /* Statistics of a render as JSON. */
-#include <errno.h>
 #include <inttypes.h>
 #include <string.h>
 
@@ -98,16 +97,16 @@ reyes_status reyes_write_stats_json(FILE *out, const reyes_stats *s, const reyes
     return REYES_OK;
 }
 
+reyes_status reyes_stats_writer(FILE *out, const void *data, reyes_error *error)
+{
+    const reyes_stats_output *s = data;
+    return reyes_write_stats_json(out, s->stats, s->options, error);
+}
+
 reyes_status reyes_save_stats_json(const char *path, const reyes_stats *stats,
                                    const reyes_options *options, reyes_error *error)
 {
-    FILE *f = fopen(path, "w");
-    if (!f)
-        return reyes_fail(error, REYES_ERR_IO, "%s: cannot create: %s", path, strerror(errno));
-    reyes_status status = reyes_write_stats_json(f, stats, options, error);
-    if (fclose(f) != 0 && status == REYES_OK)
-        status = reyes_fail(error, REYES_ERR_IO, "%s: write failed: %s", path, strerror(errno));
-    else if (status != REYES_OK)
-        reyes_fail(error, status, "%s: %s", path, "write failed");
-    return status;
+    const reyes_stats_output data = { stats, options };
+    const reyes_output_file file = { path, reyes_stats_writer, &data };
+    return reyes_write_outputs(&file, 1, error);
 }

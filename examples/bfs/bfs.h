@@ -13,6 +13,8 @@
 #include <stdint.h>
 #include <stdio.h>
 
+#include "example_session.h"
+
 /* Exit codes of the program follow the README: 0 ok, 1 runtime or file
  * failure (as reyes-render does for a bad model file), 2 bad usage. */
 typedef enum bfs_status {
@@ -62,23 +64,21 @@ void bfs_graph_free(bfs_graph *g);
  * returns 0, or -1 when out of memory. */
 int bfs_sequential(const bfs_graph *g, uint32_t source, uint32_t *levels);
 
-typedef struct bfs_run_options {
-    perma_schedule schedule;   /* zero = megakernel/shared */
-    unsigned work_groups;      /* 0 = the runtime's default */
-} bfs_run_options;
+/* The perma program (bfs_perma.c) over one graph: each run writes the
+ * levels from `source` into `levels` (the caller's, one per vertex).  The
+ * build sets `visit`. */
+typedef struct bfs_run {
+    const bfs_graph *graph;
+    uint32_t source;
+    uint32_t *levels;
+    perma_proc visit;
+} bfs_run;
 
-/* A built perma program over one graph that writes `levels` (owned by the
- * caller) on each bfs_session_run. */
-typedef struct bfs_session bfs_session;
+extern const example_program bfs_program;
 
-bfs_status bfs_session_create(const bfs_graph *g, const bfs_run_options *options, uint32_t *levels,
-                              bfs_session **out, char *message, size_t size);
-bfs_status bfs_session_run(bfs_session *s, uint32_t source, char *message, size_t size);
-perma_runtime *bfs_session_runtime(bfs_session *s);
-void bfs_session_destroy(bfs_session *s);
-
-/* Levels with a fresh session (build included). */
-bfs_status bfs_perma(const bfs_graph *g, const bfs_run_options *options, uint32_t source,
+/* Levels with a fresh session (build included); BFS_ERR_USAGE if the
+ * source is not a vertex. */
+bfs_status bfs_perma(const bfs_graph *g, const example_run_options *options, uint32_t source,
                      uint32_t *levels, char *message, size_t size);
 
 /* Device source: item types and the visit and expand procedures. */

@@ -1,5 +1,4 @@
 /* bfs: breadth-first levels of a graph with perma, or --compare. */
-#include <errno.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -15,7 +14,7 @@ static bfs_status load_graph(const bfs_options *o, bfs_graph *g, char *message, 
     st = bfs_build_csr(&edges, !o->directed, g, message, size);
     bfs_edges_free(&edges);
     if (st == BFS_OK && o->source >= g->vertices) {
-        snprintf(message, size, "perma-bfs: --source %u: the graph has vertices 0..%u", o->source, g->vertices - 1);
+        snprintf(message, size, "--source %u: the graph has vertices 0..%u", o->source, g->vertices - 1);
         bfs_graph_free(g);
         return BFS_ERR_USAGE;
     }
@@ -46,15 +45,17 @@ static void print_summary(const bfs_graph *g, uint32_t source, const uint32_t *l
 static bfs_status write_levels(const char *path, const bfs_graph *g, const uint32_t *levels,
                                char *message, size_t size)
 {
-    FILE *f = fopen(path, "w");
-    if (!f) {
-        snprintf(message, size, "%s: cannot create: %s", path, strerror(errno));
+    perma_output *out;
+    perma_error error;
+    if (perma_output_open(path, &out, &error) != PERMA_OK) {
+        snprintf(message, size, "%s", error.message);
         return BFS_ERR_RUNTIME;
     }
+    FILE *f = perma_output_stream(out);
     for (uint32_t v = 0; v < g->vertices; ++v)
         fprintf(f, "%u %lld\n", v, levels[v] == BFS_UNREACHED ? -1LL : (long long)levels[v]);
-    if (fclose(f) != 0) {
-        snprintf(message, size, "%s: write failed: %s", path, strerror(errno));
+    if (perma_output_commit(out, &error) != PERMA_OK) {
+        snprintf(message, size, "%s", error.message);
         return BFS_ERR_RUNTIME;
     }
     return BFS_OK;
@@ -67,15 +68,10 @@ static bfs_status traverse(const bfs_options *o, const bfs_graph *g, char *messa
         snprintf(message, size, "perma-bfs: out of memory for %u levels", g->vertices);
         return BFS_ERR_RUNTIME;
     }
-    bfs_session *s;
-    bfs_status st = bfs_session_create(g, &o->run, levels, &s, message, size);
-    if (st == BFS_OK) {
-        printf("device: %s\n", perma_device_summary(bfs_session_runtime(s)));
-        st = bfs_session_run(s, o->source, message, size);
-        if (st == BFS_OK && o->stats)
-            perma_print_stats(bfs_session_runtime(s), stdout);
-        bfs_session_destroy(s);
-    }
+    bfs_run run = { g, o->source, levels, 0 };
+    bfs_status st = example_session_once(&bfs_program, &run, &o->common.run, stdout, o->common.stats, message, size)
+                        ? BFS_ERR_RUNTIME
+                        : BFS_OK;
     if (st == BFS_OK)
         print_summary(g, o->source, levels);
     if (st == BFS_OK && o->output)
@@ -88,25 +84,22 @@ int main(int argc, char **argv)
 {
     char message[PERMA_MESSAGE_MAX + 256] = "";
     bfs_options o;
-    bfs_status st = bfs_parse_options(argc, argv, &o, message, sizeof message);
-    if (st != BFS_OK) {
-        fprintf(stderr, "%s\n", message);
-        return st;
-    }
-    if (o.help) {
-        bfs_print_usage(stdout);
-        return 0;
-    }
+    perma_cli_status parsed = bfs_parse_options(argc, argv, &o, message, sizeof message);
+    if (parsed != PERMA_CLI_OK)
+        return perma_cli_exit_status(parsed);
     bfs_graph g;
-    st = load_graph(&o, &g, message, sizeof message);
+    bfs_status st = load_graph(&o, &g, message, sizeof message);
     if (st == BFS_OK) {
-        if (o.compare)
-            st = bfs_compare(&g, o.source, o.run.work_groups, o.repeats, stdout, message, sizeof message);
+        if (o.common.compare)
+            st = bfs_compare(&g, o.source, o.common.run.work_groups, o.common.repeats, stdout, message,
+                             sizeof message);
         else
             st = traverse(&o, &g, message, sizeof message);
         bfs_graph_free(&g);
     }
-    if (st != BFS_OK)
+    if (st == BFS_ERR_USAGE)
+        perma_cli_print_error("perma-bfs", message);
+    else if (st != BFS_OK)
         fprintf(stderr, "%s\n", message);
     return st;
 }

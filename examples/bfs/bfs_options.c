@@ -1,144 +1,47 @@
-/* Command-line parsing of the bfs program. */
-#include <errno.h>
-#include <stdlib.h>
-#include <string.h>
-
+/* Command-line parsing of the bfs program: its rows and the examples'
+ * shared ones (example_options.h) for the engine (perma_cli.h). */
 #include "bfs_options.h"
 
-void bfs_print_usage(FILE *out)
-{
-    fprintf(out,
-        "usage: perma-bfs [options] EDGE_FILE\n"
-        "       bfs [options] --generate N\n"
-        "Breadth-first levels from a source vertex with perma procedures.\n"
-        "EDGE_FILE has one edge 'u v' per line (vertex ids from 0); '#' starts a comment.\n"
-        "  --generate N          a preferential-attachment (power-law) graph of N vertices\n"
-        "  --degree M            edges per new vertex when generating (default 4)\n"
-        "  --seed S              generator seed (default 1)\n"
-        "  --source V            start vertex (default 0)\n"
-        "  --directed            edges go from u to v only (default: both ways)\n"
-        "  -o FILE               write 'vertex level' lines (-1: unreached)\n"
-        "  --technique NAME      megakernel, kernel-per-procedure, bounded-batches\n"
-        "  --strategy NAME       shared, stealing, donation, stealing-donation (megakernel)\n"
-        "  --groups N            persistent work-groups (default: automatic)\n"
-        "  --stats               print the runtime's statistics\n"
-        "  --compare             time the sequential C BFS and every technique and strategy\n"
-        "  --repeats N           runs per version in --compare, best is reported (default 3)\n"
-        "  --help                this text\n"
-        "Exit status: 0 ok, 1 runtime or file failure (a bad edge file), 2 bad usage.\n");
-}
+#include <limits.h>
 
-static bfs_status usage(char *message, size_t size, const char *option, const char *value,
-                        const char *expected)
+perma_cli_status bfs_parse_options(int argc, char **argv, bfs_options *o, char *message, size_t size)
 {
-    snprintf(message, size, "perma-bfs: %s '%s': expected %s", option, value, expected);
-    return BFS_ERR_USAGE;
-}
-
-static int parse_number(const char *text, unsigned long long lo, unsigned long long hi,
-                        unsigned long long *out)
-{
-    if (!text[0] || text[0] == '-' || text[0] == '+')
-        return 0;
-    char *end;
-    errno = 0;
-    unsigned long long v = strtoull(text, &end, 10);
-    if (errno || *end || v < lo || v > hi)
-        return 0;
-    *out = v;
-    return 1;
-}
-
-static int parse_unsigned(const char *text, unsigned long long lo, unsigned long long hi, unsigned *out)
-{
-    unsigned long long v;
-    if (!parse_number(text, lo, hi, &v))
-        return 0;
-    *out = (unsigned)v;
-    return 1;
-}
-
-static int is_flag(const char *opt, bfs_options *o)
-{
-    if (strcmp(opt, "--help") == 0 || strcmp(opt, "-h") == 0)
-        o->help = 1;
-    else if (strcmp(opt, "--compare") == 0)
-        o->compare = 1;
-    else if (strcmp(opt, "--directed") == 0)
-        o->directed = 1;
-    else if (strcmp(opt, "--stats") == 0)
-        o->stats = 1;
-    else
-        return 0;
-    return 1;
-}
-
-/* An option with a value; a bad value is a usage error naming the option. */
-static bfs_status set_value(const char *opt, const char *v, bfs_options *o, char *message, size_t size)
-{
-    if (strcmp(opt, "--generate") == 0) {
-        if (!parse_unsigned(v, 2, BFS_MAX_VERTICES, &o->generate))
-            return usage(message, size, opt, v, "a vertex count 2..100000000");
-    } else if (strcmp(opt, "--degree") == 0) {
-        if (!parse_unsigned(v, 1, 1000, &o->degree))
-            return usage(message, size, opt, v, "1..1000");
-    } else if (strcmp(opt, "--seed") == 0) {
-        if (!parse_number(v, 0, UINT64_MAX, &o->seed))
-            return usage(message, size, opt, v, "a non-negative integer");
-    } else if (strcmp(opt, "--source") == 0) {
-        if (!parse_unsigned(v, 0, BFS_MAX_VERTICES - 1, &o->source))
-            return usage(message, size, opt, v, "a vertex id");
-    } else if (strcmp(opt, "--groups") == 0) {
-        if (!parse_unsigned(v, 1, 4096, &o->run.work_groups))
-            return usage(message, size, opt, v, "1..4096");
-    } else if (strcmp(opt, "--repeats") == 0) {
-        if (!parse_unsigned(v, 1, 100, &o->repeats))
-            return usage(message, size, opt, v, "1..100");
-    } else if (strcmp(opt, "--technique") == 0) {
-        if (perma_technique_parse(v, &o->run.schedule.technique) != PERMA_OK)
-            return usage(message, size, opt, v, "megakernel, kernel-per-procedure or bounded-batches");
-    } else if (strcmp(opt, "--strategy") == 0) {
-        if (perma_strategy_parse(v, &o->run.schedule.strategy) != PERMA_OK)
-            return usage(message, size, opt, v, "shared, stealing, donation or stealing-donation");
-    } else if (strcmp(opt, "-o") == 0) {
-        o->output = v;
-    } else {
-        snprintf(message, size, "perma-bfs: unknown option '%s' (try --help)", opt);
-        return BFS_ERR_USAGE;
-    }
-    return BFS_OK;
-}
-
-bfs_status bfs_parse_options(int argc, char **argv, bfs_options *o, char *message, size_t size)
-{
-    *o = (bfs_options){ .degree = 4, .seed = 1, .repeats = 3 };
-    for (int i = 1; i < argc; ++i) {
-        const char *opt = argv[i];
-        if (is_flag(opt, o))
-            continue;
-        if (opt[0] != '-') {
-            if (o->edge_file) {
-                snprintf(message, size, "perma-bfs: two edge files given ('%s' and '%s')", o->edge_file, opt);
-                return BFS_ERR_USAGE;
-            }
-            o->edge_file = opt;
-            continue;
-        }
-        if (i + 1 >= argc) {
-            snprintf(message, size, "perma-bfs: %s needs a value (try --help)", opt);
-            return BFS_ERR_USAGE;
-        }
-        bfs_status st = set_value(opt, argv[++i], o, message, size);
-        if (st != BFS_OK)
-            return st;
-    }
-    if (!o->help && !o->edge_file == !o->generate) {
-        snprintf(message, size, "perma-bfs: give either an edge file or --generate N (try --help)");
-        return BFS_ERR_USAGE;
-    }
-    if (o->generate && o->degree >= o->generate) {
-        snprintf(message, size, "perma-bfs: --degree %u must be below --generate %u", o->degree, o->generate);
-        return BFS_ERR_USAGE;
-    }
-    return BFS_OK;
+    perma_cli_option shared[EXAMPLE_OPTION_ROWS];
+    perma_cli_table tables[2];
+    *o = (bfs_options){ .degree = 4, .seed = 1 };
+    example_options_init(&o->common, shared, &tables[1]);
+    const perma_cli_option rows[] = {
+        { PERMA_CLI_WHOLE("generate", "N", &o->generate, 2, BFS_MAX_VERTICES,
+                          "a preferential-attachment (power-law) graph of N vertices") },
+        { PERMA_CLI_WHOLE("degree", "M", &o->degree, 1, 1000, "edges per new vertex when generating (default 4)") },
+        { PERMA_CLI_WHOLE64("seed", "S", &o->seed, 0, ULLONG_MAX, "generator seed (default 1)") },
+        { PERMA_CLI_WHOLE("source", "V", &o->source, 0, BFS_MAX_VERTICES - 1, "start vertex (default 0)") },
+        { PERMA_CLI_FLAG("directed", &o->directed, "edges go from u to v only (default: both ways)") },
+        { PERMA_CLI_TEXT("output", "FILE", &o->output, "write 'vertex level' lines (-1: unreached)"),
+          .short_name = 'o' },
+    };
+    tables[0] = (perma_cli_table){ "options", rows, sizeof rows / sizeof rows[0] };
+    const perma_cli_option edge_file = {
+        PERMA_CLI_TEXT(NULL, "EDGE_FILE", &o->edge_file,
+                       "one edge 'u v' per line (vertex ids from 0); '#' starts a comment"),
+    };
+    const perma_cli cli = {
+        .program = "perma-bfs",
+        .synopsis = "[options] EDGE_FILE\n[options] --generate N",
+        .about = "Breadth-first levels from a source vertex with perma procedures.",
+        .tables = tables,
+        .table_count = 2,
+        .operand = &edge_file,
+        .max_operands = 1,
+        .notes = "exit status: 0 ok, 1 runtime or file failure (a bad edge file), 2 bad usage",
+    };
+    perma_cli_status status = perma_cli_parse(&cli, argc, argv, message, size);
+    if (status != PERMA_CLI_OK)
+        return status;
+    if (!o->edge_file == !o->generate)
+        return perma_cli_fail(&cli, message, size, "give either an edge file or --generate N");
+    if (o->generate && o->degree >= o->generate)
+        return perma_cli_fail(&cli, message, size, "--degree %u must be below --generate %u", o->degree,
+                              o->generate);
+    return PERMA_CLI_OK;
 }

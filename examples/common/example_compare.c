@@ -73,22 +73,23 @@ static int time_schedule(const example_compare *ex, const perma_schedule *schedu
                          char *message, size_t size)
 {
     double start = example_compare_now();
-    void *session;
-    int st = ex->create(ex->data, schedule, work_groups, &session, message, size);
+    example_run_options options = { *schedule, work_groups };
+    example_session *session;
+    int st = example_session_create(ex->program, ex->program_data, &options, &session, message, size);
     if (st != 0)
         return st;
     *build = example_compare_now() - start;
     *seconds = 1e30;
     for (unsigned r = 0; r <= repeats && st == 0; ++r) {
         start = example_compare_now();
-        st = ex->run(ex->data, session, message, size);
+        st = example_session_run(session, message, size);
         double t = example_compare_now() - start;
         if (r > 0 && t < *seconds)
             *seconds = t;
     }
     perma_stats stats;
-    *items = perma_get_stats(ex->runtime(session), &stats) == PERMA_OK ? stats.items : 0;
-    ex->destroy(session);
+    *items = perma_get_stats(example_session_runtime(session), &stats) == PERMA_OK ? stats.items : 0;
+    example_session_destroy(session);
     return st;
 }
 

@@ -12,18 +12,16 @@
 #include <perma.h>
 #include <stdio.h>
 
-/* What an example plugs into the harness.  A session is a built perma
- * program that the harness runs again and again.  Functions that can fail
- * return 0, or nonzero with a message in `message`. */
+#include "example_session.h"
+
+/* What an example plugs into the harness: its perma program, built once
+ * per schedule and run again and again (example_session.h). */
 typedef struct example_compare {
-    void *data; /* the example's input and output, handed to every function */
-    int (*create)(void *data, const perma_schedule *schedule, unsigned work_groups, void **session,
-                  char *message, size_t size);
-    int (*run)(void *data, void *session, char *message, size_t size);
-    perma_runtime *(*runtime)(void *session);
-    void (*destroy)(void *session);
-    /* The last column after a session's last run, e.g. "identical". */
+    const example_program *program;
+    void *program_data; /* the program's data */
+    /* The last column after a schedule's last run, e.g. "identical". */
     const char *(*check)(void *data);
+    void *data;                /* handed to check */
     const char *check_heading; /* "image", "levels" */
     int items_column;          /* print the items each perma run executed */
 } example_compare;

@@ -9,6 +9,7 @@
  * and prints the histogram and the runtime's statistics.
  */
 #include <perma.h>
+#include <perma_cli.h>
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -48,18 +49,32 @@ static int fail(perma_runtime *rt, const char *what)
 
 int main(int argc, char **argv)
 {
-    unsigned n = argc > 1 ? (unsigned)strtoul(argv[1], NULL, 10) : 10000;
-    if (n < 1 || n > 1000000) {
-        fprintf(stderr, "usage: perma-collatz [N]   (1 <= N <= 1000000, default 10000)\n");
-        return 2;
-    }
+    /* The command line through perma_cli.h, the engine of perma's programs:
+     * N (checked against its range), --help, --version; bad usage exits 2. */
+    unsigned n = 10000;
+    const perma_cli_option count = {
+        PERMA_CLI_WHOLE(NULL, "N", &n, 1, 1000000, "count the stopping times of 1..N (default 10000)"),
+    };
+    const perma_cli cli = {
+        .program = "perma-collatz",
+        .synopsis = "[N]",
+        .about = "Counts the Collatz steps of 1..N with two perma procedures and prints\n"
+                 "a histogram of them and the runtime's statistics.",
+        .operand = &count,
+        .max_operands = 1,
+        .notes = "exit status: 0 ok, 1 a perma failure, 2 bad usage",
+    };
+    char message[PERMA_CLI_MESSAGE_MAX];
+    perma_cli_status parsed = perma_cli_parse(&cli, argc, argv, message, sizeof message);
+    if (parsed != PERMA_CLI_OK)
+        return perma_cli_exit_status(parsed);
 
     perma_config config;
     perma_config_init(&config);
     perma_runtime *rt;
     perma_error error;
     if (perma_create(&config, &rt, &error) != PERMA_OK) {
-        fprintf(stderr, "collatz: %s\n", error.message);
+        fprintf(stderr, "perma-collatz: %s\n", error.message);
         return 1;
     }
     printf("device: %s\n", perma_device_summary(rt));

@@ -12,6 +12,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "example_session.h"
+
 /* Exit codes of the program follow the README: 0 ok, 1 runtime failure, 2 bad usage. */
 typedef enum mandel_status {
     MANDEL_OK = 0,
@@ -49,26 +51,19 @@ void mandel_brute_force(const mandel_params *p, uint32_t *counts);
  * returns 0, or -1 when out of memory. */
 int mandel_sequential(const mandel_params *p, uint32_t *counts);
 
-/* How the perma version runs. */
-typedef struct mandel_run_options {
-    perma_schedule schedule;   /* zero = megakernel/shared */
-    unsigned work_groups;      /* 0 = the runtime's default */
-} mandel_run_options;
+/* The perma program (mandel_perma.c) of one image: each run writes the
+ * escape counts into `counts` (the caller's, width*height words).  The
+ * build sets `split`. */
+typedef struct mandel_run {
+    mandel_params params; /* bound to the device: lives as long as the session */
+    uint32_t *counts;
+    perma_proc split;
+} mandel_run;
 
-/* A built perma program that renders into `counts` (width*height words,
- * owned by the caller) on each mandel_session_run. */
-typedef struct mandel_session mandel_session;
-
-mandel_status mandel_session_create(const mandel_params *p, const mandel_run_options *options,
-                                    uint32_t *counts, mandel_session **out,
-                                    char *message, size_t size);
-/* One render: reset counts, seed the root rectangle, run. */
-mandel_status mandel_session_run(mandel_session *s, char *message, size_t size);
-perma_runtime *mandel_session_runtime(mandel_session *s);
-void mandel_session_destroy(mandel_session *s);
+extern const example_program mandel_program;
 
 /* Render once with a fresh session (build included). */
-mandel_status mandel_render_perma(const mandel_params *p, const mandel_run_options *options,
+mandel_status mandel_render_perma(const mandel_params *p, const example_run_options *options,
                                   uint32_t *counts, char *message, size_t size);
 
 /* Device source of the procedures (split, fill, block) and their types. */

@@ -11,65 +11,40 @@
 #include "mandel.h"
 
 typedef struct compare_data {
-    const mandel_params *params;
+    mandel_run run;     /* the image of every version but the sequential one */
     uint32_t *expected; /* the sequential Mariani-Silver image */
-    uint32_t *counts;   /* every other version's image */
     size_t pixels;
 } compare_data;
 
 static int run_sequential(void *data)
 {
     compare_data *d = data;
-    return mandel_sequential(d->params, d->expected);
+    return mandel_sequential(&d->run.params, d->expected);
 }
 
 static int run_brute_force(void *data)
 {
     compare_data *d = data;
-    mandel_brute_force(d->params, d->counts);
+    mandel_brute_force(&d->run.params, d->run.counts);
     return 0;
-}
-
-static int create(void *data, const perma_schedule *schedule, unsigned work_groups, void **session,
-                  char *message, size_t size)
-{
-    compare_data *d = data;
-    mandel_run_options options = { *schedule, work_groups };
-    return mandel_session_create(d->params, &options, d->counts, (mandel_session **)session, message, size);
-}
-
-static int run(void *data, void *session, char *message, size_t size)
-{
-    (void)data;
-    return mandel_session_run(session, message, size);
-}
-
-static perma_runtime *runtime(void *session)
-{
-    return mandel_session_runtime(session);
-}
-
-static void destroy(void *session)
-{
-    mandel_session_destroy(session);
 }
 
 static const char *check(void *data)
 {
     compare_data *d = data;
-    return memcmp(d->counts, d->expected, d->pixels * sizeof *d->counts) == 0 ? "identical" : "DIFFERS";
+    return memcmp(d->run.counts, d->expected, d->pixels * sizeof *d->expected) == 0 ? "identical" : "DIFFERS";
 }
 
 mandel_status mandel_compare(const mandel_params *p, unsigned work_groups, unsigned repeats,
                              FILE *out, char *message, size_t size)
 {
-    compare_data d = { p, NULL, NULL, (size_t)p->width * p->height };
+    compare_data d = { { *p, NULL, 0 }, NULL, (size_t)p->width * p->height };
     d.expected = malloc(d.pixels * sizeof *d.expected);
-    d.counts = malloc(d.pixels * sizeof *d.counts);
-    example_compare ex = { &d, create, run, runtime, destroy, check, "image", 0 };
+    d.run.counts = malloc(d.pixels * sizeof *d.run.counts);
+    example_compare ex = { &mandel_program, &d.run, check, &d, "image", 0 };
     mandel_status st = MANDEL_OK;
     double brute = -1, sequential = -1;
-    if (d.expected && d.counts) {
+    if (d.expected && d.run.counts) {
         fprintf(out, "%ux%u pixels, max_iter %u, min_size %u; best of %u runs after a warm-up; build excluded\n",
                 p->width, p->height, p->max_iter, p->min_size, repeats);
         brute = example_compare_best(repeats, run_brute_force, &d);
@@ -86,6 +61,6 @@ mandel_status mandel_compare(const mandel_params *p, unsigned work_groups, unsig
             st = MANDEL_ERR_RUNTIME;
     }
     free(d.expected);
-    free(d.counts);
+    free(d.run.counts);
     return st;
 }

@@ -2,26 +2,21 @@
 #ifndef MANDEL_OPTIONS_H
 #define MANDEL_OPTIONS_H
 
+#include "example_options.h"
 #include "mandel.h"
 
 typedef struct mandel_options {
-    unsigned width, height;
+    unsigned size[2];          /* width, height */
     double region[4];          /* x_min, x_max, y_min, y_max */
     unsigned max_iter, min_size;
     const char *output;
-    mandel_run_options run;
-    int compare;               /* --compare: timing table instead of an image */
-    unsigned repeats;          /* runs per version in --compare */
     int reference;             /* --reference: host brute force instead of perma */
-    int stats;                 /* --stats: print the runtime's statistics */
-    int help;
+    example_options common;    /* --technique, --strategy, --groups, --stats, --compare, --repeats */
 } mandel_options;
 
-/* Parse argv into *o (defaults first).  MANDEL_ERR_USAGE with a message
- * naming the option on a bad command line. */
-mandel_status mandel_parse_options(int argc, char **argv, mandel_options *o,
-                                   char *message, size_t size);
-
-void mandel_print_usage(FILE *out);
+/* Parse argv into *o (defaults first).  PERMA_CLI_OK: run; otherwise the
+ * program ends with perma_cli_exit_status(status): the help or version
+ * was printed, or the bad usage said (also in `message`). */
+perma_cli_status mandel_parse_options(int argc, char **argv, mandel_options *o, char *message, size_t size);
 
 #endif

@@ -1,5 +1,4 @@
 /* Colour map of escape counts and PNG output through libpng. */
-#include <errno.h>
 #include <math.h>
 #include <png.h>
 #include <setjmp.h>
@@ -62,20 +61,27 @@ mandel_status mandel_write_png(const char *path, const mandel_params *p, const u
         snprintf(message, size, "%s: out of memory for a row", path);
         return MANDEL_ERR_RUNTIME;
     }
-    FILE *f = fopen(path, "wb");
-    if (!f) {
-        snprintf(message, size, "%s: cannot create: %s", path, strerror(errno));
+    /* Whole or not at all: a failed write leaves no partial file. */
+    perma_output *out;
+    perma_error error;
+    if (perma_output_open(path, &out, &error) != PERMA_OK) {
+        snprintf(message, size, "%s", error.message);
         free(row);
         return MANDEL_ERR_RUNTIME;
     }
-    int ok = encode(f, p, counts, row);
+    int ok = encode(perma_output_stream(out), p, counts, row);
     free(row);
-    if (fclose(f) != 0 && ok) {
-        snprintf(message, size, "%s: write failed: %s", path, strerror(errno));
+    if (perma_output_finish(out, &error) != PERMA_OK) {
+        snprintf(message, size, "%s", error.message);
         return MANDEL_ERR_RUNTIME;
     }
     if (!ok) {
+        perma_output_discard(out);
         snprintf(message, size, "%s: libpng failed to encode the image", path);
+        return MANDEL_ERR_RUNTIME;
+    }
+    if (perma_output_commit(out, &error) != PERMA_OK) {
+        snprintf(message, size, "%s", error.message);
         return MANDEL_ERR_RUNTIME;
     }
     return MANDEL_OK;

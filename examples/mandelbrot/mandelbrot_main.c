@@ -14,15 +14,10 @@ static int render(const mandel_options *o, const mandel_params *p, char *message
     if (o->reference) {
         mandel_brute_force(p, counts);
     } else {
-        mandel_session *s;
-        st = mandel_session_create(p, &o->run, counts, &s, message, size);
-        if (st == MANDEL_OK) {
-            printf("device: %s\n", perma_device_summary(mandel_session_runtime(s)));
-            st = mandel_session_run(s, message, size);
-            if (st == MANDEL_OK && o->stats)
-                perma_print_stats(mandel_session_runtime(s), stdout);
-            mandel_session_destroy(s);
-        }
+        mandel_run run = { *p, counts, 0 };
+        st = example_session_once(&mandel_program, &run, &o->common.run, stdout, o->common.stats, message, size)
+                 ? MANDEL_ERR_RUNTIME
+                 : MANDEL_OK;
     }
     if (st == MANDEL_OK)
         st = mandel_write_png(o->output, p, counts, message, size);
@@ -36,22 +31,15 @@ int main(int argc, char **argv)
 {
     char message[PERMA_MESSAGE_MAX + 128] = "";
     mandel_options o;
-    mandel_status st = mandel_parse_options(argc, argv, &o, message, sizeof message);
-    if (st != MANDEL_OK) {
-        fprintf(stderr, "%s\n", message);
-        return st;
-    }
-    if (o.help) {
-        mandel_print_usage(stdout);
-        return 0;
-    }
+    perma_cli_status parsed = mandel_parse_options(argc, argv, &o, message, sizeof message);
+    if (parsed != PERMA_CLI_OK)
+        return perma_cli_exit_status(parsed);
     mandel_params p;
-    mandel_params_init(&p, o.width, o.height, o.region[0], o.region[1], o.region[2], o.region[3],
+    mandel_params_init(&p, o.size[0], o.size[1], o.region[0], o.region[1], o.region[2], o.region[3],
                        o.max_iter, o.min_size);
-    if (o.compare)
-        st = mandel_compare(&p, o.run.work_groups, o.repeats, stdout, message, sizeof message);
-    else
-        st = render(&o, &p, message, sizeof message);
+    int st = o.common.compare ? (int)mandel_compare(&p, o.common.run.work_groups, o.common.repeats, stdout,
+                                                    message, sizeof message)
+                              : render(&o, &p, message, sizeof message);
     if (st != MANDEL_OK)
         fprintf(stderr, "%s\n", message);
     return st;

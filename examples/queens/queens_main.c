@@ -5,94 +5,60 @@
  * a sequential count on the host.
  * Exit status: 0 ok, 1 a failure or a wrong count, 2 bad usage.
  */
-#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
-#include <string.h>
+
+#include <perma_cli.h>
 
 #include "mpi_launch.h"
 #include "queens_spread.h"
 
-static void usage(FILE *out, const char *program)
+_Static_assert(sizeof(queens_start) == sizeof(unsigned), "--start is a choice row");
+
+/* The command line into *job (perma_cli.h); quiet: say nothing (an MPI
+ * rank other than 0). */
+static perma_cli_status parse(int argc, char **argv, queens_job *job, int quiet)
 {
-    fprintf(out, "usage: %s [--n N] [--depth D] [--chunk C] [--start even|rank0] [--devices LIST]\n\n"
-                 "Counts the N-queens solutions and search-tree nodes with a perma procedure.\n"
+    static const char *const starts[] = { "even", "rank0", NULL }; /* queens_start */
+    int timeout_given = 0;
+    char message[PERMA_CLI_MESSAGE_MAX];
+    const perma_cli_option rows[] = {
+        { PERMA_CLI_WHOLE("n", "N", &job->n, 1, QUEENS_MAX_N, "board size (default 10)") },
+        { PERMA_CLI_WHOLE("depth", "D", &job->depth, 0, QUEENS_MAX_N,
+                          "rows the host places to cut the tree into subtrees, at most N (default 3)") },
+        { PERMA_CLI_WHOLE("chunk", "C", &job->chunk, 1, 65536, "subtrees per perma run (default 16)") },
+        { PERMA_CLI_CHOICE("start", "S", &job->start, starts,
+                           "even: each rank starts with an equal share (default); rank0: rank 0 starts with all, "
+                           "the others steal") },
+        { PERMA_CLI_TEXT("devices", "LIST", &job->devices, "device list; rank r uses entry (local rank mod count)") },
+        { PERMA_CLI_DOUBLE("rank-timeout", "S", &job->rank_timeout, 1, 1e6,
+                           "mpirun: end the job when a rank does not answer for S seconds (default 660; a rank "
+                           "answers between runs of C subtrees)"),
+          .given = &timeout_given },
+    };
+    const perma_cli_table table = { "options", rows, sizeof rows / sizeof rows[0] };
+    const perma_cli cli = {
+        .program = argv[0],
+        .synopsis = "[options]",
+        .about = "Counts the N-queens solutions and search-tree nodes with a perma procedure.\n"
                  "Under mpirun the subtrees below row D are spread over the ranks; a rank that\n"
-                 "runs dry asks the others for work.\n\n"
-                 "  --n N           board size, 1..%d (default 10)\n"
-                 "  --depth D       rows the host places to cut the tree into subtrees, 0..N (default 3)\n"
-                 "  --chunk C       subtrees per perma run, 1..65536 (default 16)\n"
-                 "  --start S       even: each rank starts with an equal share (default);\n"
-                 "                  rank0: rank 0 starts with all, the others steal\n"
-                 "  --devices LIST  device list; rank r uses entry (local rank mod count)\n",
-            program, QUEENS_MAX_N);
-}
-
-static int parse_number(const char *text, unsigned long low, unsigned long high, unsigned *out)
-{
-    char *end;
-    errno = 0;
-    if (text[0] < '0' || text[0] > '9')
-        return 0;
-    unsigned long value = strtoul(text, &end, 10);
-    if (errno || *end || value < low || value > high)
-        return 0;
-    *out = (unsigned)value;
-    return 1;
-}
-
-/* 0 ok, 2 bad usage (message printed), -1 help or version shown. */
-static int parse(int argc, char **argv, queens_job *job, int quiet)
-{
-    const char *program = argv[0];
-    for (int i = 1; i < argc; ++i) {
-        const char *arg = argv[i], *value = i + 1 < argc ? argv[i + 1] : NULL;
-        if (strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0) {
-            if (!quiet)
-                usage(stdout, program);
-            return -1;
-        }
-        if (strcmp(arg, "--version") == 0) {
-            if (!quiet)
-                printf("perma-queens %s\n", PERMA_VERSION_STRING);
-            return -1;
-        }
-        int known = strcmp(arg, "--n") == 0 || strcmp(arg, "--depth") == 0 || strcmp(arg, "--chunk") == 0
-                    || strcmp(arg, "--start") == 0 || strcmp(arg, "--devices") == 0;
-        const char *problem = NULL;
-        if (!known)
-            problem = "unknown option";
-        else if (!value)
-            problem = "needs a value";
-        else if (strcmp(arg, "--n") == 0 && !parse_number(value, 1, QUEENS_MAX_N, &job->n))
-            problem = "expected a board size 1..16";
-        else if (strcmp(arg, "--depth") == 0 && !parse_number(value, 0, QUEENS_MAX_N, &job->depth))
-            problem = "expected rows 0..N";
-        else if (strcmp(arg, "--chunk") == 0 && !parse_number(value, 1, 65536, &job->chunk))
-            problem = "expected subtrees 1..65536";
-        else if (strcmp(arg, "--start") == 0 && strcmp(value, "even") == 0)
-            job->start = QUEENS_START_EVEN;
-        else if (strcmp(arg, "--start") == 0 && strcmp(value, "rank0") == 0)
-            job->start = QUEENS_START_RANK0;
-        else if (strcmp(arg, "--start") == 0)
-            problem = "expected even or rank0";
-        else if (strcmp(arg, "--devices") == 0)
-            job->devices = value;
-        if (problem) {
-            if (!quiet)
-                fprintf(stderr, "%s: %s%s%s%s: %s (try --help)\n", program, arg, value && known ? " '" : "",
-                        value && known ? value : "", value && known ? "'" : "", problem);
-            return 2;
-        }
-        ++i;
-    }
-    if (job->depth > job->n) {
-        if (!quiet)
-            fprintf(stderr, "%s: --depth %u: expected rows 0..%u (--n) (try --help)\n", program, job->depth,
-                    job->n);
-        return 2;
-    }
-    return 0;
+                 "runs dry asks the others for work.",
+        .tables = &table,
+        .table_count = 1,
+        .notes = "exit status: 0 ok, 1 a failure or a wrong count, 2 bad usage",
+        .quiet = quiet,
+    };
+    perma_cli_status status = perma_cli_parse(&cli, argc, argv, message, sizeof message);
+    if (status != PERMA_CLI_OK)
+        return status;
+    if (job->depth > job->n)
+        return perma_cli_fail(&cli, message, sizeof message, "--depth %u: expected rows 0..%u (--n)", job->depth,
+                              job->n);
+    /* An option of MPI jobs without mpirun: refused, not ignored. */
+    if (timeout_given && mpi_launch_size() == 0)
+        return perma_cli_fail(&cli, message, sizeof message,
+                              "--rank-timeout applies only to a job started by mpirun");
+    return PERMA_CLI_OK;
 }
 
 int main(int argc, char **argv)
@@ -101,9 +67,9 @@ int main(int argc, char **argv)
     queens_job job = { .n = 10, .depth = 3, .chunk = 16, .start = QUEENS_START_EVEN, .devices = NULL };
     /* Under mpirun every rank parses the same line; rank 0 speaks. */
     int quiet = mpi_launch_size() > 0 && mpi_launch_rank() != 0;
-    int parsed = parse(argc, argv, &job, quiet);
-    if (parsed != 0)
-        return parsed < 0 ? 0 : 2;
+    perma_cli_status parsed = parse(argc, argv, &job, quiet);
+    if (parsed != PERMA_CLI_OK)
+        return perma_cli_exit_status(parsed);
     queens_result result;
     int is_rank0 = 0;
     int code = queens_spread_run(&job, &result, &is_rank0, program);

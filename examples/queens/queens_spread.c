@@ -14,7 +14,10 @@
  * own question is answered, then joins a non-blocking barrier and keeps
  * answering until the barrier completes: no message is left unreceived.
  * The counts are then reduced on rank 0 (MPI_Reduce) and the per-rank
- * reports gathered (MPI_Gather).
+ * reports gathered (MPI_Gather).  Every wait is bounded by the rank
+ * timeout (mpi_job.h): a question unanswered that long, a message not
+ * taken, a barrier not reached end the job with a message naming the
+ * rank; a rank that dies makes mpirun stop the job, and rank 0 says so.
  */
 #include <stdio.h>
 #include <stdlib.h>
@@ -26,6 +29,8 @@
 
 #if QUEENS_HAVE_MPI
 #include <mpi.h>
+
+#include "mpi_job.h"
 #endif
 
 enum { TAG_ASK = 11, TAG_GIVE, TAG_DONE, TAG_FAIL, TAG_STOP };
@@ -76,6 +81,8 @@ static int deque_push(deque *d, const queens_node *units, size_t count)
 
 typedef struct rank_state {
     const queens_job *job;
+    const char *program;
+    double timeout;            /* the rank timeout in seconds */
     int rank, size, local_rank;
     int mpi;                   /* running under MPI (else alone: no MPI call) */
     deque work;
@@ -84,6 +91,7 @@ typedef struct rank_state {
     int stopped;               /* STOP seen (or sent, on rank 0) */
     int failed;                /* this rank cannot count */
     int asking;                /* a question is open */
+    double asked_at;           /* since when */
     int victim;                /* the rank asked last */
     int refusals;              /* empty answers in a row */
     char failure[PERMA_MESSAGE_MAX + 64]; /* rank 0: the first failure */
@@ -92,18 +100,20 @@ typedef struct rank_state {
 
 #if QUEENS_HAVE_MPI
 
-static void complete(MPI_Request *request)
+/* Complete a request that needs rank `peer` (its answer, or its taking a
+ * message): one silent for the rank timeout ends the job. */
+static void complete(const rank_state *s, MPI_Request *request, int peer, const char *what)
 {
-    int done = 0;
-    while (MPI_Test(request, &done, MPI_STATUS_IGNORE), !done)
-        nap(100);
+    if (!mpi_job_wait(1, request, MPI_STATUSES_IGNORE, s->timeout, NULL, NULL))
+        mpi_job_abort(s->program, s->rank, "rank %d has not %s for more than %g s (--rank-timeout; it is stopped "
+                      "or stuck); aborting the job", peer, what, s->timeout);
 }
 
-static void send_small(const void *data, int bytes, int to, int tag)
+static void send_small(const rank_state *s, const void *data, int bytes, int to, int tag)
 {
     MPI_Request request;
     MPI_Isend(data, bytes, MPI_BYTE, to, tag, MPI_COMM_WORLD, &request);
-    complete(&request);
+    complete(s, &request, to, "taken a message");
 }
 
 static void report_failure(rank_state *s, const char *message);
@@ -115,7 +125,7 @@ static void stop_everyone(rank_state *s)
     s->stopped = 1;
     char none = 0;
     for (int r = 1; r < s->size; ++r)
-        send_small(&none, 1, r, TAG_STOP);
+        send_small(s, &none, 1, r, TAG_STOP);
 }
 
 /* Handle every message waiting; returns once none is. */
@@ -142,7 +152,7 @@ static void serve(rank_state *s)
                 s->report.gifts++;
                 s->report.given_units += give;
             }
-            send_small(s->work.units ? s->work.units + s->work.tail : (void *)message,
+            send_small(s, s->work.units ? s->work.units + s->work.tail : (void *)message,
                        (int)(give * sizeof(queens_node)), from, TAG_GIVE);
             break;
         }
@@ -195,9 +205,19 @@ static void ask_for_work(rank_state *s)
     if (s->victim == s->rank)
         s->victim = (s->victim + 1) % s->size;
     char none = 0;
-    send_small(&none, 0, s->victim, TAG_ASK);
+    send_small(s, &none, 0, s->victim, TAG_ASK);
     s->asking = 1;
+    s->asked_at = mpi_job_now();
     s->report.requests++;
+}
+
+/* An open question unanswered for the rank timeout: the asked rank is
+ * stopped or stuck (a rank answers between runs of `chunk` units). */
+static void check_question(const rank_state *s)
+{
+    if (s->asking && mpi_job_now() - s->asked_at > s->timeout)
+        mpi_job_abort(s->program, s->rank, "rank %d has not answered a request for work for more than %g s "
+                      "(--rank-timeout; it is stopped or stuck); aborting the job", s->victim, s->timeout);
 }
 
 static void report_counted(rank_state *s, uint64_t units)
@@ -209,7 +229,7 @@ static void report_counted(rank_state *s, uint64_t units)
         else if (s->counted_total >= s->total)
             s->stopped = 1;
     } else {
-        send_small(&units, sizeof units, 0, TAG_DONE);
+        send_small(s, &units, sizeof units, 0, TAG_DONE);
     }
 }
 
@@ -230,23 +250,32 @@ static void report_failure(rank_state *s, const char *message)
         /* Synchronous: received before this rank can reach the barrier. */
         MPI_Request request;
         MPI_Issend(text, (int)strlen(text), MPI_BYTE, 0, TAG_FAIL, MPI_COMM_WORLD, &request);
-        complete(&request);
+        complete(s, &request, 0, "taken this rank's failure");
     }
+}
+
+static void serve_callback(void *user)
+{
+    serve(user);
+}
+
+/* A barrier that answers questions meanwhile; one not reached by every
+ * rank within the rank timeout ends the job. */
+static void barrier(rank_state *s, const char *what)
+{
+    MPI_Request request;
+    MPI_Ibarrier(MPI_COMM_WORLD, &request);
+    if (!mpi_job_wait(1, &request, MPI_STATUSES_IGNORE, s->timeout, serve_callback, s))
+        mpi_job_abort(s->program, s->rank, "not every rank %s within %g s (--rank-timeout; a rank is stopped "
+                      "or stuck); aborting the job", what, s->timeout);
 }
 
 /* Every rank has its runtime (compiled) before any searches, so that a
  * slow compile does not look like a slow rank. */
 static void start_together(rank_state *s)
 {
-    if (!s->mpi)
-        return;
-    MPI_Request barrier;
-    int done = 0;
-    MPI_Ibarrier(MPI_COMM_WORLD, &barrier);
-    while (MPI_Test(&barrier, &done, MPI_STATUS_IGNORE), !done) {
-        serve(s); /* a failing rank's message, or a question from a quick rank */
-        nap(100);
-    }
+    if (s->mpi)
+        barrier(s, "built its runtime");
 }
 
 /* After STOP: answer until the own question is answered and every rank
@@ -257,16 +286,11 @@ static void finish_messages(rank_state *s)
         return;
     while (s->asking) {
         serve(s);
+        check_question(s);
         if (s->asking)
             nap(100);
     }
-    MPI_Request barrier;
-    int done = 0;
-    MPI_Ibarrier(MPI_COMM_WORLD, &barrier);
-    while (MPI_Test(&barrier, &done, MPI_STATUS_IGNORE), !done) {
-        serve(s);
-        nap(100);
-    }
+    barrier(s, "reached the end of the search");
 }
 
 #else
@@ -300,6 +324,11 @@ static void finish_messages(rank_state *s)
 }
 
 static void start_together(rank_state *s)
+{
+    (void)s;
+}
+
+static void check_question(const rank_state *s)
 {
     (void)s;
 }
@@ -348,6 +377,7 @@ static void search(rank_state *s, queens_counter *counter)
         } else if (s->size > 1 && !s->asking && !s->failed) {
             ask_for_work(s);
         } else {
+            check_question(s);
             nap(100);
         }
     }
@@ -359,19 +389,28 @@ int queens_spread_run(const queens_job *job, queens_result *result, int *is_rank
     rank_state s;
     memset(&s, 0, sizeof s);
     s.job = job;
+    s.program = program;
+    s.timeout = job->rank_timeout > 0.0 ? job->rank_timeout : 660.0;
     s.size = 1;
     int launched = mpi_launch_size();
 #if QUEENS_HAVE_MPI
     int using_mpi = launched > 0;
     s.mpi = using_mpi;
     if (using_mpi) {
+        /* Blocking collectives: a rank that never comes ends the job. */
+        mpi_job_guard(program, mpi_launch_rank(), "the ranks did not all start the job", s.timeout);
         MPI_Init(NULL, NULL);
         MPI_Comm_rank(MPI_COMM_WORLD, &s.rank);
         MPI_Comm_size(MPI_COMM_WORLD, &s.size);
+        mpi_job_watch(program, s.rank, s.size);
+        if (s.rank == 0)
+            mpi_job_state("the search did not finish");
         MPI_Comm local;
         MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, s.rank, MPI_INFO_NULL, &local);
         MPI_Comm_rank(local, &s.local_rank);
+        mpi_job_watch_node(local);
         MPI_Comm_free(&local);
+        mpi_job_unguard();
     }
 #else
     if (launched > 1) {
@@ -428,10 +467,18 @@ int queens_spread_run(const queens_job *job, queens_result *result, int *is_rank
 #if QUEENS_HAVE_MPI
     if (using_mpi) {
         uint64_t mine[2] = { s.report.counts.solutions, s.report.counts.nodes }, sum[2] = { 0, 0 };
-        MPI_Reduce(mine, sum, 2, MPI_UINT64_T, MPI_SUM, 0, MPI_COMM_WORLD);
-        MPI_Gather(&s.report, sizeof s.report, MPI_BYTE, reports, sizeof s.report, MPI_BYTE, 0, MPI_COMM_WORLD);
+        MPI_Request requests[2];
+        MPI_Ireduce(mine, sum, 2, MPI_UINT64_T, MPI_SUM, 0, MPI_COMM_WORLD, &requests[0]);
+        MPI_Igather(&s.report, sizeof s.report, MPI_BYTE, reports, sizeof s.report, MPI_BYTE, 0, MPI_COMM_WORLD,
+                    &requests[1]);
+        if (!mpi_job_wait(2, requests, MPI_STATUSES_IGNORE, s.timeout, NULL, NULL))
+            mpi_job_abort(program, s.rank, "the ranks did not all send their counts within %g s (--rank-timeout; "
+                          "a rank is stopped or stuck); aborting the job", s.timeout);
         total = (queens_counts){ sum[0], sum[1] };
+        mpi_job_unwatch();
+        mpi_job_guard(program, s.rank, "the ranks did not all finish the job (MPI_Finalize)", s.timeout);
         MPI_Finalize();
+        mpi_job_unguard();
     } else if (reports) {
         reports[0] = s.report;
     }

@@ -17,6 +17,9 @@ typedef struct queens_job {
     unsigned n, depth, chunk;
     queens_start start;
     const char *devices;     /* device list; rank r uses entry (local rank mod count) */
+    /* MPI: a rank that does not answer for this long (seconds; 0: 660)
+     * ends the job with a message naming it. */
+    double rank_timeout;
 } queens_job;
 
 /* What one rank did. */

@@ -1,19 +1,19 @@
-/* Command-line parsing of reyes-render, table-driven (the table: reyes_cli_options.c). */
+/* Command-line parsing of reyes-render with the engine of perma's programs
+ * (perma_cli.h); the option table: reyes_cli_options.c. */
 #ifndef REYES_CLI_H
 #define REYES_CLI_H
 
+#include <perma_cli.h>
 #include <stddef.h>
 
 #include "reyes.h"
-
-#define REYES_CLI_OK 0
-#define REYES_CLI_USAGE 2 /* the exit code for bad usage */
 
 typedef struct reyes_cli {
     reyes_options render;
     const char **models;    /* model paths from argv (the array is allocated) */
     size_t model_count;
     const char *output;     /* PNG path */
+    unsigned size[2], bucket[2]; /* --size, --bucket (then in render) */
     const char *stats_path; /* NULL: no statistics file */
     int has_camera;
     float camera[6];        /* eye x y z, target x y z */
@@ -33,22 +33,31 @@ typedef struct reyes_cli {
     unsigned frames;
     float orbit_deg;
     int orbit_given;
-    /* MPI: rank 0 aborts the job when a rank holds an item this long
-     * (seconds; 0: 660, the runtime's watchdog and a minute). */
+    /* MPI: rank 0 ends the job when a rank holds an item this long, a
+     * rank when rank 0 does not answer this long (seconds; 0: 660, the
+     * runtime's watchdog and a minute). */
     float rank_timeout;
     /* MPI: rank 0 only hands out and gathers (a head node); the others
      * render. */
     int coordinator_only;
-    int help, version;
+    /* --progress: the progress line on stderr even when it is not a
+     * terminal; --quiet: nothing but errors. */
+    int progress, quiet;
     char displace_map[4096]; /* --displace png:FILE:A (render.displace_map points here) */
 } reyes_cli;
 
-/* Parse argv into *cli.  Returns REYES_CLI_OK or REYES_CLI_USAGE with a
- * message in `message`.  Free with reyes_cli_free. */
-int reyes_cli_parse(int argc, char **argv, reyes_cli *cli, char *message, size_t message_size);
+/* Parse argv into *cli, printing nothing: PERMA_CLI_OK; PERMA_CLI_HELP or
+ * PERMA_CLI_VERSION (--help, --version); or PERMA_CLI_USAGE with the
+ * complaint in `message`.  Free with reyes_cli_free (whatever it returned). */
+perma_cli_status reyes_cli_parse(int argc, char **argv, reyes_cli *cli, char *message, size_t size);
 void reyes_cli_free(reyes_cli *cli);
 
-/* The --help text. */
+/* The value of option `name` (without dashes) when it is a flag ("on" or
+ * "off") or a choice of names (the name, e.g. "stitch"), into out; 0 when
+ * it is neither (an option with its own parser) or no option. */
+int reyes_cli_field_text(const reyes_cli *cli, const char *name, char *out, size_t size);
+
+/* The --help text, `program` naming the program. */
 void reyes_cli_usage(FILE *out, const char *program);
 
 #endif

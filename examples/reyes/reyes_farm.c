@@ -16,7 +16,8 @@ reyes_status reyes_pool_init(reyes_pool *pool, const reyes_job *job, reyes_error
     pool->taken_at = calloc(items, sizeof *pool->taken_at);
     pool->render_seconds = calloc(items, sizeof *pool->render_seconds);
     pool->turnaround = calloc(items, sizeof *pool->turnaround);
-    if (!pool->renderer || !pool->taken_at || !pool->render_seconds || !pool->turnaround) {
+    pool->done = calloc(items, 1);
+    if (!pool->renderer || !pool->taken_at || !pool->render_seconds || !pool->turnaround || !pool->done) {
         reyes_pool_free(pool);
         return reyes_fail(error, REYES_ERR_NO_MEMORY, "out of memory for %u items", job->items);
     }
@@ -44,6 +45,8 @@ void reyes_pool_free(reyes_pool *pool)
     free(pool->taken_at);
     free(pool->render_seconds);
     free(pool->turnaround);
+    free(pool->done);
+    pool->done = NULL;
     pool->renderer = NULL;
     pool->taken_at = pool->render_seconds = pool->turnaround = NULL;
     pthread_mutex_destroy(&pool->lock);
@@ -69,14 +72,18 @@ int reyes_pool_take(reyes_pool *pool, int renderer, unsigned *item)
     return have;
 }
 
-/* Count a delivery and its times. */
+/* Count a delivery and its times, and show it. */
 static void delivered(reyes_pool *pool, unsigned item, double seconds)
 {
     pthread_mutex_lock(&pool->lock);
     pool->delivered++;
+    pool->done[item] = 1;
     pool->turnaround[item] = now() - pool->taken_at[item];
     pool->render_seconds[item] = seconds >= 0.0 ? seconds : pool->turnaround[item];
+    int renderer = pool->renderer[item];
     pthread_mutex_unlock(&pool->lock);
+    if (pool->progress)
+        reyes_progress_item_done(pool->progress, renderer);
 }
 
 void reyes_image_pack_rect(const reyes_image *image, const unsigned rect[4], uint8_t *rgb,
@@ -90,12 +97,36 @@ void reyes_image_pack_rect(const reyes_image *image, const unsigned rect[4], uin
     }
 }
 
+int reyes_pool_item_rect(const reyes_pool *pool, int64_t item, unsigned rect[4])
+{
+    const reyes_job *job = pool->job;
+    if (item < 0 || item >= (int64_t)job->items)
+        return 0;
+    if (!job->frames) {
+        reyes_job_bucket_rect(job, (unsigned)item, rect);
+        return 1;
+    }
+    rect[0] = rect[1] = 0;
+    rect[2] = job->options.width;
+    rect[3] = job->options.height;
+    return 1;
+}
+
 reyes_status reyes_pool_deliver(reyes_pool *pool, unsigned item, const unsigned rect[4],
                                 const uint8_t *rgb, const uint8_t *coverage, double seconds,
                                 reyes_error *error)
 {
     const reyes_job *job = pool->job;
     reyes_status status = REYES_OK;
+    unsigned expected[4];
+    if (!reyes_pool_item_rect(pool, item, expected))
+        return reyes_fail(error, REYES_ERR_RUNTIME, "a result for %s %u, which the job does not have (%u %s)",
+                          job->frames ? "frame" : "bucket", job->frames ? item + 1 : item, job->items,
+                          job->frames ? "frames" : "buckets");
+    if (memcmp(rect, expected, sizeof expected) != 0)
+        return reyes_fail(error, REYES_ERR_RUNTIME, "%s %u came with pixels [%u,%u)x[%u,%u), not its "
+                          "[%u,%u)x[%u,%u)", job->frames ? "frame" : "bucket", job->frames ? item + 1 : item,
+                          rect[0], rect[2], rect[1], rect[3], expected[0], expected[2], expected[1], expected[3]);
     if (job->frames) {
         /* A whole frame: write it (outside the lock; files differ). */
         reyes_image frame = { .width = rect[2] - rect[0], .height = rect[3] - rect[1], .rgb = (uint8_t *)rgb,
@@ -116,6 +147,37 @@ reyes_status reyes_pool_deliver(reyes_pool *pool, unsigned item, const unsigned 
     if (status == REYES_OK)
         delivered(pool, item, seconds);
     return status;
+}
+
+void reyes_pool_describe_written(reyes_pool *pool, char *out, size_t size)
+{
+    const reyes_job *job = pool->job;
+    pthread_mutex_lock(&pool->lock);
+    unsigned written = pool->delivered;
+    size_t used = 0;
+    if (!job->frames || written == 0) {
+        snprintf(out, size, "no %s written", job->frames ? "frame" : "image");
+    } else {
+        used = (size_t)snprintf(out, size, "%u of %u frames written:", written, job->items);
+        int ranges = 0;
+        for (unsigned f = 0; f < job->items && used < size; ++f) {
+            if (!pool->done[f] || (f > 0 && pool->done[f - 1]))
+                continue;
+            unsigned last = f;
+            while (last + 1 < job->items && pool->done[last + 1])
+                ++last;
+            char first_path[4200], last_path[4200];
+            reyes_job_frame_path(job, f, first_path, sizeof first_path);
+            reyes_job_frame_path(job, last, last_path, sizeof last_path);
+            if (used + strlen(first_path) + strlen(last_path) + 16 >= size) {
+                used += (size_t)snprintf(out + used, size - used, " ...");
+                break;
+            }
+            used += (size_t)snprintf(out + used, size - used, "%s %s%s%s", ranges++ ? "," : "", first_path,
+                                     last > f ? " to " : "", last > f ? last_path : "");
+        }
+    }
+    pthread_mutex_unlock(&pool->lock);
 }
 
 void reyes_pool_fail(reyes_pool *pool, const char *who, reyes_status status, const char *message)
@@ -185,6 +247,12 @@ void *reyes_farm_worker_run(void *worker)
     reyes_pool *pool = w->client.pool;
     reyes_options options = pool->job->options;
     options.device = &w->device;
+    if (pool->progress) {
+        w->slot = (reyes_progress_slot){ pool->progress, (unsigned)w->client.renderer };
+        options.progress = reyes_progress_runtime;
+        options.progress_user = &w->slot;
+        options.progress_interval = REYES_PROGRESS_INTERVAL;
+    }
     reyes_renderer *renderer = NULL;
     reyes_error error;
     double start = now();

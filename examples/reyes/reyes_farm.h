@@ -13,6 +13,7 @@
 #include <pthread.h>
 
 #include "reyes_job.h"
+#include "reyes_progress.h"
 
 typedef struct reyes_pool {
     const reyes_job *job;
@@ -23,11 +24,13 @@ typedef struct reyes_pool {
     reyes_status status;       /* the first failure */
     char message[REYES_MESSAGE_MAX]; /* "device 0:0/2.1: ..." */
     reyes_image image;         /* bucket jobs: the image being assembled */
+    reyes_progress *progress;  /* NULL, or the progress line deliveries move (set before rendering) */
     /* Per item: the renderer that took it (-1: not handed out), the
      * seconds its renderer spent on it, and the seconds from handing out
      * to delivery as the pool saw them (a remote rank's messages included). */
     int *renderer;
     double *taken_at, *render_seconds, *turnaround;
+    unsigned char *done;       /* per item: delivered (a frame: its file written) */
 } reyes_pool;
 
 reyes_status reyes_pool_init(reyes_pool *pool, const reyes_job *job, reyes_error *error);
@@ -38,13 +41,25 @@ void reyes_pool_free(reyes_pool *pool);
  * failure. */
 int reyes_pool_take(reyes_pool *pool, int renderer, unsigned *item);
 
+/* The pixels of item `item`: {x0, y0, x1, y1} of its bucket, or the
+ * whole frame; 0 when there is no such item. */
+int reyes_pool_item_rect(const reyes_pool *pool, int64_t item, unsigned rect[4]);
+
 /* Item `item` is done: its pixels rect = {x0, y0, x1, y1} in rows of
  * (x1 - x0) pixels, rgb (3 bytes each) and coverage, rendered in
  * `seconds` (< 0: unknown, the time since it was handed out).  Buckets go
- * into pool->image, frames are written to their PNG file. */
+ * into pool->image, frames are written to their PNG file.  An item that
+ * does not exist or a rectangle that is not the item's (a rank started
+ * with other options) is refused (REYES_ERR_RUNTIME). */
 reyes_status reyes_pool_deliver(reyes_pool *pool, unsigned item, const unsigned rect[4],
                                 const uint8_t *rgb, const uint8_t *coverage, double seconds,
                                 reyes_error *error);
+
+/* What is written so far, as a message says it: "no image written" for a
+ * bucket job (the PNG comes at the end), "no frame written" or "3 of 24
+ * frames written: k-0001.png to k-0002.png, k-0004.png" (the frames'
+ * files, numbered as they are; " ..." when the list does not fit). */
+void reyes_pool_describe_written(reyes_pool *pool, char *out, size_t size);
 
 /* Record a failure of `who` ("device 0:0/2.1", "rank 2") unless one is
  * recorded already, and stop handing out. */
@@ -73,6 +88,7 @@ typedef struct reyes_farm_worker {
     perma_device_ref device;
     char who[96];              /* how failures name it: "device 0:0/2.1" */
     reyes_work_report report;
+    reyes_progress_slot slot;  /* its place on the pool's progress line */
     pthread_t thread;
     int started;
     volatile int finished;     /* set when the thread is done */

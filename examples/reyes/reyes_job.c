@@ -7,25 +7,47 @@
 
 #include "reyes_job.h"
 
-static reyes_status build_scene(const reyes_cli *cli, reyes_scene *scene, reyes_error *error)
+static reyes_status build_scene(const reyes_cli *cli, reyes_job *job, reyes_error *error)
 {
     if (cli->model_count == 0)
-        return reyes_scene_add_builtin(scene, error);
+        return reyes_scene_add_builtin(&job->scene, error);
+    job->model_end = malloc(cli->model_count * sizeof *job->model_end);
+    if (!job->model_end)
+        return reyes_fail(error, REYES_ERR_NO_MEMORY, "out of memory for %zu models", cli->model_count);
     for (size_t m = 0; m < cli->model_count; ++m) {
-        reyes_status status = reyes_scene_load_bpt(scene, cli->models[m],
+        reyes_status status = reyes_scene_load_bpt(&job->scene, cli->models[m],
                                                    reyes_model_color((unsigned)m), error);
         if (status != REYES_OK)
             return status;
+        job->model_end[m] = job->scene.patch_count;
+        job->model_count = m + 1;
     }
     return REYES_OK;
 }
 
-static reyes_status choose_camera(const reyes_cli *cli, const reyes_scene *scene,
-                                  reyes_camera *camera, reyes_error *error)
+/* What automatic framing left out, for the user: "" if nothing. */
+static void note_framing(const reyes_scene *scene, char *note, size_t size)
 {
+    reyes_bulk bulk;
+    note[0] = '\0';
+    if (!reyes_scene_bulk(scene, &bulk) || bulk.left_out == 0)
+        return;
+    const float *p = scene->points + bulk.first_left_out * 4;
+    snprintf(note, size, "%zu control point%s far from the rest %s not framed (the first: patch %zu, point %zu, "
+             "at %g %g %g); --camera can frame %s", bulk.left_out, bulk.left_out == 1 ? "" : "s",
+             bulk.left_out == 1 ? "is" : "are", bulk.first_left_out / 16 + 1, bulk.first_left_out % 16 + 1,
+             (double)p[0], (double)p[1], (double)p[2], bulk.left_out == 1 ? "it" : "them");
+}
+
+static reyes_status choose_camera(const reyes_cli *cli, reyes_job *job, reyes_error *error)
+{
+    const reyes_scene *scene = &job->scene;
+    reyes_camera *camera = &job->camera;
     float aspect = (float)cli->render.width / (float)cli->render.height;
-    if (!cli->has_camera)
+    if (!cli->has_camera) {
+        note_framing(scene, job->framing_note, sizeof job->framing_note);
         return reyes_camera_frame(scene, cli->fov_deg, aspect, camera, error);
+    }
     for (int k = 0; k < 3; ++k) {
         camera->eye[k] = cli->camera[k];
         camera->at[k] = cli->camera[3 + k];
@@ -47,6 +69,7 @@ reyes_status reyes_job_init(reyes_job *job, const reyes_cli *cli, reyes_error *e
     job->options.bucket_source = NULL;
     job->options.device = NULL;
     job->output = cli->output;
+    job->models = cli->models;
     job->frames = cli->frames;
     job->orbit_deg = cli->orbit_given ? cli->orbit_deg : 0.0f;
     /* A turntable unless the frames follow a motion. */
@@ -56,9 +79,9 @@ reyes_status reyes_job_init(reyes_job *job, const reyes_cli *cli, reyes_error *e
         job->orbit_deg = 360.0f;
     reyes_status status = reyes_options_check(&job->options, error);
     if (status == REYES_OK)
-        status = build_scene(cli, &job->scene, error);
+        status = build_scene(cli, job, error);
     if (status == REYES_OK)
-        status = choose_camera(cli, &job->scene, &job->camera, error);
+        status = choose_camera(cli, job, error);
     if (status != REYES_OK)
         return status;
     unsigned bw = bucket_side(job->options.bucket_width, job->options.width);
@@ -69,9 +92,30 @@ reyes_status reyes_job_init(reyes_job *job, const reyes_cli *cli, reyes_error *e
     return REYES_OK;
 }
 
+void reyes_job_print_notes(const reyes_job *job, FILE *out)
+{
+    if (job->framing_note[0])
+        fprintf(out, "reyes-render: note: %s\n", job->framing_note);
+}
+
+reyes_status reyes_job_check_outputs(const reyes_job *job, const char *stats_path, reyes_error *error)
+{
+    char path[4200];
+    if (job->frames)
+        reyes_job_frame_path(job, 0, path, sizeof path);
+    else
+        snprintf(path, sizeof path, "%s", job->output);
+    reyes_status status = reyes_check_output(path, job->frames ? "--frames" : "--output", error);
+    if (status == REYES_OK && stats_path)
+        status = reyes_check_output(stats_path, "--stats", error);
+    return status;
+}
+
 void reyes_job_free(reyes_job *job)
 {
     reyes_scene_free(&job->scene);
+    free(job->model_end);
+    job->model_end = NULL;
 }
 
 void reyes_job_bucket_rect(const reyes_job *job, unsigned item, unsigned rect[4])

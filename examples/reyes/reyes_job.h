@@ -9,6 +9,7 @@
 #define REYES_JOB_H
 
 #include <stdint.h>
+#include <stdio.h>
 
 #include "reyes_cli.h"
 
@@ -21,12 +22,27 @@ typedef struct reyes_job {
     float orbit_deg;           /* frames: the camera's turn over all frames */
     unsigned items;            /* buckets, or frames */
     unsigned bucket_columns;   /* of the image (1 unbucketed) */
+    /* Model m (of the command line's) is patches [model_end[m - 1],
+     * model_end[m]) of the scene (from 0 for the first); 0 models: the
+     * built-in scene. */
+    const char **models;
+    size_t model_count;
+    size_t *model_end;
+    char framing_note[256];    /* what automatic framing left out, for the user ("" if nothing) */
 } reyes_job;
 
 /* Build the job of a command line: the scene (models or the built-in
  * one), the camera, the items.  Free with reyes_job_free. */
 reyes_status reyes_job_init(reyes_job *job, const reyes_cli *cli, reyes_error *error);
 void reyes_job_free(reyes_job *job);
+
+/* Print what the user should know about the job (what framing left out). */
+void reyes_job_print_notes(const reyes_job *job, FILE *out);
+
+/* Whether the job's files can be written (the image, or the first frame,
+ * and stats_path if not NULL), checked before rendering: a bad path fails
+ * at once, not after the work. */
+reyes_status reyes_job_check_outputs(const reyes_job *job, const char *stats_path, reyes_error *error);
 
 /* Pixels [x0,x1) x [y0,y1) of bucket `item` (bucket jobs). */
 void reyes_job_bucket_rect(const reyes_job *job, unsigned item, unsigned rect[4]);

@@ -1,5 +1,4 @@
 /* Summaries of scale-out renders (reyes_report.h). */
-#include <errno.h>
 #include <inttypes.h>
 #include <string.h>
 
@@ -65,21 +64,25 @@ static void json_numbers(FILE *out, const char *name, const double *values, cons
     fprintf(out, "]");
 }
 
-reyes_status reyes_report_save_json(const char *path, const reyes_pool *pool,
-                                    const reyes_work_report *reports, unsigned count,
-                                    double seconds, reyes_error *error)
+typedef struct report_output {
+    const reyes_pool *pool;
+    const reyes_work_report *reports;
+    unsigned count;
+    double seconds;
+} report_output;
+
+static reyes_status write_json(FILE *out, const void *data, reyes_error *error)
 {
+    const report_output *o = data;
+    const reyes_pool *pool = o->pool;
     const reyes_job *job = pool->job;
-    FILE *out = fopen(path, "w");
-    if (!out)
-        return reyes_fail(error, REYES_ERR_IO, "cannot write '%s': %s", path, strerror(errno));
     fprintf(out, "{\n  \"width\": %u, \"height\": %u, \"patches_in\": %zu,\n", job->options.width,
             job->options.height, job->scene.patch_count);
     fprintf(out, "  \"bucket_width\": %u, \"bucket_height\": %u, \"frames\": %u, \"items\": %u,\n",
             job->options.bucket_width, job->options.bucket_height, job->frames, job->items);
-    fprintf(out, "  \"seconds\": %.6f,\n  \"renderers\": [\n", seconds);
-    for (unsigned k = 0; k < count; ++k) {
-        const reyes_work_report *r = &reports[k];
+    fprintf(out, "  \"seconds\": %.6f,\n  \"renderers\": [\n", o->seconds);
+    for (unsigned k = 0; k < o->count; ++k) {
+        const reyes_work_report *r = &o->reports[k];
         fprintf(out, "    {\"rank\": %d, \"device\": ", r->rank);
         json_string(out, r->device);
         fprintf(out, ", \"summary\": ");
@@ -87,14 +90,36 @@ reyes_status reyes_report_save_json(const char *path, const reyes_pool *pool,
         fprintf(out, ", \"items\": %u, \"seconds\": %.6f, \"create_seconds\": %.6f, \"first_seconds\": %.6f, "
                      "\"grids\": %" PRIu64 ", \"micropolygons\": %" PRIu64 ", \"samples_written\": %" PRIu64 "}%s\n",
                 r->items, r->seconds, r->create_seconds, r->first_seconds, r->grids, r->micropolygons,
-                r->samples_written, k + 1 < count ? "," : "");
+                r->samples_written, k + 1 < o->count ? "," : "");
     }
     fprintf(out, "  ]");
     json_numbers(out, "item_renderer", NULL, pool->renderer, job->items);
     json_numbers(out, "item_seconds", pool->render_seconds, NULL, job->items);
     json_numbers(out, "item_turnaround", pool->turnaround, NULL, job->items);
     fprintf(out, "\n}\n");
-    if (fclose(out) != 0)
-        return reyes_fail(error, REYES_ERR_IO, "cannot write '%s': %s", path, strerror(errno));
+    (void)error; /* a failed write is reported by the output file */
     return REYES_OK;
+}
+
+reyes_status reyes_report_write_outputs(const reyes_pool *pool, const reyes_work_report *reports, unsigned count,
+                                        double seconds, const char *stats_path, reyes_error *error)
+{
+    const report_output report = { pool, reports, count, seconds };
+    reyes_output_file files[2];
+    size_t n = 0;
+    if (!pool->job->frames)
+        files[n++] = (reyes_output_file){ pool->job->output, reyes_png_writer, &pool->image };
+    if (stats_path)
+        files[n++] = (reyes_output_file){ stats_path, write_json, &report };
+    reyes_status status = reyes_write_outputs(files, n, error);
+    if (status != REYES_OK && pool->job->frames && error) {
+        /* The frames were written as they came: say so. */
+        char first[4200], last[4200];
+        reyes_job_frame_path(pool->job, 0, first, sizeof first);
+        reyes_job_frame_path(pool->job, pool->job->frames - 1, last, sizeof last);
+        size_t used = strlen(error->message);
+        snprintf(error->message + used, sizeof error->message - used, "; the %u frames %s .. %s were written",
+                 pool->job->frames, first, last);
+    }
+    return status;
 }

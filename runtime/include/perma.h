@@ -85,6 +85,7 @@ extern "C" {
 #define PERMA_MAX_PROCEDURES 64
 #define PERMA_MAX_BUFFERS 32
 #define PERMA_MAX_QUEUED_ITEMS ((size_t)1 << 30) /* most items one queue holds (seeds included) */
+#define PERMA_MAX_LOCAL_QUEUE_ITEMS 4096 /* most perma_schedule.local_queue_items */
 #define PERMA_MESSAGE_MAX 1024
 
 typedef enum perma_status {
@@ -114,6 +115,7 @@ typedef struct perma_error {
 
 typedef struct perma_runtime perma_runtime;
 typedef int perma_proc; /* procedure handle returned by perma_register */
+struct perma_progress;  /* a run's progress (below) */
 
 /* How the work is executed.  Every technique runs the same procedure
  * sources and gives the same results. */
@@ -171,7 +173,8 @@ typedef struct perma_schedule {
     perma_victim victim;            /* stealing strategies only: how a thief picks */
     /* Megakernel only: items per procedure in a per-group front queue in
      * __local memory, in front of the global queues (spilling when full);
-     * 0 = none. */
+     * 0 = none, at most PERMA_MAX_LOCAL_QUEUE_ITEMS (the device's __local
+     * memory may allow fewer: perma_create says so). */
     unsigned local_queue_items;
     /* Bounded batches only: most items taken per host iteration; 0 = 4096. */
     unsigned batch_limit;
@@ -253,16 +256,23 @@ typedef struct perma_config {
      * longer than this counts as stuck: raise it for such procedures.
      *
      * When either limit passes, the watchdog asks every work-group to stop
-     * and gives the kernel 10 s (the grace period) to do so.  A procedure
-     * that never returns cannot be stopped: the run then fails saying so,
-     * and the runtime can no longer be used (every call that uses the
-     * device returns PERMA_ERR_STATE; perma_destroy frees what it can).
-     * OpenCL cannot end a running kernel, so the stuck kernel keeps its
-     * compute unit busy until the process exits.  With Intel's OpenCL CPU
-     * runtime, exit() (and returning from main) then waits for that kernel
-     * forever: end such a process with _exit() or a signal. */
+     * and gives the kernel 10 s (the grace period) to do so; a procedure
+     * with a long loop sees the request through perma_stop_requested(ctx)
+     * (docs/writing-procedures.md).  A procedure that never returns cannot
+     * be stopped: the run then fails saying so, and the runtime can no
+     * longer be used (every call that uses the device returns
+     * PERMA_ERR_STATE, perma_cl_queue returns NULL; perma_destroy frees
+     * what it can).  OpenCL cannot end a running kernel, so the stuck
+     * kernel keeps its compute unit busy until the process exits; the
+     * process exits normally (the runtime's command queue is released so
+     * that Intel's OpenCL CPU runtime does not wait for it at exit). */
     double stall_limit;
-    /* Cap on the __local memory one group uses; 0 = the device's size. */
+    /* Cap on the __local memory one group uses; 0 = the device's size, or
+     * the PERMA_LOCAL_MEMORY_LIMIT environment variable if set (bytes, or
+     * with a K or M suffix KiB or MiB, e.g. PERMA_LOCAL_MEMORY_LIMIT=32K:
+     * try a program under a smaller device's limit, OpenCL's minimum being
+     * 32 KiB; a malformed value fails perma_create naming it).
+     * perma_get_local_memory tells what a group may use. */
     size_t local_memory_limit;
     /* Extra options for clBuildProgram, e.g. "-DTHRESHOLD=8"; may be NULL. */
     const char *build_options;
@@ -285,11 +295,23 @@ typedef struct perma_config {
      * every run writes its batches as Chrome trace events (JSON, viewable
      * in Perfetto or chrome://tracing): one track per work-group, one event
      * per batch with procedure, items and kind (run, steal, local,
-     * donate).  Megakernel events use a logical clock (one tick per batch
-     * start or end); host-driven steps use host time. */
+     * donate).  Every run of the process stays in the file, one track
+     * group ("process") per run, on one time line: host microseconds since
+     * the process's first traced run.  Host-driven steps are timed on the
+     * host; the megakernel's batches by ticks of a device-side counter
+     * that the host reads against its clock while the kernel runs (within
+     * about a millisecond where the device shares memory with the host).
+     * runtime/tools/trace_to_svg.py summarises and draws the file. */
     const char *trace_path;
     /* Most events recorded per work-group and launch; 0 = 65536. */
     unsigned trace_events;
+    /* Progress (see perma_progress below): if set, called from the thread
+     * in perma_run when a run starts, at most every progress_interval
+     * seconds while it runs (0 = 0.5), and once when it ends, successfully
+     * or not. */
+    void (*progress)(void *user, const struct perma_progress *progress);
+    void *progress_user;
+    double progress_interval;
 } perma_config;
 
 /* Fill *config with the defaults described above. */
@@ -349,6 +371,16 @@ void perma_destroy(perma_runtime *rt);
  * so) every call that uses the device fails with PERMA_ERR_STATE. */
 const char *perma_errmsg(const perma_runtime *rt);
 
+/* Whether a buffer of `bytes` for `what` (named in the message, e.g. "the
+ * sample buffer") fits before it is created: not above the device's
+ * largest allocation and, on a CPU device, whose buffers are the
+ * process's memory, within the process's limits (ulimit -v, ulimit -d)
+ * with room left for the driver.  PERMA_ERR_NO_MEMORY naming what, its
+ * size and the limit otherwise.  The runtime checks its own buffers so;
+ * call it before clCreateBuffer on perma_cl_context() (an OpenCL driver
+ * may not survive an allocation that fails inside it). */
+perma_status perma_check_memory(perma_runtime *rt, size_t bytes, const char *what);
+
 /* The OpenCL context, device and queue the runtime uses (for user buffers). */
 cl_context perma_cl_context(const perma_runtime *rt);
 cl_device_id perma_cl_device(const perma_runtime *rt);
@@ -406,6 +438,80 @@ perma_status perma_bind_cl(perma_runtime *rt, const char *name, const char *type
 perma_status perma_bind_host(perma_runtime *rt, const char *name, const char *type,
                              void *host, size_t bytes, unsigned flags);
 
+/* ---- Typed host arrays --------------------------------------------------
+ * Bind a host array so that the device type and the byte count come from
+ * its one C declaration:
+ *
+ *     double weights[1024];
+ *     PERMA_BIND_HOST_ARRAY(rt, "weights", weights, PERMA_READ);
+ *         // = perma_bind_host(rt, "weights", "__global const double *",
+ *         //                   weights, sizeof weights, PERMA_READ)
+ *     struct pair *pairs = malloc(n * sizeof *pairs);
+ *     PERMA_BIND_HOST_POINTER(rt, "pairs", pairs, n, PERMA_READ_WRITE);
+ *
+ * The element type's OpenCL C name comes from PERMA_CL_TYPE_NAME (a
+ * _Generic over the C type): char (signed or unsigned as the host's char
+ * is), signed/unsigned char, short, int, long and long long (by size: 4
+ * bytes "int", 8 "long"), their unsigned forms, float, double (the device
+ * needs fp64: perma-info), and OpenCL's host vector types cl_float2/4/8/16,
+ * cl_double2/4, cl_int2/4, cl_uint2/4, cl_uchar4 (3-component ones are not
+ * listed: cl_float3 is cl_float4 on the host).  So int32_t is "int",
+ * uint64_t and size_t "ulong".  Struct types are named by the program:
+ * define PERMA_HOST_TYPE_NAMES as `TYPE: "OPENCL C NAME",` pairs before
+ * including perma.h, e.g.
+ *
+ *     #define PERMA_HOST_TYPE_NAMES struct pair: "struct pair",
+ *     #include <perma.h>
+ *
+ * (declare the struct for the device with perma_add_source).  Any other
+ * element type does not compile ("'_Generic' selector of type ... is not
+ * compatible with any association"), nor does PERMA_BIND_HOST_ARRAY given
+ * a pointer instead of an array (with GCC and Clang; elsewhere use
+ * PERMA_BIND_HOST_POINTER for pointers).  The pointer type is "__global
+ * const T *" for PERMA_READ alone, else "__global T *".  The generated
+ * program checks sizeof(T) on the device against the host's element size:
+ * a difference (a struct the device lays out otherwise) fails the build
+ * with PERMA_ERR_BUILD naming the buffer and both sizes. */
+perma_status perma_bind_host_array(perma_runtime *rt, const char *name, const char *element_type, void *host,
+                                   size_t count, size_t element_size, unsigned flags);
+
+#ifndef __cplusplus
+#ifndef PERMA_HOST_TYPE_NAMES
+#define PERMA_HOST_TYPE_NAMES
+#endif
+/* The OpenCL C name of the type of expression x (a string literal's
+ * value); a compile error for a type without one. */
+#define PERMA_CL_TYPE_NAME(x)                                                                 \
+    _Generic((x), PERMA_HOST_TYPE_NAMES                                                       \
+        char: (char)-1 < 0 ? "char" : "uchar", signed char: "char", unsigned char: "uchar",  \
+        short: "short", unsigned short: "ushort", int: "int", unsigned int: "uint",          \
+        long: sizeof(long) == 8 ? "long" : "int", unsigned long: sizeof(long) == 8 ? "ulong" : "uint", \
+        long long: "long", unsigned long long: "ulong", float: "float", double: "double",    \
+        cl_float2: "float2", cl_float4: "float4", cl_float8: "float8", cl_float16: "float16", \
+        cl_double2: "double2", cl_double4: "double4", cl_int2: "int2", cl_int4: "int4",       \
+        cl_uint2: "uint2", cl_uint4: "uint4", cl_uchar4: "uchar4")
+
+#if defined(__GNUC__) || defined(__clang__)
+/* Zero, or a compile error when `array` is a pointer rather than an array. */
+#define PERMA_ASSERT_ARRAY_(array)                                                            \
+    (0 * sizeof(struct {                                                                      \
+        _Static_assert(!__builtin_types_compatible_p(__typeof__(array), __typeof__(&(array)[0])), \
+                       "PERMA_BIND_HOST_ARRAY needs an array; use PERMA_BIND_HOST_POINTER for a pointer"); \
+        int perma_unused_;                                                                    \
+    }))
+#else
+#define PERMA_ASSERT_ARRAY_(array) 0
+#endif
+
+#define PERMA_BIND_HOST_ARRAY(rt, name, array, flags)                                         \
+    perma_bind_host_array((rt), (name), PERMA_CL_TYPE_NAME((array)[0]), (array),              \
+                          sizeof(array) / sizeof((array)[0]) + PERMA_ASSERT_ARRAY_(array),    \
+                          sizeof((array)[0]), (flags))
+#define PERMA_BIND_HOST_POINTER(rt, name, pointer, count, flags)                              \
+    perma_bind_host_array((rt), (name), PERMA_CL_TYPE_NAME(*(pointer)), (pointer), (count),   \
+                          sizeof(*(pointer)), (flags))
+#endif
+
 /* Generate and compile the megakernel now (perma_run does it when needed),
  * including the driver's compile at the first launch.  A compile error in a
  * procedure reports the procedure's file and line; the build also checks
@@ -413,6 +519,26 @@ perma_status perma_bind_host(perma_runtime *rt, const char *name, const char *ty
  * cycles are ordered by priority.  Item types that something emits must be
  * declared in a shared source (perma_add_source). */
 perma_status perma_build(perma_runtime *rt);
+
+/* Where the last perma_build got its program: compiled from source, or
+ * loaded from the disk cache of compiled programs (PERMA_CACHE_DIR; see
+ * README).  Processes that build the same program at once, e.g. the ranks
+ * of a farm sharing a cache directory, compile it once: the others wait
+ * for that build (wait_seconds) and load it. */
+typedef enum perma_program_origin {
+    PERMA_PROGRAM_NOT_BUILT = 0,
+    PERMA_PROGRAM_COMPILED,    /* from source */
+    PERMA_PROGRAM_CACHED       /* from the disk cache */
+} perma_program_origin;
+
+typedef struct perma_build_info {
+    perma_program_origin origin;
+    double seconds;            /* perma_build's time: compile or load, and the warm-up launch */
+    double wait_seconds;       /* part of it spent waiting for another process's build */
+    int stored;                /* the compiled program was stored in the disk cache */
+} perma_build_info;
+
+perma_status perma_get_build_info(perma_runtime *rt, perma_build_info *out);
 
 /* Queue `count` items of procedure `proc` (item_size bytes each) for the next
  * run.  Checked before anything is copied: PERMA_ERR_ARGUMENT if the
@@ -499,6 +625,12 @@ perma_status perma_get_procedure_stats(perma_runtime *rt, perma_proc proc, perma
  * both. */
 perma_status perma_get_work_groups(perma_runtime *rt, unsigned *work_groups, unsigned *group_size);
 
+/* The __local memory one work-group may use, in bytes, from perma_create
+ * on: the device's CL_DEVICE_LOCAL_MEM_SIZE, or config.local_memory_limit
+ * (PERMA_LOCAL_MEMORY_LIMIT) when that is lower.  A batch's items, their
+ * scratch and their worst-case emits must fit it (perma_batch_cut). */
+perma_status perma_get_local_memory(perma_runtime *rt, size_t *bytes);
+
 /* Counters of persistent group `group` (0..work_groups-1) in the last run;
  * all zero for the host-driven techniques. */
 perma_status perma_get_group_stats(perma_runtime *rt, unsigned group, perma_group_stats *out);
@@ -508,8 +640,82 @@ perma_status perma_get_group_stats(perma_runtime *rt, unsigned group, perma_grou
  * declaration responsible. */
 void perma_print_stats(perma_runtime *rt, FILE *out);
 
+/* ---- Progress -------------------------------------------------------------
+ * What a run has done so far, for a progress display.  Two ways to get it:
+ * config.progress, a callback called from perma_run's thread (at the start
+ * of a run, at most every config.progress_interval seconds while it runs,
+ * and at its end), or perma_get_progress from any thread at any time.
+ * Both give a copy of the same snapshot, which the runtime takes from the
+ * watch page the watchdog reads (docs/design.md, Progress) while a kernel
+ * runs, and makes exact from the statistics after each launch: at the end
+ * of a run, completed equals perma_procedure_stats.items, procedure by
+ * procedure, and queued is 0.  Counts never decrease within a run.  On a
+ * device that does not share memory with the host (a discrete GPU) they
+ * move only between launches (`live` is 0).  A callback runs on the thread
+ * that watches the kernel, while it runs: keep it short, and call no other
+ * perma function on the runtime than perma_get_progress. */
+typedef struct perma_procedure_progress {
+    const char *name;
+    uint64_t completed;     /* items executed so far in this run */
+    uint64_t queued;        /* items seeded or emitted into it and not yet completed (waiting or
+                               running); between launches exact, while a kernel runs an estimate */
+} perma_procedure_progress;
+
+typedef struct perma_progress {
+    unsigned run;           /* runs this runtime started: 1 during and after the first */
+    int running;            /* 1 from the start of perma_run (after the build) to its end */
+    double elapsed;         /* seconds since the run started (its perma_stats.seconds at the end) */
+    unsigned launches;      /* kernels launched so far: the megakernel's launches, or the host steps */
+    int live;               /* 1: the counts move while a kernel runs; 0: only between launches */
+    uint64_t completed;     /* sums over the procedures */
+    uint64_t queued;
+    unsigned procedure_count;
+    perma_procedure_progress procedures[PERMA_MAX_PROCEDURES]; /* by perma_proc */
+} perma_progress;
+
+/* The progress of the current (or last) run of rt, from any thread.  Does
+ * not change perma_errmsg.  PERMA_ERR_ARGUMENT if rt or out is NULL.
+ * Before the first run everything is 0.  While a kernel runs the counts
+ * are sampled at least every 50 ms, once any progress was asked for (a
+ * callback, or a first call of this function). */
+perma_status perma_get_progress(perma_runtime *rt, perma_progress *out);
+
 /* Description of the device and the chosen work-group count, one line. */
 const char *perma_device_summary(const perma_runtime *rt);
+
+/* ---- Output files ----
+ * Files written whole or not at all (the trace here; images, statistics
+ * and CSV in the renderer and the benchmarks): the writer fills a stream
+ * on a new temporary file in the target's directory, and only a complete,
+ * synced file is renamed over the target.  On failure the temporary file
+ * is removed, a file that was there before is unchanged, and the message
+ * names the path and the reason ("No space left on device").  A symbolic
+ * link to a regular file is kept (its target is replaced); a path that is
+ * there and is not a regular file (/dev/null, a named pipe) is written in
+ * place.  Linux (glibc or musl: fopencookie). */
+typedef struct perma_output perma_output;
+
+/* Whether `path` can be written, without writing it: not a directory, not
+ * a read-only file, and its directory takes a new file (one is created and
+ * removed).  For a check before long work whose result goes there. */
+perma_status perma_output_check(const char *path, perma_error *error);
+
+/* Start writing `path`; write to perma_output_stream(*out). */
+perma_status perma_output_open(const char *path, perma_output **out, perma_error *error);
+FILE *perma_output_stream(perma_output *out);
+
+/* Flush, sync and close the file, which is complete but not yet in place:
+ * a writer of several files finishes each before committing any.  On
+ * failure (a write failed now or earlier) the output is discarded and
+ * freed. */
+perma_status perma_output_finish(perma_output *out, perma_error *error);
+
+/* Finish (if not yet) and rename the file into place; frees `out`, also
+ * on failure, which leaves the target as it was. */
+perma_status perma_output_commit(perma_output *out, perma_error *error);
+
+/* Give up: remove the temporary file and free `out` (NULL is fine). */
+void perma_output_discard(perma_output *out);
 
 #ifdef __cplusplus
 }

@@ -22,6 +22,7 @@ _Static_assert(offsetof(perma_ctl_block, queues) == 4 * PERMA_CTL_HEADER_WORDS,
  * number in the compiler's message says which one it was. */
 #define STRUCT_CHECKS_FILE "perma-abi-checks"
 #define ITEM_CHECKS_FILE "perma-item-size-checks"
+#define ELEMENT_CHECKS_FILE "perma-buffer-element-checks"
 
 /* One layout fact: sizeof(type) (member NULL) or offsetof(type, member) on
  * the host, in bytes. */
@@ -79,6 +80,27 @@ void perma_abi_append_item_checks(const perma_runtime *rt, perma_strbuf *sb)
     end_checks(sb);
 }
 
+/* Line b + 1 of ELEMENT_CHECKS_FILE checks the element size of buffer b,
+ * if it was bound with one (perma_bind_host_array). */
+void perma_abi_append_element_checks(const perma_runtime *rt, perma_strbuf *sb)
+{
+    bool any = false;
+    for (unsigned b = 0; b < rt->buffer_count; ++b)
+        any = any || rt->buffers[b].element_size != 0;
+    if (!any)
+        return;
+    begin_checks(sb, ELEMENT_CHECKS_FILE);
+    for (unsigned b = 0; b < rt->buffer_count; ++b) {
+        const perma_buffer_binding *binding = &rt->buffers[b];
+        if (binding->element_size)
+            perma_strbuf_printf(sb, "PERMA_ABI_CHECK(perma_element_size_of_%s, %zu, sizeof(%s))\n", binding->name,
+                                binding->element_size, binding->element_type);
+        else
+            perma_strbuf_append(sb, "\n");
+    }
+    end_checks(sb);
+}
+
 /* In `line`, the check number after "FILE:" and the two sizes of
  * "'char[DEVICE]' vs 'char[HOST]'"; false if the line has not all three. */
 static bool parse_failed_check(const char *line, const char *file, unsigned *check, unsigned long *device,
@@ -113,6 +135,15 @@ bool perma_abi_explain_log(const perma_runtime *rt, const char *log, char *out, 
             snprintf(out, size, "procedure '%s': item_size is %zu bytes, but sizeof(%s) is %lu bytes on the device "
                                 "(.item_size must be the size of the item type as the device compiles it)",
                      p->name, p->item_size, p->item_type, device);
+            return true;
+        }
+        if (parse_failed_check(text, ELEMENT_CHECKS_FILE, &check, &device, &host) && check >= 1 &&
+            check <= rt->buffer_count) {
+            const perma_buffer_binding *b = &rt->buffers[check - 1];
+            snprintf(out, size, "buffer '%s': its host elements are %zu bytes (PERMA_BIND_HOST_ARRAY), but "
+                                "sizeof(%s) is %lu bytes on the device (declare the type alike on both sides, "
+                                "and mind float3 and alignment)",
+                     b->name, b->element_size, b->element_type, device);
             return true;
         }
         if (parse_failed_check(text, STRUCT_CHECKS_FILE, &check, &device, &host) && check >= 1 &&

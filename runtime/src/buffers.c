@@ -1,6 +1,8 @@
 /* User buffers, passed to the megakernel as arguments. */
 #include "internal.h"
 
+#include <stdio.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -75,12 +77,12 @@ perma_status perma_bind_cl(perma_runtime *rt, const char *name, const char *type
     return PERMA_OK;
 }
 
-perma_status perma_bind_host(perma_runtime *rt, const char *name, const char *type,
-                             void *host, size_t bytes, unsigned flags)
+/* Bind host memory under `name` for the public call `call`; *out: the
+ * binding. */
+static perma_status bind_host(perma_runtime *rt, const char *call, const char *name, const char *type, void *host,
+                              size_t bytes, unsigned flags, perma_buffer_binding **out)
 {
-    if (!rt)
-        return PERMA_ERR_ARGUMENT;
-    perma_status begun = perma_call_begin(rt, "perma_bind_host", true);
+    perma_status begun = perma_call_begin(rt, call, true);
     if (begun != PERMA_OK)
         return begun;
     if (!host || bytes == 0)
@@ -94,12 +96,72 @@ perma_status perma_bind_host(perma_runtime *rt, const char *name, const char *ty
     perma_status st = binding_for(rt, name, type, &b);
     if (st != PERMA_OK)
         return st;
+    char what[PERMA_NAME_MAX + 16];
+    snprintf(what, sizeof what, "buffer '%s'", b->name);
+    st = perma_check_memory(rt, bytes, what);
+    if (st != PERMA_OK)
+        return st;
     cl_int err;
     b->mem = clCreateBuffer(rt->context, CL_MEM_READ_WRITE, bytes, NULL, &err);
     PERMA_CL_CHECK(rt, "clCreateBuffer (user buffer)", err);
     b->host = host;
     b->bytes = bytes;
     b->flags = flags;
+    *out = b;
+    return PERMA_OK;
+}
+
+perma_status perma_bind_host(perma_runtime *rt, const char *name, const char *type,
+                             void *host, size_t bytes, unsigned flags)
+{
+    if (!rt)
+        return PERMA_ERR_ARGUMENT;
+    perma_buffer_binding *b;
+    return bind_host(rt, "perma_bind_host", name, type, host, bytes, flags, &b);
+}
+
+/* The typed binding (PERMA_BIND_HOST_ARRAY): the pointer type is made from
+ * the element type, and the build checks the element's size on the device
+ * (abi.c). */
+perma_status perma_bind_host_array(perma_runtime *rt, const char *name, const char *element_type, void *host,
+                                   size_t count, size_t element_size, unsigned flags)
+{
+    if (!rt)
+        return PERMA_ERR_ARGUMENT;
+    perma_call_begin(rt, "perma_bind_host_array", false);
+    const char *shown = name ? name : "(null)";
+    if (!element_type || !*element_type || strpbrk(element_type, "*;{}[]()\n"))
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT,
+                               "buffer '%s': element type '%s' is not an OpenCL C type name such as 'float' or "
+                               "'struct pair'", shown, element_type ? element_type : "(null)");
+    if (count == 0 || element_size == 0 || count > SIZE_MAX / element_size)
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT, "buffer '%s': %zu elements of %zu bytes is not a size",
+                               shown, count, element_size);
+    char type[PERMA_NAME_MAX + 64];
+    int length = snprintf(type, sizeof type, "__global %s%s *", flags == PERMA_READ ? "const " : "", element_type);
+    if (length < 0 || (size_t)length >= sizeof type)
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT, "buffer '%s': element type '%s' is too long", shown,
+                               element_type);
+    perma_buffer_binding *b;
+    perma_status st = bind_host(rt, "perma_bind_host_array", name, type, host, count * element_size, flags, &b);
+    if (st != PERMA_OK)
+        return st;
+    if (b->element_size && b->element_size != element_size)
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT,
+                               "buffer '%s' was bound with elements of %zu bytes and cannot be rebound with %zu",
+                               shown, b->element_size, element_size);
+    if (!b->element_size) {
+        /* Only a new binding's size is compiled into a program's checks. */
+        if (rt->built) {
+            perma_release_program(rt);
+            rt->built = false;
+        }
+        free(b->element_type);
+        b->element_type = strdup(element_type);
+        if (!b->element_type)
+            return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory binding '%s'", shown);
+        b->element_size = element_size;
+    }
     return PERMA_OK;
 }
 

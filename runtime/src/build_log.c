@@ -7,6 +7,8 @@
  * "FILE:LINE:COL: warning: TEXT"). */
 #include "internal.h"
 
+#include <stdarg.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -111,4 +113,19 @@ unsigned perma_build_log_show(perma_runtime *rt, const char *log, bool failed)
     perma_strbuf_free(&warnings);
     perma_strbuf_free(&sb);
     return count;
+}
+
+void perma_notice(perma_runtime *rt, const char *fmt, ...)
+{
+    char text[PERMA_MESSAGE_MAX];
+    va_list ap;
+    va_start(ap, fmt);
+    int n = vsnprintf(text, sizeof text - 1, fmt, ap);
+    va_end(ap);
+    if (n < 0)
+        return;
+    size_t used = (size_t)n < sizeof text - 1 ? (size_t)n : sizeof text - 2;
+    text[used] = '\n';
+    text[used + 1] = '\0';
+    emit(rt, text);
 }

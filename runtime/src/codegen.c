@@ -96,8 +96,8 @@ static void append_buffers(perma_runtime *rt, perma_strbuf *sb)
     perma_strbuf_append(sb, "typedef struct perma_buffers {\n");
     for (unsigned i = 0; i < rt->buffer_count; ++i)
         perma_strbuf_printf(sb, "    %s %s;\n", rt->buffers[i].type, rt->buffers[i].name);
-    if (rt->buffer_count == 0)
-        perma_strbuf_append(sb, "    int perma_no_buffers;\n");
+    /* The watch page, for perma_stop_requested (kernels/perma_prelude.cl). */
+    perma_strbuf_append(sb, "    volatile __global uint *perma_watch_page;\n");
     perma_strbuf_append(sb, "} perma_buffers;\n");
 }
 
@@ -109,9 +109,7 @@ static void append_kernel_params(perma_runtime *rt, perma_strbuf *sb)
     perma_strbuf_append(sb, "\n#define PERMA_BIND_BUFFERS(b) do {");
     for (unsigned i = 0; i < rt->buffer_count; ++i)
         perma_strbuf_printf(sb, " (b).%s = perma_arg_%s;", rt->buffers[i].name, rt->buffers[i].name);
-    if (rt->buffer_count == 0)
-        perma_strbuf_append(sb, " (b).perma_no_buffers = 0;");
-    perma_strbuf_append(sb, " } while (0)\n");
+    perma_strbuf_append(sb, " (b).perma_watch_page = abort_flag; } while (0)\n");
 }
 
 /* One emit helper per procedure that something emits into. */
@@ -281,6 +279,7 @@ perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *sb)
     append_procedure_sources(rt, sb);
     perma_strbuf_append(sb, "#ifdef PERMA_PROFILE_PHASES\n#pragma clang attribute pop\n#endif\n");
     perma_abi_append_item_checks(rt, sb);
+    perma_abi_append_element_checks(rt, sb);
     resume_generated(sb);
     append_kernel_params(rt, sb);
     perma_strbuf_append(sb, perma_kernel_batch);

@@ -97,12 +97,15 @@ perma_status perma_device_open(perma_runtime *rt)
     if (device_index < 0)
         device_index = 0;
 
+    char message[PERMA_MESSAGE_MAX];
+    if (!perma_memory_driver_fits(message, sizeof message, true))
+        return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "%s", message);
     cl_uint platform_count = 0;
     cl_int err = clGetPlatformIDs(0, NULL, &platform_count);
-    if (err == -1001 /* CL_PLATFORM_NOT_FOUND_KHR */ || (err == CL_SUCCESS && platform_count == 0))
-        return perma_set_error(rt, PERMA_ERR_NO_PLATFORM,
-                               "no OpenCL platform found; install an OpenCL driver, e.g. "
-                               "'apt-get install pocl-opencl-icd'");
+    if (err == -1001 /* CL_PLATFORM_NOT_FOUND_KHR */ || (err == CL_SUCCESS && platform_count == 0)) {
+        perma_no_platform_message(message, sizeof message);
+        return perma_set_error(rt, PERMA_ERR_NO_PLATFORM, "%s", message);
+    }
     PERMA_CL_CHECK(rt, "clGetPlatformIDs", err);
     if (!platform_name[0] && (cl_uint)platform_index >= platform_count)
         return perma_set_error(rt, PERMA_ERR_NO_DEVICE,

@@ -158,10 +158,14 @@ typedef struct device_table {
 
 static perma_status load_table(device_table *t, perma_error *error)
 {
+    char message[PERMA_MESSAGE_MAX];
+    if (!perma_memory_driver_fits(message, sizeof message, false))
+        return fail(error, PERMA_ERR_NO_MEMORY, "%s", message);
     cl_int err = clGetPlatformIDs(0, NULL, &t->platform_count);
-    if (err == -1001 /* CL_PLATFORM_NOT_FOUND_KHR */ || (err == CL_SUCCESS && t->platform_count == 0))
-        return fail(error, PERMA_ERR_NO_PLATFORM, "no OpenCL platform found; install an OpenCL "
-                                                  "driver, e.g. 'apt-get install pocl-opencl-icd'");
+    if (err == -1001 /* CL_PLATFORM_NOT_FOUND_KHR */ || (err == CL_SUCCESS && t->platform_count == 0)) {
+        perma_no_platform_message(message, sizeof message);
+        return fail(error, PERMA_ERR_NO_PLATFORM, "%s", message);
+    }
     if (err != CL_SUCCESS)
         return fail(error, PERMA_ERR_OPENCL, "clGetPlatformIDs failed: %s (%d)",
                     perma_cl_error_name(err), (int)err);

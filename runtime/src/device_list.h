@@ -18,6 +18,10 @@ typedef struct perma_device_entry {
     int part;          /* K of "P:D/N.K"; -1: all N parts */
 } perma_device_entry;
 
+/* The message for no platform at all (platform_missing.c): install a
+ * driver, or why the registered ones did not load. */
+void perma_no_platform_message(char *out, size_t size);
+
 /* Most equal sub-devices an entry may ask for. */
 #define PERMA_MAX_SUB_DEVICES 1024u
 

@@ -29,8 +29,11 @@ static perma_status prepare(perma_runtime *rt)
 static perma_status launch(perma_runtime *rt, double deadline, perma_launch_outcome *outcome)
 {
     perma_status st = perma_state_bind(rt, rt->kernel, PERMA_MEGAKERNEL_USER_ARGS);
-    if (st == PERMA_OK)
-        st = perma_launch_watched(rt, rt->kernel, global_size(rt), rt->group_size, deadline);
+    if (st != PERMA_OK)
+        return st;
+    perma_trace_launch_begins(rt, perma_now());
+    st = perma_launch_watched(rt, rt->kernel, global_size(rt), rt->group_size, deadline);
+    perma_trace_launch_ends(rt, perma_now());
     if (st != PERMA_OK)
         return st;
     outcome->launches = 1;

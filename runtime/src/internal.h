@@ -84,6 +84,11 @@ typedef struct perma_buffer_binding {
     void *host;      /* perma_bind_host: memory copied in and/or out */
     size_t bytes;
     unsigned flags;
+    /* perma_bind_host_array: the element type and its size on the host,
+     * checked against the device's when the program is built; NULL, 0
+     * for the other bindings. */
+    char *element_type;
+    size_t element_size;
 } perma_buffer_binding;
 
 /* A device buffer and its size. */
@@ -111,6 +116,7 @@ typedef struct perma_device_state {
     perma_device_buffer relayout; /* a regrowth's perma_relayout_records */
     cl_mem abort_mem;             /* the watch page (kernels/perma_abi.h): the abort */
     uint32_t *abort_flag;         /* flag, each group's progress; page-aligned host memory */
+    size_t watch_bytes;           /* its size (whole pages) */
     perma_queue_state *queues;    /* queue_count entries, index set * procs + proc */
     unsigned queue_count;
     /* queues[].capacity are what the last run of this build grew to, and it
@@ -120,6 +126,7 @@ typedef struct perma_device_state {
 
 struct perma_executor;
 typedef struct perma_watchdog perma_watchdog;
+typedef struct perma_progress_state perma_progress_state;
 
 /* What the host-driven techniques keep between launches of a run
  * (steps.c). */
@@ -158,6 +165,7 @@ struct perma_runtime {
 
     /* Build products. */
     bool built;
+    perma_build_info build_info;   /* how the last build got its program */
     cl_program program;
     cl_kernel kernel;          /* perma_megakernel */
     cl_kernel step_kernel;     /* perma_step_kernel (host-driven techniques) */
@@ -174,8 +182,10 @@ struct perma_runtime {
     perma_device_state state;
     perma_group_stats *group_stats; /* work_groups entries */
     bool hung;                      /* a kernel ignored the watchdog; do not wait on it */
+    perma_runtime *next_hung;       /* runtime.c's list of the hung runtimes perma_destroy kept */
     bool grow_starved;              /* a group starved of room may stop a launch to grow queues */
     perma_watchdog *watchdog;       /* watchdog.c */
+    perma_progress_state *progress; /* progress.c */
     bool debug;                     /* PERMA_DEBUG: one group, -DPERMA_DEBUG */
 
     perma_stats stats;
@@ -185,8 +195,12 @@ struct perma_runtime {
     unsigned trace_events;          /* per group and launch */
     struct perma_trace_event *trace;
     size_t trace_count, trace_alloc;
-    double trace_clock_base;        /* logical ticks of earlier launches */
     double trace_start_time;        /* host time of the run's start */
+    /* The launch's trace clock as the host saw it (trace.c). */
+    struct perma_trace_sample *trace_samples;
+    size_t trace_sample_count, trace_sample_alloc;
+    bool trace_pending;             /* the clock showed the last sample's tick still at: */
+    double trace_pending_time;
 };
 
 typedef struct perma_trace_event {
@@ -194,8 +208,14 @@ typedef struct perma_trace_event {
     uint32_t proc;
     uint32_t kind;      /* 0 run, 1 steal, 2 local, 3 donate */
     uint32_t items;
-    double start, end;  /* microseconds (host) or ticks (logical) */
+    double start, end;  /* host time (perma_now) */
 } perma_trace_event;
+
+/* At host time `time` the trace clock (PERMA_WATCH_CLOCK) showed `tick`. */
+typedef struct perma_trace_sample {
+    double time;
+    uint32_t tick;
+} perma_trace_sample;
 
 /* Format the runtime's message and return `status`. */
 perma_status perma_set_error(perma_runtime *rt, perma_status status, const char *fmt, ...)
@@ -222,24 +242,50 @@ const char *perma_cl_error_name(cl_int code);
 
 /* program_cache.c: the disk cache of built programs.  An entry is one
  * build's key (everything its binary depends on) and file, worked out once
- * for both the load and the store; without a cache it is not usable and
- * both do nothing.  perma_cache_load gives the built program from the cache
- * (NULL: none); perma_cache_store stores a program built from source when
- * its build took long enough. */
+ * for the load, the lock and the store; without a cache it is not usable
+ * and they all do nothing.  perma_cache_load gives the built program from
+ * the cache (NULL: none; a damaged entry is removed with a notice).
+ * perma_cache_lock takes the entry's build lock, waiting (bounded) while
+ * another process or thread holds it: after it, load again before
+ * building.  perma_cache_store stores rt->program, built from source,
+ * when its build took enough CPU time (true: stored);
+ * perma_cache_entry_close lets go of the lock. */
 typedef struct perma_cache_entry {
     bool usable;
     perma_strbuf key;
     char dir[1024];
     char path[1100];
+    bool stores;          /* the implementation's programs are stored here (not PoCL's) */
+    int lock_fd;          /* the build lock while held; -1 otherwise */
+    double waited;        /* seconds perma_cache_lock waited */
 } perma_cache_entry;
 void perma_cache_entry_open(perma_runtime *rt, const char *source, const char *options, perma_cache_entry *entry);
 void perma_cache_entry_close(perma_cache_entry *entry);
 cl_program perma_cache_load(perma_runtime *rt, const perma_cache_entry *entry, const char *options);
-void perma_cache_store(cl_program program, const perma_cache_entry *entry, double build_seconds);
+bool perma_cache_lock(perma_cache_entry *entry);
+bool perma_cache_store(perma_runtime *rt, const perma_cache_entry *entry, double cpu_seconds);
 
 /* device.c */
 perma_status perma_device_open(perma_runtime *rt);
+
+/* The tighter of the process's memory limits (memory.c): false if none is set. */
+typedef struct perma_headroom {
+    size_t free, limit, used; /* bytes */
+    const char *name;         /* "address-space limit (ulimit -v)" */
+} perma_headroom;
+bool perma_memory_headroom(perma_headroom *out);
+/* False, with the message, if the limits leave less than the OpenCL
+ * driver needs to load, start and run at all (checked before the first
+ * OpenCL call of the process), or, for a `runtime` after the first, less
+ * than another runtime needs. */
+bool perma_memory_driver_fits(char *message, size_t size, bool runtime);
 void perma_device_close(perma_runtime *rt);
+
+/* environment.c: PERMA_LOCAL_MEMORY_LIMIT in bytes (0: unset); the
+ * __local memory one group may use (the device's, or the configured cap
+ * when lower). */
+perma_status perma_env_local_memory_limit(perma_runtime *rt, size_t *out);
+size_t perma_local_memory(const perma_runtime *rt);
 
 /* files.c: read a whole text file; the message names the path. */
 perma_status perma_read_text_file(perma_runtime *rt, const char *path, char **out);
@@ -249,6 +295,7 @@ bool perma_is_identifier(const char *s);
  * build log in which one failed (false when none did). */
 void perma_abi_append_struct_checks(perma_strbuf *sb);
 void perma_abi_append_item_checks(const perma_runtime *rt, perma_strbuf *sb);
+void perma_abi_append_element_checks(const perma_runtime *rt, perma_strbuf *sb);
 bool perma_abi_explain_log(const perma_runtime *rt, const char *log, char *out, size_t size);
 
 /* barriers.c: around the source of a procedure that is not .cooperative,
@@ -267,6 +314,9 @@ bool perma_build_log_diagnostic(const char *line, size_t length, const char *kin
  * PERMA_BUILD_LOG, to config.build_log or stderr.  Returns the number of
  * warnings (0 for a failed build). */
 unsigned perma_build_log_show(perma_runtime *rt, const char *log, bool failed);
+/* A one-line notice about the build (e.g. a damaged cache entry), to
+ * config.build_log or stderr; the newline is added. */
+void perma_notice(perma_runtime *rt, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 
 /* layout.c, codegen.c, program.c */
 perma_status perma_build_layout(perma_runtime *rt);
@@ -350,10 +400,16 @@ perma_status perma_state_ensure_input(perma_runtime *rt, size_t words);
 perma_status perma_state_bind(perma_runtime *rt, cl_kernel kernel, cl_uint first_user_arg);
 /* Ask every group of a running kernel to stop (the watchdog). */
 void perma_state_raise_abort(perma_runtime *rt);
+/* Whether the watchdog raised it during this launch (a host-driven run
+ * checks between its steps: a procedure that polls perma_stop_requested
+ * returns and its step completes). */
+bool perma_state_abort_raised(const perma_runtime *rt);
 /* What the watch page says while a kernel runs: the batches the groups
  * finished so far (a sum that moves while items complete), and in
  * running[0..procs) how many groups run a batch of each procedure. */
 uint64_t perma_state_watch(const perma_runtime *rt, unsigned *running, unsigned procs);
+/* Group `group`'s record on the watch page (PERMA_WATCH_RUNNING, ...). */
+const uint32_t *perma_state_watch_record(const perma_runtime *rt, unsigned group);
 
 /* watchdog.c: waiting for a kernel under the time limit and the stall
  * limit.  Past the deadline, or when no item completed anywhere for the
@@ -374,6 +430,18 @@ perma_status perma_watch_event(perma_runtime *rt, cl_event done, double deadline
  * limit, or the stall with the procedures that had items in flight. */
 perma_status perma_watchdog_stop_error(perma_runtime *rt);
 
+/* progress.c: the progress of a run (perma_get_progress, config.progress),
+ * told by the run loop and sampled by the watchdog from the watch page. */
+perma_status perma_progress_open(perma_runtime *rt);
+void perma_progress_close(perma_runtime *rt);
+void perma_progress_run_begins(perma_runtime *rt, double start); /* the seeds are uploaded */
+void perma_progress_launch_begins(perma_runtime *rt);            /* the watch page is cleared */
+void perma_progress_kernel_started(perma_runtime *rt);           /* a watched kernel is enqueued */
+void perma_progress_sample(perma_runtime *rt, double now);       /* while it runs */
+void perma_progress_launch_ends(perma_runtime *rt);              /* the statistics are collected */
+double perma_progress_stop_clock(perma_runtime *rt);             /* the run's seconds, as readers see them */
+void perma_progress_run_ends(perma_runtime *rt);                 /* the final statistics are in */
+
 /* outcome.c: the error of a launch's failure status (not DONE or
  * NEEDS_ROOM). */
 perma_status perma_outcome_error(perma_runtime *rt, const perma_ctl_header *outcome);
@@ -383,15 +451,26 @@ void perma_stats_reset(perma_runtime *rt);
 perma_status perma_stats_collect(perma_runtime *rt);  /* after each launch */
 void perma_stats_finish(perma_runtime *rt);           /* at the end of a run */
 
-/* trace.c */
+/* trace.c: the run's batches in host time. */
+bool perma_trace_on_device(const perma_runtime *rt);     /* the megakernel records batches */
 void perma_trace_reset(perma_runtime *rt, double start); /* at the start of a run */
+void perma_trace_launch_begins(perma_runtime *rt, double now); /* the megakernel is enqueued */
+void perma_trace_read_clock(perma_runtime *rt, double now); /* while it runs */
+void perma_trace_launch_ends(perma_runtime *rt, double now); /* it ended */
 perma_status perma_trace_collect(perma_runtime *rt);       /* after each launch */
 perma_status perma_trace_host_step(perma_runtime *rt, unsigned proc, uint32_t items, double start, double end);
-perma_status perma_trace_write(perma_runtime *rt);         /* at the end of a run */
 void perma_trace_release(perma_runtime *rt);
+/* Most seconds between two readings of the trace clock while the
+ * megakernel runs (the watchdog's loop wakes that often). */
+#define PERMA_TRACE_SAMPLE_SECONDS 0.001
+
+/* trace_file.c: every traced run of the process in its file. */
+void perma_trace_file_run_begins(double start);           /* a traced run starts */
+perma_status perma_trace_write(perma_runtime *rt);         /* at the end of a run */
 
 /* clock.c */
 double perma_now(void);
+double perma_cpu_now(void);
 double perma_time_limit(const perma_runtime *rt);
 double perma_stall_limit(const perma_runtime *rt);
 

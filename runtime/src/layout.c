@@ -252,9 +252,7 @@ perma_status perma_build_layout(perma_runtime *rt)
         if (rt->procs[i].emit_count > rt->max_edges)
             rt->max_edges = rt->procs[i].emit_count;
 
-    size_t limit = rt->local_mem_size;
-    if (rt->config.local_memory_limit && rt->config.local_memory_limit < limit)
-        limit = rt->config.local_memory_limit;
+    size_t limit = perma_local_memory(rt);
     /* The local front queue: a stack of local_queue_items per procedure. */
     rt->local_queue_items = persistent ? rt->config.schedule.local_queue_items : 0;
     rt->lq_words = 0;

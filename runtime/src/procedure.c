@@ -84,10 +84,12 @@ static perma_status validate(perma_runtime *rt, const perma_procedure *d)
         return perma_set_error(rt, PERMA_ERR_ARGUMENT,
                                "procedure '%s': threads_per_item %u exceeds the group size %u",
                                n, tpi, rt->group_size);
-    if (d->local_bytes_per_item > rt->local_mem_size)
+    if (d->local_bytes_per_item > perma_local_memory(rt))
         return perma_set_error(rt, PERMA_ERR_ARGUMENT,
-                               "procedure '%s': local_bytes_per_item %zu exceeds the device's local memory (%zu bytes)",
-                               n, d->local_bytes_per_item, rt->local_mem_size);
+                               "procedure '%s': local_bytes_per_item %zu exceeds the %zu bytes of __local memory a "
+                               "group may use (%s)", n, d->local_bytes_per_item, perma_local_memory(rt),
+                               perma_local_memory(rt) < rt->local_mem_size ? "config.local_memory_limit"
+                                                                           : "the device's local memory");
     if (!d->source && !d->source_file)
         return perma_set_error(rt, PERMA_ERR_ARGUMENT, "procedure '%s': neither source nor source_file is set", n);
     if (!perma_is_identifier(d->function))

@@ -128,26 +128,66 @@ static perma_status check_build(perma_runtime *rt, cl_int err)
 }
 
 /* rt->program for the generated `text`: from the disk cache
- * (program_cache.c), else built from source and then stored, the cache
- * entry worked out once for both. */
-static perma_status build_program(perma_runtime *rt, const char *text, const char *options)
+ * (program_cache.c), else built from source.  A miss takes the entry's
+ * build lock first, which waits while another process builds the same
+ * program, and looks again: a farm's ranks compile it once.  The lock is
+ * held until perma_build stores the program after its warm-up launch. */
+static perma_status build_program(perma_runtime *rt, const char *text, const char *options,
+                                  perma_cache_entry *entry)
 {
-    perma_cache_entry entry;
-    perma_cache_entry_open(rt, text, options, &entry);
     cl_int err = CL_SUCCESS;
-    rt->program = perma_cache_load(rt, &entry, options);
-    double build_seconds = -1.0; /* not built here: loaded from the cache */
+    rt->program = perma_cache_load(rt, entry, options);
+    if (!rt->program && perma_cache_lock(entry))
+        rt->program = perma_cache_load(rt, entry, options);
+    rt->build_info.wait_seconds = entry->waited;
+    rt->build_info.origin = rt->program ? PERMA_PROGRAM_CACHED : PERMA_PROGRAM_COMPILED;
     if (!rt->program) {
-        double start = perma_now();
         rt->program = clCreateProgramWithSource(rt->context, 1, &text, NULL, &err);
         if (err == CL_SUCCESS)
             err = clBuildProgram(rt->program, 1, &rt->device, options, NULL, NULL);
-        build_seconds = perma_now() - start;
     }
-    perma_status st = check_build(rt, err);
+    return check_build(rt, err);
+}
+
+static perma_status create_kernels(perma_runtime *rt)
+{
+    cl_int err;
+    cl_kernel *kernels[KERNEL_COUNT];
+    kernel_slots(rt, kernels);
+    for (size_t i = 0; i < KERNEL_COUNT; ++i) {
+        *kernels[i] = clCreateKernel(rt->program, kernel_names[i], &err);
+        if (err != CL_SUCCESS)
+            return perma_set_error(rt, PERMA_ERR_OPENCL, "clCreateKernel(%s) failed: %s (%d)", kernel_names[i],
+                                   perma_cl_error_name(err), (int)err);
+    }
+    return PERMA_OK;
+}
+
+/* The program, its kernels and their compile at the first launch (PoCL),
+ * all in rt->build_info.seconds; a program compiled here without warnings
+ * is stored after that launch, by the CPU time all of it took (waiting for
+ * another process's build costs none). */
+static perma_status build_and_warm_up(perma_runtime *rt, const char *text, const char *options)
+{
+    double start = perma_now(), cpu_start = perma_cpu_now();
+    memset(&rt->build_info, 0, sizeof rt->build_info);
+    perma_cache_entry entry;
+    perma_cache_entry_open(rt, text, options, &entry);
+    perma_status st = build_program(rt, text, options, &entry);
     /* A program with warnings is not cached, so that every build shows them. */
-    if (st == PERMA_OK && report_build_warnings(rt) == 0 && build_seconds >= 0.0)
-        perma_cache_store(rt->program, &entry, build_seconds);
+    bool warned = st == PERMA_OK && report_build_warnings(rt) != 0;
+    if (st == PERMA_OK)
+        st = create_kernels(rt);
+    if (st == PERMA_OK)
+        st = warm_up(rt);
+    rt->build_info.seconds = perma_now() - start;
+    double cpu_seconds = perma_cpu_now() - cpu_start;
+    if (st != PERMA_OK) {
+        perma_release_program(rt);
+        rt->build_info.origin = PERMA_PROGRAM_NOT_BUILT;
+    } else if (rt->build_info.origin == PERMA_PROGRAM_COMPILED && !warned) {
+        rt->build_info.stored = perma_cache_store(rt, &entry, cpu_seconds);
+    }
     perma_cache_entry_close(&entry);
     return st;
 }
@@ -174,36 +214,30 @@ perma_status perma_build(perma_runtime *rt)
     }
     const char *dump = getenv("PERMA_DUMP_PROGRAM");
     if (dump && *dump) {
-        FILE *f = fopen(dump, "w");
-        if (f) {
-            fputs(sb.data, f);
-            fclose(f);
+        perma_output *out;
+        perma_error ignored; /* a debugging aid: the build goes on without it */
+        if (perma_output_open(dump, &out, &ignored) == PERMA_OK) {
+            fputs(sb.data, perma_output_stream(out));
+            perma_output_commit(out, &ignored);
         }
     }
     char options[1024];
     snprintf(options, sizeof options, "-cl-std=CL1.2 %s%s", rt->debug ? "-DPERMA_DEBUG=1 " : "",
              rt->config.build_options ? rt->config.build_options : "");
-    st = build_program(rt, sb.data, options);
+    st = build_and_warm_up(rt, sb.data, options);
     perma_strbuf_free(&sb);
     if (st != PERMA_OK)
         return st;
-    cl_int err;
-    cl_kernel *kernels[KERNEL_COUNT];
-    kernel_slots(rt, kernels);
-    for (size_t i = 0; i < KERNEL_COUNT; ++i) {
-        *kernels[i] = clCreateKernel(rt->program, kernel_names[i], &err);
-        if (err != CL_SUCCESS) {
-            perma_release_program(rt);
-            return perma_set_error(rt, PERMA_ERR_OPENCL, "clCreateKernel(%s) failed: %s (%d)", kernel_names[i],
-                                   perma_cl_error_name(err), (int)err);
-        }
-    }
-    st = warm_up(rt);
-    if (st != PERMA_OK) {
-        perma_release_program(rt);
-        return st;
-    }
     rt->built = true;
     rt->message[0] = '\0';
+    return PERMA_OK;
+}
+
+perma_status perma_get_build_info(perma_runtime *rt, perma_build_info *out)
+{
+    if (!rt || !out)
+        return PERMA_ERR_ARGUMENT;
+    perma_call_begin(rt, "perma_get_build_info", false);
+    *out = rt->build_info;
     return PERMA_OK;
 }

@@ -1,35 +1,81 @@
 /*
  * A disk cache of compiled programs, for OpenCL implementations that do not
- * keep one: Intel's CPU runtime compiles the Reyes megakernel for 16 s (over
+ * keep one, and for a farm whose nodes should not each compile the same
+ * program: Intel's CPU runtime compiles the Reyes megakernel for 16 s (over
  * a minute on a loaded machine) at every perma_build, and loads the same
- * program from its binary in a quarter of a second.  PoCL builds in a tenth
- * of a second (it compiles at the first launch, from its own kernel
- * cache), so only builds slower than PERMA_CACHE_MIN_SECONDS (default 1)
- * are stored: the rule needs no knowledge of the implementation.
+ * program from its binary in a quarter of a second.  Programs whose build
+ * and warm-up launch took at least PERMA_CACHE_MIN_SECONDS (default 1) of
+ * CPU time are stored: CPU time, not wall time, so that the same build is
+ * stored or not whatever the machine's load.  The entry is written after
+ * the warm-up launch, whose compile an implementation's binary may then
+ * hold.
+ *
+ * PoCL keeps compiled kernels in a cache of its own (POCL_CACHE_DIR), and
+ * asking it for a program's binary makes it compile every kernel of the
+ * program once more, for any local size: 1.7 s of CPU for a small
+ * megakernel, three times its first-launch compile, and minutes of wall
+ * time on a loaded machine.  (Before this rule a PoCL build that took over
+ * 1 s of wall time, i.e. any build at load 8, was stored, and that compile
+ * ran inside perma_build where no watchdog sees it: a benchmark that
+ * builds 18 programs ran past its test's timeout with no message.)  So
+ * PoCL's programs are stored only when PERMA_CACHE_MIN_SECONDS is 0,
+ * which stores every program.
  *
  * Directory: PERMA_CACHE_DIR, else $XDG_CACHE_HOME/perma, else
  * $HOME/.cache/perma; PERMA_CACHE_DIR=off turns the cache off.  An entry is
  * named by a 64-bit hash and holds its whole key (perma's version, the
  * platform, device and driver versions, the build options and the
- * generated source), compared in full before its binary is used.  Entries
- * are written to a temporary file and renamed, so a concurrent reader never
- * sees half of one; a binary the implementation refuses is deleted and the
- * program built from source.  At most CACHE_ENTRIES entries are kept, the
- * least recently used go first.
+ * generated source), compared in full before its binary is used.
+ *
+ * Faults an entry survives (docs/reliability.md):
+ *   - a damaged entry (cut short, a flipped bit, empty, not an entry):
+ *     the header gives the key's and the binary's lengths and a checksum
+ *     of both, checked before the implementation sees a byte (PoCL
+ *     crashes on a truncated binary); a bad entry is removed with a
+ *     one-line notice and the program built from source;
+ *   - a binary the implementation refuses: removed likewise;
+ *   - two processes (or threads) storing at once: each writes a
+ *     temporary file of its own (mkstemp), flushed to disk, and renames it
+ *     over the entry, so a reader sees a whole old entry or a whole new
+ *     one, never half of one;
+ *   - N processes building the same program at once (the ranks of a farm
+ *     sharing a cache directory): the first to miss holds the entry's
+ *     build lock (flock on NAME.lock) while it builds and stores; the
+ *     others wait for it, then load its entry instead of compiling N
+ *     times (PoCL's programs, which PoCL caches itself: a lock per host,
+ *     see lock_path).  The wait is bounded (LOCK_WAIT_SECONDS), a dead builder's
+ *     lock is released by the kernel, and a holder removes the lock file
+ *     before it lets go (a waiter that then holds a removed file tries
+ *     again), so no lock files are left behind.
+ * At most CACHE_ENTRIES entries are kept, the least recently used go
+ * first; temporary files older than an hour (a writer that died) go too.
  */
+#define _DEFAULT_SOURCE /* flock */
 #include "internal.h"
 
 #include <dirent.h>
 #include <errno.h>
+#include <fcntl.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/file.h>
 #include <sys/stat.h>
+#include <time.h>
 #include <unistd.h>
 #include <utime.h>
 
-#define CACHE_MAGIC "perma program cache 1\n"
+#define CACHE_MAGIC "perma program cache 2\n"
+/* After the magic: the key's length, the binary's length, the checksum of
+ * the key and the binary, each 64 bits in the host's byte order (an
+ * entry of another byte order fails the checks and is rebuilt). */
+#define HEADER_WORDS 3
+#define HEADER_BYTES (sizeof CACHE_MAGIC - 1 + HEADER_WORDS * sizeof(uint64_t))
 #define CACHE_ENTRIES 256
+/* Longest wait for another process building the same program: longer than
+ * any build seen (Intel's runtime, Reyes, loaded machine: about 70 s). */
+#define LOCK_WAIT_SECONDS 300.0
+#define STALE_TEMPORARY_SECONDS 3600
 
 /* The cache directory (created if needed), or false when there is none. */
 static bool cache_dir(char *out, size_t size)
@@ -88,15 +134,38 @@ static bool cache_key(perma_runtime *rt, const char *source, const char *options
     return !key->failed;
 }
 
-/* FNV-1a, 64 bits. */
-static uint64_t hash_text(const char *text, size_t length)
+/* FNV-1a over 64-bit words (the tail byte by byte), continuing from `h`:
+ * names entries and checks them.  A change confined to one word always
+ * changes the result (each step is a bijection of h), and it runs at a
+ * multiply per 8 bytes, a few milliseconds for a large binary. */
+static uint64_t checksum(uint64_t h, const void *data, size_t length)
 {
-    uint64_t h = 1469598103934665603ull;
-    for (size_t i = 0; i < length; ++i) {
-        h ^= (unsigned char)text[i];
-        h *= 1099511628211ull;
+    const unsigned char *bytes = data;
+    size_t i = 0;
+    for (; i + 8 <= length; i += 8) {
+        uint64_t word;
+        memcpy(&word, bytes + i, 8);
+        h = (h ^ word) * 1099511628211ull;
     }
+    for (; i < length; ++i)
+        h = (h ^ bytes[i]) * 1099511628211ull;
     return h;
+}
+
+#define CHECKSUM_SEED 1469598103934665603ull
+
+/* The checksum an entry's header keeps. */
+static uint64_t entry_checksum(const void *key, size_t key_length, const void *binary, size_t binary_length)
+{
+    return checksum(checksum(CHECKSUM_SEED, key, key_length), binary, binary_length);
+}
+
+/* PoCL: see the top of the file. */
+static bool keeps_own_cache(perma_runtime *rt)
+{
+    char name[256] = "";
+    clGetPlatformInfo(rt->platform, CL_PLATFORM_NAME, sizeof name - 1, name, NULL);
+    return strstr(name, "Portable Computing Language") != NULL;
 }
 
 static double min_seconds(void)
@@ -107,77 +176,204 @@ static double min_seconds(void)
     return end && *end ? 1.0 : seconds;
 }
 
-/* Read a whole file; NULL if it cannot be read. */
-static unsigned char *read_file(const char *path, size_t *size)
+/* Read a whole file into *data (NULL for an empty one); false with errno
+ * when it cannot be read. */
+static bool read_file(const char *path, unsigned char **data, size_t *size)
 {
+    *data = NULL;
+    *size = 0;
     FILE *f = fopen(path, "rb");
     if (!f)
-        return NULL;
-    unsigned char *data = NULL;
-    long length = -1;
-    if (fseek(f, 0, SEEK_END) == 0 && (length = ftell(f)) > 0 && fseek(f, 0, SEEK_SET) == 0) {
-        data = malloc((size_t)length);
-        if (data && fread(data, 1, (size_t)length, f) != (size_t)length) {
-            free(data);
-            data = NULL;
+        return false;
+    bool ok = false;
+    struct stat st;
+    if (fstat(fileno(f), &st) == 0 && st.st_size >= 0) {
+        size_t length = (size_t)st.st_size;
+        unsigned char *bytes = length ? malloc(length) : NULL;
+        if (length == 0 || (bytes && fread(bytes, 1, length, f) == length)) {
+            *data = bytes;
+            *size = length;
+            ok = true;
+        } else {
+            free(bytes);
+            if (!errno)
+                errno = EIO;
         }
     }
     fclose(f);
-    *size = data ? (size_t)length : 0;
-    return data;
+    return ok;
 }
 
 void perma_cache_entry_open(perma_runtime *rt, const char *source, const char *options, perma_cache_entry *entry)
 {
     entry->usable = false;
+    entry->lock_fd = -1;
+    entry->waited = 0.0;
     perma_strbuf_init(&entry->key);
     if (!cache_dir(entry->dir, sizeof entry->dir) || !cache_key(rt, source, options, &entry->key))
         return;
     const perma_strbuf *key = &entry->key;
     int n = snprintf(entry->path, sizeof entry->path, "%s/%016llx.bin", entry->dir,
-                     (unsigned long long)hash_text(key->data, key->length));
+                     (unsigned long long)checksum(CHECKSUM_SEED, key->data, key->length));
     entry->usable = n > 0 && (size_t)n < sizeof entry->path;
+    entry->stores = !keeps_own_cache(rt) || min_seconds() <= 0.0;
+}
+
+/* The lock file's name: the entry's with .lock for .bin.  A program that
+ * will not be stored here (PoCL's, in its own cache) is locked per host,
+ * NAME.HOST.lock: the ranks on one node share PoCL's cache and compile
+ * once, while nodes whose PoCL caches are their own (the usual case) must
+ * not wait for each other's compiles, from which they gain nothing. */
+static void lock_path(const perma_cache_entry *entry, char *out, size_t size)
+{
+    size_t n = strlen(entry->path) - strlen(".bin");
+    char host[256] = "";
+    if (!entry->stores && gethostname(host, sizeof host - 1) != 0)
+        host[0] = '\0';
+    for (char *c = host; *c; ++c)
+        if (*c == '/')
+            *c = '_';
+    snprintf(out, size, "%.*s%s%s.lock", (int)n, entry->path, host[0] ? "." : "", host);
+}
+
+static void cache_unlock(perma_cache_entry *entry)
+{
+    if (entry->lock_fd < 0)
+        return;
+    char path[sizeof entry->path + 300];
+    lock_path(entry, path, sizeof path);
+    unlink(path); /* before letting go: a waiter then sees it gone and tries again */
+    close(entry->lock_fd);
+    entry->lock_fd = -1;
 }
 
 void perma_cache_entry_close(perma_cache_entry *entry)
 {
+    cache_unlock(entry);
     perma_strbuf_free(&entry->key);
     entry->usable = false;
 }
 
+bool perma_cache_lock(perma_cache_entry *entry)
+{
+    if (!entry->usable || entry->lock_fd >= 0)
+        return entry->lock_fd >= 0;
+    char path[sizeof entry->path + 300];
+    lock_path(entry, path, sizeof path);
+    double start = perma_now();
+    while (perma_now() - start < LOCK_WAIT_SECONDS) {
+        int fd = open(path, O_RDWR | O_CREAT | O_CLOEXEC, 0600);
+        if (fd < 0)
+            break; /* a read-only cache: build without the lock */
+        int locked;
+        while ((locked = flock(fd, LOCK_EX | LOCK_NB)) != 0 && errno == EWOULDBLOCK
+               && perma_now() - start < LOCK_WAIT_SECONDS) {
+            const struct timespec pause = { 0, 20000000 }; /* 20 ms */
+            nanosleep(&pause, NULL);
+        }
+        struct stat held, named;
+        if (locked == 0 && fstat(fd, &held) == 0 && stat(path, &named) == 0 && held.st_dev == named.st_dev
+            && held.st_ino == named.st_ino) {
+            entry->lock_fd = fd;
+            break;
+        }
+        close(fd); /* not locked in time, or the file we locked was removed by its last holder */
+        if (locked != 0)
+            break;
+    }
+    entry->waited = perma_now() - start;
+    return entry->lock_fd >= 0;
+}
+
+/* Remove a bad entry, with a one-line notice saying why. */
+static void discard(perma_runtime *rt, const char *path, const char *why)
+{
+    unlink(path);
+    perma_notice(rt, "perma: discarded the damaged program-cache entry %s (%s); building the program from source",
+                 path, why);
+}
+
+/* Why `data` (the file's `size` bytes) is not a sound entry, or NULL if it
+ * is one; its key and binary then in *key_at, *binary_at. */
+static const char *check_entry(const unsigned char *data, size_t size, char *why, size_t why_size,
+                               const unsigned char **key_at, uint64_t *key_length, const unsigned char **binary_at,
+                               uint64_t *binary_length)
+{
+    size_t magic = sizeof CACHE_MAGIC - 1;
+    if (size == 0)
+        return "an empty file";
+    if (size < magic || memcmp(data, CACHE_MAGIC, magic) != 0)
+        return "not a program-cache entry of this perma version";
+    if (size < HEADER_BYTES) {
+        snprintf(why, why_size, "cut short: %zu bytes, less than its header", size);
+        return why;
+    }
+    uint64_t header[HEADER_WORDS];
+    memcpy(header, data + magic, sizeof header);
+    *key_length = header[0];
+    *binary_length = header[1];
+    uint64_t body = size - HEADER_BYTES;
+    if (*key_length > body || *binary_length > body - *key_length) {
+        snprintf(why, why_size, "cut short: %zu bytes of %llu", size,
+                 (unsigned long long)(HEADER_BYTES + *key_length + *binary_length));
+        return why;
+    }
+    if (*key_length + *binary_length != body) {
+        snprintf(why, why_size, "%llu bytes after its end",
+                 (unsigned long long)(body - *key_length - *binary_length));
+        return why;
+    }
+    *key_at = data + HEADER_BYTES;
+    *binary_at = *key_at + *key_length;
+    if (entry_checksum(*key_at, (size_t)*key_length, *binary_at, (size_t)*binary_length) != header[2])
+        return "its checksum does not match its contents";
+    return NULL;
+}
+
 cl_program perma_cache_load(perma_runtime *rt, const perma_cache_entry *entry, const char *options)
 {
-    const perma_strbuf *key = &entry->key;
+    if (!entry->usable)
+        return NULL;
     const char *path = entry->path;
-    cl_program program = NULL;
-    size_t size = 0, magic = strlen(CACHE_MAGIC);
-    unsigned char *data = entry->usable ? read_file(path, &size) : NULL;
-    /* magic, key length (8 bytes), key, binary */
-    if (data && size > magic + 8 && memcmp(data, CACHE_MAGIC, magic) == 0) {
-        uint64_t key_length;
-        memcpy(&key_length, data + magic, 8);
-        const unsigned char *binary = data + magic + 8 + key_length;
-        size_t binary_size = size - magic - 8 - (size_t)key_length;
-        if (key_length == key->length && key_length < size - magic - 8
-            && memcmp(data + magic + 8, key->data, key->length) == 0) {
-            cl_int status = CL_SUCCESS, err;
-            program = clCreateProgramWithBinary(rt->context, 1, &rt->device, &binary_size, &binary, &status, &err);
-            if (program && (err != CL_SUCCESS || status != CL_SUCCESS
-                            || clBuildProgram(program, 1, &rt->device, options, NULL, NULL) != CL_SUCCESS)) {
-                clReleaseProgram(program);
-                program = NULL;
-            }
-            if (program)
-                utime(path, NULL); /* recently used */
-            else
-                unlink(path);      /* refused: rebuilt from source and stored again */
-        }
+    unsigned char *data;
+    size_t size;
+    if (!read_file(path, &data, &size)) {
+        if (errno != ENOENT)
+            perma_notice(rt, "perma: cannot read the program-cache entry %s (%s); building the program from source",
+                         path, strerror(errno));
+        return NULL;
     }
+    char why[128];
+    const unsigned char *key_at = NULL, *binary = NULL;
+    uint64_t key_length = 0, binary_length = 0;
+    const char *bad = check_entry(data, size, why, sizeof why, &key_at, &key_length, &binary, &binary_length);
+    cl_program program = NULL;
+    const perma_strbuf *key = &entry->key;
+    if (bad) {
+        discard(rt, path, bad);
+    } else if (key_length == key->length && memcmp(key_at, key->data, key->length) == 0) {
+        cl_int status = CL_SUCCESS, err;
+        size_t binary_size = (size_t)binary_length;
+        program = clCreateProgramWithBinary(rt->context, 1, &rt->device, &binary_size, &binary, &status, &err);
+        cl_int built = program && err == CL_SUCCESS && status == CL_SUCCESS
+                           ? clBuildProgram(program, 1, &rt->device, options, NULL, NULL)
+                           : (err != CL_SUCCESS ? err : status);
+        if (built != CL_SUCCESS) {
+            if (program)
+                clReleaseProgram(program);
+            program = NULL;
+            snprintf(why, sizeof why, "the OpenCL implementation refused its binary: %s", perma_cl_error_name(built));
+            discard(rt, path, why);
+        } else {
+            utime(path, NULL); /* recently used */
+        }
+    } /* else another program with the same hash: a miss, overwritten by the store */
     free(data);
     return program;
 }
 
-/* Remove the least recently used entries beyond CACHE_ENTRIES. */
+/* Remove the least recently used entries beyond CACHE_ENTRIES, and
+ * temporary files a writer that died left. */
 static void evict(const char *dir)
 {
     DIR *d = opendir(dir);
@@ -185,16 +381,23 @@ static void evict(const char *dir)
         return;
     struct entry { char name[64]; time_t used; } *entries = NULL;
     size_t count = 0, alloc = 0;
+    time_t now = time(NULL);
     struct dirent *e;
     while ((e = readdir(d)) != NULL) {
         size_t n = strlen(e->d_name);
-        if (n < 5 || n >= sizeof entries->name || strcmp(e->d_name + n - 4, ".bin") != 0)
+        bool temporary = strstr(e->d_name, ".tmp.") != NULL;
+        if (n >= sizeof entries->name || (!temporary && (n < 5 || strcmp(e->d_name + n - 4, ".bin") != 0)))
             continue;
         char path[1200];
         struct stat st;
         snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
         if (stat(path, &st) != 0)
             continue;
+        if (temporary) {
+            if (now - st.st_mtime > STALE_TEMPORARY_SECONDS)
+                unlink(path);
+            continue;
+        }
         if (count == alloc) {
             size_t grown = alloc ? 2 * alloc : 64;
             struct entry *more = realloc(entries, grown * sizeof *entries);
@@ -220,30 +423,52 @@ static void evict(const char *dir)
     free(entries);
 }
 
-void perma_cache_store(cl_program program, const perma_cache_entry *entry, double build_seconds)
+/* Write the entry to a temporary file of its own in the directory, flushed
+ * to disk, and rename it into place. */
+static bool write_entry(const perma_cache_entry *entry, const unsigned char *binary, size_t binary_size)
 {
-    if (!entry->usable || build_seconds < min_seconds())
-        return;
-    size_t binary_size = 0;
-    if (clGetProgramInfo(program, CL_PROGRAM_BINARY_SIZES, sizeof binary_size, &binary_size, NULL) != CL_SUCCESS
-        || binary_size == 0)
-        return;
-    unsigned char *binary = malloc(binary_size);
     const perma_strbuf *key = &entry->key;
-    char temporary[1200];
-    if (binary && clGetProgramInfo(program, CL_PROGRAM_BINARIES, sizeof binary, &binary, NULL) == CL_SUCCESS) {
-        snprintf(temporary, sizeof temporary, "%s.%ld.tmp", entry->path, (long)getpid());
-        FILE *f = fopen(temporary, "wb");
-        uint64_t key_length = key->length;
-        bool written = f && fwrite(CACHE_MAGIC, 1, strlen(CACHE_MAGIC), f) == strlen(CACHE_MAGIC)
-                       && fwrite(&key_length, 8, 1, f) == 1 && fwrite(key->data, 1, key->length, f) == key->length
-                       && fwrite(binary, 1, binary_size, f) == binary_size;
-        if (f && fclose(f) != 0)
-            written = false;
-        if (written && rename(temporary, entry->path) == 0)
-            evict(entry->dir);
-        else if (f)
-            unlink(temporary);
+    char temporary[sizeof entry->path + 16];
+    snprintf(temporary, sizeof temporary, "%.*s.tmp.XXXXXX", (int)(strlen(entry->path) - strlen(".bin")),
+             entry->path);
+    int fd = mkstemp(temporary);
+    if (fd < 0)
+        return false;
+    FILE *f = fdopen(fd, "wb");
+    if (!f) {
+        close(fd);
+        unlink(temporary);
+        return false;
     }
+    uint64_t header[HEADER_WORDS] = { key->length, binary_size,
+                                      entry_checksum(key->data, key->length, binary, binary_size) };
+    size_t magic = sizeof CACHE_MAGIC - 1;
+    bool written = fwrite(CACHE_MAGIC, 1, magic, f) == magic && fwrite(header, sizeof header, 1, f) == 1
+                   && fwrite(key->data, 1, key->length, f) == key->length
+                   && fwrite(binary, 1, binary_size, f) == binary_size && fflush(f) == 0 && fsync(fd) == 0;
+    if (fclose(f) != 0)
+        written = false;
+    if (written && rename(temporary, entry->path) == 0)
+        return true;
+    unlink(temporary);
+    return false;
+}
+
+bool perma_cache_store(perma_runtime *rt, const perma_cache_entry *entry, double cpu_seconds)
+{
+    double least = min_seconds();
+    if (!entry->usable || !entry->stores || cpu_seconds < least)
+        return false;
+    size_t binary_size = 0;
+    if (clGetProgramInfo(rt->program, CL_PROGRAM_BINARY_SIZES, sizeof binary_size, &binary_size, NULL) != CL_SUCCESS
+        || binary_size == 0)
+        return false;
+    unsigned char *binary = malloc(binary_size);
+    bool stored = binary
+                  && clGetProgramInfo(rt->program, CL_PROGRAM_BINARIES, sizeof binary, &binary, NULL) == CL_SUCCESS
+                  && write_entry(entry, binary, binary_size);
+    if (stored)
+        evict(entry->dir);
     free(binary);
+    return stored;
 }

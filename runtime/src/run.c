@@ -99,12 +99,16 @@ static perma_status launch_until_done(perma_runtime *rt, double deadline)
         perma_launch_outcome outcome;
         memset(&outcome, 0, sizeof outcome);
         st = perma_state_begin_launch(rt);
-        if (st == PERMA_OK)
+        if (st == PERMA_OK) {
+            perma_progress_launch_begins(rt);
             st = executor->launch(rt, deadline, &outcome);
+        }
         if (st != PERMA_OK)
             break;
         rt->stats.launches += outcome.launches;
         st = perma_stats_collect(rt);
+        if (st == PERMA_OK)
+            perma_progress_launch_ends(rt);
         if (st == PERMA_OK)
             st = perma_trace_collect(rt);
         if (st == PERMA_OK)
@@ -113,6 +117,16 @@ static perma_status launch_until_done(perma_runtime *rt, double deadline)
             break;
     }
     return st;
+}
+
+/* A trace that cannot be written fails the run before it starts, not
+ * after all its work. */
+static perma_status check_trace_path(perma_runtime *rt)
+{
+    perma_error error;
+    if (rt->config.trace_path && perma_output_check(rt->config.trace_path, &error) != PERMA_OK)
+        return perma_set_error(rt, error.status, "cannot write the trace: %s", error.message);
+    return PERMA_OK;
 }
 
 /* The trace is written after a failure too (it shows what ran before it),
@@ -145,6 +159,8 @@ perma_status perma_run(perma_runtime *rt)
         return PERMA_ERR_ARGUMENT;
     perma_status st = perma_call_begin(rt, "perma_run", true);
     if (st == PERMA_OK)
+        st = check_trace_path(rt);
+    if (st == PERMA_OK)
         st = perma_build(rt);
     if (st != PERMA_OK) {
         /* A run consumes its seeds whether it succeeds or not. */
@@ -155,20 +171,24 @@ perma_status perma_run(perma_runtime *rt)
     perma_stats_reset(rt);
     double start = perma_now();
     perma_trace_reset(rt, start);
+    if (rt->config.trace_path)
+        perma_trace_file_run_begins(start);
     double deadline = start + perma_time_limit(rt);
     rt->grow_starved = true;
 
     st = upload_seeds(rt);
+    perma_progress_run_begins(rt, start);
     if (st == PERMA_OK)
         st = perma_buffers_copy(rt, PERMA_READ);
     if (st == PERMA_OK)
         st = launch_until_done(rt, deadline);
     if (st == PERMA_OK)
         st = perma_buffers_copy(rt, PERMA_WRITE);
-    rt->stats.seconds = perma_now() - start;
+    rt->stats.seconds = perma_progress_stop_clock(rt);
     rt->state.capacities_learned = st == PERMA_OK;
     st = write_trace(rt, st);
     perma_stats_finish(rt);
+    perma_progress_run_ends(rt);
     if (st == PERMA_OK)
         rt->message[0] = '\0';
     return st;

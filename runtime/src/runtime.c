@@ -1,6 +1,7 @@
 /* Creating and destroying a runtime. */
 #include "executor.h"
 
+#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -36,14 +37,18 @@ static perma_status check_config(perma_runtime *rt, const perma_config *c)
     if (!perma_victim_name(c->schedule.victim))
         return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.schedule.victim %d is not a known victim policy",
                                (int)c->schedule.victim);
+    if (!(c->progress_interval >= 0.0) || c->progress_interval > 1e6)
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT,
+                               "config.progress_interval %g is not a number of seconds in 0..1e6",
+                               c->progress_interval);
     if (c->trace_events > (1u << 24))
         return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.trace_events %u is above 2^24", c->trace_events);
     if (c->items_per_work_item > 64)
         return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.items_per_work_item %u is above 64",
                                c->items_per_work_item);
-    if (c->schedule.local_queue_items > 4096)
-        return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.schedule.local_queue_items %u is above 4096",
-                               c->schedule.local_queue_items);
+    if (c->schedule.local_queue_items > PERMA_MAX_LOCAL_QUEUE_ITEMS)
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.schedule.local_queue_items %u is above %u",
+                               c->schedule.local_queue_items, (unsigned)PERMA_MAX_LOCAL_QUEUE_ITEMS);
     return PERMA_OK;
 }
 
@@ -89,12 +94,16 @@ perma_status perma_create(const perma_config *config, perma_runtime **out, perma
             st = perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory copying the trace path");
         rt->trace_events = config->trace_events ? config->trace_events : 65536;
     }
+    if (st == PERMA_OK && !config->local_memory_limit)
+        st = perma_env_local_memory_limit(rt, &rt->config.local_memory_limit);
     if (st == PERMA_OK)
         st = perma_device_open(rt);
     if (st == PERMA_OK)
         st = perma_state_open(rt);
     if (st == PERMA_OK)
         st = perma_watchdog_open(rt);
+    if (st == PERMA_OK)
+        st = perma_progress_open(rt);
     if (error) {
         error->status = st;
         snprintf(error->message, sizeof error->message, "%s", st == PERMA_OK ? "" : rt->message);
@@ -119,6 +128,21 @@ static void free_proc(perma_proc_info *p)
     free(p->seeds);
 }
 
+/* Runtimes whose kernel never ended (rt->hung): kept, not freed, since
+ * that kernel still uses their buffers, and kept reachable, so that a leak
+ * checker at exit (the sanitize suite's) does not report them: the
+ * process exits normally after a hang. */
+static pthread_mutex_t hung_lock = PTHREAD_MUTEX_INITIALIZER;
+static perma_runtime *hung_runtimes;
+
+static void keep_hung(perma_runtime *rt)
+{
+    pthread_mutex_lock(&hung_lock);
+    rt->next_hung = hung_runtimes;
+    hung_runtimes = rt;
+    pthread_mutex_unlock(&hung_lock);
+}
+
 void perma_destroy(perma_runtime *rt)
 {
     if (!rt)
@@ -130,6 +154,7 @@ void perma_destroy(perma_runtime *rt)
     if (rt->hung) {
         /* A kernel is still running and would make every release block:
          * leak the OpenCL objects rather than hang the caller. */
+        keep_hung(rt);
         return;
     }
     if (rt->queue)
@@ -141,6 +166,7 @@ void perma_destroy(perma_runtime *rt)
             clReleaseMemObject(rt->buffers[i].mem);
         free(rt->buffers[i].name);
         free(rt->buffers[i].type);
+        free(rt->buffers[i].element_type);
     }
     for (unsigned i = 0; i < rt->source_count; ++i) {
         free(rt->sources[i].text);
@@ -152,6 +178,7 @@ void perma_destroy(perma_runtime *rt)
     free((char *)rt->config.build_options);
     free((char *)rt->config.trace_path);
     perma_trace_release(rt);
+    perma_progress_close(rt);
     free(rt->group_stats);
     free(rt);
 }

@@ -154,6 +154,9 @@ static perma_status parse_local(cursor *c, unsigned *out)
     if (!*out)
         return fail(c, "'+%.*s' needs a number of items >= 1, e.g. +local32 (leave it out for no "
                     "local queue)", p.length, p.text);
+    if (*out > PERMA_MAX_LOCAL_QUEUE_ITEMS)
+        return fail(c, "'+%.*s': at most %u items in a local queue", p.length, p.text,
+                    (unsigned)PERMA_MAX_LOCAL_QUEUE_ITEMS);
     return PERMA_OK;
 }
 

@@ -6,6 +6,7 @@
 #include "internal.h"
 
 #include <stddef.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -14,9 +15,11 @@
  * implementation can map it without copying. */
 #define PAGE_BYTES 4096
 
+/* The watch page of this build: a record per group, sized for its
+ * procedures. */
 static size_t watch_bytes(const perma_runtime *rt)
 {
-    size_t bytes = 4 * (size_t)PERMA_WATCH_WORDS_FOR(rt->work_groups);
+    size_t bytes = 4 * (size_t)PERMA_WATCH_WORDS_FOR(rt->work_groups, rt->proc_count);
     return (bytes + PAGE_BYTES - 1) / PAGE_BYTES * PAGE_BYTES;
 }
 
@@ -38,6 +41,11 @@ static perma_status create(perma_runtime *rt, perma_device_buffer *b, size_t byt
 {
     if (bytes < 4)
         bytes = 4;
+    char name[64];
+    snprintf(name, sizeof name, "the %s", what);
+    perma_status st = perma_check_memory(rt, bytes, name);
+    if (st != PERMA_OK)
+        return st;
     cl_int err;
     b->mem = clCreateBuffer(rt->context, CL_MEM_READ_WRITE, bytes, NULL, &err);
     if (err != CL_SUCCESS) {
@@ -104,10 +112,40 @@ static size_t trace_bytes(const perma_runtime *rt)
 
 perma_status perma_state_open(perma_runtime *rt)
 {
-    rt->state.abort_flag = aligned_alloc(PAGE_BYTES, watch_bytes(rt));
-    if (!rt->state.abort_flag)
+    (void)rt; /* every buffer is made when a launch first needs it */
+    return PERMA_OK;
+}
+
+static void release_watch_page(perma_device_state *s)
+{
+    if (s->abort_mem)
+        clReleaseMemObject(s->abort_mem);
+    s->abort_mem = NULL;
+    free(s->abort_flag);
+    s->abort_flag = NULL;
+    s->watch_bytes = 0;
+}
+
+/* The watch page, replaced by a bigger one when a build has more
+ * procedures (no kernel runs between launches). */
+static perma_status ensure_watch_page(perma_runtime *rt)
+{
+    perma_device_state *s = &rt->state;
+    size_t bytes = watch_bytes(rt);
+    if (s->abort_mem && s->watch_bytes >= bytes)
+        return PERMA_OK;
+    release_watch_page(s);
+    s->abort_flag = aligned_alloc(PAGE_BYTES, bytes);
+    if (!s->abort_flag)
         return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory for the watch page");
-    memset(rt->state.abort_flag, 0, watch_bytes(rt));
+    memset(s->abort_flag, 0, bytes);
+    cl_int err;
+    s->abort_mem = clCreateBuffer(rt->context, CL_MEM_READ_WRITE | CL_MEM_USE_HOST_PTR, bytes, s->abort_flag, &err);
+    if (err != CL_SUCCESS) {
+        release_watch_page(s);
+        PERMA_CL_CHECK(rt, "clCreateBuffer (watch page)", err);
+    }
+    s->watch_bytes = bytes;
     return PERMA_OK;
 }
 
@@ -117,11 +155,7 @@ void perma_state_close(perma_runtime *rt)
     perma_device_buffer *buffers[] = { &s->ctl, &s->data, &s->seq, &s->stats, &s->trace, &s->input, &s->relayout };
     for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; ++i)
         release(buffers[i]);
-    if (s->abort_mem)
-        clReleaseMemObject(s->abort_mem);
-    s->abort_mem = NULL;
-    free(s->abort_flag);
-    s->abort_flag = NULL;
+    release_watch_page(s);
     free(s->queues);
     s->queues = NULL;
     s->queue_count = 0;
@@ -136,20 +170,17 @@ static perma_status ensure_launch_buffers(perma_runtime *rt)
         st = ensure(rt, &s->stats, stats_bytes(rt), "statistics");
     if (st == PERMA_OK)
         st = ensure(rt, &s->trace, trace_bytes(rt), "trace");
-    if (st == PERMA_OK && !s->abort_mem) {
-        cl_int err;
-        s->abort_mem = clCreateBuffer(rt->context, CL_MEM_READ_WRITE | CL_MEM_USE_HOST_PTR, watch_bytes(rt),
-                                      s->abort_flag, &err);
-        PERMA_CL_CHECK(rt, "clCreateBuffer (watch page)", err);
-    }
+    if (st == PERMA_OK)
+        st = ensure_watch_page(rt);
     return st;
 }
 
 perma_status perma_state_empty(perma_runtime *rt)
 {
     perma_device_state *s = &rt->state;
-    __atomic_store_n(s->abort_flag, 0u, __ATOMIC_SEQ_CST);
     perma_status st = ensure_launch_buffers(rt);
+    if (st == PERMA_OK)
+        __atomic_store_n(s->abort_flag + PERMA_WATCH_ABORT, 0u, __ATOMIC_SEQ_CST);
     if (st == PERMA_OK)
         st = ensure(rt, &s->data, 4, "queue items");
     if (st == PERMA_OK)
@@ -244,7 +275,10 @@ done:
 
 perma_status perma_state_begin_launch(perma_runtime *rt)
 {
-    memset(rt->state.abort_flag, 0, watch_bytes(rt)); /* no kernel is running */
+    perma_status st = ensure_launch_buffers(rt);
+    if (st != PERMA_OK)
+        return st;
+    memset(rt->state.abort_flag, 0, rt->state.watch_bytes); /* no kernel is running */
     __atomic_thread_fence(__ATOMIC_SEQ_CST);
     return zero(rt, &rt->state.stats, stats_bytes(rt), "statistics");
 }
@@ -254,12 +288,22 @@ void perma_state_raise_abort(perma_runtime *rt)
     __atomic_store_n(rt->state.abort_flag + PERMA_WATCH_ABORT, 1u, __ATOMIC_SEQ_CST);
 }
 
+const uint32_t *perma_state_watch_record(const perma_runtime *rt, unsigned group)
+{
+    return rt->state.abort_flag + PERMA_WATCH_RECORDS + (size_t)group * PERMA_WATCH_RECORD_WORDS_FOR(rt->proc_count);
+}
+
+bool perma_state_abort_raised(const perma_runtime *rt)
+{
+    return __atomic_load_n(rt->state.abort_flag + PERMA_WATCH_ABORT, __ATOMIC_SEQ_CST) != 0;
+}
+
 uint64_t perma_state_watch(const perma_runtime *rt, unsigned *running, unsigned procs)
 {
     uint64_t done = 0;
     memset(running, 0, procs * sizeof *running);
     for (unsigned g = 0; g < rt->work_groups; ++g) {
-        const uint32_t *record = rt->state.abort_flag + PERMA_WATCH_RECORDS + (size_t)g * PERMA_WATCH_RECORD_WORDS;
+        const uint32_t *record = perma_state_watch_record(rt, g);
         done += __atomic_load_n(record + PERMA_WATCH_DONE, __ATOMIC_RELAXED);
         uint32_t proc = __atomic_load_n(record + PERMA_WATCH_RUNNING, __ATOMIC_RELAXED);
         if (proc >= 1 && proc <= procs)

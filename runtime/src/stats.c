@@ -204,6 +204,17 @@ perma_status perma_get_work_groups(perma_runtime *rt, unsigned *work_groups, uns
     return PERMA_OK;
 }
 
+perma_status perma_get_local_memory(perma_runtime *rt, size_t *bytes)
+{
+    if (!rt)
+        return PERMA_ERR_ARGUMENT;
+    perma_call_begin(rt, "perma_get_local_memory", false);
+    if (!bytes)
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT, "perma_get_local_memory: bytes is NULL");
+    *bytes = perma_local_memory(rt);
+    return PERMA_OK;
+}
+
 perma_status perma_get_group_stats(perma_runtime *rt, unsigned group, perma_group_stats *out)
 {
     if (!rt)

@@ -210,7 +210,7 @@ static perma_status run_steps(perma_runtime *rt, const perma_step_policy *policy
                                    "a step kernel found a queue without the room the host reserved");
         if (ctl->header.status != PERMA_KSTATUS_DONE)
             return PERMA_OK;
-        if (perma_now() > deadline) {
+        if (perma_now() > deadline || perma_state_abort_raised(rt)) {
             outcome->header.status = PERMA_KSTATUS_ABORTED;
             return PERMA_OK;
         }

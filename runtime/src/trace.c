@@ -1,16 +1,28 @@
-/* Trace mode: each work-group's batches as Chrome trace events (JSON),
- * viewable in Perfetto (ui.perfetto.dev) or chrome://tracing. */
+/* Trace mode: each work-group's batches, in host time (trace_file.c writes
+ * them as Chrome trace events).
+ *
+ * The megakernel's groups record each batch's start and end as ticks of a
+ * clock on the watch page (PERMA_WATCH_CLOCK, one atomic_inc per batch
+ * start or end): OpenCL 1.2 gives a kernel no clock of its own.  The host
+ * reads that word with its own clock while the kernel runs (from the
+ * watchdog's loop, at least every SAMPLE_SECONDS) and keeps the samples
+ * where it moved: "at host time h the clock showed k".  A tick v then
+ * happened after the last sample showing at most v and before the first
+ * showing more, and gets the time interpolated between the two; the
+ * launch's start (tick 0) and end (its last tick) close the list.  So
+ * every event lies within its launch and in the order of its ticks, with
+ * an error below the interval between samples.  On a device whose watch
+ * page the host cannot see during a kernel only the start and end remain,
+ * and the ticks spread evenly over the launch.  Host-driven steps are
+ * timed on the host. */
 #include "internal.h"
 
-#include <errno.h>
 #include <stdlib.h>
 #include <string.h>
 
-static const char *const kind_names[] = { "run", "steal", "local", "donate" };
-
 /* Persistent groups record their own batches (the build decides:
  * device_trace_events); the host records the steps of the others. */
-static bool tracing_on_device(const perma_runtime *rt)
+bool perma_trace_on_device(const perma_runtime *rt)
 {
     return rt->device_trace_events > 0;
 }
@@ -18,7 +30,6 @@ static bool tracing_on_device(const perma_runtime *rt)
 void perma_trace_reset(perma_runtime *rt, double start)
 {
     rt->trace_count = 0;
-    rt->trace_clock_base = 0.0;
     rt->trace_start_time = start;
 }
 
@@ -27,6 +38,9 @@ void perma_trace_release(perma_runtime *rt)
     free(rt->trace);
     rt->trace = NULL;
     rt->trace_count = rt->trace_alloc = 0;
+    free(rt->trace_samples);
+    rt->trace_samples = NULL;
+    rt->trace_sample_count = rt->trace_sample_alloc = 0;
 }
 
 static perma_status push_event(perma_runtime *rt, const perma_trace_event *event)
@@ -43,9 +57,102 @@ static perma_status push_event(perma_runtime *rt, const perma_trace_event *event
     return PERMA_OK;
 }
 
+/* Keep a sample (a failed allocation loses it: the interpolation is then
+ * coarser, never wrong). */
+static void push_sample(perma_runtime *rt, double time, uint32_t tick)
+{
+    if (rt->trace_sample_count == rt->trace_sample_alloc) {
+        size_t alloc = rt->trace_sample_alloc ? rt->trace_sample_alloc * 2 : 1024;
+        perma_trace_sample *samples = realloc(rt->trace_samples, alloc * sizeof *samples);
+        if (!samples)
+            return;
+        rt->trace_samples = samples;
+        rt->trace_sample_alloc = alloc;
+    }
+    rt->trace_samples[rt->trace_sample_count++] = (perma_trace_sample){ time, tick };
+}
+
+static uint32_t clock_now(const perma_runtime *rt)
+{
+    return __atomic_load_n(rt->state.abort_flag + PERMA_WATCH_CLOCK, __ATOMIC_RELAXED);
+}
+
+void perma_trace_launch_begins(perma_runtime *rt, double now)
+{
+    if (!perma_trace_on_device(rt))
+        return;
+    rt->trace_sample_count = 0;
+    rt->trace_pending = false;
+    push_sample(rt, now, 0); /* the page was cleared: tick 0 */
+}
+
+void perma_trace_read_clock(perma_runtime *rt, double now)
+{
+    if (!perma_trace_on_device(rt) || rt->trace_sample_count == 0)
+        return;
+    uint32_t tick = clock_now(rt);
+    if (tick == rt->trace_samples[rt->trace_sample_count - 1].tick) {
+        /* Not moved: remember the latest time it still showed this. */
+        rt->trace_pending = true;
+        rt->trace_pending_time = now;
+        return;
+    }
+    if (rt->trace_pending)
+        push_sample(rt, rt->trace_pending_time, rt->trace_samples[rt->trace_sample_count - 1].tick);
+    rt->trace_pending = false;
+    push_sample(rt, now, tick);
+}
+
+void perma_trace_launch_ends(perma_runtime *rt, double now)
+{
+    if (!perma_trace_on_device(rt) || rt->trace_sample_count == 0)
+        return;
+    perma_trace_read_clock(rt, now);
+    if (rt->trace_pending)
+        push_sample(rt, rt->trace_pending_time, rt->trace_samples[rt->trace_sample_count - 1].tick);
+    rt->trace_pending = false;
+}
+
+/* The host time of tick v (the batch start or end whose atomic_inc
+ * returned v, so the clock moved from v to v + 1 then): between the last
+ * sample showing at most v and the next one, in proportion. */
+static double tick_time(const perma_trace_sample *samples, size_t count, uint32_t v)
+{
+    size_t lo = 0, hi = count; /* the first sample showing more than v is in [lo, hi] */
+    while (lo < hi) {
+        size_t mid = lo + (hi - lo) / 2;
+        if (samples[mid].tick <= v)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    if (lo == 0)
+        return samples[0].time;
+    if (lo == count)
+        return samples[count - 1].time;
+    const perma_trace_sample *a = &samples[lo - 1], *b = &samples[lo];
+    double share = ((double)(v - a->tick) + 0.5) / (double)(b->tick - a->tick);
+    return a->time + share * (b->time - a->time);
+}
+
+/* The records group g kept in the trace buffer read back (count word,
+ * then the records; kernels/perma_abi.h). */
+static uint32_t records(const perma_runtime *rt, const uint32_t *buffer, unsigned g)
+{
+    uint32_t count = buffer[g * PERMA_TRACE_GROUP_WORDS_FOR((size_t)rt->device_trace_events)];
+    return count < rt->device_trace_events ? count : rt->device_trace_events;
+}
+
+static perma_trace_record record(const uint32_t *buffer, unsigned g, uint32_t i, size_t per_group)
+{
+    perma_trace_record r;
+    memcpy(&r, buffer + g * per_group + 1 + PERMA_TRACE_RECORD_WORDS * i, sizeof r);
+    return r;
+}
+
 perma_status perma_trace_collect(perma_runtime *rt)
 {
-    if (!tracing_on_device(rt))
+    if (!perma_trace_on_device(rt))
         return PERMA_OK;
     size_t per_group = PERMA_TRACE_GROUP_WORDS_FOR((size_t)rt->device_trace_events);
     size_t words = rt->work_groups * per_group;
@@ -53,30 +160,34 @@ perma_status perma_trace_collect(perma_runtime *rt)
     if (!buffer)
         return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory reading the trace");
     perma_status st = perma_state_read_trace(rt, buffer, words);
-    if (st != PERMA_OK) {
+    if (st != PERMA_OK || rt->trace_sample_count == 0) {
         free(buffer);
         return st;
     }
-    double last = 0.0;
+    /* The launch's last tick closes the samples, even where the host saw
+     * the clock only at the start. */
+    uint32_t last = 0;
+    for (unsigned g = 0; g < rt->work_groups; ++g)
+        for (uint32_t i = 0, count = records(rt, buffer, g); i < count; ++i) {
+            perma_trace_record r = record(buffer, g, i, per_group);
+            if (r.end + 1 > last)
+                last = r.end + 1;
+        }
+    perma_trace_sample *end = &rt->trace_samples[rt->trace_sample_count - 1];
+    if (end->tick < last)
+        end->tick = last;
     for (unsigned g = 0; g < rt->work_groups && st == PERMA_OK; ++g) {
-        const uint32_t *group = buffer + g * per_group;
-        uint32_t count = group[0] < rt->device_trace_events ? group[0] : rt->device_trace_events;
-        for (uint32_t i = 0; i < count && st == PERMA_OK; ++i) {
-            perma_trace_record r;
-            memcpy(&r, group + 1 + PERMA_TRACE_RECORD_WORDS * i, sizeof r);
+        for (uint32_t i = 0, count = records(rt, buffer, g); i < count && st == PERMA_OK; ++i) {
+            perma_trace_record r = record(buffer, g, i, per_group);
             perma_trace_event event = { g, r.proc_kind & 0xffu, (r.proc_kind >> 8) & 0xffu, r.items,
-                                        rt->trace_clock_base + r.start, rt->trace_clock_base + r.end };
+                                        tick_time(rt->trace_samples, rt->trace_sample_count, r.start),
+                                        tick_time(rt->trace_samples, rt->trace_sample_count, r.end) };
             if (event.proc >= rt->proc_count || event.kind >= PERMA_TRACE_KINDS)
                 continue;
-            if (event.end > last)
-                last = event.end;
             st = push_event(rt, &event);
         }
     }
     free(buffer);
-    /* The next launch's clock starts at zero again. */
-    if (last >= rt->trace_clock_base)
-        rt->trace_clock_base = last + 1.0;
     return st;
 }
 
@@ -84,43 +195,6 @@ perma_status perma_trace_host_step(perma_runtime *rt, unsigned proc, uint32_t it
 {
     if (!rt->config.trace_path)
         return PERMA_OK;
-    perma_trace_event event = { UINT32_MAX, proc, 0, items, (start - rt->trace_start_time) * 1e6,
-                                (end - rt->trace_start_time) * 1e6 };
+    perma_trace_event event = { UINT32_MAX, proc, 0, items, start, end };
     return push_event(rt, &event);
-}
-
-perma_status perma_trace_write(perma_runtime *rt)
-{
-    if (!rt->config.trace_path)
-        return PERMA_OK;
-    FILE *f = fopen(rt->config.trace_path, "w");
-    if (!f)
-        return perma_set_error(rt, PERMA_ERR_IO, "cannot write the trace '%s': %s", rt->config.trace_path,
-                               strerror(errno));
-    bool host = !tracing_on_device(rt);
-    fprintf(f, "{\"displayTimeUnit\":\"ns\",\"otherData\":{\"runtime\":\"perma %s\",\"technique\":\"%s\","
-               "\"strategy\":\"%s\",\"clock\":\"%s\"},\n\"traceEvents\":[\n",
-            PERMA_VERSION_STRING, perma_technique_name(rt->config.schedule.technique),
-            perma_strategy_name(rt->config.schedule.strategy),
-            host ? "host microseconds" : "logical: one tick per batch start or end");
-    if (host) {
-        fprintf(f, "{\"name\":\"thread_name\",\"ph\":\"M\",\"pid\":1,\"tid\":0,\"args\":{\"name\":\"host steps\"}}");
-    } else {
-        for (unsigned g = 0; g < rt->work_groups; ++g)
-            fprintf(f, "%s{\"name\":\"thread_name\",\"ph\":\"M\",\"pid\":1,\"tid\":%u,\"args\":{\"name\":\"group %u\"}}",
-                    g ? ",\n" : "", g, g);
-    }
-    for (size_t i = 0; i < rt->trace_count; ++i) {
-        const perma_trace_event *e = &rt->trace[i];
-        double duration = e->end > e->start ? e->end - e->start : 0.0;
-        fprintf(f, ",\n{\"name\":\"%s\",\"cat\":\"%s\",\"ph\":\"X\",\"pid\":1,\"tid\":%u,\"ts\":%.3f,\"dur\":%.3f,"
-                   "\"args\":{\"items\":%u,\"kind\":\"%s\"}}",
-                rt->procs[e->proc].name, kind_names[e->kind], e->group == UINT32_MAX ? 0u : e->group, e->start,
-                duration, e->items, kind_names[e->kind]);
-    }
-    fprintf(f, "\n]}\n");
-    bool failed = ferror(f) != 0;
-    if (fclose(f) != 0 || failed)
-        return perma_set_error(rt, PERMA_ERR_IO, "error writing the trace '%s'", rt->config.trace_path);
-    return PERMA_OK;
 }

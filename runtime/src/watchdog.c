@@ -298,12 +298,26 @@ perma_status perma_watchdog_stop_error(perma_runtime *rt)
                            stalled ? "; the run was stopped" : " and was stopped");
 }
 
-/* The kernel did not stop after being told to. */
+/* The kernel did not stop after being told to.  Nothing stops it now:
+ * OpenCL has no way to cancel a running kernel (neither PoCL nor Intel's
+ * runtime offers one), and a procedure stuck in a loop of its own never
+ * comes back to the scheduler, which polls the abort flag between
+ * batches (procedures with long loops can poll it too:
+ * perma_stop_requested).  The runtime's other OpenCL objects stay as they
+ * are (the kernel still uses its buffers, and releasing them could
+ * block), but the command queue is released: Intel's runtime waits at
+ * process exit for every queue still held to finish, which this one never
+ * would, so the process could not exit.  PoCL's and Intel's
+ * clReleaseCommandQueue return at once here (measured), and the kernel
+ * keeps its compute unit until the process exits. */
 static perma_status give_up(perma_runtime *rt)
 {
     char reason[768];
     stop_reason(rt, reason, sizeof reason);
     rt->hung = true;
+    if (rt->queue)
+        clReleaseCommandQueue(rt->queue);
+    rt->queue = NULL;
     return perma_set_error(rt, PERMA_ERR_TIMEOUT,
                            "%s, and the kernel did not stop within %g s after being told to; this runtime can no "
                            "longer be used, and the kernel keeps a compute unit busy until the process exits",
@@ -339,6 +353,8 @@ static perma_status watch(perma_runtime *rt, cl_event done, double deadline)
             return PERMA_OK;
         now = perma_now();
         uint64_t finished = perma_state_watch(rt, running, rt->proc_count);
+        perma_progress_sample(rt, now);
+        perma_trace_read_clock(rt, now);
         if (finished != batches) {
             batches = finished;
             progress_at = now;
@@ -359,13 +375,14 @@ static perma_status watch(perma_runtime *rt, cl_event done, double deadline)
         if (aborted_at != 0.0 && now > aborted_at + GRACE_SECONDS)
             return give_up(rt);
         wait_for_callback(seen, now + pause);
-        if (pause < CHECK_SECONDS)
+        if (pause < (perma_trace_on_device(rt) ? PERMA_TRACE_SAMPLE_SECONDS : CHECK_SECONDS))
             pause *= 2;
     }
 }
 
 perma_status perma_watch_event(perma_runtime *rt, cl_event done, double deadline)
 {
+    perma_progress_kernel_started(rt);
     bool lent = waiter_lend(rt->watchdog, done);
     perma_status st = watch(rt, done, deadline);
     if (lent && !rt->hung)

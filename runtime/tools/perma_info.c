@@ -2,8 +2,10 @@
  * perma-info: every OpenCL platform and device, whether perma (and the
  * Reyes renderer, which needs 64-bit atomics) can run on it and why not,
  * the persistent work-group count the runtime would choose and why, its
- * local memory, atomics support, how it splits into equal sub-devices and
- * the driver version.  --check builds and runs a small tree on each device
+ * local memory per work-group, atomics support, double precision, the
+ * preferred and native vector widths per type, how it splits into equal
+ * sub-devices and the driver version: what a procedure author needs to know
+ * (docs/writing-procedures.md).  --check builds and runs a small tree on each device
  * that can run perma.
  *
  *   perma-info [--json] [--devices LIST] [--check]
@@ -14,6 +16,7 @@
  * failure or a failed check, 2 bad usage.
  */
 #include <perma.h>
+#include <perma_cli.h>
 
 #include <stdbool.h>
 #include <stdio.h>
@@ -23,6 +26,22 @@
 
 /* Work-items per group perma uses unless configured otherwise. */
 #define DEFAULT_GROUP_SIZE 64
+
+/* The scalar types whose vector widths a device reports, in the order of
+ * the text and JSON output. */
+#define VECTOR_TYPES 7
+static const struct {
+    const char *name;
+    cl_device_info preferred, native;
+} vector_types[VECTOR_TYPES] = {
+    { "char", CL_DEVICE_PREFERRED_VECTOR_WIDTH_CHAR, CL_DEVICE_NATIVE_VECTOR_WIDTH_CHAR },
+    { "short", CL_DEVICE_PREFERRED_VECTOR_WIDTH_SHORT, CL_DEVICE_NATIVE_VECTOR_WIDTH_SHORT },
+    { "int", CL_DEVICE_PREFERRED_VECTOR_WIDTH_INT, CL_DEVICE_NATIVE_VECTOR_WIDTH_INT },
+    { "long", CL_DEVICE_PREFERRED_VECTOR_WIDTH_LONG, CL_DEVICE_NATIVE_VECTOR_WIDTH_LONG },
+    { "half", CL_DEVICE_PREFERRED_VECTOR_WIDTH_HALF, CL_DEVICE_NATIVE_VECTOR_WIDTH_HALF },
+    { "float", CL_DEVICE_PREFERRED_VECTOR_WIDTH_FLOAT, CL_DEVICE_NATIVE_VECTOR_WIDTH_FLOAT },
+    { "double", CL_DEVICE_PREFERRED_VECTOR_WIDTH_DOUBLE, CL_DEVICE_NATIVE_VECTOR_WIDTH_DOUBLE },
+};
 
 typedef struct device_info {
     char label[64];  /* "P:D" or "P:D/N.K" */
@@ -34,9 +53,13 @@ typedef struct device_info {
     const char *type;
     cl_uint compute_units;
     cl_ulong local_mem, global_mem, max_alloc;
+    bool local_mem_dedicated;  /* CL_LOCAL: dedicated; else carved out of global memory */
     size_t max_group;
     cl_uint max_sub_devices;  /* 0: no equal partitions */
-    bool available, compiler, int32_atomics, int64_base, int64_extended, checked, check_ok;
+    /* Per vector_types entry: CL_DEVICE_PREFERRED_ and _NATIVE_VECTOR_WIDTH_ (0: the type is
+     * not supported, e.g. double without fp64). */
+    cl_uint preferred_width[VECTOR_TYPES], native_width[VECTOR_TYPES];
+    bool available, compiler, int32_atomics, int64_base, int64_extended, fp64, fp16, checked, check_ok;
     perma_status runtime_status;
 } device_info;
 
@@ -130,6 +153,17 @@ static void describe(const perma_device_ref *ref, device_info *info)
     clGetDeviceInfo(device, CL_DEVICE_GLOBAL_MEM_SIZE, sizeof info->global_mem, &info->global_mem, NULL);
     clGetDeviceInfo(device, CL_DEVICE_MAX_MEM_ALLOC_SIZE, sizeof info->max_alloc, &info->max_alloc, NULL);
     clGetDeviceInfo(device, CL_DEVICE_MAX_WORK_GROUP_SIZE, sizeof info->max_group, &info->max_group, NULL);
+    cl_device_local_mem_type local_type = CL_LOCAL;
+    clGetDeviceInfo(device, CL_DEVICE_LOCAL_MEM_TYPE, sizeof local_type, &local_type, NULL);
+    info->local_mem_dedicated = local_type == CL_LOCAL;
+    for (int t = 0; t < VECTOR_TYPES; ++t) {
+        clGetDeviceInfo(device, vector_types[t].preferred, sizeof(cl_uint), &info->preferred_width[t], NULL);
+        clGetDeviceInfo(device, vector_types[t].native, sizeof(cl_uint), &info->native_width[t], NULL);
+    }
+    /* Double precision: the extension (OpenCL 1.x) or a non-empty
+     * CL_DEVICE_DOUBLE_FP_CONFIG (3.0 reports the feature that way). */
+    cl_device_fp_config fp64_config = 0;
+    clGetDeviceInfo(device, CL_DEVICE_DOUBLE_FP_CONFIG, sizeof fp64_config, &fp64_config, NULL);
     info->max_sub_devices = ref->sub_devices >= 2 ? 0 : equal_partitions(device);
     text(device, CL_DEVICE_OPENCL_C_VERSION, info->c_version, sizeof info->c_version);
     cl_bool flag = CL_FALSE;
@@ -147,6 +181,8 @@ static void describe(const perma_device_ref *ref, device_info *info)
                               has_extension(extensions, "cl_khr_local_int32_base_atomics");
         info->int64_base = has_extension(extensions, "cl_khr_int64_base_atomics");
         info->int64_extended = has_extension(extensions, "cl_khr_int64_extended_atomics");
+        info->fp64 = has_extension(extensions, "cl_khr_fp64") || fp64_config != 0;
+        info->fp16 = has_extension(extensions, "cl_khr_fp16");
         free(extensions);
     }
     if (info->runtime_status == PERMA_OK)
@@ -246,7 +282,7 @@ static void run_check(const perma_device_ref *ref, device_info *info)
 
 /* With the default list, platforms that report no device (they are not in
  * the list) are named too (on stderr with --json). */
-static void list_platforms_without_devices(bool json)
+static void list_platforms_without_devices(int json)
 {
     cl_platform_id platforms[64];
     cl_uint count = 0;
@@ -284,11 +320,21 @@ static void print_text(const device_info *i)
     printf("  platform        %s, %s\n", i->platform, i->platform_version);
     printf("  device version  %s, driver %s\n", i->version, i->driver);
     printf("  compute units   %u, max work-group size %zu\n", (unsigned)i->compute_units, i->max_group);
-    printf("  memory          local %llu bytes, global %llu MiB, largest allocation %llu MiB\n",
-           (unsigned long long)i->local_mem, (unsigned long long)(i->global_mem >> 20),
-           (unsigned long long)(i->max_alloc >> 20));
-    printf("  atomics         32-bit global+local: %s, 64-bit base: %s, 64-bit extended (atom_min): %s\n",
+    printf("  memory          local %llu bytes per work-group (%s), global %llu MiB, largest allocation %llu MiB\n",
+           (unsigned long long)i->local_mem, i->local_mem_dedicated ? "dedicated" : "in global memory",
+           (unsigned long long)(i->global_mem >> 20), (unsigned long long)(i->max_alloc >> 20));
+    printf("  atomics         32-bit global+local: %s, 64-bit base (atom_add, atom_xchg): %s, "
+           "64-bit extended (atom_min, atom_max): %s\n",
            i->int32_atomics ? "yes" : "no", i->int64_base ? "yes" : "no", i->int64_extended ? "yes" : "no");
+    printf("  floating point  double (cl_khr_fp64): %s, half (cl_khr_fp16): %s\n", i->fp64 ? "yes" : "no",
+           i->fp16 ? "yes" : "no");
+    printf("  vector widths   preferred");
+    for (int t = 0; t < VECTOR_TYPES; ++t)
+        printf("%s %s %u", t ? "," : "", vector_types[t].name, (unsigned)i->preferred_width[t]);
+    printf("\n                  native   ");
+    for (int t = 0; t < VECTOR_TYPES; ++t)
+        printf("%s %s %u", t ? "," : "", vector_types[t].name, (unsigned)i->native_width[t]);
+    printf("\n");
     if (i->max_sub_devices >= 2)
         printf("  sub-devices     equal parts, 2..%u (PERMA_DEVICE=%s/2 lists 2 of them)\n",
                (unsigned)i->max_sub_devices, i->label);
@@ -339,38 +385,50 @@ static void print_json(const device_info *i, const perma_device_ref *ref, bool f
            i->int64_base ? "true" : "false", i->int64_extended ? "true" : "false",
            i->runtime_status == PERMA_OK ? "true" : "false");
     json_string(i->summary);
+    printf(", \"local_mem_dedicated\": %s, \"fp64\": %s, \"fp16\": %s",
+           i->local_mem_dedicated ? "true" : "false", i->fp64 ? "true" : "false", i->fp16 ? "true" : "false");
+    const char *kinds[2] = { "preferred_vector_width", "native_vector_width" };
+    for (int k = 0; k < 2; ++k) {
+        printf(", \"%s\": {", kinds[k]);
+        for (int t = 0; t < VECTOR_TYPES; ++t)
+            printf("%s\"%s\": %u", t ? ", " : "", vector_types[t].name,
+                   (unsigned)(k ? i->native_width[t] : i->preferred_width[t]));
+        printf("}");
+    }
     printf("}");
 }
 
 int main(int argc, char **argv)
 {
-    bool json = false, check = false;
+    int json = 0, check = 0;
     const char *list = "all";
-    for (int i = 1; i < argc; ++i) {
-        if (strcmp(argv[i], "--json") == 0) {
-            json = true;
-        } else if (strcmp(argv[i], "--check") == 0) {
-            check = true;
-        } else if (strcmp(argv[i], "--devices") == 0 && i + 1 < argc) {
-            list = argv[++i];
-        } else if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
-            printf("usage: perma-info [--json] [--devices LIST] [--check]\n"
-                   "Lists every OpenCL platform and device, whether perma and reyes-render can run on\n"
-                   "it (and why not) and how perma would use it.  --check also builds and runs a\n"
-                   "small tree on each device perma can run on (exit status 1 if one fails).\n"
-                   "LIST: comma-separated P:D (a device), NAME[:D] (device D, default 0, of the\n"
-                   "platform whose name or vendor contains NAME: intel, pocl), P:D/N (it split into\n"
-                   "N equal sub-devices), P:D/N.K (the K-th of them) or 'all' (the default).\n");
-            return 0;
-        } else if (strcmp(argv[i], "--version") == 0) {
-            printf("perma-info %s\n", PERMA_VERSION_STRING);
-            return 0;
-        } else {
-            fprintf(stderr, "perma-info: %s '%s' (try --help)\n",
-                    strcmp(argv[i], "--devices") == 0 ? "missing the list after" : "unknown option", argv[i]);
-            return 2;
-        }
-    }
+    const perma_cli_option rows[] = {
+        { PERMA_CLI_FLAG("json", &json, "print JSON (for scripts) instead of text") },
+        { PERMA_CLI_TEXT("devices", "LIST", &list, "the devices of a device list (default all)") },
+        { PERMA_CLI_FLAG("check", &check,
+                         "also build and run a small tree on each device perma can run on (exit status 1 if one "
+                         "fails)") },
+    };
+    const perma_cli_table table = { "options", rows, sizeof rows / sizeof rows[0] };
+    const perma_cli cli = {
+        .program = "perma-info",
+        .synopsis = "[--json] [--devices LIST] [--check]",
+        .about = "Lists every OpenCL platform and device, whether perma and reyes-render can run on\n"
+                 "it (and why not), how perma would use it and what a procedure may use there:\n"
+                 "local memory per work-group, 32- and 64-bit atomics, double and half precision,\n"
+                 "preferred and native vector widths.\n"
+                 "LIST: comma-separated P:D (a device), NAME[:D] (device D, default 0, of the\n"
+                 "platform whose name or vendor contains NAME: intel, pocl), P:D/N (it split into\n"
+                 "N equal sub-devices), P:D/N.K (the K-th of them) or 'all' (the default).",
+        .tables = &table,
+        .table_count = 1,
+        .notes = "exit status: 0 ok, 1 no OpenCL platform, a bad device list, an OpenCL failure or a\n"
+                 "failed check, 2 bad usage",
+    };
+    char message[PERMA_CLI_MESSAGE_MAX];
+    perma_cli_status parsed = perma_cli_parse(&cli, argc, argv, message, sizeof message);
+    if (parsed != PERMA_CLI_OK)
+        return perma_cli_exit_status(parsed);
     perma_device_ref refs[PERMA_MAX_DEVICES];
     unsigned count = 0;
     perma_error error;

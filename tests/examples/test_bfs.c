@@ -31,7 +31,7 @@ static void assert_perma_levels(const bfs_graph *g, uint32_t source)
     uint32_t *got = malloc((size_t)g->vertices * sizeof *got);
     ck_assert(want && got);
     ck_assert_int_eq(bfs_sequential(g, source, want), 0);
-    bfs_run_options run = { .work_groups = 0 };
+    example_run_options run = { .work_groups = 0 };
     example_test_variant(&run.schedule);
     char message[2048];
     bfs_status st = bfs_perma(g, &run, source, got, message, sizeof message);
@@ -174,10 +174,11 @@ START_TEST(bad_options_are_usage_errors)
     };
     bfs_options o;
     char message[512];
-    ck_assert_int_eq(bfs_parse_options(3, (char **)bad[_i], &o, message, sizeof message), BFS_ERR_USAGE);
+    ck_assert_int_eq(bfs_parse_options(3, (char **)bad[_i], &o, message, sizeof message), PERMA_CLI_USAGE);
     ck_assert_msg(strstr(message, bad[_i][1]) != NULL, "message does not name %s: %s", bad[_i][1], message);
     char *none[] = { "bfs", NULL };
-    ck_assert_int_eq(bfs_parse_options(1, none, &o, message, sizeof message), BFS_ERR_USAGE);
+    ck_assert_int_eq(bfs_parse_options(1, none, &o, message, sizeof message), PERMA_CLI_USAGE);
+    ck_assert_str_eq(message, "give either an edge file or --generate N");
 }
 END_TEST
 

@@ -40,7 +40,7 @@ START_TEST(perma_equals_brute_force)
     uint32_t *want = malloc(pixels * sizeof *want), *got = malloc(pixels * sizeof *got);
     ck_assert(want && got);
     mandel_brute_force(&p, want);
-    mandel_run_options run = { .work_groups = 0 };
+    example_run_options run = { .work_groups = 0 };
     example_test_variant(&run.schedule);
     char message[2048];
     mandel_status st = mandel_render_perma(&p, &run, got, message, sizeof message);
@@ -76,7 +76,7 @@ START_TEST(thin_images)
     mandel_params_init(&p, sizes[_i][0], sizes[_i][1], -2.0, 0.5, -1.0, 1.0, 100, 2);
     uint32_t want[64], got[64];
     mandel_brute_force(&p, want);
-    mandel_run_options run = { .work_groups = 0 };
+    example_run_options run = { .work_groups = 0 };
     example_test_variant(&run.schedule);
     char message[2048];
     mandel_status st = mandel_render_perma(&p, &run, got, message, sizeof message);
@@ -94,8 +94,8 @@ START_TEST(bad_options_are_usage_errors)
     };
     mandel_options o;
     char message[512];
-    mandel_status st = mandel_parse_options(3, (char **)bad[_i], &o, message, sizeof message);
-    ck_assert_int_eq(st, MANDEL_ERR_USAGE);
+    perma_cli_status st = mandel_parse_options(3, (char **)bad[_i], &o, message, sizeof message);
+    ck_assert_int_eq(st, PERMA_CLI_USAGE);
     ck_assert_msg(strstr(message, bad[_i][1]) != NULL, "message does not name %s: %s", bad[_i][1], message);
 }
 END_TEST
@@ -106,12 +106,12 @@ START_TEST(good_options)
                      "--technique", "bounded-batches", "--groups", "3", "-o", "x.png", NULL };
     mandel_options o;
     char message[512];
-    ck_assert_int_eq(mandel_parse_options(13, argv, &o, message, sizeof message), MANDEL_OK);
-    ck_assert_uint_eq(o.width, 64);
-    ck_assert_uint_eq(o.height, 32);
+    ck_assert_int_eq(mandel_parse_options(13, argv, &o, message, sizeof message), PERMA_CLI_OK);
+    ck_assert_uint_eq(o.size[0], 64);
+    ck_assert_uint_eq(o.size[1], 32);
     ck_assert_uint_eq(o.max_iter, 50);
-    ck_assert_uint_eq(o.run.work_groups, 3);
-    ck_assert_int_eq(o.run.schedule.technique, PERMA_TECHNIQUE_BOUNDED_BATCHES);
+    ck_assert_uint_eq(o.common.run.work_groups, 3);
+    ck_assert_int_eq(o.common.run.schedule.technique, PERMA_TECHNIQUE_BOUNDED_BATCHES);
     ck_assert_str_eq(o.output, "x.png");
 }
 END_TEST

@@ -48,14 +48,15 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     /* Small enough that long words truncate the message. */
     char message[128];
     memset(message, 'x', sizeof message);
-    int result = reyes_cli_parse(argc, argv, &cli, message, sizeof message);
-    if (result != REYES_CLI_OK && result != REYES_CLI_USAGE)
+    perma_cli_status result = reyes_cli_parse(argc, argv, &cli, message, sizeof message);
+    if (result != PERMA_CLI_OK && result != PERMA_CLI_USAGE && result != PERMA_CLI_HELP
+        && result != PERMA_CLI_VERSION)
         abort();
     if (!memchr(message, '\0', sizeof message))
         abort(); /* the message must always be a terminated string */
-    if (result == REYES_CLI_USAGE && message[0] == '\0')
+    if (result == PERMA_CLI_USAGE && message[0] == '\0')
         abort(); /* bad usage always says why */
-    if (result == REYES_CLI_OK) {
+    if (result == PERMA_CLI_OK) {
         /* The parser's results must point into argv and be in range. */
         if (!cli.output || cli.model_count >= (size_t)argc)
             abort();

@@ -212,7 +212,7 @@ reyes_status reyes_brute_render(const reyes_scene *scene, const reyes_camera *ca
         return reyes_fail(error, REYES_ERR_ARGUMENT, "brute-force tessellation %u is not in 1..1024",
                           tessellation);
     unsigned width = options->width, height = options->height, spp = options->spp;
-    float m[16], near_w = reyes_near_plane(scene);
+    float m[16], near_w = reyes_near_plane(scene, camera);
     reyes_status status = reyes_camera_matrix(camera, (float)width / (float)height, near_w, m, error);
     if (status != REYES_OK)
         return status;

@@ -100,6 +100,18 @@ void reyes_test_sphere_scene(reyes_scene *scene)
     ck_assert_int_eq(reyes_scene_add_sphere(scene, center, 1.0f, REYES_RGBA(200, 200, 200), &error), REYES_OK);
 }
 
+void reyes_test_add_far_patch(reyes_scene *scene, float distance)
+{
+    float cp[4][4][3];
+    for (int i = 0; i < 16; ++i)
+        for (int k = 0; k < 3; ++k)
+            cp[i / 4][i % 4][k] = scene->points[i * 4 + k];
+    cp[0][0][0] = distance;
+    cp[0][0][1] = cp[0][0][2] = 0.0f;
+    reyes_error error;
+    ck_assert_int_eq(reyes_scene_add_patch(scene, cp, REYES_RGBA(90, 170, 90), &error), REYES_OK);
+}
+
 void reyes_test_expect_same_image(const reyes_image *expected, const reyes_image *image, const char *label)
 {
     ck_assert_msg(image->width == expected->width && image->height == expected->height,

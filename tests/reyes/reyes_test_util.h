@@ -43,6 +43,10 @@ void reyes_test_load_model(reyes_scene *scene, const char *dir, const char *file
 /* A sphere of radius 1 at the origin, light gray. */
 void reyes_test_sphere_scene(reyes_scene *scene);
 
+/* Append a copy of the scene's first patch whose first control point is
+ * moved to (distance, 0, 0): one stray point far from the rest. */
+void reyes_test_add_far_patch(reyes_scene *scene, float distance);
+
 /* The two renders are byte-identical: size, colors and coverage; the
  * failure names `label` and how many pixels differ. */
 void reyes_test_expect_same_image(const reyes_image *expected, const reyes_image *image, const char *label);

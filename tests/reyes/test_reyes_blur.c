@@ -302,7 +302,7 @@ static void race_render(unsigned algo, unsigned time_samples, unsigned tile, uns
     o.bound_px = 1e6f;
     o.aperture = 0.1f;   /* defocus moves samples sideways only: coverage stays */
     o.focus = 3.0f;
-    o.motion[2] = 2.0f * (4.0f - reyes_near_plane(&scene));
+    o.motion[2] = 2.0f * (4.0f - reyes_near_plane(&scene, &top));
     o.time_samples = time_samples;
     o.blur_algo = algo;
     o.blur_tile = tile;

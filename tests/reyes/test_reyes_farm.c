@@ -23,7 +23,7 @@ static const char *two_devices(void)
 static void make_job(reyes_job *job, reyes_cli *cli, int argc, char **argv)
 {
     char message[512];
-    ck_assert_msg(reyes_cli_parse(argc, argv, cli, message, sizeof message) == REYES_CLI_OK, "%s", message);
+    ck_assert_msg(reyes_cli_parse(argc, argv, cli, message, sizeof message) == PERMA_CLI_OK, "%s", message);
     reyes_error error;
     ck_assert_msg(reyes_job_init(job, cli, &error) == REYES_OK, "%s", error.message);
 }
@@ -353,12 +353,64 @@ START_TEST(test_farm_failure_names_device)
 }
 END_TEST
 
+/* A result whose item or rectangle is not the job's (a rank started with
+ * another size, before the ranks compared their jobs) is refused with a
+ * message, and nothing is copied; rank 0 used to write past its image. */
+START_TEST(test_pool_refuses_foreign_tiles)
+{
+    char *argv[] = { "reyes-render", "--size", "64x48", "--bucket", "32x32" };
+    reyes_cli cli;
+    reyes_job job;
+    make_job(&job, &cli, 5, argv);
+    ck_assert_uint_eq(job.items, 4);
+    reyes_pool pool;
+    reyes_error error;
+    ck_assert_int_eq(reyes_pool_init(&pool, &job, &error), REYES_OK);
+    size_t big = (size_t)1024 * 1024;
+    uint8_t *rgb = malloc(big * 3), *coverage = malloc(big);
+    ck_assert(rgb && coverage);
+    memset(rgb, 0xff, big * 3);
+    memset(coverage, 0xff, big);
+    const unsigned huge[4] = { 0, 0, 1024, 1024 }, shifted[4] = { 32, 0, 64, 32 }, own[4] = { 0, 0, 32, 32 },
+                   last[4] = { 32, 32, 64, 48 };
+    ck_assert_int_eq(reyes_pool_deliver(&pool, 0, huge, rgb, coverage, 1.0, &error), REYES_ERR_RUNTIME);
+    ck_assert_str_eq(error.message, "bucket 0 came with pixels [0,1024)x[0,1024), not its [0,32)x[0,32)");
+    ck_assert_int_eq(reyes_pool_deliver(&pool, 0, shifted, rgb, coverage, 1.0, &error), REYES_ERR_RUNTIME);
+    ck_assert_int_eq(reyes_pool_deliver(&pool, 4, own, rgb, coverage, 1.0, &error), REYES_ERR_RUNTIME);
+    ck_assert_str_eq(error.message, "a result for bucket 4, which the job does not have (4 buckets)");
+    for (size_t k = 0; k < (size_t)64 * 48; ++k)
+        ck_assert_uint_eq(pool.image.coverage[k], 0);
+    ck_assert_uint_eq(pool.delivered, 0);
+    /* Its own rectangle is taken: the last bucket is cut by the image. */
+    ck_assert_int_eq(reyes_pool_deliver(&pool, 3, last, rgb, coverage, 1.0, &error), REYES_OK);
+    ck_assert_uint_eq(pool.delivered, 1);
+    ck_assert_uint_eq(pool.image.coverage[47 * 64 + 63], 0xff);
+    ck_assert_uint_eq(pool.image.coverage[31 * 64 + 63], 0);
+    reyes_pool_free(&pool);
+    reyes_job_free(&job);
+    reyes_cli_free(&cli);
+    /* A frame must be the whole frame (no file is written otherwise). */
+    char *frames[] = { "reyes-render", "--size", "16x8", "--frames", "2", "-o", "/nonexistent/f.png" };
+    make_job(&job, &cli, 7, frames);
+    ck_assert_int_eq(reyes_pool_init(&pool, &job, &error), REYES_OK);
+    const unsigned wide[4] = { 0, 0, 32, 8 };
+    ck_assert_int_eq(reyes_pool_deliver(&pool, 1, wide, rgb, coverage, 1.0, &error), REYES_ERR_RUNTIME);
+    ck_assert_str_eq(error.message, "frame 2 came with pixels [0,32)x[0,8), not its [0,16)x[0,8)");
+    reyes_pool_free(&pool);
+    reyes_job_free(&job);
+    reyes_cli_free(&cli);
+    free(rgb);
+    free(coverage);
+}
+END_TEST
+
 int main(void)
 {
     Suite *suite = suite_create("reyes_farm");
     TCase *tc = tcase_create("farm");
     tcase_set_timeout(tc, 300);
     tcase_add_test(tc, test_frame_paths);
+    tcase_add_test(tc, test_pool_refuses_foreign_tiles);
     tcase_add_test(tc, test_frame_orbit_and_motion);
     tcase_add_test(tc, test_bucket_source_subset);
     tcase_add_test(tc, test_farm_buckets_identical);

@@ -83,7 +83,8 @@ START_TEST(test_camera_projection)
 }
 END_TEST
 
-/* Auto-framing puts every control point of the scene inside the image. */
+/* Auto-framing puts every control point of the scene inside the image
+ * (the built-in scene has no point far from the rest). */
 START_TEST(test_camera_frames_scene)
 {
     reyes_scene scene;
@@ -104,6 +105,41 @@ START_TEST(test_camera_frames_scene)
         }
     }
     ck_assert_int_eq(reyes_camera_frame(&scene, 0.0f, 1.0f, &camera, &error), REYES_ERR_ARGUMENT);
+    reyes_scene_free(&scene);
+}
+END_TEST
+
+/* One control point 1e6 units away is left out of the framing (and
+ * counted): the rest fills the view instead of shrinking to a dot. */
+START_TEST(test_camera_frames_the_bulk)
+{
+    reyes_scene scene;
+    reyes_error error;
+    reyes_camera camera;
+    float m[16];
+    reyes_scene_init(&scene);
+    ck_assert_int_eq(reyes_scene_add_builtin(&scene, &error), REYES_OK);
+    size_t builtin = scene.patch_count;
+    reyes_bulk bulk;
+    ck_assert(reyes_scene_bulk(&scene, &bulk));
+    ck_assert_uint_eq(bulk.left_out, 0);
+    float cp[4][4][3] = { { { 1e6f, 0.0f, 0.0f } } }; /* a patch at the origin but its first point */
+    ck_assert_int_eq(reyes_scene_add_patch(&scene, cp, REYES_RGBA(90, 170, 90), &error), REYES_OK);
+    ck_assert(reyes_scene_bulk(&scene, &bulk));
+    ck_assert_uint_eq(bulk.left_out, 1);
+    ck_assert_uint_eq(bulk.first_left_out, builtin * 16);
+    ck_assert_int_eq(reyes_camera_frame(&scene, 40.0f, 1.0f, &camera, &error), REYES_OK);
+    ck_assert_int_eq(reyes_camera_matrix(&camera, 1.0f, 0.01f, m, &error), REYES_OK);
+    float lo = 200.0f, hi = 0.0f, px, py, depth;
+    for (size_t i = 0; i < builtin * 16; ++i) {
+        ck_assert(reyes_camera_project(m, 200, 200, scene.points + i * 4, &px, &py, &depth));
+        ck_assert(px >= 0 && px <= 200 && py >= 0 && py <= 200);
+        lo = fminf(lo, px);
+        hi = fmaxf(hi, px);
+    }
+    ck_assert_float_gt(hi - lo, 100.0f);
+    ck_assert(!reyes_camera_project(m, 200, 200, scene.points + builtin * 16 * 4, &px, &py, &depth)
+              || px > 200.0f || px < 0.0f || py > 200.0f || py < 0.0f);
     reyes_scene_free(&scene);
 }
 END_TEST
@@ -257,6 +293,7 @@ static Suite *host_suite(void)
     tcase_add_test(tc, test_sphere_patches_on_sphere);
     tcase_add_test(tc, test_camera_projection);
     tcase_add_test(tc, test_camera_frames_scene);
+    tcase_add_test(tc, test_camera_frames_the_bulk);
     tcase_add_test(tc, test_options_check);
     tcase_add_test(tc, test_png_roundtrip);
     tcase_add_test(tc, test_stats_json);

@@ -81,20 +81,47 @@ START_TEST(test_missing_patch)
 }
 END_TEST
 
+/* One patch whose first point's z ("0" at the end of line 3) is `z`. */
+static void patch_with_z(char text[4096], const char *z)
+{
+    strcpy(text, one_patch_text());
+    char *third = strchr(strchr(text, '\n') + 1, '\n') + 1;
+    char *end = strchr(third, '\n');
+    char rest[4096];
+    strcpy(rest, end);
+    snprintf(end - 1, 4096 - (size_t)(end - 1 - text), "%s%s", z, rest);
+}
+
 START_TEST(test_not_finite)
 {
     const char *bad[] = {"nan", "inf", "-Infinity", "1e999", "1.5x", "--1"};
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
         char text[4096];
-        strcpy(text, one_patch_text());
-        /* Replace the z of the first point ("0" at the end of line 3). */
-        char *third = strchr(strchr(text, '\n') + 1, '\n') + 1;
-        char *end = strchr(third, '\n');
-        char rest[4096];
-        strcpy(rest, end);
-        snprintf(end - 1, sizeof text - (size_t)(end - 1 - text), "%s%s", bad[i], rest);
+        patch_with_z(text, bad[i]);
         expect_error(text, "model.bpt:3:", "not a finite number");
     }
+}
+END_TEST
+
+/* Coordinates whose squared distances overflow single precision are
+ * refused (a patch with one once vanished from the image); up to 1e18 is
+ * accepted. */
+START_TEST(test_too_far)
+{
+    const char *bad[] = {"1.1e18", "-1e20", "3e38"};
+    char text[4096];
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
+        patch_with_z(text, bad[i]);
+        char what[128];
+        snprintf(what, sizeof what, "patch 1, control point 1: %s is beyond +-1e+18, where the renderer's "
+                 "single-precision arithmetic overflows", bad[i]);
+        expect_error(text, "model.bpt:3:", what);
+    }
+    patch_with_z(text, "-1e18");
+    reyes_error error;
+    size_t patches;
+    ck_assert_int_eq(parse(text, &error, &patches), REYES_OK);
+    ck_assert_uint_eq(patches, 1);
 }
 END_TEST
 
@@ -186,6 +213,23 @@ START_TEST(test_binary_file)
 }
 END_TEST
 
+/* A UTF-8 byte order mark before the count is skipped; anywhere else it
+ * is an error that shows its bytes (not an invisible character). */
+START_TEST(test_byte_order_mark)
+{
+    char text[4096];
+    size_t patches;
+    reyes_error error;
+    snprintf(text, sizeof text, "\xEF\xBB\xBF%s", one_patch_text());
+    ck_assert_msg(parse(text, &error, &patches) == REYES_OK, "%s", error.message);
+    ck_assert_uint_eq(patches, 1);
+    snprintf(text, sizeof text, "\xEF\xBB\xBF\xEF\xBB\xBF%s", one_patch_text());
+    expect_error(text, "model.bpt:1:", "patch count '\\xEF\\xBB\\xBF1' is not a positive integer");
+    snprintf(text, sizeof text, "1\n3 3\n\x01%s", one_patch_text() + 6);
+    expect_error(text, "model.bpt:3:", "control point 1: '\\x010' is not a finite number");
+}
+END_TEST
+
 static Suite *loader_suite(void)
 {
     Suite *s = suite_create("reyes_loader");
@@ -194,12 +238,14 @@ static Suite *loader_suite(void)
     tcase_add_test(tc, test_truncated);
     tcase_add_test(tc, test_missing_patch);
     tcase_add_test(tc, test_not_finite);
+    tcase_add_test(tc, test_too_far);
     tcase_add_test(tc, test_tiny_numbers);
     tcase_add_test(tc, test_bad_counts);
     tcase_add_test(tc, test_bad_degree_and_trailing);
     tcase_add_test(tc, test_long_token);
     tcase_add_test(tc, test_load_file);
     tcase_add_test(tc, test_binary_file);
+    tcase_add_test(tc, test_byte_order_mark);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -186,6 +186,33 @@ START_TEST(test_camera_inside_and_behind)
 }
 END_TEST
 
+/* One control point far away (1e6 units) must not move the near plane past
+ * what the camera sees: the sphere in front of the camera renders, covering
+ * at least the samples it covers alone (the near plane once came from the
+ * scene's size, 50 units here, and culled it all). */
+START_TEST(test_far_point_keeps_the_near_plane_close)
+{
+    reyes_scene scene;
+    reyes_test_sphere_scene(&scene);
+    reyes_options o;
+    small_options(&o, 64, 64);
+    reyes_camera camera = { .eye = {0, -5, 1}, .at = {0, 0, 0}, .fov_deg = 40 };
+    reyes_image alone, with_far;
+    reyes_test_render(reyes_test_renderer(0), &scene, &camera, &o, &alone, NULL);
+    uint64_t sphere = reyes_test_covered_samples(&alone);
+    ck_assert_uint_gt(sphere, 64 * 64 * o.spp / 8);
+    reyes_test_add_far_patch(&scene, 1e6f);
+    reyes_stats stats;
+    reyes_test_render(reyes_test_renderer(0), &scene, &camera, &o, &with_far, &stats);
+    ck_assert_uint_ge(reyes_test_covered_samples(&with_far), sphere);
+    ck_assert_float_le(reyes_near_plane(&scene, &camera), 1e-3f);
+    reyes_test_expect_reference_counts(&scene, &camera, &o, &stats);
+    reyes_image_free(&alone);
+    reyes_image_free(&with_far);
+    reyes_scene_free(&scene);
+}
+END_TEST
+
 /* Back-face culling, another bound and a depth limit that forces dicing:
  * the counts still equal the C reference's. */
 START_TEST(test_options_match_reference)
@@ -345,7 +372,7 @@ START_TEST(test_sphere_shading)
     small_options(&o, 160, 160);
     reyes_camera camera = { .eye = {1.5f, -4.5f, 1.2f}, .at = {0, 0, 0}, .fov_deg = 35.0f };
     float m[16];
-    ck_assert_int_eq(reyes_camera_matrix(&camera, 1.0f, reyes_near_plane(&scene), m, &error), REYES_OK);
+    ck_assert_int_eq(reyes_camera_matrix(&camera, 1.0f, reyes_near_plane(&scene, &camera), m, &error), REYES_OK);
     reyes_image image;
     reyes_stats stats;
     reyes_test_render(reyes_test_renderer(0), &scene, &camera, &o, &image, &stats);
@@ -443,6 +470,7 @@ static Suite *render_suite(void)
     tcase_add_test(tc, test_builtin_no_holes);
     tcase_add_test(tc, test_groups_identical);
     tcase_add_test(tc, test_camera_inside_and_behind);
+    tcase_add_test(tc, test_far_point_keeps_the_near_plane_close);
     tcase_add_test(tc, test_options_match_reference);
     tcase_add_test(tc, test_stages);
     tcase_add_test(tc, test_image_matches_reference);

@@ -83,7 +83,7 @@ START_TEST(test_flat_square_counts)
     add_square(&scene, uniform, 0.0f);
     float m[16], x0, y0, x1, y1, depth;
     reyes_error error;
-    ck_assert_int_eq(reyes_camera_matrix(&above, 1.0f, reyes_near_plane(&scene), m, &error), REYES_OK);
+    ck_assert_int_eq(reyes_camera_matrix(&above, 1.0f, reyes_near_plane(&scene, &above), m, &error), REYES_OK);
     const float low[3] = {-1.0f, -1.0f, 0.0f}, high[3] = {1.0f, 1.0f, 0.0f};
     ck_assert(reyes_camera_project(m, SIZE, SIZE, low, &x0, &y0, &depth));
     ck_assert(reyes_camera_project(m, SIZE, SIZE, high, &x1, &y1, &depth));

@@ -80,6 +80,8 @@ START_TEST(errmsg_is_empty_after_every_successful_call)
     EXPECT_CLEARED(rt, perma_get_procedure_stats(rt, id, &ps));
     EXPECT_CLEARED(rt, perma_get_group_stats(rt, 0, &gs));
     EXPECT_CLEARED(rt, perma_get_work_groups(rt, &work_groups, NULL));
+    size_t local_bytes;
+    EXPECT_CLEARED(rt, perma_get_local_memory(rt, &local_bytes));
     perma_destroy(rt);
 }
 END_TEST
@@ -94,7 +96,75 @@ START_TEST(out_pointers_are_checked)
     ck_assert_contains(perma_errmsg(rt), "perma_find('count'): out is NULL");
     ck_assert_int_eq(perma_get_work_groups(rt, NULL, NULL), PERMA_ERR_ARGUMENT);
     ck_assert_contains(perma_errmsg(rt), "perma_get_work_groups: both out pointers are NULL");
+    ck_assert_int_eq(perma_get_local_memory(rt, NULL), PERMA_ERR_ARGUMENT);
+    ck_assert_contains(perma_errmsg(rt), "perma_get_local_memory: bytes is NULL");
     perma_destroy(rt);
+}
+END_TEST
+
+/* The __local memory a group may use, with config.local_memory_limit and
+ * PERMA_LOCAL_MEMORY_LIMIT set or not (given as `limit`, `env`; NULL:
+ * unset); PERMA_ERR_ARGUMENT and the message when perma_create refuses. */
+static perma_status local_memory_with(size_t limit, const char *env, size_t *bytes, perma_error *error)
+{
+    if (env)
+        setenv("PERMA_LOCAL_MEMORY_LIMIT", env, 1);
+    else
+        unsetenv("PERMA_LOCAL_MEMORY_LIMIT");
+    perma_config config;
+    perma_config_init(&config);
+    config.local_memory_limit = limit;
+    perma_runtime *rt;
+    perma_status st = perma_create(&config, &rt, error);
+    if (st == PERMA_OK) {
+        ck_assert_perma_ok(rt, perma_get_local_memory(rt, bytes));
+        cl_ulong device = 0;
+        ck_assert_int_eq(clGetDeviceInfo(perma_cl_device(rt), CL_DEVICE_LOCAL_MEM_SIZE, sizeof device, &device, NULL),
+                         CL_SUCCESS);
+        ck_assert_uint_le(*bytes, device);
+        perma_destroy(rt);
+    }
+    return st;
+}
+
+/* The device's size, unless config.local_memory_limit or (when that is 0)
+ * PERMA_LOCAL_MEMORY_LIMIT caps it lower; a malformed variable fails
+ * perma_create naming it.  (The suite also runs every runtime test under
+ * the variable: it is put back afterwards.) */
+START_TEST(local_memory_limit_from_config_and_environment)
+{
+    const char *saved = getenv("PERMA_LOCAL_MEMORY_LIMIT");
+    char *restore = saved ? strdup(saved) : NULL;
+    size_t device, bytes;
+    perma_error error;
+    ck_assert_int_eq(local_memory_with(0, NULL, &device, &error), PERMA_OK);
+    ck_assert_uint_ge(device, 16 * 1024);
+    ck_assert_int_eq(local_memory_with(0, "", &bytes, &error), PERMA_OK);
+    ck_assert_uint_eq(bytes, device);
+    ck_assert_int_eq(local_memory_with(10000, NULL, &bytes, &error), PERMA_OK);
+    ck_assert_uint_eq(bytes, 10000);
+    ck_assert_int_eq(local_memory_with(0, "12K", &bytes, &error), PERMA_OK);
+    ck_assert_uint_eq(bytes, 12 * 1024);
+    ck_assert_int_eq(local_memory_with(0, "12000", &bytes, &error), PERMA_OK);
+    ck_assert_uint_eq(bytes, 12000);
+    ck_assert_int_eq(local_memory_with(10000, "12K", &bytes, &error), PERMA_OK); /* the config wins */
+    ck_assert_uint_eq(bytes, 10000);
+    ck_assert_int_eq(local_memory_with(device + 4096, NULL, &bytes, &error), PERMA_OK); /* never above the device */
+    ck_assert_uint_eq(bytes, device);
+    ck_assert_int_eq(local_memory_with(0, "1024M", &bytes, &error), PERMA_OK);
+    ck_assert_uint_eq(bytes, device);
+    static const char *const bad[] = { "12Q", "-5", "0", "K", "1.5M", "99999999999999999999" };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
+        ck_assert_int_eq(local_memory_with(0, bad[i], &bytes, &error), PERMA_ERR_ARGUMENT);
+        char expected[128];
+        snprintf(expected, sizeof expected, "PERMA_LOCAL_MEMORY_LIMIT '%s' is not a number of bytes", bad[i]);
+        ck_assert_contains(error.message, expected);
+    }
+    if (restore)
+        setenv("PERMA_LOCAL_MEMORY_LIMIT", restore, 1);
+    else
+        unsetenv("PERMA_LOCAL_MEMORY_LIMIT");
+    free(restore);
 }
 END_TEST
 
@@ -212,6 +282,7 @@ int main(void)
     tcase_add_test(tc, opencl_target_version_is_the_programs);
     tcase_add_test(tc, errmsg_is_empty_after_every_successful_call);
     tcase_add_test(tc, out_pointers_are_checked);
+    tcase_add_test(tc, local_memory_limit_from_config_and_environment);
     tcase_add_test(tc, work_groups_known_before_the_first_run);
     tcase_add_test(tc, default_queue_memory_limit_is_half_the_largest_allocation);
     tcase_add_test(tc, seeds_beyond_the_limits_are_refused_at_seed);

@@ -3,9 +3,13 @@
  * targets, missing devices, emit limits, the watchdog. */
 #include "perma_test.h"
 
+#include <signal.h>
 #include <stdbool.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/wait.h>
+#include <time.h>
 #include <unistd.h>
 
 static const char *noop_source = "void noop(perma_ctx *ctx, __local const uint *x) { (void)ctx; (void)x; }\n";
@@ -432,6 +436,33 @@ START_TEST(no_platform_names_the_package)
 }
 END_TEST
 
+/* A registered driver that does not load is not "no driver installed":
+ * the message says which is registered and that it did not load. */
+START_TEST(driver_that_does_not_load_is_named)
+{
+    const char *fork = getenv("CK_FORK");
+    if (fork && strcmp(fork, "no") == 0)
+        return; /* would poison the loader for the other tests */
+    char vendors[] = "/tmp/perma-broken-vendors-XXXXXX", icd[96];
+    ck_assert_ptr_nonnull(mkdtemp(vendors));
+    snprintf(icd, sizeof icd, "%s/broken.icd", vendors);
+    FILE *f = fopen(icd, "w");
+    ck_assert_ptr_nonnull(f);
+    fputs("/nonexistent/libbroken-opencl.so\n", f);
+    fclose(f);
+    setenv("OCL_ICD_VENDORS", vendors, 1);
+    perma_runtime *rt = NULL;
+    perma_error error;
+    ck_assert_int_eq(perma_create(NULL, &rt, &error), PERMA_ERR_NO_PLATFORM);
+    char expected[256];
+    snprintf(expected, sizeof expected, "no OpenCL platform could be loaded, though 1 driver is registered in %s "
+             "(broken.icd); OCL_ICD_DEBUG=7 shows why", vendors);
+    ck_assert_str_eq(error.message, expected);
+    remove(icd);
+    rmdir(vendors);
+}
+END_TEST
+
 START_TEST(bad_config_values)
 {
     perma_config config;
@@ -541,11 +572,54 @@ START_TEST(watchdog_stops_an_endless_run)
 }
 END_TEST
 
+/* The procedures of the stuck tests: `fine` items complete, item 0 emits
+ * one `stuck` item, which loops until the host sets release[0] (never) or,
+ * if `cooperative`, until the watchdog asks the run to stop. */
+static void add_stuck_procedures(perma_runtime *rt, int cooperative, perma_proc *f, perma_proc *s, uint32_t release[1])
+{
+    perma_procedure fine = {
+        .name = "fine", .item_type = "uint", .item_size = 4, .source_file = "stuck.cl", .function = "fine",
+        .source = cooperative
+                      ? "void fine(perma_ctx *ctx, __local const uint *x) { if (*x == 0u) { uint v = 1u; emit_stuck(ctx, &v); } }\n"
+                        "void stuck(perma_ctx *ctx, __local const uint *x)\n"
+                        "{\n"
+                        "    while (atomic_add(&ctx->buf.release[0], 0u) == 0u && !perma_stop_requested(ctx))\n"
+                        "        ;\n"
+                        "    (void)x;\n"
+                        "}\n"
+                      : "void fine(perma_ctx *ctx, __local const uint *x) { if (*x == 0u) { uint v = 1u; emit_stuck(ctx, &v); } }\n"
+                        "void stuck(perma_ctx *ctx, __local const uint *x)\n"
+                        "{\n"
+                        "    while (atomic_add(&ctx->buf.release[0], 0u) == 0u)\n"
+                        "        ;\n"
+                        "    (void)x;\n"
+                        "}\n",
+        .emits = { { "stuck", 1 } },
+    };
+    perma_procedure stuck = fine;
+    stuck.name = stuck.function = "stuck";
+    memset(stuck.emits, 0, sizeof stuck.emits);
+    ck_assert_perma_ok(rt, perma_register(rt, &fine, f));
+    ck_assert_perma_ok(rt, perma_register(rt, &stuck, s));
+    ck_assert_perma_ok(rt, perma_bind_host(rt, "release", "__global uint *", release, sizeof(uint32_t), PERMA_READ));
+}
+
+/* 99 items that complete and one that emits the stuck item. */
+static void seed_stuck_run(perma_runtime *rt, perma_proc f)
+{
+    uint32_t values[100] = { 0 };
+    for (unsigned i = 1; i < 100; ++i)
+        values[i] = i;
+    ck_assert_perma_ok(rt, perma_seed(rt, f, values, 100));
+}
+
 /* A procedure that never returns: nothing completes, so the watchdog stops
  * the run after config.stall_limit (1 s here) instead of the time limit
  * (600 s), names the procedure in flight, and gives up on the kernel after
  * the grace period.  The runtime is then unusable: every call that uses the
- * device says so. */
+ * device says so.  The test's process (check forks one per test) then
+ * exits normally: with the runtime's command queue held, Intel's runtime
+ * made exit() wait for the stuck kernel forever. */
 static void stuck_procedure(perma_technique technique)
 {
     perma_config config;
@@ -553,30 +627,11 @@ static void stuck_procedure(perma_technique technique)
     config.schedule.technique = technique;
     config.stall_limit = 1.0;
     perma_runtime *rt = test_runtime_config(&config);
-    perma_procedure fine = {
-        .name = "fine", .item_type = "uint", .item_size = 4, .source_file = "stuck.cl", .function = "fine",
-        .source = "void fine(perma_ctx *ctx, __local const uint *x) { if (*x == 0u) { uint v = 1u; emit_stuck(ctx, &v); } }\n"
-                  "void stuck(perma_ctx *ctx, __local const uint *x)\n"
-                  "{\n"
-                  "    while (atomic_add(&ctx->buf.release[0], 0u) == 0u)\n"
-                  "        ;\n"
-                  "    (void)x;\n"
-                  "}\n",
-        .emits = { { "stuck", 1 } },
-    };
-    perma_procedure stuck = fine;
-    stuck.name = stuck.function = "stuck";
-    memset(stuck.emits, 0, sizeof stuck.emits);
     perma_proc f, s;
-    ck_assert_perma_ok(rt, perma_register(rt, &fine, &f));
-    ck_assert_perma_ok(rt, perma_register(rt, &stuck, &s));
     uint32_t release[1] = { 0 };
-    ck_assert_perma_ok(rt, perma_bind_host(rt, "release", "__global uint *", release, sizeof release, PERMA_READ));
-    uint32_t values[100] = { 0 };
-    for (unsigned i = 1; i < 100; ++i)
-        values[i] = i;
+    add_stuck_procedures(rt, 0, &f, &s, release);
     ck_assert_perma_ok(rt, perma_build(rt));
-    ck_assert_perma_ok(rt, perma_seed(rt, f, values, 100)); /* 99 complete, one emits the stuck item */
+    seed_stuck_run(rt, f);
     double start = perma_test_now();
     ck_assert_int_eq(perma_run(rt), PERMA_ERR_TIMEOUT);
     double seconds = perma_test_now() - start;
@@ -585,16 +640,12 @@ static void stuck_procedure(perma_technique technique)
     ck_assert_contains(perma_errmsg(rt), "the kernel did not stop within 10 s after being told to; this runtime "
                                          "can no longer be used");
     ck_assert_msg(seconds < 25.0, "the stall took %.1f s to end the run", seconds);
-    ck_assert_int_eq(perma_seed(rt, f, values, 1), PERMA_ERR_STATE);
+    ck_assert_int_eq(perma_seed(rt, f, release, 1), PERMA_ERR_STATE);
     ck_assert_contains(perma_errmsg(rt), "perma_seed: a previous run's kernel did not stop");
     ck_assert_int_eq(perma_run(rt), PERMA_ERR_STATE);
     ck_assert_contains(perma_errmsg(rt), "perma_run: a previous run's kernel did not stop");
+    ck_assert_ptr_null(perma_cl_queue(rt)); /* released: see stuck_kernel_lets_the_process_exit */
     perma_destroy(rt); /* returns; the stuck kernel spins until the test process exits */
-    /* Intel's CPU runtime makes exit() wait for the stuck kernel, forever:
-     * end the test's own process (check forks one per test) without it. */
-    const char *fork_mode = getenv("CK_FORK");
-    if (!fork_mode || strcmp(fork_mode, "no") != 0)
-        _exit(0);
 }
 
 START_TEST(stuck_procedure_megakernel)
@@ -609,46 +660,182 @@ START_TEST(stuck_procedure_kernel_per_procedure)
 }
 END_TEST
 
-/* A tree whose root has 1000 children and whose other nodes have 2, down
- * to depth 4: 1 + 1000 + 2000 + 4000 + 8000 nodes. */
-#define FANOUT_TREE_NODES 15001u
+/* Issue 23.7: after the watchdog gave up on a stuck kernel, the process
+ * must still exit, promptly and with its status and its buffered output:
+ * Intel's runtime used to wait in its exit handler for the runtime's
+ * command queue, forever.  The stuck run happens in a child process (one
+ * that has not set up OpenCL may fork), which reports when perma_destroy
+ * returned and then returns from its work with exit(3). */
+START_TEST(stuck_kernel_lets_the_process_exit)
+{
+    int report[2];
+    ck_assert_int_eq(pipe(report), 0);
+    pid_t child = fork();
+    ck_assert_int_ge(child, 0);
+    if (child == 0) {
+        close(report[0]);
+        perma_config config;
+        perma_config_init(&config);
+        config.stall_limit = 1.0;
+        perma_runtime *rt = NULL;
+        perma_proc f, s;
+        uint32_t release[1] = { 0 };
+        if (perma_create(&config, &rt, NULL) != PERMA_OK)
+            _exit(90);
+        add_stuck_procedures(rt, 0, &f, &s, release);
+        seed_stuck_run(rt, f);
+        if (perma_run(rt) != PERMA_ERR_TIMEOUT || !strstr(perma_errmsg(rt), "did not stop"))
+            _exit(91);
+        perma_destroy(rt);
+        printf("buffered output of the child\n"); /* stdout is a pipe here: buffered until exit */
+        char done = 'd';
+        if (write(report[1], &done, 1) != 1)
+            _exit(92);
+        exit(3);
+    }
+    close(report[1]);
+    char done = 0;
+    ck_assert_int_eq(read(report[0], &done, 1), 1); /* the run takes the 1 s stall limit and the 10 s grace */
+    close(report[0]);
+    double start = perma_test_now();
+    int status = 0;
+    pid_t ended = 0;
+    while ((ended = waitpid(child, &status, WNOHANG)) == 0 && perma_test_now() - start < 20.0) {
+        const struct timespec pause = { 0, 20000000 };
+        nanosleep(&pause, NULL);
+    }
+    if (ended == 0) {
+        kill(child, SIGKILL);
+        waitpid(child, &status, 0);
+        ck_abort_msg("the process had not exited 20 s after perma_destroy of a runtime whose kernel never ended");
+    }
+    ck_assert_msg(WIFEXITED(status) && WEXITSTATUS(status) == 3, "the process ended with status %d", status);
+    ck_assert_msg(perma_test_now() - start < 5.0, "exit took %.1f s", perma_test_now() - start);
+}
+END_TEST
+
+/* A procedure whose loop polls perma_stop_requested ends when the
+ * watchdog stops the run: the run fails with the stall error, the kernel
+ * is not given up on, and the runtime runs the next work. */
+static void cooperative_stop(perma_technique technique)
+{
+    perma_config config;
+    perma_config_init(&config);
+    config.schedule.technique = technique;
+    config.stall_limit = 1.0;
+    perma_runtime *rt = test_runtime_config(&config);
+    perma_proc f, s;
+    uint32_t release[1] = { 0 };
+    add_stuck_procedures(rt, 1, &f, &s, release);
+    seed_stuck_run(rt, f);
+    double start = perma_test_now();
+    ck_assert_int_eq(perma_run(rt), PERMA_ERR_TIMEOUT);
+    double seconds = perma_test_now() - start;
+    ck_assert_contains(perma_errmsg(rt), "no item completed for 1 s (config.stall_limit): procedure 'stuck' "
+                                         "(1 work-group) had items in flight");
+    ck_assert_contains(perma_errmsg(rt), "; the run was stopped");
+    ck_assert_msg(!strstr(perma_errmsg(rt), "did not stop"), "given up on: %s", perma_errmsg(rt));
+    ck_assert_msg(seconds < 10.0, "the stall took %.1f s to end the run", seconds);
+    /* Usable: 100 items of which none is 0, so nothing gets stuck. */
+    uint32_t values[100];
+    for (unsigned i = 0; i < 100; ++i)
+        values[i] = i + 1;
+    ck_assert_perma_ok(rt, perma_seed(rt, f, values, 100));
+    ck_assert_perma_ok(rt, perma_run(rt));
+    perma_procedure_stats ps;
+    ck_assert_perma_ok(rt, perma_get_procedure_stats(rt, f, &ps));
+    ck_assert_uint_eq(ps.items, 100);
+    perma_destroy(rt);
+}
+
+START_TEST(cooperative_stop_megakernel)
+{
+    cooperative_stop(PERMA_TECHNIQUE_MEGAKERNEL);
+}
+END_TEST
+
+START_TEST(cooperative_stop_kernel_per_procedure)
+{
+    cooperative_stop(PERMA_TECHNIQUE_KERNEL_PER_PROCEDURE);
+}
+END_TEST
+
+/* A tree whose root has FANOUT children and whose other nodes have 2,
+ * down to depth 4: 1 + FANOUT + 2 FANOUT + 4 FANOUT + 8 FANOUT nodes.
+ * FANOUT comes from the build options (run_fanout). */
 static const char *fanout_types = "struct fan { uint depth; uint pad; };\n";
 static const char *fanout_source =
     "void node(perma_ctx *ctx, __local const struct fan *n)\n"
     "{\n"
     "    atomic_inc(&ctx->buf.nodes[0]);\n"
     "    struct fan child = { n->depth + 1u, 0u };\n"
-    "    uint children = n->depth == 0u ? 1000u : n->depth < 4u ? 2u : 0u;\n"
+    "    uint children = n->depth == 0u ? FANOUT : n->depth < 4u ? 2u : 0u;\n"
     "    for (uint i = 0; i < children; ++i)\n"
     "        emit_node(ctx, &child);\n"
     "}\n"
     "void root(perma_ctx *ctx, __local const struct fan *n) { node(ctx, n); }\n";
 
-/* Run the fan-out tree, its root declared by procedure `root_name`, with
- * `items_per_work_item` and `queue_memory_limit` (0: the defaults); the
- * statistics of `node` and what perma_print_stats printed. */
-static void run_fanout(const char *root_name, unsigned items_per_work_item, size_t queue_memory_limit,
-                       perma_procedure_stats *node_stats, char **printed)
+/* How a fan-out run is set up: the root's children (and what the
+ * procedure that runs the root declares), items per work-item, and the
+ * caps on queue memory and __local memory (0: the defaults). */
+typedef struct fanout_case {
+    const char *root_name; /* "node": one procedure for all; "root": a separate one */
+    unsigned fanout;
+    unsigned items_per_work_item;
+    size_t queue_capacity;
+    size_t queue_memory_limit;
+    size_t local_memory_limit;
+} fanout_case;
+
+static perma_config fanout_config(const fanout_case *c, char *options, size_t size)
 {
     perma_config config;
     perma_config_init(&config);
     config.group_size = 64;
     config.time_limit = 120;
-    config.items_per_work_item = items_per_work_item;
-    config.queue_memory_limit = queue_memory_limit;
+    config.items_per_work_item = c->items_per_work_item;
+    config.queue_capacity = c->queue_capacity;
+    config.queue_memory_limit = c->queue_memory_limit;
+    config.local_memory_limit = c->local_memory_limit;
+    snprintf(options, size, "-DFANOUT=%uu", c->fanout);
+    config.build_options = options;
+    return config;
+}
+
+/* The __local memory a group of the fan-out runtime may use: the device's,
+ * or a lower cap (PERMA_LOCAL_MEMORY_LIMIT, under which the suite also runs
+ * this test). */
+static size_t fanout_local_memory(void)
+{
+    fanout_case c = { "node", 2, 0, 0, 0, 0 };
+    char options[64];
+    perma_config config = fanout_config(&c, options, sizeof options);
     perma_runtime *rt = test_runtime_config(&config);
-    bool separate = strcmp(root_name, "root") == 0;
+    size_t bytes = 0;
+    ck_assert_perma_ok(rt, perma_get_local_memory(rt, &bytes));
+    perma_destroy(rt);
+    return bytes;
+}
+
+/* Run the fan-out tree of case `c`; the statistics of `node` and what
+ * perma_print_stats printed. */
+static void run_fanout(const fanout_case *c, perma_procedure_stats *node_stats, char **printed)
+{
+    char options[64];
+    perma_config config = fanout_config(c, options, sizeof options);
+    perma_runtime *rt = test_runtime_config(&config);
+    bool separate = strcmp(c->root_name, "root") == 0;
     ck_assert_perma_ok(rt, perma_add_source(rt, fanout_types, "fan_types.cl"));
     perma_procedure node = { .name = "node", .item_type = "struct fan", .item_size = 8, .function = "node",
                              .source = fanout_source, .source_file = "fan.cl",
-                             .emits = { { "node", separate ? 2 : 1000 } } };
+                             .emits = { { "node", separate ? 2 : c->fanout } } };
     perma_proc node_id, root_id;
     ck_assert_perma_ok(rt, perma_register(rt, &node, &node_id));
     root_id = node_id;
     if (separate) {
         perma_procedure root = node;
         root.name = root.function = "root";
-        root.emits[0].max_items = 1000;
+        root.emits[0].max_items = c->fanout;
         ck_assert_perma_ok(rt, perma_register(rt, &root, &root_id));
     }
     uint32_t nodes[1] = { 0 };
@@ -656,7 +843,7 @@ static void run_fanout(const char *root_name, unsigned items_per_work_item, size
     struct { uint32_t depth, pad; } top = { 0, 0 };
     ck_assert_perma_ok(rt, perma_seed(rt, root_id, &top, 1));
     ck_assert_perma_ok(rt, perma_run(rt));
-    ck_assert_uint_eq(nodes[0], FANOUT_TREE_NODES);
+    ck_assert_uint_eq(nodes[0], 1 + 15 * c->fanout);
     ck_assert_perma_ok(rt, perma_get_procedure_stats(rt, node_id, node_stats));
     size_t size;
     FILE *out = open_memstream(printed, &size);
@@ -665,60 +852,74 @@ static void run_fanout(const char *root_name, unsigned items_per_work_item, size
     perma_destroy(rt);
 }
 
-/* The warning for node's batches cut by __local memory: its 1000 staged
- * emits of 8 bytes per item leave room for fewer than `full` items. */
-static void expect_local_memory_cut(const perma_procedure_stats *ps, const char *printed, unsigned full)
-{
-    ck_assert_uint_lt(ps->batch_size, full);
-    ck_assert_contains(printed, "warning: procedure 'node' runs at most ");
-    ck_assert_contains(printed, ".emits[0] (up to 1000 items of 8 bytes into 'node' per item) needs 8000 bytes");
-}
-
-/* One procedure for root and nodes declares the root's 1000 children for
- * every node, which cuts its batches twice: staging 1000 emits per item
- * leaves __local memory for fewer items than a batch holds, and a full
- * batch's worst case does not fit the queue, so with queues that may not
- * grow (past the memory limit) batches run a few items each.  The
- * statistics say so, naming the declaration; a separate root procedure
- * (the fix the docs show) runs full batches. */
+/* One procedure for root and nodes declares the root's children for every
+ * node, which cuts its batches twice: staging them leaves __local memory
+ * for fewer items than a batch holds, and a full batch's worst case does
+ * not fit the queue, so with queues that may not grow (past the memory
+ * limit) batches run a few items each.  The statistics say so, naming the
+ * declaration; a separate root procedure (the fix the docs show) runs full
+ * batches.  Each case is set up from the __local memory the runtime
+ * reports, so that it is the case it names on any device. */
 START_TEST(cut_batches_are_explained)
 {
     perma_procedure_stats ps;
     char *printed = NULL;
-    /* Defaults: batches of up to 4 items per work-item, which no device's
-     * __local memory stages here (PoCL: about 130 of 256). */
-    run_fanout("node", 0, 0, &ps, &printed);
+    const size_t local = fanout_local_memory();
+
+    /* Cut by __local memory: batches of up to 4 x 64 items, each staging
+     * 1000 emits of 8 bytes (2 MB for a full batch), under a cap of
+     * 128 KiB, which holds 8000 bytes many times but a full batch never. */
+    fanout_case by_memory = { "node", 1000, 0, 0, 0, 128 * 1024 };
+    ck_assert_uint_ge(local, 16 * 1024); /* else not even a couple of items stage */
+    run_fanout(&by_memory, &ps, &printed);
     ck_assert_int_eq(ps.batch_cut, PERMA_BATCH_CUT_LOCAL_MEMORY);
     ck_assert_int_eq(ps.batch_cut_emit, 0);
-    expect_local_memory_cut(&ps, printed, 4 * 64);
+    ck_assert_uint_lt(ps.batch_size, 4 * 64);
+    ck_assert_uint_ge(ps.batch_size, 1);
+    ck_assert_contains(printed, "warning: procedure 'node' runs at most ");
+    ck_assert_contains(printed, ".emits[0] (up to 1000 items of 8 bytes into 'node' per item) needs 8000 bytes");
     ck_assert_contains(printed, "instead of 256: ");
     ck_assert_contains(printed, "a separate procedure");
     free(printed);
 
-    /* One item per work-item, and a queue memory limit that lets the
-     * queue grow when nothing can start (up to 16384 items of 8 bytes and
-     * two completion marks) but not to the 2 x 64 x 1000 items that full
-     * batches of two groups need: the room cuts the batches. */
-    printed = NULL;
-    run_fanout("node", 1, (size_t)16384 * 16, &ps, &printed);
-    ck_assert_int_eq(ps.batch_cut_emit, 0);
-    if (ps.batch_cut == PERMA_BATCH_CUT_LOCAL_MEMORY) {
-        /* A device with little __local memory (Intel's CPU runtime: 32 KiB)
-         * cannot even stage the emits of 64 items. */
-        expect_local_memory_cut(&ps, printed, 64);
-    } else {
-        ck_assert_uint_lt(ps.items, ps.batches * 16); /* a few items per batch */
-        ck_assert_uint_eq(ps.batch_size, 64);
-        ck_assert_int_eq(ps.batch_cut, PERMA_BATCH_CUT_ROOM);
-        ck_assert_contains(printed, "warning: procedure 'node' ran batches of ");
-        ck_assert_contains(printed, "instead of up to 64: a full batch must reserve room for 64 x 1000 items in "
-                                    "'node' (.emits[0].max_items = 1000)");
+    /* Cut by room: one item per work-item, and a fan-out whose 64 items'
+     * emits stage in a quarter of the __local memory (1000, or a power of
+     * two on a smaller device), with a queue memory limit that lets the
+     * queue grow when nothing can start, up to the power of two at or above
+     * 16 x fan-out items of 8 bytes plus two completion marks (more than
+     * the whole tree), but not to the 2 x 64 x fan-out items full batches
+     * of two groups need.  The queue starts at 1/16 of that: 1024 items
+     * (the default) for a fan-out of 1000. */
+    unsigned fanout = 1000;
+    if (local / 4 < 64 * 8 * 1000) {
+        fanout = 1;
+        while (2 * fanout <= local / 4 / (64 * 8))
+            fanout *= 2;
     }
+    size_t slots = 1;
+    while (slots < 16 * (size_t)fanout)
+        slots *= 2;
+    fanout_case by_room = { "node", fanout, 1, slots / 16, slots * 16, 0 };
+    printed = NULL;
+    run_fanout(&by_room, &ps, &printed);
+    ck_assert_int_eq(ps.batch_cut, PERMA_BATCH_CUT_ROOM);
+    ck_assert_int_eq(ps.batch_cut_emit, 0);
+    ck_assert_uint_eq(ps.batch_size, 64);
+    ck_assert_uint_lt(2 * ps.items, ps.batches * 64); /* under half a batch on average */
+    ck_assert_contains(printed, "warning: procedure 'node' ran batches of ");
+    char expected[256];
+    snprintf(expected, sizeof expected,
+             "instead of up to 64: a full batch must reserve room for 64 x %u items in 'node' (.emits[0].max_items = %u)",
+             fanout, fanout);
+    ck_assert_contains(printed, expected);
     ck_assert_contains(printed, "a separate procedure");
     free(printed);
 
+    /* The fix: only the root promises 1000 children; node's full batches of
+     * 4 x 64 items stage 2 emits each (8 KiB) on any device. */
+    fanout_case separate = { "root", 1000, 0, 0, 0, 0 };
     printed = NULL;
-    run_fanout("root", 0, 0, &ps, &printed);
+    run_fanout(&separate, &ps, &printed);
     ck_assert_int_eq(ps.batch_cut, PERMA_BATCH_FULL);
     ck_assert_int_eq(ps.batch_cut_emit, -1);
     ck_assert_uint_eq(ps.batch_size, 4 * 64);
@@ -777,12 +978,16 @@ int main(void)
     tcase_add_test(tc, cycle_without_priority_order);
     tcase_add_test(tc, missing_device_from_environment);
     tcase_add_test(tc, no_platform_names_the_package);
+    tcase_add_test(tc, driver_that_does_not_load_is_named);
     tcase_add_test(tc, bad_config_values);
     tcase_add_test(tc, emitting_beyond_the_declared_maximum);
     tcase_add_test(tc, emitting_into_an_undeclared_target);
     tcase_add_test(tc, watchdog_stops_an_endless_run);
     tcase_add_test(tc, stuck_procedure_megakernel);
     tcase_add_test(tc, stuck_procedure_kernel_per_procedure);
+    tcase_add_test(tc, stuck_kernel_lets_the_process_exit);
+    tcase_add_test(tc, cooperative_stop_megakernel);
+    tcase_add_test(tc, cooperative_stop_kernel_per_procedure);
     tcase_add_test(tc, debug_mode);
     tcase_add_test(tc, cut_batches_are_explained);
     suite_add_tcase(s, tc);

@@ -106,8 +106,8 @@ START_TEST(parse_sets_every_field)
     ck_assert_uint_eq(s.local_queue_items, 0);
     ck_assert_uint_eq(s.batch_limit, 0);
 
-    s = parse_ok("megakernel/donation+local4294967295");
-    ck_assert_uint_eq(s.local_queue_items, 4294967295u);
+    s = parse_ok("megakernel/donation+local4096");
+    ck_assert_uint_eq(s.local_queue_items, PERMA_MAX_LOCAL_QUEUE_ITEMS);
 }
 END_TEST
 
@@ -162,6 +162,11 @@ static const struct {
     { "megakernel/shared+local4294967296",
       "schedule 'megakernel/shared+local4294967296': '+local4294967296' needs a number of items >= 1, "
       "e.g. +local32 (leave it out for no local queue)" },
+    { "megakernel/shared+local4097",
+      "schedule 'megakernel/shared+local4097': '+local4097': at most 4096 items in a local queue" },
+    { "megakernel/donation+local4294967295",
+      "schedule 'megakernel/donation+local4294967295': '+local4294967295': at most 4096 items in a local "
+      "queue" },
     { "megakernel/shared+queue4",
       "schedule 'megakernel/shared+queue4': unknown option '+queue4' (+localN: N items in a local "
       "queue)" },

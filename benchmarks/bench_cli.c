@@ -1,0 +1,67 @@
+/* perma-bench's command lines (perma_cli.h): the options every command
+ * takes and the parse of one command's argv. */
+#include "bench.h"
+
+#include <string.h>
+
+/* --devices LIST: up to BENCH_MAX_DEVICES comma-separated PERMA_DEVICE values. */
+static int parse_devices(const perma_cli_option *option, const char *value, char *complaint, size_t size)
+{
+    bench_options *o = option->target;
+    size_t length = strlen(value);
+    if (!length || length >= sizeof o->device_list) {
+        snprintf(complaint, size, "expected a comma-separated list, e.g. pocl,intel");
+        return 1;
+    }
+    memcpy(o->device_list, value, length + 1);
+    o->device_count = 0;
+    for (char *item = strtok(o->device_list, ","); item; item = strtok(NULL, ",")) {
+        if (o->device_count == BENCH_MAX_DEVICES) {
+            snprintf(complaint, size, "expected at most %d devices", BENCH_MAX_DEVICES);
+            return 1;
+        }
+        o->devices[o->device_count++] = item;
+    }
+    return 0;
+}
+
+void bench_common_options(bench_options *o, perma_cli_option rows[BENCH_COMMON_OPTIONS])
+{
+    const perma_cli_option common[BENCH_COMMON_OPTIONS] = {
+        { PERMA_CLI_TEXT("csv", "FILE", &o->csv_path, "also write the rows to FILE as CSV") },
+        { PERMA_CLI_WHOLE("repeat", "N", &o->repeat, 1, 1000,
+                          "timed runs per variant, the median is reported (default 3)") },
+        { PERMA_CLI_FLAG("best", &o->best, "report the fastest of the --repeat runs instead of the median (on a "
+                                           "shared, noisy machine: the time least disturbed)") },
+        { PERMA_CLI_FLAG("quick", &o->quick, "small sizes (for tests)") },
+        { PERMA_CLI_WHOLE("groups", "N", &o->groups, 1, 1024, "perma work-groups (default: the runtime's choice)") },
+        { PERMA_CLI_WHOLE("threads", "N", &o->threads, 1, 1024, "OpenMP threads (default: online CPUs)") },
+        { PERMA_CLI_TEXT("only", "TEXT", &o->only, "run only perma variants whose label contains TEXT (--only =LABEL: only the variant of "
+                                           "exactly that label)") },
+        { PERMA_CLI_CUSTOM("devices", "LIST", parse_devices, o,
+                           "measure every perma variant on each device of LIST, side by side (PERMA_DEVICE "
+                           "values: pocl,intel or 0:0,1:0; the reyes effect workloads use the first)") },
+        { PERMA_CLI_FLAG("verbose", &o->verbose, "print perma's statistics after each perma run") },
+    };
+    memcpy(rows, common, sizeof common);
+}
+
+perma_cli_status bench_parse(bench_options *options, const char *synopsis, const char *about,
+                             const perma_cli_option *rows, size_t count, int argc, char **argv)
+{
+    perma_cli_option common[BENCH_COMMON_OPTIONS];
+    bench_common_options(options, common);
+    char heading[64], program[64], message[PERMA_CLI_MESSAGE_MAX];
+    snprintf(heading, sizeof heading, "%s options", argv[0]);
+    snprintf(program, sizeof program, "perma-bench %s", argv[0]);
+    const perma_cli_table tables[] = { { heading, rows, count }, { "common options", common, BENCH_COMMON_OPTIONS } };
+    const perma_cli cli = {
+        .program = program,
+        .synopsis = synopsis,
+        .about = about,
+        .tables = count ? tables : tables + 1,
+        .table_count = count ? 2 : 1,
+        .notes = BENCH_EXIT_STATUS,
+    };
+    return perma_cli_parse(&cli, argc, argv, message, sizeof message);
+}

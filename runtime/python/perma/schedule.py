@@ -1,0 +1,28 @@
+"""Schedule labels: 'megakernel/stealing/round-robin+local32', 'bounded-batches/p=64', ..."""
+from ctypes import byref, create_string_buffer
+
+from . import _capi
+from ._capi import lib
+from .errors import ArgumentError, check
+
+
+def parse_schedule(label):
+    """The perma_schedule of a label; ArgumentError naming the bad part."""
+    if not isinstance(label, str):
+        raise ArgumentError('a schedule is a label such as "megakernel/stealing", not %r' % (label,))
+    schedule, error = _capi.Schedule(), _capi.Error()
+    status = lib.perma_schedule_parse(label.encode(), byref(schedule), byref(error))
+    check(status, lambda: error.message.decode(errors='replace'))
+    return schedule
+
+
+def format_schedule(schedule):
+    """The canonical label of a perma_schedule."""
+    text = create_string_buffer(128)
+    lib.perma_schedule_format(byref(schedule), text, len(text))
+    return text.value.decode()
+
+
+def schedule_label(label):
+    """The canonical form of a label: schedule_label('megakernel') == 'megakernel/shared'."""
+    return format_schedule(parse_schedule(label))
