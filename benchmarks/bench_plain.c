@@ -41,24 +41,21 @@ unsigned plain_cutoff(const plain_options *o, unsigned workload_default)
     return o->cutoff ? o->cutoff : workload_default;
 }
 
-#define GROUP_SUFFIX " [group lines]"
+#define ATOMIC_SUFFIX " [atomics]"
 
 static void perma_row(const plain_options *o, const bench_variant *v, plain_count count, bench_report *report,
                       const char *title, const char *unit, double units, const plain_perma *w)
 {
     bench_row row;
     char name[96];
-    snprintf(name, sizeof name, "%s%s", v->name, count == PLAIN_COUNT_GROUP ? GROUP_SUFFIX : "");
+    snprintf(name, sizeof name, "%s%s", v->name, count == PLAIN_COUNT_ATOMIC ? ATOMIC_SUFFIX : "");
     bench_row_init(&row, title, name, unit);
     row.group_size = o->group_size;
     row.work_groups = o->common->groups;
     row.units = units;
     perma_runtime *rt = bench_perma_create(v, o->group_size, o->common->groups, &row);
     if (rt) {
-        unsigned groups = 0, group_size = 0;
-        perma_status st = perma_get_work_groups(rt, &groups, &group_size);
-        if (st == PERMA_OK)
-            st = w->setup(w->run.state, rt, groups, count);
+        perma_status st = w->setup(w->run.state, rt, count);
         if (st != PERMA_OK)
             snprintf(row.message, sizeof row.message, "setup: %s", perma_errmsg(rt));
         else
@@ -78,8 +75,8 @@ void plain_perma_rows(const plain_options *o, bench_report *report, const char *
             continue;
         for (unsigned d = 0; d < bench_device_passes(o->common); ++d) {
             bench_variant_use_device(o->common, d, &v);
-            for (unsigned count = PLAIN_COUNT_ATOMIC; count <= PLAIN_COUNT_GROUP; count <<= 1)
-                if (o->counts & count)
+            for (unsigned count = PLAIN_COUNT_REDUCE; count <= PLAIN_COUNT_ATOMIC; count <<= 1)
+                if (w->counts_nothing ? count == PLAIN_COUNT_REDUCE : (o->counts & count) != 0)
                     perma_row(o, &v, (plain_count)count, report, title, unit, units, w);
         }
     }
@@ -90,8 +87,8 @@ void plain_perma_rows(const plain_options *o, bench_report *report, const char *
 perma_status plain_add_sources(perma_runtime *rt, plain_count count, const char *defines)
 {
     perma_status st = perma_add_source(rt, plain_work_source, "plain_work.h");
-    if (st == PERMA_OK && count == PLAIN_COUNT_GROUP)
-        st = perma_add_source(rt, "#define PLAIN_COUNT_GROUP 1\n", "plain_count_group.cl");
+    if (st == PERMA_OK && count == PLAIN_COUNT_ATOMIC)
+        st = perma_add_source(rt, "#define PLAIN_COUNT_ATOMIC 1\n", "plain_count_atomic.cl");
     if (st == PERMA_OK)
         st = perma_add_source(rt, defines, "plain_defines.cl");
     return st;
@@ -112,66 +109,24 @@ perma_status plain_register(perma_runtime *rt, const char *name, const char *ite
     return perma_register(rt, &p, out);
 }
 
-enum { LINE_BYTES = 64 };
-
-perma_status plain_lines_bind(perma_runtime *rt, plain_lines *lines, unsigned groups, const char *name,
-                              const char *type)
+perma_status plain_results_declare(perma_runtime *rt, plain_count count, const plain_result *results, unsigned n)
 {
-    if (groups > lines->groups) {
-        unsigned char *grown = realloc(lines->bytes, (size_t)groups * LINE_BYTES);
-        if (!grown)
-            return PERMA_ERR_NO_MEMORY;
-        lines->bytes = grown;
+    perma_status st = PERMA_OK;
+    for (unsigned i = 0; i < n && st == PERMA_OK; ++i) {
+        const plain_result *r = &results[i];
+        if (count == PLAIN_COUNT_REDUCE)
+            st = perma_declare_reduction(rt, r->name, PERMA_REDUCE_SUM, r->type, r->value);
+        else
+            st = perma_bind_host(rt, r->name, r->type == PERMA_TYPE_DOUBLE ? "__global double *" : "__global ulong *",
+                                 r->value, 8, PERMA_READ_WRITE);
     }
-    lines->groups = groups;
-    plain_lines_clear(lines);
-    return perma_bind_host(rt, name, type, lines->bytes, (size_t)groups * LINE_BYTES, PERMA_READ_WRITE);
+    return st;
 }
 
-void plain_lines_clear(plain_lines *lines)
+void plain_results_clear(const plain_result *results, unsigned n)
 {
-    if (lines->bytes)
-        memset(lines->bytes, 0, (size_t)lines->groups * LINE_BYTES);
-}
-
-void plain_lines_free(plain_lines *lines)
-{
-    free(lines->bytes);
-    lines->bytes = NULL;
-    lines->groups = 0;
-}
-
-uint64_t plain_lines_sum_u32(const plain_lines *lines)
-{
-    uint64_t sum = 0;
-    for (unsigned g = 0; g < lines->groups; ++g) {
-        uint32_t v;
-        memcpy(&v, lines->bytes + (size_t)g * LINE_BYTES, sizeof v);
-        sum += v;
-    }
-    return sum;
-}
-
-uint64_t plain_lines_sum_u64(const plain_lines *lines)
-{
-    uint64_t sum = 0;
-    for (unsigned g = 0; g < lines->groups; ++g) {
-        uint64_t v;
-        memcpy(&v, lines->bytes + (size_t)g * LINE_BYTES, sizeof v);
-        sum += v;
-    }
-    return sum;
-}
-
-double plain_lines_sum_double(const plain_lines *lines)
-{
-    double sum = 0.0;
-    for (unsigned g = 0; g < lines->groups; ++g) {
-        double v;
-        memcpy(&v, lines->bytes + (size_t)g * LINE_BYTES, sizeof v);
-        sum += v;
-    }
-    return sum;
+    for (unsigned i = 0; i < n; ++i)
+        memset(results[i].value, 0, 8);
 }
 
 uint64_t plain_items_run(perma_runtime *rt)
@@ -218,18 +173,18 @@ static int parse_workloads(const perma_cli_option *option, const char *value, ch
 
 int bench_plain(bench_options *common, int argc, char **argv)
 {
-    static const char *const count_names[] = { "atomic", "group", "both", NULL };
-    static const unsigned count_bits[] = { PLAIN_COUNT_ATOMIC, PLAIN_COUNT_GROUP,
-                                           PLAIN_COUNT_ATOMIC | PLAIN_COUNT_GROUP };
+    static const char *const count_names[] = { "reduce", "atomic", "both", NULL };
+    static const unsigned count_bits[] = { PLAIN_COUNT_REDUCE, PLAIN_COUNT_ATOMIC,
+                                           PLAIN_COUNT_REDUCE | PLAIN_COUNT_ATOMIC };
     plain_options o = { .common = common, .group_size = 64 };
     unsigned selected = (1u << WORKLOAD_COUNT) - 1u, count = 0;
     const perma_cli_option rows[] = {
         { PERMA_CLI_CUSTOM("workload", "LIST", parse_workloads, &selected,
                            "comma-separated: uts-geometric, uts-binomial, simpson, queens, sort (default: all)") },
         { PERMA_CLI_CHOICE("count", "HOW", &count, count_names,
-                           "how the procedures add to their results: atomic (a global atomic per result per "
-                           "item, as README.md does; default), group (one 64-byte line per work-group) or both "
-                           "(a row for each)") },
+                           "how the procedures add to their results: reduce (reduce_NAME, the runtime's "
+                           "reductions; default), atomic (a global atomic per result per item, all groups on one "
+                           "word; rows marked [atomics]) or both (a row for each)") },
         { PERMA_CLI_WHOLE("group-size", "N", &o.group_size, 1, 4096, "perma work-items per group (default 64)") },
         { PERMA_CLI_WHOLE("cutoff", "D", &o.cutoff, 1, 4096,
                           "OpenMP: spawn tasks only above depth D, in every workload (default: each workload's "
@@ -244,8 +199,8 @@ int bench_plain(bench_options *common, int argc, char **argv)
     if (bench_report_open(&report, "plain", common))
         return 1;
     bench_report_show_cpu(report);
-    if (o.counts & PLAIN_COUNT_GROUP)
-        bench_report_widen(report, (int)strlen(GROUP_SUFFIX));
+    if (o.counts & PLAIN_COUNT_ATOMIC)
+        bench_report_widen(report, (int)strlen(ATOMIC_SUFFIX));
     int failed = 0;
     for (unsigned i = 0; i < WORKLOAD_COUNT && !failed; ++i)
         if (selected & (1u << i))

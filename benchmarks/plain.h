@@ -1,7 +1,7 @@
 /* `perma-bench plain`: workloads written the way a newcomer writes them
  * after README.md and docs/writing-procedures.md (one item = one node,
  * interval, board or range; emit_<target> for the children; results added
- * with global atomics), each against sequential C and OpenMP tasks.
+ * with reduce_<name>), each against sequential C and OpenMP tasks.
  *
  * bench_plain.c holds the command and the rows every workload shares;
  * plain_uts.c, plain_simpson.c, plain_queens.c and plain_sort.c one
@@ -20,8 +20,8 @@ extern const char plain_work_source[], plain_uts_source[], plain_simpson_source[
     plain_sort_source[];
 
 typedef enum plain_count {
-    PLAIN_COUNT_ATOMIC = 1, /* one global atomic per result per item (README.md) */
-    PLAIN_COUNT_GROUP = 2   /* one 64-byte line per work-group */
+    PLAIN_COUNT_REDUCE = 1, /* reduce_<name>(ctx, value): a reduction per result */
+    PLAIN_COUNT_ATOMIC = 2  /* one global atomic per result per item, on one word */
 } plain_count;
 
 typedef struct plain_options {
@@ -44,12 +44,13 @@ void plain_openmp_row(bench_report *report, const plain_options *o, const char *
                       const char *unit, double units, bench_timing time, int ok);
 
 /* A workload's perma side.  `setup` adds its sources (plain_add_sources
- * first), registers its procedures into run.procs and binds its buffers on
- * a new runtime of `work_groups` groups; run.prepare seeds, run.verify
+ * first), registers its procedures into run.procs and declares its results
+ * and binds its buffers on a new runtime; run.prepare seeds, run.verify
  * checks one run (see bench_workload). */
 typedef struct plain_perma {
-    perma_status (*setup)(void *state, perma_runtime *rt, unsigned work_groups, plain_count count);
+    perma_status (*setup)(void *state, perma_runtime *rt, plain_count count);
     bench_workload run;
+    int counts_nothing; /* no results to add to: one row per variant, whatever --count says */
 } plain_perma;
 
 /* A row per selected perma variant, device and way of counting. */
@@ -58,8 +59,8 @@ void plain_perma_rows(const plain_options *o, bench_report *report, const char *
 
 /* ---- helpers of the workloads' perma side ---- */
 
-/* plain_work.h, `#define PLAIN_COUNT_GROUP` when counting per group, then
- * `defines` (the workload's constants). */
+/* plain_work.h, `#define PLAIN_COUNT_ATOMIC` when counting with atomics,
+ * then `defines` (the workload's constants). */
 perma_status plain_add_sources(perma_runtime *rt, plain_count count, const char *defines);
 
 /* Register a procedure of one thread per item whose source is `source`
@@ -70,22 +71,20 @@ perma_status plain_register(perma_runtime *rt, const char *name, const char *ite
                             const char *source, const char *file, const char *target, unsigned max_emits,
                             perma_proc *out);
 
-/* Result buffers: one 64-byte line per work-group (a counter at the start
- * of each), bound read-write.  With global atomics only line 0 is used. */
-typedef struct plain_lines {
-    unsigned char *bytes;
-    unsigned groups;
-} plain_lines;
+/* A result the procedures add to: reduction `name` (a sum of `type`,
+ * PERMA_TYPE_ULONG or PERMA_TYPE_DOUBLE) that the run writes into *value,
+ * or with PLAIN_COUNT_ATOMIC a buffer of that name holding one word,
+ * *value, that the procedures add to with global atomics. */
+typedef struct plain_result {
+    const char *name;
+    perma_value_type type;
+    void *value; /* uint64_t or double */
+} plain_result;
 
-/* (Re)size to `groups` lines and bind under `name` as `type`. */
-perma_status plain_lines_bind(perma_runtime *rt, plain_lines *lines, unsigned groups, const char *name,
-                              const char *type);
-void plain_lines_clear(plain_lines *lines);
-void plain_lines_free(plain_lines *lines);
-/* The sum over the lines of their first uint32, uint64 or double. */
-uint64_t plain_lines_sum_u32(const plain_lines *lines);
-uint64_t plain_lines_sum_u64(const plain_lines *lines);
-double plain_lines_sum_double(const plain_lines *lines);
+/* Declare (or bind) the `n` results for counting `count`. */
+perma_status plain_results_declare(perma_runtime *rt, plain_count count, const plain_result *results, unsigned n);
+/* Zero them before a run (atomic counting adds to them). */
+void plain_results_clear(const plain_result *results, unsigned n);
 
 /* perma_stats.items of the run that just finished (UINT64_MAX if unknown). */
 uint64_t plain_items_run(perma_runtime *rt);

@@ -20,7 +20,8 @@ typedef struct queens_state {
     queens_size size;
     perma_proc proc;
     size_t item_size;
-    plain_lines solutions;
+    uint64_t solutions; /* the result, described by `result` */
+    plain_result result;
     uint64_t expected, boards;
 } queens_state;
 
@@ -35,7 +36,7 @@ static uint64_t boards_above(uint n, uint cutoff, struct queens_board b)
     return count;
 }
 
-static perma_status queens_setup(void *state, perma_runtime *rt, unsigned groups, plain_count count)
+static perma_status queens_setup(void *state, perma_runtime *rt, plain_count count)
 {
     queens_state *s = state;
     char defines[96];
@@ -46,14 +47,14 @@ static perma_status queens_setup(void *state, perma_runtime *rt, unsigned groups
         st = plain_register(rt, "queens", "struct queens_board", sizeof(struct queens_board), plain_queens_source,
                             "plain_queens.cl", "queens", s->size.n, &s->proc);
     if (st == PERMA_OK)
-        st = plain_lines_bind(rt, &s->solutions, groups, "queens_solutions", "__global uint *");
+        st = plain_results_declare(rt, count, &s->result, 1);
     return st;
 }
 
 static perma_status queens_prepare(void *state, perma_runtime *rt)
 {
     queens_state *s = state;
-    plain_lines_clear(&s->solutions);
+    plain_results_clear(&s->result, 1);
     struct queens_board empty = { 0u, 0u, 0u, 0u };
     return perma_seed(rt, s->proc, &empty, 1);
 }
@@ -61,7 +62,7 @@ static perma_status queens_prepare(void *state, perma_runtime *rt)
 /* The result of a run: where the counting of plain_queens.cl ends up. */
 static uint64_t queens_results(const queens_state *s)
 {
-    return plain_lines_sum_u32(&s->solutions);
+    return s->solutions;
 }
 
 static int queens_verify(void *state, perma_runtime *rt, bench_row *row)
@@ -110,6 +111,7 @@ static void queens_openmp_row(const plain_options *o, bench_report *report, cons
 int plain_queens(const plain_options *o, bench_report *report)
 {
     queens_state s = { .size = o->common->quick ? size_quick : size_default, .item_size = sizeof(struct queens_board) };
+    s.result = (plain_result){ "queens_solutions", PERMA_TYPE_ULONG, &s.solutions };
     char title[96];
     snprintf(title, sizeof title, "n-queens n=%u, a board per item, solved inside from %u queens", s.size.n,
              s.size.cutoff);
@@ -129,8 +131,7 @@ int plain_queens(const plain_options *o, bench_report *report)
     if (cutoff != s.size.cutoff)
         queens_openmp_row(o, report, title, &s, cutoff);
 
-    plain_perma w = { queens_setup, { queens_prepare, queens_verify, &s, 1, &s.proc, &s.item_size } };
+    plain_perma w = { queens_setup, { queens_prepare, queens_verify, &s, 1, &s.proc, &s.item_size }, 0 };
     plain_perma_rows(o, report, title, "boards", (double)s.boards, &w);
-    plain_lines_free(&s.solutions);
     return 0;
 }

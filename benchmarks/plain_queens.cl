@@ -4,14 +4,14 @@
  * is solved inside its item, boards with fewer emit a child per free
  * column. */
 
-/* The one place this workload adds to its results, as README.md does it:
- * a global atomic; with --count group one 64-byte line per work-group. */
+/* The one place this workload adds to its results: a reduction; with
+ * --count atomic a global atomic, all groups on one word. */
 void queens_count(perma_ctx *ctx, uint solutions)
 {
-#ifndef PLAIN_COUNT_GROUP
-    atomic_add(&ctx->buf.queens_solutions[0], solutions);
+#ifndef PLAIN_COUNT_ATOMIC
+    reduce_queens_solutions(ctx, solutions);
 #else
-    atomic_add(&ctx->buf.queens_solutions[16u * ctx->group], solutions);
+    atom_add(&ctx->buf.queens_solutions[0], (ulong)solutions);
 #endif
 }
 

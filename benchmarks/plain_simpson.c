@@ -6,11 +6,14 @@
  * rounded operations, so a perma row passes only with the sequential
  * number of accepted intervals, the same sum of their areas' bit patterns
  * (every accepted area bit for bit the sequential one) and one item per
- * interval.  The integral itself is the sum of the accepted areas, which
- * perma adds in the order the groups happen to accept them: it differs
- * from the sequential sum in the last bits, from run to run.  It is
- * checked against the bound of any summation order, accepted * DBL_EPSILON
- * relative (the areas are positive), and its difference is in the note.
+ * interval.  The integral itself is the sum of the accepted areas.  As a
+ * reduction (the default) it is their exact sum rounded once: the same
+ * bits under every schedule and run, which every reduction row must give,
+ * though not the sequential sum's bits (that one rounds at every add).
+ * With --count atomic perma adds in the order the groups happen to accept
+ * the intervals: the last bits change from run to run.  Both are checked
+ * against the bound of any summation order, accepted * DBL_EPSILON
+ * relative (the areas are positive), and the difference is in the note.
  * The OpenMP tasks add the two halves' sums after a taskwait, which is the
  * sequential order: bit-identical. */
 #include "plain.h"
@@ -27,13 +30,19 @@ typedef struct simpson_state {
     struct simpson_interval root;
     perma_proc proc;
     size_t item_size;
-    plain_lines accepted, area, area_bits;
+    uint64_t accepted, area_bits; /* the results, described by `results` */
+    double area;
+    plain_result results[3];
+    plain_count count;       /* of the runtime being measured */
+    double reduced_area;     /* the integral of the first reduction run */
+    int reduced;             /* and whether there was one */
     plain_simpson_result expected;
 } simpson_state;
 
-static perma_status simpson_setup(void *state, perma_runtime *rt, unsigned groups, plain_count count)
+static perma_status simpson_setup(void *state, perma_runtime *rt, plain_count count)
 {
     simpson_state *s = state;
+    s->count = count;
     char defines[64];
     snprintf(defines, sizeof defines, "#define SIMPSON_MAX_DEPTH %uu\n", (unsigned)MAX_DEPTH);
     perma_status st = plain_add_sources(rt, count, defines);
@@ -41,28 +50,21 @@ static perma_status simpson_setup(void *state, perma_runtime *rt, unsigned group
         st = plain_register(rt, "simpson", "struct simpson_interval", sizeof(struct simpson_interval),
                             plain_simpson_source, "plain_simpson.cl", "simpson", 2, &s->proc);
     if (st == PERMA_OK)
-        st = plain_lines_bind(rt, &s->accepted, groups, "simpson_accepted", "__global uint *");
-    if (st == PERMA_OK)
-        st = plain_lines_bind(rt, &s->area, groups, "simpson_area", "__global double *");
-    if (st == PERMA_OK)
-        st = plain_lines_bind(rt, &s->area_bits, groups, "simpson_area_bits", "__global ulong *");
+        st = plain_results_declare(rt, count, s->results, 3);
     return st;
 }
 
 static perma_status simpson_prepare(void *state, perma_runtime *rt)
 {
     simpson_state *s = state;
-    plain_lines_clear(&s->accepted);
-    plain_lines_clear(&s->area);
-    plain_lines_clear(&s->area_bits);
+    plain_results_clear(s->results, 3);
     return perma_seed(rt, s->proc, &s->root, 1);
 }
 
 /* The results of a run: where the counting of plain_simpson.cl ends up. */
 static plain_simpson_result simpson_results(const simpson_state *s)
 {
-    plain_simpson_result r = { plain_lines_sum_u32(&s->accepted), plain_lines_sum_u64(&s->area_bits),
-                               plain_lines_sum_double(&s->area) };
+    plain_simpson_result r = { s->accepted, s->area_bits, s->area };
     return r;
 }
 
@@ -81,7 +83,17 @@ static int simpson_verify(void *state, perma_runtime *rt, bench_row *row)
     row->expected = s->expected.accepted;
     snprintf(row->message, sizeof row->message, "integral %.17g, %+.1e relative to sequential", r.area,
              (r.area - s->expected.area) / s->expected.area);
-    return simpson_same(&r, &s->expected) && plain_items_run(rt) == 2 * s->expected.accepted - 1;
+    int same_reduction = 1;
+    if (s->count == PLAIN_COUNT_REDUCE) {
+        if (!s->reduced)
+            s->reduced_area = r.area;
+        s->reduced = 1;
+        same_reduction = memcmp(&r.area, &s->reduced_area, sizeof r.area) == 0;
+        if (!same_reduction)
+            snprintf(row->message, sizeof row->message, "integral %.17g, not the %.17g of the first reduction",
+                     r.area, s->reduced_area);
+    }
+    return same_reduction && simpson_same(&r, &s->expected) && plain_items_run(rt) == 2 * s->expected.accepted - 1;
 }
 
 /* ---- baselines ---- */
@@ -128,6 +140,9 @@ int plain_simpson(const plain_options *o, bench_report *report)
     bench_report_workload(report, title);
 
     simpson_state s = { .root = simpson_root(0.0, 1.0, eps), .item_size = sizeof(struct simpson_interval) };
+    s.results[0] = (plain_result){ "simpson_accepted", PERMA_TYPE_ULONG, &s.accepted };
+    s.results[1] = (plain_result){ "simpson_area", PERMA_TYPE_DOUBLE, &s.area };
+    s.results[2] = (plain_result){ "simpson_area_bits", PERMA_TYPE_ULONG, &s.area_bits };
     simpson_baseline seq = { .root = &s.root };
     bench_timing time = bench_time_runs(o->common, NULL, simpson_sequential_once, &seq);
     s.expected = seq.result;
@@ -140,10 +155,7 @@ int plain_simpson(const plain_options *o, bench_report *report)
     simpson_openmp_row(o, report, title, &s, UINT32_MAX);
     simpson_openmp_row(o, report, title, &s, plain_cutoff(o, OPENMP_CUTOFF));
 
-    plain_perma w = { simpson_setup, { simpson_prepare, simpson_verify, &s, 1, &s.proc, &s.item_size } };
+    plain_perma w = { simpson_setup, { simpson_prepare, simpson_verify, &s, 1, &s.proc, &s.item_size }, 0 };
     plain_perma_rows(o, report, title, "intervals", intervals, &w);
-    plain_lines_free(&s.accepted);
-    plain_lines_free(&s.area);
-    plain_lines_free(&s.area_bits);
     return 0;
 }

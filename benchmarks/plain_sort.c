@@ -38,10 +38,9 @@ static uint64_t sort_items(uint *keys, uint lo, uint hi, uint cutoff)
     return 1 + sort_items(keys, lo, p, cutoff) + sort_items(keys, p, hi, cutoff);
 }
 
-static perma_status sort_setup(void *state, perma_runtime *rt, unsigned groups, plain_count count)
+static perma_status sort_setup(void *state, perma_runtime *rt, plain_count count)
 {
     sort_state *s = state;
-    (void)groups;
     char defines[64];
     snprintf(defines, sizeof defines, "#define SORT_CUTOFF %uu\n", s->size.cutoff);
     perma_status st = plain_add_sources(rt, count, defines);
@@ -153,7 +152,7 @@ int plain_sort(const plain_options *o, bench_report *report)
     sort_openmp_row(o, report, title, &s, UINT32_MAX);
     sort_openmp_row(o, report, title, &s, plain_cutoff(o, OPENMP_CUTOFF));
 
-    plain_perma w = { sort_setup, { sort_prepare, sort_verify, &s, 1, &s.proc, &s.item_size } };
+    plain_perma w = { sort_setup, { sort_prepare, sort_verify, &s, 1, &s.proc, &s.item_size }, .counts_nothing = 1 };
     plain_perma_rows(o, report, title, "keys", (double)s.size.keys, &w);
     free(s.input);
     free(s.keys);

@@ -26,11 +26,12 @@ typedef struct uts_state {
     const plain_uts_tree *tree;
     perma_proc procs[2];       /* geometric: the node; binomial: the root, the node */
     size_t item_sizes[2];
-    plain_lines nodes, hash_sum;
+    uint64_t nodes, hash_sum; /* the results, described by `results` */
+    plain_result results[2];
     plain_uts_result expected;
 } uts_state;
 
-static perma_status uts_setup(void *state, perma_runtime *rt, unsigned groups, plain_count count)
+static perma_status uts_setup(void *state, perma_runtime *rt, plain_count count)
 {
     uts_state *s = state;
     const plain_uts_tree *t = s->tree;
@@ -52,17 +53,14 @@ static perma_status uts_setup(void *state, perma_runtime *rt, unsigned groups, p
         st = plain_register(rt, "uts_binomial", "struct uts_node", sizeof(struct uts_node), plain_uts_source,
                             "plain_uts.cl", "uts_binomial", t->m, &s->procs[1]);
     if (st == PERMA_OK)
-        st = plain_lines_bind(rt, &s->nodes, groups, "uts_nodes", "__global uint *");
-    if (st == PERMA_OK)
-        st = plain_lines_bind(rt, &s->hash_sum, groups, "uts_hash_sum", "__global ulong *");
+        st = plain_results_declare(rt, count, s->results, 2);
     return st;
 }
 
 static perma_status uts_prepare(void *state, perma_runtime *rt)
 {
     uts_state *s = state;
-    plain_lines_clear(&s->nodes);
-    plain_lines_clear(&s->hash_sum);
+    plain_results_clear(s->results, 2);
     struct uts_node root = { s->tree->root_hash, 0u, 0u };
     return perma_seed(rt, s->procs[0], &root, 1);
 }
@@ -70,7 +68,7 @@ static perma_status uts_prepare(void *state, perma_runtime *rt)
 /* The results of a run: where the counting of plain_uts.cl ends up. */
 static plain_uts_result uts_results(const uts_state *s)
 {
-    plain_uts_result r = { plain_lines_sum_u32(&s->nodes), plain_lines_sum_u64(&s->hash_sum) };
+    plain_uts_result r = { s->nodes, s->hash_sum };
     return r;
 }
 
@@ -142,13 +140,13 @@ static int uts_tree(const plain_options *o, bench_report *report, const plain_ut
 
     uts_state s = { .tree = t, .expected = seq.result };
     s.item_sizes[0] = s.item_sizes[1] = sizeof(struct uts_node);
+    s.results[0] = (plain_result){ "uts_nodes", PERMA_TYPE_ULONG, &s.nodes };
+    s.results[1] = (plain_result){ "uts_hash_sum", PERMA_TYPE_ULONG, &s.hash_sum };
     uts_openmp_row(o, report, title, &s, UINT32_MAX);
     uts_openmp_row(o, report, title, &s, plain_cutoff(o, t->binomial ? BINOMIAL_CUTOFF : GEOMETRIC_CUTOFF));
 
-    plain_perma w = { uts_setup, { uts_prepare, uts_verify, &s, t->binomial ? 2u : 1u, s.procs, s.item_sizes } };
+    plain_perma w = { uts_setup, { uts_prepare, uts_verify, &s, t->binomial ? 2u : 1u, s.procs, s.item_sizes }, 0 };
     plain_perma_rows(o, report, title, "nodes", (double)s.expected.nodes, &w);
-    plain_lines_free(&s.nodes);
-    plain_lines_free(&s.hash_sum);
     return 0;
 }
 

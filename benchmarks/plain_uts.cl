@@ -3,17 +3,17 @@
  * UTS_MAX_DEPTH and UTS_P64, or UTS_B0, UTS_M and UTS_Q64 (binomial). */
 
 /* The one place this workload adds to its results: the node count and the
- * sum of the node hashes.  As README.md does it: a global atomic per
- * result, all work-groups on one word.  With --count group: one 64-byte
- * line per work-group, added up by the host. */
+ * sum of the node hashes, two reductions (perma_declare_reduction).  With
+ * --count atomic, the way README.md did it before reductions: a global
+ * atomic per result, all work-groups on one word. */
 void uts_count(perma_ctx *ctx, ulong hash)
 {
-#ifndef PLAIN_COUNT_GROUP
-    atomic_inc(&ctx->buf.uts_nodes[0]);
-    atom_add(&ctx->buf.uts_hash_sum[0], hash);
+#ifndef PLAIN_COUNT_ATOMIC
+    reduce_uts_nodes(ctx, 1);
+    reduce_uts_hash_sum(ctx, hash);
 #else
-    atomic_inc(&ctx->buf.uts_nodes[16u * ctx->group]);
-    atom_add(&ctx->buf.uts_hash_sum[8u * ctx->group], hash);
+    atom_inc(&ctx->buf.uts_nodes[0]);
+    atom_add(&ctx->buf.uts_hash_sum[0], hash);
 #endif
 }
 
