@@ -1,13 +1,14 @@
 #!/bin/sh
 # Where the time of each `perma-bench plain` workload goes on the device:
-# the procedure's own work, the one function that adds to its results (a
-# global atomic per result per item: uts_count, simpson_count and
-# simpson_atomic_add, queens_count), and the runtime (the scheduler loop
+# the procedure's own work, the one function that adds to its results
+# (uts_count, simpson_count, queens_count with the reduce_NAME calls they
+# make or, with COUNT atomic, their global atomics and simpson_atomic_add),
+# and the runtime (the scheduler loop
 # and the batch phases: perma_*, emit_*, _pocl_kernel*):
 #
 #     benchmarks/plain_profile.sh [BUILD_DIR] [SCHEDULE] [REPEAT] [COUNT]
 #
-# (defaults: build, megakernel/shared, 10, atomic; COUNT is --count).  It
+# (defaults: build, megakernel/shared, 10, reduce; COUNT is --count).  It
 # runs each workload under `perf record` with the batch phases and the
 # procedures' functions kept apart (-DPERMA_PROFILE_PHASES through PoCL's
 # POCL_EXTRA_BUILD_FLAGS, a fresh program cache so that the megakernel is
@@ -23,7 +24,7 @@ build=${1:-build}
 case $build in /*) ;; *) build=$root/$build ;; esac
 schedule=${2:-megakernel/shared}
 repeat=${3:-10}
-count=${4:-atomic}
+count=${4:-reduce}
 bench=$build/benchmarks/perma-bench
 
 command -v perf >/dev/null 2>&1 || { echo "plain_profile.sh: perf not found (apt-get install linux-perf)" >&2; exit 1; }
@@ -40,7 +41,7 @@ for workload in uts-geometric uts-binomial simpson queens sort; do
     perf report -i "$scratch/perf.data" --no-children --sort sym --dsos perma_megakernel.so 2>/dev/null |
         awk -v name="$workload" '
             /^ *[0-9.]+%/ { p = $1; sub("%", "", p); symbol = $3; total += p
-                            if (symbol ~ /^(uts_count|simpson_count|simpson_atomic_add|queens_count)$/) counting += p
+                            if (symbol ~ /^(uts_count|simpson_count|simpson_atomic_add|queens_count|reduce_.*|perma_exact_.*)$/) counting += p
                             else if (symbol ~ /^(_pocl_kernel|emit_|perma_)/) { runtime += p; part[symbol] += p }
                             else procedure += p }
             END { if (total == 0) { print name ": no samples in the megakernel"; exit 1 }
