@@ -1,6 +1,7 @@
 /* perma-bench reyes: the Reyes renderer (procedures/) on the teapot and
- * killeroo models, per technique and main strategy, against the
- * single-threaded C reference of the same pipeline (reyes_reference.c).
+ * killeroo models, per technique and main strategy, against the C
+ * reference of the same pipeline (reyes_reference.c) on one thread and on
+ * every core with OpenMP (reyes_reference_parallel.c).
  *
  * Per-procedure times cannot be measured inside one megakernel, so stages
  * are timed by difference: every variant renders each workload three times,
@@ -16,10 +17,12 @@
 
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "reyes.h"
 #include "reyes_reference.h"
+#include "reyes_reference_parallel.h"
 #include "reyes_shared.h"
 
 #ifndef REYES_BENCH_MODELS_DIR
@@ -60,17 +63,22 @@ typedef struct variant_times {
 
 /* The workloads, for --help. */
 static const char workloads_help[] =
-    "workloads (--workload, comma-separated; default stages; all = every one):\n"
+    "workloads (--workload, comma-separated; default stages,defaults; all = every one):\n"
     "  stages    teapot.bpt and killeroo.bpt from DIR (default " REYES_BENCH_MODELS_DIR ")\n"
     "            at 512x512 and 1280x1024 (--size replaces them; --quick: teapot at\n"
     "            256x256) with every technique and the main strategies, in full and\n"
-    "            stopped after dice's geometry and after subdivision, and the\n"
+    "            stopped after dice's geometry and after subdivision, the\n"
     "            single-threaded C reference of the same pipeline (shading and\n"
-    "            sampling included) timed the same way.  No crack fix (the C\n"
-    "            reference has none); the cameras of issue 13 (docs/reyes.md).\n"
+    "            sampling included) timed the same way, and its full render on\n"
+    "            --threads OpenMP threads.  No crack fix (the C reference has none);\n"
+    "            the cameras of issue 13 (docs/reyes.md).\n"
     "            Rows: seconds are the best perma_run time of --repeat runs, the\n"
     "            configurations interleaved run by run; 'vs seq' is the C reference's\n"
     "            full render / row.\n"
+    "  defaults  the same models and sizes at the command's default dicing, a shading\n"
+    "            rate of 1: the C reference at that rate on one thread and on --threads\n"
+    "            OpenMP threads, megakernel/shared without a crack fix and stitched\n"
+    "            (the command's default), interleaved run by run.\n"
     "  displace  the same models and sizes plain and with bumps displacement.\n"
     "  blur      killeroo at 800x600 (or --size) at 16, 25 and 64 spp, unblurred and\n"
     "            with each blur algorithm (simple, interleaved, bbox) under a\n"
@@ -105,9 +113,10 @@ static int parse_size(const perma_cli_option *option, const char *value, char *c
 static int parse_workloads(const perma_cli_option *option, const char *value, char *complaint, size_t size)
 {
     static const struct { const char *name; unsigned bits; } names[] = {
-        { "stages", REYES_BENCH_STAGES }, { "displace", REYES_BENCH_DISPLACE },
+        { "stages", REYES_BENCH_STAGES }, { "defaults", REYES_BENCH_DEFAULTS }, { "displace", REYES_BENCH_DISPLACE },
         { "blur", REYES_BENCH_BLUR }, { "buckets", REYES_BENCH_BUCKETS },
-        { "all", REYES_BENCH_STAGES | REYES_BENCH_DISPLACE | REYES_BENCH_BLUR | REYES_BENCH_BUCKETS },
+        { "all", REYES_BENCH_STAGES | REYES_BENCH_DEFAULTS | REYES_BENCH_DISPLACE | REYES_BENCH_BLUR
+                     | REYES_BENCH_BUCKETS },
     };
     unsigned bits = 0, found = 1;
     for (const char *at = value; *at && found;) {
@@ -120,7 +129,7 @@ static int parse_workloads(const perma_cli_option *option, const char *value, ch
         at += n + (at[n] == ',');
     }
     if (!found || !bits) {
-        snprintf(complaint, size, "expected a comma-separated list of stages, displace, blur, buckets or all");
+        snprintf(complaint, size, "expected a comma-separated list of stages, defaults, displace, blur, buckets or all");
         return 1;
     }
     *(unsigned *)option->target = bits;
@@ -133,13 +142,13 @@ static perma_cli_status parse_args(int argc, char **argv, bench_options *options
     memset(a, 0, sizeof *a);
     a->models_dir = REYES_BENCH_MODELS_DIR;
     a->bound_px = 8.0f;
-    a->workloads = REYES_BENCH_STAGES;
+    a->workloads = REYES_BENCH_STAGES | REYES_BENCH_DEFAULTS;
     const perma_cli_option rows[] = {
         { PERMA_CLI_TEXT("models", "DIR", &a->models_dir, "where teapot.bpt and killeroo.bpt are") },
         { PERMA_CLI_CUSTOM("size", "WxH", parse_size, a,
                            "an image size (up to 4 times; default: the workload's sizes)") },
         { PERMA_CLI_FLOAT("bound", "PX", &a->bound_px, 0.5, INFINITY, "dice patches of at most PX pixels (default 8)") },
-        { PERMA_CLI_CUSTOM("workload", "LIST", parse_workloads, &a->workloads, "the workloads below (default stages)") },
+        { PERMA_CLI_CUSTOM("workload", "LIST", parse_workloads, &a->workloads, "the workloads below (default stages,defaults)") },
     };
     perma_cli_status parsed = bench_parse(options, "[options]", workloads_help, rows, sizeof rows / sizeof rows[0],
                                           argc, argv);
@@ -187,23 +196,35 @@ typedef struct stage_timing {
     int ran;
     unsigned runs;
     double seconds[MAX_RUNS], walls[MAX_RUNS];
+    double cpus[MAX_RUNS]; /* the process's CPU seconds over the whole call */
     reyes_stats stats;
     reyes_reference_counts counts;
     char message[REYES_MESSAGE_MAX];
 } stage_timing;
 
+/* CPU seconds of the whole process (every thread: OpenMP's and the
+ * OpenCL runtime's workers). */
+static double process_cpu_seconds(void)
+{
+    struct timespec now;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &now);
+    return (double)now.tv_sec + 1e-9 * (double)now.tv_nsec;
+}
+
 /* One run of the C reference in mode o->stages (the full pipeline for
- * REYES_STAGES_ALL). */
+ * REYES_STAGES_ALL; on `threads` OpenMP threads when not 0). */
 static void time_reference(stage_timing *t, const reyes_scene *scene, const reyes_camera *camera,
-                           const reyes_options *o)
+                           const reyes_options *o, unsigned threads)
 {
     if (!t->ran || t->runs == MAX_RUNS)
         return;
     reyes_error error;
     reyes_status status;
+    double cpu = process_cpu_seconds();
     if (o->stages == REYES_STAGES_ALL) {
         reyes_image image;
-        status = reyes_reference_render(scene, camera, o, &image, &t->counts, &error);
+        status = threads ? reyes_reference_render_parallel(scene, camera, o, threads, &image, &t->counts, &error)
+                         : reyes_reference_render(scene, camera, o, &image, &t->counts, &error);
         reyes_image_free(&image);
     } else {
         status = reyes_reference_run(scene, camera, o, &t->counts, &error);
@@ -214,6 +235,7 @@ static void time_reference(stage_timing *t, const reyes_scene *scene, const reye
         return;
     }
     t->seconds[t->runs] = t->walls[t->runs] = t->counts.seconds;
+    t->cpus[t->runs] = process_cpu_seconds() - cpu;
     ++t->runs;
 }
 
@@ -227,27 +249,30 @@ static void time_render(stage_timing *t, reyes_renderer *renderer, const reyes_s
     reyes_error error;
     reyes_image image;
     reyes_stats_free(&t->stats);
-    double start = bench_now();
+    double start = bench_now(), cpu = process_cpu_seconds();
     if (reyes_render(renderer, scene, camera, o, &image, &t->stats, &error) != REYES_OK) {
         snprintf(t->message, sizeof t->message, "%s", error.message);
         t->ran = 0;
         return;
     }
     t->walls[t->runs] = bench_now() - start;
+    t->cpus[t->runs] = process_cpu_seconds() - cpu;
     t->seconds[t->runs] = t->stats.seconds;
     ++t->runs;
     reyes_image_free(&image);
 }
 
 /* The row of the C reference in one mode (the full render is the
- * workload's baseline). */
-static double reference_row(bench_report *report, const char *workload, int mode, const stage_timing *t)
+ * workload's baseline; mode -1: the full render on `threads` OpenMP
+ * threads, its counts checked against the single-threaded one's). */
+static double reference_row(bench_report *report, const char *workload, int mode, const stage_timing *t,
+                            unsigned threads, const reyes_reference_counts *single)
 {
     const char *labels[STAGE_MODES] = { "C reference full render", "C reference bound/split/dice",
                                         "C reference bound/split" };
     bench_row row;
-    bench_row_init(&row, workload, labels[mode], "quads");
-    row.work_groups = 1;
+    bench_row_init(&row, workload, mode < 0 ? "C reference OpenMP full render" : labels[mode], "quads");
+    row.work_groups = mode < 0 ? threads : 1;
     row.ran = t->ran && t->runs > 0;
     snprintf(row.message, sizeof row.message, "%s", t->message);
     if (row.ran) {
@@ -256,24 +281,34 @@ static double reference_row(bench_report *report, const char *workload, int mode
         row.count = row.expected = t->counts.grids;
         snprintf(row.message, sizeof row.message, "splits %llu grids %llu", (unsigned long long)t->counts.splits,
                  (unsigned long long)t->counts.grids);
+        if (mode < 0) {
+            const reyes_reference_counts *c = &t->counts;
+            int same = c->splits == single->splits && c->grids == single->grids && c->culled == single->culled
+                       && c->micropolygons == single->micropolygons && c->samples_written == single->samples_written;
+            row.check = same ? BENCH_CHECK_PASS : BENCH_CHECK_FAIL;
+        }
     }
     bench_report_add(report, &row, mode == 0);
     return row.ran ? row.seconds : 0.0;
 }
 
-static size_t peak_item_bytes(const reyes_stats *stats, const reyes_options *o)
+static size_t peak_item_bytes(const reyes_stats *stats)
 {
     size_t total = 0;
     for (int p = 0; p < REYES_PROC_COUNT; ++p) {
-        size_t size = p == REYES_PROC_RASTERIZE ? reyes_grid_item_bytes(o->grid, o->motion_angle_deg != 0.0f)
-                    : p == REYES_PROC_STITCH ? sizeof(struct reyes_stitch) : sizeof(struct reyes_subpatch);
+        size_t size = p == REYES_PROC_STITCH ? sizeof(struct reyes_stitch) : sizeof(struct reyes_subpatch);
         total += (size_t)stats->procedures[p].peak_queue_items * size;
     }
     return total;
 }
 
 /* The row of a variant in one mode, its counts checked against the C
- * reference's. */
+ * reference's with fixed grids (equal).  With a shading rate they are
+ * not checked: the renderer's edge-conforming dicing and sample shading
+ * (issue 25 items 1-3) are not the C reference's (which dices each
+ * sub-patch to the size bound chose and shades vertices, the renderer's
+ * shading-rate pipeline before them), so the row's message gives both
+ * micropolygon counts, the work each did. */
 static double variant_row(bench_report *report, const char *workload, const char *label, const stage_timing *t,
                           const reyes_options *o, const reyes_reference_counts *reference)
 {
@@ -292,20 +327,23 @@ static double variant_row(bench_report *report, const char *workload, const char
         row.expected = reference->grids;
         int same = stats->splits == reference->splits && stats->grids == reference->grids
                    && (o->stages == REYES_STAGES_SUBDIVIDE || stats->micropolygons == reference->micropolygons);
-        row.check = same ? BENCH_CHECK_PASS : BENCH_CHECK_FAIL;
+        row.check = o->shading_rate > 0.0f ? BENCH_CHECK_NONE : same ? BENCH_CHECK_PASS : BENCH_CHECK_FAIL;
         row.peak_queue_bytes = stats->peak_queue_bytes;
-        row.peak_item_bytes = peak_item_bytes(stats, o);
+        row.peak_item_bytes = peak_item_bytes(stats);
         row.steals = stats->run.steals;
         row.donations = stats->run.donations;
         row.spills = stats->run.spills;
         const perma_procedure_stats *p = stats->procedures;
+        char rate[96] = "";
+        if (o->shading_rate > 0.0f)
+            snprintf(rate, sizeof rate, "micropolygons %llu (C reference %llu); ",
+                     (unsigned long long)stats->micropolygons, (unsigned long long)reference->micropolygons);
         snprintf(row.message, sizeof row.message,
-                 "splits %llu grids %llu; items bound %llu split %llu dice %llu raster %llu; launches %u",
+                 "%ssplits %llu grids %llu; items bound %llu split %llu dice %llu; launches %u", rate,
                  (unsigned long long)stats->splits, (unsigned long long)stats->grids,
                  (unsigned long long)p[REYES_PROC_BOUND].items,
                  (unsigned long long)(p[REYES_PROC_SPLIT_U].items + p[REYES_PROC_SPLIT_V].items),
-                 (unsigned long long)p[REYES_PROC_DICE].items,
-                 (unsigned long long)p[REYES_PROC_RASTERIZE].items, stats->run.launches);
+                 (unsigned long long)p[REYES_PROC_DICE].items, stats->run.launches);
     }
     bench_report_add(report, &row, 0);
     return row.ran ? row.seconds : 0.0;
@@ -316,10 +354,26 @@ static double ratio(double numerator, double denominator)
     return numerator > 0.0 && denominator > 0.0 ? numerator / denominator : 0.0;
 }
 
-/* The stage times by difference and the ratios against both targets, per
- * device. */
-static void print_summary(const bench_options *options, const double reference[STAGE_MODES],
-                          const variant_times times[SLOTS])
+/* The least CPU time of a full render's runs against the OpenMP C
+ * reference's: on a shared machine the CPU a render takes moves less with
+ * the load than its wall time, and on an idle machine a render that keeps
+ * every core busy takes its CPU time / cores (run with
+ * OMP_WAIT_POLICY=passive, or OpenMP's spinning threads bill their wait). */
+static void print_cpu_ratio(const char *label, const stage_timing *openmp, const stage_timing *render)
+{
+    if (!openmp->ran || !render->ran || !openmp->runs || !render->runs)
+        return;
+    double c = best_of(openmp->cpus, openmp->runs), m = best_of(render->cpus, render->runs);
+    printf("  %s: CPU per render (least of %u runs, the whole call): C reference OpenMP %.4f s, megakernel %.4f s: "
+           "%.2fx\n", label, render->runs, c, m, ratio(c, m));
+}
+
+/* The stage times by difference and the ratios against the targets, per
+ * device: issue 13's (megakernel/shared against the single-threaded C
+ * reference and against kernel-per-procedure) and issue 25's (against the
+ * C reference on every core). */
+static void print_summary(const bench_options *options, const double reference[STAGE_MODES], double parallel,
+                          unsigned threads, const variant_times times[SLOTS])
 {
     printf("\n  stages (by difference, seconds):     subdivide   dice geometry   shade+sample   total\n");
     printf("  %-34s %9.4f %15.4f %14.4f %7.4f\n", "C reference (1 thread)", reference[2],
@@ -341,6 +395,10 @@ static void print_summary(const bench_options *options, const double reference[S
         double geometry = ratio(reference[1], mk->seconds[1]), full = ratio(reference[0], mk->seconds[0]);
         printf("  %s%smegakernel/shared vs C reference: full render %.2fx (target >= 1.6x: %s), geometry only "
                "(bound/split/dice) %.2fx\n", on, *on ? ": " : "", full, full >= 1.6 ? "met" : "NOT met", geometry);
+        double vs_openmp = ratio(parallel, mk->seconds[0]);
+        if (vs_openmp > 0.0)
+            printf("  %s%smegakernel/shared vs C reference OpenMP (%u threads): full render %.2fx (target >= 1.5x: "
+                   "%s)\n", on, *on ? ": " : "", threads, vs_openmp, vs_openmp >= 1.5 ? "met" : "NOT met");
         if (kpp->ran) {
             double vs_kpp = ratio(kpp->seconds[0], mk->seconds[0]);
             printf("  %s%smegakernel/shared vs kernel-per-procedure: full render %.2fx (target >= 2x: %s), "
@@ -432,11 +490,14 @@ static void run_workload(bench_report *report, const char *model, const reyes_sc
         printf("reyes: %s: %s\n", workload, error.message);
         return;
     }
-    static stage_timing reference[STAGE_MODES], timings[SLOTS][STAGE_MODES];
+    static stage_timing reference[STAGE_MODES], parallel, timings[SLOTS][STAGE_MODES];
+    unsigned threads = bench_threads(options);
     variant_times times[SLOTS];
     memset(times, 0, sizeof times);
     reyes_options options_of[SLOTS];
     int usable[SLOTS] = {0};
+    memset(&parallel, 0, sizeof parallel);
+    parallel.ran = 1;
     for (int m = 0; m < STAGE_MODES; ++m) {
         memset(&reference[m], 0, sizeof reference[m]);
         reference[m].ran = 1;
@@ -469,7 +530,9 @@ static void run_workload(bench_report *report, const char *model, const reyes_sc
     for (unsigned r = 0; r < runs; ++r) {
         for (int m = 0; m < STAGE_MODES; ++m) {
             base.stages = stage_modes[m];
-            time_reference(&reference[m], scene, &camera, &base);
+            time_reference(&reference[m], scene, &camera, &base, 0);
+            if (stage_modes[m] == REYES_STAGES_ALL)
+                time_reference(&parallel, scene, &camera, &base, threads);
             for (unsigned i = 0; i < SLOTS; ++i) {
                 if (!usable[i])
                     continue;
@@ -480,7 +543,8 @@ static void run_workload(bench_report *report, const char *model, const reyes_sc
     }
     double reference_seconds[STAGE_MODES];
     for (int m = 0; m < STAGE_MODES; ++m)
-        reference_seconds[m] = reference_row(report, workload, m, &reference[m]);
+        reference_seconds[m] = reference_row(report, workload, m, &reference[m], 1, NULL);
+    double parallel_seconds = reference_row(report, workload, -1, &parallel, threads, &reference[0].counts);
     for (unsigned i = 0; i < SLOTS; ++i) {
         if (!usable[i])
             continue;
@@ -496,7 +560,87 @@ static void run_workload(bench_report *report, const char *model, const reyes_sc
         if (options->verbose)
             printf("  (%s)\n", reyes_renderer_device(renderers[i]));
     }
-    print_summary(options, reference_seconds, times);
+    print_summary(options, reference_seconds, parallel_seconds, threads, times);
+    for (unsigned d = 0; d < bench_device_passes(options); ++d)
+        if (usable[SLOT(0, d)])
+            print_cpu_ratio(times[SLOT(0, d)].name, &parallel, &timings[SLOT(0, d)][0]);
+}
+
+/* The defaults workload of one model and size (issue 25): the command's
+ * default dicing, a shading rate of 1, against the C reference at the
+ * same rate on one thread and on --threads (no crack fix: it has none),
+ * interleaved run by run, best of --repeat.  megakernel/shared renders it
+ * without a crack fix (the same work) and with the command's default
+ * stitching (more work: two passes and the fillers; its time is the two
+ * perma_runs, and the row's message gives the whole render's, with the
+ * host's planning between them and the clear and resolve). */
+static void run_defaults(bench_report *report, const char *model, const reyes_scene *scene, unsigned width,
+                         unsigned height, const reyes_bench_args *a, const bench_options *options,
+                         reyes_renderer *renderers[SLOTS])
+{
+    char workload[64];
+    snprintf(workload, sizeof workload, "%s %ux%u shading rate 1", model, width, height);
+    bench_report_workload(report, workload);
+    reyes_camera camera;
+    reyes_error error;
+    if (!model_camera(model, &camera)
+        && reyes_camera_frame(scene, 40.0f, (float)width / (float)height, &camera, &error) != REYES_OK) {
+        printf("reyes: %s: %s\n", workload, error.message);
+        return;
+    }
+    static stage_timing single, parallel, plain[BENCH_MAX_DEVICES], stitched[BENCH_MAX_DEVICES];
+    unsigned threads = bench_threads(options), devices = bench_device_passes(options);
+    bench_variant variant;
+    if (bench_variant_parse(reyes_variants[0], &variant, NULL) != PERMA_OK)
+        return;
+    reyes_options o[BENCH_MAX_DEVICES], base = reyes_bench_render_options(a, options, &variant, width, height);
+    base.shading_rate = 1.0f;
+    base.crack_fix = REYES_CRACK_FIX_NONE;
+    memset(&single, 0, sizeof single);
+    memset(&parallel, 0, sizeof parallel);
+    single.ran = parallel.ran = 1;
+    char names[BENCH_MAX_DEVICES][96];
+    for (unsigned d = 0; d < devices; ++d) {
+        reyes_stats_free(&plain[d].stats);
+        reyes_stats_free(&stitched[d].stats);
+        memset(&plain[d], 0, sizeof plain[d]);
+        memset(&stitched[d], 0, sizeof stitched[d]);
+        plain[d].ran = stitched[d].ran = renderers[SLOT(0, d)] != NULL;
+        bench_variant_use_device(options, d, &variant);
+        snprintf(names[d], sizeof names[d], "%s", variant.name);
+        o[d] = reyes_bench_render_options(a, options, &variant, width, height);
+        o[d].shading_rate = 1.0f;
+    }
+    unsigned runs = options->repeat < MAX_RUNS ? options->repeat : MAX_RUNS;
+    for (unsigned r = 0; r < runs; ++r) {
+        time_reference(&single, scene, &camera, &base, 0);
+        time_reference(&parallel, scene, &camera, &base, threads);
+        for (unsigned d = 0; d < devices; ++d) {
+            o[d].crack_fix = REYES_CRACK_FIX_NONE;
+            time_render(&plain[d], renderers[SLOT(0, d)], scene, &camera, &o[d]);
+            o[d].crack_fix = REYES_CRACK_FIX_STITCH;
+            time_render(&stitched[d], renderers[SLOT(0, d)], scene, &camera, &o[d]);
+        }
+    }
+    reference_row(report, workload, 0, &single, 1, NULL);
+    double openmp = reference_row(report, workload, -1, &parallel, threads, &single.counts);
+    for (unsigned d = 0; d < devices; ++d) {
+        char label[128];
+        o[d].crack_fix = REYES_CRACK_FIX_NONE;
+        snprintf(label, sizeof label, "%.80s full, no crack fix", names[d]);
+        double none = variant_row(report, workload, label, &plain[d], &o[d], &single.counts);
+        o[d].crack_fix = REYES_CRACK_FIX_STITCH;
+        snprintf(label, sizeof label, "%.80s full, stitched (defaults)", names[d]);
+        double stitch = variant_row(report, workload, label, &stitched[d], &o[d], &single.counts);
+        double whole = stitched[d].runs ? best_of(stitched[d].walls, stitched[d].runs) : 0.0;
+        if (none > 0.0 && stitch > 0.0)
+            printf("  %s vs C reference OpenMP (%u threads), shading rate 1: no crack fix %.2fx, stitched %.2fx "
+                   "(the whole stitched render, planning, clear and resolve included: %.4f s, %.2fx) (target >= "
+                   "1.5x: %s)\n", names[d], threads, ratio(openmp, none), ratio(openmp, stitch), whole,
+                   ratio(openmp, whole), ratio(openmp, stitch) >= 1.5 ? "met" : "NOT met");
+        print_cpu_ratio("no crack fix", &parallel, &plain[d]);
+        print_cpu_ratio("stitched", &parallel, &stitched[d]);
+    }
 }
 
 int bench_reyes(bench_options *options, int argc, char **argv)
@@ -506,7 +650,7 @@ int bench_reyes(bench_options *options, int argc, char **argv)
     if (parsed != PERMA_CLI_OK)
         return perma_cli_exit_status(parsed);
     const char *models[] = { "teapot", "killeroo" };
-    unsigned model_count = a.workloads & REYES_BENCH_STAGES ? (options->quick ? 1 : 2) : 0;
+    unsigned model_count = a.workloads & (REYES_BENCH_STAGES | REYES_BENCH_DEFAULTS) ? (options->quick ? 1 : 2) : 0;
     bench_report *report;
     if (bench_report_open(&report, "reyes", options))
         return 1;
@@ -530,8 +674,12 @@ int bench_reyes(bench_options *options, int argc, char **argv)
             if (!created++)
                 create_renderers(&a, options, renderers);
             warm_up(&scene, &a, options, renderers);
-            for (unsigned s = 0; s < a.size_count; ++s)
-                run_workload(report, models[m], &scene, a.widths[s], a.heights[s], &a, options, renderers);
+            for (unsigned s = 0; s < a.size_count; ++s) {
+                if (a.workloads & REYES_BENCH_STAGES)
+                    run_workload(report, models[m], &scene, a.widths[s], a.heights[s], &a, options, renderers);
+                if (a.workloads & REYES_BENCH_DEFAULTS)
+                    run_defaults(report, models[m], &scene, a.widths[s], a.heights[s], &a, options, renderers);
+            }
         }
         reyes_scene_free(&scene);
     }

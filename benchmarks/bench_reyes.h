@@ -14,6 +14,7 @@ enum {
     REYES_BENCH_DISPLACE = 2, /* plain vs --displace bumps */
     REYES_BENCH_BLUR = 4,     /* each blur algorithm vs unblurred, killeroo 800x600, 16/25/64 spp */
     REYES_BENCH_BUCKETS = 8,  /* peak queue memory and time per bucket size */
+    REYES_BENCH_DEFAULTS = 16, /* shading rate 1 (no crack fix, stitched) vs the C reference at rate 1 */
 };
 
 typedef struct reyes_bench_args {

@@ -205,6 +205,10 @@ typedef struct reyes_options {
     /* 1: the image also keeps every sample (reyes_image.samples), for
      * comparisons sample by sample; 0 (default): only the pixels. */
     int keep_samples;
+    /* 1: tally the micropolygons' areas on screen in the statistics
+     * (reyes_stats.micropolygon_area*; unblurred full renders); 0
+     * (default): not (a few atomics per grid saved). */
+    int area_stats;
     /* Cracks between grids diced at different rates (T-junctions) and
      * between base patches: REYES_CRACK_FIX_STITCH (default) fills them
      * with zipper strips (two passes: subdivide, then dice and stitch),
@@ -303,8 +307,9 @@ typedef struct reyes_image {
 
 void reyes_image_free(reyes_image *image);
 
-enum { REYES_PROC_BOUND, REYES_PROC_SPLIT_U, REYES_PROC_SPLIT_V, REYES_PROC_DICE,
-       REYES_PROC_RASTERIZE, REYES_PROC_STITCH, REYES_PROC_COUNT };
+/* The procedures (dice rasterizes the grids it dices itself). */
+enum { REYES_PROC_BOUND, REYES_PROC_SPLIT_U, REYES_PROC_SPLIT_V, REYES_PROC_DICE, REYES_PROC_STITCH,
+       REYES_PROC_COUNT };
 
 typedef struct reyes_stats {
     uint64_t patches_in;
@@ -319,6 +324,12 @@ typedef struct reyes_stats {
     uint64_t samples_written;
     uint64_t stitches;        /* edges stitched (stitch items) */
     uint64_t fillers;         /* crack-filling triangles in front of the eye */
+    /* With reyes_options.area_stats (unblurred full renders): the
+     * micropolygons' total area on screen in square pixels and how many
+     * fell in each area bin (reyes_area_bin_lower; mean and percentiles:
+     * reyes_stats_area_mean, reyes_stats_area_percentile). */
+    double micropolygon_area;
+    uint64_t micropolygon_area_bins[REYES_AREA_BINS];
     size_t peak_queue_bytes;  /* largest of any run */
     double seconds;           /* perma_run wall time (sum over buckets) */
     /* Buckets: columns x rows, and each bucket's peak queue memory (row
@@ -335,6 +346,17 @@ typedef struct reyes_stats {
 /* Free what a render allocated in *stats (the per-bucket list). */
 void reyes_stats_free(reyes_stats *stats);
 
+/* The smallest area (square pixels) of micropolygon area bin `bin`: 0 for
+ * bin 0, then half octaves 2^e and 1.5 * 2^e from 2^-10 (bin 1) to 32
+ * (the last bin, up from there). */
+double reyes_area_bin_lower(unsigned bin);
+
+/* The mean micropolygon area, and the area below which a `fraction`
+ * (0..1) of them fall, interpolated geometrically inside its bin (the
+ * last bin's lower end when it falls there); 0 without micropolygons. */
+double reyes_stats_area_mean(const reyes_stats *stats);
+double reyes_stats_area_percentile(const reyes_stats *stats, double fraction);
+
 /* A perma runtime with the Reyes procedures registered (for options->grid
  * and the scheduling fields: group_size, work_groups, schedule,
  * time_limit, progress; the other options may change per render).  With options->motion_angle_deg not 0 the renderer
@@ -347,9 +369,9 @@ reyes_status reyes_renderer_create(const reyes_options *options, reyes_renderer 
                                    reyes_error *error);
 void reyes_renderer_destroy(reyes_renderer *renderer);
 
-/* Bytes of a rasterize item (one diced grid of shaded vertices, struct
- * reyes_grid of reyes_grid.cl) for a grid size, with or without the
- * per-vertex motion of a renderer made for a rotation. */
+/* Bytes of one diced grid of shaded vertices (struct reyes_grid of
+ * reyes_grid.cl, in dice's __local scratch) for a grid size, with or
+ * without the per-vertex motion of a renderer made for a rotation. */
 size_t reyes_grid_item_bytes(unsigned grid, int vertex_motion);
 
 /* One line describing the OpenCL device and groups. */

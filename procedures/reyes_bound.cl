@@ -161,27 +161,6 @@ uint reyes_wedge_reason(__global const struct reyes_params *p, __global const fl
     return 0u;
 }
 
-/* Shading-rate dicing: the micropolygon sides a sub-patch needs along u
- * and v so that each is at most sqrt(shading_rate) pixels long, so at
- * most shading_rate pixels in area: the longest row (along u) and column
- * (along v) of its projected control net over that side, at least 1.
- * A control polygon is at least as long as its curve, and the net's rows
- * and columns bound the curves between them (their hull holds them). */
-float2 reyes_rate_segments(__global const struct reyes_params *p, const float2 s[16])
-{
-    float along_u = 0.0f, along_v = 0.0f;
-    for (int k = 0; k < 4; ++k) {
-        float row = 0.0f, column = 0.0f;
-        for (int i = 0; i < 3; ++i) {
-            row += distance(s[k * 4 + i], s[k * 4 + i + 1]);
-            column += distance(s[i * 4 + k], s[(i + 1) * 4 + k]);
-        }
-        along_u = fmax(along_u, row);
-        along_v = fmax(along_v, column);
-    }
-    return fmax(ceil((float2)(along_u, along_v) / sqrt(p->shading_rate) + 0.5f), 1.0f);
-}
-
 /* Whether a projectable sub-patch is split, as the counter naming the
  * reason (0: dice it), and in which direction (*split_u).  A bound that
  * is too large splits along the longer hull; with a shading rate the
@@ -372,14 +351,20 @@ void reyes_bound(perma_ctx *ctx, __local const struct reyes_subpatch *item)
     }
     int split_u;
     sp.edge_levels = 0xffffffffu;
-    float2 need = p->shading_rate > 0.0f ? reyes_rate_segments(p, s) : (float2)(0.0f, 0.0f);
+    float2 need = p->shading_rate > 0.0f ? reyes_rate_segments(p, cp, clip, s) : (float2)(0.0f, 0.0f);
     uint reason = reyes_split_reason(p, ctx->buf.patches, &sp, cp, clip, s, hi - lo, need, &split_u);
     if (forced || reason == 0u) {
         if (forced)
             atomic_inc(&counters[REYES_COUNT_FORCED_DICE]);
         if (p->shading_rate > 0.0f) {
+            /* The lattice takes the most of its rows and columns and of
+             * its edges (reyes_rate.cl); an edge with fewer keeps its own. */
+            uint edges = reyes_rate_edges(p, ctx->buf.patches, &sp);
             uint2 sides = convert_uint2(fmin(need, (float)(p->grid - 1u)));
+            sides.x = max(sides.x, max(edges & 0xffu, (edges >> (8 * REYES_EDGE_V1)) & 0xffu));
+            sides.y = max(sides.y, max((edges >> (8 * REYES_EDGE_U0)) & 0xffu, (edges >> (8 * REYES_EDGE_U1)) & 0xffu));
             sp.dice_size = (sides.x + 1u) | ((sides.y + 1u) << 8);
+            sp.edge_levels = edges;
         }
         if (p->record_leaves) {
             if (p->blur)

@@ -176,3 +176,9 @@ REYES_INLINE float3 reyes_unpack_rgb(uint rgba)
     return (float3)((float)(rgba & 255u), (float)((rgba >> 8) & 255u),
                     (float)((rgba >> 16) & 255u)) * (1.0f / 255.0f);
 }
+
+/* Colour channel `shift` of a packed RGBA8 in [0,1]. */
+REYES_INLINE float reyes_channel(uint rgba, uint shift)
+{
+    return (float)((rgba >> shift) & 255u) * (1.0f / 255.0f);
+}

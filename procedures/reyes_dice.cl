@@ -1,13 +1,13 @@
 /*
  * dice: evaluate a sub-patch on a grid x grid vertex lattice (with a
  * shading rate: the size bound chose for it, reyes_subpatch.dice_size),
- * shade each vertex, count the quads that are visible as micropolygons and
- * hand the lattice to rasterize as one item (struct reyes_grid,
- * reyes_grid.cl).  One work-item dices one sub-patch, REYES_LANES
- * consecutive vertices at a time in SIMD lanes (OpenCL vector types), into
- * __local scratch laid out as the rasterize item; a batch holds as many
- * sub-patches as the group has work-items, so the runtime's cost per batch
- * is shared by that many grids.  Vertices are evaluated on the base patch
+ * shade each vertex and rasterize the lattice (struct reyes_grid,
+ * reyes_grid.cl) where it lies, in __local scratch (reyes_rasterize.cl),
+ * which counts the quads that are visible as micropolygons.  One work-item
+ * dices one sub-patch, REYES_LANES consecutive vertices at a time in SIMD
+ * lanes (OpenCL vector types); a batch holds as many sub-patches as the
+ * group has work-items, so the runtime's cost per batch is shared by that
+ * many grids.  Vertices are evaluated on the base patch
  * at global (u,v), so a vertex shared by two sub-patches is bit-identical
  * wherever it is computed.  The evaluation and shading are in
  * reyes_surface.cl.
@@ -46,18 +46,15 @@ void reyes_dice_strip(__global const struct reyes_params *p, const float3 base[1
     }
 }
 
-/* Vertices i0 .. i0 + REYES_LANES - 1 of row j of an undisplaced grid n
- * vertices wide into g, from the row's curves, at parameters u0 .. u1
- * across the grid, shaded with base colour `base` when `shade` (else
- * colour 0), in SIMD lanes.  The lanes past the row write into the next
- * row (made after this one) or the lattice's padding.  The normal is not
- * fixed up at poles here: the returned mask has the lanes whose normal
- * vanished, for reyes_grid_vertex_color; otherwise each vertex is
- * reyes_grid_vertex's, bit for bit. */
-REYES_INLINE reyes_lane_mask reyes_dice_lanes(__global const struct reyes_params *p,
-                                              const struct reyes_row_curves *rc,
-                                              const struct reyes_lighting *light, float u0, float u1, uint base,
-                                              __local struct reyes_grid *g, int j, int i0, int n, int shade)
+/* A row has at most this many blocks of REYES_LANES vertices (32
+ * vertices, REYES_MAX_GRID). */
+#define REYES_DICE_ROW_BLOCKS 2
+
+/* The parameters u of vertices i0 .. i0 + REYES_LANES - 1 of a row n
+ * vertices wide, at u0 .. u1 across the grid, and their Bernstein weights
+ * (bu) and derivatives (du): the same for every row. */
+REYES_INLINE reyes_lanes reyes_dice_column_weights(float u0, float u1, int i0, int n, reyes_lanes bu[4],
+                                                   reyes_lanes du[4])
 {
     const reyes_lane_mask lane = (reyes_lane_mask)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
     reyes_lane_mask i = i0 + lane;
@@ -65,9 +62,36 @@ REYES_INLINE reyes_lane_mask reyes_dice_lanes(__global const struct reyes_params
     reyes_lanes tu = reyes_convert_lanes(i) / last;
     /* mix(a, b, 1) == b exactly, so shared patch edges get equal u. */
     reyes_lanes u = u0 * (1.0f - tu) + u1 * tu;
-    reyes_lanes x[3], normal[3];
-    reyes_row_point_lanes(rc, u, x);
-    reyes_row_normal_lanes(rc, u, normal);
+    reyes_bernstein_lanes(u, bu);
+    reyes_bernstein_deriv_lanes(u, du);
+    return u;
+}
+
+/* REYES_LANES vertices as a lattice stores them: x, y (pixels, or clip x
+ * and y when blurred), z (clip w), rgba and, with per-vertex motion, the
+ * motion. */
+struct reyes_vertex_lanes {
+    reyes_lanes x, y, z;
+    reyes_lane_uint rgba;
+#ifdef REYES_VERTEX_MOTION
+    reyes_lanes motion[3];
+#endif
+};
+
+/* The vertices with points x and unnormalised normals `normal` (collapsed:
+ * the lanes where those are, reyes_collapsed_lanes) at parameters (u, v),
+ * placed and shaded with base colour `base` when `shade` (else colour 0;
+ * with sample shading their parameters in sub-patch sp,
+ * REYES_SHADE_SURFACE), in SIMD lanes.  The normal is not fixed up at
+ * poles here: the returned mask has the lanes whose normal vanished, for
+ * reyes_grid_vertex_color; otherwise each vertex is reyes_grid_vertex's,
+ * bit for bit. */
+REYES_INLINE reyes_lane_mask reyes_dice_place_lanes(__global const struct reyes_params *p,
+                                                    const struct reyes_lighting *light, const reyes_lanes x[3],
+                                                    const reyes_lanes normal[3], reyes_lane_mask collapsed,
+                                                    reyes_lanes u, reyes_lanes v, const struct reyes_subpatch *sp,
+                                                    uint base, int shade, struct reyes_vertex_lanes *out)
+{
     __global const float *m = p->view_proj;
     reyes_lanes clip[4];
     for (int r = 0; r < 4; ++r)
@@ -75,27 +99,81 @@ REYES_INLINE reyes_lane_mask reyes_dice_lanes(__global const struct reyes_params
     reyes_lanes inv_w = 1.0f / clip[3];
     reyes_lanes sx = (clip[0] * inv_w * 0.5f + 0.5f) * p->width;
     reyes_lanes sy = (0.5f - clip[1] * inv_w * 0.5f) * p->height;
-    int first = j * n + i0;
-    reyes_vstore_lanes(p->blur ? clip[0] : sx, 0, g->x + first);
-    reyes_vstore_lanes(p->blur ? clip[1] : sy, 0, g->y + first);
-    reyes_vstore_lanes(clip[3], 0, g->z + first);
+    out->x = p->blur ? clip[0] : sx;
+    out->y = p->blur ? clip[1] : sy;
+    out->z = clip[3];
 #ifdef REYES_VERTEX_MOTION
     __global const float *mr = p->motion_rows;
     for (int k = 0; k < 3; ++k) {
-        reyes_lanes motion = (reyes_lanes)mr[4 * k + 3];
+        out->motion[k] = (reyes_lanes)mr[4 * k + 3];
         if (p->motion_rotates)
-            motion = reyes_dot4_lanes(mr[4 * k], mr[4 * k + 1], mr[4 * k + 2], mr[4 * k + 3], x[0], x[1], x[2]);
-        reyes_vstore_lanes(motion, 0, (k == 0 ? g->mx : k == 1 ? g->my : g->mw) + first);
+            out->motion[k] = reyes_dot4_lanes(mr[4 * k], mr[4 * k + 1], mr[4 * k + 2], mr[4 * k + 3], x[0], x[1],
+                                              x[2]);
     }
 #endif
-    reyes_lane_uint rgba = (reyes_lane_uint)0u;
-    if (shade) {
+    out->rgba = (reyes_lane_uint)0u;
+    if (shade && p->sample_shading) {
+        out->rgba = reyes_pack_surface16((u - sp->u0) / (sp->u1 - sp->u0), (v - sp->v0) / (sp->v1 - sp->v0));
+    } else if (shade) {
         reyes_lanes diffuse, specular;
         reyes_light_lanes(light, x, normal, &diffuse, &specular);
-        rgba = reyes_light_color_lanes(base, diffuse, specular);
+        out->rgba = reyes_light_color_lanes(base, diffuse, specular);
     }
-    reyes_vstore_lanes(rgba, 0, g->rgba + first);
+    if (p->sample_shading)
+        return collapsed;
     return reyes_dot3_lanes(normal[0], normal[1], normal[2], normal[0], normal[1], normal[2]) < 1e-24f;
+}
+
+/* The vertices at parameters (u, v) on the row curves rc (made at v per
+ * lane), as reyes_dice_place_lanes. */
+REYES_INLINE reyes_lane_mask reyes_dice_vertex_lanes(__global const struct reyes_params *p,
+                                                     const struct reyes_row_curves_lanes *rc,
+                                                     const struct reyes_lighting *light, reyes_lanes u, reyes_lanes v,
+                                                     const struct reyes_subpatch *sp, uint base, int shade,
+                                                     struct reyes_vertex_lanes *out)
+{
+    reyes_lanes x[3], normal[3];
+    reyes_row_point_lanes(rc, u, x);
+    reyes_lane_mask collapsed = reyes_row_normal_lanes(rc, u, normal);
+    return reyes_dice_place_lanes(p, light, x, normal, collapsed, u, v, sp, base, shade, out);
+}
+
+/* Vertices i0 .. i0 + REYES_LANES - 1 of row j (at v) of an undisplaced
+ * grid n vertices wide into g, at parameters u (and their weights bu, du:
+ * reyes_dice_column_weights), from the row's curves (the same for the
+ * whole row, so scalars), as reyes_dice_place_lanes: the same arithmetic
+ * as reyes_row_point_lanes and reyes_row_normal_lanes, so the same bits.
+ * The lanes past the row write into the next row (made after this one) or
+ * the lattice's padding. */
+REYES_INLINE reyes_lane_mask reyes_dice_lanes(__global const struct reyes_params *p,
+                                              const struct reyes_row_curves_one *rc, reyes_lanes u,
+                                              const reyes_lanes bu[4], const reyes_lanes du[4],
+                                              const struct reyes_lighting *light, const struct reyes_subpatch *sp,
+                                              float v, uint base, __local struct reyes_grid *g, int j, int i0, int n,
+                                              int shade)
+{
+    reyes_lanes x[3], normal[3], tu[3], tv[3];
+    for (int d = 0; d < 3; ++d) {
+        x[d] = reyes_curve_at_one(bu, rc->q[d]);
+        tu[d] = reyes_curve_at_one(du, rc->q[d]);
+        tv[d] = reyes_curve_at_one(bu, rc->qv[d]);
+    }
+    reyes_cross_lanes(tu, tv, normal);
+    reyes_lane_mask collapsed = p->sample_shading ? reyes_collapsed_lanes(tu, tv, normal) : (reyes_lane_mask)0;
+    struct reyes_vertex_lanes out;
+    reyes_lane_mask degenerate = reyes_dice_place_lanes(p, light, x, normal, collapsed, u, (reyes_lanes)v, sp, base,
+                                                        shade, &out);
+    int first = j * n + i0;
+    reyes_vstore_lanes(out.x, 0, g->x + first);
+    reyes_vstore_lanes(out.y, 0, g->y + first);
+    reyes_vstore_lanes(out.z, 0, g->z + first);
+#ifdef REYES_VERTEX_MOTION
+    reyes_vstore_lanes(out.motion[0], 0, g->mx + first);
+    reyes_vstore_lanes(out.motion[1], 0, g->my + first);
+    reyes_vstore_lanes(out.motion[2], 0, g->mw + first);
+#endif
+    reyes_vstore_lanes(out.rgba, 0, g->rgba + first);
+    return degenerate;
 }
 
 /* The visible quads among the REYES_LANES slots from `first` of lattice g, as
@@ -142,13 +220,6 @@ uint reyes_dice_count(__global const struct reyes_params *p, __local const struc
     return visible;
 }
 
-/* Hand a lattice to rasterize (a full render). */
-void reyes_dice_emit(perma_ctx *ctx, __local const struct reyes_grid *g)
-{
-    struct reyes_grid item = *g;
-    emit_rasterize(ctx, &item);
-}
-
 /* The base colour dice shades a grid of columns x rows vertices with: its
  * patch's, or with show_grid_sizes a false colour by the micropolygons'
  * count, from blue (1) through green to red ((grid - 1) squared). */
@@ -163,6 +234,105 @@ uint reyes_dice_base_color(__global const struct reyes_params *p, uint patch_col
     return reyes_pack_rgba(c);
 }
 
+/* Shading-rate grids follow their edges (reyes_rate.cl): an edge with
+ * fewer segments c than the lattice's n along it gets its own c + 1
+ * vertices, at the parameters a grid of c segments puts there, in the
+ * lattice's n + 1 boundary slots: slot i holds edge vertex
+ * (i c + n / 2) / n (integer division), which visits every edge vertex
+ * in order, each one or more times.  The boundary quads then join the
+ * edge's segments to the lattice's next row, a quad whose two edge
+ * corners are the same vertex being a triangle, so the grid's border is
+ * exactly the edge's polyline on both sides of the edge.  These give
+ * edge `edge`'s vertex count c, the lattice's segments n along it, and
+ * slot i's lattice index. */
+REYES_INLINE int reyes_edge_step(int i, int c, int n)
+{
+    return (i * c + n / 2) / n;
+}
+
+REYES_INLINE int reyes_edge_slot(int edge, int i, int columns, int rows)
+{
+    switch (edge) {
+    case REYES_EDGE_V0: return i;
+    case REYES_EDGE_U1: return i * columns + columns - 1;
+    case REYES_EDGE_V1: return (rows - 1) * columns + i;
+    default: return i * columns;
+    }
+}
+
+/* Re-dice the boundary of an undisplaced lattice along its edges with
+ * fewer segments, REYES_LANES slots at a time: the row curves are made
+ * per lane at each slot's v, so every vertex gets the bits of the
+ * lattice row (or the stitch's reyes_grid_vertex) that puts a vertex at
+ * the same (u,v). */
+void reyes_dice_edges(perma_ctx *ctx, __local const struct reyes_subpatch *item, const struct reyes_hull *h,
+                      const struct reyes_lighting *light, uint base, __local struct reyes_grid *g, int shade)
+{
+    __global const struct reyes_params *p = ctx->buf.params;
+    struct reyes_subpatch sp = *item;
+    int columns = (int)g->columns, rows = (int)g->rows;
+    for (int edge = 0; edge < 4; ++edge) {
+        int along_u = edge == REYES_EDGE_V0 || edge == REYES_EDGE_V1;
+        int n = (along_u ? columns : rows) - 1, c = reyes_edge_count(&sp, edge);
+        if (c >= n)
+            continue;
+        float fixed = edge == REYES_EDGE_V0 ? sp.v0 : edge == REYES_EDGE_V1 ? sp.v1
+                      : edge == REYES_EDGE_U0 ? sp.u0 : sp.u1;
+        float a = along_u ? sp.u0 : sp.v0, b = along_u ? sp.u1 : sp.v1;
+        for (int i0 = 0; i0 <= n; i0 += REYES_LANES) {
+            float along[REYES_LANES];
+            for (int k = 0; k < REYES_LANES; ++k) {
+                float t = (float)reyes_edge_step(min(i0 + k, n), c, n) / (float)c;
+                along[k] = a * (1.0f - t) + b * t; /* as reyes_grid_uv_of */
+            }
+            reyes_lanes s = reyes_vload_lanes(0, along);
+            struct reyes_row_curves_lanes rc;
+            reyes_row_curves_lanes(h, along_u ? (reyes_lanes)fixed : s, &rc);
+            struct reyes_vertex_lanes v;
+            reyes_lane_mask degenerate = reyes_dice_vertex_lanes(p, &rc, light, along_u ? s : (reyes_lanes)fixed,
+                                                                 along_u ? (reyes_lanes)fixed : s, &sp, base, shade,
+                                                                 &v);
+            struct reyes_subpatch edge_sp = reyes_edge_subpatch(p, &sp, edge);
+            float3 cp[16];
+            int fix = shade && !p->sample_shading && any(degenerate);
+            if (fix)
+                reyes_load_patch(ctx->buf.patches, sp.patch, cp);
+            for (int k = 0; k < REYES_LANES && i0 + k <= n; ++k) {
+                int slot = reyes_edge_slot(edge, i0 + k, columns, rows);
+                g->x[slot] = ((float *)&v.x)[k];
+                g->y[slot] = ((float *)&v.y)[k];
+                g->z[slot] = ((float *)&v.z)[k];
+                g->rgba[slot] = ((uint *)&v.rgba)[k];
+#ifdef REYES_VERTEX_MOTION
+                g->mx[slot] = ((float *)&v.motion[0])[k];
+                g->my[slot] = ((float *)&v.motion[1])[k];
+                g->mw[slot] = ((float *)&v.motion[2])[k];
+#endif
+                if (fix && ((int *)&degenerate)[k]) {
+                    int2 ij = reyes_edge_vertex((uint)edge, reyes_edge_step(i0 + k, c, n),
+                                                reyes_dice_size(p, edge_sp.dice_size));
+                    g->rgba[slot] = reyes_grid_vertex_color(p, cp, &edge_sp, base, ij.x, ij.y);
+                }
+            }
+        }
+    }
+}
+
+/* The grid's header for rasterize's shading: vertex colours, or with
+ * sample shading `mode` (REYES_SHADE_*), the base colour and the
+ * sub-patch. */
+REYES_INLINE void reyes_grid_shading(__global const struct reyes_params *p, __local struct reyes_grid *g,
+                                     const struct reyes_subpatch *sp, uint base, uint mode)
+{
+    g->shading = p->sample_shading ? mode : REYES_SHADE_VERTICES;
+    g->base = base;
+    g->patch = sp->patch;
+    g->u0 = sp->u0;
+    g->v0 = sp->v0;
+    g->u1 = sp->u1;
+    g->v1 = sp->v1;
+}
+
 /* The vertices of an undisplaced grid, row by row (the row's curves made
  * once) and REYES_LANES at a time, and the poles' colours. */
 void reyes_dice_plain(perma_ctx *ctx, __local const struct reyes_subpatch *item, __local struct reyes_grid *g,
@@ -174,16 +344,22 @@ void reyes_dice_plain(perma_ctx *ctx, __local const struct reyes_subpatch *item,
     reyes_load_hull(ctx->buf.patches, item->patch, &h);
     struct reyes_lighting light = reyes_lighting_of(p);
     uint base = reyes_dice_base_color(p, ctx->buf.colors[item->patch], n, rows);
+    struct reyes_subpatch item_sp = *item;
+    reyes_grid_shading(p, g, &item_sp, base, REYES_SHADE_SURFACE);
     float u0 = item->u0, v0 = item->v0, u1 = item->u1, v1 = item->v1;
+    reyes_lanes us[REYES_DICE_ROW_BLOCKS], bu[REYES_DICE_ROW_BLOCKS][4], du[REYES_DICE_ROW_BLOCKS][4];
+    for (int b = 0; b * REYES_LANES < n; ++b)
+        us[b] = reyes_dice_column_weights(u0, u1, b * REYES_LANES, n, bu[b], du[b]);
     float last = (float)(rows - 1);
     for (int j = 0; j < rows; ++j) {
         float tv = (float)j / last;
         float v = v0 * (1.0f - tv) + v1 * tv; /* as reyes_grid_uv_of */
-        struct reyes_row_curves rc;
-        reyes_row_curves_lanes(&h, (reyes_lanes)v, &rc);
-        for (int i0 = 0; i0 < n; i0 += REYES_LANES) {
-            reyes_lane_mask degenerate = reyes_dice_lanes(p, &rc, &light, u0, u1, base, g, j, i0, n, shade);
-            if (shade && any(degenerate)) {
+        struct reyes_row_curves_one rc;
+        reyes_row_curves_one(&h, v, &rc);
+        for (int b = 0, i0 = 0; i0 < n; ++b, i0 += REYES_LANES) {
+            reyes_lane_mask degenerate = reyes_dice_lanes(p, &rc, us[b], bu[b], du[b], &light, &item_sp, v, base, g,
+                                                          j, i0, n, shade);
+            if (shade && !p->sample_shading && reyes_any16(degenerate)) {
                 struct reyes_subpatch sp = *item;
                 float3 cp[16];
                 reyes_load_patch(ctx->buf.patches, sp.patch, cp);
@@ -193,6 +369,8 @@ void reyes_dice_plain(perma_ctx *ctx, __local const struct reyes_subpatch *item,
             }
         }
     }
+    if (p->shading_rate > 0.0f)
+        reyes_dice_edges(ctx, item, &h, &light, base, g, shade);
 }
 
 /* The vertices of a displaced grid (scalar). */
@@ -206,9 +384,21 @@ void reyes_dice_displaced(perma_ctx *ctx, __local const struct reyes_subpatch *i
     float3 cp[16];
     reyes_load_patch(ctx->buf.patches, sp.patch, cp);
     uint base = reyes_dice_base_color(p, ctx->buf.colors[sp.patch], n, rows);
+    reyes_grid_shading(p, &s->grid, &sp, base, REYES_SHADE_NORMALS);
     for (int v = 0; v < n * rows; ++v) {
         struct reyes_vertex vertex = reyes_grid_vertex(&d, cp, &sp, base, v % n, v / n, shade);
         reyes_grid_store(p, &s->grid, v, &vertex);
+    }
+    /* Edges with fewer segments, as reyes_dice_edges. */
+    for (int edge = 0; edge < 4 && p->shading_rate > 0.0f; ++edge) {
+        int along = (edge == REYES_EDGE_V0 || edge == REYES_EDGE_V1 ? n : rows) - 1, c = reyes_edge_count(&sp, edge);
+        struct reyes_subpatch edge_sp = reyes_edge_subpatch(p, &sp, edge);
+        int2 size = reyes_dice_size(p, edge_sp.dice_size);
+        for (int i = 0; i <= along && c < along; ++i) {
+            int2 ij = reyes_edge_vertex((uint)edge, reyes_edge_step(i, c, along), size);
+            struct reyes_vertex vertex = reyes_grid_vertex(&d, cp, &edge_sp, base, ij.x, ij.y, shade);
+            reyes_grid_store(p, &s->grid, reyes_edge_slot(edge, i, n, rows), &vertex);
+        }
     }
 }
 
@@ -231,10 +421,13 @@ void reyes_dice(perma_ctx *ctx, __local const struct reyes_subpatch *item)
         reyes_dice_plain(ctx, item, &s->grid, full);
     else
         reyes_dice_displaced(ctx, item, s, full);
+    struct reyes_raster_target target = { p, ctx->buf.samples, counters, ctx->buf.blur_tuples, ctx->buf.patches };
     if (full) {
-        /* rasterize counts the visible quads: it tests each one anyway
-         * (reyes_quad_setup_lanes), so the grid is not tested twice. */
-        reyes_dice_emit(ctx, &s->grid);
+        /* Rasterized where it lies, in __local scratch (no 4 KB item
+         * through a queue); reyes_rasterize counts the visible quads: it
+         * tests each one anyway (reyes_quad_setup_lanes), so the grid is
+         * not tested twice. */
+        reyes_rasterize(&target, &s->grid);
     } else {
         uint quads = reyes_dice_count(p, &s->grid);
         if (quads > 0u)
@@ -245,6 +438,8 @@ void reyes_dice(perma_ctx *ctx, __local const struct reyes_subpatch *item)
     s->strips.columns = (uint)n;
     s->strips.rows = 8u;
     s->strips.counted = 0u; /* fillers, counted here */
+    struct reyes_subpatch strip_sp = *item;
+    reyes_grid_shading(p, &s->strips, &strip_sp, s->grid.base, REYES_SHADE_VERTICES);
     struct reyes_subpatch sp = *item;
     float3 base[16];
     reyes_load_patch(ctx->buf.patches, sp.patch, base);
@@ -261,6 +456,6 @@ void reyes_dice(perma_ctx *ctx, __local const struct reyes_subpatch *item)
     if (strip_quads > 0u) {
         atomic_add(&counters[REYES_COUNT_FILLERS], 2u * strip_quads); /* two triangles each */
         if (full)
-            reyes_dice_emit(ctx, &s->strips);
+            reyes_rasterize(&target, &s->strips);
     }
 }

@@ -1,5 +1,5 @@
 /*
- * The rasterize item: a lattice of shaded vertices diced from one
+ * A diced grid, what dice rasterizes: a lattice of shaded vertices from one
  * sub-patch (or the wedge strips along its edges), in screen space.
  * REYES_GRID_VERTICES comes from the renderer (reyes_renderer.c: the
  * length of the vertex arrays, reyes_shared.h's REYES_GRID_ARRAY).
@@ -20,6 +20,13 @@ struct reyes_grid {
     /* 1: rasterize adds the visible quads to REYES_COUNT_MICROPOLYGONS as
      * it sets them up (a full render's grids; dice counts the others). */
     uint counted;
+    /* What rgba hold (REYES_SHADE_*); with sample shading the packed base
+     * colour every sample is lit with, and for REYES_SHADE_SURFACE the base
+     * patch and the sub-patch's parameter rectangle. */
+    uint shading;
+    uint base;
+    uint patch;
+    float u0, v0, u1, v1;
     /* Pixels (y down), or clip x and y when blurred; z is the clip w. */
     float x[REYES_GRID_VERTICES];
     float y[REYES_GRID_VERTICES];

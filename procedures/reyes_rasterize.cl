@@ -1,7 +1,7 @@
 /*
- * rasterize: one diced grid (or a sub-patch's wedge strips) per item,
- * struct reyes_grid of reyes_grid.cl, taken by one work-item (a batch holds
- * as many grids as the group has work-items).
+ * Rasterization of one diced grid (or a sub-patch's wedge strips), struct
+ * reyes_grid of reyes_grid.cl, by the work-item that diced it, from its
+ * __local scratch (reyes_dice.cl): a grid never goes through a queue.
  * Every sample in a quad's pixel box is tested against both of its
  * triangles; a covered sample stores (depth, color) with a 64-bit atomic
  * min, so the nearest surface wins whatever order work-items and
@@ -16,13 +16,24 @@
  * quad's screen box reaches are the only places its covered samples can
  * be: a micropolygon of the default bound and grid reaches two or three
  * of them across and down, where its pixel box holds up to sixteen
- * samples.  The quads whose box reaches at most 3 x 3 strata (nearly all)
- * are sampled side by side, one quad per lane, stepping through the
- * strata; the few larger ones one by one, four sample indices of both
- * triangles per pixel in eight lanes.  Blurred quads take the general
+ * samples, and one of a shading rate of 1 (about a pixel) up to four.  The
+ * quads whose box reaches at most 4 x 4 strata (nearly all) are sampled
+ * side by side, one quad per lane, stepping through the strata; the few
+ * larger ones one by one, four sample indices of both triangles per pixel
+ * in eight lanes.  Blurred quads take the general
  * loops.  Every path tests the same samples of a quad with the same
  * arithmetic.
  */
+
+/* What rasterization reads and writes: the buffers dice's perma_ctx binds
+ * (this file comes before the runtime's definitions). */
+struct reyes_raster_target {
+    __global const struct reyes_params *params;
+    __global ulong *samples;
+    __global uint *counters;
+    __global const float4 *blur_tuples;
+    __global const float4 *patches; /* for sample shading's derivative nets */
+};
 
 /* Sixteen quads (slots first .. first + 15 of a lattice), set up in SIMD
  * lanes as reyes_triangle_setup and reyes_tile_pixels would one by one:
@@ -184,7 +195,7 @@ REYES_INLINE int reyes_any8(int8 m)
  * covered sample is merged into the samples. */
 void reyes_quad_pixels(__global const struct reyes_params *p, __global ulong *samples,
                        __local const struct reyes_grid *g, const struct reyes_quad_lanes *ql, int l, int k,
-                       const struct reyes_sample_chunks *chunks)
+                       const struct reyes_sample_chunks *chunks, const struct reyes_derivative_net *net)
 {
     uint spp = chunks->spp, tile_x = (uint)p->tile_x0, tile_y = (uint)p->tile_y0;
     uint tile_width = (uint)p->tile_x1 - tile_x;
@@ -232,21 +243,41 @@ void reyes_quad_pixels(__global const struct reyes_params *p, __global ulong *sa
                     za = (float8)g->z[corner[0]];
                     zb = reyes_pair(g->z[corner[1]], g->z[corner[2]]);
                     zc = reyes_pair(g->z[corner[2]], g->z[corner[3]]);
+                    /* The corners' colour channels, or their normals or
+                     * parameters. */
+                    float v[4][3];
+                    for (int i = 0; i < 4; ++i) {
+                        uint rgba = g->rgba[corner[i]];
+                        if (g->shading == REYES_SHADE_SURFACE) {
+                            reyes_unpack_surface(rgba, &v[i][0], &v[i][1]);
+                            v[i][2] = 0.0f;
+                        } else if (g->shading == REYES_SHADE_NORMALS) {
+                            reyes_unpack_normal(rgba, &v[i][0], &v[i][1], &v[i][2]);
+                        } else {
+                            for (int ch = 0; ch < 3; ++ch)
+                                v[i][ch] = reyes_channel(rgba, 8u * (uint)ch);
+                        }
+                    }
                     for (int ch = 0; ch < 3; ++ch) {
-                        uint shift = 8u * (uint)ch;
-                        ca[ch] = (float8)reyes_channel(g->rgba[corner[0]], shift);
-                        cb[ch] = reyes_pair(reyes_channel(g->rgba[corner[1]], shift),
-                                            reyes_channel(g->rgba[corner[2]], shift));
-                        cc[ch] = reyes_pair(reyes_channel(g->rgba[corner[2]], shift),
-                                            reyes_channel(g->rgba[corner[3]], shift));
+                        ca[ch] = (float8)v[0][ch];
+                        cb[ch] = reyes_pair(v[1][ch], v[2][ch]);
+                        cc[ch] = reyes_pair(v[2][ch], v[3][ch]);
                     }
                 }
                 float8 ba = wa * inv_area, bb = wb * inv_area, bc = wc * inv_area;
                 float8 depth = fmax(ba * za + bb * zb + bc * zc, 0.0f);
-                uint8 rgba = reyes_channel_byte8(ba * ca[0] + bb * cb[0] + bc * cc[0])
-                             | (reyes_channel_byte8(ba * ca[1] + bb * cb[1] + bc * cc[1]) << 8)
-                             | (reyes_channel_byte8(ba * ca[2] + bb * cb[2] + bc * cc[2]) << 16)
-                             | (uint8)(255u << 24);
+                uint8 rgba;
+                if (g->shading != REYES_SHADE_VERTICES) {
+                    float8 n[3] = {ba * ca[0] + bb * cb[0] + bc * cc[0], ba * ca[1] + bb * cb[1] + bc * cc[1],
+                                   ba * ca[2] + bb * cb[2] + bc * cc[2]};
+                    if (g->shading == REYES_SHADE_SURFACE)
+                        reyes_net_normal8(net, g->u0 + n[0] * (g->u1 - g->u0), g->v0 + n[1] * (g->v1 - g->v0), n);
+                    rgba = reyes_sample_light8(p, n[0], n[1], n[2], x, y, g->base);
+                } else
+                    rgba = reyes_channel_byte8(ba * ca[0] + bb * cb[0] + bc * cc[0])
+                           | (reyes_channel_byte8(ba * ca[1] + bb * cb[1] + bc * cc[1]) << 8)
+                           | (reyes_channel_byte8(ba * ca[2] + bb * cb[2] + bc * cc[2]) << 16)
+                           | (uint8)(255u << 24);
                 ulong8 packed = convert_ulong8(as_uint8(depth)) << 32 | convert_ulong8(rgba);
                 packed = select((ulong8)REYES_EMPTY_SAMPLE, packed, convert_long8(covered));
                 ulong4 nearest = min(packed.lo, packed.hi);
@@ -263,7 +294,12 @@ void reyes_quad_pixels(__global const struct reyes_params *p, __global ulong *sa
 
 REYES_INLINE int reyes_any16(int16 m)
 {
+#if defined(__clang__) && __has_builtin(__builtin_reduce_or)
+    /* A reduction LLVM knows: a mask test (kortest) on AVX-512. */
+    return __builtin_reduce_or(m) != 0;
+#else
     return reyes_any8(m.lo | m.hi);
+#endif
 }
 
 /* Bit l set where lane l of m is set. */
@@ -322,6 +358,30 @@ REYES_INLINE ulong16 reyes_triangle_values16(float16 wa, float16 wb, float16 wc,
     return select((ulong16)REYES_EMPTY_SAMPLE, packed, convert_long16(covered));
 }
 
+/* The same with sample shading: `normal` holds the corners' unit normals
+ * (REYES_SHADE_NORMALS) or their parameters s and t in the sub-patch
+ * (REYES_SHADE_SURFACE) where `color` holds their channels, and each
+ * covered sample at (x, y) is lit with the normal interpolated from them
+ * or the patch's own at the interpolated parameters
+ * (reyes_sample_light16). */
+REYES_INLINE ulong16 reyes_triangle_lit16(__global const struct reyes_params *p, __local const struct reyes_grid *g,
+                                          const struct reyes_derivative_net *net, float16 wa, float16 wb,
+                                          float16 wc, float16 inv_area, const float16 z[4],
+                                          const float16 normal[4][3], int a, int b, int c, int16 covered,
+                                          float16 x, float16 y)
+{
+    float16 ba = wa * inv_area, bb = wb * inv_area, bc = wc * inv_area;
+    float16 depth = fmax(ba * z[a] + bb * z[b] + bc * z[c], 0.0f);
+    float16 n[3];
+    for (int k = 0; k < 3; ++k)
+        n[k] = ba * normal[a][k] + bb * normal[b][k] + bc * normal[c][k];
+    if (g->shading == REYES_SHADE_SURFACE) /* n holds the sub-patch parameters s, t */
+        reyes_net_normal16(net, g->u0 + n[0] * (g->u1 - g->u0), g->v0 + n[1] * (g->v1 - g->v0), n);
+    uint16 rgba = reyes_sample_light16(p, n[0], n[1], n[2], x, y, g->base);
+    ulong16 packed = convert_ulong16(as_uint16(depth)) << 32 | convert_ulong16(rgba);
+    return select((ulong16)REYES_EMPTY_SAMPLE, packed, convert_long16(covered));
+}
+
 /* Samples further than this outside a quad's screen box are not tested:
  * rounding never puts a covered sample anywhere near that far out (the
  * edge functions' errors are millionths of a pixel), so the samples
@@ -371,23 +431,46 @@ REYES_INLINE int reyes_max16(int16 m)
  * triangles tested in every step, with the tests and values of
  * reyes_triangle_sample; each covered sample's nearer value is merged
  * into the samples. */
-#define REYES_SMALL_STRATA 3
-void reyes_small_quads(__global const struct reyes_params *p, __global ulong *samples,
-                       __local const struct reyes_grid *g, const struct reyes_quad_lanes *q,
-                       const struct reyes_strata_lanes *strata, int16 small, int first,
-                       const struct reyes_sample_chunks *chunks)
+#define REYES_SMALL_STRATA 4
+
+/* The stratum `cell` steps past the last of its pixel's cells (of n):
+ * on into the next pixel (at most REYES_SMALL_STRATA - 1 times, n = 1). */
+REYES_INLINE void reyes_carry16(int16 *cell, int16 *pixel, int n)
+{
+    for (int k = 1; k < REYES_SMALL_STRATA; ++k) {
+        int16 over = *cell >= n;
+        *cell -= n & over;
+        *pixel -= over;
+    }
+}
+
+REYES_INLINE void reyes_small_quads_on(__global const struct reyes_params *p, __global ulong *samples,
+                                       __local const struct reyes_grid *g, const struct reyes_quad_lanes *q,
+                                       const struct reyes_strata_lanes *strata, int16 small, int first,
+                                       const struct reyes_sample_chunks *chunks,
+                                       const struct reyes_derivative_net *net, int exact)
 {
     uint spp = chunks->spp, tile_x = (uint)p->tile_x0, tile_y = (uint)p->tile_y0;
     uint tile_width = (uint)p->tile_x1 - tile_x;
     int columns = (int)chunks->columns, rows = (int)chunks->rows;
     int c = (int)g->columns;
     const int corner[4] = { 0, 1, c + 1, c };
+    /* The corners' colour channels, or with sample shading their normals
+     * or parameters. */
     float16 z[4], color[4][3];
+    int lit = g->shading != REYES_SHADE_VERTICES;
     for (int i = 0; i < 4; ++i) {
         z[i] = vload16(0, g->z + first + corner[i]);
         uint16 rgba = vload16(0, g->rgba + first + corner[i]);
-        for (int ch = 0; ch < 3; ++ch)
-            color[i][ch] = convert_float16((rgba >> (uint)(8 * ch)) & 255u) * (1.0f / 255.0f);
+        if (g->shading == REYES_SHADE_SURFACE) {
+            reyes_unpack_surface16(rgba, &color[i][0], &color[i][1]);
+            color[i][2] = 0.0f;
+        } else if (lit) {
+            reyes_unpack_normal16(rgba, &color[i][0], &color[i][1], &color[i][2]);
+        } else {
+            for (int ch = 0; ch < 3; ++ch)
+                color[i][ch] = convert_float16((rgba >> (uint)(8 * ch)) & 255u) * (1.0f / 255.0f);
+        }
     }
     /* Each edge value's sign: the edge's own (canonical order) and, where
      * the area is not positive, the flip that makes "inside" every value
@@ -404,29 +487,35 @@ void reyes_small_quads(__global const struct reyes_params *p, __global ulong *sa
     }
     int width = reyes_max16(select((int16)0, strata->x1 - strata->x0 + 1, small));
     int height = reyes_max16(select((int16)0, strata->y1 - strata->y0 + 1, small));
+    /* Per lane, the pixel and cell of each stratum across (one division
+     * for the first, then a carry into the next pixel), made once for
+     * every row of strata. */
+    int16 px[REYES_SMALL_STRATA], cx[REYES_SMALL_STRATA];
+    int16 first_px = reyes_quotient16(strata->x0, chunks->columns);
+    int16 first_py = reyes_quotient16(strata->y0, chunks->rows);
+    for (int dx = 0; dx < width; ++dx) {
+        px[dx] = first_px;
+        cx[dx] = strata->x0 - first_px * columns + dx;
+        reyes_carry16(&cx[dx], &px[dx], columns);
+    }
     for (int dy = 0; dy < height; ++dy) {
-        int16 sy = strata->y0 + dy;
-        int16 row = small & (sy <= strata->y1);
-        int16 py = reyes_quotient16(sy, chunks->rows);
-        int16 cy = sy - py * rows;
+        int16 row = small & (strata->y0 + dy <= strata->y1);
+        int16 py = first_py, cy = strata->y0 - first_py * rows + dy;
+        reyes_carry16(&cy, &py, rows);
         float16 y_cell = convert_float16(py);
         float16 cell_y = convert_float16(cy);
         uint16 row_index = (as_uint16(py) - tile_y) * tile_width - tile_x;
         for (int dx = 0; dx < width; ++dx) {
-            int16 sx = strata->x0 + dx;
-            int16 px = reyes_quotient16(sx, chunks->columns);
-            int16 cx = sx - px * columns;
-            int16 sample = cy * columns + cx;
-            int16 lanes = row & (sx <= strata->x1) & (sample < (int)spp);
+            int16 sample = cy * columns + cx[dx];
+            int16 lanes = row & (strata->x0 + dx <= strata->x1) & (sample < (int)spp);
             uint16 row_hash = reyes_hash16(as_uint16(py) * 0x85ebca6bu ^ reyes_hash16(as_uint16(sample)));
-            uint16 h = reyes_hash16(as_uint16(px) * 0x9e3779b9u ^ row_hash);
+            uint16 h = reyes_hash16(as_uint16(px[dx]) * 0x9e3779b9u ^ row_hash);
             float16 jx = convert_float16(h & 0xffffu) * (1.0f / 65536.0f);
             float16 jy = convert_float16(h >> 16) * (1.0f / 65536.0f);
-            float16 x = convert_float16(px)
-                        + (chunks->inv_columns != 0.0f ? (convert_float16(cx) + jx) * chunks->inv_columns
-                                                        : (convert_float16(cx) + jx) / chunks->columns);
-            float16 y = y_cell
-                        + (chunks->inv_rows != 0.0f ? (cell_y + jy) * chunks->inv_rows : (cell_y + jy) / chunks->rows);
+            float16 x = convert_float16(px[dx])
+                        + (exact ? (convert_float16(cx[dx]) + jx) * chunks->inv_columns
+                                 : (convert_float16(cx[dx]) + jx) / chunks->columns);
+            float16 y = y_cell + (exact ? (cell_y + jy) * chunks->inv_rows : (cell_y + jy) / chunks->rows);
             /* Triangle 1's edge (0, 2) is triangle 0's (2, 0): the same
              * canonical value. */
             float16 diagonal = reyes_edge_raw16(q, 0, 1, x, y);
@@ -438,17 +527,26 @@ void reyes_small_quads(__global const struct reyes_params *p, __global ulong *sa
             float16 w1c = as_float16(as_uint16(diagonal) ^ flip[1][2]);
             int16 covered0 = lanes & has_area[0] & (w0a >= 0.0f) & (w0b >= 0.0f) & (w0c >= 0.0f);
             int16 covered1 = lanes & has_area[1] & (w1a >= 0.0f) & (w1b >= 0.0f) & (w1c >= 0.0f);
-            uint both = reyes_lane_bits_pair16(covered0, covered1);
-            if (!both)
+            if (!reyes_any16(covered0 | covered1))
                 continue;
+            uint both = reyes_lane_bits_pair16(covered0, covered1);
             uint bits0 = both & 0xffffu, bits1 = both >> 16, bits = bits0 | bits1;
             ulong16 nearest = (ulong16)REYES_EMPTY_SAMPLE;
-            if (bits0)
-                nearest = reyes_triangle_values16(w0a, w0b, w0c, inv_area[0], z, color, 0, 1, 2, covered0);
-            if (bits1)
-                nearest = min(nearest,
-                              reyes_triangle_values16(w1a, w1b, w1c, inv_area[1], z, color, 0, 2, 3, covered1));
-            uint16 index = (row_index + as_uint16(px)) * spp + as_uint16(sample);
+            if (lit) {
+                if (bits0)
+                    nearest = reyes_triangle_lit16(p, g, net, w0a, w0b, w0c, inv_area[0], z, color, 0, 1, 2, covered0,
+                                                   x, y);
+                if (bits1)
+                    nearest = min(nearest, reyes_triangle_lit16(p, g, net, w1a, w1b, w1c, inv_area[1], z, color, 0, 2,
+                                                                3, covered1, x, y));
+            } else {
+                if (bits0)
+                    nearest = reyes_triangle_values16(w0a, w0b, w0c, inv_area[0], z, color, 0, 1, 2, covered0);
+                if (bits1)
+                    nearest = min(nearest, reyes_triangle_values16(w1a, w1b, w1c, inv_area[1], z, color, 0, 2, 3,
+                                                                   covered1));
+            }
+            uint16 index = (row_index + as_uint16(px[dx])) * spp + as_uint16(sample);
             while (bits) {
                 uint l = 31u - clz(bits & (0u - bits));
                 bits &= bits - 1u;
@@ -458,10 +556,67 @@ void reyes_small_quads(__global const struct reyes_params *p, __global ulong *sa
     }
 }
 
-/* Blurred items: each visible quad with the configured algorithm. */
-void reyes_rasterize_blurred_grid(perma_ctx *ctx, __local const struct reyes_grid *item)
+/* The micropolygons' areas (reyes_params.area_stats): a grid's quads
+ * are tallied in private bins, then added to the counters once per bin
+ * that got any (REYES_COUNT_AREA_*, reyes_shared.h). */
+struct reyes_area_tally {
+    uint bins[REYES_AREA_BINS];
+    float16 sum;
+};
+
+REYES_INLINE void reyes_area_tally_init(struct reyes_area_tally *t)
 {
-    __global const struct reyes_params *p = ctx->buf.params;
+    for (int b = 0; b < REYES_AREA_BINS; ++b)
+        t->bins[b] = 0u;
+    t->sum = (float16)0.0f;
+}
+
+/* The live quads' areas (half the two triangles' doubled areas): bin
+ * (bits >> 22) - 233 is 2 e + h + 1 for an area of 2^e (1 + h / 2 ...)
+ * with e >= -10, clamped to the first and last bins. */
+REYES_INLINE void reyes_area_tally_add(struct reyes_area_tally *t, const struct reyes_quad_lanes *q)
+{
+    float16 area = select((float16)0.0f, 0.5f * (fabs(q->area[0]) + fabs(q->area[1])), q->live);
+    t->sum += area;
+    int16 bin = clamp((as_int16(area) >> 22) - 233, 0, REYES_AREA_BINS - 1);
+    uint live = reyes_lane_bits16(q->live);
+    while (live) {
+        int l = 31 - (int)clz(live & (0u - live));
+        live &= live - 1u;
+        ++t->bins[((int *)&bin)[l]];
+    }
+}
+
+REYES_INLINE void reyes_area_tally_flush(const struct reyes_area_tally *t, __global uint *counters)
+{
+    float8 a = t->sum.lo + t->sum.hi;
+    float4 b = a.lo + a.hi;
+    float2 c = b.lo + b.hi;
+    ulong units = convert_ulong_sat_rte((c.x + c.y) * REYES_AREA_UNITS);
+    if (units > 0ul)
+        atom_add((__global ulong *)(counters + REYES_COUNT_AREA_SUM), units);
+    for (int b = 0; b < REYES_AREA_BINS; ++b)
+        if (t->bins[b] > 0u)
+            atomic_add(&counters[REYES_COUNT_AREA_BINS + b], t->bins[b]);
+}
+
+/* reyes_small_quads_on with the lattice's divisions as products where
+ * those are exact (columns and rows powers of two), decided once. */
+void reyes_small_quads(__global const struct reyes_params *p, __global ulong *samples,
+                       __local const struct reyes_grid *g, const struct reyes_quad_lanes *q,
+                       const struct reyes_strata_lanes *strata, int16 small, int first,
+                       const struct reyes_sample_chunks *chunks, const struct reyes_derivative_net *net)
+{
+    if (chunks->inv_columns != 0.0f && chunks->inv_rows != 0.0f)
+        reyes_small_quads_on(p, samples, g, q, strata, small, first, chunks, net, 1);
+    else
+        reyes_small_quads_on(p, samples, g, q, strata, small, first, chunks, net, 0);
+}
+
+/* Blurred items: each visible quad with the configured algorithm. */
+void reyes_rasterize_blurred_grid(const struct reyes_raster_target *t, __local const struct reyes_grid *item)
+{
+    __global const struct reyes_params *p = t->params;
     int slots = (int)(item->rows - 1u) * (int)item->columns;
     uint visible = 0;
     for (int k = 0; k < slots; ++k) {
@@ -469,10 +624,10 @@ void reyes_rasterize_blurred_grid(perma_ctx *ctx, __local const struct reyes_gri
             continue;
         ++visible;
         struct reyes_moving_quad m = reyes_grid_moving(p, item, k);
-        reyes_rasterize_blurred(p, ctx->buf.blur_tuples, ctx->buf.samples, &m, 2);
+        reyes_rasterize_blurred(p, t->blur_tuples, t->samples, &m, 2);
     }
     if (item->counted && visible > 0u)
-        atomic_add(&ctx->buf.counters[REYES_COUNT_MICROPOLYGONS], visible);
+        atomic_add(&t->counters[REYES_COUNT_MICROPOLYGONS], visible);
 }
 
 /* Ask for the cache lines of the samples under the grid's screen box
@@ -527,37 +682,46 @@ REYES_INLINE void reyes_prefetch_samples(__global const struct reyes_params *p, 
 #endif
 }
 
-void reyes_rasterize(perma_ctx *ctx, __local const struct reyes_grid *item)
+void reyes_rasterize(const struct reyes_raster_target *t, __local const struct reyes_grid *item)
 {
-    __global const struct reyes_params *p = ctx->buf.params;
+    __global const struct reyes_params *p = t->params;
     if (p->blur) {
-        reyes_rasterize_blurred_grid(ctx, item);
+        reyes_rasterize_blurred_grid(t, item);
         return;
     }
-    __global ulong *samples = ctx->buf.samples;
+    __global ulong *samples = t->samples;
     struct reyes_sample_chunks chunks;
     reyes_sample_chunks_init(&chunks, p->spp);
     reyes_prefetch_samples(p, samples, item, p->spp);
+    struct reyes_derivative_net net;
+    if (item->shading == REYES_SHADE_SURFACE)
+        reyes_derivative_net_of(t->patches, item->patch, &net);
     int slots = (int)(item->rows - 1u) * (int)item->columns;
     /* Sixteen quads at a time set up in SIMD lanes, then the small ones
      * sampled side by side stratum by stratum and the larger ones one by
      * one. */
     int16 visible = (int16)0;
+    struct reyes_area_tally tally;
+    int tallied = item->counted && p->area_stats;
+    if (tallied)
+        reyes_area_tally_init(&tally);
     for (int first = 0; first < slots; first += 16) {
         struct reyes_quad_lanes quads = reyes_quad_setup_lanes(p, item, first, slots);
         visible -= quads.live; /* live lanes are -1 */
         if (!reyes_any16(quads.live))
             continue;
+        if (tallied)
+            reyes_area_tally_add(&tally, &quads);
         struct reyes_strata_lanes strata = reyes_strata_of(&quads, &chunks);
         int16 small = quads.live & (strata.x1 - strata.x0 < REYES_SMALL_STRATA)
                       & (strata.y1 - strata.y0 < REYES_SMALL_STRATA);
         if (reyes_any16(small))
-            reyes_small_quads(p, samples, item, &quads, &strata, small, first, &chunks);
+            reyes_small_quads(p, samples, item, &quads, &strata, small, first, &chunks, &net);
         uint large = reyes_lane_bits16(quads.live & ~small);
         while (large) {
             int l = 31 - (int)clz(large & (0u - large));
             large &= large - 1u;
-            reyes_quad_pixels(p, samples, item, &quads, l, first + l, &chunks);
+            reyes_quad_pixels(p, samples, item, &quads, l, first + l, &chunks, &net);
         }
     }
     if (item->counted) {
@@ -565,6 +729,8 @@ void reyes_rasterize(perma_ctx *ctx, __local const struct reyes_grid *item)
          * reyes_dice_count (which counts the grids of other renders). */
         uint count = (uint)reyes_sum16(visible);
         if (count > 0u)
-            atomic_add(&ctx->buf.counters[REYES_COUNT_MICROPOLYGONS], count);
+            atomic_add(&t->counters[REYES_COUNT_MICROPOLYGONS], count);
+        if (tallied)
+            reyes_area_tally_flush(&tally, t->counters);
     }
 }

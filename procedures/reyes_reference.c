@@ -5,6 +5,13 @@
  * reyes_reference_sample.c).  Float rounding may differ from the device's
  * (contractions, vector code), so a patch right at a threshold can rarely
  * be decided differently, and a sample on an edge covered differently.
+ * With a shading rate it dices each sub-patch to the grid size its
+ * longest control-polygon rows ask for and shades vertices: the
+ * renderer's shading-rate pipeline before issue 25's edge-conforming
+ * dicing and sample shading (reyes_rate.cl, reyes_sample_shading.cl),
+ * which it does not model; it stays the speed baseline of that workload
+ * (perma-bench reyes --workload defaults), not a check of its counts or
+ * images.
  */
 #include <math.h>
 #include <stdlib.h>
@@ -173,13 +180,32 @@ static float pixels_per_unit(const context *c, const vec4 clip[16])
                  0.5f * (float)c->o->height * (r1 + ndc_y * r3)) / w_min;
 }
 
-/* 1 to split (then *along_u), 0 to dice, as reyes_split_reason. */
-static int tiered_split(const context *c, const vec3 cp[16], const vec4 clip[16], float size,
-                        int *along_u)
+/* Shading-rate dicing (reyes_rate_segments): the micropolygons a
+ * sub-patch needs along u (need[0]) and v so that each is at most
+ * sqrt(rate) pixels long, from the longest row and column of its
+ * projected control net. */
+static void rate_segments(const context *c, const float sx[16], const float sy[16], float need[2])
 {
-    float cap = c->o->flat_bound_px > 0.0f ? c->o->flat_bound_px : (float)(c->o->grid - 1);
-    if (size > cap)
-        return 1;
+    float along_u = 0.0f, along_v = 0.0f;
+    for (int k = 0; k < 4; ++k) {
+        float row = 0.0f, column = 0.0f;
+        for (int i = 0; i < 3; ++i) {
+            int a = k * 4 + i, b = i * 4 + k;
+            row += sqrtf((sx[a + 1] - sx[a]) * (sx[a + 1] - sx[a]) + (sy[a + 1] - sy[a]) * (sy[a + 1] - sy[a]));
+            column += sqrtf((sx[b + 4] - sx[b]) * (sx[b + 4] - sx[b]) + (sy[b + 4] - sy[b]) * (sy[b + 4] - sy[b]));
+        }
+        along_u = fmaxf(along_u, row);
+        along_v = fmaxf(along_v, column);
+    }
+    float side = sqrtf(c->o->shading_rate);
+    need[0] = fmaxf(ceilf(along_u / side + 0.5f), 1.0f);
+    need[1] = fmaxf(ceilf(along_v / side + 0.5f), 1.0f);
+}
+
+/* The flatness tiers of the tiered criterion: 1 to split (then
+ * *along_u), 0 to dice, as reyes_split_reason after its size test. */
+static int tiered_split(const context *c, const vec3 cp[16], const vec4 clip[16], int *along_u)
+{
     float scale = pixels_per_unit(c, clip), along[2] = { 0.0f, 0.0f };
     int failed = 0;
     for (int line = 0; line < 4; ++line) {
@@ -246,15 +272,35 @@ static void bound(context *c, struct reyes_subpatch sp)
         ++c->counts->culled;
         return;
     }
-    float size = fmaxf(hix - lox, hiy - loy);
-    int along_u = extent(sx, sy, NULL, 1) >= extent(sx, sy, NULL, 0);
-    int split_it = o->subdivision == REYES_SUBDIVISION_TIERED
-                       ? tiered_split(c, cp, clip, size, &along_u)
-                       : size > o->bound_px;
+    /* As reyes_split_reason: too big for one grid (the screen bound, or
+     * with a shading rate the micropolygons needed), then the tiers. */
+    float size = fmaxf(hix - lox, hiy - loy), need[2] = { 0.0f, 0.0f };
+    int along_u, split_it;
+    if (o->shading_rate > 0.0f) {
+        rate_segments(c, sx, sy, need);
+        split_it = fmaxf(need[0], need[1]) > (float)(o->grid - 1);
+        along_u = need[0] >= need[1];
+    } else {
+        float cap = o->subdivision == REYES_SUBDIVISION_TIERED
+                        ? (o->flat_bound_px > 0.0f ? o->flat_bound_px : (float)(o->grid - 1))
+                        : o->bound_px;
+        split_it = size > cap;
+        along_u = extent(sx, sy, NULL, 1) >= extent(sx, sy, NULL, 0);
+    }
+    if (!split_it && o->subdivision == REYES_SUBDIVISION_TIERED)
+        split_it = tiered_split(c, cp, clip, &along_u);
     if (forced || !split_it) {
         c->counts->forced_dice += (uint64_t)forced;
+        if (o->shading_rate > 0.0f) {
+            unsigned nu = (unsigned)fminf(need[0], (float)(o->grid - 1)), nv = (unsigned)fminf(need[1], (float)(o->grid - 1));
+            sp.dice_size = (nu + 1u) | ((nv + 1u) << 8);
+        }
         ++c->counts->grids;
-        if (o->stages != REYES_STAGES_SUBDIVIDE)
+        if (o->stages == REYES_STAGES_SUBDIVIDE)
+            return;
+        if (c->leaves)
+            reference_leaves_add(c->leaves, &sp);
+        else
             reference_dice(c, &sp);
     } else {
         split(c, sp, along_u);
@@ -279,41 +325,55 @@ static void split(context *c, struct reyes_subpatch sp, int along_u)
     bound(c, b);
 }
 
-static double seconds_since(const struct timespec *start)
+double reference_seconds_since(const struct timespec *start)
 {
     struct timespec end;
     clock_gettime(CLOCK_MONOTONIC, &end);
     return (double)(end.tv_sec - start->tv_sec) + 1e-9 * (double)(end.tv_nsec - start->tv_nsec);
 }
 
-/* Check the options and set up the context's camera. */
-static reyes_status begin(context *c, const reyes_scene *scene, const reyes_camera *camera,
-                          const reyes_options *options, reyes_reference_counts *out, reyes_error *error)
+reyes_status reference_begin(reference_context *c, const reyes_scene *scene, const reyes_camera *camera,
+                             const reyes_options *options, reyes_reference_counts *out, reyes_error *error)
 {
     memset(out, 0, sizeof *out);
+    *c = (context){ .scene = scene, .o = options, .counts = out };
     reyes_status status = reyes_options_check(options, error);
     if (status != REYES_OK)
         return status;
     if (options->crack_fix == REYES_CRACK_FIX_WEDGE)
         return reyes_fail(error, REYES_ERR_ARGUMENT,
                           "the C reference does not model the wedge crack fix's subdivision");
-    if (options->shading_rate > 0.0f)
-        return reyes_fail(error, REYES_ERR_ARGUMENT, "the C reference dices fixed grids only (shading rate 0)");
-    *c = (context){ .scene = scene, .o = options, .counts = out };
     c->near_w = reyes_near_plane(scene, camera);
     for (int k = 0; k < 3; ++k)
         c->eye[k] = camera->eye[k];
     reyes_light_direction(c->light);
-    c->grid = malloc(sizeof *c->grid);
-    if (!c->grid)
-        return reyes_fail(error, REYES_ERR_NO_MEMORY, "out of memory for the C reference's grid");
     return reyes_camera_matrix(camera, (float)options->width / (float)options->height, c->near_w, c->m, error);
 }
 
-static void subdivide_all(context *c)
+reyes_status reference_grid_alloc(reference_context *c, reyes_error *error)
 {
-    for (size_t p = 0; p < c->scene->patch_count; ++p)
-        bound(c, (struct reyes_subpatch){ .patch = (uint32_t)p, .u1 = 1.0f, .v1 = 1.0f });
+    c->grid = calloc(1, sizeof *c->grid); /* the padding read past the vertices is zeros */
+    return c->grid ? REYES_OK : reyes_fail(error, REYES_ERR_NO_MEMORY, "out of memory for the C reference's grid");
+}
+
+void reference_subdivide_patch(reference_context *c, uint32_t patch)
+{
+    bound(c, (struct reyes_subpatch){ .patch = patch, .u1 = 1.0f, .v1 = 1.0f });
+}
+
+void reference_leaves_add(reference_leaves *leaves, const struct reyes_subpatch *sp)
+{
+    if (leaves->count == leaves->capacity) {
+        size_t capacity = leaves->capacity ? 2 * leaves->capacity : 1024;
+        struct reyes_subpatch *grown = realloc(leaves->items, capacity * sizeof *grown);
+        if (!grown) {
+            leaves->failed = 1;
+            return;
+        }
+        leaves->items = grown;
+        leaves->capacity = capacity;
+    }
+    leaves->items[leaves->count++] = *sp;
 }
 
 reyes_status reyes_reference_run(const reyes_scene *scene, const reyes_camera *camera,
@@ -321,65 +381,17 @@ reyes_status reyes_reference_run(const reyes_scene *scene, const reyes_camera *c
                                  reyes_error *error)
 {
     context c;
-    reyes_status status = begin(&c, scene, camera, options, out, error);
+    reyes_status status = reference_begin(&c, scene, camera, options, out, error);
+    if (status == REYES_OK)
+        status = reference_grid_alloc(&c, error);
     if (status == REYES_OK) {
         struct timespec start;
         clock_gettime(CLOCK_MONOTONIC, &start);
-        subdivide_all(&c);
-        out->seconds = seconds_since(&start);
+        for (size_t p = 0; p < scene->patch_count; ++p)
+            reference_subdivide_patch(&c, (uint32_t)p);
+        out->seconds = reference_seconds_since(&start);
     }
     free(c.grid);
-    return status;
-}
-
-reyes_status reyes_reference_render(const reyes_scene *scene, const reyes_camera *camera,
-                                    const reyes_options *options, reyes_image *image,
-                                    reyes_reference_counts *out, reyes_error *error)
-{
-    memset(image, 0, sizeof *image);
-    context c;
-    reyes_status status = begin(&c, scene, camera, options, out, error);
-    if (status == REYES_OK && (options->motion[0] != 0.0f || options->motion[1] != 0.0f
-                               || options->motion[2] != 0.0f || options->motion_angle_deg != 0.0f
-                               || options->aperture != 0.0f))
-        status = reyes_fail(error, REYES_ERR_ARGUMENT,
-                            "the C reference renders without motion blur or depth of field");
-    if (status == REYES_OK && options->displace_mode != REYES_DISPLACE_NONE && options->displace_amplitude != 0.0f)
-        status = reyes_fail(error, REYES_ERR_ARGUMENT, "the C reference renders without displacement");
-    size_t pixels = (size_t)options->width * options->height;
-    uint64_t *values = NULL;
-    float *positions = NULL;
-    if (status == REYES_OK) {
-        values = malloc(pixels * options->spp * sizeof *values);
-        positions = malloc(pixels * options->spp * 2 * sizeof *positions);
-        image->width = options->width;
-        image->height = options->height;
-        image->rgb = malloc(pixels * 3);
-        image->coverage = malloc(pixels);
-        if (!values || !positions || !image->rgb || !image->coverage)
-            status = reyes_fail(error, REYES_ERR_NO_MEMORY, "out of memory for a %ux%u image", options->width,
-                                options->height);
-    }
-    if (status == REYES_OK) {
-        reference_samples samples;
-        reyes_options full = *options;
-        full.stages = REYES_STAGES_ALL;
-        c.o = &full;
-        c.samples = &samples;
-        memset(values, 0xff, pixels * options->spp * sizeof *values);
-        struct timespec start;
-        clock_gettime(CLOCK_MONOTONIC, &start);
-        reference_samples_init(&samples, options->width, options->height, options->spp, values, positions);
-        subdivide_all(&c);
-        out->seconds = seconds_since(&start);
-        out->samples_written = reyes_resolve(values, options->spp, options->background, 0, 0, options->width,
-                                             options->height, image);
-    }
-    free(values);
-    free(positions);
-    free(c.grid);
-    if (status != REYES_OK)
-        reyes_image_free(image);
     return status;
 }
 

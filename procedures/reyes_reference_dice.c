@@ -13,17 +13,17 @@
 #include "reyes_reference_internal.h"
 
 /* fminf and fmaxf would be library calls (their NaN rules); these are not. */
-static float min_f(float a, float b)
+static inline float min_f(float a, float b)
 {
     return a < b ? a : b;
 }
 
-static float max_f(float a, float b)
+static inline float max_f(float a, float b)
 {
     return a > b ? a : b;
 }
 
-static void bernstein(float t, float b[4])
+static inline void bernstein(float t, float b[4])
 {
     float s = 1.0f - t;
     b[0] = s * s * s;
@@ -32,7 +32,7 @@ static void bernstein(float t, float b[4])
     b[3] = t * t * t;
 }
 
-static void bernstein_deriv(float t, float d[4])
+static inline void bernstein_deriv(float t, float d[4])
 {
     float s = 1.0f - t;
     d[0] = -3.0f * s * s;
@@ -42,7 +42,7 @@ static void bernstein_deriv(float t, float d[4])
 }
 
 /* Control points of a base patch, coordinate by coordinate. */
-static void load_hull(const reyes_scene *scene, uint32_t patch, float hull[3][16])
+static inline void load_hull(const reyes_scene *scene, uint32_t patch, float hull[3][16])
 {
     const float *p = scene->points + (size_t)patch * 64;
     for (int k = 0; k < 16; ++k)
@@ -51,7 +51,7 @@ static void load_hull(const reyes_scene *scene, uint32_t patch, float hull[3][16
 }
 
 /* The base-patch parameter of grid vertex i of [a, b], as reyes_grid_uv. */
-static float grid_param(float a, float b, unsigned i, unsigned n)
+static inline float grid_param(float a, float b, unsigned i, unsigned n)
 {
     float t = (float)i / (float)(n - 1);
     return a * (1.0f - t) + b * t;
@@ -85,10 +85,10 @@ static void eval_one_normal(const float hull[3][16], float u, float v, float x[3
  * grid row j: the row's curve in u (and its derivative in v), four control
  * points made once from the hull, then evaluated at each column with the
  * columns' weights bu and derivative weights du. */
-static void eval_row(reference_grid *g, unsigned j, const float hull[3][16], const float (*bu)[REYES_MAX_GRID],
+REFERENCE_VECTOR_HELPER void eval_row(reference_grid *g, unsigned j, const float hull[3][16], const float (*bu)[REYES_MAX_GRID],
                      const float (*du)[REYES_MAX_GRID], float v, int normals)
 {
-    unsigned n = g->n, o = j * n;
+    unsigned n = g->columns, o = j * n;
     float bv[4], dv[4], q[3][4], qv[3][4];
     bernstein(v, bv);
     bernstein_deriv(v, dv);
@@ -124,7 +124,7 @@ static void eval_row(reference_grid *g, unsigned j, const float hull[3][16], con
 
 /* Clip w, screen position and whether in front of the near plane, for
  * vertices [0, count). */
-static void project(const reference_context *c, reference_grid *g, unsigned count)
+REFERENCE_VECTOR_HELPER void project(const reference_context *c, reference_grid *g, unsigned count)
 {
     const float m0 = c->m[0], m1 = c->m[1], m2 = c->m[2], m3 = c->m[3], m4 = c->m[4], m5 = c->m[5];
     const float m6 = c->m[6], m7 = c->m[7], m12 = c->m[12], m13 = c->m[13], m14 = c->m[14], m15 = c->m[15];
@@ -145,7 +145,7 @@ static void project(const reference_context *c, reference_grid *g, unsigned coun
 }
 
 /* cos^40 (REYES_SHININESS) by squaring. */
-static float highlight(float cos_h)
+static inline float highlight(float cos_h)
 {
     float c2 = cos_h * cos_h, c4 = c2 * c2, c8 = c4 * c4, c16 = c8 * c8;
     return c16 * c16 * c8;
@@ -153,7 +153,7 @@ static float highlight(float cos_h)
 
 /* Lambert plus Blinn-Phong, two-sided, as reyes_light_lanes: the diffuse
  * and specular weights of vertices [0, count). */
-static void light(const reference_context *c, reference_grid *g, unsigned count)
+REFERENCE_VECTOR_HELPER void light(const reference_context *c, reference_grid *g, unsigned count)
 {
     float ex = c->eye[0], ey = c->eye[1], ez = c->eye[2];
     float lx = c->light[0], ly = c->light[1], lz = c->light[2];
@@ -186,14 +186,14 @@ static void light(const reference_context *c, reference_grid *g, unsigned count)
 }
 
 /* A colour channel in [0,1] as a byte, rounded to nearest (even). */
-static uint32_t channel_byte(float value)
+static inline uint32_t channel_byte(float value)
 {
     float scaled = min_f(max_f(value, 0.0f), 1.0f) * 255.0f;
     return (uint32_t)(int32_t)((scaled + 8388608.0f) - 8388608.0f);
 }
 
 /* The packed colours of vertices [0, count) for base colour rgba. */
-static void shade(reference_grid *g, unsigned count, uint32_t rgba)
+REFERENCE_VECTOR_HELPER void shade(reference_grid *g, unsigned count, uint32_t rgba)
 {
     float r = (float)(rgba & 255u) * (1.0f / 255.0f), gr = (float)((rgba >> 8) & 255u) * (1.0f / 255.0f);
     float b = (float)((rgba >> 16) & 255u) * (1.0f / 255.0f);
@@ -212,15 +212,15 @@ static void shade(reference_grid *g, unsigned count, uint32_t rgba)
 
 /* Where a patch edge collapses to a point (a pole) the derivative cross
  * product vanishes: take the normal slightly inside, as reyes_safe_normal. */
-static void fix_poles(reference_grid *g, const float hull[3][16], const struct reyes_subpatch *sp)
+static inline void fix_poles(reference_grid *g, const float hull[3][16], const struct reyes_subpatch *sp)
 {
-    unsigned n = g->n;
-    for (unsigned k = 0; k < n * n; ++k) {
+    unsigned n = g->columns;
+    for (unsigned k = 0; k < n * g->rows; ++k) {
         float l2 = g->normal[0][k] * g->normal[0][k] + g->normal[1][k] * g->normal[1][k]
                    + g->normal[2][k] * g->normal[2][k];
         if (l2 >= 1e-24f)
             continue;
-        float u = grid_param(sp->u0, sp->u1, k % n, n), v = grid_param(sp->v0, sp->v1, k / n, n);
+        float u = grid_param(sp->u0, sp->u1, k % n, n), v = grid_param(sp->v0, sp->v1, k / n, g->rows);
         for (int step = 1; step <= 3 && l2 < 1e-24f; ++step) {
             float nudge = 1e-3f * (float)step, x[3], normal[3];
             eval_one_normal(hull, u + (0.5f - u) * nudge, v + (0.5f - v) * nudge, x, normal);
@@ -231,12 +231,16 @@ static void fix_poles(reference_grid *g, const float hull[3][16], const struct r
     }
 }
 
-void reference_dice(reference_context *c, const struct reyes_subpatch *sp)
+REFERENCE_MACHINE_CLONES void reference_dice(reference_context *c, const struct reyes_subpatch *sp)
 {
     reference_grid *g = c->grid;
-    unsigned n = c->o->grid;
+    /* grid x grid, or with a shading rate the size bound chose (as
+     * reyes_dice_size). */
+    unsigned n = sp->dice_size ? sp->dice_size & 0xffu : c->o->grid;
+    unsigned rows = sp->dice_size ? (sp->dice_size >> 8) & 0xffu : c->o->grid;
     int full = c->samples != NULL;
-    g->n = n;
+    g->columns = n;
+    g->rows = rows;
     float hull[3][16], bu[4][REYES_MAX_GRID], du[4][REYES_MAX_GRID];
     load_hull(c->scene, sp->patch, hull);
     for (unsigned i = 0; i < n; ++i) {
@@ -248,13 +252,13 @@ void reference_dice(reference_context *c, const struct reyes_subpatch *sp)
             du[k][i] = d[k];
         }
     }
-    for (unsigned j = 0; j < n; ++j)
-        eval_row(g, j, hull, bu, du, grid_param(sp->v0, sp->v1, j, n), full);
-    project(c, g, n * n);
+    for (unsigned j = 0; j < rows; ++j)
+        eval_row(g, j, hull, bu, du, grid_param(sp->v0, sp->v1, j, rows), full);
+    project(c, g, n * rows);
     if (full) {
         fix_poles(g, hull, sp);
-        light(c, g, n * n);
-        shade(g, n * n, c->scene->colors[sp->patch]);
+        light(c, g, n * rows);
+        shade(g, n * rows, c->scene->colors[sp->patch]);
     }
     c->counts->micropolygons += reference_sample_grid(c, g);
 }

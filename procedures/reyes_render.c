@@ -196,6 +196,11 @@ static void count_stats(const reyes_scene *scene, const render_buffers *b, reyes
     stats->split_edge = b->counters[REYES_COUNT_SPLIT_EDGE];
     stats->split_inner = b->counters[REYES_COUNT_SPLIT_INNER];
     stats->split_near = b->counters[REYES_COUNT_SPLIT_NEAR];
+    uint64_t units;
+    memcpy(&units, &b->counters[REYES_COUNT_AREA_SUM], sizeof units);
+    stats->micropolygon_area = (double)units / (double)REYES_AREA_UNITS;
+    for (unsigned k = 0; k < REYES_AREA_BINS; ++k)
+        stats->micropolygon_area_bins[k] = b->counters[REYES_COUNT_AREA_BINS + k];
     stats->stitches = stats->procedures[REYES_PROC_STITCH].items;
 }
 

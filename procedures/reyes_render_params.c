@@ -77,6 +77,46 @@ static void set_blur(const reyes_camera *camera, const reyes_options *o, struct 
         p->focus = 1.0f;
 }
 
+/* Shading-rate counts (reyes_rate.cl): chords within a fiftieth of a
+ * pixel of the surface on screen where it bends, in pieces no shorter
+ * than half the rate's side in space (docs/reyes.md: what these buy and
+ * cost). */
+#define REYES_RATE_SAG 0.02f
+#define REYES_RATE_MIN_PIECE 0.5f
+
+/* Sample shading: the world direction of the ray through pixel point
+ * (x, y), away from the eye, is ray_origin + x ray_dx + y ray_dy.  With
+ * a0, a1, a3 the xyz of the matrix rows x, y and w, the points with
+ * normalised device coordinates (nx, ny) satisfy (a0 - nx a3) . d = 0
+ * and (a1 - ny a3) . d = 0, so d is their cross product,
+ * a0 x a1 - nx (a3 x a1) - ny (a0 x a3): affine in nx and ny, and so in
+ * the pixel coordinates. */
+static void set_rays(struct reyes_params *p)
+{
+    const float *m = p->view_proj;
+    double a[3][3];
+    for (int k = 0; k < 3; ++k) {
+        a[0][k] = m[k];
+        a[1][k] = m[4 + k];
+        a[2][k] = m[12 + k];
+    }
+    double c01[3], c31[3], c03[3];
+    for (int k = 0; k < 3; ++k) {
+        int i = (k + 1) % 3, j = (k + 2) % 3;
+        c01[k] = a[0][i] * a[1][j] - a[0][j] * a[1][i];
+        c31[k] = a[2][i] * a[1][j] - a[2][j] * a[1][i];
+        c03[k] = a[0][i] * a[2][j] - a[0][j] * a[2][i];
+    }
+    double forward = c01[0] * a[2][0] + c01[1] * a[2][1] + c01[2] * a[2][2];
+    double sign = forward < 0.0 ? -1.0 : 1.0;
+    for (int k = 0; k < 3; ++k) {
+        /* nx = 2 x / width - 1, ny = 1 - 2 y / height. */
+        p->ray_origin[k] = (float)(sign * (c01[k] + c31[k] - c03[k]));
+        p->ray_dx[k] = (float)(sign * -2.0 / p->width * c31[k]);
+        p->ray_dy[k] = (float)(sign * 2.0 / p->height * c03[k]);
+    }
+}
+
 reyes_status render_fill_params(const reyes_scene *scene, const reyes_camera *camera, const reyes_options *o,
                                 struct reyes_params *p, reyes_error *error)
 {
@@ -111,5 +151,10 @@ reyes_status render_fill_params(const reyes_scene *scene, const reyes_camera *ca
     p->backface_cull = o->backface_cull ? 1u : 0u;
     p->stages = o->stages;
     set_blur(camera, o, p);
+    p->sample_shading = o->shading_rate > 0.0f && !p->blur;
+    p->area_stats = o->area_stats && !p->blur && o->stages == REYES_STAGES_ALL;
+    set_rays(p);
+    p->rate_sag = REYES_RATE_SAG;
+    p->rate_min_piece = REYES_RATE_MIN_PIECE;
     return REYES_OK;
 }

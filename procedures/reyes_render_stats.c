@@ -1,5 +1,6 @@
 /* Statistics of a render: the runtime's per-run numbers summed over the
  * buckets' runs (peaks and capacities: the largest). */
+#include <math.h>
 #include <stdlib.h>
 
 #include "reyes_render_stats.h"
@@ -58,4 +59,40 @@ void reyes_stats_add_run(reyes_stats *total, const perma_stats *run,
         add_procedure(&total->procedures[p], &procedures[p]);
     total->peak_queue_bytes = t->peak_queue_bytes;
     total->seconds = t->seconds;
+}
+
+double reyes_area_bin_lower(unsigned bin)
+{
+    if (bin == 0)
+        return 0.0;
+    return ldexp((bin - 1) % 2 ? 1.5 : 1.0, (int)((bin - 1) / 2) - 10);
+}
+
+double reyes_stats_area_mean(const reyes_stats *stats)
+{
+    return stats->micropolygons ? stats->micropolygon_area / (double)stats->micropolygons : 0.0;
+}
+
+double reyes_stats_area_percentile(const reyes_stats *stats, double fraction)
+{
+    uint64_t total = 0;
+    for (unsigned b = 0; b < REYES_AREA_BINS; ++b)
+        total += stats->micropolygon_area_bins[b];
+    if (total == 0)
+        return 0.0;
+    double rank = fraction * (double)total, below = 0.0;
+    for (unsigned b = 0; b < REYES_AREA_BINS; ++b) {
+        double count = (double)stats->micropolygon_area_bins[b];
+        if (count > 0.0 && below + count >= rank) {
+            double lo = reyes_area_bin_lower(b), hi = reyes_area_bin_lower(b + 1);
+            double t = (rank - below) / count;
+            if (b == 0)
+                return hi * t;
+            if (b + 1 >= REYES_AREA_BINS)
+                return lo;
+            return lo * pow(hi / lo, t);
+        }
+        below += count;
+    }
+    return reyes_area_bin_lower(REYES_AREA_BINS - 1);
 }

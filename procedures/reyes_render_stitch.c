@@ -54,7 +54,8 @@ reyes_status render_subdivide_and_plan(reyes_renderer *r, const reyes_scene *sce
     b->dice_seeds = malloc((b->leaf_count ? b->leaf_count : 1) * sizeof *b->dice_seeds);
     if (!b->dice_seeds)
         return reyes_fail(error, REYES_ERR_NO_MEMORY, "out of memory for %zu grids", b->leaf_count);
-    reyes_status status = reyes_stitch_plan_build(scene, b->leaves, b->leaf_count, &b->plan, error);
+    reyes_status status = reyes_stitch_plan_build(scene, b->leaves, b->leaf_count, o->shading_rate > 0.0f, &b->plan,
+                                                  error);
     if (status != REYES_OK)
         return status;
     b->stitch_seeds = malloc((b->plan.item_count ? b->plan.item_count : 1) * sizeof *b->stitch_seeds);

@@ -17,7 +17,7 @@ reyes_status reyes_runtime_error(const struct reyes_renderer *r, const char *cal
                       perma_status_name(status), r->rt ? perma_errmsg(r->rt) : "");
 }
 
-/* Bytes of the rasterize item for the renderer's grid. */
+/* Bytes of a diced grid for the renderer's grid size. */
 size_t reyes_grid_item_bytes(unsigned grid, int vertex_motion)
 {
     size_t words = vertex_motion ? REYES_GRID_MOVING_VERTEX_WORDS : REYES_GRID_VERTEX_WORDS;
@@ -25,7 +25,7 @@ size_t reyes_grid_item_bytes(unsigned grid, int vertex_motion)
 }
 
 /* Bytes of dice's scratch (struct reyes_dice_scratch, reyes_dice.cl): the
- * grid and the wedge strips as rasterize items. */
+ * grid and the wedge strips, rasterized from there. */
 static size_t dice_scratch_bytes(const struct reyes_renderer *r)
 {
     return 2 * reyes_grid_item_bytes(r->grid, r->vertex_motion);
@@ -64,19 +64,15 @@ static perma_status register_all(struct reyes_renderer *r)
             .threads_per_item = 1, .source = reyes_split_v_cl_source,
             .source_file = "reyes_split_v.cl", .function = "reyes_split_v",
             .emits = { { "bound", 2 } }, .priority = 1 },
-        /* Dice and rasterize take a whole grid per work-item (their SIMD is
-         * in vector types), so a batch shares the runtime's cost among
-         * as many grids as the group has work-items. */
+        /* Dice takes a whole grid per work-item (its SIMD is in vector
+         * types), so a batch shares the runtime's cost among as many
+         * grids as the group has work-items, and rasterizes the grid
+         * straight from its __local scratch (reyes_rasterize.cl): a grid
+         * never goes through a queue. */
         [REYES_PROC_DICE] = { .name = "dice", .item_type = item, .item_size = item_size,
             .threads_per_item = 1, .source = reyes_dice_cl_source,
             .source_file = "reyes_dice.cl", .function = "reyes_dice",
-            .local_bytes_per_item = dice_scratch_bytes(r),
-            .emits = { { "rasterize", 2 } }, .priority = 3 },
-        [REYES_PROC_RASTERIZE] = { .name = "rasterize", .item_type = "struct reyes_grid",
-            .item_size = reyes_grid_item_bytes(r->grid, r->vertex_motion),
-            .threads_per_item = 1,
-            .source = reyes_rasterize_cl_source, .source_file = "reyes_rasterize.cl",
-            .function = "reyes_rasterize", .priority = 4 },
+            .local_bytes_per_item = dice_scratch_bytes(r), .priority = 3 },
         [REYES_PROC_STITCH] = { .name = "stitch", .item_type = "struct reyes_stitch",
             .item_size = sizeof(struct reyes_stitch), .threads_per_item = 1,
             .source = reyes_stitch_cl_source, .source_file = "reyes_stitch.cl",
@@ -90,6 +86,10 @@ static perma_status register_all(struct reyes_renderer *r)
     if (status == PERMA_OK)
         status = perma_add_source(r->rt, reyes_flatness_cl_source, "reyes_flatness.cl");
     if (status == PERMA_OK)
+        status = perma_add_source(r->rt, reyes_rate_cl_source, "reyes_rate.cl");
+    if (status == PERMA_OK)
+        status = perma_add_source(r->rt, reyes_sample_shading_cl_source, "reyes_sample_shading.cl");
+    if (status == PERMA_OK)
         status = perma_add_source(r->rt, reyes_sample_cl_source, "reyes_sample.cl");
     if (status == PERMA_OK)
         status = perma_add_source(r->rt, reyes_blur_cl_source, "reyes_blur.cl");
@@ -99,6 +99,8 @@ static perma_status register_all(struct reyes_renderer *r)
         status = perma_add_source(r->rt, reyes_surface_cl_source, "reyes_surface.cl");
     if (status == PERMA_OK)
         status = perma_add_source(r->rt, reyes_grid_cl_source, "reyes_grid.cl");
+    if (status == PERMA_OK)
+        status = perma_add_source(r->rt, reyes_rasterize_cl_source, "reyes_rasterize.cl");
     for (int p = 0; p < REYES_PROC_COUNT && status == PERMA_OK; ++p)
         status = perma_register(r->rt, &procedures[p], &r->procs[p]);
     return status;

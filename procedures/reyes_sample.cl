@@ -117,12 +117,6 @@ REYES_INLINE int reyes_triangle_covers(float x, float y, const struct reyes_tria
 /* An empty sample (the host clears the buffer to all ones). */
 #define REYES_EMPTY_SAMPLE 0xfffffffffffffffful
 
-/* Colour channel `shift` of a packed RGBA8 in [0,1]. */
-REYES_INLINE float reyes_channel(uint rgba, uint shift)
-{
-    return (float)((rgba >> shift) & 255u) * (1.0f / 255.0f);
-}
-
 /* The (depth, colour) that the triangle writes at (x, y): depth's bits
  * above the packed colour, so the nearest surface is the smallest value
  * (depth >= 0 orders like its bit pattern) and equal depths break ties by
@@ -164,6 +158,35 @@ REYES_INLINE void reyes_sample_merge(__global ulong *samples, uint index, ulong 
         atom_min(&samples[index], value);
 }
 
+/* The same with sample shading: the quad's rgba hold its vertices'
+ * packed normals, and the sample is lit with base colour `base` and the
+ * normal interpolated as reyes_triangle_sample interpolates colours. */
+REYES_INLINE ulong reyes_triangle_sample_lit(__global const struct reyes_params *p, float x, float y,
+                                            const struct reyes_quad *q, const struct reyes_triangle *t, uint base)
+{
+    float area = t->area;
+    float wa = reyes_edge_at(&t->edge[0], x, y), wb = reyes_edge_at(&t->edge[1], x, y);
+    float wc = reyes_edge_at(&t->edge[2], x, y);
+    int inside = area > 0.0f ? (wa >= 0.0f && wb >= 0.0f && wc >= 0.0f)
+                             : (wa <= 0.0f && wb <= 0.0f && wc <= 0.0f);
+    if (!inside || area == 0.0f)
+        return REYES_EMPTY_SAMPLE;
+    float inv_area = 1.0f / area;
+    float ba = wa * inv_area, bb = wb * inv_area, bc = wc * inv_area;
+    float depth = fmax(ba * q->z[t->a] + bb * q->z[t->b] + bc * q->z[t->c], 0.0f);
+    const int corner[3] = {t->a, t->b, t->c};
+    const float weight[3] = {ba, bb, bc};
+    float n[3] = {0.0f, 0.0f, 0.0f};
+    for (int i = 0; i < 3; ++i) {
+        float v[3];
+        reyes_unpack_normal(q->rgba[corner[i]], &v[0], &v[1], &v[2]);
+        for (int k = 0; k < 3; ++k)
+            n[k] += weight[i] * v[k];
+    }
+    uint rgba = reyes_sample_light(p, n[0], n[1], n[2], x, y, base);
+    return ((ulong)as_uint(depth) << 32) | (ulong)rgba;
+}
+
 /* Write the sample if p is inside the triangle. */
 void reyes_sample_in_triangle(__global ulong *samples, uint index, float2 p, const struct reyes_quad *q,
                               const struct reyes_triangle *t)
@@ -199,9 +222,10 @@ int reyes_tile_pixels(__global const struct reyes_params *p, float2 lo, float2 h
 
 /* Test every sample of the pixels of screen box lo..hi inside the tile
  * against `count` triangles set up once (reyes_triangle_setup) — the
- * unblurred rasterization of micropolygons and crack-filling triangles. */
+ * unblurred rasterization of crack-filling triangles; with sample
+ * shading lit with base colour `base`. */
 void reyes_sample_box(__global const struct reyes_params *p, __global ulong *samples, float2 lo, float2 hi,
-                      const struct reyes_quad *q, const struct reyes_triangle *triangles, int count)
+                      const struct reyes_quad *q, const struct reyes_triangle *triangles, int count, uint base)
 {
     int4 r;
     if (!reyes_tile_pixels(p, lo, hi, &r))
@@ -214,8 +238,15 @@ void reyes_sample_box(__global const struct reyes_params *p, __global ulong *sam
             for (uint s = 0; s < spp; ++s) {
                 float2 pos = reyes_sample_position_on((uint)px, (uint)py, s, columns, rows);
                 uint index = (((uint)py - tile_y) * tile_width + ((uint)px - tile_x)) * spp + s;
-                for (int k = 0; k < count; ++k)
-                    reyes_sample_in_triangle(samples, index, pos, q, &triangles[k]);
+                for (int k = 0; k < count; ++k) {
+                    if (!p->sample_shading) {
+                        reyes_sample_in_triangle(samples, index, pos, q, &triangles[k]);
+                        continue;
+                    }
+                    ulong packed = reyes_triangle_sample_lit(p, pos.x, pos.y, q, &triangles[k], base);
+                    if (packed != REYES_EMPTY_SAMPLE)
+                        atom_min(&samples[index], packed);
+                }
             }
         }
     }

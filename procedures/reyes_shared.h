@@ -86,13 +86,21 @@ struct reyes_stitch {
     REYES_U32 pad;
 };
 
-/* The rasterize item (struct reyes_grid, reyes_grid.cl): REYES_GRID_HEADER_WORDS
+/* A diced grid (struct reyes_grid, reyes_grid.cl): REYES_GRID_HEADER_WORDS
  * words, then arrays of REYES_GRID_ARRAY(grid) vertices: x, y, z and
  * rgba, and with per-vertex motion also mx, my and mw.  An array holds a
  * grid x grid lattice or the four wedge strips of 2 x grid vertices,
  * rounded up to whole vectors of REYES_GRID_LANES, plus one vector of
  * padding that the SIMD code may read past the last vertex. */
-#define REYES_GRID_HEADER_WORDS 4u
+#define REYES_GRID_HEADER_WORDS 11u
+/* What a grid's rgba hold (reyes_grid.shading): the vertices' colours;
+ * with sample shading their packed normals (displaced grids, whose
+ * normals are central differences); or their packed parameters in the
+ * grid's sub-patch and which way they face, each sample being lit with
+ * the patch's own normal at its parameters (reyes_sample_shading.cl). */
+#define REYES_SHADE_VERTICES 0u
+#define REYES_SHADE_NORMALS 1u
+#define REYES_SHADE_SURFACE 2u
 #define REYES_GRID_LANES 16u
 #define REYES_GRID_CAPACITY(n) ((n) >= 8u ? (n) * (n) : 8u * (n))
 #define REYES_GRID_ARRAY(n) \
@@ -115,7 +123,16 @@ struct reyes_stitch {
 #define REYES_COUNT_SPLIT_EDGE 8
 #define REYES_COUNT_SPLIT_INNER 9
 #define REYES_COUNT_SPLIT_NEAR 10
-#define REYES_COUNTERS 12
+/* With reyes_params.area_stats: the micropolygons' total screen area in
+ * units of 2^-10 square pixels (a 64-bit count in words 12 and 13), and
+ * how many fell in each of REYES_AREA_BINS bins by area: bin 0 below
+ * 2^-10 square pixels, then half octaves starting at 2^e and 1.5 * 2^e,
+ * bin 31 from 32 up (reyes_area_bin_lower). */
+#define REYES_COUNT_AREA_SUM 12
+#define REYES_COUNT_AREA_BINS 14
+#define REYES_AREA_BINS 32
+#define REYES_AREA_UNITS 1024.0f
+#define REYES_COUNTERS (REYES_COUNT_AREA_BINS + REYES_AREA_BINS)
 
 /* Subdivision criteria (reyes_params.subdivision). */
 #define REYES_SUBDIVISION_BOUND 0
@@ -239,7 +256,21 @@ struct reyes_params {
     /* 1: shade every grid in a false colour by its size instead of its
      * patch's colour (reyes_options.show_grid_sizes). */
     REYES_U32 show_grid_sizes;
-    REYES_U32 pad5[2];
+    /* 1 (with a shading rate and no blur): shade every sample, not every
+     * vertex.  dice stores each vertex's unit normal (reyes_pack_normal)
+     * where it would store its colour, and rasterize and stitch light
+     * each covered sample with the normal interpolated from its
+     * triangle's vertices, seen along the sample's own ray: its direction
+     * is ray_origin + x ray_dx + y ray_dy (world space, away from the
+     * eye) for the sample at pixel coordinates (x, y). */
+    REYES_U32 sample_shading;
+    REYES_U32 area_stats;   /* 1: rasterize counts micropolygon areas (REYES_COUNT_AREA_*) */
+    float ray_origin[4], ray_dx[4], ray_dy[4];
+    /* Shading-rate counts (reyes_rate.cl): how far a piece's chord may
+     * stray from its curve on screen (pixels), and the shortest piece
+     * that bending asks for, in sides of the rate in space. */
+    float rate_sag, rate_min_piece;
+    REYES_U32 pad6[2];
 };
 
 #endif

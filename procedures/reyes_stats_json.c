@@ -38,6 +38,24 @@ static void write_buckets(FILE *out, const reyes_stats *s, const reyes_options *
     fprintf(out, "],\n");
 }
 
+/* The micropolygons' areas in square pixels (with area_stats, else
+ * null): mean, percentiles and the bins' counts. */
+static void write_areas(FILE *out, const reyes_stats *s, const reyes_options *o)
+{
+    if (!o->area_stats) {
+        fprintf(out, "  \"micropolygon_area\": null,\n");
+        return;
+    }
+    fprintf(out, "  \"micropolygon_area\": {\"mean\": %.6g, \"p10\": %.6g, \"p25\": %.6g, \"p50\": %.6g, "
+                 "\"p75\": %.6g, \"p90\": %.6g, \"p99\": %.6g, \"bins\": [",
+            reyes_stats_area_mean(s), reyes_stats_area_percentile(s, 0.10), reyes_stats_area_percentile(s, 0.25),
+            reyes_stats_area_percentile(s, 0.50), reyes_stats_area_percentile(s, 0.75),
+            reyes_stats_area_percentile(s, 0.90), reyes_stats_area_percentile(s, 0.99));
+    for (unsigned b = 0; b < REYES_AREA_BINS; ++b)
+        fprintf(out, "%s%" PRIu64, b ? ", " : "", s->micropolygon_area_bins[b]);
+    fprintf(out, "]},\n");
+}
+
 reyes_status reyes_write_stats_json(FILE *out, const reyes_stats *s, const reyes_options *o,
                                     reyes_error *error)
 {
@@ -59,6 +77,7 @@ reyes_status reyes_write_stats_json(FILE *out, const reyes_stats *s, const reyes
     fprintf(out, "  \"grids\": %" PRIu64 ",\n", s->grids);
     fprintf(out, "  \"forced_dice\": %" PRIu64 ",\n", s->forced_dice);
     fprintf(out, "  \"micropolygons\": %" PRIu64 ",\n", s->micropolygons);
+    write_areas(out, s, o);
     fprintf(out, "  \"grid\": %u, \"shading_rate\": %g,\n", o->grid, (double)o->shading_rate);
     fprintf(out, "  \"samples_written\": %" PRIu64 ",\n", s->samples_written);
     fprintf(out, "  \"crack_fix\": \"%s\", \"stitches\": %" PRIu64 ", \"fillers\": %" PRIu64 ",\n",

@@ -11,35 +11,27 @@
  * functions leave no sample uncovered between them.
  */
 
-/* Grid coordinates (i, j) of vertex k along edge `edge` (k in the edge's
- * own direction: increasing u or v) of a grid of size.x x size.y. */
-int2 reyes_edge_vertex(uint edge, int k, int2 size)
-{
-    switch (edge) {
-    case REYES_EDGE_V0: return (int2)(k, 0);
-    case REYES_EDGE_U1: return (int2)(size.x - 1, k);
-    case REYES_EDGE_V1: return (int2)(k, size.y - 1);
-    default: return (int2)(0, k);
-    }
-}
-
-/* Segments of sub-patch sp's grid along edge `edge`. */
+/* Segments of sub-patch sp's grid along edge `edge`: the edge's own with
+ * a shading rate (reyes_edge_count), else the grid's. */
 int reyes_edge_segments(__global const struct reyes_params *p, const struct reyes_subpatch *sp, uint edge)
 {
-    int2 size = reyes_dice_size(p, sp->dice_size);
+    struct reyes_subpatch edge_sp = reyes_edge_subpatch(p, sp, (int)edge);
+    int2 size = reyes_dice_size(p, edge_sp.dice_size);
     return edge == REYES_EDGE_V0 || edge == REYES_EDGE_V1 ? size.x - 1 : size.y - 1;
 }
 
-/* A shaded vertex of sub-patch sp's grid, evaluated as dice does. */
+/* Shaded vertex k along edge `edge` of sub-patch sp's grid, evaluated as
+ * dice does. */
 struct reyes_vertex reyes_stitch_vertex(perma_ctx *ctx, const struct reyes_subpatch *sp, uint edge,
                                         int k)
 {
     __global const struct reyes_params *p = ctx->buf.params;
     float3 cp[16];
     reyes_load_patch(ctx->buf.patches, sp->patch, cp);
-    int2 ij = reyes_edge_vertex(edge, k, reyes_dice_size(p, sp->dice_size));
+    struct reyes_subpatch edge_sp = reyes_edge_subpatch(p, sp, (int)edge);
+    int2 ij = reyes_edge_vertex(edge, k, reyes_dice_size(p, edge_sp.dice_size));
     struct reyes_displacement d = { p, ctx->buf.displacement_map };
-    return reyes_grid_vertex(&d, cp, sp, ctx->buf.colors[sp->patch], ij.x, ij.y, 1);
+    return reyes_grid_vertex(&d, cp, &edge_sp, ctx->buf.colors[sp->patch], ij.x, ij.y, 1);
 }
 
 /* Where the zipper is on the neighbours' polyline: vertex k of piece
@@ -62,10 +54,11 @@ struct reyes_vertex reyes_piece_vertex(perma_ctx *ctx, uint first, struct reyes_
 }
 
 /* Rasterize triangle (a, b, c) over its pixel box clipped to the tile,
- * with the same sample positions and atomic min as rasterize.  Returns 1
- * if it was in front of the near plane. */
+ * with the same sample positions and atomic min as rasterize (with sample
+ * shading lit with base colour `base`).  Returns 1 if it was in front of
+ * the near plane. */
 int reyes_fill_triangle(perma_ctx *ctx, struct reyes_vertex a, struct reyes_vertex b,
-                        struct reyes_vertex c)
+                        struct reyes_vertex c, uint base)
 {
     __global const struct reyes_params *p = ctx->buf.params;
     if (a.clip.w <= p->near_w || b.clip.w <= p->near_w || c.clip.w <= p->near_w)
@@ -92,7 +85,7 @@ int reyes_fill_triangle(perma_ctx *ctx, struct reyes_vertex a, struct reyes_vert
     float2 lo = (float2)(fmin(fmin(q.x[0], q.x[1]), q.x[2]), fmin(fmin(q.y[0], q.y[1]), q.y[2]));
     float2 hi = (float2)(fmax(fmax(q.x[0], q.x[1]), q.x[2]), fmax(fmax(q.y[0], q.y[1]), q.y[2]));
     const struct reyes_triangle triangle = reyes_triangle_setup(&q, 0, 1, 2);
-    reyes_sample_box(p, ctx->buf.samples, lo, hi, &q, &triangle, 1);
+    reyes_sample_box(p, ctx->buf.samples, lo, hi, &q, &triangle, 1, base);
     return 1;
 }
 
@@ -110,7 +103,7 @@ void reyes_stitch(perma_ctx *ctx, __local const struct reyes_stitch *item)
     float tf, tf_next;
     struct reyes_vertex c = reyes_stitch_vertex(ctx, &st.owner, st.edge, i);
     struct reyes_vertex f = reyes_piece_vertex(ctx, st.first, &at, &tf);
-    uint fillers = 0;
+    uint fillers = 0, base = ctx->buf.colors[st.owner.patch];
     for (;;) {
         int f_done = at.index + 1u == st.count && at.k == at.last;
         if (i >= i_end && f_done)
@@ -130,11 +123,11 @@ void reyes_stitch(perma_ctx *ctx, __local const struct reyes_stitch *item)
         int advance_owner = f_done || (i < i_end && (float)(i + 1) / (float)last <= tf_next);
         if (advance_owner) {
             struct reyes_vertex c_next = reyes_stitch_vertex(ctx, &st.owner, st.edge, i + 1);
-            fillers += (uint)reyes_fill_triangle(ctx, c, c_next, f);
+            fillers += (uint)reyes_fill_triangle(ctx, c, c_next, f, base);
             c = c_next;
             ++i;
         } else {
-            fillers += (uint)reyes_fill_triangle(ctx, c, f, f_next);
+            fillers += (uint)reyes_fill_triangle(ctx, c, f, f_next, base);
             f = f_next;
             tf = tf_next;
             at = next;

@@ -2,6 +2,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "reyes_stitch_glue.h"
 #include "reyes_stitch_plan.h"
 
 /* One edge of a leaf: along u (axis 0) or v (axis 1), on the line v or u =
@@ -11,15 +12,8 @@ typedef struct edge_record {
     uint32_t axis, side;
     float line, s0, s1;
     uint32_t leaf, edge;
-    uint32_t vertices; /* along the edge with a shading rate (reyes_subpatch.dice_size), else 0 */
+    uint32_t vertices; /* segments along the edge with a shading rate (its byte of edge_levels), else 0 */
 } edge_record;
-
-/* A base patch boundary glued to another patch's boundary. */
-typedef struct boundary_link {
-    int32_t patch;      /* -1: none */
-    uint32_t boundary;  /* REYES_EDGE_* of the other patch */
-    uint32_t reversed;
-} boundary_link;
 
 /* A neighbour's edge covering part of an owner's edge. */
 typedef struct registration {
@@ -78,7 +72,8 @@ static edge_record leaf_edge(const struct reyes_subpatch *sp, uint32_t leaf, uin
              : edge == REYES_EDGE_U0 ? sp->u0 : sp->u1;
     r.s0 = along_u ? sp->u0 : sp->v0;
     r.s1 = along_u ? sp->u1 : sp->v1;
-    r.vertices = along_u ? sp->dice_size & 0xffu : (sp->dice_size >> 8) & 0xffu;
+    /* With a shading rate each edge has its own count (reyes_rate.cl). */
+    r.vertices = sp->dice_size ? (sp->edge_levels >> (8 * edge)) & 0xffu : 0u;
     return r;
 }
 
@@ -100,92 +95,6 @@ static long find_record(const edge_record *records, size_t count, edge_record ke
         || r->s0 > key.s0 || r->s1 < key.s1)
         return -1;
     return (long)(lo - 1);
-}
-
-/* Control points of a patch boundary in increasing parameter order. */
-static void boundary_points(const reyes_scene *scene, uint32_t patch, uint32_t boundary, float out[12])
-{
-    const float *p = scene->points + (size_t)patch * 64;
-    for (int k = 0; k < 4; ++k) {
-        int row = boundary == REYES_EDGE_V0 ? 0 : boundary == REYES_EDGE_V1 ? 3 : k;
-        int col = boundary == REYES_EDGE_U0 ? 0 : boundary == REYES_EDGE_U1 ? 3 : k;
-        memcpy(&out[k * 3], &p[(row * 4 + col) * 4], 3 * sizeof(float));
-    }
-}
-
-typedef struct boundary_key {
-    float points[12];   /* the lexicographically smaller orientation */
-    uint32_t patch, boundary, flipped;
-} boundary_key;
-
-static int compare_keys(const void *pa, const void *pb)
-{
-    const boundary_key *a = pa, *b = pb;
-    for (int k = 0; k < 12; ++k) {
-        int c = compare_float(a->points[k], b->points[k]);
-        if (c)
-            return c;
-    }
-    if (a->patch != b->patch)
-        return a->patch < b->patch ? -1 : 1;
-    return a->boundary < b->boundary ? -1 : a->boundary > b->boundary;
-}
-
-static int same_points(const float a[12], const float b[12])
-{
-    for (int k = 0; k < 12; ++k)
-        if (a[k] != b[k])
-            return 0;
-    return 1;
-}
-
-/* Glue base patch boundaries with identical control points (in either
- * order; exactly two patches per curve; collapsed and symmetric curves are
- * left alone). links[patch * 4 + boundary]. */
-static reyes_status link_boundaries(const reyes_scene *scene, boundary_link *links,
-                                    reyes_error *error)
-{
-    size_t n = scene->patch_count * 4, used = 0;
-    boundary_key *keys = malloc((n ? n : 1) * sizeof *keys);
-    if (!keys)
-        return reyes_fail(error, REYES_ERR_NO_MEMORY, "out of memory linking %zu patches",
-                          scene->patch_count);
-    for (size_t i = 0; i < n; ++i) {
-        links[i] = (boundary_link){ .patch = -1 };
-        float forward[12], backward[12];
-        boundary_points(scene, (uint32_t)(i / 4), (uint32_t)(i % 4), forward);
-        for (int k = 0; k < 4; ++k)
-            memcpy(&backward[k * 3], &forward[(3 - k) * 3], 3 * sizeof(float));
-        if (same_points(forward, backward))
-            continue; /* a point (pole) or a symmetric curve: orientation unknown */
-        int flipped = 0;
-        for (int k = 0; k < 12 && !flipped; ++k) {
-            if (forward[k] != backward[k]) {
-                flipped = backward[k] < forward[k];
-                break;
-            }
-        }
-        boundary_key *key = &keys[used++];
-        memcpy(key->points, flipped ? backward : forward, sizeof key->points);
-        key->patch = (uint32_t)(i / 4);
-        key->boundary = (uint32_t)(i % 4);
-        key->flipped = (uint32_t)flipped;
-    }
-    qsort(keys, used, sizeof *keys, compare_keys);
-    for (size_t i = 0; i < used;) {
-        size_t j = i + 1;
-        while (j < used && same_points(keys[j].points, keys[i].points))
-            ++j;
-        if (j - i == 2) {
-            const boundary_key *a = &keys[i], *b = &keys[i + 1];
-            uint32_t reversed = a->flipped != b->flipped;
-            links[a->patch * 4 + a->boundary] = (boundary_link){ (int32_t)b->patch, b->boundary, reversed };
-            links[b->patch * 4 + b->boundary] = (boundary_link){ (int32_t)a->patch, a->boundary, reversed };
-        }
-        i = j;
-    }
-    free(keys);
-    return REYES_OK;
 }
 
 /* The record a leaf edge would meet across a patch boundary, as a search
@@ -293,7 +202,7 @@ static void make_items(const struct reyes_leaf *leaves, const registration *regs
 }
 
 reyes_status reyes_stitch_plan_build(const reyes_scene *scene, const struct reyes_leaf *leaves,
-                                     size_t count, reyes_stitch_plan *plan, reyes_error *error)
+                                     size_t count, int near_seams, reyes_stitch_plan *plan, reyes_error *error)
 {
     memset(plan, 0, sizeof *plan);
     size_t edges = count * 4;
@@ -307,7 +216,7 @@ reyes_status reyes_stitch_plan_build(const reyes_scene *scene, const struct reye
     if (!records || !regs || !links || !plan->items || !plan->item_boxes || !plan->pieces)
         status = reyes_fail(error, REYES_ERR_NO_MEMORY, "out of memory stitching %zu grids", count);
     if (status == REYES_OK)
-        status = link_boundaries(scene, links, error);
+        status = reyes_glue_boundaries(scene, near_seams, links, error);
     if (status == REYES_OK) {
         for (size_t l = 0; l < count; ++l)
             for (uint32_t e = 0; e < 4; ++e)

@@ -23,9 +23,12 @@ typedef struct reyes_stitch_plan {
  * order), so the plan and the seeds do not depend on the schedule. */
 void reyes_leaves_sort(struct reyes_leaf *leaves, size_t count);
 
-/* Build the plan for sorted leaves of `scene`. */
+/* Build the plan for sorted leaves of `scene`; with near_seams also
+ * across base patch boundaries that agree only nearly
+ * (reyes_stitch_glue.h; shading-rate grids, whose two sides of such a
+ * seam may be split and diced differently). */
 reyes_status reyes_stitch_plan_build(const reyes_scene *scene, const struct reyes_leaf *leaves,
-                                     size_t count, reyes_stitch_plan *plan, reyes_error *error);
+                                     size_t count, int near_seams, reyes_stitch_plan *plan, reyes_error *error);
 void reyes_stitch_plan_free(reyes_stitch_plan *plan);
 
 #endif

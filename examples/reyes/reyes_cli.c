@@ -53,6 +53,7 @@ perma_cli_status reyes_cli_parse(int argc, char **argv, reyes_cli *cli, char *me
     cli->render.height = cli->size[1];
     cli->render.bucket_width = cli->bucket[0];
     cli->render.bucket_height = cli->bucket[1];
+    cli->render.area_stats = cli->stats_path != NULL; /* the JSON reports the micropolygons' areas */
     if (cli->orbit_given && !cli->frames)
         return perma_cli_fail(&d.cli, message, size, "--orbit needs --frames");
     if (cli->progress && cli->quiet)

@@ -190,6 +190,42 @@ static void project(const float m[16], unsigned width, unsigned height, const do
     out->sy = (0.5 - clip[1] / clip[3] * 0.5) * height;
 }
 
+/* Quads per side for a patch so that each is at most half a pixel long
+ * in space at the patch's nearest depth (the chords then miss the
+ * surface, seen from any side, by at most a few thousandths of a pixel
+ * where it curves over a pixel or more): the longest row or column of
+ * its control net in world units times the pixels per world unit there.
+ * The most when the net reaches the near plane. */
+static unsigned adaptive_tessellation(const float *points, const float m[16], unsigned width, unsigned height,
+                                      float near_w)
+{
+    double nearest = INFINITY, longest = 0.0;
+    for (int k = 0; k < 16; ++k) {
+        const float *x = points + 4 * k;
+        double w = m[12] * x[0] + m[13] * x[1] + m[14] * x[2] + m[15];
+        nearest = fmin(nearest, w);
+    }
+    if (!(nearest > near_w))
+        return REYES_BRUTE_MAX_TESSELLATION;
+    for (int line = 0; line < 4; ++line) {
+        double row = 0.0, column = 0.0;
+        for (int k = 0; k < 3; ++k) {
+            const float *a = points + 4 * (line * 4 + k), *b = a + 4;
+            const float *c = points + 4 * (k * 4 + line), *d = c + 16;
+            row += sqrt((double)(b[0] - a[0]) * (b[0] - a[0]) + (double)(b[1] - a[1]) * (b[1] - a[1])
+                        + (double)(b[2] - a[2]) * (b[2] - a[2]));
+            column += sqrt((double)(d[0] - c[0]) * (d[0] - c[0]) + (double)(d[1] - c[1]) * (d[1] - c[1])
+                           + (double)(d[2] - c[2]) * (d[2] - c[2]));
+        }
+        longest = fmax(longest, fmax(row, column));
+    }
+    double scale_x = 0.5 * width * sqrt((double)m[0] * m[0] + (double)m[1] * m[1] + (double)m[2] * m[2]);
+    double scale_y = 0.5 * height * sqrt((double)m[4] * m[4] + (double)m[5] * m[5] + (double)m[6] * m[6]);
+    double pixels = longest * fmax(scale_x, scale_y) / nearest;
+    double quads = ceil(pixels / 0.5);
+    return quads < 4.0 ? 4u : quads > REYES_BRUTE_MAX_TESSELLATION ? REYES_BRUTE_MAX_TESSELLATION : (unsigned)quads;
+}
+
 void reyes_brute_free(reyes_brute_image *image)
 {
     if (!image)
@@ -199,8 +235,27 @@ void reyes_brute_free(reyes_brute_image *image)
     free(image->rgb);
     free(image->coverage);
     free(image->facing);
+    free(image->slant);
     free(image->patch);
     memset(image, 0, sizeof *image);
+}
+
+/* The converged image's sample positions: a side x side regular lattice
+ * per pixel (0: the renderer's). */
+static unsigned regular_side;
+
+reyes_status reyes_brute_render_truth(const reyes_scene *scene, const reyes_camera *camera,
+                                      const reyes_options *options, unsigned side, reyes_brute_image *out,
+                                      reyes_error *error)
+{
+    if (side < 1 || side > 8)
+        return reyes_fail(error, REYES_ERR_ARGUMENT, "brute-force lattice side %u is not in 1..8", side);
+    reyes_options o = *options;
+    o.spp = side * side;
+    regular_side = side;
+    reyes_status status = reyes_brute_render(scene, camera, &o, 0, out, error);
+    regular_side = 0;
+    return status;
 }
 
 reyes_status reyes_brute_render(const reyes_scene *scene, const reyes_camera *camera,
@@ -208,15 +263,17 @@ reyes_status reyes_brute_render(const reyes_scene *scene, const reyes_camera *ca
                                 reyes_brute_image *out, reyes_error *error)
 {
     memset(out, 0, sizeof *out);
-    if (tessellation < 1 || tessellation > 1024)
-        return reyes_fail(error, REYES_ERR_ARGUMENT, "brute-force tessellation %u is not in 1..1024",
+    if (tessellation > 1024)
+        return reyes_fail(error, REYES_ERR_ARGUMENT, "brute-force tessellation %u is not in 0..1024",
                           tessellation);
     unsigned width = options->width, height = options->height, spp = options->spp;
     float m[16], near_w = reyes_near_plane(scene, camera);
     reyes_status status = reyes_camera_matrix(camera, (float)width / (float)height, near_w, m, error);
     if (status != REYES_OK)
         return status;
-    size_t pixels = (size_t)width * height, samples = pixels * spp, side = tessellation + 1;
+    int adaptive = tessellation == 0;
+    size_t pixels = (size_t)width * height, samples = pixels * spp;
+    size_t side = (adaptive ? REYES_BRUTE_MAX_TESSELLATION : tessellation) + 1;
     float *positions = malloc(samples * 2 * sizeof *positions);
     hit *hits = malloc(samples * sizeof *hits);
     vertex *grid = malloc(side * side * sizeof *grid);
@@ -225,8 +282,9 @@ reyes_status reyes_brute_render(const reyes_scene *scene, const reyes_camera *ca
     out->rgb = malloc(pixels * 3);
     out->coverage = malloc(pixels);
     out->facing = calloc(samples, 1);
+    out->slant = calloc(samples, sizeof *out->slant);
     out->patch = malloc(samples * sizeof *out->patch);
-    if (!out->facing || !out->patch || !positions || !hits || !grid || !out->depth || !out->rgba || !out->rgb || !out->coverage) {
+    if (!out->facing || !out->slant || !out->patch || !positions || !hits || !grid || !out->depth || !out->rgba || !out->rgb || !out->coverage) {
         free(positions);
         free(hits);
         free(grid);
@@ -241,12 +299,21 @@ reyes_status reyes_brute_render(const reyes_scene *scene, const reyes_camera *ca
         for (unsigned px = 0; px < width; ++px)
             for (unsigned s = 0; s < spp; ++s) {
                 size_t index = ((size_t)py * width + px) * spp + s;
-                sample_position(px, py, s, spp, &positions[2 * index], &positions[2 * index + 1]);
+                if (regular_side) {
+                    positions[2 * index] = (float)px + ((float)(s % regular_side) + 0.5f) / (float)regular_side;
+                    positions[2 * index + 1] = (float)py + ((float)(s / regular_side) + 0.5f) / (float)regular_side;
+                } else {
+                    sample_position(px, py, s, spp, &positions[2 * index], &positions[2 * index + 1]);
+                }
                 hits[index] = (hit){ .depth = INFINITY, .patch = UINT32_MAX };
             }
     raster r = { width, height, spp, positions, hits };
     for (size_t p = 0; p < scene->patch_count; ++p) {
         const float *points = scene->points + p * 64;
+        if (adaptive) {
+            tessellation = adaptive_tessellation(points, m, width, height, near_w);
+            side = tessellation + 1;
+        }
         for (size_t j = 0; j < side; ++j)
             for (size_t i = 0; i < side; ++i) {
                 vertex *v = &grid[j * side + i];
@@ -277,6 +344,10 @@ reyes_status reyes_brute_render(const reyes_scene *scene, const reyes_camera *ca
             out->rgba[index] = shade(eye, x, n, scene->colors[h->patch]);
             double view[3] = {eye[0] - x[0], eye[1] - x[1], eye[2] - x[2]};
             out->facing[index] = dot3(n, view) >= 0.0 ? 1 : 2;
+            normalize3(view);
+            if (dot3(n, n) > 0.0)
+                normalize3(n);
+            out->slant[index] = (float)fabs(dot3(n, view));
             out->patch[index] = h->patch;
         }
     }
@@ -305,9 +376,9 @@ reyes_status reyes_brute_render(const reyes_scene *scene, const reyes_camera *ca
  * (a fold or the rim of an open surface, where its front and its back
  * meet at one depth) or two patches (a seam, maybe a crease: a sample
  * within a hair of it may take either side's colour). */
-static int near_edge(const reyes_brute_image *ref, unsigned x, unsigned y)
+static int near_edge(const reyes_brute_image *ref, unsigned x, unsigned y, float *farthest)
 {
-    int covered = 0, empty = 0, sides = 0, seam = 0;
+    int covered = 0, empty = 0, sides = 0, seam = 0, grazing = 0;
     uint32_t patch = UINT32_MAX;
     float lo = INFINITY, hi = 0.0f;
     for (int dy = -1; dy <= 1; ++dy)
@@ -320,6 +391,7 @@ static int near_edge(const reyes_brute_image *ref, unsigned x, unsigned y)
                 if (depth[s] < INFINITY) {
                     covered = 1;
                     size_t index = (size_t)(depth - ref->depth) + s;
+                    grazing |= ref->slant[index] < REYES_BRUTE_GRAZING;
                     sides |= ref->facing[index];
                     seam |= patch != UINT32_MAX && ref->patch[index] != patch;
                     patch = ref->patch[index];
@@ -330,7 +402,22 @@ static int near_edge(const reyes_brute_image *ref, unsigned x, unsigned y)
                 }
             }
         }
-    return (covered && empty) || (covered && hi > lo * 1.02f) || sides == 3 || seam;
+    /* Where the front is seen at a grazing angle (a fold, a rim seen
+     * edge-on) a tessellation cuts the contour by its chords' error: not
+     * a crack.  INFINITY: no crack can be told here. */
+    *farthest = empty || grazing ? INFINITY : hi;
+    if ((covered && empty) || (covered && hi > lo * 1.02f) || sides == 3)
+        return 2;
+    return seam;
+}
+
+void reyes_brute_edge_map(const reyes_brute_image *ref, uint8_t *map)
+{
+    for (unsigned y = 0; y < ref->height; ++y)
+        for (unsigned x = 0; x < ref->width; ++x) {
+            float farthest;
+            map[(size_t)y * ref->width + x] = (uint8_t)near_edge(ref, x, y, &farthest);
+        }
 }
 
 reyes_status reyes_brute_compare(const reyes_image *image, const reyes_brute_image *ref,
@@ -347,7 +434,8 @@ reyes_status reyes_brute_compare(const reyes_image *image, const reyes_brute_ima
     for (unsigned y = 0; y < ref->height; ++y)
         for (unsigned x = 0; x < ref->width; ++x) {
             size_t px = (size_t)y * ref->width + x;
-            int edge = near_edge(ref, x, y);
+            float farthest;
+            int edge = near_edge(ref, x, y, &farthest);
             for (unsigned s = 0; s < spp; ++s) {
                 size_t index = px * spp + s;
                 uint64_t value = image->samples[index];
@@ -361,9 +449,11 @@ reyes_status reyes_brute_compare(const reyes_image *image, const reyes_brute_ima
                 } else if (!rendered && reference) {
                     ++out->missing;
                     out->interior_missing += !edge;
+                    out->holes += farthest < INFINITY;
                 } else if (rendered && fabsf(depth.f - ref->depth[index]) > 0.01f * ref->depth[index]) {
                     ++out->other_surface;
                     out->interior_other_surface += !edge;
+                    out->see_through += depth.f > 1.01f * farthest;
                 }
             }
             if (!ref->coverage[px] && !image->coverage[px])
@@ -396,10 +486,11 @@ void reyes_brute_print(FILE *out, const char *label, const reyes_brute_compariso
 {
     fprintf(out,
             "%s: samples %zu covered %zu near edges %zu | coverage extra %zu (interior %zu) missing %zu "
-            "(interior %zu) | other surface %zu (interior %zu) | colour mean %.3f max %u, pixels >8 %zu "
-            ">32 %zu; interior mean %.3f max %u >8 %zu of %zu\n",
+            "(interior %zu) | other surface %zu (interior %zu) | see-through %zu holes %zu | colour mean %.3f "
+            "max %u, pixels >8 %zu >32 %zu; interior mean %.3f max %u >8 %zu of %zu\n",
             label, c->samples, c->reference_covered, c->edge_samples, c->extra, c->interior_extra, c->missing,
-            c->interior_missing, c->other_surface, c->interior_other_surface, c->mean_error, c->max_error,
+            c->interior_missing, c->other_surface, c->interior_other_surface, c->see_through, c->holes,
+            c->mean_error, c->max_error,
             c->pixels_over_8, c->pixels_over_32, c->interior_mean_error, c->interior_max_error,
             c->interior_pixels_over_8, c->interior_pixels);
 }

@@ -22,18 +22,36 @@ typedef struct reyes_brute_image {
     uint8_t *coverage;  /* per pixel: covered samples */
     uint32_t *patch;    /* per sample: the patch seen (UINT32_MAX: none) */
     uint8_t *facing;    /* per sample: 1 the surface's front (its normal towards the eye), 2 its back, 0 empty */
+    float *slant;       /* per sample: |cos| of the angle between the surface's normal and the ray (0: empty) */
 } reyes_brute_image;
+
+#define REYES_BRUTE_MAX_TESSELLATION 128u
+/* The slant below which a surface is seen at a grazing angle (about 84
+ * degrees from facing the eye): the cracks are not counted there. */
+#define REYES_BRUTE_GRAZING 0.1f
 
 /* Render scene through camera at options' width, height, spp and
  * background, tessellating every patch into tessellation x tessellation
  * quads (64 is plenty for the models at 512 px: its chords miss the
- * surface by hundredths of a pixel).  Triangles with a vertex at or behind
+ * surface by hundredths of a pixel), or with tessellation 0 into as many
+ * as make its quads at most half a pixel long in space at its nearest
+ * depth (4 .. REYES_BRUTE_MAX_TESSELLATION; the most for a patch reaching
+ * the near plane): as exact, and far faster for models of many small
+ * patches.  Triangles with a vertex at or behind
  * the near plane are left out, as the renderer drops such micropolygons:
  * hold views that cross the near plane elsewhere. */
 reyes_status reyes_brute_render(const reyes_scene *scene, const reyes_camera *camera,
                                 const reyes_options *options, unsigned tessellation,
                                 reyes_brute_image *out, reyes_error *error);
 void reyes_brute_free(reyes_brute_image *image);
+
+/* The converged image of the view, adaptively tessellated (tessellation
+ * 0) and sampled on a side x side regular lattice per pixel (1..8)
+ * instead of the renderer's sample positions: what a render's pixels
+ * approximate, sampling noise and all. */
+reyes_status reyes_brute_render_truth(const reyes_scene *scene, const reyes_camera *camera,
+                                      const reyes_options *options, unsigned side, reyes_brute_image *out,
+                                      reyes_error *error);
 
 /* A render held against the reference.  A sample or pixel is *near an
  * edge* when the reference's 3x3 pixels around it have both covered and
@@ -51,6 +69,16 @@ typedef struct reyes_brute_comparison {
     size_t interior_extra, interior_missing;
     /* Covered in both but by another surface (depths more than 1 % apart). */
     size_t other_surface, interior_other_surface;
+    /* Cracks: samples that show a surface more than 1 % farther than
+     * any the reference shows in the 3x3 pixels around them (see-through)
+     * or the background where the reference shows none there (holes),
+     * where the reference's surface there faces the eye (|cos| of the
+     * angle to the ray at least REYES_BRUTE_GRAZING).  What a tessellation
+     * may legitimately see past a silhouette within a pixel the reference
+     * shows nearby too, and where a fold or a rim is seen edge-on its
+     * chords cut the contour (silhouette errors, in the colour and FLIP
+     * figures, not cracks). */
+    size_t see_through, holes;
     /* Colour per pixel channel, in levels (0..255), over the pixels
      * either covers (`pixels`): mean, largest, and pixels whose largest
      * channel error is over 8 and over 32 levels; the same over those of
@@ -65,6 +93,10 @@ typedef struct reyes_brute_comparison {
  * with the reference of the same size and spp. */
 reyes_status reyes_brute_compare(const reyes_image *image, const reyes_brute_image *reference,
                                  reyes_brute_comparison *out, reyes_error *error);
+
+/* Per pixel: 2 near a silhouette, fold, rim or one surface in front of
+ * another, 1 near a seam between patches only, else 0 (interior). */
+void reyes_brute_edge_map(const reyes_brute_image *reference, uint8_t *map);
 
 /* One line of the comparison's numbers (for the test logs and docs). */
 void reyes_brute_print(FILE *out, const char *label, const reyes_brute_comparison *c);

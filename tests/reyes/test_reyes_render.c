@@ -122,9 +122,8 @@ START_TEST(test_builtin_no_holes)
     /* Every split makes one patch two; every patch ends culled or diced. */
     ck_assert_uint_eq(stats.patches_in + stats.splits, stats.grids + stats.culled);
     ck_assert_uint_eq(stats.procedures[REYES_PROC_DICE].items, stats.grids);
-    /* One rasterize item per diced grid, all of which are in view. */
-    ck_assert_uint_eq(stats.procedures[REYES_PROC_RASTERIZE].items, stats.grids);
-    ck_assert_uint_eq(stats.procedures[REYES_PROC_DICE].emitted[0], stats.grids);
+    /* Dice rasterizes its grids itself: it emits nothing. */
+    ck_assert_uint_eq(stats.procedures[REYES_PROC_DICE].emit_count, 0);
     ck_assert_uint_eq(stats.procedures[REYES_PROC_SPLIT_U].items + stats.procedures[REYES_PROC_SPLIT_V].items,
                       stats.splits);
     ck_assert_uint_gt(stats.samples_written, 0);
@@ -264,7 +263,6 @@ START_TEST(test_stages)
     ck_assert_uint_eq(geometry.splits, all.splits);
     ck_assert_uint_eq(subdivide.grids, all.grids);
     ck_assert_uint_eq(geometry.micropolygons, all.micropolygons);
-    ck_assert_uint_eq(geometry.procedures[REYES_PROC_RASTERIZE].items, 0);
     ck_assert_uint_eq(subdivide.micropolygons, 0);
     o.stages = 3;
     ck_assert_int_eq(reyes_render(reyes_test_renderer(0), &scene, &camera, &o, &image, NULL, &error),

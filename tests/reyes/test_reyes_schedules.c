@@ -1,5 +1,7 @@
 /* Every technique and strategy, with 1 or 2 work-groups, renders the
- * built-in scene to byte-identical images with identical counts. */
+ * built-in scene to byte-identical images with identical counts, with
+ * fixed grids (the library's default) and with a shading rate of 1 (the
+ * command's: edge counts, stitches across seams, sample shading). */
 #include <check.h>
 #include <stdlib.h>
 #include <string.h>
@@ -18,18 +20,26 @@ START_TEST(test_every_schedule_identical)
     reyes_options_init(&o);
     o.width = WIDTH;
     o.height = HEIGHT;
-    reyes_image first = {0};
-    reyes_stats first_stats;
+    reyes_image first = {0}, first_rate = {0};
+    reyes_stats first_stats, first_rate_stats;
     memset(&first_stats, 0, sizeof first_stats);
+    memset(&first_rate_stats, 0, sizeof first_rate_stats);
     unsigned rendered = 0;
     for (unsigned s = 0; s < reyes_test_schedule_count; ++s) {
         for (unsigned groups = 1; groups <= 2; ++groups) {
             char label[128];
             snprintf(label, sizeof label, "%s groups=%u", reyes_test_schedules[s], groups);
             reyes_test_apply_schedule(reyes_test_schedules[s], groups, &o);
-            reyes_image image;
-            reyes_stats stats;
-            reyes_test_render_once(&scene, &camera, &o, &image, &stats);
+            reyes_image image, rate_image;
+            reyes_stats stats, rate_stats;
+            reyes_renderer *renderer;
+            reyes_error error;
+            ck_assert_msg(reyes_renderer_create(&o, &renderer, &error) == REYES_OK, "%s: %s", label, error.message);
+            reyes_test_render(renderer, &scene, &camera, &o, &image, &stats);
+            reyes_options rate = o;
+            rate.shading_rate = 1.0f;
+            reyes_test_render(renderer, &scene, &camera, &rate, &rate_image, &rate_stats);
+            reyes_renderer_destroy(renderer);
             /* The runtime ran what was asked for. */
             ck_assert_msg(stats.run.technique == o.schedule.technique, "%s: ran another technique", label);
             ck_assert_msg(o.schedule.technique != PERMA_TECHNIQUE_MEGAKERNEL
@@ -40,17 +50,26 @@ START_TEST(test_every_schedule_identical)
             if (rendered++ == 0) {
                 first = image;
                 first_stats = stats;
+                first_rate = rate_image;
+                first_rate_stats = rate_stats;
                 ck_assert_uint_gt(stats.splits, 100);
                 ck_assert_uint_gt(stats.samples_written, 0);
+                ck_assert_uint_gt(rate_stats.samples_written, 0);
                 reyes_test_expect_reference_counts(&scene, &camera, &o, &stats);
                 continue;
             }
             reyes_test_expect_same_image(&first, &image, label);
             reyes_test_expect_same_counts(&first_stats, &stats, label);
+            char rate_label[160];
+            snprintf(rate_label, sizeof rate_label, "%s, shading rate 1", label);
+            reyes_test_expect_same_image(&first_rate, &rate_image, rate_label);
+            reyes_test_expect_same_counts(&first_rate_stats, &rate_stats, rate_label);
             reyes_image_free(&image);
+            reyes_image_free(&rate_image);
         }
     }
     reyes_image_free(&first);
+    reyes_image_free(&first_rate);
     reyes_scene_free(&scene);
 }
 END_TEST

@@ -1,0 +1,70 @@
+/*
+ * Holding renders against the brute-force reference (reyes_brute.h) for
+ * the quality of shading-rate dicing: cracks per sample at 1 sample per
+ * pixel, the FLIP error (reyes_flip.h) against the converged image and
+ * against the reference at the render's own samples, the colour error,
+ * and the micropolygons' density and areas.  Shared by the tests and the
+ * reyes-quality tool.
+ */
+#ifndef REYES_QUALITY_UTIL_H
+#define REYES_QUALITY_UTIL_H
+
+#include "reyes_brute.h"
+
+/* A camera orbiting a framed one: turned about its target by azimuth
+ * degrees (about z), raised to elevation degrees above the target's
+ * horizontal plane, at distance times its distance. */
+typedef struct reyes_quality_view {
+    float azimuth, elevation, distance;
+} reyes_quality_view;
+
+reyes_camera reyes_quality_orbit(const reyes_camera *framed, reyes_quality_view view);
+
+/* The references of one view, adaptively tessellated: at 1 sample per
+ * pixel for the cracks, at the options' samples per pixel (the render's
+ * sample positions) and the converged image (4 x 4 regular samples per
+ * pixel), each made when asked for (REYES_QUALITY_*). */
+enum { REYES_QUALITY_CRACKS = 1, REYES_QUALITY_SAMPLES = 2, REYES_QUALITY_TRUTH = 4 };
+
+typedef struct reyes_quality_reference {
+    reyes_brute_image one, many, truth;
+    unsigned made;
+} reyes_quality_reference;
+
+reyes_status reyes_quality_reference_make(const reyes_scene *scene, const reyes_camera *camera,
+                                          const reyes_options *options, unsigned what,
+                                          reyes_quality_reference *out, reyes_error *error);
+void reyes_quality_reference_free(reyes_quality_reference *reference);
+
+typedef struct reyes_quality_result {
+    /* At 1 sample per pixel: see-through samples and holes (reyes_brute_comparison). */
+    size_t see_through, holes;
+    /* At the options' samples per pixel, against the reference at the
+     * render's samples: the comparison, the mean FLIP and its parts from
+     * pixels near silhouettes and near seams only (reyes_brute_edge_map). */
+    reyes_brute_comparison colour;
+    double flip, flip_silhouettes, flip_seams;
+    double flip_truth;               /* mean FLIP against the converged image */
+    double micropolygons_per_pixel;  /* micropolygons / pixels with any covered sample */
+    double area_mean;                /* square pixels (stats) */
+    double area_percentile[4];       /* 10th, 50th, 90th and 99th */
+    uint64_t micropolygons, grids;
+    size_t covered_pixels;
+} reyes_quality_result;
+
+/* Render the view with options at 1 sample per pixel and count its
+ * cracks against the reference (see_through, holes). */
+reyes_status reyes_quality_cracks(reyes_renderer *renderer, const reyes_scene *scene, const reyes_camera *camera,
+                                  const reyes_options *options, const reyes_quality_reference *reference,
+                                  reyes_quality_result *out, reyes_error *error);
+
+/* Render the view with options and measure the micropolygons and, for
+ * the references made, the colour and FLIP errors (the other fields).
+ * With `dump` (may be NULL) and the reference at the render's samples
+ * also write DUMP.png, DUMP-reference.png and DUMP-error.png (the
+ * differences times 8). */
+reyes_status reyes_quality_colour(reyes_renderer *renderer, const reyes_scene *scene, const reyes_camera *camera,
+                                  const reyes_options *options, const reyes_quality_reference *reference,
+                                  const char *dump, reyes_quality_result *out, reyes_error *error);
+
+#endif
