@@ -23,7 +23,8 @@ typedef struct bench_options {
     int quick;              /* --quick: small sizes (tests) */
     unsigned groups;        /* --groups N: perma work-groups, 0 = runtime default */
     unsigned threads;       /* OpenMP threads: --threads N, 0 = online CPUs */
-    const char *only;       /* --only TEXT: run only perma variants whose label contains it */
+    const char *only;       /* --only TEXT: run only perma variants whose label contains it
+                             * (=LABEL: only that label) */
     int verbose;            /* --verbose: perma_print_stats after each perma row */
     /* --devices LIST: PERMA_DEVICE values (e.g. pocl,intel); every perma
      * row is measured once per device, the rows of a variant side by side. */
@@ -44,6 +45,7 @@ int bench_queue(bench_options *options, int argc, char **argv);
 int bench_tree(bench_options *options, int argc, char **argv);
 int bench_pipeline(bench_options *options, int argc, char **argv);
 int bench_reyes(bench_options *options, int argc, char **argv);
+int bench_plain(bench_options *options, int argc, char **argv);
 
 /* ---- command lines (bench_cli.c) ---- */
 
@@ -80,6 +82,7 @@ typedef struct bench_row {
     char message[PERMA_MESSAGE_MAX + 64];
     double seconds;          /* median of the timed runs */
     double wall_seconds;     /* perma rows: median wall time around perma_run */
+    double cpu_seconds;      /* median CPU time of the process (all threads) per run; 0: not measured */
     double units;            /* items or nodes processed per run */
     const char *unit;        /* "items" or "nodes" */
     uint64_t count, expected;
@@ -94,6 +97,11 @@ typedef struct bench_row {
 typedef struct bench_report bench_report;
 
 int bench_report_open(bench_report **out, const char *benchmark, const bench_options *options);
+/* Widen the variant column by `extra` characters (for longer row names). */
+void bench_report_widen(bench_report *report, int extra);
+/* Print a "cpu vs seq" column: the CPU time (all threads) of sequential C
+ * over the row's, from bench_row.cpu_seconds. */
+void bench_report_show_cpu(bench_report *report);
 /* Start a new workload: its first row should be the sequential baseline. */
 void bench_report_workload(bench_report *report, const char *title);
 /* Print and record one row; the sequential row sets the ratio baseline. */
@@ -119,6 +127,7 @@ void bench_status_row_printed(void);
 /* ---- timing (timing.c) ---- */
 
 double bench_now(void);                         /* monotonic seconds */
+double bench_cpu_now(void);                     /* CPU seconds of the process, all threads */
 double bench_median(double *values, unsigned count); /* sorts values */
 /* The median of the timed runs, or the fastest with --best. */
 double bench_summary(const bench_options *options, double *values, unsigned count);
@@ -148,7 +157,8 @@ unsigned bench_device_passes(const bench_options *options);
  * and name v's rows after it. */
 void bench_variant_use_device(const bench_options *options, unsigned d, bench_variant *v);
 
-/* Whether --only selects `label` (a substring of it); if so, parse it into
+/* Whether --only selects `label` (a substring of it, or the whole label
+ * after '=': --only =megakernel/shared); if so, parse it into
  * *out.  A label that does not parse prints as n/a with the parser's
  * message and is not selected. */
 int bench_variant_select(const bench_options *options, const char *label, bench_variant *out);
@@ -187,6 +197,15 @@ void bench_perma_verbose(perma_runtime *rt, const bench_options *options);
 
 /* Time `repeat` runs of fn (after one warm-up run) and return the median. */
 double bench_time_baseline(const bench_options *options, void (*fn)(void *), void *arg);
+/* The same with prepare(arg) before every call of fn, outside the timing
+ * (e.g. restoring an input that fn changes in place). */
+double bench_time_prepared(const bench_options *options, void (*prepare)(void *), void (*fn)(void *), void *arg);
+/* The same, with the median (or, with --best, least) CPU time of the
+ * process per call too. */
+typedef struct bench_timing {
+    double seconds, cpu_seconds;
+} bench_timing;
+bench_timing bench_time_runs(const bench_options *options, void (*prepare)(void *), void (*fn)(void *), void *arg);
 
 /* Number of OpenMP threads to use. */
 unsigned bench_threads(const bench_options *options);

@@ -10,8 +10,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-enum { COUNTER_SLOTS = 256, COUNTER_STRIDE = 8 };
-
 static const char *device_types =
     "#pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable\n"
     "struct pipe_producer { uint index; uint pad; };\n"
@@ -38,12 +36,12 @@ static const char *transform_source =
     "    emit_consumer(ctx, &res);\n"
     "}\n";
 
+/* The consumed count and the checksum are reductions. */
 static const char *consumer_source =
     "void consumer(perma_ctx *ctx, __local const struct pipe_result *res)\n"
     "{\n"
-    "    __global ulong *c = ctx->buf.pipe_counters + PIPE_STRIDE * (ctx->group % PIPE_SLOTS);\n"
-    "    atom_inc(&c[0]);\n"
-    "    atom_add(&c[1], (ulong)res->value);\n"
+    "    reduce_consumed(ctx, 1ul);\n"
+    "    reduce_checksum(ctx, (ulong)res->value);\n"
     "}\n";
 
 typedef struct pipe_state {
@@ -51,24 +49,19 @@ typedef struct pipe_state {
     pipe_result_sum expected;
     perma_proc procs[3];
     pipe_producer *seeds;
-    uint64_t counters[COUNTER_SLOTS * COUNTER_STRIDE];
+    uint64_t consumed, checksum; /* the reductions of the last run */
 } pipe_state;
 
 static perma_status pipe_prepare(void *state, perma_runtime *rt)
 {
     pipe_state *s = state;
-    memset(s->counters, 0, sizeof s->counters);
     return perma_seed(rt, s->procs[0], s->seeds, s->params.producers);
 }
 
 static int pipe_verify(void *state, perma_runtime *rt, bench_row *row)
 {
     pipe_state *s = state;
-    uint64_t consumed = 0, checksum = 0;
-    for (unsigned g = 0; g < COUNTER_SLOTS; ++g) {
-        consumed += s->counters[g * COUNTER_STRIDE];
-        checksum += s->counters[g * COUNTER_STRIDE + 1];
-    }
+    uint64_t consumed = s->consumed, checksum = s->checksum;
     perma_stats st;
     row->count = consumed;
     row->expected = s->expected.consumed;
@@ -102,16 +95,16 @@ static void run_perma(const bench_options *o, const bench_variant *v, pipe_state
         size_t sizes[3] = { sizeof(pipe_producer), sizeof(pipe_record), sizeof(pipe_result) };
         bench_workload w = { pipe_prepare, pipe_verify, s, 3, s->procs, sizes };
         char defines[160];
-        snprintf(defines, sizeof defines, "#define PIPE_ROUNDS %uu\n#define PIPE_STRIDE %uu\n#define PIPE_SLOTS %uu\n",
-                 s->params.rounds, (unsigned)COUNTER_STRIDE, (unsigned)COUNTER_SLOTS);
+        snprintf(defines, sizeof defines, "#define PIPE_ROUNDS %uu\n", s->params.rounds);
         perma_status st = perma_add_source(rt, defines, "pipe_defines.cl");
         if (st == PERMA_OK)
             st = perma_add_source(rt, device_types, "pipe_types.cl");
         for (int i = 0; i < 3 && st == PERMA_OK; ++i)
             st = perma_register(rt, &procs[i], &s->procs[i]);
         if (st == PERMA_OK)
-            st = perma_bind_host(rt, "pipe_counters", "__global ulong *", s->counters, sizeof s->counters,
-                                 PERMA_READ_WRITE);
+            st = perma_declare_reduction(rt, "consumed", PERMA_REDUCE_SUM, PERMA_TYPE_ULONG, &s->consumed);
+        if (st == PERMA_OK)
+            st = perma_declare_reduction(rt, "checksum", PERMA_REDUCE_SUM, PERMA_TYPE_ULONG, &s->checksum);
         if (st != PERMA_OK)
             snprintf(row.message, sizeof row.message, "setup: %s", perma_errmsg(rt));
         else

@@ -4,20 +4,13 @@
  * node count and hash sum), OpenMP tasks, then every perma variant with one
  * procedure `uts_visit` that counts its node and emits its children.  A perma
  * row passes its check only if the node count and the hash sum equal the
- * sequential ones. */
+ * sequential ones.  The procedure counts with two reductions
+ * (perma_declare_reduction): no atomic, no counter array. */
 #include "bench.h"
 #include "uts.h"
 
 #include <stdlib.h>
 #include <string.h>
-
-/* Device counters (nodes, hash sum): one pair per work-item of the first
- * COUNTER_GROUPS work-groups, added to without atomics, like the per-thread
- * counters of the OpenMP count (a work-item runs the items of batch slots
- * lid, lid + group size, ... one after another, so slot % group size names
- * it); work-groups beyond them (only with --groups above it) share one pair
- * with atomics. */
-enum { COUNTER_GROUPS = 64 };
 
 static const char *device_types =
     "#pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable\n"
@@ -58,8 +51,7 @@ static void tree_title(const uts_tree *t, char *out, size_t size)
 typedef struct tree_state {
     const uts_tree *tree;
     perma_proc proc;
-    uint64_t *counters;   /* 2 * (COUNTER_GROUPS * group_size + 1) */
-    size_t counter_count;
+    uint64_t nodes, hash_sum; /* the reductions of the last run */
     uts_node *seeds;
     size_t seed_count;
     uts_result host_part; /* nodes counted on the host (the expanded binomial root) */
@@ -69,18 +61,13 @@ typedef struct tree_state {
 static perma_status tree_prepare(void *state, perma_runtime *rt)
 {
     tree_state *s = state;
-    memset(s->counters, 0, s->counter_count * sizeof *s->counters);
     return perma_seed(rt, s->proc, s->seeds, s->seed_count);
 }
 
 static int tree_verify(void *state, perma_runtime *rt, bench_row *row)
 {
     tree_state *s = state;
-    uint64_t nodes = s->host_part.nodes, sum = s->host_part.hash_sum;
-    for (size_t i = 0; i < s->counter_count; i += 2) {
-        nodes += s->counters[i];
-        sum += s->counters[i + 1];
-    }
+    uint64_t nodes = s->host_part.nodes + s->nodes, sum = s->host_part.hash_sum + s->hash_sum;
     perma_stats st;
     int items_ok = perma_get_stats(rt, &st) == PERMA_OK && st.items + s->host_part.nodes == nodes;
     row->count = nodes;
@@ -88,7 +75,12 @@ static int tree_verify(void *state, perma_runtime *rt, bench_row *row)
     return nodes == s->expected.nodes && sum == s->expected.hash_sum && items_ok;
 }
 
-static char *procedure_source(const uts_tree *t, unsigned group_size)
+/* The procedure: counts its node with two reductions and emits its
+ * children, their hashes computed UTS_LANES at a time (uts_child_hashes:
+ * eight independent chains in a fixed-length loop, which the compiler runs
+ * in SIMD lanes), or with `lanes` 1 one child after another as plain code
+ * would (the same hashes: each lane is its own chain). */
+static char *procedure_source(const uts_tree *t, unsigned lanes)
 {
     char children[160];
     if (t->shape == UTS_GEOMETRIC)
@@ -97,40 +89,48 @@ static char *procedure_source(const uts_tree *t, unsigned group_size)
     else
         snprintf(children, sizeof children, "uts_binomial_children(n->hash, n->depth, %uu, %uu, %uu)", t->b0,
                  t->m, t->q32);
-    const char *format =
-        "void uts_visit(perma_ctx *ctx, __local const struct uts_node *n)\n"
-        "{\n"
-        "    if (ctx->group < %uu) {\n"
-        "        __global ulong *c = ctx->buf.uts_counters + 2u * (ctx->group * %uu + ctx->slot %% %uu);\n"
-        "        c[0] += 1ul;\n"
-        "        c[1] += (ulong)n->hash;\n"
-        "    } else {\n"
-        "        __global ulong *c = ctx->buf.uts_counters + 2u * %uu;\n"
-        "        atom_inc(&c[0]);\n"
-        "        atom_add(&c[1], (ulong)n->hash);\n"
-        "    }\n"
-        "    uint k = %s;\n"
-        "    struct uts_node child;\n"
-        "    child.depth = n->depth + 1u;\n"
-        "    for (uint base = 0; base < k; base += UTS_LANES) {\n"
-        "        uint hashes[UTS_LANES];\n"
-        "        uts_child_hashes(n->hash, base, %uu, hashes);\n"
-        "        for (uint j = 0; j < UTS_LANES && base + j < k; ++j) {\n"
-        "            child.hash = hashes[j];\n"
-        "            emit_uts_visit(ctx, &child);\n"
-        "        }\n"
-        "    }\n"
-        "}\n";
+    const char *format = lanes == 1
+        ? "void uts_visit(perma_ctx *ctx, __local const struct uts_node *n)\n"
+          "{\n"
+          "    reduce_nodes(ctx, 1ul);\n"
+          "    reduce_hash_sum(ctx, (ulong)n->hash);\n"
+          "    uint k = %s;\n"
+          "    struct uts_node child;\n"
+          "    child.depth = n->depth + 1u;\n"
+          "    for (uint i = 0; i < k; ++i) {\n"
+          "        uint h = n->hash ^ (i * 0x9e3779b9u + 0x632be5abu);\n"
+          "        for (uint r = 0; r < %uu; ++r)\n"
+          "            h = uts_mix(h + r);\n"
+          "        child.hash = h;\n"
+          "        emit_uts_visit(ctx, &child);\n"
+          "    }\n"
+          "}\n"
+        : "void uts_visit(perma_ctx *ctx, __local const struct uts_node *n)\n"
+          "{\n"
+          "    reduce_nodes(ctx, 1ul);\n"
+          "    reduce_hash_sum(ctx, (ulong)n->hash);\n"
+          "    uint k = %s;\n"
+          "    struct uts_node child;\n"
+          "    child.depth = n->depth + 1u;\n"
+          "    for (uint base = 0; base < k; base += UTS_LANES) {\n"
+          "        uint hashes[UTS_LANES];\n"
+          "        uts_child_hashes(n->hash, base, %uu, hashes);\n"
+          "        for (uint j = 0; j < UTS_LANES && base + j < k; ++j) {\n"
+          "            child.hash = hashes[j];\n"
+          "            emit_uts_visit(ctx, &child);\n"
+          "        }\n"
+          "    }\n"
+          "}\n";
     size_t size = strlen(format) + strlen(children) + 64;
     char *text = malloc(size);
     if (text)
-        snprintf(text, size, format, (unsigned)COUNTER_GROUPS, group_size, group_size,
-                 (unsigned)COUNTER_GROUPS * group_size, children, t->rounds);
+        snprintf(text, size, format, children, t->rounds);
     return text;
 }
 
-/* The binomial root has b0 children, too many to declare as one item's
- * emit maximum (the runtime reserves worst-case room per batch), so the
+/* The binomial root has b0 children, far more than any other node: the
+ * benchmark keeps the declared maximum m (as it did when the runtime
+ * reserved the worst case per batch), so the
  * host expands the root, counts it and seeds its children. */
 static int make_seeds(tree_state *s)
 {
@@ -174,9 +174,8 @@ static void run_perma_variant(const bench_options *o, const bench_variant *v, tr
         bench_workload w = { tree_prepare, tree_verify, s, 1, &s->proc, &item_size };
         if (perma_add_source(rt, device_types, "uts_types.cl") != PERMA_OK ||
             perma_register(rt, &visit, &s->proc) != PERMA_OK ||
-            perma_bind_host(rt, "uts_counters", "__global ulong *", s->counters,
-                            s->counter_count * sizeof *s->counters,
-                            PERMA_READ_WRITE) != PERMA_OK)
+            perma_declare_reduction(rt, "nodes", PERMA_REDUCE_SUM, PERMA_TYPE_ULONG, &s->nodes) != PERMA_OK ||
+            perma_declare_reduction(rt, "hash_sum", PERMA_REDUCE_SUM, PERMA_TYPE_ULONG, &s->hash_sum) != PERMA_OK)
             snprintf(row.message, sizeof row.message, "setup: %s", perma_errmsg(rt));
         else
             bench_perma_measure(rt, v, o, &w, &row);
@@ -232,7 +231,7 @@ static void add_openmp_row(const bench_options *o, const uts_tree *t, const uts_
     bench_report_add(report, &row, 0);
 }
 
-static int run_tree(const bench_options *o, const uts_tree *t, unsigned group_size, uint cutoff,
+static int run_tree(const bench_options *o, const uts_tree *t, unsigned group_size, uint cutoff, unsigned lanes,
                     bench_report *report)
 {
     char title[96];
@@ -257,18 +256,13 @@ static int run_tree(const bench_options *o, const uts_tree *t, unsigned group_si
     add_openmp_row(o, t, &seq.result, UINT32_MAX, title, report);
     add_openmp_row(o, t, &seq.result, cutoff, title, report);
 
-    unsigned work_items = group_size ? group_size : 64; /* the runtime's default */
     tree_state *s = calloc(1, sizeof *s);
-    char *source = procedure_source(t, work_items);
+    char *source = procedure_source(t, lanes);
     if (s) {
         s->tree = t;
         s->expected = seq.result;
-        s->counter_count = 2 * ((size_t)COUNTER_GROUPS * work_items + 1);
-        s->counters = calloc(s->counter_count, sizeof *s->counters);
     }
-    if (!s || !source || !s->counters || make_seeds(s) != 0) {
-        if (s)
-            free(s->counters);
+    if (!s || !source || make_seeds(s) != 0) {
         free(s);
         free(source);
         fprintf(stderr, "perma-bench: out of memory\n");
@@ -284,7 +278,6 @@ static int run_tree(const bench_options *o, const uts_tree *t, unsigned group_si
         }
     }
     free(s->seeds);
-    free(s->counters);
     free(s);
     free(source);
     return 0;
@@ -293,7 +286,8 @@ static int run_tree(const bench_options *o, const uts_tree *t, unsigned group_si
 int bench_tree(bench_options *o, int argc, char **argv)
 {
     static const char *const shapes[] = { "both", "geometric", "binomial", NULL };
-    unsigned shape = 0, rounds = 0, depth = 0, group_size = 64, cutoff = 3;
+    static const char *const lane_counts[] = { "8", "1", NULL }; /* UTS_LANES or 1 */
+    unsigned shape = 0, rounds = 0, depth = 0, group_size = 64, cutoff = 3, lane_choice = 0;
     const perma_cli_option rows[] = {
         { PERMA_CLI_CHOICE("shape", "NAME", &shape, shapes, "which tree (default both)") },
         { PERMA_CLI_WHOLE("rounds", "N", &rounds, 0, 4096, "hash rounds per child: the work per node (default 16)") },
@@ -301,12 +295,16 @@ int bench_tree(bench_options *o, int argc, char **argv)
                           "depth limit of the geometric tree (default 10, quick 7; deeper would not finish)") },
         { PERMA_CLI_WHOLE("group-size", "N", &group_size, 0, 4096, "perma work-items per group (default 64)") },
         { PERMA_CLI_WHOLE("cutoff", "D", &cutoff, 0, 4096, "OpenMP: nodes above depth D spawn tasks (default 3)") },
+        { PERMA_CLI_CHOICE("lanes", "8|1", &lane_choice, lane_counts,
+                           "perma: hash a node's children 8 at a time (default) or one after another, as plain "
+                           "code does (the baselines hash 8 at a time)") },
     };
     perma_cli_status parsed = bench_parse(o, "[options]",
                                           NULL, rows, sizeof rows / sizeof rows[0], argc, argv);
     if (parsed != PERMA_CLI_OK)
         return perma_cli_exit_status(parsed);
     int geometric = shape != 2, binomial = shape != 1;
+    unsigned lanes = lane_choice == 1 ? 1 : UTS_LANES;
 
     uts_tree trees[2];
     unsigned count = 0;
@@ -324,7 +322,7 @@ int bench_tree(bench_options *o, int argc, char **argv)
             trees[i].rounds = rounds;
         if (depth && trees[i].shape == UTS_GEOMETRIC)
             trees[i].max_depth = depth;
-        failed = run_tree(o, &trees[i], group_size, cutoff, report);
+        failed = run_tree(o, &trees[i], group_size, cutoff, lanes, report);
     }
     unsigned wrong = bench_report_failures(report);
     failed |= bench_report_close(report);

@@ -10,6 +10,7 @@ static const bench_command commands[] = {
     { "queue", "throughput of empty tasks per strategy, batch size and work-group count", bench_queue },
     { "tree", "unbalanced tree search (UTS-style geometric and binomial trees)", bench_tree },
     { "pipeline", "producer -> transform -> consumer with skewed fan-out: peak queue memory", bench_pipeline },
+    { "plain", "newcomer-style workloads (trees, integration, queens, sort) vs C and OpenMP", bench_plain },
     { "reyes", "Reyes renderer on teapot and killeroo: stages, counts, vs the C reference", bench_reyes },
 };
 static const unsigned command_count = sizeof commands / sizeof commands[0];

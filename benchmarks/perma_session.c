@@ -44,7 +44,7 @@ void bench_perma_measure(perma_runtime *rt, const bench_variant *variant, const 
                          const bench_workload *w, bench_row *row)
 {
     enum { MAX_REPEAT = 1000 };
-    static double seconds[MAX_REPEAT], walls[MAX_REPEAT];
+    static double seconds[MAX_REPEAT], walls[MAX_REPEAT], cpu[MAX_REPEAT];
     unsigned repeat = options->repeat < MAX_REPEAT ? options->repeat : MAX_REPEAT;
 
     bench_activity("building %s (%s)", variant->name, row->workload);
@@ -64,12 +64,12 @@ void bench_perma_measure(perma_runtime *rt, const bench_variant *variant, const 
             bench_activity("the warm-up run of %s (%s)", variant->name, row->workload);
         else
             bench_activity("timed run %u of %u of %s (%s)", i, repeat, variant->name, row->workload);
-        double start = bench_now();
+        double start = bench_now(), cpu_start = bench_cpu_now();
         if (perma_run(rt) != PERMA_OK) {
             fail(row, rt, "run");
             return;
         }
-        double wall = bench_now() - start;
+        double wall = bench_now() - start, cpu_used = bench_cpu_now() - cpu_start;
         if (!w->verify(w->state, rt, row))
             row->check = BENCH_CHECK_FAIL;
         perma_stats st;
@@ -80,6 +80,7 @@ void bench_perma_measure(perma_runtime *rt, const bench_variant *variant, const 
         if (i > 0) {
             seconds[i - 1] = st.seconds;
             walls[i - 1] = wall;
+            cpu[i - 1] = cpu_used;
         }
         row->peak_queue_bytes = st.peak_queue_bytes;
         row->steals = st.steals;
@@ -96,6 +97,7 @@ void bench_perma_measure(perma_runtime *rt, const bench_variant *variant, const 
     }
     row->seconds = bench_summary(options, seconds, repeat);
     row->wall_seconds = bench_summary(options, walls, repeat);
+    row->cpu_seconds = bench_summary(options, cpu, repeat);
     row->ran = 1;
 }
 

@@ -11,6 +11,8 @@ struct bench_report {
     perma_output *csv_output; /* written whole at the end, or not at all */
     FILE *csv;
     double baseline_seconds; /* sequential C time of the current workload */
+    double baseline_cpu;     /* and its CPU time */
+    int show_cpu;            /* print the "cpu vs seq" column */
     unsigned failures;
     unsigned perma_measured;     /* perma rows that ran (they carry a group size) */
     char first_skip[96];         /* why the first row that did not run did not */
@@ -46,10 +48,20 @@ int bench_report_open(bench_report **out, const char *benchmark, const bench_opt
         r->csv = perma_output_stream(r->csv_output);
         fprintf(r->csv, "benchmark,workload,variant,group_size,work_groups,status,seconds,wall_seconds,"
                         "units,unit,rate,speedup_vs_sequential,count,expected,check,peak_queue_bytes,"
-                        "peak_item_bytes,steals,donations,spills,message\n");
+                        "peak_item_bytes,steals,donations,spills,message,cpu_seconds\n");
     }
     *out = r;
     return 0;
+}
+
+void bench_report_widen(bench_report *r, int extra)
+{
+    r->width += extra;
+}
+
+void bench_report_show_cpu(bench_report *r)
+{
+    r->show_cpu = 1;
 }
 
 static const char *check_name(bench_check check)
@@ -70,17 +82,17 @@ static void human(char *out, size_t size, double value)
         snprintf(out, size, "%.0f", value);
 }
 
-static void print_header(int width)
+static void print_header(const bench_report *r)
 {
-    printf("%-*s %4s %3s %9s %9s %8s %6s %9s %9s  %s\n", width, "variant", "gs", "wg", "seconds", "rate/s",
-           "vs seq", "check", "peak q.B", "items B", "note");
+    printf("%-*s %4s %3s %9s %9s %8s%s %6s %9s %9s  %s\n", r->width, "variant", "gs", "wg", "seconds", "rate/s",
+           "vs seq", r->show_cpu ? " cpu vs seq" : "", "check", "peak q.B", "items B", "note");
 }
 
 void bench_report_workload(bench_report *r, const char *title)
 {
     r->baseline_seconds = 0.0;
     printf("\n== %s: %s ==\n", r->benchmark, title);
-    print_header(r->width);
+    print_header(r);
     fflush(stdout);
 }
 
@@ -110,8 +122,10 @@ void bench_report_add(bench_report *r, const bench_row *row, int is_baseline)
 {
     char note[96];
     short_note(note, sizeof note, row->message);
-    if (is_baseline && row->ran)
+    if (is_baseline && row->ran) {
         r->baseline_seconds = row->seconds;
+        r->baseline_cpu = row->cpu_seconds;
+    }
     if (row->check == BENCH_CHECK_FAIL)
         ++r->failures;
     if (row->ran && row->group_size)
@@ -131,16 +145,26 @@ void bench_report_add(bench_report *r, const bench_row *row, int is_baseline)
         human(peak, sizeof peak, (double)row->peak_queue_bytes);
     if (row->peak_item_bytes)
         human(items, sizeof items, (double)row->peak_item_bytes);
+    /* CPU time of sequential C / the row's: the share of the CPU time a
+     * row spends on the work itself. */
+    char cpu_text[16] = "";
+    if (r->show_cpu) {
+        double cpu = row->ran && row->cpu_seconds > 0 && r->baseline_cpu > 0 ? r->baseline_cpu / row->cpu_seconds : 0.0;
+        char value[16] = "-";
+        if (cpu > 0)
+            snprintf(value, sizeof value, "%.2fx", cpu);
+        snprintf(cpu_text, sizeof cpu_text, " %10s", value);
+    }
     if (!row->ran) {
-        printf("%-*s %4s %3s %9s %9s %8s %6s %9s %9s  %s\n", r->width, row->variant, gs, wg, "n/a", "n/a", "n/a", "-", "-",
-               "-", note);
+        printf("%-*s %4s %3s %9s %9s %8s%s %6s %9s %9s  %s\n", r->width, row->variant, gs, wg, "n/a", "n/a", "n/a",
+               cpu_text, "-", "-", "-", note);
     } else {
         human(rate_text, sizeof rate_text, rate);
         char ratio_text[16] = "-";
         if (ratio > 0)
             snprintf(ratio_text, sizeof ratio_text, "%.2fx", ratio);
-        printf("%-*s %4s %3s %9.4f %9s %8s %6s %9s %9s  %s\n", r->width, row->variant, gs, wg, row->seconds, rate_text,
-               ratio_text, check_name(row->check), peak, items, note);
+        printf("%-*s %4s %3s %9.4f %9s %8s%s %6s %9s %9s  %s\n", r->width, row->variant, gs, wg, row->seconds, rate_text,
+               ratio_text, cpu_text, check_name(row->check), peak, items, note);
     }
     fflush(stdout);
 
@@ -157,7 +181,7 @@ void bench_report_add(bench_report *r, const bench_row *row, int is_baseline)
             row->peak_item_bytes, (unsigned long long)row->steals, (unsigned long long)row->donations,
             (unsigned long long)row->spills);
     csv_text(r->csv, row->message);
-    fputc('\n', r->csv);
+    fprintf(r->csv, ",%.6f\n", row->cpu_seconds);
 }
 
 unsigned bench_report_failures(const bench_report *r)

@@ -12,6 +12,13 @@ double bench_now(void)
     return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
 }
 
+double bench_cpu_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
 static int compare_doubles(const void *a, const void *b)
 {
     double x = *(const double *)a, y = *(const double *)b;
@@ -39,16 +46,31 @@ double bench_summary(const bench_options *options, double *values, unsigned coun
 
 double bench_time_baseline(const bench_options *options, void (*fn)(void *), void *arg)
 {
+    return bench_time_runs(options, NULL, fn, arg).seconds;
+}
+
+double bench_time_prepared(const bench_options *options, void (*prepare)(void *), void (*fn)(void *), void *arg)
+{
+    return bench_time_runs(options, prepare, fn, arg).seconds;
+}
+
+bench_timing bench_time_runs(const bench_options *options, void (*prepare)(void *), void (*fn)(void *), void *arg)
+{
     enum { MAX_REPEAT = 1000 };
-    static double times[MAX_REPEAT];
+    static double times[MAX_REPEAT], cpu[MAX_REPEAT];
     unsigned n = options->repeat < MAX_REPEAT ? options->repeat : MAX_REPEAT;
-    fn(arg); /* warm-up: page faults, OpenMP thread pool, caches */
-    for (unsigned i = 0; i < n; ++i) {
-        double start = bench_now();
+    for (unsigned i = 0; i <= n; ++i) { /* run 0: warm-up (page faults, OpenMP thread pool, caches) */
+        if (prepare)
+            prepare(arg);
+        double start = bench_now(), cpu_start = bench_cpu_now();
         fn(arg);
-        times[i] = bench_now() - start;
+        if (i > 0) {
+            times[i - 1] = bench_now() - start;
+            cpu[i - 1] = bench_cpu_now() - cpu_start;
+        }
     }
-    return bench_summary(options, times, n);
+    bench_timing t = { bench_summary(options, times, n), bench_summary(options, cpu, n) };
+    return t;
 }
 
 unsigned bench_threads(const bench_options *options)

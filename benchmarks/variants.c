@@ -46,7 +46,8 @@ void bench_variant_use_device(const bench_options *options, unsigned d, bench_va
 
 int bench_variant_select(const bench_options *options, const char *label, bench_variant *out)
 {
-    if (options->only && !strstr(label, options->only))
+    if (options->only && (options->only[0] == '=' ? strcmp(label, options->only + 1) != 0
+                                                  : !strstr(label, options->only)))
         return 0;
     perma_error error;
     if (bench_variant_parse(label, out, &error) != PERMA_OK) {

@@ -18,9 +18,11 @@
 
 #ifdef __OPENCL_VERSION__
 typedef uint perma_word;
+typedef ulong perma_word64;
 #else
 #include <stdint.h>
 typedef uint32_t perma_word;
+typedef uint64_t perma_word64;
 #endif
 
 /* ---- Control block ----------------------------------------------------
@@ -109,6 +111,9 @@ typedef struct perma_group_record {
 #define PERMA_DETAIL_NONE 0xffffffffu
 /* DETAIL_PROC of NEEDS_ROOM when a group was starved of room. */
 #define PERMA_DETAIL_STARVED 0xfffffffeu
+/* DETAIL_PROC of NEEDS_ROOM when a group put emits in its overflow area
+ * (a target had no room for what a batch emitted beyond its reservation). */
+#define PERMA_DETAIL_OVERFLOW 0xfffffffdu
 
 /* PERMA_KSTATUS_EMIT_LIMIT codes in DETAIL_EDGE. */
 #define PERMA_EMIT_ERROR_LIMIT 0x10000u      /* | edge: over the declared maximum */
@@ -167,9 +172,10 @@ typedef struct perma_trace_record {
  * Between launches the host grows queues on the device: it lays the queues
  * out again in fresh item and completion-mark (queue_seq) buffers and gives
  * perma_relayout_kernel one record per queue saying where its items are
- * and where they go (kernels/perma_relayout.cl).  The new layout puts the
- * queues one after another: a queue whose first slot is s has its marks at
- * 2 * s. */
+ * and where they go (kernels/perma_relayout.cl), and where the items a
+ * launch left in overflow areas are, which follow the queued ones.  The
+ * new layout puts the queues one after another: a queue whose first slot is
+ * s has its marks at 2 * s. */
 
 typedef struct perma_relayout_record {
     perma_word head;     /* position of the first queued item */
@@ -180,9 +186,51 @@ typedef struct perma_relayout_record {
     perma_word new_data; /* offsets after: slot i holds the item at head + i */
     perma_word new_seq;  /* = 2 * the queue's first slot */
     perma_word words;    /* words per item */
+    perma_word overflow; /* items from overflow areas appended after the queued ones */
+    perma_word overflow_segments; /* how many segments they come in */
+    perma_word overflow_first; /* word of the first segment in the segment list */
+    perma_word reserved;
 } perma_relayout_record;
 
-#define PERMA_RELAYOUT_RECORD_WORDS 8
+#define PERMA_RELAYOUT_RECORD_WORDS 12
+/* A segment of overflowed items in the segment list: where they start in
+ * the emit-area buffer (words) and how many there are. */
+#define PERMA_RELAYOUT_SEGMENT_WORDS 2
+
+/* ---- Reductions --------------------------------------------------------
+ * The exact float and double sums (kernels/perma_reduce.cl): digits of 32
+ * bits in signed 64-bit words, then a control word whose high bits say
+ * which infinities and NaNs were added. */
+#define PERMA_EXACT_FLOAT_DIGITS 9   /* bits 0 .. 287 >= 23 + 253 + carries, in units of 2^-149 */
+#define PERMA_EXACT_DOUBLE_DIGITS 66 /* bits 0 .. 2111 >= 52 + 2045 + carries, in units of 2^-1074 */
+#define PERMA_EXACT_POS_INF_SEEN ((perma_word64)1 << 32)
+#define PERMA_EXACT_NEG_INF_SEEN ((perma_word64)1 << 33)
+#define PERMA_EXACT_NAN_SEEN ((perma_word64)1 << 34)
+
+/* ---- Emit areas -------------------------------------------------------
+ * One area per persistent work-group in the emit-area buffer, in global
+ * memory: a header, the staging of a batch's emits (the procedures write
+ * their emits there; room for every item's declared maximum, which costs
+ * no __local memory), then the overflow data.  A batch reserves in each
+ * target the ROOM of its expected emits before it runs and takes the rest
+ * after; when a target has no room for the rest, the edge's emits are
+ * copied to the overflow data and the launch ends with NEEDS_ROOM
+ * (DETAIL_PROC = PERMA_DETAIL_OVERFLOW).  The host reads the headers,
+ * grows the queues and appends the items to them on the device
+ * (perma_relayout_kernel).  Header word RECORDS counts the overflow
+ * records; record r (at PERMA_OVERFLOW_RECORD(r)) holds the queue index,
+ * the item count and where the items start, in words from the overflow
+ * data.  A group clears RECORDS when it starts; a batch's emits fit the
+ * overflow data because they fit the staging. */
+#define PERMA_OVERFLOW_RECORDS 0
+#define PERMA_OVERFLOW_RECORD(r) (1u + 3u * (r))
+#define PERMA_OVERFLOW_QUEUE 0
+#define PERMA_OVERFLOW_COUNT 1
+#define PERMA_OVERFLOW_AT 2
+#define PERMA_EMIT_AREA_HEADER 32 /* the count and up to 8 (PERMA_MAX_EMITS) records, rounded up */
+#define PERMA_EMIT_AREA_STAGE PERMA_EMIT_AREA_HEADER
+#define PERMA_EMIT_AREA_OVERFLOW_FOR(stage_words) (PERMA_EMIT_AREA_HEADER + (stage_words))
+#define PERMA_EMIT_AREA_WORDS_FOR(stage_words) (PERMA_EMIT_AREA_HEADER + 2 * (stage_words))
 
 /* ---- Watch page --------------------------------------------------------
  * Host memory the kernels see through a CL_MEM_USE_HOST_PTR buffer (their
@@ -222,7 +270,9 @@ typedef struct perma_relayout_record {
     X(PERMA_ARG_QUEUE_SEQ, __global uint *, queue_seq),            \
     X(PERMA_ARG_GROUP_STATS, __global uint *, group_stats),        \
     X(PERMA_ARG_ABORT_FLAG, volatile __global uint *, abort_flag), \
-    X(PERMA_ARG_TRACE, __global uint *, trace)
+    X(PERMA_ARG_TRACE, __global uint *, trace),                    \
+    X(PERMA_ARG_EMIT_AREAS, __global uint *, emit_areas),          \
+    X(PERMA_ARG_REDUCTIONS, __global ulong *, reductions)
 
 /* perma_step_kernel's arguments after the common ones. */
 #define PERMA_STEP_ARGS(X)                                   \
@@ -241,14 +291,18 @@ typedef struct perma_relayout_record {
     X(PERMA_TAKE_ARG_COUNT, uint, count)
 
 /* perma_relayout_kernel's arguments: the records, how many, the slots of
- * the new layout, the items before, and the items and marks after. */
+ * the new layout, the items before, the items and marks after, the
+ * segment list (the same buffer as the records: the segments follow them)
+ * and the emit areas (overflowed items). */
 #define PERMA_RELAYOUT_ARGS(X)                                                 \
     X(PERMA_RELAYOUT_ARG_MAP, __global const perma_relayout_record *, map),    \
     X(PERMA_RELAYOUT_ARG_QUEUES, uint, queues),                                \
     X(PERMA_RELAYOUT_ARG_SLOTS, uint, slots),                                  \
     X(PERMA_RELAYOUT_ARG_OLD_DATA, __global const uint *, old_data),           \
     X(PERMA_RELAYOUT_ARG_NEW_DATA, __global uint *, new_data),                 \
-    X(PERMA_RELAYOUT_ARG_NEW_SEQ, __global uint *, new_seq)
+    X(PERMA_RELAYOUT_ARG_NEW_SEQ, __global uint *, new_seq),                   \
+    X(PERMA_RELAYOUT_ARG_SEGMENTS, __global const uint *, segments),           \
+    X(PERMA_RELAYOUT_ARG_EMIT_AREAS, __global const uint *, emit_areas)
 
 #define PERMA_ARG_PARAM(index, type, name) type name
 #define PERMA_ARG_INDEX(index, type, name) index
@@ -306,7 +360,10 @@ enum perma_relayout_arg { PERMA_RELAYOUT_ARGS(PERMA_ARG_INDEX), PERMA_RELAYOUT_A
     X(perma_relayout_record, new_cap, 4)                             \
     X(perma_relayout_record, new_data, 5)                            \
     X(perma_relayout_record, new_seq, 6)                             \
-    X(perma_relayout_record, words, 7)
+    X(perma_relayout_record, words, 7)                               \
+    X(perma_relayout_record, overflow, 8)                            \
+    X(perma_relayout_record, overflow_segments, 9)                   \
+    X(perma_relayout_record, overflow_first, 10)
 
 #define PERMA_ABI_STRUCTS(X)                           \
     X(perma_ctl_header, PERMA_CTL_HEADER_WORDS)        \

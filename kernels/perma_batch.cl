@@ -32,43 +32,6 @@
 
 #define PERMA_QINDEX(set, proc) ((set) * PERMA_NUM_PROCS + (proc))
 
-/* How many of `want` items of procedure q fit into the room of its targets
- * in queue set `set`. */
-inline uint perma_admissible(__global uint *ctl, uint set, uint q, uint want)
-{
-    for (uint e = 0; e < perma_edge_count[q]; ++e) {
-        uint t = perma_edge_target[q * PERMA_MAX_EDGES + e];
-        int room = perma_load_int(PERMA_QUEUE(ctl, PERMA_QINDEX(set, t)) + PERMA_Q_ROOM);
-        uint fit = room > 0 ? (uint)room / perma_edge_max[q * PERMA_MAX_EDGES + e] : 0u;
-        want = min(want, fit);
-    }
-    return want;
-}
-
-inline void perma_release_batch_room(__global uint *ctl, uint set, uint q, uint items, uint edges)
-{
-    for (uint e = 0; e < edges; ++e) {
-        uint t = perma_edge_target[q * PERMA_MAX_EDGES + e];
-        perma_queue_return_room(ctl, PERMA_QUEUE(ctl, PERMA_QINDEX(set, t)),
-                                (int)(items * perma_edge_max[q * PERMA_MAX_EDGES + e]));
-    }
-}
-
-/* Reserve the worst-case emits of `items` items of q in every target. */
-inline int perma_reserve_batch_room(__global uint *ctl, uint set, uint q, uint items)
-{
-    uint edges = perma_edge_count[q];
-    for (uint e = 0; e < edges; ++e) {
-        uint t = perma_edge_target[q * PERMA_MAX_EDGES + e];
-        if (!perma_queue_reserve_room(ctl, PERMA_QUEUE(ctl, PERMA_QINDEX(set, t)),
-                                      (int)(items * perma_edge_max[q * PERMA_MAX_EDGES + e]))) {
-            perma_release_batch_room(ctl, set, q, items, e);
-            return 0;
-        }
-    }
-    return 1;
-}
-
 /* __local memory of one group: one struct, declared in the kernel, whose
  * address is passed down.  (A struct of pointers passed by value would be a
  * private copy per work-item that PoCL saves and restores around every
@@ -80,11 +43,85 @@ typedef struct perma_group_mem {
     uint edge_counts[PERMA_MAX_EDGES];     /* per edge: items the batch emitted */
     uint edge_base[2 * PERMA_MAX_EDGES];   /* per edge: first local, then first global position */
     uint edge_keep[PERMA_MAX_EDGES];       /* per edge: emits kept on the local stack */
+    uint edge_reserved[PERMA_MAX_EDGES];   /* per edge: ROOM the batch holds in the target */
+    uint edge_overflow[PERMA_MAX_EDGES];   /* per edge: 1 if its emits go to the overflow data */
     uint lq_count[PERMA_NUM_PROCS];        /* items on each procedure's stack */
     uint stats[PERMA_STAT_GROUP_WORDS];    /* the group's statistics record */
     uint batch[PERMA_BATCH_WORDS];         /* what the group does next (PERMA_B_*) */
     uint error_code;                       /* emit errors of the batch */
 } perma_group_mem;
+
+/* The ROOM a batch of `items` items of q reserves in the target of edge e
+ * before it runs.  `expected`: what the group's batches of q emitted per
+ * item into e so far in this launch (its statistics), rounded up, so an
+ * item that declares up to N emits and makes k pays for k; before the
+ * group's first batch of q, and for the host-driven steps (whose targets
+ * the host sized for the worst case), the declared maximum.  A batch that
+ * emits more than it reserved takes the rest after it ran
+ * (perma_reserve_emits), or, if the target has no room for it, moves the
+ * edge's emits to the overflow data of the group's emit area and stops the
+ * launch so that the host grows the queue (perma_overflow_edge). */
+inline uint perma_batch_room(__local const perma_group_mem *mem, uint q, uint e, uint items, uint expected)
+{
+    const uint max = perma_edge_max[q * PERMA_MAX_EDGES + e];
+    const uint ran = expected ? mem->stats[q * PERMA_STAT_PROC_WORDS + PERMA_STAT_ITEMS] : 0u;
+    if (ran == 0)
+        return items * max;
+    const ulong emitted = mem->stats[q * PERMA_STAT_PROC_WORDS + PERMA_STAT_EMITTED + e];
+    return (uint)min(((ulong)items * emitted + ran - 1u) / ran, (ulong)items * max);
+}
+
+/* How many of `want` items of procedure q fit into the room of its targets
+ * in queue set `set` (perma_batch_room each). */
+inline uint perma_admissible(__global uint *ctl, __local const perma_group_mem *mem, uint set, uint q, uint want,
+                             uint expected)
+{
+    for (uint e = 0; e < perma_edge_count[q]; ++e) {
+        uint t = perma_edge_target[q * PERMA_MAX_EDGES + e];
+        int room = perma_load_int(PERMA_QUEUE(ctl, PERMA_QINDEX(set, t)) + PERMA_Q_ROOM);
+        const uint ran = expected ? mem->stats[q * PERMA_STAT_PROC_WORDS + PERMA_STAT_ITEMS] : 0u;
+        /* items n fit while n * per / den <= room, rounded up */
+        const ulong per = ran ? mem->stats[q * PERMA_STAT_PROC_WORDS + PERMA_STAT_EMITTED + e]
+                              : perma_edge_max[q * PERMA_MAX_EDGES + e];
+        const ulong den = ran ? ran : 1u;
+        ulong fit = room <= 0 ? 0ul : per ? (ulong)room * den / per : (ulong)want;
+        want = (uint)min((ulong)want, fit);
+    }
+    return want;
+}
+
+/* Give back the ROOM the batch holds beyond what `items` items of q
+ * reserve (its claim took fewer than it reserved for). */
+inline void perma_shrink_batch_room(__global uint *ctl, __local perma_group_mem *mem, uint set, uint q, uint items,
+                                    uint expected)
+{
+    for (uint e = 0; e < perma_edge_count[q]; ++e) {
+        uint t = perma_edge_target[q * PERMA_MAX_EDGES + e];
+        uint keep = perma_batch_room(mem, q, e, items, expected);
+        perma_queue_return_room(ctl, PERMA_QUEUE(ctl, PERMA_QINDEX(set, t)), (int)(mem->edge_reserved[e] - keep));
+        mem->edge_reserved[e] = keep;
+    }
+}
+
+/* Reserve the room of `items` items of q (perma_batch_room) in every
+ * target, recorded in mem->edge_reserved; 0 and nothing held if a target
+ * lacks it. */
+inline int perma_reserve_batch_room(__global uint *ctl, __local perma_group_mem *mem, uint set, uint q, uint items,
+                                    uint expected)
+{
+    uint edges = perma_edge_count[q];
+    for (uint e = 0; e < edges; ++e) {
+        uint t = perma_edge_target[q * PERMA_MAX_EDGES + e];
+        mem->edge_reserved[e] = perma_batch_room(mem, q, e, items, expected);
+        if (!perma_queue_reserve_room(ctl, PERMA_QUEUE(ctl, PERMA_QINDEX(set, t)), (int)mem->edge_reserved[e])) {
+            for (uint f = 0; f < e; ++f)
+                perma_queue_return_room(ctl, PERMA_QUEUE(ctl, PERMA_QINDEX(set, perma_edge_target[q * PERMA_MAX_EDGES + f])),
+                                        (int)mem->edge_reserved[f]);
+            return 0;
+        }
+    }
+    return 1;
+}
 
 /* Items of the batch to run (0 unless RUN). */
 inline uint perma_batch_run(__local const perma_group_mem *mem)
@@ -126,6 +163,34 @@ inline uint perma_local_flush(__global uint *ctl, __global uint *queue_data, __g
     return n;
 }
 
+/* Copy items [lid, lid + group size, ...) of a batch of `count` from the
+ * queue slots at position `start` into `items`, marking each position but
+ * the first as read (perma_queue_clear_mark); or, from `input`, the
+ * host-driven step's items.  `words` is a constant in each caller
+ * (PERMA_SWITCH_WORDS), so the copy is a few vector moves, not a loop. */
+PERMA_INLINE void perma_copy_items_in(uint lid, uint count, uint start, __global uint *source,
+                                      __global const uint *queue_data, __global uint *marks,
+                                      __global const uint *input, __local uint *items, const uint words)
+{
+    if (input) {
+        __global const uint *in = input + start * words;
+        for (uint i = lid; i < count; i += PERMA_GROUP_SIZE)
+            for (uint w = 0; w < words; ++w)
+                items[i * words + w] = in[i * words + w];
+        return;
+    }
+    const uint mask = source[PERMA_Q_CAP] - 1u;
+    __global const uint *slots = queue_data + source[PERMA_Q_DATA];
+    for (uint i = lid; i < count; i += PERMA_GROUP_SIZE) {
+        const uint pos = start + i;
+        __global const uint *src = slots + (pos & mask) * words;
+        for (uint w = 0; w < words; ++w)
+            items[i * words + w] = src[w];
+        if (i) /* the first position's mark is the range's (perma_queue_clear_mark) */
+            marks[pos & mask] = pos;
+    }
+}
+
 /* Phase "read": copy the batch into local memory (items from the local stack
  * stay where they are), item i by work-item i % group size, the one that
  * runs it (perma_dispatch), so without procedures of several threads per
@@ -146,23 +211,10 @@ PERMA_PHASE void perma_read_items(uint lid, __global uint *ctl, __global uint *q
     __local uint *items = mem->arena + perma_items_off[proc];
     __local uint *counts = mem->arena + perma_counters_off[proc]; /* [slot * edges + edge] */
     read_mem_fence(CLK_GLOBAL_MEM_FENCE);
-    if (input) {
-        __global const uint *in = input + start * words;
-        for (uint i = lid; i < count; i += PERMA_GROUP_SIZE)
-            for (uint w = 0; w < words; ++w)
-                items[i * words + w] = in[i * words + w];
-    } else if (!from_local) {
-        const uint mask = source[PERMA_Q_CAP] - 1u;
-        __global const uint *slots = queue_data + source[PERMA_Q_DATA];
+    if (input || !from_local) {
         __global uint *marks = perma_queue_marks(source, queue_seq, 1u);
-        for (uint i = lid; i < count; i += PERMA_GROUP_SIZE) {
-            const uint pos = start + i;
-            __global const uint *src = slots + (pos & mask) * words;
-            for (uint w = 0; w < words; ++w)
-                items[i * words + w] = src[w];
-            if (i) /* the first position's mark is the range's (perma_queue_clear_mark) */
-                marks[pos & mask] = pos;
-        }
+        PERMA_SWITCH_WORDS(words, perma_copy_items_in(lid, count, start, source, queue_data, marks, input, items,
+                                                      PERMA_WORDS));
     }
     for (uint s = lid; s < run; s += PERMA_GROUP_SIZE)
         for (uint e = 0; e < edges; ++e)
@@ -174,13 +226,42 @@ PERMA_PHASE void perma_read_items(uint lid, __global uint *ctl, __global uint *q
     }
 }
 
+/* Edge e of the batch emitted k items into queue `qi` that has no room for
+ * them: they go to the overflow data of the group's emit area instead
+ * (perma_write_emits copies them there), recorded for the host, which
+ * grows the queue and appends them to it before the next launch
+ * (runtime/src/state.c).  Their ROOM is given back.  Work-item 0; the
+ * caller stops the launch. */
+inline void perma_overflow_edge(__global uint *ctl, __global uint *emit_areas, __local perma_group_mem *mem, uint e,
+                                uint qi, uint k)
+{
+    __global uint *area = perma_emit_area(emit_areas);
+    uint n = area[PERMA_OVERFLOW_RECORDS];
+    uint at = n ? area[PERMA_OVERFLOW_RECORD(n - 1u) + PERMA_OVERFLOW_AT] +
+                      area[PERMA_OVERFLOW_RECORD(n - 1u) + PERMA_OVERFLOW_COUNT] *
+                          perma_item_words[qi % PERMA_NUM_PROCS]
+                : 0u;
+    area[PERMA_OVERFLOW_RECORD(n) + PERMA_OVERFLOW_QUEUE] = qi;
+    area[PERMA_OVERFLOW_RECORD(n) + PERMA_OVERFLOW_COUNT] = k;
+    area[PERMA_OVERFLOW_RECORD(n) + PERMA_OVERFLOW_AT] = at;
+    area[PERMA_OVERFLOW_RECORDS] = n + 1u;
+    perma_queue_return_room(ctl, PERMA_QUEUE(ctl, qi), (int)mem->edge_reserved[e]);
+    mem->edge_reserved[e] = 0;
+    mem->edge_overflow[e] = 1u;
+    mem->edge_keep[e] = 0;
+    mem->edge_base[PERMA_MAX_EDGES + e] = at; /* words into the area's data */
+}
+
 /* Phase "publish", work-item 0, after the batch ran: release the source's
  * slots (every copy is done; their room goes back once RELEASED passes
  * them; stacked items give back the room they held at once).  Then turn
- * each edge's per-item counts into offsets, keep what fits on the local
- * stack and reserve the rest of each target with one atomic; count the
- * emits before they become visible. */
-PERMA_PHASE void perma_reserve_emits(__global uint *ctl, __global uint *queue_data, __global uint *queue_seq, __local perma_group_mem *mem,
+ * each edge's per-item counts into offsets, take the ROOM of the emits
+ * beyond what the batch reserved (or send the edge's emits to the overflow
+ * area when the target has none), keep what fits on the local stack and
+ * reserve the rest of each target with one atomic; count the emits before
+ * they become visible. */
+PERMA_PHASE void perma_reserve_emits(__global uint *ctl, __global uint *queue_data, __global uint *queue_seq,
+                                     __global uint *emit_areas, __local perma_group_mem *mem,
                                      __global const uint *input, uint own)
 {
     const uint command = mem->batch[PERMA_B_COMMAND];
@@ -199,6 +280,7 @@ PERMA_PHASE void perma_reserve_emits(__global uint *ctl, __global uint *queue_da
     else if (!input)
         perma_queue_complete(source, queue_seq, 1u, start, count);
     int emitted = 0;
+    uint overflowed = 0;
     for (uint e = 0; e < edges; ++e) {
         uint t = perma_edge_target[proc * PERMA_MAX_EDGES + e];
         uint max = perma_edge_max[proc * PERMA_MAX_EDGES + e];
@@ -219,6 +301,19 @@ PERMA_PHASE void perma_reserve_emits(__global uint *ctl, __global uint *queue_da
             }
         }
         mem->edge_counts[e] = k;
+        emitted += (int)k;
+        stats[proc * PERMA_STAT_PROC_WORDS + PERMA_STAT_EMITTED + e] += k;
+        __global uint *target = PERMA_QUEUE(ctl, PERMA_QINDEX(own, t));
+        mem->edge_overflow[e] = 0;
+        if (k > mem->edge_reserved[e]) {
+            if (perma_queue_reserve_room(ctl, target, (int)(k - mem->edge_reserved[e]))) {
+                mem->edge_reserved[e] = k;
+            } else {
+                perma_overflow_edge(ctl, emit_areas, mem, e, PERMA_QINDEX(own, t), k);
+                overflowed = 1u;
+                continue;
+            }
+        }
         /* Keep what fits on the local stack (those keep their ROOM in the
          * global queue); the rest goes to the global queue.  edge_base[e]:
          * first local position, [MAX_EDGES + e]: first global position. */
@@ -230,10 +325,7 @@ PERMA_PHASE void perma_reserve_emits(__global uint *ctl, __global uint *queue_da
         stats[PERMA_NUM_PROCS * PERMA_STAT_PROC_WORDS + PERMA_GSTAT_SPILLS] += k - keep;
 #endif
         mem->edge_keep[e] = keep;
-        mem->edge_base[PERMA_MAX_EDGES + e] =
-            k > keep ? perma_queue_reserve(PERMA_QUEUE(ctl, PERMA_QINDEX(own, t)), k - keep) : 0u;
-        emitted += (int)k;
-        stats[proc * PERMA_STAT_PROC_WORDS + PERMA_STAT_EMITTED + e] += k;
+        mem->edge_base[PERMA_MAX_EDGES + e] = k > keep ? perma_queue_reserve(target, k - keep) : 0u;
     }
     if (run) {
         stats[proc * PERMA_STAT_PROC_WORDS + PERMA_STAT_ITEMS] += run;
@@ -243,6 +335,10 @@ PERMA_PHASE void perma_reserve_emits(__global uint *ctl, __global uint *queue_da
     }
     if (command == PERMA_CMD_DONATE)
         mem->edge_base[0] = perma_queue_reserve(donee, count);
+    /* Emits in the overflow area: every group stops after its batch, the
+     * host grows the queues and appends them. */
+    if (overflowed)
+        perma_fail(ctl, PERMA_KSTATUS_NEEDS_ROOM, PERMA_DETAIL_OVERFLOW, 0);
     /* Read and cleared here, between the batches' procedures (the group's
      * code clears it once before the first batch). */
     if (mem->error_code)
@@ -250,12 +346,41 @@ PERMA_PHASE void perma_reserve_emits(__global uint *ctl, __global uint *queue_da
     mem->error_code = 0;
 }
 
+/* Move emits [first, end) of one edge (logical indexes; emit i at src +
+ * i * words): those below `split` onto the local stack, the others into
+ * queue positions pos0 + i, marking each position but the range's first
+ * (index keep) as written; with no marks (the overflow area), into
+ * slots[(pos0 + i) * words] unmasked.  `words` is a constant in each caller
+ * (PERMA_SWITCH_WORDS). */
+PERMA_INLINE void perma_copy_emits_out(uint first, uint split, uint end, uint keep, __global const uint *src,
+                                       __local uint *stack, __global uint *slots, uint mask, __global uint *marks,
+                                       uint pos0, const uint words)
+{
+    if (!marks) {
+        for (uint i = first; i < end; ++i)
+            for (uint w = 0; w < words; ++w)
+                slots[(pos0 + i) * words + w] = src[i * words + w];
+        return;
+    }
+    for (uint i = first; i < split; ++i)
+        for (uint w = 0; w < words; ++w)
+            stack[i * words + w] = src[i * words + w];
+    for (uint i = split; i < end; ++i) {
+        const uint pos = pos0 + i;
+        __global uint *dst = slots + (pos & mask) * words;
+        for (uint w = 0; w < words; ++w)
+            dst[w] = src[i * words + w];
+        if (i > keep) /* the first position's mark is the range's */
+            marks[pos & mask] = pos;
+    }
+}
+
 /* Phase "publish", every work-item: move the emits of its items, the first
  * edge_keep of each edge onto the local stack, the rest into the reserved
  * slots; or, for a donation, the batch itself into the other group's
  * queue.  Nobody waits here. */
 PERMA_PHASE void perma_write_emits(uint lid, __global uint *ctl, __global uint *queue_data, __global uint *queue_seq,
-                                   __local perma_group_mem *mem, uint own)
+                                   __global uint *emit_areas, __local perma_group_mem *mem, uint own)
 {
     const uint command = mem->batch[PERMA_B_COMMAND];
     const uint proc = mem->batch[PERMA_B_PROC];
@@ -270,13 +395,19 @@ PERMA_PHASE void perma_write_emits(uint lid, __global uint *ctl, __global uint *
         const uint tw = perma_item_words[t];
         const uint k = mem->edge_counts[e];
         const uint keep = mem->edge_keep[e];
-        /* Emit i goes to stack[i] below keep, else to position pos0 + i. */
-        const uint pos0 = mem->edge_base[PERMA_MAX_EDGES + e] - keep;
         __global uint *target = PERMA_QUEUE(ctl, PERMA_QINDEX(own, t));
         const uint mask = target[PERMA_Q_CAP] - 1u;
-        __global uint *slots = queue_data + target[PERMA_Q_DATA];
-        __global uint *marks = perma_queue_marks(target, queue_seq, 0u);
-        __local const uint *stage = mem->arena + perma_edge_stage[proc * PERMA_MAX_EDGES + e];
+        /* Emit i goes to stack[i] below keep, else to position pos0 + i;
+         * an overflowed edge's to item i of its run of the overflow data
+         * (edge_base: the run's first word). */
+        const uint over = mem->edge_overflow[e];
+        const uint pos0 = over ? 0u : mem->edge_base[PERMA_MAX_EDGES + e] - keep;
+        __global uint *slots = over ? perma_emit_area(emit_areas) + PERMA_EMIT_AREA_OVERFLOW +
+                                          mem->edge_base[PERMA_MAX_EDGES + e]
+                                    : queue_data + target[PERMA_Q_DATA];
+        __global uint *marks = over ? (__global uint *)0 : perma_queue_marks(target, queue_seq, 0u);
+        __global const uint *stage = perma_emit_area(emit_areas) + PERMA_EMIT_AREA_STAGE +
+                                     perma_edge_stage[proc * PERMA_MAX_EDGES + e];
         __local uint *stack = mem->lq + perma_lq_off[t] + mem->edge_base[e] * tw;
         /* Emits [first, end) of logical index i lie at src + i * tw: one
          * block of this work-item (lane staging) or one per item. */
@@ -286,19 +417,10 @@ PERMA_PHASE void perma_write_emits(uint lid, __global uint *ctl, __global uint *
             const uint first = lanes ? lane_counts[lid * edges + e] : counts[s * edges + e];
             const uint end = lanes ? (lid + 1u < PERMA_GROUP_SIZE ? lane_counts[(lid + 1u) * edges + e] : k)
                                    : (s + 1u < run ? counts[(s + 1u) * edges + e] : k);
-            __local const uint *src = stage + (lanes ? lid * lanes : s) * max * tw - first * tw;
+            __global const uint *src = stage + (lanes ? lid * lanes : s) * max * tw - first * tw;
             const uint split = clamp(keep, first, end);
-            for (uint i = first; i < split; ++i)
-                for (uint w = 0; w < tw; ++w)
-                    stack[i * tw + w] = src[i * tw + w];
-            for (uint i = split; i < end; ++i) {
-                const uint pos = pos0 + i;
-                __global uint *dst = slots + (pos & mask) * tw;
-                for (uint w = 0; w < tw; ++w)
-                    dst[w] = src[i * tw + w];
-                if (i > keep) /* the first position's mark is the range's */
-                    marks[pos & mask] = pos;
-            }
+            PERMA_SWITCH_WORDS(tw, perma_copy_emits_out(first, split, end, keep, src, stack, slots, mask, marks, pos0,
+                                                        PERMA_WORDS));
         }
     }
     const uint donated = command == PERMA_CMD_DONATE ? count : 0u;
@@ -315,8 +437,8 @@ PERMA_PHASE void perma_write_emits(uint lid, __global uint *ctl, __global uint *
 }
 
 /* Phase "publish", work-item 0, after every copy: publish every target's
- * range (and a donation's), then give back the unused part of the
- * worst-case room. */
+ * range (and a donation's), then give back the room the batch reserved
+ * and did not use (none for an edge that overflowed). */
 PERMA_PHASE void perma_publish_emits(__global uint *ctl, __global uint *queue_data, __global uint *queue_seq, __local perma_group_mem *mem,
                                      uint own)
 {
@@ -328,15 +450,17 @@ PERMA_PHASE void perma_publish_emits(__global uint *ctl, __global uint *queue_da
     const uint edges = run ? perma_edge_count[proc] : 0u;
     for (uint e = 0; e < edges; ++e) {
         uint t = perma_edge_target[proc * PERMA_MAX_EDGES + e];
-        perma_queue_complete(PERMA_QUEUE(ctl, PERMA_QINDEX(own, t)), queue_seq, 0u,
-                             mem->edge_base[PERMA_MAX_EDGES + e], mem->edge_counts[e] - mem->edge_keep[e]);
+        if (!mem->edge_overflow[e])
+            perma_queue_complete(PERMA_QUEUE(ctl, PERMA_QINDEX(own, t)), queue_seq, 0u,
+                                 mem->edge_base[PERMA_MAX_EDGES + e], mem->edge_counts[e] - mem->edge_keep[e]);
     }
     if (command == PERMA_CMD_DONATE)
         perma_queue_complete(donee, queue_seq, 0u, mem->edge_base[0], count);
     for (uint e = 0; e < edges; ++e) {
         uint t = perma_edge_target[proc * PERMA_MAX_EDGES + e];
-        uint promised = run * perma_edge_max[proc * PERMA_MAX_EDGES + e];
-        perma_queue_give_room(PERMA_QUEUE(ctl, PERMA_QINDEX(own, t)), (int)(promised - mem->edge_counts[e]));
+        if (!mem->edge_overflow[e])
+            perma_queue_give_room(PERMA_QUEUE(ctl, PERMA_QINDEX(own, t)),
+                                  (int)(mem->edge_reserved[e] - mem->edge_counts[e]));
     }
     if (count) {
         mem_fence(CLK_GLOBAL_MEM_FENCE);
@@ -346,7 +470,8 @@ PERMA_PHASE void perma_publish_emits(__global uint *ctl, __global uint *queue_da
 
 /* Phase "dispatch": run each item of the batch with its procedure
  * (generated after this file, since it follows the batch layout above). */
-PERMA_PHASE void perma_dispatch(uint lid, __local perma_group_mem *mem, perma_buffers buf);
+PERMA_PHASE void perma_dispatch(uint lid, __local perma_group_mem *mem, __global uint *stage, ulong *lane,
+                                perma_buffers buf);
 
 /* Work-item 0 after a batch it ran: the progress counts in the group's
  * watch page record (kernels/perma_abi.h), its items and what it emitted
@@ -369,8 +494,8 @@ inline void perma_watch_counts(volatile __global uint *watch, __local const perm
  * PERMA_LOCAL_QUEUE is on.  mem->batch may be rewritten only after the
  * last barrier in here. */
 inline void perma_run_batch(__global uint *ctl, __global uint *queue_data, __global uint *queue_seq,
-                            volatile __global uint *abort_flag, __local perma_group_mem *mem, perma_buffers buf,
-                            __global const uint *input, uint own)
+                            __global uint *emit_areas, volatile __global uint *abort_flag, __local perma_group_mem *mem,
+                            ulong *lane, perma_buffers buf, __global const uint *input, uint own)
 {
     /* The group's record in the watch page: the host's watchdog names the
      * procedure running if it never returns, and sees progress in DONE. */
@@ -386,13 +511,13 @@ inline void perma_run_batch(__global uint *ctl, __global uint *queue_data, __glo
 #endif
 
     /* Run the procedure (the generated dispatch). */
-    perma_dispatch(get_local_id(0), mem, buf);
+    perma_dispatch(get_local_id(0), mem, perma_emit_area(emit_areas) + PERMA_EMIT_AREA_STAGE, lane, buf);
     barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
 
     if (get_local_id(0) == 0)
-        perma_reserve_emits(ctl, queue_data, queue_seq, mem, input, own);
+        perma_reserve_emits(ctl, queue_data, queue_seq, emit_areas, mem, input, own);
     barrier(CLK_LOCAL_MEM_FENCE);
-    perma_write_emits(get_local_id(0), ctl, queue_data, queue_seq, mem, own);
+    perma_write_emits(get_local_id(0), ctl, queue_data, queue_seq, emit_areas, mem, own);
     barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
     if (get_local_id(0) == 0) {
         perma_publish_emits(ctl, queue_data, queue_seq, mem, own);

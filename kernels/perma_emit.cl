@@ -1,7 +1,9 @@
 /*
  * The context a procedure receives, and emit staging.
  *
- * Emits are staged in __local memory without atomics.  A procedure of one
+ * Emits are staged without atomics in the group's staging area (global
+ * memory, room for every item's declared maximum, so a generous maximum
+ * costs no __local memory).  A procedure of one
  * thread per item that is not cooperative stages per work-item ("lane"):
  * the work-item appends the emits of all its items of the batch to its own
  * area and counts them per edge, so its emits leave as one block.  Any other
@@ -25,7 +27,10 @@ typedef struct perma_ctx {
     __local uint *item_emit_counts;   /* per edge: items this item emitted */
     __local uint *lane_counts;        /* lane staging: per edge, items this work-item staged; else null */
     uint lane;                        /* lane staging: this work-item's local id */
-    __local uint *stage;              /* staging arena */
+    __global uint *stage;             /* the group's staging area */
+#if PERMA_NUM_REDUCTIONS
+    ulong *reduce;                    /* this work-item's lane of the reductions (kernels/perma_reduce.cl) */
+#endif
     __local uint *error_code;         /* 0, or PERMA_EMIT_ERROR_* | detail (perma_abi.h) */
     perma_buffers buf;                /* user buffers, by name */
 } perma_ctx;
@@ -53,7 +58,7 @@ PERMA_PHASE int perma_emit(perma_ctx *ctx, uint target, const uint *src)
     uint words = perma_item_words[target];
     uint at = ctx->lane_counts ? ctx->lane * perma_lane_items[ctx->proc] * max + ctx->lane_counts[edge]++
                                : ctx->slot * max + own;
-    __local uint *dst = ctx->stage + perma_edge_stage[e] + at * words;
+    __global uint *dst = ctx->stage + perma_edge_stage[e] + at * words;
     for (uint w = 0; w < words; ++w)
         dst[w] = src[w];
     return 1;

@@ -38,10 +38,13 @@ void perma_step_kernel(PERMA_COMMON_ARGS(PERMA_ARG_PARAM), PERMA_STEP_ARGS(PERMA
     (void)trace;      /* the host records the steps of host-driven techniques */
     perma_buffers buf;
     PERMA_BIND_BUFFERS(buf);
+    PERMA_LANE_BEGIN(lane);
     for (uint i = lid; i < PERMA_STAT_GROUP_WORDS; i += PERMA_GROUP_SIZE)
         mem->stats[i] = 0;
-    if (lid == 0)
+    if (lid == 0) {
         mem->error_code = 0;
+        perma_emit_area(emit_areas)[PERMA_OVERFLOW_RECORDS] = 0;
+    }
     /* Group g runs the batches g, g + groups, ... (batch b: input items
      * [b * batch, (b + 1) * batch)).  Shaped like the megakernel's loop:
      * work-item 0 decides, a barrier, everyone reads the decision, and the
@@ -54,12 +57,12 @@ void perma_step_kernel(PERMA_COMMON_ARGS(PERMA_ARG_PARAM), PERMA_STEP_ARGS(PERMA
         if (lid == 0) {
             const uint n = b < batches ? min(count - b * batch, batch) : 0u;
             perma_set_batch(mem->batch, PERMA_CMD_RUN, proc, b * batch, n, proc, proc);
-            if (n && !perma_reserve_batch_room(ctl, 0, proc, n))
+            if (n && !perma_reserve_batch_room(ctl, mem, 0, proc, n, 0u))
                 perma_fail(ctl, PERMA_KSTATUS_NEEDS_ROOM, proc, 0); /* the host sized the queues wrongly */
         }
         barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
         more = b < batches;
-        perma_run_batch(ctl, queue_data, queue_seq, abort_flag, mem, buf, input, 0);
+        perma_run_batch(ctl, queue_data, queue_seq, emit_areas, abort_flag, mem, lane, buf, input, 0);
         b += get_num_groups(0);
     }
     barrier(CLK_LOCAL_MEM_FENCE);
@@ -67,4 +70,5 @@ void perma_step_kernel(PERMA_COMMON_ARGS(PERMA_ARG_PARAM), PERMA_STEP_ARGS(PERMA
     for (uint i = lid; i < PERMA_STAT_GROUP_WORDS; i += PERMA_GROUP_SIZE)
         if (mem->stats[i])
             atomic_add(group_stats + i, mem->stats[i]);
+    PERMA_LANE_END(lane, reductions);
 }

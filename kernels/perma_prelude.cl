@@ -17,6 +17,8 @@
 #define PERMA_STAT_PROC_WORDS PERMA_STAT_PROC_WORDS_FOR(PERMA_MAX_EDGES)
 #define PERMA_STAT_GROUP_WORDS PERMA_STAT_GROUP_WORDS_FOR(PERMA_NUM_PROCS, PERMA_MAX_EDGES)
 #define PERMA_TRACE_GROUP_WORDS PERMA_TRACE_GROUP_WORDS_FOR(PERMA_TRACE_EVENTS)
+#define PERMA_EMIT_AREA_WORDS PERMA_EMIT_AREA_WORDS_FOR(PERMA_STAGE_WORDS)
+#define PERMA_EMIT_AREA_OVERFLOW PERMA_EMIT_AREA_OVERFLOW_FOR(PERMA_STAGE_WORDS)
 #define PERMA_WATCH_GROUP_WORDS PERMA_WATCH_RECORD_WORDS_FOR(PERMA_NUM_PROCS)
 
 #define PERMA_QUEUE(ctl, q) ((ctl) + PERMA_CTL_HEADER_WORDS + (q) * PERMA_QUEUE_WORDS)
@@ -34,6 +36,9 @@
 #else
 #define PERMA_PHASE inline __attribute__((always_inline))
 #endif
+/* Inlined into every caller, so a caller's constant arguments (an item's
+ * word count under PERMA_SWITCH_WORDS) fold into its code. */
+#define PERMA_INLINE inline __attribute__((always_inline))
 
 /* A read that always goes to memory (another group may have written it).
  * A word that other groups update with atomics is read with a plain
@@ -57,6 +62,12 @@ inline int perma_load_int(__global uint *p)
     return (int)perma_load(p);
 }
 
+/* The group's emit area (kernels/perma_abi.h): overflow records, the
+ * staging of its emits, the overflow data. */
+inline __global uint *perma_emit_area(__global uint *emit_areas)
+{
+    return emit_areas + get_group_id(0) * PERMA_EMIT_AREA_WORDS;
+}
 /* For a procedure with a long or unbounded loop: nonzero once the host's
  * watchdog has asked the run to stop (its time or stall limit passed,
  * config.time_limit, config.stall_limit).  The scheduler polls the same

@@ -18,10 +18,12 @@
  * whatever its size: no per-item atomics, no per-slot handshakes.
  *
  * ROOM counts the slots that no batch has been promised.  A batch may start
- * only after it subtracted its worst-case emits from ROOM of every target,
- * and released slots go back to ROOM only when RELEASED passes them, so
- * TAIL - RELEASED never exceeds cap: a writer's slots are always free, and
- * a started batch can always write everything it emits.
+ * only after it subtracted its expected emits from ROOM of every target
+ * (perma_batch_room), takes ROOM for any emit beyond them before it
+ * reserves positions (or sends them to its overflow area, never into the
+ * queue), and released slots go back to ROOM only when RELEASED passes
+ * them, so TAIL - RELEASED never exceeds cap: a writer's slots are always
+ * free.
  */
 
 /* Items that are published and not yet claimed. */

@@ -9,7 +9,8 @@
  * One work-item per slot of the new layout moves an item, if the slot holds
  * one, and clears the slot's two completion marks, so no queued item
  * passes through the host.  The items keep their order, as a fresh upload
- * would lay them out.
+ * would lay them out; the items a launch left in the groups' overflow
+ * areas (PERMA_OVERFLOW_*, the overflow data of the emit areas) follow them, segment by segment.
  */
 __kernel void perma_relayout_kernel(PERMA_RELAYOUT_ARGS(PERMA_ARG_PARAM))
 {
@@ -31,10 +32,20 @@ __kernel void perma_relayout_kernel(PERMA_RELAYOUT_ARGS(PERMA_ARG_PARAM))
     /* Not done for any position (perma_queue_clear_mark). */
     new_seq[q->new_seq + i] = i;
     new_seq[q->new_seq + q->new_cap + i] = i;
-    if (i >= q->count)
+    __global const uint *src = 0;
+    if (i < q->count) {
+        src = old_data + q->old_data + ((q->head + i) & (q->old_cap - 1u)) * q->words;
+    } else if (i - q->count < q->overflow) {
+        uint k = i - q->count;
+        __global const uint *segment = segments + q->overflow_first;
+        for (uint s = 0; s < q->overflow_segments && !src; ++s, segment += PERMA_RELAYOUT_SEGMENT_WORDS) {
+            if (k < segment[1])
+                src = emit_areas + segment[0] + k * q->words;
+            k -= segment[1];
+        }
+    }
+    if (!src)
         return;
-    uint slot = (q->head + i) & (q->old_cap - 1u);
-    __global const uint *src = old_data + q->old_data + slot * q->words;
     __global uint *dst = new_data + q->new_data + i * q->words;
     for (uint w = 0; w < q->words; ++w)
         dst[w] = src[w];

@@ -22,13 +22,15 @@
 #define PERMA_STARVE_LIMIT 64u
 
 /* How many of `want` items of q the group can start: as many as the room
- * of its targets admits, with that room reserved (0: none).  Sets *starved
- * to q if the room cut the batch to under half of `want`, else to -1. */
-inline uint perma_fit_batch(__global uint *ctl, uint own, uint q, uint want, int *starved)
+ * of its targets admits for their expected emits (perma_batch_room), with
+ * that room reserved (0: none).  Sets *starved to q if the room cut the
+ * batch to under half of `want`, else to -1. */
+inline uint perma_fit_batch(__global uint *ctl, __local perma_group_mem *mem, uint own, uint q, uint want,
+                            int *starved)
 {
-    uint fit = perma_admissible(ctl, own, q, want);
+    uint fit = perma_admissible(ctl, mem, own, q, want, 1u);
     *starved = 2u * fit < want ? (int)q : -1;
-    if (fit == 0 || !perma_reserve_batch_room(ctl, own, q, fit))
+    if (fit == 0 || !perma_reserve_batch_room(ctl, mem, own, q, fit, 1u))
         return 0;
     return fit;
 }
@@ -38,8 +40,8 @@ inline uint perma_fit_batch(__global uint *ctl, uint own, uint q, uint want, int
  * *start; when the queue had items, sets *starved to q if the room of the
  * targets cut the batch to under half of what there was to take, else
  * to -1. */
-inline uint perma_try_take(__global uint *ctl, uint own, uint from, uint q, int full_only,
-                           uint *start, int *starved)
+inline uint perma_try_take(__global uint *ctl, __local perma_group_mem *mem, uint own, uint from, uint q,
+                           int full_only, uint *start, int *starved)
 {
     __global uint *queue = PERMA_QUEUE(ctl, PERMA_QINDEX(from, q));
     int available = perma_queue_available(queue);
@@ -48,12 +50,12 @@ inline uint perma_try_take(__global uint *ctl, uint own, uint from, uint q, int 
     uint want = min((uint)available, perma_max_batch[q]);
     if (full_only && want < perma_max_batch[q])
         return 0;
-    want = perma_fit_batch(ctl, own, q, want, starved);
+    want = perma_fit_batch(ctl, mem, own, q, want, starved);
     if (want == 0)
         return 0;
     uint got = perma_queue_claim(queue, want, start);
     if (got < want)
-        perma_release_batch_room(ctl, own, q, want - got, perma_edge_count[q]);
+        perma_shrink_batch_room(ctl, mem, own, q, got, 1u);
     return got;
 }
 
@@ -111,7 +113,8 @@ inline uint perma_try_donate(__global uint *ctl, uint own, uint *proc, uint *des
  * only when its first one has left (or a host thread waits for the launch):
  * without stealing, items in such a set would wait for a group that waits
  * for them.  So whoever runs serves it, as a thief would. */
-inline uint perma_try_adopt(__global uint *ctl, uint own, uint *proc, uint *from, uint *start)
+inline uint perma_try_adopt(__global uint *ctl, __local perma_group_mem *mem, uint own, uint *proc, uint *from,
+                            uint *start)
 {
     for (uint s = 0; s < PERMA_QUEUE_SETS; ++s) {
         if (s == own || perma_group_running(ctl, s))
@@ -119,7 +122,7 @@ inline uint perma_try_adopt(__global uint *ctl, uint own, uint *proc, uint *from
         for (uint i = 0; i < PERMA_NUM_PROCS; ++i) {
             int starved; /* unused: an adopted batch does not count toward the starve limit */
             uint q = perma_order[i];
-            uint got = perma_try_take(ctl, own, s, q, 0, start, &starved);
+            uint got = perma_try_take(ctl, mem, own, s, q, 0, start, &starved);
             if (got) {
                 *proc = q;
                 *from = s;
@@ -216,7 +219,7 @@ inline uint perma_try_take_local(__global uint *ctl, __local perma_group_mem *me
     uint n = min(mem->lq_count[q], perma_max_batch[q]);
     if (n == 0)
         return 0;
-    n = perma_fit_batch(ctl, own, q, n, starved);
+    n = perma_fit_batch(ctl, mem, own, q, n, starved);
     if (n == 0)
         return 0;
     mem->lq_count[q] -= n;
@@ -225,17 +228,27 @@ inline uint perma_try_take_local(__global uint *ctl, __local perma_group_mem *me
 }
 #endif
 
-/* Count a schedule that room cut short for procedure `starved` (-1: it did
- * not, which resets the count).  After PERMA_STARVE_LIMIT in a row, if the
- * host allows it and a target of that procedure in set `own` is smaller
- * than its occupancy plus a full batch of emits for every group, stop the
- * launch so the host doubles that queue (named in DETAIL_EDGE): batches of a
- * few items cost nearly as much as full ones, and a group that sees work
- * but can start none is idle.  Returns 1 when it stopped the launch. */
-inline int perma_note_starved(__global uint *ctl, uint groups, uint own, int starved, uint *count)
+/* Count a schedule that room cut short for procedure `starved` (-1: the
+ * batch of procedure `taken` was not cut, which resets the count if the
+ * count is that procedure's; batches of other procedures in between, such
+ * as the consumers of its emits, do not).  *count holds the procedure + 1
+ * in its high half and the count in its low half.  After
+ * PERMA_STARVE_LIMIT, if the host allows it and a target of that procedure
+ * in set `own` is smaller than its occupancy plus a full batch of expected
+ * emits for every group, stop the launch so the host doubles that queue
+ * (named in DETAIL_EDGE): batches of a few items cost nearly as much as
+ * full ones, and a group that sees work but can start none is idle.
+ * Returns 1 when it stopped the launch. */
+inline int perma_note_starved(__global uint *ctl, __local const perma_group_mem *mem, uint groups, uint own,
+                              int starved, uint taken, uint *count)
 {
-    *count = starved >= 0 ? *count + 1u : 0u;
-    if (*count < PERMA_STARVE_LIMIT || !perma_load(ctl + PERMA_CTL_GROW_STARVED))
+    if (starved < 0) {
+        if (*count >> 16 == taken + 1u)
+            *count = 0;
+        return 0;
+    }
+    *count = *count >> 16 == (uint)starved + 1u ? *count + 1u : ((uint)starved + 1u) << 16 | 1u;
+    if ((*count & 0xffffu) < PERMA_STARVE_LIMIT || !perma_load(ctl + PERMA_CTL_GROW_STARVED))
         return 0;
     *count = 0;
     uint q = (uint)starved;
@@ -243,8 +256,7 @@ inline int perma_note_starved(__global uint *ctl, uint groups, uint own, int sta
         uint ti = PERMA_QINDEX(own, perma_edge_target[q * PERMA_MAX_EDGES + e]);
         __global uint *target = PERMA_QUEUE(ctl, ti);
         uint occupancy = perma_load(target + PERMA_Q_TAIL) - perma_load(target + PERMA_Q_RELEASED);
-        ulong needed = (ulong)occupancy +
-                       (ulong)groups * perma_max_batch[q] * perma_edge_max[q * PERMA_MAX_EDGES + e];
+        ulong needed = (ulong)occupancy + (ulong)groups * perma_batch_room(mem, q, e, perma_max_batch[q], 1u);
         if ((ulong)target[PERMA_Q_CAP] < needed) {
             perma_fail(ctl, PERMA_KSTATUS_NEEDS_ROOM, PERMA_DETAIL_STARVED, ti);
             return 1;
@@ -280,7 +292,7 @@ PERMA_PHASE void perma_schedule(__global uint *ctl, __global uint *queue_data, _
             q = perma_order[i];
             got = perma_try_take_local(ctl, mem, own, q, &start, &starved);
             if (got) {
-                perma_note_starved(ctl, groups, own, starved, starve_count);
+                perma_note_starved(ctl, mem, groups, own, starved, q, starve_count);
                 perma_set_blocked(group_words, 0u);
                 perma_set_batch(batch, PERMA_CMD_RUN_LOCAL, q, start, got, PERMA_QINDEX(own, q), 0);
                 return;
@@ -302,9 +314,9 @@ PERMA_PHASE void perma_schedule(__global uint *ctl, __global uint *queue_data, _
         for (uint pass = 0; pass < 2; ++pass) {
             for (uint i = 0; i < PERMA_NUM_PROCS; ++i) {
                 q = perma_order[i];
-                got = perma_try_take(ctl, own, own, q, pass == 0, &start, &starved);
+                got = perma_try_take(ctl, mem, own, own, q, pass == 0, &start, &starved);
                 if (got) {
-                    perma_note_starved(ctl, groups, own, starved, starve_count);
+                    perma_note_starved(ctl, mem, groups, own, starved, q, starve_count);
                     perma_set_blocked(group_words, 0u);
                     perma_set_batch(batch, PERMA_CMD_RUN, q, start, got, PERMA_QINDEX(own, q), 0);
                     return;
@@ -319,9 +331,9 @@ PERMA_PHASE void perma_schedule(__global uint *ctl, __global uint *queue_data, _
                 continue;
             for (uint i = 0; i < PERMA_NUM_PROCS; ++i) {
                 q = perma_order[i];
-                got = perma_try_take(ctl, own, victim, q, 0, &start, &starved);
+                got = perma_try_take(ctl, mem, own, victim, q, 0, &start, &starved);
                 if (got) {
-                    perma_note_starved(ctl, groups, own, starved, starve_count);
+                    perma_note_starved(ctl, mem, groups, own, starved, q, starve_count);
                     group_stat[PERMA_GSTAT_STEALS] += 1u;
                     perma_set_blocked(group_words, 0u);
                     perma_set_batch(batch, PERMA_CMD_RUN, q, start, got, PERMA_QINDEX(victim, q), 0);
@@ -333,7 +345,7 @@ PERMA_PHASE void perma_schedule(__global uint *ctl, __global uint *queue_data, _
 #endif
 #if PERMA_DONATION && !PERMA_STEALING
         uint from = 0;
-        got = perma_try_adopt(ctl, own, &q, &from, &start);
+        got = perma_try_adopt(ctl, mem, own, &q, &from, &start);
         if (got) {
             group_stat[PERMA_GSTAT_STEALS] += 1u;
             perma_set_blocked(group_words, 0u);
@@ -362,7 +374,7 @@ PERMA_PHASE void perma_schedule(__global uint *ctl, __global uint *queue_data, _
             break;
         }
         /* Work in sight but no room to start any of it. */
-        if (starved >= 0 && perma_note_starved(ctl, groups, own, starved, starve_count))
+        if (starved >= 0 && perma_note_starved(ctl, mem, groups, own, starved, q, starve_count))
             break;
         (void)dest;
         if (poll >= PERMA_IDLE_POLLS) {
@@ -405,6 +417,7 @@ void perma_megakernel(PERMA_COMMON_ARGS(PERMA_ARG_PARAM) PERMA_BUFFER_PARAMS)
 #endif
     perma_buffers buf;
     PERMA_BIND_BUFFERS(buf);
+    PERMA_LANE_BEGIN(lane);
 
     for (uint i = lid; i < PERMA_STAT_GROUP_WORDS; i += PERMA_GROUP_SIZE)
         mem->stats[i] = 0;
@@ -412,6 +425,7 @@ void perma_megakernel(PERMA_COMMON_ARGS(PERMA_ARG_PARAM) PERMA_BUFFER_PARAMS)
         mem->lq_count[i] = 0;
     if (lid == 0) {
         mem->error_code = 0;
+        perma_emit_area(emit_areas)[PERMA_OVERFLOW_RECORDS] = 0;
         perma_set_batch(mem->batch, PERMA_CMD_IDLE, 0, 0, 0, 0, 0);
         atomic_xchg(group_words + PERMA_G_STATE, 1u);
     }
@@ -430,7 +444,8 @@ void perma_megakernel(PERMA_COMMON_ARGS(PERMA_ARG_PARAM) PERMA_BUFFER_PARAMS)
         if (lid == 0 && mem->batch[PERMA_B_COUNT])
             trace_start = atomic_inc(abort_flag + PERMA_WATCH_CLOCK);
 #endif
-        perma_run_batch(ctl, queue_data, queue_seq, abort_flag, mem, buf, (__global const uint *)0, own);
+        perma_run_batch(ctl, queue_data, queue_seq, emit_areas, abort_flag, mem, lane, buf, (__global const uint *)0,
+                        own);
 #if PERMA_TRACE_EVENTS
         /* Before work-item 0 schedules the next batch. */
         if (lid == 0 && mem->batch[PERMA_B_COUNT] && trace_count < PERMA_TRACE_EVENTS) {
@@ -449,6 +464,7 @@ void perma_megakernel(PERMA_COMMON_ARGS(PERMA_ARG_PARAM) PERMA_BUFFER_PARAMS)
 
     for (uint i = lid; i < PERMA_STAT_GROUP_WORDS; i += PERMA_GROUP_SIZE)
         group_stats[group * PERMA_STAT_GROUP_WORDS + i] = mem->stats[i];
+    PERMA_LANE_END(lane, reductions);
     if (lid == 0)
         atomic_xchg(group_words + PERMA_G_STATE, 2u);
 }

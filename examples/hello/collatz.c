@@ -3,7 +3,8 @@
  *
  *   step:   one Collatz step on a number; emits the next number to itself,
  *           or, once the number reaches 1, a "finished" record to `record`.
- *   record: adds the starting value's step count to a histogram.
+ *   record: adds the starting value's step count to a histogram, and to
+ *           the reduction `longest` (the most steps of any start).
  *
  * The host seeds `step` with the numbers 1..N, runs until no work is left,
  * and prints the histogram and the runtime's statistics.
@@ -35,7 +36,7 @@ static const char *record_source =
     "void record(perma_ctx *ctx, __local const struct finished *f)\n"
     "{\n"
     "    atomic_inc(&ctx->buf.histogram[min(f->steps, 127u)]);\n"
-    "    atomic_max(&ctx->buf.longest[0], f->steps);\n"
+    "    reduce_longest(ctx, f->steps);\n"
     "}\n";
 
 struct walk { unsigned start, value, steps; };
@@ -96,9 +97,11 @@ int main(int argc, char **argv)
         perma_register(rt, &record, &record_id) != PERMA_OK)
         return fail(rt, "registering procedures");
 
-    unsigned histogram[128] = { 0 }, longest[1] = { 0 };
+    /* An array shared by all items: a buffer, updated with atomics.  One
+     * value: a reduction, set after the run. */
+    unsigned histogram[128] = { 0 }, longest = 0;
     if (perma_bind_host(rt, "histogram", "__global uint *", histogram, sizeof histogram, PERMA_READ_WRITE) != PERMA_OK ||
-        perma_bind_host(rt, "longest", "__global uint *", longest, sizeof longest, PERMA_READ_WRITE) != PERMA_OK)
+        perma_declare_reduction(rt, "longest", PERMA_REDUCE_MAX, PERMA_TYPE_UINT, &longest) != PERMA_OK)
         return fail(rt, "binding buffers");
 
     struct walk *seeds = malloc(n * sizeof *seeds);
@@ -113,7 +116,7 @@ int main(int argc, char **argv)
     if (perma_run(rt) != PERMA_OK)
         return fail(rt, "running");
 
-    printf("Collatz stopping times of 1..%u (longest: %u steps)\n", n, longest[0]);
+    printf("Collatz stopping times of 1..%u (longest: %u steps)\n", n, longest);
     for (unsigned s = 0; s < 128; s += 8) {
         unsigned bucket = 0;
         for (unsigned k = s; k < s + 8; ++k)

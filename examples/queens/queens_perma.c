@@ -9,14 +9,14 @@ static const char *types =
     "struct queens_node { uint row, n, columns, left, right; };\n";
 
 /* One node: count it; a full board is a solution, otherwise emit a child
- * per free column.  Two 64-bit global atomics per node keep the example
- * short (a per-group sum in __local memory would contend less). */
+ * per free column.  The counts are reductions (perma_declare_reduction):
+ * no atomic per node. */
 static const char *source =
     "void queens_place(perma_ctx *ctx, __local const struct queens_node *node)\n"
     "{\n"
-    "    atom_inc(&ctx->buf.counts[1]);\n"
+    "    reduce_nodes(ctx, 1ul);\n"
     "    if (node->row == node->n) {\n"
-    "        atom_inc(&ctx->buf.counts[0]);\n"
+    "        reduce_solutions(ctx, 1ul);\n"
     "        return;\n"
     "    }\n"
     "    uint all = node->n >= 32u ? 0xffffffffu : (1u << node->n) - 1u;\n"
@@ -33,7 +33,7 @@ static const char *source =
 struct queens_counter {
     perma_runtime *rt;
     perma_proc place;
-    uint64_t counts[2];   /* solutions, nodes */
+    uint64_t solutions, nodes; /* the reductions of the last run */
 };
 
 static perma_status fail(perma_runtime *rt, perma_status status, perma_error *error)
@@ -74,8 +74,9 @@ perma_status queens_counter_create(const perma_device_ref *device, queens_counte
     if (st == PERMA_OK)
         st = perma_register(c->rt, &place, &c->place);
     if (st == PERMA_OK)
-        st = perma_bind_host(c->rt, "counts", "__global ulong *", c->counts, sizeof c->counts,
-                             PERMA_READ_WRITE);
+        st = perma_declare_reduction(c->rt, "solutions", PERMA_REDUCE_SUM, PERMA_TYPE_ULONG, &c->solutions);
+    if (st == PERMA_OK)
+        st = perma_declare_reduction(c->rt, "nodes", PERMA_REDUCE_SUM, PERMA_TYPE_ULONG, &c->nodes);
     if (st == PERMA_OK)
         st = perma_build(c->rt);
     if (st != PERMA_OK) {
@@ -105,13 +106,12 @@ perma_status queens_counter_run(queens_counter *c, const queens_node *units, siz
 {
     if (count == 0)
         return PERMA_OK;
-    memset(c->counts, 0, sizeof c->counts);
     perma_status st = perma_seed(c->rt, c->place, units, count);
     if (st == PERMA_OK)
         st = perma_run(c->rt);
     if (st != PERMA_OK)
         return fail(c->rt, st, error);
-    counts->solutions += c->counts[0];
-    counts->nodes += c->counts[1];
+    counts->solutions += c->solutions;
+    counts->nodes += c->nodes;
     return PERMA_OK;
 }

@@ -18,9 +18,9 @@
  *         .item_size = 8, .threads_per_item = 1, .source = SPLIT_SRC,
  *         .function = "split", .emits = { { "split", 2 } } };
  *     perma_proc id;               perma_register(rt, &split, &id);
- *     perma_bind_host(rt, "leaves", "__global uint *", &count, 4, PERMA_READ_WRITE);
+ *     perma_declare_reduction(rt, "leaves", PERMA_REDUCE_SUM, PERMA_TYPE_ULONG, &leaves);
  *     perma_seed(rt, id, &root, 1);
- *     perma_run(rt);               // count now holds the result
+ *     perma_run(rt);               // leaves now holds the result
  *     perma_print_stats(rt, stdout);
  *     perma_destroy(rt);
  *
@@ -39,6 +39,9 @@
  *     if staged, 0 if the item exceeded the declared per-item maximum (the run
  *     then fails with PERMA_ERR_EMIT_LIMIT).  Emitting into a procedure not
  *     listed in .emits is a compile error.
+ *   - reduce_NAME(ctx, value) adds value to reduction NAME (sum, min or max;
+ *     perma_declare_reduction), read on the host after the run: no atomic,
+ *     no barrier, the same result under every schedule.
  *   - ctx->buf.NAME is the buffer bound under NAME (perma_bind_*).
  *   - ctx->scratch points to local_bytes_per_item bytes of __local memory
  *     for this item, shared by its threads.
@@ -84,6 +87,7 @@ extern "C" {
 #define PERMA_MAX_EMIT_ITEMS 4096 /* most items one input item may emit into one target */
 #define PERMA_MAX_PROCEDURES 64
 #define PERMA_MAX_BUFFERS 32
+#define PERMA_MAX_REDUCTIONS 32
 #define PERMA_MAX_QUEUED_ITEMS ((size_t)1 << 30) /* most items one queue holds (seeds included) */
 #define PERMA_MAX_LOCAL_QUEUE_ITEMS 4096 /* most perma_schedule.local_queue_items */
 #define PERMA_MESSAGE_MAX 1024
@@ -224,17 +228,19 @@ typedef struct perma_config {
     /* Items one work-item runs one after another in a batch of a procedure
      * with one thread per item that is not cooperative, so such a batch
      * holds up to group_size * items_per_work_item items (fewer if its
-     * items, scratch and worst-case emits do not fit the __local memory);
+     * items and scratch do not fit the __local memory, or staging the
+     * declared maximum of its emits would pass a group's staging memory);
      * 0 = 4.  Larger batches spread the fixed cost of a batch (claiming,
      * barriers, publishing) over more items.  Procedures with several
      * threads per item and cooperative ones take group_size /
      * threads_per_item items per batch. */
     unsigned items_per_work_item;
     /* Initial capacity of each queue in items; 0 = 1024.  Rounded up to a
-     * power of two; queues grow on demand (when no group can start anything
-     * for lack of room, and when a group's batches keep being cut to a
-     * fraction by the room their worst-case emits need, up to
-     * queue_memory_limit), and a run starts each queue at the capacity the
+     * power of two; queues grow on demand (when a batch emitted more than
+     * its target had room for, when no group can start anything for lack of
+     * room, and when a group's batches keep being cut to a fraction by the
+     * room their expected emits need, up to queue_memory_limit), and a run
+     * starts each queue at the capacity the
      * last successful run of the same program grew it to, if that is more
      * and all queues fit queue_memory_limit (perma_stats.queues_kept counts
      * them; perma_forget_capacities). */
@@ -438,6 +444,72 @@ perma_status perma_bind_cl(perma_runtime *rt, const char *name, const char *type
 perma_status perma_bind_host(perma_runtime *rt, const char *name, const char *type,
                              void *host, size_t bytes, unsigned flags);
 
+/* Reductions.  A reduction is a value every procedure may combine into
+ * with one call, reduce_NAME(ctx, value), and the host reads after the
+ * run: a count, a sum, the deepest level reached.  Each work-item keeps a
+ * private partial of every reduction, which the call updates without any
+ * atomic or barrier; the partials are folded once per launch per
+ * work-item and combined by the host after the run (docs/design.md,
+ * Reductions), so a reduction costs about as much as adding to a local
+ * variable, where a global atomic_inc per item on one counter costs tens
+ * of nanoseconds on a CPU (docs/writing-procedures.md, section 5).
+ *
+ * Results are exact and independent of the schedule (technique, strategy,
+ * group count, run to run, OpenCL implementation):
+ *   - sums of uint and int wrap modulo 2^32, of ulong and long modulo 2^64
+ *     (two's complement), as a sequential loop would;
+ *   - sums of float and double are the exact sum of the values rounded
+ *     once to the type (to nearest, ties to even): the same bits whatever
+ *     order the items ran in.  A sum that is exactly zero is +0.0; an
+ *     infinity among the values gives that infinity, +inf and -inf
+ *     together or a NaN give NaN; an exact sum beyond the type's range
+ *     rounds to infinity;
+ *   - min and max compare values as the type does, except that -0.0 is
+ *     below +0.0 and NaN values are ignored; with no value at all the
+ *     result is the identity: the type's largest value for min (+inf for
+ *     floats), its smallest for max (-inf).
+ * Cost: one 64-bit word per work-item per reduction; an exact float sum
+ * keeps 10 words, a double sum 67, and each add updates two or three of
+ * them (about 20 instructions). */
+typedef enum perma_reduce_op {
+    PERMA_REDUCE_SUM = 0,
+    PERMA_REDUCE_MIN,
+    PERMA_REDUCE_MAX
+} perma_reduce_op;
+
+/* The type of a reduction's values (and of reduce_NAME's argument). */
+typedef enum perma_value_type {
+    PERMA_TYPE_UINT = 0, /* uint32_t on the host */
+    PERMA_TYPE_INT,      /* int32_t */
+    PERMA_TYPE_ULONG,    /* uint64_t */
+    PERMA_TYPE_LONG,     /* int64_t */
+    PERMA_TYPE_FLOAT,    /* float */
+    PERMA_TYPE_DOUBLE    /* double (the device must support cl_khr_fp64) */
+} perma_value_type;
+
+/* Names used in messages: "sum", "min", "max"; "uint", "int", "ulong",
+ * "long", "float", "double".  NULL for an unknown value. */
+const char *perma_reduce_op_name(perma_reduce_op op);
+const char *perma_value_type_name(perma_value_type type);
+
+/* Declare reduction `name` (a C identifier; procedures call
+ * reduce_NAME(ctx, value) with a value of `type`).  `result`, if not NULL,
+ * points to a host variable of `type` that every successful perma_run
+ * sets to the result (it must stay valid as long as the runtime runs).
+ * Declare before the first run (a later declaration rebuilds the
+ * program).  PERMA_ERR_ARGUMENT for a bad name, a name declared twice, an
+ * unknown op or type, a double on a device without cl_khr_fp64, more than
+ * PERMA_MAX_REDUCTIONS; the message names the reduction and the
+ * parameter. */
+perma_status perma_declare_reduction(perma_runtime *rt, const char *name, perma_reduce_op op, perma_value_type type,
+                                     void *result);
+
+/* The result of reduction `name` in the last run, into *out, a variable of
+ * `type`, which must be the declared type.  PERMA_ERR_ARGUMENT for an
+ * unknown name, a type that is not the declared one or a NULL out;
+ * PERMA_ERR_STATE when no run has finished since the reduction was
+ * declared, or the last run failed. */
+perma_status perma_get_reduction(perma_runtime *rt, const char *name, perma_value_type type, void *out);
 /* ---- Typed host arrays --------------------------------------------------
  * Bind a host array so that the device type and the byte count come from
  * its one C declaration:
@@ -563,12 +635,17 @@ perma_status perma_run(perma_runtime *rt);
 /* Why a procedure's batches held fewer items than a group could run. */
 typedef enum perma_batch_cut {
     PERMA_BATCH_FULL = 0,         /* nothing cut them */
-    PERMA_BATCH_CUT_LOCAL_MEMORY, /* __local memory holds fewer items (their copies, scratch and
-                                     worst-case emits): batch_size is below group_size *
-                                     items_per_work_item (group_size / threads_per_item for a
-                                     procedure of several threads per item or a cooperative one) */
-    PERMA_BATCH_CUT_ROOM          /* a full batch's worst-case emits did not fit the target's queue,
-                                     so batches started with the few items whose worst case fit */
+    PERMA_BATCH_CUT_LOCAL_MEMORY, /* __local memory holds fewer items (their copies, scratch and emit
+                                     counters): batch_size is below group_size * items_per_work_item
+                                     (group_size / threads_per_item for a procedure of several threads per
+                                     item or a cooperative one) */
+    PERMA_BATCH_CUT_ROOM,         /* a full batch's expected emits (what its items emitted so far, per
+                                     item; the declared maximum before a group's first batch of a launch)
+                                     did not fit the target's queue, which may not grow further (the queue
+                                     memory limit), so batches started with the few items that fit */
+    PERMA_BATCH_CUT_STAGING       /* staging the declared maximum of emits of a full batch would need more
+                                     than the global memory a work-group may stage in (a quarter of the
+                                     device's largest allocation over all groups, at most 16 MiB each) */
 } perma_batch_cut;
 
 /* Statistics of the last run. */
@@ -613,6 +690,10 @@ typedef struct perma_stats {
                                   and all queues fit the memory limit) */
     uint64_t items;            /* items executed, all procedures */
     uint64_t steals, donations, spills, idle_polls; /* sums over groups */
+    /* Emitted items a megakernel batch could not queue because their target
+     * had no room for more than the batch reserved (its expected emits): the
+     * launch stopped, the queue grew and they were appended to it. */
+    uint64_t overflowed_items;
     perma_technique technique;
     perma_strategy strategy;
 } perma_stats;
@@ -628,7 +709,8 @@ perma_status perma_get_work_groups(perma_runtime *rt, unsigned *work_groups, uns
 /* The __local memory one work-group may use, in bytes, from perma_create
  * on: the device's CL_DEVICE_LOCAL_MEM_SIZE, or config.local_memory_limit
  * (PERMA_LOCAL_MEMORY_LIMIT) when that is lower.  A batch's items, their
- * scratch and their worst-case emits must fit it (perma_batch_cut). */
+ * scratch and emit counters must fit it (perma_batch_cut); emits are staged
+ * in global memory. */
 perma_status perma_get_local_memory(perma_runtime *rt, size_t *bytes);
 
 /* Counters of persistent group `group` (0..work_groups-1) in the last run;

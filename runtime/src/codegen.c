@@ -13,6 +13,7 @@ extern const char perma_kernel_batch[];
 extern const char perma_kernel_scheduler[];
 extern const char perma_kernel_host_steps[];
 extern const char perma_kernel_relayout[];
+extern const char perma_kernel_reduce[];
 
 #define GENERATED_NAME "perma-generated.cl"
 
@@ -101,6 +102,23 @@ static void append_buffers(perma_runtime *rt, perma_strbuf *sb)
     perma_strbuf_append(sb, "} perma_buffers;\n");
 }
 
+/* PERMA_SWITCH_WORDS(words, call): `call` with PERMA_WORDS a constant equal
+ * to `words` for every item size of the program, so the copies of the
+ * batch code (kernels/perma_batch.cl) compile to fixed moves per size. */
+static void append_word_switch(perma_runtime *rt, perma_strbuf *sb)
+{
+    perma_strbuf_append(sb, "#define PERMA_SWITCH_WORDS(words, call) switch (words) {");
+    for (unsigned i = 0; i < rt->proc_count; ++i) {
+        unsigned words = (unsigned)(rt->procs[i].item_size / 4);
+        bool seen = false;
+        for (unsigned j = 0; j < i; ++j)
+            seen = seen || rt->procs[j].item_size == rt->procs[i].item_size;
+        if (!seen)
+            perma_strbuf_printf(sb, " case %uu: { const uint PERMA_WORDS = %uu; call; break; }", words, words);
+    }
+    perma_strbuf_append(sb, " default: { const uint PERMA_WORDS = (words); call; break; } }\n");
+}
+
 static void append_kernel_params(perma_runtime *rt, perma_strbuf *sb)
 {
     perma_strbuf_append(sb, "#define PERMA_BUFFER_PARAMS");
@@ -165,7 +183,8 @@ static void append_procedure_sources(perma_runtime *rt, perma_strbuf *sb)
  * procedures may be larger than the group). */
 static void append_dispatch(perma_runtime *rt, perma_strbuf *sb)
 {
-    perma_strbuf_append(sb, "PERMA_PHASE void perma_dispatch(uint lid, __local perma_group_mem *mem, perma_buffers buf)\n"
+    perma_strbuf_append(sb, "PERMA_PHASE void perma_dispatch(uint lid, __local perma_group_mem *mem, __global uint *stage,\n"
+                            "                             ulong *lane, perma_buffers buf)\n"
                             "{\n"
                             "    const uint proc = mem->batch[PERMA_B_PROC];\n"
                             "    const uint run = perma_batch_run(mem);\n"
@@ -175,7 +194,12 @@ static void append_dispatch(perma_runtime *rt, perma_strbuf *sb)
                             "    perma_ctx context;\n"
                             "    perma_ctx *ctx = &context;\n"
                             "    ctx->group = get_group_id(0);\n"
-                            "    ctx->stage = arena;\n"
+                            "    ctx->stage = stage;\n"
+                            "#if PERMA_NUM_REDUCTIONS\n"
+                            "    ctx->reduce = lane;\n"
+                            "#else\n"
+                            "    (void)lane;\n"
+                            "#endif\n"
                             "    ctx->error_code = &mem->error_code;\n"
                             "    ctx->buf = buf;\n"
                             "    switch (proc) {\n");
@@ -239,6 +263,7 @@ perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *sb)
                             "#define PERMA_NUM_PROCS %uu\n"
                             "#define PERMA_MAX_EDGES %uu\n"
                             "#define PERMA_ARENA_WORDS %uu\n"
+                            "#define PERMA_STAGE_WORDS %uu\n"
                             "#define PERMA_QUEUE_SETS %uu\n"
                             "#define PERMA_STEALING %d\n"
                             "#define PERMA_DONATION %d\n"
@@ -248,7 +273,7 @@ perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *sb)
                             "#define PERMA_LQ_WORDS %uu\n"
                             "#define PERMA_TRACE_EVENTS %uu\n",
                         rt->proc_count, rt->group_size, item_barrier, rt->proc_count, rt->max_edges, rt->arena_words,
-                        rt->queue_sets,
+                        rt->stage_words, rt->queue_sets,
                         rt->queue_sets > 1 && (rt->config.schedule.strategy == PERMA_STRATEGY_STEALING ||
                                                rt->config.schedule.strategy == PERMA_STRATEGY_STEALING_DONATION),
                         rt->queue_sets > 1 && (rt->config.schedule.strategy == PERMA_STRATEGY_DONATION ||
@@ -256,12 +281,15 @@ perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *sb)
                         rt->config.schedule.victim == PERMA_VICTIM_ROUND_ROBIN, rt->config.donation_threshold,
                         rt->local_queue_items, rt->lq_words ? rt->lq_words : 1u,
                         rt->device_trace_events);
+    perma_reductions_append_constants(rt, sb);
     perma_strbuf_append(sb, perma_kernel_abi);
     perma_abi_append_struct_checks(sb);
     resume_generated(sb);
     perma_strbuf_append(sb, perma_kernel_prelude);
     resume_generated(sb);
     perma_strbuf_append(sb, perma_kernel_queue);
+    resume_generated(sb);
+    perma_strbuf_append(sb, perma_kernel_reduce);
     resume_generated(sb);
     for (unsigned i = 0; i < rt->source_count; ++i)
         append_user_source(sb, &rt->sources[i]);
@@ -270,6 +298,7 @@ perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *sb)
     perma_strbuf_append(sb, perma_kernel_emit);
     resume_generated(sb);
     append_emit_helpers(rt, sb);
+    perma_reductions_append_helpers(rt, sb);
     /* Procedures are inlined into the dispatch (a call per item otherwise,
      * and the case's constants fold into their emits); a profile of the
      * phases keeps them apart instead. */
@@ -282,6 +311,7 @@ perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *sb)
     perma_abi_append_element_checks(rt, sb);
     resume_generated(sb);
     append_kernel_params(rt, sb);
+    append_word_switch(rt, sb);
     perma_strbuf_append(sb, perma_kernel_batch);
     resume_generated(sb);
     append_dispatch(rt, sb);

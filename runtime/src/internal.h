@@ -63,11 +63,13 @@ typedef struct perma_proc_info {
     int emit_target[PERMA_MAX_EMITS];  /* procedure ids */
     unsigned depth;                    /* distance from a root of the graph */
     unsigned max_batch;                /* items per batch */
+    unsigned max_batch_local;          /* items per batch __local memory allows (>= max_batch; more when the
+                                          staging of the emits cut it) */
     unsigned items_off, scratch_off, counters_off; /* arena offsets, words */
     unsigned lane_counts_off;          /* per work-item emit counters (simple procedures) */
     unsigned lane_items;               /* items a lane stages for (0: staging per item) */
     unsigned scratch_words;            /* per item */
-    unsigned stage_off[PERMA_MAX_EMITS];
+    unsigned stage_off[PERMA_MAX_EMITS]; /* words into the group's staging area, per edge */
     unsigned lq_off;                   /* local front queue offset, words */
 
     /* Items seeded for the next run (item_size bytes each). */
@@ -91,6 +93,24 @@ typedef struct perma_buffer_binding {
     size_t element_size;
 } perma_buffer_binding;
 
+/* A declared reduction (reductions.c). */
+typedef struct perma_reduction {
+    char *name;
+    perma_reduce_op op;
+    perma_value_type type;
+    void *result;          /* the host variable every successful run sets, or NULL */
+    unsigned offset;       /* its first word in a work-item's lane (64-bit words) */
+    unsigned words;        /* its words in a lane */
+    union {
+        uint32_t u;
+        int32_t i;
+        uint64_t ul;
+        int64_t l;
+        float f;
+        double d;
+    } value;               /* the result of the last run */
+} perma_reduction;
+
 /* A device buffer and its size. */
 typedef struct perma_device_buffer {
     cl_mem mem;
@@ -113,7 +133,11 @@ typedef struct perma_device_state {
     perma_device_buffer stats;    /* a statistics record per group */
     perma_device_buffer trace;    /* trace records per group */
     perma_device_buffer input;    /* the items a step kernel consumes */
-    perma_device_buffer relayout; /* a regrowth's perma_relayout_records */
+    perma_device_buffer relayout; /* a regrowth's perma_relayout_records, then its overflow segments */
+    perma_device_buffer emit_areas; /* a group's emit area each: staging, overflow (kernels/perma_abi.h) */
+    perma_device_buffer reductions; /* a slot of reduce_words words per work-item (kernels/perma_reduce.cl) */
+    uint32_t *overflow_headers;   /* the areas' headers as the last launch left them (perma_state_read_overflow) */
+    bool overflow_known;          /* overflow_headers were read for the growth to come */
     cl_mem abort_mem;             /* the watch page (kernels/perma_abi.h): the abort */
     uint32_t *abort_flag;         /* flag, each group's progress; page-aligned host memory */
     size_t watch_bytes;           /* its size (whole pages) */
@@ -162,6 +186,10 @@ struct perma_runtime {
     unsigned proc_count;
     perma_buffer_binding buffers[PERMA_MAX_BUFFERS];
     unsigned buffer_count;
+    perma_reduction reductions[PERMA_MAX_REDUCTIONS];
+    unsigned reduction_count;
+    unsigned reduce_words;          /* words of a work-item's lane, all reductions (set at build) */
+    bool reductions_valid;          /* the values are those of the last run, which succeeded */
 
     /* Build products. */
     bool built;
@@ -173,6 +201,7 @@ struct perma_runtime {
     cl_kernel relayout_kernel; /* perma_relayout_kernel (queue growth) */
     unsigned max_edges;
     unsigned arena_words;
+    unsigned stage_words;      /* a group's staging area for emits (global memory), words */
     unsigned local_queue_items;        /* 0: no local front queue */
     unsigned lq_words;
     unsigned order[PERMA_MAX_PROCEDURES];
@@ -333,6 +362,32 @@ unsigned perma_full_batch(const perma_runtime *rt, const perma_proc_info *p);
 perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *out);
 void perma_release_program(perma_runtime *rt);
 
+/* reductions.c: the lane layout (at build), the generated device code
+ * (the constants, then after perma_ctx the reduce_NAME() helpers and the
+ * lane's initialisation and fold), the slots' identities before a run and
+ * the results after one. */
+void perma_reductions_layout(perma_runtime *rt);
+void perma_reductions_append_constants(const perma_runtime *rt, perma_strbuf *sb);
+void perma_reductions_append_helpers(const perma_runtime *rt, perma_strbuf *sb);
+/* Fill every work-item's slot with the identities (before a run). */
+perma_status perma_reductions_reset(perma_runtime *rt);
+/* Combine the slots into the results and set the host variables (after a
+ * successful run); invalidate the results (after a failed one). */
+perma_status perma_reductions_collect(perma_runtime *rt);
+void perma_reductions_invalidate(perma_runtime *rt);
+void perma_reductions_release(perma_runtime *rt);
+
+/* exact_sum.c: the host's half of the exact float and double sums: add
+ * one slot's digits (and its infinity and NaN flags) into a total, and
+ * round a total once to the type. */
+typedef struct perma_exact_total {
+    int64_t digits[PERMA_EXACT_DOUBLE_DIGITS];
+    uint64_t flags;
+} perma_exact_total;
+void perma_exact_total_add(perma_exact_total *total, const uint64_t *slot, unsigned digits);
+double perma_exact_total_double(perma_exact_total *total);
+float perma_exact_total_float(perma_exact_total *total);
+
 /* buffers.c: copy the host memory of perma_bind_host buffers to the
  * device (PERMA_READ) or back (PERMA_WRITE). */
 perma_status perma_buffers_copy(perma_runtime *rt, unsigned flag);
@@ -361,9 +416,12 @@ void perma_queues_seed_share(const perma_runtime *rt, unsigned qi, size_t *first
  * (a group's batches kept being cut by its room), only that queue. */
 perma_status perma_queues_grow_stalled(perma_runtime *rt, const perma_ctl_block *ctl, unsigned starved_queue,
                                        size_t *capacities);
-/* Every queue with fewer free slots than needed[qi] grows to fit. */
+/* Every queue with fewer free slots than needed[qi] grows to fit (doubling). */
 perma_status perma_queues_grow_to_fit(perma_runtime *rt, const perma_ctl_block *ctl, const size_t *needed,
                                       size_t *capacities);
+/* The same from the capacities already in capacities[]. */
+perma_status perma_queues_fit_more(perma_runtime *rt, const perma_ctl_block *ctl, const size_t *needed,
+                                   size_t *capacities);
 /* Bytes a queue slot costs beside its item: two completion marks
  * (kernels/perma_queue.cl). */
 #define PERMA_QUEUE_SLOT_OVERHEAD 8
@@ -380,6 +438,10 @@ perma_status perma_state_empty(perma_runtime *rt);
 perma_status perma_state_upload(perma_runtime *rt, const size_t *capacities);
 /* Before each launch: statistics zeroed, watchdog flag down. */
 perma_status perma_state_begin_launch(perma_runtime *rt);
+/* After a launch that stopped for room: the items each queue's groups left
+ * in their overflow areas (per_queue[qi], queue_count entries), kept for
+ * perma_state_grow, which appends them to the grown queues. */
+perma_status perma_state_read_overflow(perma_runtime *rt, size_t *per_queue);
 /* The header and the first `queues` queue records, read back. */
 perma_status perma_state_read_control(perma_runtime *rt, perma_ctl_block *out, unsigned queues);
 perma_status perma_state_read_header(perma_runtime *rt, perma_ctl_header *out);
@@ -388,8 +450,9 @@ perma_status perma_state_read_header(perma_runtime *rt, perma_ctl_header *out);
  * blocking call on the queue. */
 perma_status perma_state_write_queue_counters(perma_runtime *rt, unsigned q, const perma_queue_record *record);
 /* Between launches: give the queues these capacities on the device, their
- * items moved by perma_relayout_kernel; `ctl` is the control block as the
- * last launch left it. */
+ * items moved by perma_relayout_kernel and the overflowed items of the
+ * last perma_state_read_overflow appended; `ctl` is the control block as
+ * the last launch left it. */
 perma_status perma_state_grow(perma_runtime *rt, const perma_ctl_block *ctl, const size_t *capacities);
 perma_status perma_state_read_stats(perma_runtime *rt, uint32_t *words, size_t count);
 perma_status perma_state_read_trace(perma_runtime *rt, uint32_t *words, size_t count);

@@ -192,19 +192,19 @@ unsigned perma_full_batch(const perma_runtime *rt, const perma_proc_info *p)
 }
 
 /* Arena words procedure p needs for a batch of `batch` items: the items,
- * scratch, an emit counter per item and edge, and the staging of the
- * worst-case emits.  A procedure of one thread per item that is not
- * cooperative stages per work-item ("lane"): lane l appends the emits of
- * its items (l, l + group size, ...) to its own area, room for lane_items
- * items, and counts them per edge in the lane counters; any other stages
- * per item. */
+ * scratch, an emit counter per item and edge, and the lane counters.  A
+ * procedure of one thread per item that is not cooperative stages its
+ * emits per work-item ("lane"): lane l appends the emits of its items (l,
+ * l + group size, ...) to its own block of the group's staging area, room
+ * for lane_items items, and counts them per edge in the lane counters; any
+ * other stages per item.  The staging is in global memory (stage_cost),
+ * so a generous .emits maximum costs no __local memory. */
 static unsigned arena_cost(const perma_runtime *rt, perma_proc_info *p, unsigned batch, bool assign)
 {
     /* Lanes only for whole rounds of the group, so no lane has room for an
      * item it never gets. */
     bool lanes = perma_proc_is_simple(p) && batch % rt->group_size == 0;
     unsigned lane_items = (batch + rt->group_size - 1) / rt->group_size;
-    unsigned staged = lanes ? rt->group_size * lane_items : batch; /* items with a staging area */
     unsigned offset = 0;
     if (assign) {
         p->items_off = offset;
@@ -220,12 +220,33 @@ static unsigned arena_cost(const perma_runtime *rt, perma_proc_info *p, unsigned
     if (assign)
         p->lane_counts_off = offset;
     offset += lanes ? rt->group_size * p->emit_count : 0;
+    return offset;
+}
+
+/* Words of the group's staging area a batch of `batch` items of p needs:
+ * room for every item's declared maximum of emits into each target (lanes
+ * as arena_cost says), edge after edge. */
+static size_t stage_cost(const perma_runtime *rt, perma_proc_info *p, unsigned batch, bool assign)
+{
+    bool lanes = perma_proc_is_simple(p) && batch % rt->group_size == 0;
+    size_t staged = lanes ? (size_t)rt->group_size * ((batch + rt->group_size - 1) / rt->group_size) : batch;
+    size_t offset = 0;
     for (unsigned e = 0; e < p->emit_count; ++e) {
         if (assign)
-            p->stage_off[e] = offset;
+            p->stage_off[e] = (unsigned)offset;
         offset += staged * p->emit_max[e] * words_of(rt->procs[p->emit_target[e]].item_size);
     }
     return offset;
+}
+
+/* Most staging words per group: a quarter of the device's largest
+ * allocation holds every group's staging and overflow data, at most
+ * PERMA_STAGE_LIMIT_WORDS each. */
+#define PERMA_STAGE_LIMIT_WORDS ((size_t)1 << 22)
+static size_t stage_limit(const perma_runtime *rt)
+{
+    size_t limit = rt->max_alloc ? (size_t)(rt->max_alloc / (16 * (cl_ulong)rt->work_groups)) : PERMA_STAGE_LIMIT_WORDS;
+    return limit < PERMA_STAGE_LIMIT_WORDS ? limit : PERMA_STAGE_LIMIT_WORDS;
 }
 
 perma_status perma_build_layout(perma_runtime *rt)
@@ -241,6 +262,7 @@ perma_status perma_build_layout(perma_runtime *rt)
         return st;
     compute_depths(rt);
     compute_order(rt);
+    perma_reductions_layout(rt);
     /* Queues can belong to groups, and groups keep local front queues,
      * only when the groups live for the whole launch. */
     bool persistent = rt->executor->persistent;
@@ -262,7 +284,7 @@ perma_status perma_build_layout(perma_runtime *rt)
     }
     /* The kernel's other __local words: statistics, edge counters, batch,
      * and the local front queues. */
-    size_t fixed = 4 * ((size_t)rt->proc_count * (3 + rt->max_edges) + 4 * rt->max_edges + 32 +
+    size_t fixed = 4 * ((size_t)rt->proc_count * (3 + rt->max_edges) + 6 * rt->max_edges + 32 +
                         (size_t)rt->lq_words);
     if (fixed >= limit)
         return perma_set_error(rt, PERMA_ERR_ARGUMENT,
@@ -271,6 +293,8 @@ perma_status perma_build_layout(perma_runtime *rt)
     size_t budget_words = (limit - fixed) / 4;
 
     rt->arena_words = 16;
+    rt->stage_words = 16;
+    size_t stage_budget = stage_limit(rt);
     for (unsigned i = 0; i < rt->proc_count; ++i) {
         perma_proc_info *p = &rt->procs[i];
         p->scratch_words = round_up(words_of(p->local_bytes_per_item), 4);
@@ -280,12 +304,23 @@ perma_status perma_build_layout(perma_runtime *rt)
         if (batch == 0)
             return perma_set_error(rt, PERMA_ERR_ARGUMENT,
                                    "procedure '%s' needs %u bytes of __local memory for one item (item, "
-                                   "scratch and worst-case emits), more than the %zu bytes available",
+                                   "scratch and emit counters), more than the %zu bytes available",
                                    p->name, 4 * arena_cost(rt, p, 1, false), (size_t)(budget_words * 4));
+        p->max_batch_local = batch;
+        while (batch > 1 && stage_cost(rt, p, batch, false) > stage_budget)
+            --batch;
+        if (stage_cost(rt, p, batch, false) > stage_budget)
+            return perma_set_error(rt, PERMA_ERR_ARGUMENT,
+                                   "procedure '%s' needs %zu bytes to stage the emits of one item (its .emits "
+                                   "maxima), more than the %zu bytes of staging a work-group may have",
+                                   p->name, 4 * stage_cost(rt, p, 1, false), 4 * stage_budget);
         p->max_batch = batch;
         unsigned cost = arena_cost(rt, p, batch, true);
         if (cost > rt->arena_words)
             rt->arena_words = cost;
+        size_t staged = stage_cost(rt, p, batch, true);
+        if (staged > rt->stage_words)
+            rt->stage_words = (unsigned)staged;
     }
     return PERMA_OK;
 }

@@ -220,13 +220,19 @@ perma_status perma_queues_grow_stalled(perma_runtime *rt, const perma_ctl_block 
     return check_growth(rt, capacities);
 }
 
+perma_status perma_queues_fit_more(perma_runtime *rt, const perma_ctl_block *ctl, const size_t *needed,
+                                   size_t *capacities)
+{
+    for (unsigned qi = 0; qi < perma_queues_count(rt); ++qi)
+        while (capacities[qi] - queued(ctl, qi) < needed[qi])
+            capacities[qi] *= 2;
+    return check_growth(rt, capacities);
+}
+
 perma_status perma_queues_grow_to_fit(perma_runtime *rt, const perma_ctl_block *ctl, const size_t *needed,
                                       size_t *capacities)
 {
-    for (unsigned qi = 0; qi < perma_queues_count(rt); ++qi) {
+    for (unsigned qi = 0; qi < perma_queues_count(rt); ++qi)
         capacities[qi] = rt->state.queues[qi].capacity;
-        while (capacities[qi] - queued(ctl, qi) < needed[qi])
-            capacities[qi] *= 2;
-    }
-    return check_growth(rt, capacities);
+    return perma_queues_fit_more(rt, ctl, needed, capacities);
 }

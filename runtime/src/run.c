@@ -15,19 +15,30 @@
 #include <string.h>
 
 /* Grow the queues a launch stopped for, as the outcome says, on the
- * device. */
+ * device: for the items groups left in their overflow areas (which the
+ * growth appends to the queues), a starved group's target, the targets of
+ * a stall, or what a host-driven step needs. */
 static perma_status grow_queues(perma_runtime *rt, const perma_launch_outcome *outcome)
 {
     unsigned queues = perma_queues_count(rt);
     perma_ctl_block *ctl = malloc(perma_ctl_block_bytes(queues));
     size_t *capacities = malloc(queues * sizeof *capacities);
-    perma_status st = ctl && capacities ? perma_state_read_control(rt, ctl, queues)
-                                        : perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory growing queues");
-    bool starved = outcome->header.detail_proc == PERMA_DETAIL_STARVED;
-    if (st == PERMA_OK)
-        st = outcome->needed_given ? perma_queues_grow_to_fit(rt, ctl, outcome->needed, capacities)
-                                   : perma_queues_grow_stalled(rt, ctl, starved ? outcome->header.detail_edge
-                                                                                : UINT32_MAX, capacities);
+    size_t *overflow = calloc(queues, sizeof *overflow);
+    perma_status st = ctl && capacities && overflow
+                          ? perma_state_read_control(rt, ctl, queues)
+                          : perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory growing queues");
+    if (st == PERMA_OK && rt->executor->persistent)
+        st = perma_state_read_overflow(rt, overflow);
+    for (unsigned qi = 0; st == PERMA_OK && qi < queues; ++qi)
+        rt->stats.overflowed_items += overflow[qi];
+    uint32_t detail = outcome->header.detail_proc;
+    bool starved = detail == PERMA_DETAIL_STARVED;
+    if (st == PERMA_OK && outcome->needed_given)
+        st = perma_queues_grow_to_fit(rt, ctl, outcome->needed, capacities);
+    else if (st == PERMA_OK && detail == PERMA_DETAIL_OVERFLOW)
+        st = perma_queues_grow_to_fit(rt, ctl, overflow, capacities);
+    else if (st == PERMA_OK)
+        st = perma_queues_grow_stalled(rt, ctl, starved ? outcome->header.detail_edge : UINT32_MAX, capacities);
     bool grows = st == PERMA_OK;
     if (starved && st == PERMA_ERR_CAPACITY) {
         /* Growing for full batches is an optimisation: past the memory
@@ -38,12 +49,16 @@ static perma_status grow_queues(perma_runtime *rt, const perma_launch_outcome *o
             capacities[qi] = rt->state.queues[qi].capacity;
         st = PERMA_OK;
     }
+    /* Whatever the launch stopped for, the overflowed items must fit. */
+    if (st == PERMA_OK && detail != PERMA_DETAIL_OVERFLOW)
+        st = perma_queues_fit_more(rt, ctl, overflow, capacities);
     if (st == PERMA_OK)
         st = perma_state_grow(rt, ctl, capacities);
     if (st == PERMA_OK && grows)
         rt->stats.regrowths++;
     free(ctl);
     free(capacities);
+    free(overflow);
     return st;
 }
 
@@ -161,6 +176,8 @@ perma_status perma_run(perma_runtime *rt)
     if (st == PERMA_OK)
         st = check_trace_path(rt);
     if (st == PERMA_OK)
+        perma_reductions_invalidate(rt);
+    if (st == PERMA_OK)
         st = perma_build(rt);
     if (st != PERMA_OK) {
         /* A run consumes its seeds whether it succeeds or not. */
@@ -179,11 +196,15 @@ perma_status perma_run(perma_runtime *rt)
     st = upload_seeds(rt);
     perma_progress_run_begins(rt, start);
     if (st == PERMA_OK)
+        st = perma_reductions_reset(rt);
+    if (st == PERMA_OK)
         st = perma_buffers_copy(rt, PERMA_READ);
     if (st == PERMA_OK)
         st = launch_until_done(rt, deadline);
     if (st == PERMA_OK)
         st = perma_buffers_copy(rt, PERMA_WRITE);
+    if (st == PERMA_OK)
+        st = perma_reductions_collect(rt);
     rt->stats.seconds = perma_progress_stop_clock(rt);
     rt->state.capacities_learned = st == PERMA_OK;
     st = write_trace(rt, st);

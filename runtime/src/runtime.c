@@ -172,6 +172,7 @@ void perma_destroy(perma_runtime *rt)
         free(rt->sources[i].text);
         free(rt->sources[i].name);
     }
+    perma_reductions_release(rt);
     for (unsigned i = 0; i < rt->proc_count; ++i)
         free_proc(&rt->procs[i]);
     perma_device_close(rt);

@@ -105,6 +105,17 @@ static size_t stats_bytes(const perma_runtime *rt)
     return 4 * perma_stats_words(rt->work_groups, rt->proc_count, rt->max_edges);
 }
 
+/* Words of one group's emit area (kernels/perma_abi.h). */
+static size_t emit_area_words(const perma_runtime *rt)
+{
+    return PERMA_EMIT_AREA_WORDS_FOR((size_t)rt->stage_words);
+}
+
+static size_t emit_areas_bytes(const perma_runtime *rt)
+{
+    return 4 * (size_t)rt->work_groups * emit_area_words(rt);
+}
+
 static size_t trace_bytes(const perma_runtime *rt)
 {
     return 4 * (size_t)rt->work_groups * PERMA_TRACE_GROUP_WORDS_FOR((size_t)rt->device_trace_events);
@@ -152,13 +163,16 @@ static perma_status ensure_watch_page(perma_runtime *rt)
 void perma_state_close(perma_runtime *rt)
 {
     perma_device_state *s = &rt->state;
-    perma_device_buffer *buffers[] = { &s->ctl, &s->data, &s->seq, &s->stats, &s->trace, &s->input, &s->relayout };
+    perma_device_buffer *buffers[] = { &s->ctl, &s->data, &s->seq, &s->stats, &s->trace, &s->input, &s->relayout,
+                                       &s->emit_areas, &s->reductions };
     for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; ++i)
         release(buffers[i]);
     release_watch_page(s);
     free(s->queues);
     s->queues = NULL;
     s->queue_count = 0;
+    free(s->overflow_headers);
+    s->overflow_headers = NULL;
 }
 
 /* The buffers every launch needs, at the sizes of this build. */
@@ -170,6 +184,11 @@ static perma_status ensure_launch_buffers(perma_runtime *rt)
         st = ensure(rt, &s->stats, stats_bytes(rt), "statistics");
     if (st == PERMA_OK)
         st = ensure(rt, &s->trace, trace_bytes(rt), "trace");
+    if (st == PERMA_OK)
+        st = ensure(rt, &s->emit_areas, emit_areas_bytes(rt), "emit areas");
+    if (st == PERMA_OK)
+        st = ensure(rt, &s->reductions, 8 * (size_t)rt->work_groups * rt->group_size * (rt->reduce_words ? rt->reduce_words : 1),
+                    "reductions");
     if (st == PERMA_OK)
         st = ensure_watch_page(rt);
     return st;
@@ -258,6 +277,7 @@ perma_status perma_state_upload(perma_runtime *rt, const size_t *capacities)
     }
     ctl->header.outstanding = (uint32_t)outstanding;
     ctl->header.grow_starved = rt->grow_starved;
+    s->overflow_known = false;
     if ((st = ensure_launch_buffers(rt)) != PERMA_OK ||
         (st = ensure(rt, &s->data, data_words * 4, "queue items")) != PERMA_OK ||
         (st = ensure(rt, &s->seq, seq_words * 4, "queue completion marks")) != PERMA_OK ||
@@ -330,18 +350,73 @@ perma_status perma_state_write_queue_counters(perma_runtime *rt, unsigned q, con
     return PERMA_OK;
 }
 
+/* The header of group g's overflow area (as last read). */
+static const uint32_t *overflow_header(const perma_device_state *s, unsigned g)
+{
+    return s->overflow_headers + (size_t)g * PERMA_EMIT_AREA_HEADER;
+}
+
+perma_status perma_state_read_overflow(perma_runtime *rt, size_t *per_queue)
+{
+    perma_device_state *s = &rt->state;
+    if (!s->overflow_headers) {
+        s->overflow_headers = calloc((size_t)rt->work_groups * PERMA_EMIT_AREA_HEADER, 4);
+        if (!s->overflow_headers)
+            return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory for the overflow records");
+    }
+    /* The headers only: one row of PERMA_EMIT_AREA_HEADER words per group. */
+    size_t origin[3] = { 0, 0, 0 }, region[3] = { 4 * PERMA_EMIT_AREA_HEADER, rt->work_groups, 1 };
+    cl_int err = clEnqueueReadBufferRect(rt->queue, s->emit_areas.mem, CL_TRUE, origin, origin, region,
+                                         4 * emit_area_words(rt), 0, 4 * PERMA_EMIT_AREA_HEADER, 0,
+                                         s->overflow_headers, 0, NULL, NULL);
+    PERMA_CL_CHECK(rt, "clEnqueueReadBufferRect (overflow records)", err);
+    memset(per_queue, 0, s->queue_count * sizeof *per_queue);
+    for (unsigned g = 0; g < rt->work_groups; ++g) {
+        const uint32_t *h = overflow_header(s, g);
+        if (h[PERMA_OVERFLOW_RECORDS] > PERMA_MAX_EMITS)
+            return perma_set_error(rt, PERMA_ERR_DEVICE, "work-group %u reports %u overflow records (at most %d)", g,
+                                   h[PERMA_OVERFLOW_RECORDS], PERMA_MAX_EMITS);
+        for (uint32_t r = 0; r < h[PERMA_OVERFLOW_RECORDS]; ++r) {
+            const uint32_t *rec = h + PERMA_OVERFLOW_RECORD(r);
+            if (rec[PERMA_OVERFLOW_QUEUE] >= s->queue_count ||
+                rec[PERMA_OVERFLOW_AT] + (size_t)rec[PERMA_OVERFLOW_COUNT] * item_words(rt, rec[PERMA_OVERFLOW_QUEUE]) >
+                    rt->stage_words)
+                return perma_set_error(rt, PERMA_ERR_DEVICE, "work-group %u reports an overflow record out of range "
+                                       "(queue %u, %u items at word %u)", g, rec[PERMA_OVERFLOW_QUEUE],
+                                       rec[PERMA_OVERFLOW_COUNT], rec[PERMA_OVERFLOW_AT]);
+            per_queue[rec[PERMA_OVERFLOW_QUEUE]] += rec[PERMA_OVERFLOW_COUNT];
+        }
+    }
+    s->overflow_known = true;
+    return PERMA_OK;
+}
+
+/* Items queue qi gets from the overflow areas (0 unless read). */
+static size_t overflowed(const perma_device_state *s, unsigned qi, unsigned groups)
+{
+    size_t items = 0;
+    for (unsigned g = 0; s->overflow_known && g < groups; ++g) {
+        const uint32_t *h = overflow_header(s, g);
+        for (uint32_t r = 0; r < h[PERMA_OVERFLOW_RECORDS]; ++r)
+            if (h[PERMA_OVERFLOW_RECORD(r) + PERMA_OVERFLOW_QUEUE] == qi)
+                items += h[PERMA_OVERFLOW_RECORD(r) + PERMA_OVERFLOW_COUNT];
+    }
+    return items;
+}
+
 /* A launch that stopped with no batch running left every outstanding item
- * in a queue, each queue at the capacity it was given. */
+ * in a queue or an overflow area, each queue at the capacity it was given. */
 static perma_status check_stopped(perma_runtime *rt, const perma_ctl_block *ctl)
 {
     const perma_device_state *s = &rt->state;
     size_t queued = 0;
     for (unsigned qi = 0; qi < s->queue_count; ++qi)
-        queued += (uint32_t)(ctl->queues[qi].tail - ctl->queues[qi].head);
+        queued += (uint32_t)(ctl->queues[qi].tail - ctl->queues[qi].head) + overflowed(s, qi, rt->work_groups);
     /* An item left in a group's local memory would be lost by the next launch. */
     if (queued != (size_t)(int32_t)ctl->header.outstanding)
         return perma_set_error(rt, PERMA_ERR_DEVICE, "items were lost: the kernel stopped with %d items outstanding "
-                               "but its queues hold %zu", (int)(int32_t)ctl->header.outstanding, queued);
+                               "but its queues and overflow areas hold %zu", (int)(int32_t)ctl->header.outstanding,
+                               queued);
     for (unsigned qi = 0; qi < s->queue_count; ++qi) {
         const perma_queue_record *rec = &ctl->queues[qi];
         const char *name = rt->procs[qi % rt->proc_count].name;
@@ -360,14 +435,48 @@ static perma_status check_stopped(perma_runtime *rt, const perma_ctl_block *ctl)
     return PERMA_OK;
 }
 
+/* Segments of overflowed items the relayout appends (at most one per group
+ * and target). */
+static size_t max_segments(const perma_runtime *rt)
+{
+    return (size_t)rt->work_groups * PERMA_MAX_EMITS;
+}
+
+/* Append queue qi's overflow segments to `segments` (at *used words) and
+ * describe them in *rec. */
+static void plan_overflow(const perma_runtime *rt, unsigned qi, perma_relayout_record *rec, uint32_t *segments,
+                          size_t *used, size_t segments_at)
+{
+    const perma_device_state *s = &rt->state;
+    size_t group_words = emit_area_words(rt);
+    rec->overflow_first = (uint32_t)(segments_at + *used);
+    for (unsigned g = 0; s->overflow_known && g < rt->work_groups; ++g) {
+        const uint32_t *h = overflow_header(s, g);
+        for (uint32_t r = 0; r < h[PERMA_OVERFLOW_RECORDS]; ++r) {
+            const uint32_t *o = h + PERMA_OVERFLOW_RECORD(r);
+            if (o[PERMA_OVERFLOW_QUEUE] != qi)
+                continue;
+            segments[(*used)++] =
+                (uint32_t)(g * group_words + PERMA_EMIT_AREA_OVERFLOW_FOR((size_t)rt->stage_words) + o[PERMA_OVERFLOW_AT]);
+            segments[(*used)++] = o[PERMA_OVERFLOW_COUNT];
+            rec->overflow += o[PERMA_OVERFLOW_COUNT];
+            rec->overflow_segments++;
+        }
+    }
+}
+
 /* The new layout: each queue's items from position 0 in fresh buffers
- * (next, the control block to write) and where they come from (map). */
+ * (next, the control block to write), the items of the overflow areas
+ * after them, and where they all come from (map, then the segments). */
 static void plan_relayout(const perma_runtime *rt, const perma_ctl_block *ctl, const size_t *capacities,
-                          perma_ctl_block *next, perma_relayout_record *map, size_t *data_words, size_t *slots)
+                          perma_ctl_block *next, perma_relayout_record *map, size_t *map_bytes, size_t *data_words,
+                          size_t *slots)
 {
     *data_words = *slots = 0;
     next->header.outstanding = ctl->header.outstanding;
     next->header.grow_starved = rt->grow_starved;
+    uint32_t *segments = (uint32_t *)(map + rt->state.queue_count);
+    size_t used = 0, segments_at = rt->state.queue_count * (size_t)PERMA_RELAYOUT_RECORD_WORDS;
     for (unsigned qi = 0; qi < rt->state.queue_count; ++qi) {
         const perma_queue_record *old = &ctl->queues[qi];
         uint32_t count = old->tail - old->head, cap = (uint32_t)capacities[qi];
@@ -375,12 +484,15 @@ static void plan_relayout(const perma_runtime *rt, const perma_ctl_block *ctl, c
                                            .old_data = old->data, .new_cap = cap,
                                            .new_data = (uint32_t)*data_words, .new_seq = (uint32_t)(2 * *slots),
                                            .words = (uint32_t)item_words(rt, qi) };
+        plan_overflow(rt, qi, &map[qi], segments, &used, segments_at);
+        count += map[qi].overflow; /* fits: the host grew the queue for it (run.c) */
         next->queues[qi] = (perma_queue_record){ .head = 0, .tail = count, .room = cap - count, .cap = cap,
                                                  .data = (uint32_t)*data_words, .seq = (uint32_t)(2 * *slots),
                                                  .peak = count, .published = count, .released = 0 };
         *data_words += capacities[qi] * item_words(rt, qi);
         *slots += capacities[qi];
     }
+    *map_bytes = 4 * (segments_at + used);
 }
 
 static perma_status run_relayout(perma_runtime *rt, unsigned queues, size_t slots, perma_device_buffer *data,
@@ -399,6 +511,8 @@ static perma_status run_relayout(perma_runtime *rt, unsigned queues, size_t slot
         { PERMA_RELAYOUT_ARG_OLD_DATA, sizeof(cl_mem), &s->data.mem },
         { PERMA_RELAYOUT_ARG_NEW_DATA, sizeof(cl_mem), &data->mem },
         { PERMA_RELAYOUT_ARG_NEW_SEQ, sizeof(cl_mem), &seq->mem },
+        { PERMA_RELAYOUT_ARG_SEGMENTS, sizeof(cl_mem), &s->relayout.mem },
+        { PERMA_RELAYOUT_ARG_EMIT_AREAS, sizeof(cl_mem), &s->emit_areas.mem },
     };
     _Static_assert(sizeof args / sizeof args[0] == PERMA_RELAYOUT_ARG_TOTAL, "every argument of perma_relayout_kernel");
     for (size_t i = 0; i < sizeof args / sizeof args[0]; ++i)
@@ -418,18 +532,19 @@ perma_status perma_state_grow(perma_runtime *rt, const perma_ctl_block *ctl, con
     if (st != PERMA_OK)
         return st;
     perma_ctl_block *next = calloc(ctl_bytes(rt), 1);
-    perma_relayout_record *map = calloc(queues, sizeof *map);
+    size_t map_bytes = queues * sizeof(perma_relayout_record) + max_segments(rt) * PERMA_RELAYOUT_SEGMENT_WORDS * 4;
+    perma_relayout_record *map = calloc(map_bytes, 1);
     perma_device_buffer data = { NULL, 0 }, seq = { NULL, 0 };
     if (!next || !map) {
         st = perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory growing queues");
         goto done;
     }
     size_t data_words, slots;
-    plan_relayout(rt, ctl, capacities, next, map, &data_words, &slots);
+    plan_relayout(rt, ctl, capacities, next, map, &map_bytes, &data_words, &slots);
     if ((st = create(rt, &data, data_words * 4, "queue items")) != PERMA_OK ||
         (st = create(rt, &seq, 2 * slots * 4, "queue completion marks")) != PERMA_OK ||
-        (st = ensure(rt, &s->relayout, queues * sizeof *map, "queue relayout")) != PERMA_OK ||
-        (st = write_buffer(rt, &s->relayout, map, queues * sizeof *map, "queue relayout")) != PERMA_OK ||
+        (st = ensure(rt, &s->relayout, map_bytes, "queue relayout")) != PERMA_OK ||
+        (st = write_buffer(rt, &s->relayout, map, map_bytes, "queue relayout")) != PERMA_OK ||
         (st = write_buffer(rt, &s->ctl, next, ctl_bytes(rt), "control block")) != PERMA_OK ||
         (st = run_relayout(rt, queues, slots, &data, &seq)) != PERMA_OK)
         goto done;
@@ -441,6 +556,7 @@ perma_status perma_state_grow(perma_runtime *rt, const perma_ctl_block *ctl, con
     data.mem = seq.mem = NULL;
     st = set_queues(rt, capacities, false);
 done:
+    s->overflow_known = false; /* appended (or the run failed) */
     release(&data);
     release(&seq);
     free(next);
@@ -476,6 +592,8 @@ perma_status perma_state_bind(perma_runtime *rt, cl_kernel kernel, cl_uint first
     common[PERMA_ARG_GROUP_STATS] = s->stats.mem;
     common[PERMA_ARG_ABORT_FLAG] = s->abort_mem;
     common[PERMA_ARG_TRACE] = s->trace.mem;
+    common[PERMA_ARG_EMIT_AREAS] = s->emit_areas.mem;
+    common[PERMA_ARG_REDUCTIONS] = s->reductions.mem;
     for (cl_uint i = 0; i < PERMA_MEGAKERNEL_USER_ARGS; ++i)
         PERMA_CL_CHECK(rt, "clSetKernelArg", clSetKernelArg(kernel, i, sizeof(cl_mem), &common[i]));
     for (unsigned b = 0; b < rt->buffer_count; ++b) {

@@ -103,12 +103,12 @@ static size_t target_capacity(const perma_runtime *rt, unsigned t)
 
 /* Why q's batches held fewer items than a group runs at once, if it
  * mattered (more items were queued at once than a batch took): the layout
- * gave it a smaller batch for lack of __local memory, or (the batches
- * averaging under half of it) the worst-case emits of a full batch,
- * batch_size * max_items, did not fit the target's queue, so a batch could
- * only reserve room for a few items.
- * The .emits entry responsible: the one staging the most bytes, or
- * reserving the most for its target's capacity. */
+ * gave it a smaller batch for lack of __local memory, or of staging for the
+ * declared maximum of emits, or (the batches averaging under half of it)
+ * the expected emits of a full batch, batch_size times the mean emits per
+ * item, did not fit the target's queue, so a batch could only reserve room
+ * for a few items.  The .emits entry responsible: the one staging the most
+ * bytes, or reserving the most for its target's capacity. */
 static void explain_batches(perma_runtime *rt, unsigned q)
 {
     const perma_proc_info *p = &rt->procs[q];
@@ -118,12 +118,16 @@ static void explain_batches(perma_runtime *rt, unsigned q)
     ps->batch_cut_emit = -1;
     if (ps->peak_queue_items <= p->max_batch)
         return;
-    if (p->max_batch < perma_full_batch(rt, p)) {
+    if (p->max_batch_local < perma_full_batch(rt, p)) {
         ps->batch_cut = PERMA_BATCH_CUT_LOCAL_MEMORY;
-        size_t own = p->item_size + 4 * (size_t)p->scratch_words, most = 0;
+        return;
+    }
+    if (p->max_batch < p->max_batch_local) {
+        ps->batch_cut = PERMA_BATCH_CUT_STAGING;
+        size_t most = 0;
         for (unsigned e = 0; e < p->emit_count; ++e) {
             size_t staged = (size_t)p->emit_max[e] * rt->procs[p->emit_target[e]].item_size;
-            if (staged > own && staged > most) {
+            if (staged > most) {
                 most = staged;
                 ps->batch_cut_emit = (int)e;
             }
@@ -135,7 +139,8 @@ static void explain_batches(perma_runtime *rt, unsigned q)
     double worst = 1.0;
     for (unsigned e = 0; e < p->emit_count; ++e) {
         size_t cap = target_capacity(rt, (unsigned)p->emit_target[e]);
-        double over = cap ? (double)p->max_batch * p->emit_max[e] / (double)cap : 0.0;
+        double mean = (double)ps->emitted[e] / (double)ps->items;
+        double over = cap ? (double)p->max_batch * mean / (double)cap : 0.0;
         if (over > worst) {
             worst = over;
             ps->batch_cut = PERMA_BATCH_CUT_ROOM;
@@ -239,25 +244,26 @@ static void print_batch_warning(const perma_runtime *rt, unsigned q, FILE *out)
     unsigned full = perma_full_batch(rt, p);
     int e = ps->batch_cut_emit;
     const char *target = e >= 0 ? p->emit_target_name[e] : "";
-    if (ps->batch_cut == PERMA_BATCH_CUT_LOCAL_MEMORY && e >= 0)
+    if (ps->batch_cut == PERMA_BATCH_CUT_STAGING && e >= 0)
         fprintf(out, "warning: procedure '%s' runs at most %u items per batch instead of %u: .emits[%d] (up to %u "
-                     "items of %zu bytes into '%s' per item) needs %zu bytes of __local memory per item to stage "
-                     "them; declare fewer, or emit them from a separate procedure (docs/writing-procedures.md, "
-                     "section 6)\n", p->name, ps->batch_size, full, e, p->emit_max[e],
+                     "items of %zu bytes into '%s' per item) needs %zu bytes of staging per item, and a work-group "
+                     "stages at most %zu bytes; declare fewer, or emit them from a separate procedure "
+                     "(docs/writing-procedures.md, section 6)\n", p->name, ps->batch_size, full, e, p->emit_max[e],
                 rt->procs[p->emit_target[e]].item_size, target,
-                (size_t)p->emit_max[e] * rt->procs[p->emit_target[e]].item_size);
+                (size_t)p->emit_max[e] * rt->procs[p->emit_target[e]].item_size, 4 * (size_t)rt->stage_words);
     else if (ps->batch_cut == PERMA_BATCH_CUT_LOCAL_MEMORY)
-        fprintf(out, "warning: procedure '%s' runs at most %u items per batch instead of %u: its item, scratch "
-                     "(.local_bytes_per_item) and emits do not fit more in __local memory\n",
+        fprintf(out, "warning: procedure '%s' runs at most %u items per batch instead of %u: its items and scratch "
+                     "(.local_bytes_per_item) do not fit more in __local memory\n",
                 p->name, ps->batch_size, full);
     else if (ps->batch_cut == PERMA_BATCH_CUT_ROOM)
         fprintf(out, "warning: procedure '%s' ran batches of %.1f items on average instead of up to %u: a full "
-                     "batch must reserve room for %u x %u items in '%s' (.emits[%d].max_items = %u), more than its "
-                     "queue of %zu holds, so batches start with the few items whose worst case fits; declare a "
-                     "smaller maximum, or give the large fan-out to a separate procedure "
+                     "batch reserves room for the emits it is expected to make (%.1f per item into '%s', its mean "
+                     "so far), more than the queue of %zu holds (a queue grows when a group's batches keep being "
+                     "cut, up to config.queue_memory_limit, %zu bytes); raise the limit, or let fewer items wait "
                      "(docs/writing-procedures.md, section 6)\n",
-                p->name, (double)ps->items / (double)ps->batches, ps->batch_size, ps->batch_size, p->emit_max[e],
-                target, e, p->emit_max[e], target_capacity(rt, (unsigned)p->emit_target[e]));
+                p->name, (double)ps->items / (double)ps->batches, ps->batch_size,
+                (double)ps->emitted[e] / (double)ps->items, target, target_capacity(rt, (unsigned)p->emit_target[e]),
+                perma_queues_memory_limit(rt));
 }
 
 void perma_print_stats(perma_runtime *rt, FILE *out)
@@ -271,6 +277,9 @@ void perma_print_stats(perma_runtime *rt, FILE *out)
             s->regrowths, s->work_groups, s->group_size, s->peak_queue_bytes, s->queue_memory_limit);
     if (s->queues_kept)
         fprintf(out, "%u queue(s) started at the capacity an earlier run grew them to\n", s->queues_kept);
+    if (s->overflowed_items)
+        fprintf(out, "%" PRIu64 " emitted item(s) overflowed a queue and were appended when it grew\n",
+                s->overflowed_items);
     if (s->steals || s->donations || s->spills)
         fprintf(out, "load balancing: %" PRIu64 " steal(s), %" PRIu64 " donation(s), %" PRIu64
                      " spill(s), %" PRIu64 " idle poll(s)\n",

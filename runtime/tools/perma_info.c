@@ -230,7 +230,7 @@ static double now_seconds(void)
 static const char *const check_source =
     "void split(perma_ctx *ctx, __local const uint *depth)\n"
     "{\n"
-    "    if (*depth == 0) { atomic_inc(&ctx->buf.leaves[0]); return; }\n"
+    "    if (*depth == 0) { reduce_leaves(ctx, 1u); return; }\n"
     "    uint child = *depth - 1u;\n"
     "    emit_split(ctx, &child);\n"
     "    emit_split(ctx, &child);\n"
@@ -257,7 +257,7 @@ static void run_check(const perma_device_ref *ref, device_info *info)
     double start = now_seconds();
     perma_status st = perma_register(rt, &split, &id);
     if (st == PERMA_OK)
-        st = perma_bind_host(rt, "leaves", "__global uint *", &leaves, sizeof leaves, PERMA_READ_WRITE);
+        st = perma_declare_reduction(rt, "leaves", PERMA_REDUCE_SUM, PERMA_TYPE_UINT, &leaves);
     if (st == PERMA_OK)
         st = perma_build(rt);
     double built = now_seconds();

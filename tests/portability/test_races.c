@@ -127,6 +127,60 @@ START_TEST(bounded_batches)
 }
 END_TEST
 
+/* Reductions (every kind of lane: a word, an order key, an exact double
+ * sum) over a small tree on two groups, and emits beyond a batch's
+ * reservation (the first items make none, later ones up to 8) into a
+ * queue of 2: the overflow areas, their copy into the grown queue. */
+#define REDUCE_SOURCE                                                              \
+    "#pragma OPENCL EXTENSION cl_khr_fp64 : enable\n"                              \
+    "void rsplit(perma_ctx *ctx, __local const uint *id)\n"                        \
+    "{\n"                                                                          \
+    "    reduce_count(ctx, 1u);\n"                                                 \
+    "    reduce_lowest(ctx, -(int)*id);\n"                                         \
+    "    reduce_total(ctx, (double)*id * 0.25);\n"                                 \
+    "    uint children = *id < 32u ? 0u : *id < 512u ? (*id * 7u) % 9u : 0u;\n"    \
+    "    for (uint i = 0; i < children; ++i) {\n"                                  \
+    "        uint child = *id * 8u + i;\n"                                          \
+    "        emit_rsplit(ctx, &child);\n"                                          \
+    "    }\n"                                                                      \
+    "}\n"
+START_TEST(reductions_and_overflow)
+{
+    perma_runtime *rt = schedule_runtime("megakernel/stealing", 2, 2, 64);
+    uint32_t count = 0;
+    int32_t lowest = 0;
+    double total = 0;
+    ck_assert_perma_ok(rt, perma_declare_reduction(rt, "count", PERMA_REDUCE_SUM, PERMA_TYPE_UINT, &count));
+    ck_assert_perma_ok(rt, perma_declare_reduction(rt, "lowest", PERMA_REDUCE_MIN, PERMA_TYPE_INT, &lowest));
+    ck_assert_perma_ok(rt, perma_declare_reduction(rt, "total", PERMA_REDUCE_SUM, PERMA_TYPE_DOUBLE, &total));
+    perma_procedure p = { .name = "rsplit", .item_type = "uint", .item_size = 4, .source = REDUCE_SOURCE,
+                          .source_file = "rsplit.cl", .function = "rsplit", .emits = { { "rsplit", 8 } } };
+    perma_proc id;
+    ck_assert_perma_ok(rt, perma_register(rt, &p, &id));
+    uint32_t seeds[64], expected = 0, stack[4096], top = 0, max_id = 0;
+    double sum = 0;
+    for (uint32_t i = 0; i < 64; ++i)
+        seeds[i] = stack[top++] = i;
+    while (top) {
+        uint32_t x = stack[--top], children = x < 32 ? 0 : x < 512 ? (x * 7) % 9 : 0;
+        expected++;
+        sum += x * 0.25;
+        max_id = x > max_id ? x : max_id;
+        for (uint32_t i = 0; i < children; ++i)
+            stack[top++] = x * 8 + i;
+    }
+    ck_assert_perma_ok(rt, perma_seed(rt, id, seeds, 64));
+    ck_assert_perma_ok(rt, perma_run(rt));
+    ck_assert_uint_eq(count, expected);
+    ck_assert_int_eq(lowest, -(int32_t)max_id);
+    ck_assert(total == sum); /* quarters of integers: exact either way */
+    perma_stats st;
+    ck_assert_perma_ok(rt, perma_get_stats(rt, &st));
+    ck_assert_uint_gt(st.regrowths, 0);
+    perma_destroy(rt);
+}
+END_TEST
+
 #ifdef RACES_WITH_REYES
 /* A tiny render of the built-in scene that reaches every procedure: bound,
  * split_u, split_v, dice (cooperative, __local grid), rasterize and
@@ -179,6 +233,7 @@ int main(void)
     add_case(s, "local_queue", local_queue);
     add_case(s, "kernel_per_procedure", kernel_per_procedure);
     add_case(s, "bounded_batches", bounded_batches);
+    add_case(s, "reductions_and_overflow", reductions_and_overflow);
 #ifdef RACES_WITH_REYES
     add_case(s, "reyes", reyes);
 #endif

@@ -60,8 +60,8 @@ int main(void)
     FIELD(perma_stats, work_groups); FIELD(perma_stats, group_size); FIELD(perma_stats, procedure_count);
     FIELD(perma_stats, peak_queue_bytes); FIELD(perma_stats, queue_memory_limit); FIELD(perma_stats, queues_kept);
     FIELD(perma_stats, items); FIELD(perma_stats, steals); FIELD(perma_stats, donations);
-    FIELD(perma_stats, spills); FIELD(perma_stats, idle_polls); FIELD(perma_stats, technique);
-    FIELD(perma_stats, strategy);
+    FIELD(perma_stats, spills); FIELD(perma_stats, idle_polls); FIELD(perma_stats, overflowed_items);
+    FIELD(perma_stats, technique); FIELD(perma_stats, strategy);
     printf("}}\n}\n");
     return 0;
 }

@@ -8,7 +8,8 @@
  * docs/reyes.md's quality tables; not a test (the tests check the same
  * things on fewer views).
  *
- *   reyes-quality [--size N] [--spp N] [--rate R] [--crack-fix NAME] [--no-grid] [--views LIST] MODEL...
+ *   reyes-quality [--size N] [--spp N] [--rate R] [--crack-fix NAME] [--no-grid] [--cracks] [--dump DIR]
+ *                 [--views LIST] MODEL...   (options: perma_cli's table in main; --help)
  *
  * MODEL: a .bpt file, `builtin` or `subdivision[:LEVELS][:loose]` (loose:
  * boundaries that agree only to rounding); LIST: views
@@ -19,6 +20,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "perma_cli.h"
 #include "reyes_brute.h"
 #include "reyes_flip.h"
 #include "reyes_quality_util.h"
@@ -28,16 +30,21 @@ typedef struct settings {
     unsigned size, spp;
     float rate;
     unsigned crack_fix;
-    int grid, cracks_only;
+    int no_grid, cracks_only;
     const char *dump;
     reyes_quality_view views[16];
     unsigned view_count;
+    const char **models;
+    size_t model_count;
 } settings;
 
-static int parse_views(const char *text, settings *s)
+/* azimuth,elevation,distance views separated by '/' (at most 16). */
+static int parse_views_text(const char *text, settings *s)
 {
     s->view_count = 0;
-    while (*text && s->view_count < 16) {
+    while (*text) {
+        if (s->view_count == 16)
+            return 0;
         reyes_quality_view *v = &s->views[s->view_count++];
         int used = 0;
         if (sscanf(text, "%f,%f,%f%n", &v->azimuth, &v->elevation, &v->distance, &used) != 3)
@@ -45,8 +52,28 @@ static int parse_views(const char *text, settings *s)
         text += used;
         if (*text == '/')
             ++text;
+        else if (*text)
+            return 0;
     }
     return s->view_count > 0;
+}
+
+static int parse_views(const perma_cli_option *option, const char *value, char *complaint, size_t size)
+{
+    if (parse_views_text(value, option->target))
+        return 0;
+    snprintf(complaint, size, "expected 1 to 16 views azimuth,elevation,distance separated by '/'");
+    return 1;
+}
+
+/* Models: every operand, into s->models (room for argc of them). */
+static int add_model(const perma_cli_option *option, const char *value, char *complaint, size_t size)
+{
+    (void)complaint;
+    (void)size;
+    settings *s = option->target;
+    s->models[s->model_count++] = value;
+    return 0;
 }
 
 static int load(const char *name, reyes_scene *scene, reyes_error *error)
@@ -75,39 +102,47 @@ static void print_line(const char *model, unsigned view, const char *config, con
 
 int main(int argc, char **argv)
 {
-    settings s = { 512, 4, 1.0f, REYES_CRACK_FIX_STITCH, 1, 0, NULL, {{0, 0, 0}}, 0 };
-    parse_views("0,25,1/60,10,0.9/140,45,1.1/220,5,0.8/300,-20,1/30,30,2.5/100,20,4", &s);
-    int first_model = argc;
-    for (int i = 1; i < argc; ++i) {
-        if (strcmp(argv[i], "--size") == 0 && i + 1 < argc)
-            s.size = (unsigned)atoi(argv[++i]);
-        else if (strcmp(argv[i], "--spp") == 0 && i + 1 < argc)
-            s.spp = (unsigned)atoi(argv[++i]);
-        else if (strcmp(argv[i], "--rate") == 0 && i + 1 < argc)
-            s.rate = (float)atof(argv[++i]);
-        else if (strcmp(argv[i], "--crack-fix") == 0 && i + 1 < argc) {
-            const char *fix = argv[++i];
-            s.crack_fix = strcmp(fix, "none") == 0 ? REYES_CRACK_FIX_NONE : REYES_CRACK_FIX_STITCH;
-        } else if (strcmp(argv[i], "--no-grid") == 0)
-            s.grid = 0;
-        else if (strcmp(argv[i], "--dump") == 0 && i + 1 < argc)
-            s.dump = argv[++i];
-        else if (strcmp(argv[i], "--cracks") == 0)
-            s.cracks_only = 1;
-        else if (strcmp(argv[i], "--views") == 0 && i + 1 < argc) {
-            if (!parse_views(argv[++i], &s)) {
-                fprintf(stderr, "reyes-quality: bad --views '%s'\n", argv[i]);
-                return 2;
-            }
-        } else {
-            first_model = i;
-            break;
-        }
+    settings s = { 512, 4, 1.0f, REYES_CRACK_FIX_STITCH, 0, 0, NULL, {{0, 0, 0}}, 0, NULL, 0 };
+    parse_views_text("0,25,1/60,10,0.9/140,45,1.1/220,5,0.8/300,-20,1/30,30,2.5/100,20,4", &s);
+    s.models = calloc(argc > 0 ? (size_t)argc : 1, sizeof *s.models);
+    if (!s.models) {
+        fprintf(stderr, "reyes-quality: out of memory\n");
+        return 1;
     }
-    if (first_model >= argc) {
-        fprintf(stderr, "usage: reyes-quality [--size N] [--spp N] [--rate R] [--crack-fix stitch|none] [--no-grid] [--cracks] [--dump DIR] "
-                        "[--views a,e,d/...] MODEL...\n");
-        return 2;
+    static const char *const crack_fixes[] = { "none", "stitch", NULL }; /* REYES_CRACK_FIX_* */
+    const perma_cli_option rows[] = {
+        { PERMA_CLI_WHOLE("size", "N", &s.size, 16, 4096, "image side in pixels (default 512)") },
+        { PERMA_CLI_WHOLE("spp", "N", &s.spp, 1, REYES_MAX_SPP, "samples per pixel (default 4)") },
+        { PERMA_CLI_FLOAT("rate", "R", &s.rate, REYES_MIN_SHADING_RATE, REYES_MAX_SHADING_RATE,
+                          "the shading rate of the rate renders (default 1)") },
+        { PERMA_CLI_CHOICE("crack-fix", "NAME", &s.crack_fix, crack_fixes, "crack fix (default stitch)") },
+        { PERMA_CLI_FLAG("no-grid", &s.no_grid, "skip the fixed 16x16 grids' renders") },
+        { PERMA_CLI_FLAG("cracks", &s.cracks_only, "count cracks only (no colour, no FLIP)") },
+        { PERMA_CLI_TEXT("dump", "DIR", &s.dump, "write each render, its reference and their error as PNGs here") },
+        { PERMA_CLI_CUSTOM("views", "a,e,d/...", parse_views, &s,
+                           "views: azimuth,elevation (degrees about the framed camera's target), distance (in "
+                           "framed distances), separated by '/' (default: docs/reyes.md's 7)") },
+    };
+    const perma_cli_table table = { "options", rows, sizeof rows / sizeof rows[0] };
+    const perma_cli_option model_row = { PERMA_CLI_CUSTOM(NULL, "MODEL", add_model, &s, NULL) };
+    const perma_cli cli = {
+        .program = "reyes-quality",
+        .synopsis = "[options] MODEL...",
+        .about = "Render each model from several views with fixed grids and with a shading rate, hold\n"
+                 "each against the brute-force reference and print a line per render (docs/reyes.md's\n"
+                 "quality tables).  MODEL: a .bpt file, builtin or subdivision[:LEVELS][:loose].",
+        .tables = &table,
+        .table_count = 1,
+        .operand = &model_row,
+        .notes = "exit status: 0 ok, 1 rendering or file error, 2 bad usage",
+    };
+    char message[PERMA_CLI_MESSAGE_MAX];
+    perma_cli_status status = perma_cli_parse(&cli, argc, argv, message, sizeof message);
+    if (status == PERMA_CLI_OK && s.model_count == 0)
+        status = perma_cli_fail(&cli, message, sizeof message, "no MODEL given");
+    if (status != PERMA_CLI_OK) {
+        free(s.models);
+        return perma_cli_exit_status(status);
     }
     reyes_options base;
     reyes_options_init(&base);
@@ -120,13 +155,13 @@ int main(int argc, char **argv)
         fprintf(stderr, "reyes-quality: %s\n", error.message);
         return 1;
     }
-    for (int m = first_model; m < argc; ++m) {
+    for (size_t m = 0; m < s.model_count; ++m) {
         reyes_scene scene;
-        if (!load(argv[m], &scene, &error)) {
+        if (!load(s.models[m], &scene, &error)) {
             fprintf(stderr, "reyes-quality: %s\n", error.message);
             return 1;
         }
-        const char *name = strrchr(argv[m], '/') ? strrchr(argv[m], '/') + 1 : argv[m];
+        const char *name = strrchr(s.models[m], '/') ? strrchr(s.models[m], '/') + 1 : s.models[m];
         reyes_camera framed;
         if (reyes_camera_frame(&scene, 40.0f, 1.0f, &framed, &error) != REYES_OK) {
             fprintf(stderr, "reyes-quality: %s\n", error.message);
@@ -146,7 +181,7 @@ int main(int argc, char **argv)
                        "converged image %.5f\n", name, v,
                        reyes_flip_mean(reference.truth.rgb, reference.many.rgb, s.size, s.size, REYES_FLIP_DEFAULT_PPD,
                                        NULL));
-            for (int config = s.grid ? 0 : 1; config < 2; ++config) {
+            for (int config = s.no_grid ? 1 : 0; config < 2; ++config) {
                 reyes_options o = base;
                 o.shading_rate = config == 0 ? 0.0f : s.rate;
                 reyes_quality_result r = {0};
@@ -170,5 +205,6 @@ int main(int argc, char **argv)
         reyes_scene_free(&scene);
     }
     reyes_renderer_destroy(renderer);
+    free(s.models);
     return 0;
 }

@@ -31,6 +31,7 @@ START_TEST(test_defaults)
     ck_assert_uint_eq(cli.render.crack_fix, REYES_CRACK_FIX_STITCH);
     ck_assert_uint_eq(cli.render.bucket_width, 0);
     ck_assert(!cli.has_camera);
+    ck_assert_int_eq(cli.render.area_stats, 0); /* no --stats: the areas are not tallied */
     reyes_cli_free(&cli);
 }
 END_TEST
@@ -65,6 +66,7 @@ START_TEST(test_all_options)
     ck_assert_float_eq(cli.camera[5], 10.0f);
     ck_assert_float_eq(cli.fov_deg, 30.0f);
     ck_assert_str_eq(cli.stats_path, "s.json");
+    ck_assert_int_eq(cli.render.area_stats, 1); /* the JSON's micropolygon_area */
     ck_assert_uint_eq(cli.render.work_groups, 2);
     ck_assert_int_eq(cli.render.backface_cull, 1);
     ck_assert_uint_eq(cli.render.bucket_width, 32);

@@ -281,6 +281,23 @@ START_TEST(test_stats_json)
                           "\"grid\": 16, \"shading_rate\": 0"};
     for (size_t k = 0; k < sizeof keys / sizeof keys[0]; ++k)
         ck_assert_msg(strstr(text, keys[k]) != NULL, "missing %s in\n%s", keys[k], text);
+    ck_assert_msg(strstr(text, "\"micropolygon_area\": null") != NULL, "no area statistics asked for:\n%s", text);
+    free(text);
+    /* With the areas: 4 micropolygons of 4.8 square pixels in all, in the
+     * bin from 1 to 1.5 (percentiles interpolated geometrically in it). */
+    o.area_stats = 1;
+    stats.micropolygons = 4;
+    stats.micropolygon_area = 4.8;
+    ck_assert(reyes_area_bin_lower(21) == 1.0 && reyes_area_bin_lower(22) == 1.5);
+    stats.micropolygon_area_bins[21] = 4;
+    f = open_memstream(&text, &size);
+    ck_assert_int_eq(reyes_write_stats_json(f, &stats, &o, &error), REYES_OK);
+    fclose(f);
+    ck_assert_msg(strstr(text, "\"micropolygon_area\": {\"mean\": 1.2, \"p10\": 1.04138, ") != NULL
+                      && strstr(text, "\"p50\": 1.22474, ") != NULL
+                      && strstr(text, "\"bins\": [0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 4, 0,")
+                             != NULL,
+                  "areas in\n%s", text);
     free(text);
 }
 END_TEST

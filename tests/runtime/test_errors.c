@@ -852,71 +852,109 @@ static void run_fanout(const fanout_case *c, perma_procedure_stats *node_stats, 
     perma_destroy(rt);
 }
 
-/* One procedure for root and nodes declares the root's children for every
- * node, which cuts its batches twice: staging them leaves __local memory
- * for fewer items than a batch holds, and a full batch's worst case does
- * not fit the queue, so with queues that may not grow (past the memory
- * limit) batches run a few items each.  The statistics say so, naming the
- * declaration; a separate root procedure (the fix the docs show) runs full
- * batches.  Each case is set up from the __local memory the runtime
- * reports, so that it is the case it names on any device. */
+/* `wide` items (8 bytes) each emit `emits` leaves of `leaf_size` bytes into
+ * `leaf`, declaring `declared`; `count` of them seeded, a queue memory
+ * limit (0: the default), one item per work-item per batch or the default
+ * (0).  The statistics of `wide` and what perma_print_stats printed. */
+#define WIDE_SOURCE                                                          \
+    "struct wide { uint emits; uint pad; };\n"                               \
+    "void wide(perma_ctx *ctx, __local const struct wide *w)\n"              \
+    "{\n"                                                                    \
+    "    struct leaf l = { 0 };\n"                                           \
+    "    for (uint i = 0; i < w->emits; ++i)\n"                              \
+    "        emit_leaf(ctx, &l);\n"                                          \
+    "}\n"                                                                    \
+    "void leaf(perma_ctx *ctx, __local const struct leaf *l) { atomic_inc(&ctx->buf.leaves[0]); }\n"
+static void run_wide(unsigned declared, unsigned leaf_size, unsigned emits, unsigned count, size_t memory_limit,
+                     unsigned items_per_work_item, perma_procedure_stats *wide_stats, char **printed)
+{
+    perma_config config;
+    perma_config_init(&config);
+    config.group_size = 64;
+    config.time_limit = 120;
+    config.queue_memory_limit = memory_limit;
+    config.items_per_work_item = items_per_work_item;
+    perma_runtime *rt = test_runtime_config(&config);
+    char types[64];
+    snprintf(types, sizeof types, "struct leaf { uint w[%u]; };\n", leaf_size / 4);
+    ck_assert_perma_ok(rt, perma_add_source(rt, types, "leaf_types.cl"));
+    perma_procedure w = { .name = "wide", .item_type = "struct wide", .item_size = 8, .function = "wide",
+                          .source = WIDE_SOURCE, .source_file = "wide.cl", .emits = { { "leaf", declared } } };
+    perma_procedure l = { .name = "leaf", .item_type = "struct leaf", .item_size = leaf_size, .function = "leaf",
+                          .source = WIDE_SOURCE, .source_file = "wide.cl" };
+    perma_proc wide_id, leaf_id;
+    ck_assert_perma_ok(rt, perma_register(rt, &w, &wide_id));
+    ck_assert_perma_ok(rt, perma_register(rt, &l, &leaf_id));
+    uint32_t leaves[1] = { 0 };
+    ck_assert_perma_ok(rt, perma_bind_host(rt, "leaves", "__global uint *", leaves, sizeof leaves, PERMA_READ_WRITE));
+    struct { uint32_t emits, pad; } *seeds = calloc(count, sizeof *seeds);
+    for (unsigned i = 0; i < count; ++i)
+        seeds[i].emits = emits;
+    ck_assert_perma_ok(rt, perma_seed(rt, wide_id, seeds, count));
+    free(seeds);
+    ck_assert_perma_ok(rt, perma_run(rt));
+    ck_assert_uint_eq(leaves[0], count * emits);
+    ck_assert_perma_ok(rt, perma_get_procedure_stats(rt, wide_id, wide_stats));
+    size_t size;
+    FILE *out = open_memstream(printed, &size);
+    perma_print_stats(rt, out);
+    fclose(out);
+    perma_destroy(rt);
+}
+
+/* A batch reserves room for the emits its items are expected to make (the
+ * mean so far), not for the declared maximum, and stages them in global
+ * memory: one procedure for root and nodes that declares the root's 1000
+ * children for every node runs full batches, even under a small cap on
+ * __local memory.  What still cuts batches is
+ * said, naming the declaration: staging the declared maximum of a full
+ * batch beyond what a group may stage (4096 emits of 64 bytes per item),
+ * and expected emits that do not fit a queue the memory limit keeps small
+ * (1000 real emits per item). */
 START_TEST(cut_batches_are_explained)
 {
     perma_procedure_stats ps;
     char *printed = NULL;
-    const size_t local = fanout_local_memory();
-
-    /* Cut by __local memory: batches of up to 4 x 64 items, each staging
-     * 1000 emits of 8 bytes (2 MB for a full batch), under a cap of
-     * 128 KiB, which holds 8000 bytes many times but a full batch never. */
+    /* 4 x 64 items of 8 bytes, each declaring 1000 emits (2 MB of staging
+     * for a full batch, in global memory), under a cap of 128 KiB of
+     * __local memory: full batches. */
     fanout_case by_memory = { "node", 1000, 0, 0, 0, 128 * 1024 };
-    ck_assert_uint_ge(local, 16 * 1024); /* else not even a couple of items stage */
+    ck_assert_uint_ge(fanout_local_memory(), 16 * 1024);
     run_fanout(&by_memory, &ps, &printed);
-    ck_assert_int_eq(ps.batch_cut, PERMA_BATCH_CUT_LOCAL_MEMORY);
+    ck_assert_int_eq(ps.batch_cut, PERMA_BATCH_FULL);
+    ck_assert_uint_eq(ps.batch_size, 4 * 64);
+    ck_assert_uint_ge(ps.items, ps.batches * 16);
+    ck_assert_msg(strstr(printed, "warning") == NULL, "unexpected warning: %s", printed);
+    free(printed);
+
+    printed = NULL;
+    run_wide(4096, 64, 1, 1000, 0, 0, &ps, &printed);
+    ck_assert_int_eq(ps.batch_cut, PERMA_BATCH_CUT_STAGING);
     ck_assert_int_eq(ps.batch_cut_emit, 0);
     ck_assert_uint_lt(ps.batch_size, 4 * 64);
-    ck_assert_uint_ge(ps.batch_size, 1);
-    ck_assert_contains(printed, "warning: procedure 'node' runs at most ");
-    ck_assert_contains(printed, ".emits[0] (up to 1000 items of 8 bytes into 'node' per item) needs 8000 bytes");
-    ck_assert_contains(printed, "instead of 256: ");
+    ck_assert_contains(printed, "warning: procedure 'wide' runs at most ");
+    ck_assert_contains(printed, ".emits[0] (up to 4096 items of 64 bytes into 'leaf' per item) needs 262144 bytes "
+                                "of staging per item");
     ck_assert_contains(printed, "a separate procedure");
     free(printed);
 
-    /* Cut by room: one item per work-item, and a fan-out whose 64 items'
-     * emits stage in a quarter of the __local memory (1000, or a power of
-     * two on a smaller device), with a queue memory limit that lets the
-     * queue grow when nothing can start, up to the power of two at or above
-     * 16 x fan-out items of 8 bytes plus two completion marks (more than
-     * the whole tree), but not to the 2 x 64 x fan-out items full batches
-     * of two groups need.  The queue starts at 1/16 of that: 1024 items
-     * (the default) for a fan-out of 1000. */
-    unsigned fanout = 1000;
-    if (local / 4 < 64 * 8 * 1000) {
-        fanout = 1;
-        while (2 * fanout <= local / 4 / (64 * 8))
-            fanout *= 2;
-    }
-    size_t slots = 1;
-    while (slots < 16 * (size_t)fanout)
-        slots *= 2;
-    fanout_case by_room = { "node", fanout, 1, slots / 16, slots * 16, 0 };
+    /* The leaf queue may hold at most 16384 items of 8 bytes and two
+     * completion marks beside the wide queue's 1024: full batches of 64
+     * wide items would need room for 64000. */
     printed = NULL;
-    run_fanout(&by_room, &ps, &printed);
-    ck_assert_int_eq(ps.batch_cut, PERMA_BATCH_CUT_ROOM);
+    run_wide(1000, 8, 1000, 512, (size_t)16384 * 16 + 1024 * 16, 1, &ps, &printed);
     ck_assert_int_eq(ps.batch_cut_emit, 0);
+    ck_assert_int_eq(ps.batch_cut, PERMA_BATCH_CUT_ROOM);
     ck_assert_uint_eq(ps.batch_size, 64);
-    ck_assert_uint_lt(2 * ps.items, ps.batches * 64); /* under half a batch on average */
-    ck_assert_contains(printed, "warning: procedure 'node' ran batches of ");
-    char expected[256];
-    snprintf(expected, sizeof expected,
-             "instead of up to 64: a full batch must reserve room for 64 x %u items in 'node' (.emits[0].max_items = %u)",
-             fanout, fanout);
-    ck_assert_contains(printed, expected);
-    ck_assert_contains(printed, "a separate procedure");
+    ck_assert_uint_lt(ps.items, ps.batches * 32);
+    ck_assert_contains(printed, "warning: procedure 'wide' ran batches of ");
+    ck_assert_contains(printed, "instead of up to 64: a full batch reserves room for the emits it is expected to "
+                                "make (1000.0 per item into 'leaf'");
+    ck_assert_contains(printed, "config.queue_memory_limit");
     free(printed);
 
     /* The fix: only the root promises 1000 children; node's full batches of
-     * 4 x 64 items stage 2 emits each (8 KiB) on any device. */
+     * 4 x 64 items stage 2 emits each (8 KiB). */
     fanout_case separate = { "root", 1000, 0, 0, 0, 0 };
     printed = NULL;
     run_fanout(&separate, &ps, &printed);

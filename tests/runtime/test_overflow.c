@@ -240,24 +240,23 @@ END_TEST
 
 /* Items that declare far more emits than they make (64; these leaves make
  * none): 950 of them in each queue of 1024 (one, or one per group with the
- * distributed strategies) leave room for the worst case of only one at a
- * time, yet always for one, so nothing ever stalls.  The
- * megakernel grows the queue anyway (a group starved of room asks the host
- * for it) and needs fewer batches; with a memory limit that forbids
- * growing, the run completes with the small queue. */
-START_TEST(starved_batches_grow_the_queue)
+ * distributed strategies).  A batch reserves the room of the emits its
+ * procedure made per item so far, not of the declared maximum: only a
+ * group's first batch (nothing made yet) reserves 64 per item and runs one
+ * item, the others run full batches, with a memory limit that forbids
+ * growing the queue, and no queue grows. */
+START_TEST(declared_emits_do_not_cut_batches)
 {
     enum { LEAVES_PER_SET = 950, GROUPS = 2, DECLARED = 64 };
     unsigned leaves = 1;
     size_t initial_bytes = 0;
-    uint64_t batches[3] = { 0, 0, 0 };
     bool megakernel = true;
-    for (int run = 0; run < 3 && megakernel; ++run) {
+    for (int run = 0; run < 2 && megakernel; ++run) {
         perma_config config;
         perma_config_init(&config);
         config.time_limit = 120;
         config.work_groups = GROUPS;
-        config.queue_memory_limit = run == 2 ? initial_bytes : 0;
+        config.queue_memory_limit = initial_bytes;
         perma_runtime *rt = test_runtime_config(&config);
         uint32_t counts[2] = { 0, 0 };
         uint64_t sums[1] = { 0 };
@@ -275,21 +274,127 @@ START_TEST(starved_batches_grow_the_queue)
         ck_assert_perma_ok(rt, perma_get_stats(rt, &st));
         ck_assert_perma_ok(rt, perma_get_procedure_stats(rt, id, &ps));
         ck_assert_uint_eq(ps.items, leaves);
-        batches[run] = ps.batches;
         /* The host-driven techniques size the queues for each step. */
         megakernel = st.technique == PERMA_TECHNIQUE_MEGAKERNEL;
         if (run == 0) {
             initial_bytes = st.peak_queue_bytes;
             leaves = LEAVES_PER_SET * (st.strategy == PERMA_STRATEGY_SHARED ? 1 : GROUPS);
-        } else if (run == 1 && megakernel) {
-            ck_assert_uint_gt(st.regrowths, 0);
-        } else if (run == 2) {
+        } else if (megakernel) {
             ck_assert_uint_eq(st.regrowths, 0);
             ck_assert_uint_eq(st.peak_queue_bytes, initial_bytes);
-            ck_assert_uint_lt(batches[1], batches[2]);
+            ck_assert_uint_eq(ps.batch_cut, PERMA_BATCH_FULL);
+            /* One short first batch per group, the rest full (a local
+             * front queue may split a batch more). */
+            unsigned full = (leaves + ps.batch_size - 1) / ps.batch_size;
+            ck_assert_msg(ps.batches <= full + 2 * GROUPS, "%llu batches for %u leaves in batches of %u",
+                          (unsigned long long)ps.batches, leaves, ps.batch_size);
         }
         perma_destroy(rt);
     }
+}
+END_TEST
+
+/* Generators that each emit a pseudo-random 0..32 items (declared 32) into
+ * a sink, seeded so that the first 512 emit nothing: a group's batches then
+ * reserve room for no emits at all while the later ones emit up to 32 per
+ * item, far more than the 16 slots the queues start with.  What does not
+ * fit goes to the group's overflow area, the launch stops, the queue grows
+ * and takes those items: the count is exact under every schedule, and on
+ * one group of the shared megakernel the overflow path must have been
+ * taken. */
+#define BURST_TYPES                                                              \
+    "struct burst { uint index; };\n"                                            \
+    "uint burst_emits(uint i)\n"                                                 \
+    "{\n"                                                                        \
+    "    if (i < 512u) return 0u;\n"                                             \
+    "    i ^= i >> 16; i *= 0x7feb352du; i ^= i >> 15; i *= 0x846ca68bu;\n"      \
+    "    return (i ^ (i >> 16)) % 33u;\n"                                        \
+    "}\n"
+#define BURST_SOURCE                                                             \
+    "void burst_generate(perma_ctx *ctx, __local const struct burst *g)\n"       \
+    "{\n"                                                                        \
+    "    struct burst b;\n"                                                      \
+    "    for (uint i = 0; i < burst_emits(g->index); ++i) {\n"                   \
+    "        b.index = g->index * 33u + i;\n"                                    \
+    "        emit_burst_sink(ctx, &b);\n"                                        \
+    "    }\n"                                                                    \
+    "}\n"                                                                        \
+    "void burst_sink(perma_ctx *ctx, __local const struct burst *b)\n"           \
+    "{\n"                                                                        \
+    "    atomic_inc(&ctx->buf.sink[0]);\n"                                       \
+    "    atomic_add(&ctx->buf.sink[1], b->index);\n"                             \
+    "}\n"
+
+static uint32_t burst_emits(uint32_t i)
+{
+    if (i < 512u)
+        return 0;
+    i ^= i >> 16;
+    i *= 0x7feb352du;
+    i ^= i >> 15;
+    i *= 0x846ca68bu;
+    return (i ^ (i >> 16)) % 33u;
+}
+
+static void run_bursts(perma_runtime *rt, uint64_t *overflowed)
+{
+    enum { GENERATORS = 4096 };
+    ck_assert_perma_ok(rt, perma_add_source(rt, BURST_TYPES, "burst_types.cl"));
+    perma_procedure generate = { .name = "burst_generate", .item_type = "struct burst", .item_size = 4,
+                                 .source = BURST_SOURCE, .source_file = "burst.cl", .function = "burst_generate",
+                                 .emits = { { "burst_sink", 32 } } };
+    perma_procedure sink = generate;
+    sink.name = sink.function = "burst_sink";
+    sink.emits[0].target = NULL;
+    perma_proc gen_id, sink_id;
+    ck_assert_perma_ok(rt, perma_register(rt, &generate, &gen_id));
+    ck_assert_perma_ok(rt, perma_register(rt, &sink, &sink_id));
+    uint32_t totals[2] = { 0, 0 };
+    ck_assert_perma_ok(rt, perma_bind_host(rt, "sink", "__global uint *", totals, sizeof totals, PERMA_READ_WRITE));
+    static uint32_t seeds[GENERATORS];
+    uint32_t count = 0, sum = 0;
+    for (uint32_t g = 0; g < GENERATORS; ++g) {
+        seeds[g] = g;
+        for (uint32_t i = 0; i < burst_emits(g); ++i, ++count)
+            sum += g * 33u + i;
+    }
+    ck_assert_perma_ok(rt, perma_seed(rt, gen_id, seeds, GENERATORS));
+    ck_assert_perma_ok(rt, perma_run(rt));
+    ck_assert_uint_eq(totals[0], count);
+    ck_assert_uint_eq(totals[1], sum);
+    perma_procedure_stats ps;
+    ck_assert_perma_ok(rt, perma_get_procedure_stats(rt, sink_id, &ps));
+    ck_assert_uint_eq(ps.items, count);
+    perma_stats st;
+    ck_assert_perma_ok(rt, perma_get_stats(rt, &st));
+    ck_assert_uint_gt(st.regrowths, 0);
+    ck_assert_uint_le(st.overflowed_items, count);
+    *overflowed = st.overflowed_items;
+}
+
+START_TEST(emits_beyond_the_reservation_overflow_and_arrive)
+{
+    uint64_t overflowed;
+    perma_runtime *rt = test_runtime(64, 2, 16);
+    run_bursts(rt, &overflowed);
+    perma_destroy(rt);
+}
+END_TEST
+
+START_TEST(overflow_path_taken)
+{
+    perma_config config;
+    perma_config_init(&config);
+    config.work_groups = 1;
+    config.queue_capacity = 16;
+    config.time_limit = 120;
+    perma_runtime *rt = NULL;
+    perma_error error;
+    ck_assert_int_eq(perma_create(&config, &rt, &error), PERMA_OK);
+    uint64_t overflowed;
+    run_bursts(rt, &overflowed);
+    ck_assert_uint_gt(overflowed, 0);
+    perma_destroy(rt);
 }
 END_TEST
 
@@ -338,7 +443,9 @@ int main(void)
     tcase_add_test(tc, large_emit_maximum_fits_the_memory_cap);
     tcase_add_test(tc, kept_capacities_give_way_to_the_memory_limit);
     tcase_add_test(tc, bounded_batches_bound_memory);
-    tcase_add_test(tc, starved_batches_grow_the_queue);
+    tcase_add_test(tc, declared_emits_do_not_cut_batches);
+    tcase_add_test(tc, emits_beyond_the_reservation_overflow_and_arrive);
+    tcase_add_test(tc, overflow_path_taken);
     suite_add_tcase(s, tc);
     return test_run_suite(s) ? EXIT_FAILURE : EXIT_SUCCESS;
 }

@@ -88,7 +88,7 @@ START_TEST(regrowth_moves_no_queue_bytes_through_the_host)
     size_t queues = st.work_groups, groups = st.work_groups;
     size_t control = 4 * (16 + 16 * queues + 2 * groups); /* header, 16-word queue records, group records */
     size_t statistics = 4 * groups * (3 + 8);
-    size_t relayout = 32 * queues;
+    size_t relayout = 48 * queues; /* no item overflowed: the records alone */
     size_t largest = max_size(max_size(control, statistics), max_size(relayout, sizeof counts));
     /* The queues the run ended with: a round trip of them would be this
      * many bytes each way, far more than any control traffic. */

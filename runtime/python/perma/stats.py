@@ -3,7 +3,7 @@ import ctypes
 
 from ._capi import lib
 
-BATCH_CUTS = {0: None, 1: 'local-memory', 2: 'room'}  # perma_batch_cut
+BATCH_CUTS = {0: None, 1: 'local-memory', 2: 'room', 3: 'staging'}  # perma_batch_cut
 
 
 def _fields(struct, skip=()):
@@ -23,7 +23,7 @@ def stats_dict(s):
 
 
 def procedure_stats_dict(s, procedure):
-    """emitted: {target: items}; batch_cut: None, 'local-memory' or 'room'; batch_cut_emit: the target or None."""
+    """emitted: {target: items}; batch_cut: None, 'local-memory', 'room' or 'staging'; batch_cut_emit: the target or None."""
     out = _fields(s, skip=('emitted', 'emit_count'))
     out['name'] = s.name.decode()
     out['emitted'] = {target: s.emitted[i] for i, (target, _) in enumerate(procedure.emits[:s.emit_count])}
