@@ -111,8 +111,8 @@ static void expected_results(uint32_t depth, tree_results *x)
             x->long_min = -(int64_t)h * id;
         if (d > x->depth_max)
             x->depth_max = d;
-        float_units += (__int128)((int)(id % 2001u) - 1000) << (id % 41u);
-        double_units += (__int128)((int)(id * 7919u % 200001u) - 100000) << (id % 61u);
+        float_units += (__int128)((int)(id % 2001u) - 1000) * ((__int128)1 << (id % 41u));
+        double_units += (__int128)((int)(id * 7919u % 200001u) - 100000) * ((__int128)1 << (id % 61u));
         if (rvalue_float(id) < x->float_min)
             x->float_min = rvalue_float(id);
         if (rvalue_double(id) > x->double_max)
