@@ -413,9 +413,11 @@ perma_status perma_queues_initial(perma_runtime *rt, size_t *capacities);
 void perma_queues_seed_share(const perma_runtime *rt, unsigned qi, size_t *first, size_t *count);
 /* After a launch stalled: every target that lacks room for one waiting
  * item's emits doubles; or, when starved_queue is below the queue count
- * (a group's batches kept being cut by its room), only that queue. */
+ * (a group's batches kept being cut by its room), only that queue.
+ * overflow[qi]: items the groups left in their overflow areas for queue qi
+ * (the relayout appends them); with some there, nothing needs to grow. */
 perma_status perma_queues_grow_stalled(perma_runtime *rt, const perma_ctl_block *ctl, unsigned starved_queue,
-                                       size_t *capacities);
+                                       const size_t *overflow, size_t *capacities);
 /* Every queue with fewer free slots than needed[qi] grows to fit (doubling). */
 perma_status perma_queues_grow_to_fit(perma_runtime *rt, const perma_ctl_block *ctl, const size_t *needed,
                                       size_t *capacities);

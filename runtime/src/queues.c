@@ -181,7 +181,7 @@ static perma_status check_growth(perma_runtime *rt, const size_t *capacities)
 }
 
 perma_status perma_queues_grow_stalled(perma_runtime *rt, const perma_ctl_block *ctl, unsigned starved_queue,
-                                       size_t *capacities)
+                                       const size_t *overflow, size_t *capacities)
 {
     unsigned n = rt->proc_count, count = perma_queues_count(rt);
     bool *grows = calloc(count, sizeof *grows);
@@ -215,6 +215,14 @@ perma_status perma_queues_grow_stalled(perma_runtime *rt, const perma_ctl_block 
     for (unsigned qi = 0; qi < count; ++qi)
         capacities[qi] = rt->state.queues[qi].capacity * (grows[qi] ? 2 : 1);
     free(grows);
+    /* A group calls a stall against the groups it sees running; a group
+     * it did not see (not started yet, or adopting the set of one that
+     * left) may still run batches before it sees the launch stop, and
+     * leave their emits in its overflow area rather than in the queues
+     * (kernels/perma_scheduler.cl, perma_all_blocked).  Those items are
+     * what waits: the relayout appends them, nothing else needs to grow. */
+    for (unsigned qi = 0; qi < count && !any; ++qi)
+        any = overflow[qi] != 0;
     if (!any)
         return perma_set_error(rt, PERMA_ERR_DEVICE, "the kernel reported no room, but no queued item emits anything");
     return check_growth(rt, capacities);

@@ -38,7 +38,8 @@ static perma_status grow_queues(perma_runtime *rt, const perma_launch_outcome *o
     else if (st == PERMA_OK && detail == PERMA_DETAIL_OVERFLOW)
         st = perma_queues_grow_to_fit(rt, ctl, overflow, capacities);
     else if (st == PERMA_OK)
-        st = perma_queues_grow_stalled(rt, ctl, starved ? outcome->header.detail_edge : UINT32_MAX, capacities);
+        st = perma_queues_grow_stalled(rt, ctl, starved ? outcome->header.detail_edge : UINT32_MAX, overflow,
+                                       capacities);
     bool grows = st == PERMA_OK;
     if (starved && st == PERMA_ERR_CAPACITY) {
         /* Growing for full batches is an optimisation: past the memory
@@ -96,6 +97,13 @@ static perma_status interpret(perma_runtime *rt, const perma_launch_outcome *out
                                    (int)outcome->header.outstanding);
         return PERMA_OK;
     case PERMA_KSTATUS_NEEDS_ROOM: {
+        /* A group stops the launch for room against the groups it sees
+         * running (kernels/perma_scheduler.cl, perma_all_blocked); a group
+         * it did not see (not started yet, or adopting the set of one that
+         * left) may still run batches before it sees the stop, up to the
+         * last item.  Then nothing waits for room: the run is done. */
+        if (!outcome->needed_given && outcome->header.outstanding == 0)
+            return PERMA_OK;
         perma_status st = grow_queues(rt, outcome);
         *again = st == PERMA_OK;
         return st;

@@ -3,6 +3,7 @@
 #define _GNU_SOURCE
 #define CL_TARGET_OPENCL_VERSION 120
 #include "cl_fault.h"
+#include "perma_abi.h"
 
 #include <CL/cl.h>
 #include <dlfcn.h>
@@ -113,10 +114,41 @@ WRAP_COUNTED(clEnqueueWriteBuffer, count_transfer(&transfers.written, s),
              (cl_command_queue q, cl_mem m, cl_bool b, size_t o, size_t s, const void *p, cl_uint n,
               const cl_event *w, cl_event *e),
              (q, m, b, o, s, p, n, w, e))
-WRAP_COUNTED(clEnqueueReadBuffer, count_transfer(&transfers.read, s),
-             (cl_command_queue q, cl_mem m, cl_bool b, size_t o, size_t s, void *p, cl_uint n, const cl_event *w,
-              cl_event *e),
-             (q, m, b, o, s, p, n, w, e))
+static unsigned stalls_to_report, stalls_reported;
+
+void cl_fault_report_stall(unsigned n)
+{
+    stalls_to_report = n;
+    stalls_reported = 0;
+}
+
+unsigned cl_fault_stalls_reported(void) { return stalls_reported; }
+
+/* A finished launch's header, read whole: report a stall instead. */
+static void maybe_report_stall(cl_bool blocking, size_t offset, size_t bytes, void *host)
+{
+    perma_ctl_header *h = host;
+    if (!stalls_to_report || !blocking || offset != 0 || bytes != sizeof *h || h->status != PERMA_KSTATUS_DONE ||
+        h->outstanding != 0)
+        return;
+    h->status = PERMA_KSTATUS_NEEDS_ROOM;
+    h->detail_proc = PERMA_DETAIL_NONE;
+    h->detail_edge = 0;
+    stalls_to_report--;
+    stalls_reported++;
+}
+
+cl_int clEnqueueReadBuffer(cl_command_queue q, cl_mem m, cl_bool b, size_t o, size_t s, void *p, cl_uint n,
+                           const cl_event *w, cl_event *e)
+{
+    if (fault_now("clEnqueueReadBuffer"))
+        return CL_OUT_OF_RESOURCES;
+    count_transfer(&transfers.read, s);
+    cl_int err = REAL(clEnqueueReadBuffer)(q, m, b, o, s, p, n, w, e);
+    if (err == CL_SUCCESS)
+        maybe_report_stall(b, o, s, p);
+    return err;
+}
 WRAP_STATUS(clEnqueueFillBuffer,
             (cl_command_queue q, cl_mem m, const void *pat, size_t ps, size_t o, size_t s, cl_uint n,
              const cl_event *w, cl_event *e),

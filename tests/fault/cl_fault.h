@@ -27,4 +27,14 @@ typedef struct cl_fault_transfers {
 void cl_fault_transfers_reset(void);
 cl_fault_transfers cl_fault_transfers_since_launch(void);
 
+/* Make the next `n` reads of a finished launch's status (a blocking read of
+ * a control block's header, kernels/perma_abi.h, that says DONE with
+ * nothing outstanding) say instead that a group stopped the launch for
+ * room with no detail (NEEDS_ROOM, PERMA_DETAIL_NONE): what the host sees
+ * when a group calls a stall and another group, which it did not see
+ * running, then runs the last items.  0 disarms. */
+void cl_fault_report_stall(unsigned n);
+/* Header reads rewritten so since the last cl_fault_report_stall(). */
+unsigned cl_fault_stalls_reported(void);
+
 #endif
