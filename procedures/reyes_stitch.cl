@@ -13,13 +13,19 @@
 
 /* One edge of a diced sub-patch, set up once for all its vertices: its
  * base patch's control points, the sub-patch with the edge's own grid
- * size (reyes_edge_subpatch), and its segment count. */
+ * size (reyes_edge_subpatch), its segment count, and (for a neighbour's
+ * piece) its place along the owner's edge.  The vertices are evaluated
+ * REYES_LANES at a time into `window` (vertices k0 .. k0 + count - 1),
+ * in the direction the zipper walks them. */
 struct reyes_stitch_edge {
     float3 cp[16];
     struct reyes_subpatch sp;
     int2 size;
     uint edge, rgba;
-    int last;
+    int last, reversed;
+    float t0, t1;
+    int k0, count;
+    struct reyes_vertex window[REYES_LANES];
 };
 
 REYES_INLINE void reyes_stitch_edge_setup(perma_ctx *ctx, const struct reyes_subpatch *sp, uint edge,
@@ -32,47 +38,103 @@ REYES_INLINE void reyes_stitch_edge_setup(perma_ctx *ctx, const struct reyes_sub
     e->edge = edge;
     e->rgba = ctx->buf.colors[sp->patch];
     e->last = edge == REYES_EDGE_V0 || edge == REYES_EDGE_V1 ? e->size.x - 1 : e->size.y - 1;
+    e->reversed = 0;
+    e->t0 = 0.0f;
+    e->t1 = 1.0f;
+    e->k0 = e->count = 0;
+}
+
+/* Fill the window from vertex k0: each vertex is reyes_grid_vertex's, bit
+ * for bit (undisplaced: the point and normal in lanes with the arithmetic
+ * of reyes_patch_point_normal, then placed and shaded one by one as
+ * there; displaced: reyes_grid_vertex itself). */
+void reyes_stitch_fill(perma_ctx *ctx, struct reyes_stitch_edge *e, int k0)
+{
+    __global const struct reyes_params *p = ctx->buf.params;
+    struct reyes_displacement d = { p, ctx->buf.displacement_map };
+    e->k0 = k0;
+    e->count = min(REYES_LANES, e->last - k0 + 1);
+    float us[REYES_LANES], vs[REYES_LANES];
+    for (int k = 0; k < REYES_LANES; ++k) {
+        int2 ij = reyes_edge_vertex(e->edge, min(k0 + k, e->last), e->size);
+        float2 uv = reyes_grid_uv(p, &e->sp, ij.x, ij.y);
+        us[k] = uv.x;
+        vs[k] = uv.y;
+        if (p->displace_mode != REYES_DISPLACE_NONE && k < e->count)
+            e->window[k] = reyes_grid_vertex(&d, e->cp, &e->sp, e->rgba, ij.x, ij.y, 1);
+    }
+    if (p->displace_mode != REYES_DISPLACE_NONE)
+        return;
+    struct reyes_hull h = reyes_hull_of(e->cp);
+    struct reyes_row_curves_lanes rc;
+    reyes_row_curves_lanes(&h, reyes_vload_lanes(0, vs), &rc);
+    reyes_lanes x[3], n[3];
+    reyes_lanes u = reyes_vload_lanes(0, us);
+    reyes_row_point_lanes(&rc, u, x);
+    reyes_lane_mask collapsed = reyes_row_normal_lanes(&rc, u, n);
+    for (int k = 0; k < e->count; ++k) {
+        float3 xk = (float3)(((float *)&x[0])[k], ((float *)&x[1])[k], ((float *)&x[2])[k]);
+        float3 nk = (float3)(((float *)&n[0])[k], ((float *)&n[1])[k], ((float *)&n[2])[k]);
+        struct reyes_vertex out;
+        reyes_vertex_place(p, xk, &out);
+        out.rgba = reyes_shade(p, xk, reyes_vertex_normal_from(p, e->cp, us[k], vs[k], nk, ((int *)&collapsed)[k] != 0),
+                               e->rgba);
+        e->window[k] = out;
+    }
 }
 
 /* Shaded vertex k along the edge, evaluated as dice does. */
-REYES_INLINE struct reyes_vertex reyes_stitch_vertex(perma_ctx *ctx, const struct reyes_stitch_edge *e, int k)
+REYES_INLINE struct reyes_vertex reyes_stitch_vertex(perma_ctx *ctx, struct reyes_stitch_edge *e, int k)
 {
-    int2 ij = reyes_edge_vertex(e->edge, k, e->size);
-    struct reyes_displacement d = { ctx->buf.params, ctx->buf.displacement_map };
-    return reyes_grid_vertex(&d, e->cp, &e->sp, e->rgba, ij.x, ij.y, 1);
+    if (k < e->k0 || k >= e->k0 + e->count)
+        reyes_stitch_fill(ctx, e, e->reversed ? max(k - (REYES_LANES - 1), 0) : k);
+    return e->window[k - e->k0];
 }
 
 /* Where the zipper is on the neighbours' polyline: vertex k of piece
- * `index` (set up in `e`), piece after piece in the owner's edge order.
- * A piece's last vertex and the next piece's first are both visited (the
- * same point: a degenerate triangle between them). */
+ * `index`, piece after piece in the owner's edge order; the piece is set
+ * up in slot index % 2 of the stitch's two (the zipper's vertex and the
+ * next one are on the same piece or on consecutive ones).  A piece's last
+ * vertex and the next piece's first are both visited (the same point: a
+ * degenerate triangle between them). */
 struct reyes_piece_cursor {
     uint index;
     int k;
-    int reversed;
-    float t0, t1;
-    struct reyes_stitch_edge e;
 };
 
-/* Point the cursor at vertex 0 of piece `index`. */
-REYES_INLINE void reyes_piece_enter(perma_ctx *ctx, uint first, uint index, struct reyes_piece_cursor *at)
+/* Point the cursor at vertex 0 of piece `index`, set up in its slot. */
+REYES_INLINE void reyes_piece_enter(perma_ctx *ctx, uint first, uint index, struct reyes_stitch_edge slots[2],
+                                    struct reyes_piece_cursor *at)
 {
     struct reyes_stitch_piece piece = ctx->buf.pieces[first + index];
+    struct reyes_stitch_edge *e = &slots[index & 1u];
+    reyes_stitch_edge_setup(ctx, &piece.sp, piece.edge, e);
+    e->reversed = piece.reversed != 0u;
+    e->t0 = piece.t0;
+    e->t1 = piece.t1;
     at->index = index;
     at->k = 0;
-    at->reversed = piece.reversed != 0u;
-    at->t0 = piece.t0;
-    at->t1 = piece.t1;
-    reyes_stitch_edge_setup(ctx, &piece.sp, piece.edge, &at->e);
 }
 
 /* The cursor's vertex and its position along the owner's edge (0..1). */
-REYES_INLINE struct reyes_vertex reyes_piece_vertex(perma_ctx *ctx, const struct reyes_piece_cursor *at, float *t)
+REYES_INLINE struct reyes_vertex reyes_piece_vertex(perma_ctx *ctx, struct reyes_stitch_edge slots[2],
+                                                    struct reyes_piece_cursor at, float *t)
 {
-    int last = at->e.last;
-    int own = at->reversed ? last - at->k : at->k;
-    *t = at->t0 + (at->t1 - at->t0) * ((float)at->k / (float)last);
-    return reyes_stitch_vertex(ctx, &at->e, own);
+    struct reyes_stitch_edge *e = &slots[at.index & 1u];
+    int last = e->last;
+    int own = e->reversed ? last - at.k : at.k;
+    *t = e->t0 + (e->t1 - e->t0) * ((float)at.k / (float)last);
+    return reyes_stitch_vertex(ctx, e, own);
+}
+
+/* Step the cursor to the neighbours' next vertex. */
+REYES_INLINE void reyes_piece_step(perma_ctx *ctx, uint first, struct reyes_stitch_edge slots[2],
+                                   struct reyes_piece_cursor *at)
+{
+    if (at->k == slots[at->index & 1u].last)
+        reyes_piece_enter(ctx, first, at->index + 1u, slots, at);
+    else
+        ++at->k;
 }
 
 /* Rasterize triangle (a, b, c) over its pixel box clipped to the tile,
@@ -118,7 +180,7 @@ int reyes_fill_triangle(perma_ctx *ctx, struct reyes_vertex a, struct reyes_vert
 void reyes_stitch(perma_ctx *ctx, __local const struct reyes_stitch *item)
 {
     struct reyes_stitch st = *item;
-    struct reyes_stitch_edge owner;
+    struct reyes_stitch_edge owner, slots[2];
     reyes_stitch_edge_setup(ctx, &st.owner, st.edge, &owner);
     int last = owner.last;
     /* The owner's vertices around the pieces' span [t_start, t_end]. */
@@ -131,18 +193,15 @@ void reyes_stitch(perma_ctx *ctx, __local const struct reyes_stitch *item)
     struct reyes_piece_cursor at, next;
     float tf, tf_next;
     struct reyes_vertex c = reyes_stitch_vertex(ctx, &owner, i);
-    reyes_piece_enter(ctx, st.first, 0u, &at);
-    struct reyes_vertex f = reyes_piece_vertex(ctx, &at, &tf);
+    reyes_piece_enter(ctx, st.first, 0u, slots, &at);
+    struct reyes_vertex f = reyes_piece_vertex(ctx, slots, at, &tf);
     struct reyes_vertex f_next = f;
-    int f_done = st.count == 1u && at.k == at.e.last;
+    int f_done = st.count == 1u && at.k == slots[0].last;
     tf_next = tf;
     if (!f_done) {
         next = at;
-        if (next.k == next.e.last)
-            reyes_piece_enter(ctx, st.first, next.index + 1u, &next);
-        else
-            ++next.k;
-        f_next = reyes_piece_vertex(ctx, &next, &tf_next);
+        reyes_piece_step(ctx, st.first, slots, &next);
+        f_next = reyes_piece_vertex(ctx, slots, next, &tf_next);
     }
     uint fillers = 0, base = owner.rgba;
     for (;;) {
@@ -160,13 +219,10 @@ void reyes_stitch(perma_ctx *ctx, __local const struct reyes_stitch *item)
         f = f_next;
         tf = tf_next;
         at = next;
-        f_done = at.index + 1u == st.count && at.k == at.e.last;
+        f_done = at.index + 1u == st.count && at.k == slots[at.index & 1u].last;
         if (!f_done) {
-            if (next.k == next.e.last)
-                reyes_piece_enter(ctx, st.first, next.index + 1u, &next);
-            else
-                ++next.k;
-            f_next = reyes_piece_vertex(ctx, &next, &tf_next);
+            reyes_piece_step(ctx, st.first, slots, &next);
+            f_next = reyes_piece_vertex(ctx, slots, next, &tf_next);
         }
     }
     atomic_add(&ctx->buf.counters[REYES_COUNT_FILLERS], fillers);
