@@ -45,9 +45,10 @@ REYES_INLINE void reyes_stitch_edge_setup(perma_ctx *ctx, const struct reyes_sub
 }
 
 /* Fill the window from vertex k0: each vertex is reyes_grid_vertex's, bit
- * for bit (undisplaced: the point and normal in lanes with the arithmetic
- * of reyes_patch_point_normal, then placed and shaded one by one as
- * there; displaced: reyes_grid_vertex itself). */
+ * for bit (undisplaced: the point, normal and clip position in lanes
+ * with the arithmetic of reyes_patch_point_normal and reyes_clip_of, the
+ * normal packed in lanes with sample shading, and shaded one by one as
+ * there otherwise; displaced: reyes_grid_vertex itself). */
 void reyes_stitch_fill(perma_ctx *ctx, struct reyes_stitch_edge *e, int k0)
 {
     __global const struct reyes_params *p = ctx->buf.params;
@@ -72,13 +73,30 @@ void reyes_stitch_fill(perma_ctx *ctx, struct reyes_stitch_edge *e, int k0)
     reyes_lanes u = reyes_vload_lanes(0, us);
     reyes_row_point_lanes(&rc, u, x);
     reyes_lane_mask collapsed = reyes_row_normal_lanes(&rc, u, n);
+    /* Placed as reyes_clip_of; with sample shading, a normal that is not
+     * collapsed is reyes_lit_normal_from's and packed as reyes_shade does
+     * (lane by lane). */
+    __global const float *m = p->view_proj;
+    reyes_lanes clip[4];
+    for (int r = 0; r < 4; ++r)
+        clip[r] = reyes_dot4_lanes(m[4 * r], m[4 * r + 1], m[4 * r + 2], m[4 * r + 3], x[0], x[1], x[2]);
+    reyes_lane_uint packed = (reyes_lane_uint)0u;
+    if (p->sample_shading)
+        packed = reyes_pack_normal16(n[0], n[1], n[2]);
     for (int k = 0; k < e->count; ++k) {
         float3 xk = (float3)(((float *)&x[0])[k], ((float *)&x[1])[k], ((float *)&x[2])[k]);
-        float3 nk = (float3)(((float *)&n[0])[k], ((float *)&n[1])[k], ((float *)&n[2])[k]);
         struct reyes_vertex out;
-        reyes_vertex_place(p, xk, &out);
-        out.rgba = reyes_shade(p, xk, reyes_vertex_normal_from(p, e->cp, us[k], vs[k], nk, ((int *)&collapsed)[k] != 0),
-                               e->rgba);
+        out.clip = (float4)(((float *)&clip[0])[k], ((float *)&clip[1])[k], ((float *)&clip[2])[k],
+                            ((float *)&clip[3])[k]);
+#ifdef REYES_VERTEX_MOTION
+        out.motion = reyes_motion_at(p, xk);
+#endif
+        out.rgba = ((uint *)&packed)[k];
+        if (!p->sample_shading || ((int *)&collapsed)[k]) {
+            float3 nk = (float3)(((float *)&n[0])[k], ((float *)&n[1])[k], ((float *)&n[2])[k]);
+            out.rgba = reyes_shade(p, xk, reyes_vertex_normal_from(p, e->cp, us[k], vs[k], nk, ((int *)&collapsed)[k] != 0),
+                                   e->rgba);
+        }
         e->window[k] = out;
     }
 }
