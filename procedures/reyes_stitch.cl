@@ -3,8 +3,9 @@
  * whose neighbours across the edge were diced finer (shorter, or with a
  * shading rate at more vertices), or belong to another base patch.  The owner's edge vertices C_0..C_{n-1} and the neighbours'
  * edge vertices F_0..F_m (piece after piece, in the owner's direction) are
- * both evaluated with reyes_grid_vertex, so each is bit-identical to the
- * vertex dice made for its grid.  A zipper triangulates the strip between
+ * both evaluated with reyes_grid_vertex's arithmetic (in lanes,
+ * reyes_stitch_fill), so each is bit-identical to the vertex dice made
+ * for its grid.  A zipper triangulates the strip between
  * the two polylines: every triangle edge C_i C_{i+1} or F_j F_{j+1} is
  * exactly an edge of a grid triangle on the other side, so grids and
  * strips together form an edge-conforming mesh and the canonical edge
