@@ -376,6 +376,20 @@ void reference_leaves_add(reference_leaves *leaves, const struct reyes_subpatch 
     leaves->items[leaves->count++] = *sp;
 }
 
+reyes_status reference_subdivide_all(reference_context *c, const reyes_scene *scene,
+                                     reyes_reference_counts *out, reyes_error *error)
+{
+    reyes_status status = reference_grid_alloc(c, error);
+    if (status != REYES_OK)
+        return status;
+    struct timespec start;
+    clock_gettime(CLOCK_MONOTONIC, &start);
+    for (size_t p = 0; p < scene->patch_count; ++p)
+        reference_subdivide_patch(c, (uint32_t)p);
+    out->seconds = reference_seconds_since(&start);
+    return REYES_OK;
+}
+
 reyes_status reyes_reference_run(const reyes_scene *scene, const reyes_camera *camera,
                                  const reyes_options *options, reyes_reference_counts *out,
                                  reyes_error *error)
@@ -383,14 +397,7 @@ reyes_status reyes_reference_run(const reyes_scene *scene, const reyes_camera *c
     context c;
     reyes_status status = reference_begin(&c, scene, camera, options, out, error);
     if (status == REYES_OK)
-        status = reference_grid_alloc(&c, error);
-    if (status == REYES_OK) {
-        struct timespec start;
-        clock_gettime(CLOCK_MONOTONIC, &start);
-        for (size_t p = 0; p < scene->patch_count; ++p)
-            reference_subdivide_patch(&c, (uint32_t)p);
-        out->seconds = reference_seconds_since(&start);
-    }
+        status = reference_subdivide_all(&c, scene, out, error);
     free(c.grid);
     return status;
 }

@@ -69,6 +69,10 @@ reyes_status reference_grid_alloc(reference_context *c, reyes_error *error);
 void reference_subdivide_patch(reference_context *c, uint32_t patch);
 void reference_leaves_add(reference_leaves *leaves, const struct reyes_subpatch *sp);
 double reference_seconds_since(const struct timespec *start);
+/* The serial drivers' body: allocate c's grid, subdivide every patch of
+ * the scene in order, and time it into out->seconds. */
+reyes_status reference_subdivide_all(reference_context *c, const reyes_scene *scene,
+                                     reyes_reference_counts *out, reyes_error *error);
 
 /* A full render's set-up, shared by the single-threaded and OpenMP
  * drivers (reyes_reference_render.c): the options checked (no motion,

@@ -67,14 +67,7 @@ reyes_status reyes_reference_render(const reyes_scene *scene, const reyes_camera
     reference_samples samples;
     reyes_status status = reference_render_begin(&c, &full, &samples, scene, camera, options, 0, image, out, error);
     if (status == REYES_OK)
-        status = reference_grid_alloc(&c, error);
-    if (status == REYES_OK) {
-        struct timespec start;
-        clock_gettime(CLOCK_MONOTONIC, &start);
-        for (size_t p = 0; p < scene->patch_count; ++p)
-            reference_subdivide_patch(&c, (uint32_t)p);
-        out->seconds = reference_seconds_since(&start);
-    }
+        status = reference_subdivide_all(&c, scene, out, error);
     free(c.grid);
     return reference_render_end(status, &samples, options, image, out);
 }
