@@ -39,6 +39,7 @@ import signal
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 
 SKIP = 77
@@ -150,10 +151,11 @@ def case_bad_device(args, tmp):
     print(out)
 
 
-# Long enough that a rank killed after 3 s is killed mid-render (about
-# 11 s in one process): 1024x768 at the default shading rate, or even with
-# fixed 16x16 grids, finished in under 2.5 s on 2 ranks.
-BIG = ['--size', '2048x1536', '--bucket', '32x32', '--spp', '16', '--grid', '16']
+# Long enough that a rank killed or stopped after 2-3 s is killed mid-render:
+# about 16 s on 2 ranks of a 2-core machine (at --spp 16 it ended in 4 s and
+# raced the interrupted case's signal in CI).  Every case stops it within
+# seconds, so the size costs nothing when the tests pass.
+BIG = ['--size', '2048x1536', '--bucket', '32x32', '--spp', '64', '--grid', '16']
 
 
 def write_model(path, z):
@@ -249,13 +251,31 @@ def case_killed_frames(args, tmp):
 
 
 def case_interrupted(args, tmp):
-    render = [args.program, '-o', os.path.join(tmp, 'big.png')] + BIG
+    # The signal goes out once rank 0 prints its first --progress line: it
+    # renders then, its handler installed.  A fixed sleep raced the job's
+    # end on a fast run.
+    render = [args.program, '-o', os.path.join(tmp, 'big.png'), '--progress'] + BIG
     for number in (signal.SIGINT, signal.SIGTERM):
         job = subprocess.Popen(mpirun_command(args.mpirun, 2) + render, cwd=tmp, stdout=subprocess.PIPE,
                                stderr=subprocess.STDOUT, text=True)
-        time.sleep(4)  # rank 0 has started (its handler is installed) and renders
+        lines = []
+        rendering = threading.Event()
+
+        def collect():
+            for line in job.stdout:
+                lines.append(line)
+                if re.match(r'reyes-render: \d+/\d+ buckets', line):
+                    rendering.set()
+            rendering.set()  # the job ended: stop waiting
+
+        reader = threading.Thread(target=collect)
+        reader.start()
+        rendering.wait(LIMIT)
+        expect(job.poll() is None, 'the job ended before its first progress line was read', ''.join(lines))
         job.send_signal(number)
-        out, _ = job.communicate(timeout=LIMIT)
+        job.wait(LIMIT)
+        reader.join(LIMIT)
+        out = ''.join(lines)
         expect(job.returncode != 0, 'the job succeeded', out)
         expect(re.search(r'rank 0: the job was interrupted \(SIGTERM from mpirun: mpirun was sent SIGINT or '
                          r'SIGTERM', out), 'rank 0 did not say the job was interrupted (%s)' % number.name, out)
