@@ -4,84 +4,85 @@
  * SIGKILL half a second later); Ctrl-C sends SIGINT.  Either used to end
  * perma-bench with no word about where it was, so a benchmark that ran
  * past its timeout left only the rows it had finished (issue 23.6: a
- * build that took minutes on a loaded machine).  The handler writes the
+ * build that took minutes on a loaded machine).  perma-bench now writes the
  * current activity, e.g.
  *   perma-bench pipeline: stopped by signal 15 after 181 s while building
  *   megakernel/shared+local256 (4096 producers, upstream first ...)
- * and exits with status 1.  The text is formatted outside the handler into
- * one of two buffers and published by switching an index, so the handler
- * only reads a finished text and calls async-signal-safe functions. */
+ * and exits with status 1.
+ *
+ * The signals are blocked in every thread and taken by one thread in
+ * sigwait(), not by a handler: PoCL's LLVM installs its own SIGTERM, SIGINT
+ * and SIGHUP handlers at the first compile (saving ours, with SA_RESETHAND),
+ * so a second signal arriving while LLVM's handler was restoring ours -
+ * `timeout` sends SIGTERM to the process and then to its group - found the
+ * default action and ended perma-bench without a word (exit 143, 2 runs in
+ * 16 with two SIGTERMs after a build).  A blocked signal never reaches any
+ * handler, whoever installed it. */
+#define _GNU_SOURCE /* pthread_setname_np */
 #include "bench.h"
 
+#include <pthread.h>
 #include <signal.h>
 #include <stdarg.h>
 #include <string.h>
 #include <time.h>
 #include <unistd.h>
 
-static char texts[2][512];
-static volatile sig_atomic_t current; /* the buffer the handler reads */
+static char text[512] = "starting"; /* the activity; `text_lock` held */
+static pthread_mutex_t text_lock = PTHREAD_MUTEX_INITIALIZER;
 static char command[64] = "perma-bench";
 static struct timespec started;
 
-/* Append the decimal digits of `value` to out[*used..size). */
-static void append_number(char *out, size_t *used, size_t size, unsigned long value)
+static void stop_signals(sigset_t *set)
 {
-    char digits[24];
-    size_t n = 0;
-    do {
-        digits[n++] = (char)('0' + value % 10);
-        value /= 10;
-    } while (value && n < sizeof digits);
-    while (n && *used + 1 < size)
-        out[(*used)++] = digits[--n];
+    sigemptyset(set);
+    sigaddset(set, SIGTERM);
+    sigaddset(set, SIGINT);
+    sigaddset(set, SIGHUP);
 }
 
-static void append_text(char *out, size_t *used, size_t size, const char *text)
+/* The thread that takes the stop signals: say where perma-bench was, end. */
+static void *wait_for_stop(void *unused)
 {
-    while (*text && *used + 1 < size)
-        out[(*used)++] = *text++;
-}
-
-static void on_stop(int signal_number)
-{
-    char line[768];
-    size_t used = 0;
+    (void)unused;
+    pthread_setname_np(pthread_self(), "stop-signals"); /* tests tell it apart */
+    sigset_t set;
+    stop_signals(&set);
+    int number = 0;
+    while (sigwait(&set, &number) != 0)
+        ;
     struct timespec now;
     clock_gettime(CLOCK_MONOTONIC, &now);
-    append_text(line, &used, sizeof line, command);
-    append_text(line, &used, sizeof line, ": stopped by signal ");
-    append_number(line, &used, sizeof line, (unsigned long)signal_number);
-    append_text(line, &used, sizeof line, " after ");
-    append_number(line, &used, sizeof line, (unsigned long)(now.tv_sec - started.tv_sec));
-    append_text(line, &used, sizeof line, " s while ");
-    append_text(line, &used, sizeof line, texts[current]);
-    append_text(line, &used, sizeof line, "\n");
-    ssize_t ignored = write(STDERR_FILENO, line, used);
-    (void)ignored;
+    pthread_mutex_lock(&text_lock);
+    fprintf(stderr, "%s: stopped by signal %d after %ld s while %s\n", command, number,
+            (long)(now.tv_sec - started.tv_sec), text);
+    fflush(stderr);
     _exit(1);
 }
 
 void bench_activity_start(const char *benchmark)
 {
     snprintf(command, sizeof command, "perma-bench %s", benchmark);
-    snprintf(texts[current], sizeof texts[0], "starting");
     clock_gettime(CLOCK_MONOTONIC, &started);
-    struct sigaction action;
-    memset(&action, 0, sizeof action);
-    action.sa_handler = on_stop;
-    sigemptyset(&action.sa_mask);
-    sigaction(SIGTERM, &action, NULL);
-    sigaction(SIGINT, &action, NULL);
-    sigaction(SIGHUP, &action, NULL);
+    /* Blocked here, before OpenCL and OpenMP start their threads, so every
+     * thread inherits the mask and only wait_for_stop takes the signals. */
+    sigset_t set, before;
+    stop_signals(&set);
+    pthread_sigmask(SIG_BLOCK, &set, &before);
+    pthread_t waiter;
+    if (pthread_create(&waiter, NULL, wait_for_stop, NULL) != 0) {
+        pthread_sigmask(SIG_SETMASK, &before, NULL); /* no thread: the signals' defaults */
+        return;
+    }
+    pthread_detach(waiter);
 }
 
 void bench_activity(const char *fmt, ...)
 {
-    int next = !current;
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(texts[next], sizeof texts[next], fmt, ap);
+    pthread_mutex_lock(&text_lock);
+    vsnprintf(text, sizeof text, fmt, ap);
+    pthread_mutex_unlock(&text_lock);
     va_end(ap);
-    current = next;
 }

@@ -212,7 +212,8 @@ unsigned bench_threads(const bench_options *options);
 
 /* ---- what it is doing (activity.c) ---- */
 
-/* Catch SIGTERM, SIGINT and SIGHUP: each then ends perma-bench with a
+/* Take SIGTERM, SIGINT and SIGHUP (blocked in every thread, waited for by
+ * one thread, whatever handlers libraries install): each then ends perma-bench with a
  * line on stderr naming the benchmark, the seconds since this call and the
  * activity last set, and exit status 1. */
 void bench_activity_start(const char *benchmark);
