@@ -293,7 +293,7 @@ static void bound(context *c, struct reyes_subpatch sp)
         c->counts->forced_dice += (uint64_t)forced;
         /* As bound: with a shading rate, a grid that covers no sample is
          * not diced. */
-        if (o->shading_rate > 0.0f && !reference_box_has_sample(o->width, o->height, o->spp, lox, loy, hix, hiy)) {
+        if (o->shading_rate > 0.0f && !reference_hull_has_sample(o->width, o->height, o->spp, sx, sy, lox, loy, hix, hiy)) {
             ++c->counts->culled;
             return;
         }

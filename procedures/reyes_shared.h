@@ -29,8 +29,9 @@ struct reyes_subpatch {
     REYES_U32 dice_size;
 };
 
-/* Set in a recorded leaf's dice_size by bound: its screen box holds no
- * sample position, so it is not diced (its edges still stitch). */
+/* Set in a recorded leaf's dice_size by bound: its projected hull covers
+ * no sample position (reyes_hull_has_sample), so it is not diced (its
+ * edges still stitch). */
 #define REYES_DICE_NO_SAMPLE 0x80000000u
 
 /* One micropolygon: a grid quad in screen space (pixels, y down; z is the
