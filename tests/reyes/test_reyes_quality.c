@@ -274,7 +274,7 @@ START_TEST(test_models)
         bounds framed, small;
     } models[] = {
         {"teapot.bpt", targets, targets},
-        {"killeroo.bpt", {5.5, 0.01}, {9.0, 0.01}},
+        {"killeroo.bpt", {5.2, 0.01}, {8.1, 0.01}}, /* 5.15 and 8.01 measured (8.37 dicing sampleless grids) */
         {"newell-teapot.bpt", targets, {4.0, 0.02}},
         {"teacup.bpt", targets, {4.2, 0.01}},
         {"teaspoon.bpt", targets, {4.0, 0.07}},
