@@ -296,6 +296,48 @@ void reyes_blur_leaf_box(__global const struct reyes_params *p, const float3 cp[
     }
 }
 
+/* Whether the projected hull s[16] may cover one of the image's sample
+ * positions (reyes_sample.cl): 0 only when none lies in its octagon (its
+ * box [lo, hi] cut by the extremes of x + y and x - y), each side moved
+ * out by REYES_SAMPLE_BOX_MARGIN pixels, so a surface inside the hull
+ * covers no sample and dicing it cannot change the image.  Sub-pixel
+ * patches (a killeroo seen small) often fall between the samples.
+ * Boxes over more than REYES_SAMPLE_BOX_PIXELS pixels are not searched
+ * (1).  The margin covers the rounding by which dice's vertices may
+ * stray from the hull. */
+#define REYES_SAMPLE_BOX_MARGIN (1.0f / 64.0f)
+#define REYES_SAMPLE_BOX_PIXELS 4
+int reyes_hull_has_sample(__global const struct reyes_params *p, const float2 s[16], float2 lo, float2 hi)
+{
+    lo -= REYES_SAMPLE_BOX_MARGIN;
+    hi += REYES_SAMPLE_BOX_MARGIN;
+    if (!(hi.x >= 0.0f && hi.y >= 0.0f && lo.x < p->width && lo.y < p->height))
+        return 1; /* off the image or NaN: the frustum test's business */
+    float2 first = fmax(floor(lo), (float2)(0.0f, 0.0f));
+    float2 last = fmin(floor(hi), (float2)(p->width - 1.0f, p->height - 1.0f));
+    if ((last.x - first.x + 1.0f) * (last.y - first.y + 1.0f) > (float)REYES_SAMPLE_BOX_PIXELS)
+        return 1;
+    /* The diagonal extremes: min and max of x + y (.x) and x - y (.y). */
+    float2 diag_lo = (float2)(INFINITY, INFINITY), diag_hi = (float2)(-INFINITY, -INFINITY);
+    for (int k = 0; k < 16; ++k) {
+        float2 d = (float2)(s[k].x + s[k].y, s[k].x - s[k].y);
+        diag_lo = fmin(diag_lo, d);
+        diag_hi = fmax(diag_hi, d);
+    }
+    diag_lo -= 2.0f * REYES_SAMPLE_BOX_MARGIN;
+    diag_hi += 2.0f * REYES_SAMPLE_BOX_MARGIN;
+    uint columns = reyes_sample_columns(p->spp), rows = (p->spp + columns - 1u) / columns;
+    for (uint py = (uint)first.y; py <= (uint)last.y; ++py)
+        for (uint px = (uint)first.x; px <= (uint)last.x; ++px)
+            for (uint k = 0; k < p->spp; ++k) {
+                float2 at = reyes_sample_position_on(px, py, k, columns, rows);
+                float2 d = (float2)(at.x + at.y, at.x - at.y);
+                if (all(at >= lo) && all(at <= hi) && all(d >= diag_lo) && all(d <= diag_hi))
+                    return 1;
+            }
+    return 0;
+}
+
 void reyes_bound(perma_ctx *ctx, __local const struct reyes_subpatch *item)
 {
     __global const struct reyes_params *p = ctx->buf.params;
@@ -366,13 +408,21 @@ void reyes_bound(perma_ctx *ctx, __local const struct reyes_subpatch *item)
             sp.dice_size = (sides.x + 1u) | ((sides.y + 1u) << 8);
             sp.edge_levels = edges;
         }
+        /* With a shading rate, a grid that covers no sample is not diced
+         * (the image is the same; fixed grids keep the reference's counts).
+         * A stitched leaf is still recorded, flagged, so the stitch plan
+         * is the same. */
+        int sampleless = p->shading_rate > 0.0f && !p->blur && radius == 0.0f && !reyes_hull_has_sample(p, s, lo, hi);
+        if (sampleless)
+            sp.dice_size |= REYES_DICE_NO_SAMPLE;
         if (p->record_leaves) {
             if (p->blur)
                 reyes_blur_leaf_box(p, cp, clip, radius, &lo, &hi);
             else
                 reyes_grow_box(p, clip, radius, &lo, &hi);
             reyes_record_leaf(ctx, &sp, lo, hi);
-        }
+        } else if (sampleless)
+            atomic_inc(&counters[REYES_COUNT_CULLED]);
         else
             emit_dice(ctx, &sp);
         return;

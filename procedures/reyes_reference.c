@@ -291,6 +291,12 @@ static void bound(context *c, struct reyes_subpatch sp)
         split_it = tiered_split(c, cp, clip, &along_u);
     if (forced || !split_it) {
         c->counts->forced_dice += (uint64_t)forced;
+        /* As bound: with a shading rate, a grid that covers no sample is
+         * not diced. */
+        if (o->shading_rate > 0.0f && !reference_hull_has_sample(o->width, o->height, o->spp, sx, sy, lox, loy, hix, hiy)) {
+            ++c->counts->culled;
+            return;
+        }
         if (o->shading_rate > 0.0f) {
             unsigned nu = (unsigned)fminf(need[0], (float)(o->grid - 1)), nv = (unsigned)fminf(need[1], (float)(o->grid - 1));
             sp.dice_size = (nu + 1u) | ((nv + 1u) << 8);

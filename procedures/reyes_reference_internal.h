@@ -68,6 +68,8 @@ reyes_status reference_grid_alloc(reference_context *c, reyes_error *error);
 /* Bound base patch `patch`, split and dice (or record) depth-first. */
 void reference_subdivide_patch(reference_context *c, uint32_t patch);
 void reference_leaves_add(reference_leaves *leaves, const struct reyes_subpatch *sp);
+int reference_hull_has_sample(unsigned width, unsigned height, unsigned spp, const float sx[16], const float sy[16],
+                              float lo_x, float lo_y, float hi_x, float hi_y);
 double reference_seconds_since(const struct timespec *start);
 /* The serial drivers' body: allocate c's grid, subdivide every patch of
  * the scene in order, and time it into out->seconds. */

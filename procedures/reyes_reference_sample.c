@@ -19,6 +19,7 @@
  * instead, they cost half as much again at the default bound).  The few
  * quads that reach more strata are sampled one by one.
  */
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -97,6 +98,54 @@ static inline void stratum_sample(int sx, int sy, int columns, int rows, float *
     *y = (float)pixel_y + ((float)cell_y + jy) / (float)rows;
     *px = pixel_x;
     *py = pixel_y;
+}
+
+/* As reyes_hull_has_sample (reyes_bound.cl): whether the projected hull
+ * (sx, sy)[16] of screen box [lo, hi] may cover a sample position of a
+ * width x height image at spp samples per pixel: 0 only when none lies
+ * in its octagon (the box cut by the extremes of x + y and x - y) grown
+ * by 1/64 pixel.  Boxes over more than 4 pixels are not searched (1). */
+int reference_hull_has_sample(unsigned width, unsigned height, unsigned spp, const float sx[16], const float sy[16],
+                              float lo_x, float lo_y, float hi_x, float hi_y)
+{
+    const float margin = 1.0f / 64.0f;
+    lo_x -= margin;
+    lo_y -= margin;
+    hi_x += margin;
+    hi_y += margin;
+    if (!(hi_x >= 0.0f && hi_y >= 0.0f && lo_x < (float)width && lo_y < (float)height))
+        return 1;
+    float first_x = max_f(floorf(lo_x), 0.0f), first_y = max_f(floorf(lo_y), 0.0f);
+    float last_x = min_f(floorf(hi_x), (float)width - 1.0f), last_y = min_f(floorf(hi_y), (float)height - 1.0f);
+    if ((last_x - first_x + 1.0f) * (last_y - first_y + 1.0f) > 4.0f)
+        return 1;
+    float sum_lo = INFINITY, sum_hi = -INFINITY, difference_lo = INFINITY, difference_hi = -INFINITY;
+    for (int k = 0; k < 16; ++k) {
+        sum_lo = min_f(sum_lo, sx[k] + sy[k]);
+        sum_hi = max_f(sum_hi, sx[k] + sy[k]);
+        difference_lo = min_f(difference_lo, sx[k] - sy[k]);
+        difference_hi = max_f(difference_hi, sx[k] - sy[k]);
+    }
+    sum_lo -= 2.0f * margin;
+    sum_hi += 2.0f * margin;
+    difference_lo -= 2.0f * margin;
+    difference_hi += 2.0f * margin;
+    int columns = 1;
+    while ((unsigned)(columns * columns) < spp)
+        ++columns;
+    int rows = ((int)spp + columns - 1) / columns;
+    for (int py = (int)first_y; py <= (int)last_y; ++py)
+        for (int px = (int)first_x; px <= (int)last_x; ++px)
+            for (int k = 0; k < (int)spp; ++k) {
+                float x, y;
+                int pixel_x, pixel_y, index;
+                stratum_sample(px * columns + k % columns, py * rows + k / columns, columns, rows, &x, &y, &pixel_x,
+                               &pixel_y, &index);
+                if (x >= lo_x && x <= hi_x && y >= lo_y && y <= hi_y && x + y >= sum_lo && x + y <= sum_hi
+                    && x - y >= difference_lo && x - y <= difference_hi)
+                    return 1;
+            }
+    return 0;
 }
 
 /* Quads whose box reaches at most this many strata across and down are

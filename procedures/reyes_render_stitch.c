@@ -78,13 +78,15 @@ static int box_meets_tile(const reyes_options *o, tile t, float lo_x, float lo_y
 }
 
 /* The stitched seeds of tile t: leaves and stitch items whose screen box
- * reaches it; the leaves left out count as culled. */
+ * reaches it; the leaves left out (and those bound found to cover no
+ * sample) count as culled. */
 void render_select_stitched_seeds(const reyes_options *o, tile t, render_buffers *b)
 {
     b->dice_seed_count = b->stitch_seed_count = 0;
     for (size_t l = 0; l < b->leaf_count; ++l) {
         const struct reyes_leaf *leaf = &b->leaves[l];
-        if (box_meets_tile(o, t, leaf->lo_x, leaf->lo_y, leaf->hi_x, leaf->hi_y))
+        if (!(leaf->sp.dice_size & REYES_DICE_NO_SAMPLE)
+            && box_meets_tile(o, t, leaf->lo_x, leaf->lo_y, leaf->hi_x, leaf->hi_y))
             b->dice_seeds[b->dice_seed_count++] = leaf->sp;
         else
             ++b->counters[REYES_COUNT_CULLED];

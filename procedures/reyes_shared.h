@@ -29,6 +29,11 @@ struct reyes_subpatch {
     REYES_U32 dice_size;
 };
 
+/* Set in a recorded leaf's dice_size by bound: its projected hull covers
+ * no sample position (reyes_hull_has_sample), so it is not diced (its
+ * edges still stitch). */
+#define REYES_DICE_NO_SAMPLE 0x80000000u
+
 /* One micropolygon: a grid quad in screen space (pixels, y down; z is the
  * camera-space depth) with a packed RGBA8 color per vertex.  Vertices go
  * around the quad: (i,j), (i+1,j), (i+1,j+1), (i,j+1). */

@@ -188,12 +188,70 @@ START_TEST(test_micropolygon_areas)
 }
 END_TEST
 
+/* Grids that cover no sample are not diced: flat squares of about half
+ * a pixel seen straight on, scattered over the image at 1 sample per
+ * pixel.  Most fall between the samples and cost no micropolygon, and
+ * every sample is covered exactly where fixed 16x16 grids cover it (any
+ * dicing of a flat square covers the samples inside it). */
+START_TEST(test_sampleless_grids)
+{
+    reyes_scene scene;
+    reyes_error error;
+    reyes_scene_init(&scene);
+    const int side = 12;
+    const float size = 0.02f; /* about 0.45 pixel at 64x64 */
+    for (int i = 0; i < side; ++i)
+        for (int j = 0; j < side; ++j) {
+            float x0 = -1.2f + 0.2037f * (float)i + 0.0131f * (float)j, y0 = -1.2f + 0.1979f * (float)j;
+            float cp[4][4][3];
+            for (int r = 0; r < 4; ++r)
+                for (int c = 0; c < 4; ++c) {
+                    cp[r][c][0] = x0 + size * (float)c / 3.0f;
+                    cp[r][c][1] = y0 + size * (float)r / 3.0f;
+                    cp[r][c][2] = 0.0f;
+                }
+            ck_assert_int_eq(reyes_scene_add_patch(&scene, cp, REYES_RGBA(200, 200, 200), &error), REYES_OK);
+        }
+    reyes_camera camera = { {0.0f, 0.0f, 4.0f}, {0.0f, 0.0f, 0.0f}, 40.0f };
+    reyes_options o;
+    reyes_options_init(&o);
+    o.width = o.height = 64;
+    o.spp = 1;
+    reyes_image fixed, rate;
+    reyes_stats fixed_stats, rate_stats;
+    reyes_test_render(reyes_test_renderer(0), &scene, &camera, &o, &fixed, &fixed_stats);
+    o.shading_rate = 1.0f;
+    reyes_test_render(reyes_test_renderer(0), &scene, &camera, &o, &rate, &rate_stats);
+    size_t covered = 0, differ = 0;
+    for (size_t k = 0; k < (size_t)o.width * o.height; ++k) {
+        covered += rate.coverage[k];
+        differ += rate.coverage[k] != fixed.coverage[k];
+    }
+    printf("%d squares of half a pixel, 1 spp: %zu samples covered, %llu micropolygons at rate 1 (%llu culled), "
+           "%llu with fixed grids\n",
+           side * side, covered, (unsigned long long)rate_stats.micropolygons, (unsigned long long)rate_stats.culled,
+           (unsigned long long)fixed_stats.micropolygons);
+    ck_assert_uint_eq(fixed_stats.micropolygons, (uint64_t)(side * side) * 225u);
+    ck_assert_msg(covered > 0 && differ == 0, "%zu pixels covered otherwise than by fixed grids (%zu covered)", differ,
+                  covered);
+    /* Each square diced would be at least 1 micropolygon. */
+    ck_assert_uint_lt(rate_stats.micropolygons, (uint64_t)(side * side) / 2u);
+    ck_assert_uint_eq(rate_stats.culled + rate_stats.grids, (uint64_t)(side * side));
+    reyes_image_free(&fixed);
+    reyes_image_free(&rate);
+    reyes_stats_free(&fixed_stats);
+    reyes_stats_free(&rate_stats);
+    reyes_scene_free(&scene);
+}
+END_TEST
+
 static Suite *suite(void)
 {
     Suite *s = suite_create("reyes_quality");
     TCase *tc = tcase_create("default dicing");
     tcase_set_timeout(tc, 300);
     tcase_add_test(tc, test_micropolygon_areas);
+    tcase_add_test(tc, test_sampleless_grids);
     tcase_add_test(tc, test_subdivision_model);
     tcase_add_test(tc, test_builtin_scene);
     suite_add_tcase(s, tc);
@@ -216,7 +274,7 @@ START_TEST(test_models)
         bounds framed, small;
     } models[] = {
         {"teapot.bpt", targets, targets},
-        {"killeroo.bpt", {5.5, 0.01}, {9.0, 0.01}},
+        {"killeroo.bpt", {5.2, 0.01}, {8.1, 0.01}}, /* 5.15 and 8.01 measured (8.37 dicing sampleless grids) */
         {"newell-teapot.bpt", targets, {4.0, 0.02}},
         {"teacup.bpt", targets, {4.2, 0.01}},
         {"teaspoon.bpt", targets, {4.0, 0.07}},
