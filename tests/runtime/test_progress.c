@@ -307,14 +307,4 @@ START_TEST(bad_progress_arguments_are_refused)
 }
 END_TEST
 
-int main(void)
-{
-    Suite *s = suite_create("progress");
-    TCase *tc = tcase_create("progress");
-    tcase_set_timeout(tc, PERMA_TEST_TIMEOUT);
-    tcase_add_test(tc, progress_is_seen_live_and_ends_exact);
-    tcase_add_test(tc, progress_is_exact_across_launches_and_runs);
-    tcase_add_test(tc, bad_progress_arguments_are_refused);
-    suite_add_tcase(s, tc);
-    return test_run_suite(s) ? EXIT_FAILURE : EXIT_SUCCESS;
-}
+PERMA_TEST_MAIN("progress", progress_is_seen_live_and_ends_exact, progress_is_exact_across_launches_and_runs, bad_progress_arguments_are_refused)

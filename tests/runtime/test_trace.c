@@ -315,15 +315,4 @@ START_TEST(full_disk_keeps_the_earlier_trace)
 }
 END_TEST
 
-int main(void)
-{
-    Suite *s = suite_create("trace");
-    TCase *tc = tcase_create("trace");
-    tcase_set_timeout(tc, PERMA_TEST_TIMEOUT);
-    tcase_add_test(tc, trace_events_cover_every_item);
-    tcase_add_test(tc, every_run_stays_in_the_file_in_real_time);
-    tcase_add_test(tc, unwritable_trace_path_is_an_error);
-    tcase_add_test(tc, full_disk_keeps_the_earlier_trace);
-    suite_add_tcase(s, tc);
-    return test_run_suite(s) ? EXIT_FAILURE : EXIT_SUCCESS;
-}
+PERMA_TEST_MAIN("trace", trace_events_cover_every_item, every_run_stays_in_the_file_in_real_time, unwritable_trace_path_is_an_error, full_disk_keeps_the_earlier_trace)
