@@ -57,15 +57,23 @@ static void scan_events(const char *json, uint64_t *items, unsigned *events, uns
     }
 }
 
-START_TEST(trace_events_cover_every_item)
+/* A configuration tracing into a new temporary file `path` (a
+ * "/tmp/perma-trace-XXXXXX" template, filled in). */
+static perma_config trace_config(char *path)
 {
-    char path[] = "/tmp/perma-trace-XXXXXX";
     int fd = mkstemp(path);
     ck_assert_int_ge(fd, 0);
     close(fd);
     perma_config config;
     perma_config_init(&config);
     config.trace_path = path;
+    return config;
+}
+
+START_TEST(trace_events_cover_every_item)
+{
+    char path[] = "/tmp/perma-trace-XXXXXX";
+    perma_config config = trace_config(path);
     perma_runtime *rt = test_runtime_config(&config);
     uint32_t counts[2] = { 0, 0 };
     uint64_t sums[1] = { 0 };
@@ -158,12 +166,7 @@ static unsigned parse_lines(const char *json, trace_line *out, unsigned max)
 START_TEST(every_run_stays_in_the_file_in_real_time)
 {
     char path[] = "/tmp/perma-trace-XXXXXX";
-    int fd = mkstemp(path);
-    ck_assert_int_ge(fd, 0);
-    close(fd);
-    perma_config config;
-    perma_config_init(&config);
-    config.trace_path = path;
+    perma_config config = trace_config(path);
     perma_runtime *rts[2] = { test_runtime_config(&config), test_runtime_config(&config) };
     uint32_t counts[2][2] = { { 0, 0 }, { 0, 0 } };
     uint64_t sums[2][1] = { { 0 }, { 0 } };
