@@ -13,6 +13,7 @@
 #include <stdio.h>
 
 #include "perma.h"
+#include "reyes_procedures.h" /* the stage table: REYES_PROC_* */
 #include "reyes_shared.h" /* REYES_DISPLACE_*, REYES_STAGES_* */
 
 #define REYES_VERSION_STRING "0.1.0"
@@ -138,7 +139,7 @@ enum { REYES_CRACK_FIX_NONE, REYES_CRACK_FIX_STITCH, REYES_CRACK_FIX_WEDGE };
 #define REYES_MAX_EPSILON 1000.0f
 
 /* Spreading one image's buckets over several renderers (devices, MPI
- * ranks; examples/reyes/reyes_farm.c and docs/scale-out.md): a render given a bucket source
+ * ranks; examples/reyes/scale/reyes_farm.c and docs/scale-out.md): a render given a bucket source
  * renders the buckets next() hands out, until it returns 0, instead of
  * all of them in order, and calls done() after each.  Buckets are
  * numbered row by row from 0 (columns = ceil(width / bucket_width)); an
@@ -307,9 +308,11 @@ typedef struct reyes_image {
 
 void reyes_image_free(reyes_image *image);
 
-/* The procedures (dice rasterizes the grids it dices itself). */
-enum { REYES_PROC_BOUND, REYES_PROC_SPLIT_U, REYES_PROC_SPLIT_V, REYES_PROC_DICE, REYES_PROC_STITCH,
-       REYES_PROC_COUNT };
+/* The procedures, in the order of the stage table (reyes_procedures.h;
+ * dice rasterizes the grids it dices itself). */
+#define REYES_PROC_ENUM(e, name, item, priority, emits) REYES_PROC_##e,
+enum { REYES_PROCEDURES(REYES_PROC_ENUM) REYES_PROC_COUNT };
+#undef REYES_PROC_ENUM
 
 typedef struct reyes_stats {
     uint64_t patches_in;

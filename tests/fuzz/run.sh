@@ -60,17 +60,17 @@ fi
 cflags="-std=c11 -D_POSIX_C_SOURCE=200809L -DCL_TARGET_OPENCL_VERSION=120
  -g -O1 -Wall -Wextra -fsanitize=fuzzer,address,undefined
  -fno-sanitize-recover=all -fno-omit-frame-pointer
- -I$source/procedures -I$source/examples/reyes -I$source/runtime/include -I$source/runtime/tools/cli
+ -I$source/procedures -I$source/procedures/device -I$source/procedures/host -I$source/examples/reyes -I$source/runtime/include -I$source/runtime/tools/cli
  -I$source/runtime/src -I$source/kernels"
 # The sources and the longest input (-max_len) of a target.
 target_sources() {
     case $1 in
-        bpt) echo "$here/fuzz_bpt.c $source/procedures/reyes_bpt.c"\
-                  "$source/procedures/reyes_scene.c $source/procedures/reyes_error.c" ;;
+        bpt) echo "$here/fuzz_bpt.c $source/procedures/host/reyes_bpt.c"\
+                  "$source/procedures/host/reyes_scene.c $source/procedures/host/reyes_error.c" ;;
         cli) echo "$here/fuzz_cli.c $source/examples/reyes/reyes_cli.c"\
                   "$source/examples/reyes/reyes_cli_options.c $source/runtime/tools/cli/perma_cli_parse.c"\
                   "$source/runtime/tools/cli/perma_cli_values.c $source/runtime/tools/cli/perma_cli_help.c"\
-                  "$source/procedures/reyes_options.c $source/procedures/reyes_error.c"\
+                  "$source/procedures/host/reyes_options.c $source/procedures/host/reyes_error.c"\
                   "$source/runtime/src/names.c $source/runtime/src/schedule.c" ;;
     esac
 }

@@ -1,4 +1,4 @@
-/* Spreading buckets and frames over devices (examples/reyes/reyes_farm.h):
+/* Spreading buckets and frames over devices (examples/reyes/scale/reyes_farm.h):
  * the pieces make the one-device image byte for byte, a bucket source gets
  * exactly the buckets it hands out, frames follow the orbit and the motion,
  * and a failure names the device and stops the farm. */

@@ -1,4 +1,4 @@
-/* The settings the ranks of an MPI job compare (examples/reyes/reyes_settings.h):
+/* The settings the ranks of an MPI job compare (examples/reyes/scale/reyes_settings.h):
  * jobs that render the same image agree whatever runs them; an option or
  * a model that changes the image is found and named. */
 #include <check.h>

@@ -60,3 +60,22 @@ int test_run_suite(Suite *suite)
     srunner_free(runner);
     return failed;
 }
+
+int test_main(const char *name, const TTest *const *tests, size_t count)
+{
+    Suite *suite = suite_create(name);
+    TCase *tc = tcase_create(name);
+    tcase_set_timeout(tc, PERMA_TEST_TIMEOUT);
+    for (size_t t = 0; t < count; ++t)
+        tcase_add_test(tc, tests[t]);
+    suite_add_tcase(suite, tc);
+    return test_run_suite(suite) ? EXIT_FAILURE : EXIT_SUCCESS;
+}
+
+perma_procedure test_noop_procedure(void)
+{
+    static const char *source = "void noop(perma_ctx *ctx, __local const uint *x) { (void)ctx; (void)x; }\n";
+    perma_procedure p = { .name = "noop", .item_type = "uint", .item_size = 4, .threads_per_item = 1,
+                          .source = source, .function = "noop" };
+    return p;
+}

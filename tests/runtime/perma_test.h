@@ -33,4 +33,20 @@ double perma_test_now(void);
 /* Run a suite; returns the number of failures. */
 int test_run_suite(Suite *suite);
 
+/* Run `tests` (names given to START_TEST) as suite `name`, one case with
+ * PERMA_TEST_TIMEOUT: EXIT_SUCCESS when all pass, else EXIT_FAILURE. */
+int test_main(const char *name, const TTest *const *tests, size_t count);
+
+/* A test program's main: PERMA_TEST_MAIN("trace", test_a, test_b, ...). */
+#define PERMA_TEST_MAIN(name, ...)                                                           \
+    int main(void)                                                                           \
+    {                                                                                        \
+        const TTest *const tests_[] = { __VA_ARGS__ };                                       \
+        return test_main(name, tests_, sizeof tests_ / sizeof *tests_);                      \
+    }
+
+/* A procedure `noop` over uint items that does nothing (its source
+ * inline): the smallest valid descriptor, for tests to spoil one field. */
+perma_procedure test_noop_procedure(void);
+
 #endif

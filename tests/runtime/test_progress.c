@@ -178,15 +178,23 @@ static void *poll_progress(void *arg)
     return NULL;
 }
 
-START_TEST(progress_is_seen_live_and_ends_exact)
+/* A configuration whose progress callback records into *r (emptied),
+ * every millisecond. */
+static perma_config recording_config(recorder *r)
 {
-    static recorder r;
-    memset(&r, 0, sizeof r);
+    memset(r, 0, sizeof *r);
     perma_config config;
     perma_config_init(&config);
     config.progress = record;
-    config.progress_user = &r;
+    config.progress_user = r;
     config.progress_interval = 0.001;
+    return config;
+}
+
+START_TEST(progress_is_seen_live_and_ends_exact)
+{
+    static recorder r;
+    perma_config config = recording_config(&r);
     config.time_limit = 120;
     fixture f;
     setup(&f, &config);
@@ -255,12 +263,7 @@ END_TEST
 START_TEST(progress_is_exact_across_launches_and_runs)
 {
     static recorder r;
-    memset(&r, 0, sizeof r);
-    perma_config config;
-    perma_config_init(&config);
-    config.progress = record;
-    config.progress_user = &r;
-    config.progress_interval = 0.001;
+    perma_config config = recording_config(&r);
     config.queue_capacity = 16;
     config.time_limit = 120;
     fixture f;
@@ -307,14 +310,4 @@ START_TEST(bad_progress_arguments_are_refused)
 }
 END_TEST
 
-int main(void)
-{
-    Suite *s = suite_create("progress");
-    TCase *tc = tcase_create("progress");
-    tcase_set_timeout(tc, PERMA_TEST_TIMEOUT);
-    tcase_add_test(tc, progress_is_seen_live_and_ends_exact);
-    tcase_add_test(tc, progress_is_exact_across_launches_and_runs);
-    tcase_add_test(tc, bad_progress_arguments_are_refused);
-    suite_add_tcase(s, tc);
-    return test_run_suite(s) ? EXIT_FAILURE : EXIT_SUCCESS;
-}
+PERMA_TEST_MAIN("progress", progress_is_seen_live_and_ends_exact, progress_is_exact_across_launches_and_runs, bad_progress_arguments_are_refused)

@@ -57,15 +57,23 @@ static void scan_events(const char *json, uint64_t *items, unsigned *events, uns
     }
 }
 
-START_TEST(trace_events_cover_every_item)
+/* A configuration tracing into a new temporary file `path` (a
+ * "/tmp/perma-trace-XXXXXX" template, filled in). */
+static perma_config trace_config(char *path)
 {
-    char path[] = "/tmp/perma-trace-XXXXXX";
     int fd = mkstemp(path);
     ck_assert_int_ge(fd, 0);
     close(fd);
     perma_config config;
     perma_config_init(&config);
     config.trace_path = path;
+    return config;
+}
+
+START_TEST(trace_events_cover_every_item)
+{
+    char path[] = "/tmp/perma-trace-XXXXXX";
+    perma_config config = trace_config(path);
     perma_runtime *rt = test_runtime_config(&config);
     uint32_t counts[2] = { 0, 0 };
     uint64_t sums[1] = { 0 };
@@ -158,12 +166,7 @@ static unsigned parse_lines(const char *json, trace_line *out, unsigned max)
 START_TEST(every_run_stays_in_the_file_in_real_time)
 {
     char path[] = "/tmp/perma-trace-XXXXXX";
-    int fd = mkstemp(path);
-    ck_assert_int_ge(fd, 0);
-    close(fd);
-    perma_config config;
-    perma_config_init(&config);
-    config.trace_path = path;
+    perma_config config = trace_config(path);
     perma_runtime *rts[2] = { test_runtime_config(&config), test_runtime_config(&config) };
     uint32_t counts[2][2] = { { 0, 0 }, { 0, 0 } };
     uint64_t sums[2][1] = { { 0 }, { 0 } };
@@ -315,15 +318,4 @@ START_TEST(full_disk_keeps_the_earlier_trace)
 }
 END_TEST
 
-int main(void)
-{
-    Suite *s = suite_create("trace");
-    TCase *tc = tcase_create("trace");
-    tcase_set_timeout(tc, PERMA_TEST_TIMEOUT);
-    tcase_add_test(tc, trace_events_cover_every_item);
-    tcase_add_test(tc, every_run_stays_in_the_file_in_real_time);
-    tcase_add_test(tc, unwritable_trace_path_is_an_error);
-    tcase_add_test(tc, full_disk_keeps_the_earlier_trace);
-    suite_add_tcase(s, tc);
-    return test_run_suite(s) ? EXIT_FAILURE : EXIT_SUCCESS;
-}
+PERMA_TEST_MAIN("trace", trace_events_cover_every_item, every_run_stays_in_the_file_in_real_time, unwritable_trace_path_is_an_error, full_disk_keeps_the_earlier_trace)

@@ -19,7 +19,8 @@ meson test -C "$dir" --no-rebuild --print-errorlogs \
     tree@megakernel-shared tree@megakernel-stealing-donation chain@megakernel-stealing \
     chain@kernel-per-procedure overflow@megakernel-shared overflow@megakernel-stealing-local-queue \
     overflow@bounded-batches cooperative@megakernel-shared trace@megakernel-stealing \
-    errors@megakernel-shared progress@megakernel-shared progress@kernel-per-procedure reductions@megakernel-shared \
+    registration@megakernel-shared build_errors@megakernel-shared device_open@megakernel-shared \
+    config@megakernel-shared emits@megakernel-shared watchdog@megakernel-shared progress@megakernel-shared progress@kernel-per-procedure reductions@megakernel-shared \
     reductions@kernel-per-procedure bind faults cache output \
     devices collatz_example perma_info_json queens_count cli cli_programs \
     $(meson test -C "$dir" --list 2>/dev/null | sed -n 's/^perma:reyes \/ //p')

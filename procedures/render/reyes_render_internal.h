@@ -1,6 +1,7 @@
 /* The pieces of one render, shared by the bucket loop (reyes_render.c),
- * the device parameters (reyes_render_params.c) and the crack-stitching
- * passes (reyes_render_stitch.c). */
+ * the device parameters (reyes_render_params.c), the crack-stitching
+ * passes (reyes_render_stitch.c) and the run over one tile that both of
+ * those last call (reyes_render_tile.c). */
 #ifndef REYES_RENDER_INTERNAL_H
 #define REYES_RENDER_INTERNAL_H
 
@@ -39,11 +40,11 @@ reyes_status render_fill_params(const reyes_scene *scene, const reyes_camera *ca
                                 struct reyes_params *p, reyes_error *error);
 
 /* Point the parameters at one tile: its pixel rectangle and its
- * sub-frustum in normalised device coordinates. */
+ * sub-frustum in normalised device coordinates (reyes_render_tile.c). */
 void render_set_tile(struct reyes_params *p, const reyes_options *o, tile t);
 
 /* One perma run over the tile in b->params with the seeds of the current
- * mode; adds its statistics.  *call names what failed. */
+ * mode; adds its statistics.  *call names what failed (reyes_render_tile.c). */
 perma_status render_run_tile(reyes_renderer *r, const reyes_scene *scene, render_buffers *b, reyes_stats *stats,
                              size_t *peak_bytes, const char **call);
 

@@ -5,7 +5,6 @@
 
 #include "reyes_renderer_internal.h"
 #include "reyes_shared.h"
-#include "reyes_sources.h"
 
 #define DEFAULT_GROUP_SIZE 64u
 #define DEFAULT_CPU_GROUP_SIZE 8u
@@ -44,63 +43,38 @@ static perma_status add_definitions(struct reyes_renderer *r)
     return perma_add_source(r->rt, text, "reyes_renderer.h");
 }
 
+/* The embedded sources (meson.build makes them from the stage table). */
+#define DECLARE_LIBRARY_SOURCE(stem, ext) extern const char reyes_##stem##_##ext##_source[];
+#define DECLARE_PROCEDURE_SOURCE(e, name, item, priority, emits) extern const char reyes_##name##_cl_source[];
+REYES_LIBRARY_SOURCES(DECLARE_LIBRARY_SOURCE)
+REYES_PROCEDURES(DECLARE_PROCEDURE_SOURCE)
+
+/* The library sources of the stage table, in its order. */
+static const struct {
+    const char *text, *file;
+} library_sources[] = {
+#define LIBRARY_SOURCE(stem, ext) { reyes_##stem##_##ext##_source, "reyes_" #stem "." #ext },
+    REYES_LIBRARY_SOURCES(LIBRARY_SOURCE)
+#undef LIBRARY_SOURCE
+};
+
+/* Register the stage table's procedures, after the renderer's definitions
+ * and the library sources. */
 static perma_status register_all(struct reyes_renderer *r)
 {
-    const char *item = "struct reyes_subpatch";
-    const size_t item_size = sizeof(struct reyes_subpatch);
-    /* Bound and split emit into each other: bound is served before split
-     * (it culls and dices, split doubles), and consumers before producers
-     * keeps the queues short. */
-    const perma_procedure procedures[REYES_PROC_COUNT] = {
-        [REYES_PROC_BOUND] = { .name = "bound", .item_type = item, .item_size = item_size,
-            .threads_per_item = 1, .source = reyes_bound_cl_source,
-            .source_file = "reyes_bound.cl", .function = "reyes_bound",
-            .emits = { { "split_u", 1 }, { "split_v", 1 }, { "dice", 1 } }, .priority = 2 },
-        [REYES_PROC_SPLIT_U] = { .name = "split_u", .item_type = item, .item_size = item_size,
-            .threads_per_item = 1, .source = reyes_split_u_cl_source,
-            .source_file = "reyes_split_u.cl", .function = "reyes_split_u",
-            .emits = { { "bound", 2 } }, .priority = 1 },
-        [REYES_PROC_SPLIT_V] = { .name = "split_v", .item_type = item, .item_size = item_size,
-            .threads_per_item = 1, .source = reyes_split_v_cl_source,
-            .source_file = "reyes_split_v.cl", .function = "reyes_split_v",
-            .emits = { { "bound", 2 } }, .priority = 1 },
-        /* Dice takes a whole grid per work-item (its SIMD is in vector
-         * types), so a batch shares the runtime's cost among as many
-         * grids as the group has work-items, and rasterizes the grid
-         * straight from its __local scratch (reyes_rasterize.cl): a grid
-         * never goes through a queue. */
-        [REYES_PROC_DICE] = { .name = "dice", .item_type = item, .item_size = item_size,
-            .threads_per_item = 1, .source = reyes_dice_cl_source,
-            .source_file = "reyes_dice.cl", .function = "reyes_dice",
-            .local_bytes_per_item = dice_scratch_bytes(r), .priority = 3 },
-        [REYES_PROC_STITCH] = { .name = "stitch", .item_type = "struct reyes_stitch",
-            .item_size = sizeof(struct reyes_stitch), .threads_per_item = 1,
-            .source = reyes_stitch_cl_source, .source_file = "reyes_stitch.cl",
-            .function = "reyes_stitch", .priority = 4 },
+    perma_procedure procedures[REYES_PROC_COUNT] = {
+#define PROCEDURE(e, proc, item, prio, emit_list)                                                    \
+    [REYES_PROC_##e] = { .name = #proc, .item_type = #item, .item_size = sizeof(item),               \
+                         .threads_per_item = 1, .source = reyes_##proc##_cl_source,                  \
+                         .source_file = "reyes_" #proc ".cl", .function = "reyes_" #proc,            \
+                         .emits = { emit_list }, .priority = prio },
+        REYES_PROCEDURES(PROCEDURE)
+#undef PROCEDURE
     };
+    procedures[REYES_PROC_DICE].local_bytes_per_item = dice_scratch_bytes(r);
     perma_status status = add_definitions(r);
-    if (status == PERMA_OK)
-        status = perma_add_source(r->rt, reyes_shared_h_source, "reyes_shared.h");
-    if (status == PERMA_OK)
-        status = perma_add_source(r->rt, reyes_common_cl_source, "reyes_common.cl");
-    if (status == PERMA_OK)
-        status = perma_add_source(r->rt, reyes_flatness_cl_source, "reyes_flatness.cl");
-    if (status == PERMA_OK)
-        status = perma_add_source(r->rt, reyes_rate_cl_source, "reyes_rate.cl");
-    if (status == PERMA_OK)
-        status = perma_add_source(r->rt, reyes_sample_shading_cl_source, "reyes_sample_shading.cl");
-    if (status == PERMA_OK)
-        status = perma_add_source(r->rt, reyes_sample_cl_source, "reyes_sample.cl");
-    if (status == PERMA_OK)
-        status = perma_add_source(r->rt, reyes_blur_cl_source, "reyes_blur.cl");
-    if (status == PERMA_OK)
-        status = perma_add_source(r->rt, reyes_displace_cl_source, "reyes_displace.cl");
-    if (status == PERMA_OK)
-        status = perma_add_source(r->rt, reyes_surface_cl_source, "reyes_surface.cl");
-    if (status == PERMA_OK)
-        status = perma_add_source(r->rt, reyes_grid_cl_source, "reyes_grid.cl");
-    if (status == PERMA_OK)
-        status = perma_add_source(r->rt, reyes_rasterize_cl_source, "reyes_rasterize.cl");
+    for (size_t s = 0; s < sizeof library_sources / sizeof *library_sources && status == PERMA_OK; ++s)
+        status = perma_add_source(r->rt, library_sources[s].text, library_sources[s].file);
     for (int p = 0; p < REYES_PROC_COUNT && status == PERMA_OK; ++p)
         status = perma_register(r->rt, &procedures[p], &r->procs[p]);
     return status;

@@ -1,4 +1,4 @@
-/* The renderer object, shared by reyes_renderer.c, reyes_render.c and reyes_render_stitch.c. */
+/* The renderer object, shared by the files of render/ (reyes_renderer.c makes it). */
 #ifndef REYES_RENDERER_INTERNAL_H
 #define REYES_RENDERER_INTERNAL_H
 

@@ -1,0 +1,132 @@
+/* The program text generated for a small registration (runtime/src/
+ * codegen.c): the user's sources once each with #line directives that
+ * point compiler messages back at them, typed emit helpers for the
+ * procedures that are emitted into, the order table and the dispatch
+ * cases.  A runtime is created but the text is not compiled. */
+#include "perma_test.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "internal.h"
+
+/* `produce` (uint, in produce.cl) emits up to 2 struct pair into
+ * `consume`, a cooperative procedure of 4 threads per item; `count` shares
+ * consume's source (pair.cl) and is emitted into by nothing. */
+static const char *pair_source =
+    "void consume(perma_ctx *c, __local const struct pair *p) { (void)c; (void)p; barrier(CLK_LOCAL_MEM_FENCE); }\n"
+    "void count(perma_ctx *c, __local const struct pair *p) { (void)c; (void)p; }\n";
+
+/* The generated program of that registration (free it). */
+static char *generate(perma_runtime *rt)
+{
+    ck_assert_perma_ok(rt, perma_add_source(rt, "struct pair { uint a, b; };\n", "pair.h"));
+    perma_procedure produce = { .name = "produce", .item_type = "uint", .item_size = 4, .threads_per_item = 1,
+                                .source_file = "produce.cl", .function = "produce",
+                                .source = "void produce(perma_ctx *c, __local const uint *x)\n"
+                                          "{\n"
+                                          "    struct pair p = { *x, *x };\n"
+                                          "    emit_consume(c, &p);\n"
+                                          "}\n",
+                                .emits = { { "consume", 2 } } };
+    perma_procedure consume = { .name = "consume", .item_type = "struct pair", .item_size = 8,
+                                .threads_per_item = 4, .cooperative = 1, .source = pair_source,
+                                .source_file = "pair.cl", .function = "consume" };
+    perma_procedure count = consume;
+    count.name = "count";
+    count.function = "count";
+    count.threads_per_item = 1;
+    count.cooperative = 0;
+    perma_proc id;
+    ck_assert_perma_ok(rt, perma_register(rt, &produce, &id));
+    ck_assert_perma_ok(rt, perma_register(rt, &consume, &id));
+    ck_assert_perma_ok(rt, perma_register(rt, &count, &id));
+    ck_assert_perma_ok(rt, perma_build_layout(rt));
+    perma_strbuf sb;
+    perma_strbuf_init(&sb);
+    ck_assert_perma_ok(rt, perma_generate_program(rt, &sb));
+    ck_assert(!sb.failed);
+    return sb.data;
+}
+
+static perma_runtime *runtime(void)
+{
+    perma_config config;
+    perma_config_init(&config);
+    config.group_size = 8;
+    config.work_groups = 2;
+    return test_runtime_config(&config);
+}
+
+static unsigned occurrences(const char *text, const char *needle)
+{
+    unsigned n = 0;
+    for (const char *p = text; (p = strstr(p, needle)) != NULL; p += strlen(needle))
+        ++n;
+    return n;
+}
+
+/* The number of the line `at` is on (1-based). */
+static size_t line_of(const char *text, const char *at)
+{
+    size_t line = 1;
+    for (const char *p = text; p < at; ++p)
+        line += *p == '\n';
+    return line;
+}
+
+START_TEST(generated_text_has_the_expected_functions)
+{
+    perma_runtime *rt = runtime();
+    char *text = generate(rt);
+    ck_assert_contains(text, "/* perma megakernel, generated for 3 procedure(s). */");
+    /* An emit helper for consume only, typed with its item and index. */
+    ck_assert_contains(text, "inline int emit_consume(perma_ctx *ctx, const struct pair *item)\n"
+                             "{\n    return perma_emit(ctx, 1u, (const uint *)item);\n}\n");
+    ck_assert_uint_eq(occurrences(text, "inline int emit_"), 1);
+    /* The dispatch: produce in lanes over its batch, consume cooperative
+     * (every work-item calls it), count guarded by nothing but its loop. */
+    ck_assert_contains(text, "PERMA_PHASE void perma_dispatch(");
+    ck_assert_contains(text, "            produce(ctx, (__local const uint *)(items + slot * 1u));\n");
+    ck_assert_contains(text, "        const uint slot = lid / 4u;\n");
+    ck_assert_contains(text, "        consume(ctx, (__local const struct pair *)(items + ctx->slot * 2u));\n");
+    ck_assert_contains(text, "            count(ctx, (__local const struct pair *)(items + slot * 2u));\n");
+    /* Downstream first: consume and count (depth 1 and 0, count registered
+     * later than produce) before produce. */
+    ck_assert_contains(text, "__constant uint perma_order[3] = { 1, 2, 0 };");
+    free(text);
+    perma_destroy(rt);
+}
+END_TEST
+
+START_TEST(user_sources_appear_once_with_their_lines)
+{
+    perma_runtime *rt = runtime();
+    char *text = generate(rt);
+    /* pair.cl serves two procedures and appears once; so do the others. */
+    ck_assert_uint_eq(occurrences(text, "#line 1 \"pair.cl\"\n"), 1);
+    ck_assert_uint_eq(occurrences(text, "#line 1 \"produce.cl\"\n"), 1);
+    ck_assert_uint_eq(occurrences(text, "#line 1 \"pair.h\"\n"), 1);
+    ck_assert_uint_eq(occurrences(text, "void count(perma_ctx *c"), 1);
+    /* After each user source the generated text says again which of its
+     * own lines follows, and that is true. */
+    unsigned checked = 0;
+    for (const char *p = text; (p = strstr(p, "\n#line ")) != NULL; ++p) {
+        const char *directive = p + 1;
+        size_t said;
+        char file[64];
+        ck_assert_int_eq(sscanf(directive, "#line %zu \"%63[^\"]\"", &said, file), 2);
+        if (strcmp(file, "perma-generated.cl") != 0)
+            continue;
+        ck_assert_uint_eq(said, line_of(text, directive) + 1);
+        ++checked;
+    }
+    ck_assert_uint_ge(checked, 3);
+    /* The first line of produce.cl follows its directive. */
+    ck_assert_contains(text, "#line 1 \"produce.cl\"\nvoid produce(perma_ctx *c, __local const uint *x)\n");
+    free(text);
+    perma_destroy(rt);
+}
+END_TEST
+
+PERMA_TEST_MAIN("codegen", generated_text_has_the_expected_functions, user_sources_appear_once_with_their_lines)
