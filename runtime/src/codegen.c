@@ -206,7 +206,7 @@ static void append_dispatch(perma_runtime *rt, perma_strbuf *sb)
     for (unsigned i = 0; i < rt->proc_count; ++i) {
         const perma_proc_info *p = &rt->procs[i];
         unsigned tpi = p->threads_per_item;
-        if (perma_proc_is_simple(p)) {
+        if (p->simple) {
             /* Lane staging only when the layout gave it lanes (layout.c). */
             char lanes[64] = "0";
             if (p->lane_items)
@@ -255,7 +255,7 @@ perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *sb)
 {
     bool item_barrier = false;
     for (unsigned i = 0; i < rt->proc_count; ++i)
-        item_barrier = item_barrier || !perma_proc_is_simple(&rt->procs[i]);
+        item_barrier = item_barrier || !rt->procs[i].simple;
     perma_strbuf_printf(sb, "#line 1 \"" GENERATED_NAME "\"\n"
                             "/* perma megakernel, generated for %u procedure(s). */\n"
                             "#define PERMA_GROUP_SIZE %uu\n"

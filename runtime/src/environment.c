@@ -30,11 +30,3 @@ perma_status perma_env_local_memory_limit(perma_runtime *rt, size_t *out)
     *out = (size_t)(value * unit);
     return PERMA_OK;
 }
-
-size_t perma_local_memory(const perma_runtime *rt)
-{
-    size_t limit = rt->local_mem_size;
-    if (rt->config.local_memory_limit && rt->config.local_memory_limit < limit)
-        limit = rt->config.local_memory_limit;
-    return limit;
-}

@@ -200,10 +200,10 @@ perma_status perma_build(perma_runtime *rt)
     if (begun != PERMA_OK || rt->built)
         return begun;
     perma_release_program(rt);
-    rt->state.capacities_learned = false; /* queue i may mean another queue now */
     perma_status st = perma_build_layout(rt);
     if (st != PERMA_OK)
         return st;
+    perma_reductions_layout(rt);
 
     perma_strbuf sb;
     perma_strbuf_init(&sb);
@@ -229,6 +229,7 @@ perma_status perma_build(perma_runtime *rt)
     if (st != PERMA_OK)
         return st;
     rt->built = true;
+    rt->build_serial++; /* queue i may mean another queue now */
     rt->message[0] = '\0';
     return PERMA_OK;
 }

@@ -243,11 +243,9 @@ perma_status perma_reductions_reset(perma_runtime *rt)
     for (size_t s = 0; s < slot_count(rt); ++s)
         for (unsigned i = 0; i < rt->reduction_count; ++i)
             slots[s * rt->reduce_words + rt->reductions[i].offset] = identity(&rt->reductions[i]);
-    cl_int err = clEnqueueWriteBuffer(rt->queue, rt->state.reductions.mem, CL_TRUE, 0, words * sizeof *slots, slots,
-                                      0, NULL, NULL);
+    perma_status st = perma_state_write_reductions(rt, slots, words);
     free(slots);
-    PERMA_CL_CHECK(rt, "clEnqueueWriteBuffer (reductions)", err);
-    return PERMA_OK;
+    return st;
 }
 
 /* The value an order key stands for (perma_key_* in kernels/perma_reduce.cl). */
@@ -308,12 +306,10 @@ perma_status perma_reductions_collect(perma_runtime *rt)
     uint64_t *slots = malloc(words * sizeof *slots);
     if (!slots)
         return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory for the reductions");
-    cl_int err = clEnqueueReadBuffer(rt->queue, rt->state.reductions.mem, CL_TRUE, 0, words * sizeof *slots, slots, 0,
-                                     NULL, NULL);
-    if (err != CL_SUCCESS) {
+    perma_status st = perma_state_read_reductions(rt, slots, words);
+    if (st != PERMA_OK) {
         free(slots);
-        return perma_set_error(rt, PERMA_ERR_OPENCL, "clEnqueueReadBuffer (reductions) failed: %s (%d)",
-                               perma_cl_error_name(err), (int)err);
+        return st;
     }
     for (unsigned i = 0; i < rt->reduction_count; ++i) {
         perma_reduction *r = &rt->reductions[i];

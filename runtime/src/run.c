@@ -20,60 +20,81 @@
  * a stall, or what a host-driven step needs. */
 static perma_status grow_queues(perma_runtime *rt, const perma_launch_outcome *outcome)
 {
-    unsigned queues = perma_queues_count(rt);
-    perma_ctl_block *ctl = malloc(perma_ctl_block_bytes(queues));
-    size_t *capacities = malloc(queues * sizeof *capacities);
-    size_t *overflow = calloc(queues, sizeof *overflow);
-    perma_status st = ctl && capacities && overflow
-                          ? perma_state_read_control(rt, ctl, queues)
+    const perma_queue_layout *layout = &rt->queue_layout;
+    unsigned queues = layout->count;
+    size_t *capacities = malloc(queues * sizeof *capacities), *current = malloc(queues * sizeof *current);
+    size_t *queued = malloc(queues * sizeof *queued), *overflow = malloc(queues * sizeof *overflow);
+    perma_status st = capacities && current && queued && overflow
+                          ? perma_state_read_queues(rt, rt->executor->persistent, current, queued, overflow)
                           : perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory growing queues");
-    if (st == PERMA_OK && rt->executor->persistent)
-        st = perma_state_read_overflow(rt, overflow);
     for (unsigned qi = 0; st == PERMA_OK && qi < queues; ++qi)
         rt->stats.overflowed_items += overflow[qi];
     uint32_t detail = outcome->header.detail_proc;
     bool starved = detail == PERMA_DETAIL_STARVED;
+    perma_error error = { PERMA_OK, "" };
     if (st == PERMA_OK && outcome->needed_given)
-        st = perma_queues_grow_to_fit(rt, ctl, outcome->needed, capacities);
+        st = perma_queues_grow_to_fit(layout, current, queued, outcome->needed, capacities, &error);
     else if (st == PERMA_OK && detail == PERMA_DETAIL_OVERFLOW)
-        st = perma_queues_grow_to_fit(rt, ctl, overflow, capacities);
+        st = perma_queues_grow_to_fit(layout, current, queued, overflow, capacities, &error);
     else if (st == PERMA_OK)
-        st = perma_queues_grow_stalled(rt, ctl, starved ? outcome->header.detail_edge : UINT32_MAX, overflow,
-                                       capacities);
+        st = perma_queues_grow_stalled(layout, current, queued, starved ? outcome->header.detail_edge : UINT32_MAX,
+                                       overflow, capacities, &error);
     bool grows = st == PERMA_OK;
     if (starved && st == PERMA_ERR_CAPACITY) {
         /* Growing for full batches is an optimisation: past the memory
          * limit the run goes on with the queues it has (laid out again with
          * a fresh control block), and no group stops it for that again. */
         rt->grow_starved = false;
-        for (unsigned qi = 0; qi < queues; ++qi)
-            capacities[qi] = rt->state.queues[qi].capacity;
+        memcpy(capacities, current, queues * sizeof *capacities);
         st = PERMA_OK;
     }
     /* Whatever the launch stopped for, the overflowed items must fit. */
     if (st == PERMA_OK && detail != PERMA_DETAIL_OVERFLOW)
-        st = perma_queues_fit_more(rt, ctl, overflow, capacities);
+        st = perma_queues_fit_more(layout, current, queued, overflow, capacities, &error);
+    size_t bytes = st == PERMA_OK ? perma_queues_bytes(layout, capacities) : 0;
+    if (st != PERMA_OK && st == error.status)
+        st = perma_take_error(rt, &error);
     if (st == PERMA_OK)
-        st = perma_state_grow(rt, ctl, capacities);
+        st = perma_state_grow(rt, capacities, bytes);
     if (st == PERMA_OK && grows)
         rt->stats.regrowths++;
-    free(ctl);
     free(capacities);
+    free(current);
+    free(queued);
     free(overflow);
     return st;
 }
 
-/* The first launch state: the seeds in queues of their initial capacities.
- * The seeds are consumed whether the run succeeds or not. */
+/* The first launch state: the seeds in queues of their initial capacities
+ * (or what the last run learned).  The seeds are consumed whether the run
+ * succeeds or not. */
 static perma_status upload_seeds(perma_runtime *rt)
 {
-    unsigned queues = perma_queues_count(rt);
-    size_t *capacities = malloc(queues * sizeof *capacities);
-    perma_status st = capacities ? perma_queues_initial(rt, capacities)
-                                 : perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory for %u queues", queues);
-    if (st == PERMA_OK)
-        st = perma_state_upload(rt, capacities);
+    const perma_queue_layout *layout = &rt->queue_layout;
+    unsigned queues = layout->count;
+    size_t seeds[PERMA_MAX_PROCEDURES];
+    for (unsigned q = 0; q < rt->proc_count; ++q)
+        seeds[q] = rt->procs[q].seed_count;
+    size_t *capacities = malloc(queues * sizeof *capacities), *first = malloc(queues * sizeof *first);
+    size_t *count = malloc(queues * sizeof *count), *learned = malloc(queues * sizeof *learned);
+    perma_status st = capacities && first && count
+                          ? PERMA_OK
+                          : perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory for %u queues", queues);
+    /* The learned capacities are an optimisation only: none without memory for them. */
+    bool learns = st == PERMA_OK && learned && perma_state_learned_capacities(rt, queues, learned);
+    perma_error error;
+    if (st == PERMA_OK &&
+        perma_queues_initial(layout, seeds, learns ? learned : NULL, capacities, &rt->stats.queues_kept, &error) !=
+            PERMA_OK)
+        st = perma_take_error(rt, &error);
+    if (st == PERMA_OK) {
+        perma_queues_seed_shares(layout, seeds, first, count);
+        st = perma_state_upload(rt, capacities, perma_queues_bytes(layout, capacities), first, count);
+    }
     free(capacities);
+    free(first);
+    free(count);
+    free(learned);
     for (unsigned q = 0; q < rt->proc_count; ++q) {
         perma_proc_info *p = &rt->procs[q];
         if (st == PERMA_OK) {
@@ -172,7 +193,7 @@ perma_status perma_forget_capacities(perma_runtime *rt)
     if (!rt)
         return PERMA_ERR_ARGUMENT;
     perma_call_begin(rt, "perma_forget_capacities", false);
-    rt->state.capacities_learned = false;
+    perma_state_learn_capacities(rt, false);
     return PERMA_OK;
 }
 
@@ -214,7 +235,7 @@ perma_status perma_run(perma_runtime *rt)
     if (st == PERMA_OK)
         st = perma_reductions_collect(rt);
     rt->stats.seconds = perma_progress_stop_clock(rt);
-    rt->state.capacities_learned = st == PERMA_OK;
+    perma_state_learn_capacities(rt, st == PERMA_OK);
     st = write_trace(rt, st);
     perma_stats_finish(rt);
     perma_progress_run_ends(rt);
