@@ -251,7 +251,8 @@ static void append_dispatch(perma_runtime *rt, perma_strbuf *sb)
     perma_strbuf_append(sb, "    }\n}\n");
 }
 
-perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *sb)
+perma_status perma_generate_program(perma_runtime *rt, const perma_strbuf *reduce_constants,
+                                    const perma_strbuf *reduce_helpers, perma_strbuf *sb)
 {
     bool item_barrier = false;
     for (unsigned i = 0; i < rt->proc_count; ++i)
@@ -281,7 +282,8 @@ perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *sb)
                         rt->config.schedule.victim == PERMA_VICTIM_ROUND_ROBIN, rt->config.donation_threshold,
                         rt->local_queue_items, rt->lq_words ? rt->lq_words : 1u,
                         rt->device_trace_events);
-    perma_reductions_append_constants(rt, sb);
+    if (reduce_constants->length)
+        perma_strbuf_append(sb, reduce_constants->data);
     perma_strbuf_append(sb, perma_kernel_abi);
     perma_abi_append_struct_checks(sb);
     resume_generated(sb);
@@ -298,7 +300,8 @@ perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *sb)
     perma_strbuf_append(sb, perma_kernel_emit);
     resume_generated(sb);
     append_emit_helpers(rt, sb);
-    perma_reductions_append_helpers(rt, sb);
+    if (reduce_helpers->length)
+        perma_strbuf_append(sb, reduce_helpers->data);
     /* Procedures are inlined into the dispatch (a call per item otherwise,
      * and the case's constants fold into their emits); a profile of the
      * phases keeps them apart instead. */
@@ -320,7 +323,7 @@ perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *sb)
     perma_strbuf_append(sb, perma_kernel_host_steps);
     resume_generated(sb);
     perma_strbuf_append(sb, perma_kernel_relayout);
-    if (sb->failed)
+    if (sb->failed || reduce_constants->failed || reduce_helpers->failed)
         return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory generating the program");
     return PERMA_OK;
 }

@@ -18,12 +18,6 @@ typedef struct perma_source_text {
     char *name;
 } perma_source_text;
 
-/* The same source: the same name and the same text (procedures registered
- * from one source share it, and the program includes it once). */
-static inline bool perma_same_source(const perma_source_text *a, const perma_source_text *b)
-{
-    return strcmp(a->name, b->name) == 0 && strcmp(a->text, b->text) == 0;
-}
 
 /* A registered procedure: an owned copy of its description plus what the
  * build derives from it. */
@@ -285,6 +279,10 @@ bool perma_abi_explain_log(const perma_runtime *rt, const char *log, char *out, 
  * line; the sentence for a build log that has one (false when none). */
 void perma_barriers_forbid(const perma_runtime *rt, unsigned proc, perma_strbuf *sb);
 void perma_barriers_allow(perma_strbuf *sb);
+/* The same source: the same name and the same text (procedures registered
+ * from one source share it, the program includes it once, and its
+ * barriers are forbidden unless one of them is cooperative). */
+bool perma_same_source(const perma_source_text *a, const perma_source_text *b);
 bool perma_barriers_explain_log(const perma_runtime *rt, const char *log, char *out, size_t size);
 
 /* build_log.c: whether line[0..length) is a compiler diagnostic of `kind`
@@ -305,16 +303,18 @@ perma_status perma_build_layout(perma_runtime *rt);
 /* The __local memory one group may use: the device's, or
  * config.local_memory_limit when lower. */
 size_t perma_local_memory(const perma_runtime *rt);
-perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *out);
+/* The program's text, with the reductions' parts (perma_reductions_generate). */
+perma_status perma_generate_program(perma_runtime *rt, const perma_strbuf *reduce_constants,
+                                    const perma_strbuf *reduce_helpers, perma_strbuf *out);
+/* perma_build after the call's start (perma_call_begin): build unless built. */
+perma_status perma_build_program(perma_runtime *rt);
 void perma_release_program(perma_runtime *rt);
 
-/* reductions.c: the lane layout (at build), the generated device code
- * (the constants, then after perma_ctx the reduce_NAME() helpers and the
- * lane's initialisation and fold), the slots' identities before a run and
- * the results after one. */
-void perma_reductions_layout(perma_runtime *rt);
-void perma_reductions_append_constants(const perma_runtime *rt, perma_strbuf *sb);
-void perma_reductions_append_helpers(const perma_runtime *rt, perma_strbuf *sb);
+/* reductions.c: at build, the lane layout and the reductions' two parts
+ * of the generated program (`constants`, which go before perma_ctx; after
+ * it `helpers`, the reduce_NAME() functions and the lane's initialisation
+ * and fold); before a run the slots' identities, after one the results. */
+void perma_reductions_generate(perma_runtime *rt, perma_strbuf *constants, perma_strbuf *helpers);
 /* Fill every work-item's slot with the identities (before a run). */
 perma_status perma_reductions_reset(perma_runtime *rt);
 /* Combine the slots into the results and set the host variables (after a
@@ -385,7 +385,8 @@ perma_status perma_outcome_error(perma_runtime *rt, const perma_ctl_header *outc
 /* stats.c */
 void perma_stats_reset(perma_runtime *rt);
 perma_status perma_stats_collect(perma_runtime *rt);  /* after each launch */
-void perma_stats_finish(perma_runtime *rt);           /* at the end of a run */
+/* At the end of a run, from the queues' records (state.h). */
+void perma_stats_finish(perma_runtime *rt, const perma_queue_state *queues, unsigned count);
 
 /* trace.c: the run's batches in host time. */
 bool perma_trace_on_device(const perma_runtime *rt);     /* the megakernel records batches */

@@ -104,8 +104,8 @@ static perma_status warm_up(perma_runtime *rt)
         st = rt->executor->warm_up(rt);
     if (st != PERMA_OK)
         return st;
-    PERMA_CL_CHECK(rt, "clFinish (warm-up)", clFinish(rt->queue));
-    return PERMA_OK;
+    cl_int err = clFinish(rt->queue);
+    return err == CL_SUCCESS ? PERMA_OK : perma_cl_error(rt, "clFinish (warm-up)", err);
 }
 
 /* After clCreateProgramWithSource and clBuildProgram (or the cache): the
@@ -113,8 +113,8 @@ static perma_status warm_up(perma_runtime *rt)
  * program is then released. */
 static perma_status check_build(perma_runtime *rt, cl_int err)
 {
-    if (!rt->program)
-        PERMA_CL_CHECK(rt, "clCreateProgramWithSource", err);
+    if (!rt->program && err != CL_SUCCESS)
+        return perma_cl_error(rt, "clCreateProgramWithSource", err);
     if (err == CL_BUILD_PROGRAM_FAILURE || err == CL_INVALID_BUILD_OPTIONS) {
         perma_status st = report_build_failure(rt, err);
         perma_release_program(rt);
@@ -122,7 +122,7 @@ static perma_status check_build(perma_runtime *rt, cl_int err)
     }
     if (err != CL_SUCCESS) {
         perma_release_program(rt);
-        PERMA_CL_CHECK(rt, "clBuildProgram", err);
+        return perma_cl_error(rt, "clBuildProgram", err);
     }
     return PERMA_OK;
 }
@@ -192,22 +192,22 @@ static perma_status build_and_warm_up(perma_runtime *rt, const char *text, const
     return st;
 }
 
-perma_status perma_build(perma_runtime *rt)
+perma_status perma_build_program(perma_runtime *rt)
 {
-    if (!rt)
-        return PERMA_ERR_ARGUMENT;
-    perma_status begun = perma_call_begin(rt, "perma_build", true);
-    if (begun != PERMA_OK || rt->built)
-        return begun;
+    if (rt->built)
+        return PERMA_OK;
     perma_release_program(rt);
     perma_status st = perma_build_layout(rt);
     if (st != PERMA_OK)
         return st;
-    perma_reductions_layout(rt);
-
-    perma_strbuf sb;
+    perma_strbuf sb, reduce_constants, reduce_helpers;
     perma_strbuf_init(&sb);
-    st = perma_generate_program(rt, &sb);
+    perma_strbuf_init(&reduce_constants);
+    perma_strbuf_init(&reduce_helpers);
+    perma_reductions_generate(rt, &reduce_constants, &reduce_helpers);
+    st = perma_generate_program(rt, &reduce_constants, &reduce_helpers, &sb);
+    perma_strbuf_free(&reduce_constants);
+    perma_strbuf_free(&reduce_helpers);
     if (st != PERMA_OK) {
         perma_strbuf_free(&sb);
         return st;
@@ -232,6 +232,14 @@ perma_status perma_build(perma_runtime *rt)
     rt->build_serial++; /* queue i may mean another queue now */
     rt->message[0] = '\0';
     return PERMA_OK;
+}
+
+perma_status perma_build(perma_runtime *rt)
+{
+    if (!rt)
+        return PERMA_ERR_ARGUMENT;
+    perma_status begun = perma_call_begin(rt, "perma_build", true);
+    return begun == PERMA_OK ? perma_build_program(rt) : begun;
 }
 
 perma_status perma_get_build_info(perma_runtime *rt, perma_build_info *out)

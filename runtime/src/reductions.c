@@ -135,7 +135,7 @@ void perma_reductions_release(perma_runtime *rt)
     rt->reduction_count = 0;
 }
 
-void perma_reductions_layout(perma_runtime *rt)
+static void lane_layout(perma_runtime *rt)
 {
     unsigned offset = 0;
     for (unsigned i = 0; i < rt->reduction_count; ++i) {
@@ -147,7 +147,7 @@ void perma_reductions_layout(perma_runtime *rt)
     rt->reduce_words = offset;
 }
 
-void perma_reductions_append_constants(const perma_runtime *rt, perma_strbuf *sb)
+static void append_constants(const perma_runtime *rt, perma_strbuf *sb)
 {
     bool doubles = false;
     for (unsigned i = 0; i < rt->reduction_count; ++i)
@@ -184,7 +184,7 @@ static uint64_t identity(const perma_reduction *r)
     return r->op == PERMA_REDUCE_MIN ? min_identity[r->type] : r->op == PERMA_REDUCE_MAX ? max_identity[r->type] : 0;
 }
 
-void perma_reductions_append_helpers(const perma_runtime *rt, perma_strbuf *sb)
+static void append_helpers(const perma_runtime *rt, perma_strbuf *sb)
 {
     for (unsigned i = 0; i < rt->reduction_count; ++i) {
         const perma_reduction *r = &rt->reductions[i];
@@ -224,6 +224,13 @@ void perma_reductions_append_helpers(const perma_runtime *rt, perma_strbuf *sb)
                                 r->op == PERMA_REDUCE_MIN ? "min" : "max", o, o);
     }
     perma_strbuf_append(sb, "}\n");
+}
+
+void perma_reductions_generate(perma_runtime *rt, perma_strbuf *constants, perma_strbuf *helpers)
+{
+    lane_layout(rt);
+    append_constants(rt, constants);
+    append_helpers(rt, helpers);
 }
 
 /* Words of the reductions buffer: one lane per work-item of every group. */

@@ -87,10 +87,13 @@ static perma_status upload_seeds(perma_runtime *rt)
         perma_queues_initial(layout, seeds, learns ? learned : NULL, capacities, &rt->stats.queues_kept, &error) !=
             PERMA_OK)
         st = perma_take_error(rt, &error);
+    size_t bytes = 0;
     if (st == PERMA_OK) {
+        bytes = perma_queues_bytes(layout, capacities);
         perma_queues_seed_shares(layout, seeds, first, count);
-        st = perma_state_upload(rt, capacities, perma_queues_bytes(layout, capacities), first, count);
     }
+    if (st == PERMA_OK)
+        st = perma_state_upload(rt, capacities, bytes, first, count);
     free(capacities);
     free(first);
     free(count);
@@ -207,7 +210,7 @@ perma_status perma_run(perma_runtime *rt)
     if (st == PERMA_OK)
         perma_reductions_invalidate(rt);
     if (st == PERMA_OK)
-        st = perma_build(rt);
+        st = perma_build_program(rt);
     if (st != PERMA_OK) {
         /* A run consumes its seeds whether it succeeds or not. */
         for (unsigned q = 0; q < rt->proc_count; ++q)
@@ -236,8 +239,10 @@ perma_status perma_run(perma_runtime *rt)
         st = perma_reductions_collect(rt);
     rt->stats.seconds = perma_progress_stop_clock(rt);
     perma_state_learn_capacities(rt, st == PERMA_OK);
+    unsigned queue_count;
+    const perma_queue_state *queues = perma_state_queues(rt, &queue_count);
     st = write_trace(rt, st);
-    perma_stats_finish(rt);
+    perma_stats_finish(rt, queues, queue_count);
     perma_progress_run_ends(rt);
     if (st == PERMA_OK)
         rt->message[0] = '\0';

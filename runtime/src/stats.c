@@ -15,7 +15,7 @@ void perma_stats_reset(perma_runtime *rt)
     rt->stats.work_groups = rt->work_groups;
     rt->stats.group_size = rt->group_size;
     rt->stats.procedure_count = rt->proc_count;
-    rt->stats.queue_memory_limit = perma_queue_memory_limit(rt);
+    rt->stats.queue_memory_limit = rt->queue_layout.memory_limit;
     for (unsigned q = 0; q < rt->proc_count; ++q) {
         perma_proc_info *p = &rt->procs[q];
         memset(&p->stats, 0, sizeof p->stats);
@@ -152,15 +152,13 @@ static void explain_batches(perma_runtime *rt, const perma_queue_state *queues, 
 
 /* Each procedure's final queue capacity (summed over queue sets), most
  * regrowths of one of its queues, and its batches. */
-void perma_stats_finish(perma_runtime *rt)
+void perma_stats_finish(perma_runtime *rt, const perma_queue_state *queues, unsigned count)
 {
     for (unsigned q = 0; q < rt->proc_count; ++q) {
         rt->procs[q].stats.initial_capacity = 0;
         rt->procs[q].stats.queue_capacity = 0;
         rt->procs[q].stats.regrowths = 0;
     }
-    unsigned count;
-    const perma_queue_state *queues = perma_state_queues(rt, &count);
     for (unsigned qi = 0; qi < count; ++qi) {
         perma_procedure_stats *ps = &rt->procs[qi % rt->proc_count].stats;
         ps->initial_capacity += queues[qi].initial;
