@@ -5,6 +5,7 @@
 #include "perma.h"
 #include "perma_abi.h"
 #include "queues.h"
+#include "environment.h"
 #include "state.h"
 #include "strbuf.h"
 
@@ -93,6 +94,24 @@ typedef struct perma_reduction {
     } value;               /* the result of the last run */
 } perma_reduction;
 
+/* What the device is and how its OpenCL implementation behaves, found
+ * once when it is opened (device.c).  Modules ask these instead of
+ * testing the implementation where a quirk bites (docs/design.md,
+ * Portability: quirk -> capability -> file). */
+typedef struct perma_device_caps {
+    bool is_cpu;             /* CL_DEVICE_TYPE_CPU: groups at most the physical cores (device.c); its
+                                buffers are the process's memory (memory.c) */
+    bool watch_visible;      /* the host sees the watch page change while a kernel runs (a CPU or
+                                unified memory): the stall limit and live progress (watchdog.c, progress.c) */
+    bool caches_programs;    /* the implementation keeps compiled programs in a cache of its own
+                                (PoCL): program_cache.c does not store them too, and locks per host */
+    cl_uint compute_units;
+    size_t local_mem_size;
+    cl_ulong max_alloc;
+    size_t max_group_size;
+    char name[256];          /* CL_DEVICE_NAME, with the sub-device */
+} perma_device_caps;
+
 struct perma_executor;
 typedef struct perma_watchdog perma_watchdog;
 typedef struct perma_progress_state perma_progress_state;
@@ -117,11 +136,8 @@ struct perma_runtime {
     cl_device_id device;
     cl_context context;
     cl_command_queue queue;
-    bool device_is_cpu;
-    bool watch_visible;        /* the host sees the watch page change while a kernel runs */
-    cl_uint compute_units;
-    size_t local_mem_size;
-    cl_ulong max_alloc;
+    perma_device_caps caps;    /* what the device is and does (device.c) */
+    perma_settings settings;   /* the PERMA_* environment variables (environment.c) */
     unsigned work_groups;
     unsigned group_size;
 
@@ -260,8 +276,6 @@ bool perma_memory_headroom(perma_headroom *out);
 bool perma_memory_driver_fits(char *message, size_t size, bool runtime);
 void perma_device_close(perma_runtime *rt);
 
-/* environment.c: PERMA_LOCAL_MEMORY_LIMIT in bytes (0: unset). */
-perma_status perma_env_local_memory_limit(perma_runtime *rt, size_t *out);
 
 /* files.c: read a whole text file; the message names the path. */
 perma_status perma_read_text_file(perma_runtime *rt, const char *path, char **out);

@@ -186,7 +186,7 @@ static void compute_order(perma_runtime *rt)
 
 size_t perma_local_memory(const perma_runtime *rt)
 {
-    size_t limit = rt->local_mem_size;
+    size_t limit = rt->caps.local_mem_size;
     if (rt->config.local_memory_limit && rt->config.local_memory_limit < limit)
         limit = rt->config.local_memory_limit;
     return limit;
@@ -201,7 +201,7 @@ size_t perma_queue_memory_limit(const perma_runtime *rt)
 {
     if (rt->config.queue_memory_limit)
         return rt->config.queue_memory_limit;
-    return rt->max_alloc ? (size_t)(rt->max_alloc / 2) : ((size_t)1 << 30);
+    return rt->caps.max_alloc ? (size_t)(rt->caps.max_alloc / 2) : ((size_t)1 << 30);
 }
 
 void perma_queue_layout_fill(const perma_runtime *rt, unsigned sets, perma_queue_layout *out)
@@ -290,7 +290,7 @@ static size_t stage_cost(const perma_runtime *rt, perma_proc_info *p, unsigned b
 #define PERMA_STAGE_LIMIT_WORDS ((size_t)1 << 22)
 static size_t stage_limit(const perma_runtime *rt)
 {
-    size_t limit = rt->max_alloc ? (size_t)(rt->max_alloc / (16 * (cl_ulong)rt->work_groups)) : PERMA_STAGE_LIMIT_WORDS;
+    size_t limit = rt->caps.max_alloc ? (size_t)(rt->caps.max_alloc / (16 * (cl_ulong)rt->work_groups)) : PERMA_STAGE_LIMIT_WORDS;
     return limit < PERMA_STAGE_LIMIT_WORDS ? limit : PERMA_STAGE_LIMIT_WORDS;
 }
 

@@ -88,7 +88,7 @@ static perma_status validate(perma_runtime *rt, const perma_procedure *d)
         return perma_set_error(rt, PERMA_ERR_ARGUMENT,
                                "procedure '%s': local_bytes_per_item %zu exceeds the %zu bytes of __local memory a "
                                "group may use (%s)", n, d->local_bytes_per_item, perma_local_memory(rt),
-                               perma_local_memory(rt) < rt->local_mem_size ? "config.local_memory_limit"
+                               perma_local_memory(rt) < rt->caps.local_mem_size ? "config.local_memory_limit"
                                                                            : "the device's local memory");
     if (!d->source && !d->source_file)
         return perma_set_error(rt, PERMA_ERR_ARGUMENT, "procedure '%s': neither source nor source_file is set", n);

@@ -212,8 +212,8 @@ perma_status perma_build_program(perma_runtime *rt)
         perma_strbuf_free(&sb);
         return st;
     }
-    const char *dump = getenv("PERMA_DUMP_PROGRAM");
-    if (dump && *dump) {
+    const char *dump = rt->settings.dump_program;
+    if (*dump) {
         perma_output *out;
         perma_error ignored; /* a debugging aid: the build goes on without it */
         if (perma_output_open(dump, &out, &ignored) == PERMA_OK) {

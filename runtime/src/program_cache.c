@@ -78,9 +78,9 @@
 #define STALE_TEMPORARY_SECONDS 3600
 
 /* The cache directory (created if needed), or false when there is none. */
-static bool cache_dir(char *out, size_t size)
+static bool cache_dir(const perma_settings *settings, char *out, size_t size)
 {
-    const char *dir = getenv("PERMA_CACHE_DIR");
+    const char *dir = settings->cache_dir_set ? settings->cache_dir : NULL;
     if (dir && (strcmp(dir, "off") == 0 || strcmp(dir, "0") == 0))
         return false;
     int n;
@@ -160,22 +160,6 @@ static uint64_t entry_checksum(const void *key, size_t key_length, const void *b
     return checksum(checksum(CHECKSUM_SEED, key, key_length), binary, binary_length);
 }
 
-/* PoCL: see the top of the file. */
-static bool keeps_own_cache(perma_runtime *rt)
-{
-    char name[256] = "";
-    clGetPlatformInfo(rt->platform, CL_PLATFORM_NAME, sizeof name - 1, name, NULL);
-    return strstr(name, "Portable Computing Language") != NULL;
-}
-
-static double min_seconds(void)
-{
-    const char *value = getenv("PERMA_CACHE_MIN_SECONDS");
-    char *end = NULL;
-    double seconds = value && *value ? strtod(value, &end) : 1.0;
-    return end && *end ? 1.0 : seconds;
-}
-
 /* Read a whole file into *data (NULL for an empty one); false with errno
  * when it cannot be read. */
 static bool read_file(const char *path, unsigned char **data, size_t *size)
@@ -210,13 +194,13 @@ void perma_cache_entry_open(perma_runtime *rt, const char *source, const char *o
     entry->lock_fd = -1;
     entry->waited = 0.0;
     perma_strbuf_init(&entry->key);
-    if (!cache_dir(entry->dir, sizeof entry->dir) || !cache_key(rt, source, options, &entry->key))
+    if (!cache_dir(&rt->settings, entry->dir, sizeof entry->dir) || !cache_key(rt, source, options, &entry->key))
         return;
     const perma_strbuf *key = &entry->key;
     int n = snprintf(entry->path, sizeof entry->path, "%s/%016llx.bin", entry->dir,
                      (unsigned long long)checksum(CHECKSUM_SEED, key->data, key->length));
     entry->usable = n > 0 && (size_t)n < sizeof entry->path;
-    entry->stores = !keeps_own_cache(rt) || min_seconds() <= 0.0;
+    entry->stores = !rt->caps.caches_programs || rt->settings.cache_min_seconds <= 0.0;
 }
 
 /* The lock file's name: the entry's with .lock for .bin.  A program that
@@ -456,7 +440,7 @@ static bool write_entry(const perma_cache_entry *entry, const unsigned char *bin
 
 bool perma_cache_store(perma_runtime *rt, const perma_cache_entry *entry, double cpu_seconds)
 {
-    double least = min_seconds();
+    double least = rt->settings.cache_min_seconds;
     if (!entry->usable || !entry->stores || cpu_seconds < least)
         return false;
     size_t binary_size = 0;
