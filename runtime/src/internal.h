@@ -154,7 +154,11 @@ struct perma_runtime {
 
     /* Build products. */
     bool built;
-    unsigned build_serial;         /* builds so far: what the device state learned is for one of them */
+    unsigned build_serial;         /* builds so far */
+    /* What the last run grew the queues to, when it succeeded (run.c): the
+     * next run of the same build starts from them, memory permitting. */
+    size_t *learned_capacities;    /* learned_count entries; NULL: none */
+    unsigned learned_count, learned_build;
     perma_build_info build_info;   /* how the last build got its program */
     cl_program program;
     cl_kernel kernel;          /* perma_megakernel */
@@ -320,6 +324,8 @@ size_t perma_local_memory(const perma_runtime *rt);
 /* The program's text, with the reductions' parts (perma_reductions_generate). */
 perma_status perma_generate_program(perma_runtime *rt, const perma_strbuf *reduce_constants,
                                     const perma_strbuf *reduce_helpers, perma_strbuf *out);
+/* run.c: let go of what the runs learned (perma_destroy). */
+void perma_run_release(perma_runtime *rt);
 /* perma_build after the call's start (perma_call_begin): build unless built. */
 perma_status perma_build_program(perma_runtime *rt);
 void perma_release_program(perma_runtime *rt);
@@ -329,8 +335,9 @@ void perma_release_program(perma_runtime *rt);
  * it `helpers`, the reduce_NAME() functions and the lane's initialisation
  * and fold); before a run the slots' identities, after one the results. */
 void perma_reductions_generate(perma_runtime *rt, perma_strbuf *constants, perma_strbuf *helpers);
-/* Fill every work-item's slot with the identities (before a run). */
-perma_status perma_reductions_reset(perma_runtime *rt);
+/* Every work-item's slot filled with the identities (before a run; *slots
+ * NULL without reductions; the caller frees it). */
+perma_status perma_reductions_identities(perma_runtime *rt, uint64_t **slots, size_t *words);
 /* Combine the slots into the results and set the host variables (after a
  * successful run); invalidate the results (after a failed one). */
 perma_status perma_reductions_collect(perma_runtime *rt);

@@ -239,8 +239,10 @@ static size_t slot_count(const perma_runtime *rt)
     return (size_t)rt->work_groups * rt->group_size;
 }
 
-perma_status perma_reductions_reset(perma_runtime *rt)
+perma_status perma_reductions_identities(perma_runtime *rt, uint64_t **out, size_t *out_words)
 {
+    *out = NULL;
+    *out_words = 0;
     if (!rt->reduction_count)
         return PERMA_OK;
     size_t words = slot_count(rt) * rt->reduce_words;
@@ -250,9 +252,9 @@ perma_status perma_reductions_reset(perma_runtime *rt)
     for (size_t s = 0; s < slot_count(rt); ++s)
         for (unsigned i = 0; i < rt->reduction_count; ++i)
             slots[s * rt->reduce_words + rt->reductions[i].offset] = identity(&rt->reductions[i]);
-    perma_status st = perma_state_write_reductions(rt, slots, words);
-    free(slots);
-    return st;
+    *out = slots;
+    *out_words = words;
+    return PERMA_OK;
 }
 
 /* The value an order key stands for (perma_key_* in kernels/perma_reduce.cl). */

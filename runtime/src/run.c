@@ -76,16 +76,17 @@ static perma_status upload_seeds(perma_runtime *rt)
     for (unsigned q = 0; q < rt->proc_count; ++q)
         seeds[q] = rt->procs[q].seed_count;
     size_t *capacities = malloc(queues * sizeof *capacities), *first = malloc(queues * sizeof *first);
-    size_t *count = malloc(queues * sizeof *count), *learned = malloc(queues * sizeof *learned);
+    size_t *count = malloc(queues * sizeof *count);
     perma_status st = capacities && first && count
                           ? PERMA_OK
                           : perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory for %u queues", queues);
-    /* The learned capacities are an optimisation only: none without memory for them. */
-    bool learns = st == PERMA_OK && learned && perma_state_learned_capacities(rt, queues, learned);
+    const size_t *learned = rt->learned_capacities && rt->learned_build == rt->build_serial &&
+                                    rt->learned_count == queues
+                                ? rt->learned_capacities
+                                : NULL;
     perma_error error;
     if (st == PERMA_OK &&
-        perma_queues_initial(layout, seeds, learns ? learned : NULL, capacities, &rt->stats.queues_kept, &error) !=
-            PERMA_OK)
+        perma_queues_initial(layout, seeds, learned, capacities, &rt->stats.queues_kept, &error) != PERMA_OK)
         st = perma_take_error(rt, &error);
     size_t bytes = 0;
     if (st == PERMA_OK) {
@@ -97,7 +98,6 @@ static perma_status upload_seeds(perma_runtime *rt)
     free(capacities);
     free(first);
     free(count);
-    free(learned);
     for (unsigned q = 0; q < rt->proc_count; ++q) {
         perma_proc_info *p = &rt->procs[q];
         if (st == PERMA_OK) {
@@ -166,16 +166,6 @@ static perma_status launch_until_done(perma_runtime *rt, double deadline)
     return st;
 }
 
-/* A trace that cannot be written fails the run before it starts, not
- * after all its work. */
-static perma_status check_trace_path(perma_runtime *rt)
-{
-    perma_error error;
-    if (rt->config.trace_path && perma_output_check(rt->config.trace_path, &error) != PERMA_OK)
-        return perma_set_error(rt, error.status, "cannot write the trace: %s", error.message);
-    return PERMA_OK;
-}
-
 /* The trace is written after a failure too (it shows what ran before it),
  * keeping the failure's message. */
 static perma_status write_trace(perma_runtime *rt, perma_status st)
@@ -191,12 +181,34 @@ static perma_status write_trace(perma_runtime *rt, perma_status st)
     return st;
 }
 
+/* Keep what the queues grew to (the run succeeded), or nothing. */
+static void learn_capacities(perma_runtime *rt, const perma_queue_state *queues, unsigned count, bool succeeded)
+{
+    perma_run_release(rt);
+    if (!succeeded || !count)
+        return;
+    rt->learned_capacities = malloc(count * sizeof *rt->learned_capacities);
+    if (!rt->learned_capacities)
+        return; /* an optimisation only */
+    for (unsigned qi = 0; qi < count; ++qi)
+        rt->learned_capacities[qi] = queues[qi].capacity;
+    rt->learned_count = count;
+    rt->learned_build = rt->build_serial;
+}
+
+void perma_run_release(perma_runtime *rt)
+{
+    free(rt->learned_capacities);
+    rt->learned_capacities = NULL;
+    rt->learned_count = 0;
+}
+
 perma_status perma_forget_capacities(perma_runtime *rt)
 {
     if (!rt)
         return PERMA_ERR_ARGUMENT;
     perma_call_begin(rt, "perma_forget_capacities", false);
-    perma_state_learn_capacities(rt, false);
+    perma_run_release(rt);
     return PERMA_OK;
 }
 
@@ -205,8 +217,11 @@ perma_status perma_run(perma_runtime *rt)
     if (!rt)
         return PERMA_ERR_ARGUMENT;
     perma_status st = perma_call_begin(rt, "perma_run", true);
-    if (st == PERMA_OK)
-        st = check_trace_path(rt);
+    /* A trace that cannot be written fails the run before it starts, not
+     * after all its work. */
+    perma_error error;
+    if (st == PERMA_OK && rt->config.trace_path && perma_output_check(rt->config.trace_path, &error) != PERMA_OK)
+        st = perma_set_error(rt, error.status, "cannot write the trace: %s", error.message);
     if (st == PERMA_OK)
         perma_reductions_invalidate(rt);
     if (st == PERMA_OK)
@@ -225,10 +240,18 @@ perma_status perma_run(perma_runtime *rt)
     double deadline = start + perma_time_limit(rt);
     rt->grow_starved = true;
 
+    /* The launch state: the queues with the seeds, and the reductions'
+     * slots at their identities. */
+    uint64_t *slots;
+    size_t slot_words;
+    perma_status reduce_st = perma_reductions_identities(rt, &slots, &slot_words);
     st = upload_seeds(rt);
-    perma_progress_run_begins(rt, start);
     if (st == PERMA_OK)
-        st = perma_reductions_reset(rt);
+        st = reduce_st;
+    if (st == PERMA_OK && slots)
+        st = perma_state_write_reductions(rt, slots, slot_words);
+    free(slots);
+    perma_progress_run_begins(rt, start);
     if (st == PERMA_OK)
         st = perma_buffers_copy(rt, PERMA_READ);
     if (st == PERMA_OK)
@@ -238,9 +261,9 @@ perma_status perma_run(perma_runtime *rt)
     if (st == PERMA_OK)
         st = perma_reductions_collect(rt);
     rt->stats.seconds = perma_progress_stop_clock(rt);
-    perma_state_learn_capacities(rt, st == PERMA_OK);
     unsigned queue_count;
     const perma_queue_state *queues = perma_state_queues(rt, &queue_count);
+    learn_capacities(rt, queues, queue_count, st == PERMA_OK);
     st = write_trace(rt, st);
     perma_stats_finish(rt, queues, queue_count);
     perma_progress_run_ends(rt);

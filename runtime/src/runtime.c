@@ -163,6 +163,7 @@ void perma_destroy(perma_runtime *rt)
     if (rt->queue)
         clFinish(rt->queue);
     perma_state_close(rt);
+    perma_run_release(rt);
     perma_release_program(rt);
     for (unsigned i = 0; i < rt->buffer_count; ++i) {
         if (rt->buffers[i].mem)

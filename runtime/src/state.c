@@ -42,10 +42,6 @@ struct perma_device_state {
     size_t watch_bytes;           /* its size (whole pages) */
     perma_queue_state *queues;    /* queue_count entries, index set * procs + proc */
     unsigned queue_count;
-    /* queues[].capacity are what the last run of this build grew to, and it
-     * succeeded: the next run starts from them (memory permitting). */
-    bool capacities_learned;
-    unsigned learned_build;       /* rt->build_serial when they were learned */
 };
 
 /* The watch page of this build: a record per group, sized for its
@@ -291,15 +287,6 @@ static void capacities_now(const perma_device_state *s, size_t *out)
 {
     for (unsigned qi = 0; qi < s->queue_count; ++qi)
         out[qi] = s->queues[qi].capacity;
-}
-
-bool perma_state_learned_capacities(const perma_runtime *rt, unsigned count, size_t *out)
-{
-    const perma_device_state *s = rt->state;
-    if (!s->capacities_learned || s->learned_build != rt->build_serial || s->queue_count != count)
-        return false;
-    capacities_now(rt->state, out);
-    return true;
 }
 
 perma_status perma_state_upload(perma_runtime *rt, const size_t *capacities, size_t bytes, const size_t *seed_first,
@@ -703,12 +690,6 @@ const perma_queue_state *perma_state_queues(const perma_runtime *rt, unsigned *c
 {
     *count = rt->state->queue_count;
     return rt->state->queues;
-}
-
-void perma_state_learn_capacities(perma_runtime *rt, bool learned)
-{
-    rt->state->capacities_learned = learned;
-    rt->state->learned_build = rt->build_serial;
 }
 
 perma_status perma_state_write_reductions(perma_runtime *rt, const uint64_t *slots, size_t words)

@@ -42,9 +42,6 @@ perma_status perma_state_empty(perma_runtime *rt);
  * seed_first[qi] + seed_count[qi]) of its procedure's seeds. */
 perma_status perma_state_upload(perma_runtime *rt, const size_t *capacities, size_t bytes, const size_t *seed_first,
                                 const size_t *seed_count);
-/* What the last run of this build grew the queues to, when it succeeded
- * and had `count` queues: false if there is none. */
-bool perma_state_learned_capacities(const perma_runtime *rt, unsigned count, size_t *out);
 /* Before each launch: statistics zeroed, watchdog flag down. */
 perma_status perma_state_begin_launch(perma_runtime *rt);
 /* After a launch that stopped for room, per queue: its capacity, the items
@@ -86,10 +83,6 @@ uint64_t perma_state_watch(const perma_runtime *rt, unsigned *running, unsigned 
 const uint32_t *perma_state_watch_record(const perma_runtime *rt, unsigned group);
 /* The queues on the device: *count records, index set * procs + proc. */
 const perma_queue_state *perma_state_queues(const perma_runtime *rt, unsigned *count);
-/* Whether the next run of this build starts from the capacities the last
- * one grew the queues to (after a successful run; not after a rebuild or
- * perma_forget_capacities). */
-void perma_state_learn_capacities(perma_runtime *rt, bool learned);
 /* The reductions' slots (`words` 64-bit words), written before a run and
  * read after it (kernels/perma_reduce.cl). */
 perma_status perma_state_write_reductions(perma_runtime *rt, const uint64_t *slots, size_t words);
