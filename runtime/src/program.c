@@ -131,11 +131,13 @@ static perma_status check_build(perma_runtime *rt, cl_int err)
  * (program_cache.c), else built from source.  A miss takes the entry's
  * build lock first, which waits while another process builds the same
  * program, and looks again: a farm's ranks compile it once.  The lock is
- * held until perma_build stores the program after its warm-up launch. */
+ * held until perma_build stores the program after its warm-up launch
+ * (the caller closes the entry this opens). */
 static perma_status build_program(perma_runtime *rt, const char *text, const char *options,
                                   perma_cache_entry *entry)
 {
     cl_int err = CL_SUCCESS;
+    perma_cache_entry_open(rt, text, options, entry);
     rt->program = perma_cache_load(rt, entry, options);
     if (!rt->program && perma_cache_lock(entry))
         rt->program = perma_cache_load(rt, entry, options);
@@ -172,7 +174,6 @@ static perma_status build_and_warm_up(perma_runtime *rt, const char *text, const
     double start = perma_now(), cpu_start = perma_cpu_now();
     memset(&rt->build_info, 0, sizeof rt->build_info);
     perma_cache_entry entry;
-    perma_cache_entry_open(rt, text, options, &entry);
     perma_status st = build_program(rt, text, options, &entry);
     /* A program with warnings is not cached, so that every build shows them. */
     bool warned = st == PERMA_OK && report_build_warnings(rt) != 0;
