@@ -32,6 +32,11 @@ void perma_barriers_forbid(const perma_runtime *rt, unsigned proc, perma_strbuf 
                             group_functions[i], group_functions[i], group_functions[i], rt->procs[proc].name);
 }
 
+bool perma_same_source(const perma_source_text *a, const perma_source_text *b)
+{
+    return strcmp(a->name, b->name) == 0 && strcmp(a->text, b->text) == 0;
+}
+
 void perma_barriers_allow(perma_strbuf *sb)
 {
     for (size_t i = 0; i < GROUP_FUNCTION_COUNT; ++i)

@@ -92,7 +92,6 @@ static void collect_warnings(const char *log, perma_strbuf *out, unsigned *count
 
 unsigned perma_build_log_show(perma_runtime *rt, const char *log, bool failed)
 {
-    const char *all = getenv("PERMA_BUILD_LOG");
     perma_strbuf sb, warnings;
     perma_strbuf_init(&sb);
     perma_strbuf_init(&warnings);
@@ -101,7 +100,7 @@ unsigned perma_build_log_show(perma_runtime *rt, const char *log, bool failed)
     unsigned count = 0;
     if (!failed)
         collect_warnings(log, &warnings, &count);
-    if (all && *all && strcmp(all, "0") != 0) {
+    if (rt->settings.build_log) {
         perma_strbuf_printf(&sb, "perma: build log%s:\n%s%s", failed ? " (the build failed)" : "", log,
                             log[0] && log[strlen(log) - 1] != '\n' ? "\n" : "");
     } else if (count) {

@@ -206,7 +206,7 @@ static void append_dispatch(perma_runtime *rt, perma_strbuf *sb)
     for (unsigned i = 0; i < rt->proc_count; ++i) {
         const perma_proc_info *p = &rt->procs[i];
         unsigned tpi = p->threads_per_item;
-        if (perma_proc_is_simple(p)) {
+        if (p->simple) {
             /* Lane staging only when the layout gave it lanes (layout.c). */
             char lanes[64] = "0";
             if (p->lane_items)
@@ -251,11 +251,12 @@ static void append_dispatch(perma_runtime *rt, perma_strbuf *sb)
     perma_strbuf_append(sb, "    }\n}\n");
 }
 
-perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *sb)
+perma_status perma_generate_program(perma_runtime *rt, const perma_strbuf *reduce_constants,
+                                    const perma_strbuf *reduce_helpers, perma_strbuf *sb)
 {
     bool item_barrier = false;
     for (unsigned i = 0; i < rt->proc_count; ++i)
-        item_barrier = item_barrier || !perma_proc_is_simple(&rt->procs[i]);
+        item_barrier = item_barrier || !rt->procs[i].simple;
     perma_strbuf_printf(sb, "#line 1 \"" GENERATED_NAME "\"\n"
                             "/* perma megakernel, generated for %u procedure(s). */\n"
                             "#define PERMA_GROUP_SIZE %uu\n"
@@ -281,7 +282,8 @@ perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *sb)
                         rt->config.schedule.victim == PERMA_VICTIM_ROUND_ROBIN, rt->config.donation_threshold,
                         rt->local_queue_items, rt->lq_words ? rt->lq_words : 1u,
                         rt->device_trace_events);
-    perma_reductions_append_constants(rt, sb);
+    if (reduce_constants->length)
+        perma_strbuf_append(sb, reduce_constants->data);
     perma_strbuf_append(sb, perma_kernel_abi);
     perma_abi_append_struct_checks(sb);
     resume_generated(sb);
@@ -298,7 +300,8 @@ perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *sb)
     perma_strbuf_append(sb, perma_kernel_emit);
     resume_generated(sb);
     append_emit_helpers(rt, sb);
-    perma_reductions_append_helpers(rt, sb);
+    if (reduce_helpers->length)
+        perma_strbuf_append(sb, reduce_helpers->data);
     /* Procedures are inlined into the dispatch (a call per item otherwise,
      * and the case's constants fold into their emits); a profile of the
      * phases keeps them apart instead. */
@@ -320,7 +323,7 @@ perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *sb)
     perma_strbuf_append(sb, perma_kernel_host_steps);
     resume_generated(sb);
     perma_strbuf_append(sb, perma_kernel_relayout);
-    if (sb->failed)
+    if (sb->failed || reduce_constants->failed || reduce_helpers->failed)
         return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory generating the program");
     return PERMA_OK;
 }

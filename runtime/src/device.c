@@ -39,17 +39,17 @@ static unsigned physical_cores(void)
     return cores > 0 ? (unsigned)cores : 0;
 }
 
-static void choose_work_groups(perma_runtime *rt, const char *device_name)
+static void choose_work_groups(perma_runtime *rt)
 {
     char why[160];
-    unsigned groups = rt->compute_units ? rt->compute_units : 1;
-    snprintf(why, sizeof why, "%u compute units", (unsigned)rt->compute_units);
-    if (rt->device_is_cpu) {
+    unsigned groups = rt->caps.compute_units ? rt->caps.compute_units : 1;
+    snprintf(why, sizeof why, "%u compute units", (unsigned)rt->caps.compute_units);
+    if (rt->caps.is_cpu) {
         unsigned cores = physical_cores();
         if (cores && cores < groups) {
             groups = cores;
             snprintf(why, sizeof why, "%u physical cores (hwloc) of %u compute units", cores,
-                     (unsigned)rt->compute_units);
+                     (unsigned)rt->caps.compute_units);
         }
     }
     if (rt->config.work_groups) {
@@ -58,48 +58,59 @@ static void choose_work_groups(perma_runtime *rt, const char *device_name)
     }
     rt->work_groups = groups;
     snprintf(rt->summary, sizeof rt->summary, "%s: %u work-groups (%s) of %u work-items",
-             device_name, rt->work_groups, why, rt->group_size);
+             rt->caps.name, rt->work_groups, why, rt->group_size);
 }
 
-perma_status perma_device_open(perma_runtime *rt)
+/* Which device: platform and device indexes (or a platform by name) and
+ * the sub-device, from the config, else PERMA_DEVICE. */
+typedef struct device_choice {
+    int platform, device;
+    char platform_name[sizeof ((perma_device_entry *)0)->name]; /* "": by index */
+    unsigned parts, part;
+} device_choice;
+
+static perma_status resolve(perma_runtime *rt, device_choice *c)
 {
-    int platform_index = rt->config.platform_index;
-    int device_index = rt->config.device_index;
-    unsigned parts = rt->config.sub_devices, part = rt->config.sub_device;
-    /* A platform by name: the config's, else PERMA_DEVICE's ("" : by index). */
-    char platform_name[sizeof ((perma_device_entry *)0)->name] = "";
-    if (platform_index < 0 && rt->config.platform_name) {
+    c->platform = rt->config.platform_index;
+    c->device = rt->config.device_index;
+    c->parts = rt->config.sub_devices;
+    c->part = rt->config.sub_device;
+    c->platform_name[0] = '\0';
+    if (c->platform < 0 && rt->config.platform_name) {
         if (!perma_platform_name_valid(rt->config.platform_name, strlen(rt->config.platform_name)))
             return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.platform_name '%s' is not a platform name "
                                    "(letters, digits, spaces and \"()._-\", starting with a letter)",
                                    rt->config.platform_name);
-        snprintf(platform_name, sizeof platform_name, "%s", rt->config.platform_name);
-    } else if (platform_index < 0 || device_index < 0) {
-        const char *env = getenv("PERMA_DEVICE");
+        snprintf(c->platform_name, sizeof c->platform_name, "%s", rt->config.platform_name);
+    } else if (c->platform < 0 || c->device < 0) {
+        const char *env = rt->settings.device;
         perma_device_entry entry = { .part = -1 };
-        if (env && *env) {
+        if (*env) {
             perma_status st = parse_device_env(rt, env, &entry);
             if (st != PERMA_OK)
                 return st;
         }
-        if (platform_index < 0) {
-            platform_index = entry.platform;
-            memcpy(platform_name, entry.name, sizeof platform_name);
+        if (c->platform < 0) {
+            c->platform = entry.platform;
+            memcpy(c->platform_name, entry.name, sizeof c->platform_name);
         }
-        if (device_index < 0)
-            device_index = entry.device;
-        if (parts < 2) {
-            parts = entry.parts;
-            part = entry.part < 0 ? 0 : (unsigned)entry.part;
+        if (c->device < 0)
+            c->device = entry.device;
+        if (c->parts < 2) {
+            c->parts = entry.parts;
+            c->part = entry.part < 0 ? 0 : (unsigned)entry.part;
         }
     }
     rt->config.platform_name = NULL; /* the caller's string is not kept */
-    if (device_index < 0)
-        device_index = 0;
+    if (c->device < 0)
+        c->device = 0;
+    return PERMA_OK;
+}
 
+/* rt->platform: by index or by name. */
+static perma_status find_platform(perma_runtime *rt, device_choice *c)
+{
     char message[PERMA_MESSAGE_MAX];
-    if (!perma_memory_driver_fits(message, sizeof message, true))
-        return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "%s", message);
     cl_uint platform_count = 0;
     cl_int err = clGetPlatformIDs(0, NULL, &platform_count);
     if (err == -1001 /* CL_PLATFORM_NOT_FOUND_KHR */ || (err == CL_SUCCESS && platform_count == 0)) {
@@ -107,87 +118,125 @@ perma_status perma_device_open(perma_runtime *rt)
         return perma_set_error(rt, PERMA_ERR_NO_PLATFORM, "%s", message);
     }
     PERMA_CL_CHECK(rt, "clGetPlatformIDs", err);
-    if (!platform_name[0] && (cl_uint)platform_index >= platform_count)
+    if (!c->platform_name[0] && (cl_uint)c->platform >= platform_count)
         return perma_set_error(rt, PERMA_ERR_NO_DEVICE,
                                "OpenCL platform %d requested (PERMA_DEVICE or config), but only %u "
-                               "platform(s) exist", platform_index, (unsigned)platform_count);
+                               "platform(s) exist", c->platform, (unsigned)platform_count);
     cl_platform_id *platforms = calloc(platform_count, sizeof *platforms);
     if (!platforms)
         return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory listing platforms");
     err = clGetPlatformIDs(platform_count, platforms, NULL);
     char listing[PERMA_MESSAGE_MAX / 2];
-    if (err == CL_SUCCESS && platform_name[0])
-        platform_index = perma_platform_find(platforms, platform_count, platform_name, listing, sizeof listing);
-    if (err == CL_SUCCESS && platform_index >= 0)
-        rt->platform = platforms[platform_index];
+    if (err == CL_SUCCESS && c->platform_name[0])
+        c->platform = perma_platform_find(platforms, platform_count, c->platform_name, listing, sizeof listing);
+    if (err == CL_SUCCESS && c->platform >= 0)
+        rt->platform = platforms[c->platform];
     free(platforms);
     PERMA_CL_CHECK(rt, "clGetPlatformIDs", err);
-    if (platform_index < 0)
+    if (c->platform < 0)
         return perma_set_error(rt, PERMA_ERR_NO_DEVICE, "no OpenCL platform's name or vendor contains '%s' "
-                               "(PERMA_DEVICE or config); the platforms are: %s", platform_name, listing);
+                               "(PERMA_DEVICE or config); the platforms are: %s", c->platform_name, listing);
+    return PERMA_OK;
+}
 
+/* rt->device on rt->platform, or its part. */
+static perma_status find_device(perma_runtime *rt, const device_choice *c)
+{
     cl_uint device_count = 0;
-    err = clGetDeviceIDs(rt->platform, CL_DEVICE_TYPE_ALL, 0, NULL, &device_count);
+    cl_int err = clGetDeviceIDs(rt->platform, CL_DEVICE_TYPE_ALL, 0, NULL, &device_count);
     if (err != CL_DEVICE_NOT_FOUND)
         PERMA_CL_CHECK(rt, "clGetDeviceIDs", err);
-    if ((cl_uint)device_index >= device_count)
+    if ((cl_uint)c->device >= device_count)
         return perma_set_error(rt, PERMA_ERR_NO_DEVICE,
                                "OpenCL device %d:%d requested (PERMA_DEVICE or config%s%s%s), but platform "
-                               "%d has %u device(s)", platform_index, device_index,
-                               platform_name[0] ? "; platform '" : "", platform_name,
-                               platform_name[0] ? "'" : "", platform_index, (unsigned)device_count);
+                               "%d has %u device(s)", c->platform, c->device,
+                               c->platform_name[0] ? "; platform '" : "", c->platform_name,
+                               c->platform_name[0] ? "'" : "", c->platform, (unsigned)device_count);
     cl_device_id *devices = calloc(device_count, sizeof *devices);
     if (!devices)
         return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory listing devices");
     err = clGetDeviceIDs(rt->platform, CL_DEVICE_TYPE_ALL, device_count, devices, NULL);
-    rt->device = devices[device_index];
+    rt->device = devices[c->device];
     free(devices);
     PERMA_CL_CHECK(rt, "clGetDeviceIDs", err);
-    if (parts >= 2) {
-        perma_status st = perma_open_sub_device(rt, platform_index, device_index, parts, part);
-        if (st != PERMA_OK)
-            return st;
-    }
+    if (c->parts >= 2)
+        return perma_open_sub_device(rt, c->platform, c->device, c->parts, c->part);
+    return PERMA_OK;
+}
 
+/* rt->caps: what the device is, and its implementation's quirks. */
+static perma_status query(perma_runtime *rt, const device_choice *c)
+{
+    perma_device_caps *caps = &rt->caps;
     cl_device_type type = 0;
     cl_ulong local_mem = 0;
-    size_t max_group = 0;
-    char name[256] = "";
     PERMA_CL_CHECK(rt, "clGetDeviceInfo(CL_DEVICE_TYPE)",
                    clGetDeviceInfo(rt->device, CL_DEVICE_TYPE, sizeof type, &type, NULL));
     PERMA_CL_CHECK(rt, "clGetDeviceInfo(CL_DEVICE_MAX_COMPUTE_UNITS)",
-                   clGetDeviceInfo(rt->device, CL_DEVICE_MAX_COMPUTE_UNITS, sizeof rt->compute_units,
-                                   &rt->compute_units, NULL));
+                   clGetDeviceInfo(rt->device, CL_DEVICE_MAX_COMPUTE_UNITS, sizeof caps->compute_units,
+                                   &caps->compute_units, NULL));
     PERMA_CL_CHECK(rt, "clGetDeviceInfo(CL_DEVICE_LOCAL_MEM_SIZE)",
                    clGetDeviceInfo(rt->device, CL_DEVICE_LOCAL_MEM_SIZE, sizeof local_mem, &local_mem, NULL));
     PERMA_CL_CHECK(rt, "clGetDeviceInfo(CL_DEVICE_MAX_MEM_ALLOC_SIZE)",
-                   clGetDeviceInfo(rt->device, CL_DEVICE_MAX_MEM_ALLOC_SIZE, sizeof rt->max_alloc,
-                                   &rt->max_alloc, NULL));
+                   clGetDeviceInfo(rt->device, CL_DEVICE_MAX_MEM_ALLOC_SIZE, sizeof caps->max_alloc,
+                                   &caps->max_alloc, NULL));
     PERMA_CL_CHECK(rt, "clGetDeviceInfo(CL_DEVICE_MAX_WORK_GROUP_SIZE)",
-                   clGetDeviceInfo(rt->device, CL_DEVICE_MAX_WORK_GROUP_SIZE, sizeof max_group, &max_group, NULL));
+                   clGetDeviceInfo(rt->device, CL_DEVICE_MAX_WORK_GROUP_SIZE, sizeof caps->max_group_size,
+                                   &caps->max_group_size, NULL));
     PERMA_CL_CHECK(rt, "clGetDeviceInfo(CL_DEVICE_NAME)",
-                   clGetDeviceInfo(rt->device, CL_DEVICE_NAME, sizeof name - 1, name, NULL));
+                   clGetDeviceInfo(rt->device, CL_DEVICE_NAME, sizeof caps->name - 1, caps->name, NULL));
     cl_bool unified = CL_FALSE; /* the watchdog sees the watch page during a kernel (watchdog.c) */
     PERMA_CL_CHECK(rt, "clGetDeviceInfo(CL_DEVICE_HOST_UNIFIED_MEMORY)",
                    clGetDeviceInfo(rt->device, CL_DEVICE_HOST_UNIFIED_MEMORY, sizeof unified, &unified, NULL));
-    if (parts >= 2) {
-        size_t used = strlen(name);
-        snprintf(name + used, sizeof name - used, " (sub-device %u of %u)", part, parts);
+    if (c->parts >= 2) {
+        size_t used = strlen(caps->name);
+        snprintf(caps->name + used, sizeof caps->name - used, " (sub-device %u of %u)", c->part, c->parts);
     }
-    rt->device_is_cpu = (type & CL_DEVICE_TYPE_CPU) != 0;
-    rt->watch_visible = rt->device_is_cpu || unified;
-    rt->local_mem_size = (size_t)local_mem;
-    if (rt->group_size > max_group)
-        return perma_set_error(rt, PERMA_ERR_ARGUMENT,
-                               "group_size %u exceeds the device's maximum work-group size %zu",
-                               rt->group_size, max_group);
+    caps->is_cpu = (type & CL_DEVICE_TYPE_CPU) != 0;
+    caps->watch_visible = caps->is_cpu || unified;
+    caps->local_mem_size = (size_t)local_mem;
+    /* PoCL keeps the programs it compiles in a cache of its own (POCL_CACHE_DIR). */
+    char platform[256] = "";
+    clGetPlatformInfo(rt->platform, CL_PLATFORM_NAME, sizeof platform - 1, platform, NULL);
+    caps->caches_programs = strstr(platform, "Portable Computing Language") != NULL;
+    return PERMA_OK;
+}
 
+/* The context and the command queue. */
+static perma_status create_context(perma_runtime *rt)
+{
+    cl_int err;
     rt->context = clCreateContext(NULL, 1, &rt->device, NULL, NULL, &err);
     PERMA_CL_CHECK(rt, "clCreateContext", err);
     rt->queue = clCreateCommandQueue(rt->context, rt->device, 0, &err);
     PERMA_CL_CHECK(rt, "clCreateCommandQueue", err);
-    choose_work_groups(rt, name);
     return PERMA_OK;
+}
+
+perma_status perma_device_open(perma_runtime *rt)
+{
+    device_choice choice;
+    perma_status st = resolve(rt, &choice);
+    if (st != PERMA_OK)
+        return st;
+    char message[PERMA_MESSAGE_MAX];
+    if (!perma_memory_driver_fits(message, sizeof message, true))
+        return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "%s", message);
+    st = find_platform(rt, &choice);
+    if (st == PERMA_OK)
+        st = find_device(rt, &choice);
+    if (st == PERMA_OK)
+        st = query(rt, &choice);
+    if (st != PERMA_OK)
+        return st;
+    if (rt->group_size > rt->caps.max_group_size)
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT,
+                               "group_size %u exceeds the device's maximum work-group size %zu",
+                               rt->group_size, rt->caps.max_group_size);
+    st = create_context(rt);
+    if (st == PERMA_OK)
+        choose_work_groups(rt);
+    return st;
 }
 
 void perma_device_close(perma_runtime *rt)

@@ -274,8 +274,9 @@ perma_status perma_device_list(const char *list, perma_device_ref *out, unsigned
     if (!out || !count)
         return fail(error, PERMA_ERR_ARGUMENT, "perma_device_list: out or count is NULL");
     *count = 0;
+    char env[PERMA_SETTING_MAX];
     if (!list || !*list) {
-        list = getenv("PERMA_DEVICE");
+        list = perma_settings_device(env, sizeof env);
         if (!list || !*list)
             list = "0:0";
     }

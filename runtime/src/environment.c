@@ -1,20 +1,39 @@
-/* Settings read from the environment that fill in perma_config fields the
- * caller left at 0. */
-#include "internal.h"
+/* Every PERMA_* environment variable the runtime reads, in one place:
+ * perma_create reads them into the runtime's settings (environment.h). */
+#include "environment.h"
 
 #include <errno.h>
+#include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
+
+/* A variable's text into out ("" when unset); whether it is set. */
+static bool text_of(const char *name, char *out, size_t size)
+{
+    const char *value = getenv(name);
+    snprintf(out, size, "%s", value ? value : "");
+    return value != NULL;
+}
+
+/* Set, not empty and not "0". */
+static bool flag(const char *name)
+{
+    const char *value = getenv(name);
+    return value && *value && strcmp(value, "0") != 0;
+}
 
 /* PERMA_LOCAL_MEMORY_LIMIT: a cap on the __local memory one group uses, in
  * bytes with an optional K or M suffix (KiB, MiB): run code under a smaller
  * device's limit (a GPU's 48 KiB, OpenCL's minimum of 32 KiB) on this one.
  * Unset or empty: no cap. */
-perma_status perma_env_local_memory_limit(perma_runtime *rt, size_t *out)
+static void local_memory_limit(perma_settings *out)
 {
-    *out = 0;
+    out->local_memory_limit = 0;
+    out->local_memory_error.status = PERMA_OK;
+    out->local_memory_error.message[0] = '\0';
     const char *text = getenv("PERMA_LOCAL_MEMORY_LIMIT");
     if (!text || !*text)
-        return PERMA_OK;
+        return;
     char *end;
     errno = 0;
     unsigned long long value = strtoull(text, &end, 10);
@@ -23,18 +42,40 @@ perma_status perma_env_local_memory_limit(perma_runtime *rt, size_t *out)
         unit = 1024, ++end;
     else if (*end == 'M' || *end == 'm')
         unit = 1024 * 1024, ++end;
-    if (end == text || *end || errno || text[0] == '-' || value == 0 || value > (1ull << 40) / unit)
-        return perma_set_error(rt, PERMA_ERR_ARGUMENT,
-                               "PERMA_LOCAL_MEMORY_LIMIT '%s' is not a number of bytes in 1..2^40 "
-                               "(a K or M suffix counts KiB or MiB)", text);
-    *out = (size_t)(value * unit);
-    return PERMA_OK;
+    if (end == text || *end || errno || text[0] == '-' || value == 0 || value > (1ull << 40) / unit) {
+        out->local_memory_error.status = PERMA_ERR_ARGUMENT;
+        snprintf(out->local_memory_error.message, sizeof out->local_memory_error.message,
+                 "PERMA_LOCAL_MEMORY_LIMIT '%s' is not a number of bytes in 1..2^40 "
+                 "(a K or M suffix counts KiB or MiB)", text);
+        return;
+    }
+    out->local_memory_limit = (size_t)(value * unit);
 }
 
-size_t perma_local_memory(const perma_runtime *rt)
+/* PERMA_CACHE_MIN_SECONDS: the CPU seconds a build must take to be stored
+ * (program_cache.c); 1 when unset or not a number. */
+static double cache_min_seconds(void)
 {
-    size_t limit = rt->local_mem_size;
-    if (rt->config.local_memory_limit && rt->config.local_memory_limit < limit)
-        limit = rt->config.local_memory_limit;
-    return limit;
+    const char *value = getenv("PERMA_CACHE_MIN_SECONDS");
+    char *end = NULL;
+    double seconds = value && *value ? strtod(value, &end) : 1.0;
+    return end && *end ? 1.0 : seconds;
+}
+
+void perma_settings_read(perma_settings *out)
+{
+    out->debug = flag("PERMA_DEBUG");
+    text_of("PERMA_TRACE", out->trace, sizeof out->trace);
+    perma_settings_device(out->device, sizeof out->device);
+    local_memory_limit(out);
+    out->build_log = flag("PERMA_BUILD_LOG");
+    text_of("PERMA_DUMP_PROGRAM", out->dump_program, sizeof out->dump_program);
+    out->cache_dir_set = text_of("PERMA_CACHE_DIR", out->cache_dir, sizeof out->cache_dir);
+    out->cache_min_seconds = cache_min_seconds();
+}
+
+const char *perma_settings_device(char *out, size_t size)
+{
+    text_of("PERMA_DEVICE", out, size);
+    return out;
 }

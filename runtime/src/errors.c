@@ -81,6 +81,16 @@ perma_status perma_set_error(perma_runtime *rt, perma_status status, const char 
     return status;
 }
 
+perma_status perma_cl_error(perma_runtime *rt, const char *call, cl_int code)
+{
+    return perma_set_error(rt, PERMA_ERR_OPENCL, "%s failed: %s (%d)", call, perma_cl_error_name(code), (int)code);
+}
+
+perma_status perma_take_error(perma_runtime *rt, const perma_error *error)
+{
+    return perma_set_error(rt, error->status, "%s", error->message);
+}
+
 perma_status perma_call_begin(perma_runtime *rt, const char *call, bool uses_device)
 {
     rt->message[0] = '\0';

@@ -4,31 +4,14 @@
 
 #include "perma.h"
 #include "perma_abi.h"
+#include "queues.h"
+#include "environment.h"
+#include "state.h"
 #include "strbuf.h"
 
 #include <stdarg.h>
 #include <stdbool.h>
 #include <string.h>
-
-/* The host's view of a control block (kernels/perma_abi.h): the header and
- * the queue records, which follow it without a gap; the group records after
- * them stay the kernels' business. */
-typedef struct perma_ctl_block {
-    perma_ctl_header header;
-    perma_queue_record queues[];
-} perma_ctl_block;
-
-/* Bytes of the header and the first `queues` queue records. */
-static inline size_t perma_ctl_block_bytes(size_t queues)
-{
-    return sizeof(perma_ctl_block) + queues * sizeof(perma_queue_record);
-}
-
-/* Words of the statistics buffer: one record per group. */
-static inline size_t perma_stats_words(unsigned groups, unsigned procs, unsigned max_edges)
-{
-    return (size_t)groups * PERMA_STAT_GROUP_WORDS_FOR(procs, max_edges);
-}
 
 /* A block of OpenCL C with the name compiler messages use for it. */
 typedef struct perma_source_text {
@@ -36,12 +19,6 @@ typedef struct perma_source_text {
     char *name;
 } perma_source_text;
 
-/* The same source: the same name and the same text (procedures registered
- * from one source share it, and the program includes it once). */
-static inline bool perma_same_source(const perma_source_text *a, const perma_source_text *b)
-{
-    return strcmp(a->name, b->name) == 0 && strcmp(a->text, b->text) == 0;
-}
 
 /* A registered procedure: an owned copy of its description plus what the
  * build derives from it. */
@@ -60,6 +37,12 @@ typedef struct perma_proc_info {
     unsigned emit_max[PERMA_MAX_EMITS];
 
     /* Filled by the build. */
+    bool simple;                       /* one thread per item and not cooperative: a work-item may run
+                                          several of its items one after another, so its batches may
+                                          exceed the group size */
+    unsigned full_batch;               /* items of a batch when __local memory does not cut it:
+                                          group_size * items_per_work_item if simple, else
+                                          group_size / threads_per_item */
     int emit_target[PERMA_MAX_EMITS];  /* procedure ids */
     unsigned depth;                    /* distance from a root of the graph */
     unsigned max_batch;                /* items per batch */
@@ -111,42 +94,23 @@ typedef struct perma_reduction {
     } value;               /* the result of the last run */
 } perma_reduction;
 
-/* A device buffer and its size. */
-typedef struct perma_device_buffer {
-    cl_mem mem;
-    size_t bytes;
-} perma_device_buffer;
-
-/* One queue of the launch state. */
-typedef struct perma_queue_state {
-    size_t capacity;     /* items, a power of two */
-    size_t initial;      /* its capacity when this run started */
-    unsigned regrowths;  /* times it grew in this run */
-} perma_queue_state;
-
-/* Everything the kernels use on the device, owned by state.c: each buffer
- * is created when first needed and replaced only by a bigger one. */
-typedef struct perma_device_state {
-    perma_device_buffer ctl;      /* control block (kernels/perma_abi.h) */
-    perma_device_buffer data;     /* queue items */
-    perma_device_buffer seq;      /* queue completion marks (kernels/perma_queue.cl) */
-    perma_device_buffer stats;    /* a statistics record per group */
-    perma_device_buffer trace;    /* trace records per group */
-    perma_device_buffer input;    /* the items a step kernel consumes */
-    perma_device_buffer relayout; /* a regrowth's perma_relayout_records, then its overflow segments */
-    perma_device_buffer emit_areas; /* a group's emit area each: staging, overflow (kernels/perma_abi.h) */
-    perma_device_buffer reductions; /* a slot of reduce_words words per work-item (kernels/perma_reduce.cl) */
-    uint32_t *overflow_headers;   /* the areas' headers as the last launch left them (perma_state_read_overflow) */
-    bool overflow_known;          /* overflow_headers were read for the growth to come */
-    cl_mem abort_mem;             /* the watch page (kernels/perma_abi.h): the abort */
-    uint32_t *abort_flag;         /* flag, each group's progress; page-aligned host memory */
-    size_t watch_bytes;           /* its size (whole pages) */
-    perma_queue_state *queues;    /* queue_count entries, index set * procs + proc */
-    unsigned queue_count;
-    /* queues[].capacity are what the last run of this build grew to, and it
-     * succeeded: the next run starts from them (memory permitting). */
-    bool capacities_learned;
-} perma_device_state;
+/* What the device is and how its OpenCL implementation behaves, found
+ * once when it is opened (device.c).  Modules ask these instead of
+ * testing the implementation where a quirk bites (docs/design.md,
+ * Portability: quirk -> capability -> file). */
+typedef struct perma_device_caps {
+    bool is_cpu;             /* CL_DEVICE_TYPE_CPU: groups at most the physical cores (device.c); its
+                                buffers are the process's memory (memory.c) */
+    bool watch_visible;      /* the host sees the watch page change while a kernel runs (a CPU or
+                                unified memory): the stall limit and live progress (watchdog.c, progress.c) */
+    bool caches_programs;    /* the implementation keeps compiled programs in a cache of its own
+                                (PoCL): program_cache.c does not store them too, and locks per host */
+    cl_uint compute_units;
+    size_t local_mem_size;
+    cl_ulong max_alloc;
+    size_t max_group_size;
+    char name[256];          /* CL_DEVICE_NAME, with the sub-device */
+} perma_device_caps;
 
 struct perma_executor;
 typedef struct perma_watchdog perma_watchdog;
@@ -172,11 +136,8 @@ struct perma_runtime {
     cl_device_id device;
     cl_context context;
     cl_command_queue queue;
-    bool device_is_cpu;
-    bool watch_visible;        /* the host sees the watch page change while a kernel runs */
-    cl_uint compute_units;
-    size_t local_mem_size;
-    cl_ulong max_alloc;
+    perma_device_caps caps;    /* what the device is and does (device.c) */
+    perma_settings settings;   /* the PERMA_* environment variables (environment.c) */
     unsigned work_groups;
     unsigned group_size;
 
@@ -193,6 +154,11 @@ struct perma_runtime {
 
     /* Build products. */
     bool built;
+    unsigned build_serial;         /* builds so far */
+    /* What the last run grew the queues to, when it succeeded (run.c): the
+     * next run of the same build starts from them, memory permitting. */
+    size_t *learned_capacities;    /* learned_count entries; NULL: none */
+    unsigned learned_count, learned_build;
     perma_build_info build_info;   /* how the last build got its program */
     cl_program program;
     cl_kernel kernel;          /* perma_megakernel */
@@ -206,9 +172,10 @@ struct perma_runtime {
     unsigned lq_words;
     unsigned order[PERMA_MAX_PROCEDURES];
     unsigned queue_sets;            /* 1 (shared) or one per group (distributed) */
+    perma_queue_layout queue_layout; /* what the queue planner knows of the build (queues.h) */
     unsigned device_trace_events;   /* trace records per group the device keeps; 0: none */
 
-    perma_device_state state;
+    perma_device_state *state;      /* state.c's, opaque elsewhere (state.h) */
     perma_group_stats *group_stats; /* work_groups entries */
     bool hung;                      /* a kernel ignored the watchdog; do not wait on it */
     perma_runtime *next_hung;       /* runtime.c's list of the hung runtimes perma_destroy kept */
@@ -250,6 +217,8 @@ typedef struct perma_trace_sample {
 perma_status perma_set_error(perma_runtime *rt, perma_status status, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
 perma_status perma_set_error_va(perma_runtime *rt, perma_status status, const char *fmt, va_list ap);
+/* The error a module reported as a value, as the runtime's. */
+perma_status perma_take_error(perma_runtime *rt, const perma_error *error);
 
 /* The start of every public call on rt that returns a status: the message
  * is "" until something fails (perma_errmsg).  A call that uses or changes
@@ -260,13 +229,14 @@ perma_status perma_call_begin(perma_runtime *rt, const char *call, bool uses_dev
 /* Name of an OpenCL error code, e.g. "CL_OUT_OF_RESOURCES". */
 const char *perma_cl_error_name(cl_int code);
 
+/* PERMA_ERR_OPENCL naming the call that failed with `code`. */
+perma_status perma_cl_error(perma_runtime *rt, const char *call, cl_int code);
 /* Fail with PERMA_ERR_OPENCL naming the call, if code is not CL_SUCCESS. */
 #define PERMA_CL_CHECK(rt, call, code)                                                     \
     do {                                                                                    \
         cl_int perma_code_ = (code);                                                        \
         if (perma_code_ != CL_SUCCESS)                                                      \
-            return perma_set_error((rt), PERMA_ERR_OPENCL, "%s failed: %s (%d)", (call),    \
-                                   perma_cl_error_name(perma_code_), (int)perma_code_);     \
+            return perma_cl_error((rt), (call), perma_code_);                               \
     } while (0)
 
 /* program_cache.c: the disk cache of built programs.  An entry is one
@@ -310,11 +280,6 @@ bool perma_memory_headroom(perma_headroom *out);
 bool perma_memory_driver_fits(char *message, size_t size, bool runtime);
 void perma_device_close(perma_runtime *rt);
 
-/* environment.c: PERMA_LOCAL_MEMORY_LIMIT in bytes (0: unset); the
- * __local memory one group may use (the device's, or the configured cap
- * when lower). */
-perma_status perma_env_local_memory_limit(perma_runtime *rt, size_t *out);
-size_t perma_local_memory(const perma_runtime *rt);
 
 /* files.c: read a whole text file; the message names the path. */
 perma_status perma_read_text_file(perma_runtime *rt, const char *path, char **out);
@@ -332,6 +297,10 @@ bool perma_abi_explain_log(const perma_runtime *rt, const char *log, char *out, 
  * line; the sentence for a build log that has one (false when none). */
 void perma_barriers_forbid(const perma_runtime *rt, unsigned proc, perma_strbuf *sb);
 void perma_barriers_allow(perma_strbuf *sb);
+/* The same source: the same name and the same text (procedures registered
+ * from one source share it, the program includes it once, and its
+ * barriers are forbidden unless one of them is cooperative). */
+bool perma_same_source(const perma_source_text *a, const perma_source_text *b);
 bool perma_barriers_explain_log(const perma_runtime *rt, const char *log, char *out, size_t size);
 
 /* build_log.c: whether line[0..length) is a compiler diagnostic of `kind`
@@ -349,28 +318,26 @@ void perma_notice(perma_runtime *rt, const char *fmt, ...) __attribute__((format
 
 /* layout.c, codegen.c, program.c */
 perma_status perma_build_layout(perma_runtime *rt);
-/* One thread per item and not cooperative: a work-item may run several of
- * its items one after another, so its batches may exceed the group size. */
-static inline bool perma_proc_is_simple(const perma_proc_info *p)
-{
-    return p->threads_per_item == 1 && !p->cooperative;
-}
-/* The items of a batch of p when __local memory does not cut it:
- * group_size * items_per_work_item for a simple procedure, else
- * group_size / threads_per_item. */
-unsigned perma_full_batch(const perma_runtime *rt, const perma_proc_info *p);
-perma_status perma_generate_program(perma_runtime *rt, perma_strbuf *out);
+/* The __local memory one group may use: the device's, or
+ * config.local_memory_limit when lower. */
+size_t perma_local_memory(const perma_runtime *rt);
+/* The program's text, with the reductions' parts (perma_reductions_generate). */
+perma_status perma_generate_program(perma_runtime *rt, const perma_strbuf *reduce_constants,
+                                    const perma_strbuf *reduce_helpers, perma_strbuf *out);
+/* run.c: let go of what the runs learned (perma_destroy). */
+void perma_run_release(perma_runtime *rt);
+/* perma_build after the call's start (perma_call_begin): build unless built. */
+perma_status perma_build_program(perma_runtime *rt);
 void perma_release_program(perma_runtime *rt);
 
-/* reductions.c: the lane layout (at build), the generated device code
- * (the constants, then after perma_ctx the reduce_NAME() helpers and the
- * lane's initialisation and fold), the slots' identities before a run and
- * the results after one. */
-void perma_reductions_layout(perma_runtime *rt);
-void perma_reductions_append_constants(const perma_runtime *rt, perma_strbuf *sb);
-void perma_reductions_append_helpers(const perma_runtime *rt, perma_strbuf *sb);
-/* Fill every work-item's slot with the identities (before a run). */
-perma_status perma_reductions_reset(perma_runtime *rt);
+/* reductions.c: at build, the lane layout and the reductions' two parts
+ * of the generated program (`constants`, which go before perma_ctx; after
+ * it `helpers`, the reduce_NAME() functions and the lane's initialisation
+ * and fold); before a run the slots' identities, after one the results. */
+void perma_reductions_generate(perma_runtime *rt, perma_strbuf *constants, perma_strbuf *helpers);
+/* Every work-item's slot filled with the identities (before a run; *slots
+ * NULL without reductions; the caller frees it). */
+perma_status perma_reductions_identities(perma_runtime *rt, uint64_t **slots, size_t *words);
 /* Combine the slots into the results and set the host variables (after a
  * successful run); invalidate the results (after a failed one). */
 perma_status perma_reductions_collect(perma_runtime *rt);
@@ -392,89 +359,14 @@ float perma_exact_total_float(perma_exact_total *total);
  * device (PERMA_READ) or back (PERMA_WRITE). */
 perma_status perma_buffers_copy(perma_runtime *rt, unsigned flag);
 
-/* queues.c: how big the queues are (no device calls).  Each fills
- * capacities[] (queue_sets * proc_count entries) and checks them against
- * the queue memory limit. */
-unsigned perma_queues_count(const perma_runtime *rt);
-/* Queue sets: one per persistent group with a distributed strategy, else 1. */
-unsigned perma_queues_sets(const perma_runtime *rt);
-/* The cap on the bytes of all queues (config.queue_memory_limit or its
- * default). */
-size_t perma_queues_memory_limit(const perma_runtime *rt);
-/* Whether `count` more seeds of procedure `proc` stay within
- * PERMA_MAX_QUEUED_ITEMS and the memory limit in the queues they start in. */
-perma_status perma_queues_check_seeds(perma_runtime *rt, unsigned proc, size_t count);
-/* Before a run: what the seeds and any producer's one item need, or what
- * the last run grew each queue to if more and the memory limit allows. */
-perma_status perma_queues_initial(perma_runtime *rt, size_t *capacities);
-/* The seeds queue qi starts with: items [*first, *first + *count) of its
- * procedure's seeds (with one queue set per group they are dealt out in
- * contiguous shares). */
-void perma_queues_seed_share(const perma_runtime *rt, unsigned qi, size_t *first, size_t *count);
-/* After a launch stalled: every target that lacks room for one waiting
- * item's emits doubles; or, when starved_queue is below the queue count
- * (a group's batches kept being cut by its room), only that queue.
- * overflow[qi]: items the groups left in their overflow areas for queue qi
- * (the relayout appends them); with some there, nothing needs to grow. */
-perma_status perma_queues_grow_stalled(perma_runtime *rt, const perma_ctl_block *ctl, unsigned starved_queue,
-                                       const size_t *overflow, size_t *capacities);
-/* Every queue with fewer free slots than needed[qi] grows to fit (doubling). */
-perma_status perma_queues_grow_to_fit(perma_runtime *rt, const perma_ctl_block *ctl, const size_t *needed,
-                                      size_t *capacities);
-/* The same from the capacities already in capacities[]. */
-perma_status perma_queues_fit_more(perma_runtime *rt, const perma_ctl_block *ctl, const size_t *needed,
-                                   size_t *capacities);
-/* Bytes a queue slot costs beside its item: two completion marks
- * (kernels/perma_queue.cl). */
-#define PERMA_QUEUE_SLOT_OVERHEAD 8
-/* Bytes of the queues (items and completion marks) at these capacities. */
-size_t perma_queues_bytes(const perma_runtime *rt, const size_t *capacities);
-
-/* state.c: the device state (perma_device_state). */
-perma_status perma_state_open(perma_runtime *rt);
-void perma_state_close(perma_runtime *rt);
-/* An empty launch state (nothing outstanding) for warming up kernels. */
-perma_status perma_state_empty(perma_runtime *rt);
-/* The first launch state of a run: queues of these capacities holding the
- * seeds. */
-perma_status perma_state_upload(perma_runtime *rt, const size_t *capacities);
-/* Before each launch: statistics zeroed, watchdog flag down. */
-perma_status perma_state_begin_launch(perma_runtime *rt);
-/* After a launch that stopped for room: the items each queue's groups left
- * in their overflow areas (per_queue[qi], queue_count entries), kept for
- * perma_state_grow, which appends them to the grown queues. */
-perma_status perma_state_read_overflow(perma_runtime *rt, size_t *per_queue);
-/* The header and the first `queues` queue records, read back. */
-perma_status perma_state_read_control(perma_runtime *rt, perma_ctl_block *out, unsigned queues);
-perma_status perma_state_read_header(perma_runtime *rt, perma_ctl_header *out);
-/* Write the record of queue q (its counters; the capacity and offsets are
- * unchanged) without waiting: *record must stay unchanged until the next
- * blocking call on the queue. */
-perma_status perma_state_write_queue_counters(perma_runtime *rt, unsigned q, const perma_queue_record *record);
-/* Between launches: give the queues these capacities on the device, their
- * items moved by perma_relayout_kernel and the overflowed items of the
- * last perma_state_read_overflow appended; `ctl` is the control block as
- * the last launch left it. */
-perma_status perma_state_grow(perma_runtime *rt, const perma_ctl_block *ctl, const size_t *capacities);
-perma_status perma_state_read_stats(perma_runtime *rt, uint32_t *words, size_t count);
-perma_status perma_state_read_trace(perma_runtime *rt, uint32_t *words, size_t count);
-/* The step kernels' input buffer, at least `words` words. */
-perma_status perma_state_ensure_input(perma_runtime *rt, size_t words);
-/* Set the arguments PERMA_COMMON_ARGS lists, and the user buffers from
- * `first_user_arg` on. */
-perma_status perma_state_bind(perma_runtime *rt, cl_kernel kernel, cl_uint first_user_arg);
-/* Ask every group of a running kernel to stop (the watchdog). */
-void perma_state_raise_abort(perma_runtime *rt);
-/* Whether the watchdog raised it during this launch (a host-driven run
- * checks between its steps: a procedure that polls perma_stop_requested
- * returns and its step completes). */
-bool perma_state_abort_raised(const perma_runtime *rt);
-/* What the watch page says while a kernel runs: the batches the groups
- * finished so far (a sum that moves while items complete), and in
- * running[0..procs) how many groups run a batch of each procedure. */
-uint64_t perma_state_watch(const perma_runtime *rt, unsigned *running, unsigned procs);
-/* Group `group`'s record on the watch page (PERMA_WATCH_RUNNING, ...). */
-const uint32_t *perma_state_watch_record(const perma_runtime *rt, unsigned group);
+/* layout.c: the build's queue layout for the planner (queues.h): queue
+ * sets (one per persistent group with a distributed strategy, else 1),
+ * the queues' starting capacity and the cap on their bytes
+ * (config.queue_memory_limit, or half the device's largest allocation: a
+ * regrowth holds the old and the new queue buffers at once). */
+unsigned perma_queue_sets(const perma_runtime *rt);
+size_t perma_queue_memory_limit(const perma_runtime *rt);
+void perma_queue_layout_fill(const perma_runtime *rt, unsigned sets, perma_queue_layout *out);
 
 /* watchdog.c: waiting for a kernel under the time limit and the stall
  * limit.  Past the deadline, or when no item completed anywhere for the
@@ -514,7 +406,8 @@ perma_status perma_outcome_error(perma_runtime *rt, const perma_ctl_header *outc
 /* stats.c */
 void perma_stats_reset(perma_runtime *rt);
 perma_status perma_stats_collect(perma_runtime *rt);  /* after each launch */
-void perma_stats_finish(perma_runtime *rt);           /* at the end of a run */
+/* At the end of a run, from the queues' records (state.h). */
+void perma_stats_finish(perma_runtime *rt, const perma_queue_state *queues, unsigned count);
 
 /* trace.c: the run's batches in host time. */
 bool perma_trace_on_device(const perma_runtime *rt);     /* the megakernel records batches */

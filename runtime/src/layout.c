@@ -184,11 +184,56 @@ static void compute_order(perma_runtime *rt)
     }
 }
 
-unsigned perma_full_batch(const perma_runtime *rt, const perma_proc_info *p)
+size_t perma_local_memory(const perma_runtime *rt)
+{
+    size_t limit = rt->caps.local_mem_size;
+    if (rt->config.local_memory_limit && rt->config.local_memory_limit < limit)
+        limit = rt->config.local_memory_limit;
+    return limit;
+}
+
+unsigned perma_queue_sets(const perma_runtime *rt)
+{
+    return rt->executor->persistent && rt->config.schedule.strategy != PERMA_STRATEGY_SHARED ? rt->work_groups : 1;
+}
+
+size_t perma_queue_memory_limit(const perma_runtime *rt)
+{
+    if (rt->config.queue_memory_limit)
+        return rt->config.queue_memory_limit;
+    return rt->caps.max_alloc ? (size_t)(rt->caps.max_alloc / 2) : ((size_t)1 << 30);
+}
+
+void perma_queue_layout_fill(const perma_runtime *rt, unsigned sets, perma_queue_layout *out)
+{
+    out->procs = rt->proc_count;
+    out->sets = sets;
+    out->count = sets * rt->proc_count;
+    out->initial_capacity = rt->config.queue_capacity ? rt->config.queue_capacity : PERMA_DEFAULT_QUEUE_CAPACITY;
+    out->memory_limit = perma_queue_memory_limit(rt);
+    for (unsigned i = 0; i < rt->proc_count; ++i) {
+        const perma_proc_info *p = &rt->procs[i];
+        perma_queue_proc *q = &out->proc[i];
+        q->name = p->name;
+        q->item_size = p->item_size;
+        q->emit_count = p->emit_count;
+        for (unsigned e = 0; e < p->emit_count; ++e) {
+            q->emit_target[e] = (unsigned)p->emit_target[e];
+            q->emit_max[e] = p->emit_max[e];
+        }
+    }
+}
+
+/* Each procedure's simple flag and full batch (internal.h). */
+static void compute_full_batches(perma_runtime *rt)
 {
     unsigned items_per_work_item =
         rt->config.items_per_work_item ? rt->config.items_per_work_item : DEFAULT_ITEMS_PER_WORK_ITEM;
-    return perma_proc_is_simple(p) ? rt->group_size * items_per_work_item : rt->group_size / p->threads_per_item;
+    for (unsigned i = 0; i < rt->proc_count; ++i) {
+        perma_proc_info *p = &rt->procs[i];
+        p->simple = p->threads_per_item == 1 && !p->cooperative;
+        p->full_batch = p->simple ? rt->group_size * items_per_work_item : rt->group_size / p->threads_per_item;
+    }
 }
 
 /* Arena words procedure p needs for a batch of `batch` items: the items,
@@ -203,7 +248,7 @@ static unsigned arena_cost(const perma_runtime *rt, perma_proc_info *p, unsigned
 {
     /* Lanes only for whole rounds of the group, so no lane has room for an
      * item it never gets. */
-    bool lanes = perma_proc_is_simple(p) && batch % rt->group_size == 0;
+    bool lanes = p->simple && batch % rt->group_size == 0;
     unsigned lane_items = (batch + rt->group_size - 1) / rt->group_size;
     unsigned offset = 0;
     if (assign) {
@@ -228,7 +273,7 @@ static unsigned arena_cost(const perma_runtime *rt, perma_proc_info *p, unsigned
  * as arena_cost says), edge after edge. */
 static size_t stage_cost(const perma_runtime *rt, perma_proc_info *p, unsigned batch, bool assign)
 {
-    bool lanes = perma_proc_is_simple(p) && batch % rt->group_size == 0;
+    bool lanes = p->simple && batch % rt->group_size == 0;
     size_t staged = lanes ? (size_t)rt->group_size * ((batch + rt->group_size - 1) / rt->group_size) : batch;
     size_t offset = 0;
     for (unsigned e = 0; e < p->emit_count; ++e) {
@@ -245,7 +290,7 @@ static size_t stage_cost(const perma_runtime *rt, perma_proc_info *p, unsigned b
 #define PERMA_STAGE_LIMIT_WORDS ((size_t)1 << 22)
 static size_t stage_limit(const perma_runtime *rt)
 {
-    size_t limit = rt->max_alloc ? (size_t)(rt->max_alloc / (16 * (cl_ulong)rt->work_groups)) : PERMA_STAGE_LIMIT_WORDS;
+    size_t limit = rt->caps.max_alloc ? (size_t)(rt->caps.max_alloc / (16 * (cl_ulong)rt->work_groups)) : PERMA_STAGE_LIMIT_WORDS;
     return limit < PERMA_STAGE_LIMIT_WORDS ? limit : PERMA_STAGE_LIMIT_WORDS;
 }
 
@@ -262,11 +307,12 @@ perma_status perma_build_layout(perma_runtime *rt)
         return st;
     compute_depths(rt);
     compute_order(rt);
-    perma_reductions_layout(rt);
+    compute_full_batches(rt);
     /* Queues can belong to groups, and groups keep local front queues,
      * only when the groups live for the whole launch. */
     bool persistent = rt->executor->persistent;
-    rt->queue_sets = perma_queues_sets(rt);
+    rt->queue_sets = perma_queue_sets(rt);
+    perma_queue_layout_fill(rt, rt->queue_sets, &rt->queue_layout);
     rt->device_trace_events = persistent && rt->config.trace_path ? rt->trace_events : 0;
 
     rt->max_edges = 1;
@@ -298,7 +344,7 @@ perma_status perma_build_layout(perma_runtime *rt)
     for (unsigned i = 0; i < rt->proc_count; ++i) {
         perma_proc_info *p = &rt->procs[i];
         p->scratch_words = round_up(words_of(p->local_bytes_per_item), 4);
-        unsigned batch = perma_full_batch(rt, p);
+        unsigned batch = p->full_batch;
         while (batch > 0 && arena_cost(rt, p, batch, false) > budget_words)
             --batch;
         if (batch == 0)

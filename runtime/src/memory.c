@@ -114,14 +114,14 @@ perma_status perma_check_memory(perma_runtime *rt, size_t bytes, const char *wha
         return PERMA_ERR_ARGUMENT;
     if (!what)
         what = "a buffer";
-    if (rt->max_alloc && bytes > rt->max_alloc)
+    if (rt->caps.max_alloc && bytes > rt->caps.max_alloc)
         return perma_set_error(rt, PERMA_ERR_NO_MEMORY,
                                "out of memory for %s (%zu bytes, %zu MiB): more than the device's largest "
                                "buffer (CL_DEVICE_MAX_MEM_ALLOC_SIZE, %llu MiB)", what, bytes,
-                               (bytes + MIB - 1) / MIB, (unsigned long long)(rt->max_alloc / MIB));
+                               (bytes + MIB - 1) / MIB, (unsigned long long)(rt->caps.max_alloc / MIB));
     /* A CPU device's buffers are the process's memory. */
     perma_headroom h;
-    if (rt->device_is_cpu && perma_memory_headroom(&h) && (h.free < RUN_MARGIN_BYTES
+    if (rt->caps.is_cpu && perma_memory_headroom(&h) && (h.free < RUN_MARGIN_BYTES
                                                            || bytes > h.free - RUN_MARGIN_BYTES))
         return refuse(rt, &h, bytes, what);
     return PERMA_OK;

@@ -88,7 +88,7 @@ static perma_status validate(perma_runtime *rt, const perma_procedure *d)
         return perma_set_error(rt, PERMA_ERR_ARGUMENT,
                                "procedure '%s': local_bytes_per_item %zu exceeds the %zu bytes of __local memory a "
                                "group may use (%s)", n, d->local_bytes_per_item, perma_local_memory(rt),
-                               perma_local_memory(rt) < rt->local_mem_size ? "config.local_memory_limit"
+                               perma_local_memory(rt) < rt->caps.local_mem_size ? "config.local_memory_limit"
                                                                            : "the device's local memory");
     if (!d->source && !d->source_file)
         return perma_set_error(rt, PERMA_ERR_ARGUMENT, "procedure '%s': neither source nor source_file is set", n);
@@ -195,9 +195,11 @@ perma_status perma_seed(perma_runtime *rt, perma_proc proc, const void *items, s
         return PERMA_OK;
     if (!items)
         return perma_set_error(rt, PERMA_ERR_ARGUMENT, "perma_seed('%s'): items is NULL", p->name);
-    perma_status st = perma_queues_check_seeds(rt, (unsigned)proc, count);
-    if (st != PERMA_OK)
-        return st;
+    perma_queue_layout layout;
+    perma_queue_layout_fill(rt, perma_queue_sets(rt), &layout);
+    perma_error error;
+    if (perma_queues_check_seeds(&layout, (unsigned)proc, p->seed_count, count, &error) != PERMA_OK)
+        return perma_take_error(rt, &error);
     size_t need = (p->seed_count + count) * p->item_size;
     if (need > p->seed_alloc) {
         size_t alloc = p->seed_alloc ? p->seed_alloc : 256;

@@ -104,8 +104,8 @@ static perma_status warm_up(perma_runtime *rt)
         st = rt->executor->warm_up(rt);
     if (st != PERMA_OK)
         return st;
-    PERMA_CL_CHECK(rt, "clFinish (warm-up)", clFinish(rt->queue));
-    return PERMA_OK;
+    cl_int err = clFinish(rt->queue);
+    return err == CL_SUCCESS ? PERMA_OK : perma_cl_error(rt, "clFinish (warm-up)", err);
 }
 
 /* After clCreateProgramWithSource and clBuildProgram (or the cache): the
@@ -113,8 +113,8 @@ static perma_status warm_up(perma_runtime *rt)
  * program is then released. */
 static perma_status check_build(perma_runtime *rt, cl_int err)
 {
-    if (!rt->program)
-        PERMA_CL_CHECK(rt, "clCreateProgramWithSource", err);
+    if (!rt->program && err != CL_SUCCESS)
+        return perma_cl_error(rt, "clCreateProgramWithSource", err);
     if (err == CL_BUILD_PROGRAM_FAILURE || err == CL_INVALID_BUILD_OPTIONS) {
         perma_status st = report_build_failure(rt, err);
         perma_release_program(rt);
@@ -122,7 +122,7 @@ static perma_status check_build(perma_runtime *rt, cl_int err)
     }
     if (err != CL_SUCCESS) {
         perma_release_program(rt);
-        PERMA_CL_CHECK(rt, "clBuildProgram", err);
+        return perma_cl_error(rt, "clBuildProgram", err);
     }
     return PERMA_OK;
 }
@@ -131,11 +131,13 @@ static perma_status check_build(perma_runtime *rt, cl_int err)
  * (program_cache.c), else built from source.  A miss takes the entry's
  * build lock first, which waits while another process builds the same
  * program, and looks again: a farm's ranks compile it once.  The lock is
- * held until perma_build stores the program after its warm-up launch. */
+ * held until perma_build stores the program after its warm-up launch
+ * (the caller closes the entry this opens). */
 static perma_status build_program(perma_runtime *rt, const char *text, const char *options,
                                   perma_cache_entry *entry)
 {
     cl_int err = CL_SUCCESS;
+    perma_cache_entry_open(rt, text, options, entry);
     rt->program = perma_cache_load(rt, entry, options);
     if (!rt->program && perma_cache_lock(entry))
         rt->program = perma_cache_load(rt, entry, options);
@@ -172,7 +174,6 @@ static perma_status build_and_warm_up(perma_runtime *rt, const char *text, const
     double start = perma_now(), cpu_start = perma_cpu_now();
     memset(&rt->build_info, 0, sizeof rt->build_info);
     perma_cache_entry entry;
-    perma_cache_entry_open(rt, text, options, &entry);
     perma_status st = build_program(rt, text, options, &entry);
     /* A program with warnings is not cached, so that every build shows them. */
     bool warned = st == PERMA_OK && report_build_warnings(rt) != 0;
@@ -192,28 +193,28 @@ static perma_status build_and_warm_up(perma_runtime *rt, const char *text, const
     return st;
 }
 
-perma_status perma_build(perma_runtime *rt)
+perma_status perma_build_program(perma_runtime *rt)
 {
-    if (!rt)
-        return PERMA_ERR_ARGUMENT;
-    perma_status begun = perma_call_begin(rt, "perma_build", true);
-    if (begun != PERMA_OK || rt->built)
-        return begun;
+    if (rt->built)
+        return PERMA_OK;
     perma_release_program(rt);
-    rt->state.capacities_learned = false; /* queue i may mean another queue now */
     perma_status st = perma_build_layout(rt);
     if (st != PERMA_OK)
         return st;
-
-    perma_strbuf sb;
+    perma_strbuf sb, reduce_constants, reduce_helpers;
     perma_strbuf_init(&sb);
-    st = perma_generate_program(rt, &sb);
+    perma_strbuf_init(&reduce_constants);
+    perma_strbuf_init(&reduce_helpers);
+    perma_reductions_generate(rt, &reduce_constants, &reduce_helpers);
+    st = perma_generate_program(rt, &reduce_constants, &reduce_helpers, &sb);
+    perma_strbuf_free(&reduce_constants);
+    perma_strbuf_free(&reduce_helpers);
     if (st != PERMA_OK) {
         perma_strbuf_free(&sb);
         return st;
     }
-    const char *dump = getenv("PERMA_DUMP_PROGRAM");
-    if (dump && *dump) {
+    const char *dump = rt->settings.dump_program;
+    if (*dump) {
         perma_output *out;
         perma_error ignored; /* a debugging aid: the build goes on without it */
         if (perma_output_open(dump, &out, &ignored) == PERMA_OK) {
@@ -229,8 +230,17 @@ perma_status perma_build(perma_runtime *rt)
     if (st != PERMA_OK)
         return st;
     rt->built = true;
+    rt->build_serial++; /* queue i may mean another queue now */
     rt->message[0] = '\0';
     return PERMA_OK;
+}
+
+perma_status perma_build(perma_runtime *rt)
+{
+    if (!rt)
+        return PERMA_ERR_ARGUMENT;
+    perma_status begun = perma_call_begin(rt, "perma_build", true);
+    return begun == PERMA_OK ? perma_build_program(rt) : begun;
 }
 
 perma_status perma_get_build_info(perma_runtime *rt, perma_build_info *out)

@@ -78,9 +78,9 @@
 #define STALE_TEMPORARY_SECONDS 3600
 
 /* The cache directory (created if needed), or false when there is none. */
-static bool cache_dir(char *out, size_t size)
+static bool cache_dir(const perma_settings *settings, char *out, size_t size)
 {
-    const char *dir = getenv("PERMA_CACHE_DIR");
+    const char *dir = settings->cache_dir_set ? settings->cache_dir : NULL;
     if (dir && (strcmp(dir, "off") == 0 || strcmp(dir, "0") == 0))
         return false;
     int n;
@@ -160,22 +160,6 @@ static uint64_t entry_checksum(const void *key, size_t key_length, const void *b
     return checksum(checksum(CHECKSUM_SEED, key, key_length), binary, binary_length);
 }
 
-/* PoCL: see the top of the file. */
-static bool keeps_own_cache(perma_runtime *rt)
-{
-    char name[256] = "";
-    clGetPlatformInfo(rt->platform, CL_PLATFORM_NAME, sizeof name - 1, name, NULL);
-    return strstr(name, "Portable Computing Language") != NULL;
-}
-
-static double min_seconds(void)
-{
-    const char *value = getenv("PERMA_CACHE_MIN_SECONDS");
-    char *end = NULL;
-    double seconds = value && *value ? strtod(value, &end) : 1.0;
-    return end && *end ? 1.0 : seconds;
-}
-
 /* Read a whole file into *data (NULL for an empty one); false with errno
  * when it cannot be read. */
 static bool read_file(const char *path, unsigned char **data, size_t *size)
@@ -210,13 +194,13 @@ void perma_cache_entry_open(perma_runtime *rt, const char *source, const char *o
     entry->lock_fd = -1;
     entry->waited = 0.0;
     perma_strbuf_init(&entry->key);
-    if (!cache_dir(entry->dir, sizeof entry->dir) || !cache_key(rt, source, options, &entry->key))
+    if (!cache_dir(&rt->settings, entry->dir, sizeof entry->dir) || !cache_key(rt, source, options, &entry->key))
         return;
     const perma_strbuf *key = &entry->key;
     int n = snprintf(entry->path, sizeof entry->path, "%s/%016llx.bin", entry->dir,
                      (unsigned long long)checksum(CHECKSUM_SEED, key->data, key->length));
     entry->usable = n > 0 && (size_t)n < sizeof entry->path;
-    entry->stores = !keeps_own_cache(rt) || min_seconds() <= 0.0;
+    entry->stores = !rt->caps.caches_programs || rt->settings.cache_min_seconds <= 0.0;
 }
 
 /* The lock file's name: the entry's with .lock for .bin.  A program that
@@ -285,12 +269,12 @@ bool perma_cache_lock(perma_cache_entry *entry)
     return entry->lock_fd >= 0;
 }
 
-/* Remove a bad entry, with a one-line notice saying why. */
-static void discard(perma_runtime *rt, const char *path, const char *why)
+/* Remove a bad entry; the one-line notice saying why in notice[]. */
+static void discard(const char *path, const char *why, char *notice, size_t size)
 {
     unlink(path);
-    perma_notice(rt, "perma: discarded the damaged program-cache entry %s (%s); building the program from source",
-                 path, why);
+    snprintf(notice, size, "perma: discarded the damaged program-cache entry %s (%s); building the program from "
+             "source", path, why);
 }
 
 /* Why `data` (the file's `size` bytes) is not a sound entry, or NULL if it
@@ -330,45 +314,56 @@ static const char *check_entry(const unsigned char *data, size_t size, char *why
     return NULL;
 }
 
-cl_program perma_cache_load(perma_runtime *rt, const perma_cache_entry *entry, const char *options)
+/* The program in an entry's `size` bytes of `data`, if it is sound and
+ * built for this key; a bad entry is removed, saying why in notice[]. */
+static cl_program load_entry(perma_runtime *rt, const perma_cache_entry *entry, const char *options,
+                             const unsigned char *data, size_t size, char *notice, size_t notice_size)
 {
-    if (!entry->usable)
-        return NULL;
     const char *path = entry->path;
-    unsigned char *data;
-    size_t size;
-    if (!read_file(path, &data, &size)) {
-        if (errno != ENOENT)
-            perma_notice(rt, "perma: cannot read the program-cache entry %s (%s); building the program from source",
-                         path, strerror(errno));
-        return NULL;
-    }
     char why[128];
     const unsigned char *key_at = NULL, *binary = NULL;
     uint64_t key_length = 0, binary_length = 0;
     const char *bad = check_entry(data, size, why, sizeof why, &key_at, &key_length, &binary, &binary_length);
-    cl_program program = NULL;
     const perma_strbuf *key = &entry->key;
     if (bad) {
-        discard(rt, path, bad);
-    } else if (key_length == key->length && memcmp(key_at, key->data, key->length) == 0) {
-        cl_int status = CL_SUCCESS, err;
-        size_t binary_size = (size_t)binary_length;
-        program = clCreateProgramWithBinary(rt->context, 1, &rt->device, &binary_size, &binary, &status, &err);
-        cl_int built = program && err == CL_SUCCESS && status == CL_SUCCESS
-                           ? clBuildProgram(program, 1, &rt->device, options, NULL, NULL)
-                           : (err != CL_SUCCESS ? err : status);
-        if (built != CL_SUCCESS) {
-            if (program)
-                clReleaseProgram(program);
-            program = NULL;
-            snprintf(why, sizeof why, "the OpenCL implementation refused its binary: %s", perma_cl_error_name(built));
-            discard(rt, path, why);
-        } else {
-            utime(path, NULL); /* recently used */
-        }
-    } /* else another program with the same hash: a miss, overwritten by the store */
+        discard(path, bad, notice, notice_size);
+        return NULL;
+    }
+    if (key_length != key->length || memcmp(key_at, key->data, key->length) != 0)
+        return NULL; /* another program with the same hash: a miss, overwritten by the store */
+    cl_int status = CL_SUCCESS, err;
+    size_t binary_size = (size_t)binary_length;
+    cl_program program = clCreateProgramWithBinary(rt->context, 1, &rt->device, &binary_size, &binary, &status, &err);
+    cl_int built = program && err == CL_SUCCESS && status == CL_SUCCESS
+                       ? clBuildProgram(program, 1, &rt->device, options, NULL, NULL)
+                       : (err != CL_SUCCESS ? err : status);
+    if (built != CL_SUCCESS) {
+        if (program)
+            clReleaseProgram(program);
+        snprintf(why, sizeof why, "the OpenCL implementation refused its binary: %s", perma_cl_error_name(built));
+        discard(path, why, notice, notice_size);
+        return NULL;
+    }
+    utime(path, NULL); /* recently used */
+    return program;
+}
+
+cl_program perma_cache_load(perma_runtime *rt, const perma_cache_entry *entry, const char *options)
+{
+    if (!entry->usable)
+        return NULL;
+    char notice[2 * PERMA_MESSAGE_MAX] = ""; /* at most one, shown at the end (perma_notice cuts it) */
+    unsigned char *data = NULL;
+    size_t size = 0;
+    cl_program program = NULL;
+    if (read_file(entry->path, &data, &size))
+        program = load_entry(rt, entry, options, data, size, notice, sizeof notice);
+    else if (errno != ENOENT)
+        snprintf(notice, sizeof notice, "perma: cannot read the program-cache entry %s (%s); building the program "
+                 "from source", entry->path, strerror(errno));
     free(data);
+    if (notice[0])
+        perma_notice(rt, "%s", notice);
     return program;
 }
 
@@ -456,7 +451,7 @@ static bool write_entry(const perma_cache_entry *entry, const unsigned char *bin
 
 bool perma_cache_store(perma_runtime *rt, const perma_cache_entry *entry, double cpu_seconds)
 {
-    double least = min_seconds();
+    double least = rt->settings.cache_min_seconds;
     if (!entry->usable || !entry->stores || cpu_seconds < least)
         return false;
     size_t binary_size = 0;

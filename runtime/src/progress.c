@@ -47,7 +47,7 @@ perma_status perma_progress_open(perma_runtime *rt)
         return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory for the progress");
     }
     p->wanted = rt->config.progress != NULL;
-    p->shown.live = rt->watch_visible;
+    p->shown.live = rt->caps.watch_visible;
     rt->progress = p;
     return PERMA_OK;
 }
@@ -118,7 +118,7 @@ void perma_progress_run_begins(perma_runtime *rt, double start)
     memset(&p->shown, 0, sizeof p->shown);
     p->shown.run = run + 1;
     p->shown.running = 1;
-    p->shown.live = rt->watch_visible;
+    p->shown.live = rt->caps.watch_visible;
     p->start = start;
     p->stopped = false;
     pthread_mutex_unlock(&p->lock);

@@ -135,7 +135,7 @@ void perma_reductions_release(perma_runtime *rt)
     rt->reduction_count = 0;
 }
 
-void perma_reductions_layout(perma_runtime *rt)
+static void lane_layout(perma_runtime *rt)
 {
     unsigned offset = 0;
     for (unsigned i = 0; i < rt->reduction_count; ++i) {
@@ -147,7 +147,7 @@ void perma_reductions_layout(perma_runtime *rt)
     rt->reduce_words = offset;
 }
 
-void perma_reductions_append_constants(const perma_runtime *rt, perma_strbuf *sb)
+static void append_constants(const perma_runtime *rt, perma_strbuf *sb)
 {
     bool doubles = false;
     for (unsigned i = 0; i < rt->reduction_count; ++i)
@@ -184,7 +184,7 @@ static uint64_t identity(const perma_reduction *r)
     return r->op == PERMA_REDUCE_MIN ? min_identity[r->type] : r->op == PERMA_REDUCE_MAX ? max_identity[r->type] : 0;
 }
 
-void perma_reductions_append_helpers(const perma_runtime *rt, perma_strbuf *sb)
+static void append_helpers(const perma_runtime *rt, perma_strbuf *sb)
 {
     for (unsigned i = 0; i < rt->reduction_count; ++i) {
         const perma_reduction *r = &rt->reductions[i];
@@ -226,14 +226,23 @@ void perma_reductions_append_helpers(const perma_runtime *rt, perma_strbuf *sb)
     perma_strbuf_append(sb, "}\n");
 }
 
+void perma_reductions_generate(perma_runtime *rt, perma_strbuf *constants, perma_strbuf *helpers)
+{
+    lane_layout(rt);
+    append_constants(rt, constants);
+    append_helpers(rt, helpers);
+}
+
 /* Words of the reductions buffer: one lane per work-item of every group. */
 static size_t slot_count(const perma_runtime *rt)
 {
     return (size_t)rt->work_groups * rt->group_size;
 }
 
-perma_status perma_reductions_reset(perma_runtime *rt)
+perma_status perma_reductions_identities(perma_runtime *rt, uint64_t **out, size_t *out_words)
 {
+    *out = NULL;
+    *out_words = 0;
     if (!rt->reduction_count)
         return PERMA_OK;
     size_t words = slot_count(rt) * rt->reduce_words;
@@ -243,10 +252,8 @@ perma_status perma_reductions_reset(perma_runtime *rt)
     for (size_t s = 0; s < slot_count(rt); ++s)
         for (unsigned i = 0; i < rt->reduction_count; ++i)
             slots[s * rt->reduce_words + rt->reductions[i].offset] = identity(&rt->reductions[i]);
-    cl_int err = clEnqueueWriteBuffer(rt->queue, rt->state.reductions.mem, CL_TRUE, 0, words * sizeof *slots, slots,
-                                      0, NULL, NULL);
-    free(slots);
-    PERMA_CL_CHECK(rt, "clEnqueueWriteBuffer (reductions)", err);
+    *out = slots;
+    *out_words = words;
     return PERMA_OK;
 }
 
@@ -308,12 +315,10 @@ perma_status perma_reductions_collect(perma_runtime *rt)
     uint64_t *slots = malloc(words * sizeof *slots);
     if (!slots)
         return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory for the reductions");
-    cl_int err = clEnqueueReadBuffer(rt->queue, rt->state.reductions.mem, CL_TRUE, 0, words * sizeof *slots, slots, 0,
-                                     NULL, NULL);
-    if (err != CL_SUCCESS) {
+    perma_status st = perma_state_read_reductions(rt, slots, words);
+    if (st != PERMA_OK) {
         free(slots);
-        return perma_set_error(rt, PERMA_ERR_OPENCL, "clEnqueueReadBuffer (reductions) failed: %s (%d)",
-                               perma_cl_error_name(err), (int)err);
+        return st;
     }
     for (unsigned i = 0; i < rt->reduction_count; ++i) {
         perma_reduction *r = &rt->reductions[i];

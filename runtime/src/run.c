@@ -20,60 +20,84 @@
  * a stall, or what a host-driven step needs. */
 static perma_status grow_queues(perma_runtime *rt, const perma_launch_outcome *outcome)
 {
-    unsigned queues = perma_queues_count(rt);
-    perma_ctl_block *ctl = malloc(perma_ctl_block_bytes(queues));
-    size_t *capacities = malloc(queues * sizeof *capacities);
-    size_t *overflow = calloc(queues, sizeof *overflow);
-    perma_status st = ctl && capacities && overflow
-                          ? perma_state_read_control(rt, ctl, queues)
+    const perma_queue_layout *layout = &rt->queue_layout;
+    unsigned queues = layout->count;
+    size_t *capacities = malloc(queues * sizeof *capacities), *current = malloc(queues * sizeof *current);
+    size_t *queued = malloc(queues * sizeof *queued), *overflow = malloc(queues * sizeof *overflow);
+    perma_status st = capacities && current && queued && overflow
+                          ? perma_state_read_queues(rt, rt->executor->persistent, current, queued, overflow)
                           : perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory growing queues");
-    if (st == PERMA_OK && rt->executor->persistent)
-        st = perma_state_read_overflow(rt, overflow);
     for (unsigned qi = 0; st == PERMA_OK && qi < queues; ++qi)
         rt->stats.overflowed_items += overflow[qi];
     uint32_t detail = outcome->header.detail_proc;
     bool starved = detail == PERMA_DETAIL_STARVED;
+    perma_error error = { PERMA_OK, "" };
     if (st == PERMA_OK && outcome->needed_given)
-        st = perma_queues_grow_to_fit(rt, ctl, outcome->needed, capacities);
+        st = perma_queues_grow_to_fit(layout, current, queued, outcome->needed, capacities, &error);
     else if (st == PERMA_OK && detail == PERMA_DETAIL_OVERFLOW)
-        st = perma_queues_grow_to_fit(rt, ctl, overflow, capacities);
+        st = perma_queues_grow_to_fit(layout, current, queued, overflow, capacities, &error);
     else if (st == PERMA_OK)
-        st = perma_queues_grow_stalled(rt, ctl, starved ? outcome->header.detail_edge : UINT32_MAX, overflow,
-                                       capacities);
+        st = perma_queues_grow_stalled(layout, current, queued, starved ? outcome->header.detail_edge : UINT32_MAX,
+                                       overflow, capacities, &error);
     bool grows = st == PERMA_OK;
     if (starved && st == PERMA_ERR_CAPACITY) {
         /* Growing for full batches is an optimisation: past the memory
          * limit the run goes on with the queues it has (laid out again with
          * a fresh control block), and no group stops it for that again. */
         rt->grow_starved = false;
-        for (unsigned qi = 0; qi < queues; ++qi)
-            capacities[qi] = rt->state.queues[qi].capacity;
+        memcpy(capacities, current, queues * sizeof *capacities);
         st = PERMA_OK;
     }
     /* Whatever the launch stopped for, the overflowed items must fit. */
     if (st == PERMA_OK && detail != PERMA_DETAIL_OVERFLOW)
-        st = perma_queues_fit_more(rt, ctl, overflow, capacities);
+        st = perma_queues_fit_more(layout, current, queued, overflow, capacities, &error);
+    size_t bytes = st == PERMA_OK ? perma_queues_bytes(layout, capacities) : 0;
+    if (st != PERMA_OK && st == error.status)
+        st = perma_take_error(rt, &error);
     if (st == PERMA_OK)
-        st = perma_state_grow(rt, ctl, capacities);
+        st = perma_state_grow(rt, capacities, bytes);
     if (st == PERMA_OK && grows)
         rt->stats.regrowths++;
-    free(ctl);
     free(capacities);
+    free(current);
+    free(queued);
     free(overflow);
     return st;
 }
 
-/* The first launch state: the seeds in queues of their initial capacities.
- * The seeds are consumed whether the run succeeds or not. */
+/* The first launch state: the seeds in queues of their initial capacities
+ * (or what the last run learned).  The seeds are consumed whether the run
+ * succeeds or not. */
 static perma_status upload_seeds(perma_runtime *rt)
 {
-    unsigned queues = perma_queues_count(rt);
-    size_t *capacities = malloc(queues * sizeof *capacities);
-    perma_status st = capacities ? perma_queues_initial(rt, capacities)
-                                 : perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory for %u queues", queues);
+    const perma_queue_layout *layout = &rt->queue_layout;
+    unsigned queues = layout->count;
+    size_t seeds[PERMA_MAX_PROCEDURES];
+    for (unsigned q = 0; q < rt->proc_count; ++q)
+        seeds[q] = rt->procs[q].seed_count;
+    size_t *capacities = malloc(queues * sizeof *capacities), *first = malloc(queues * sizeof *first);
+    size_t *count = malloc(queues * sizeof *count);
+    perma_status st = capacities && first && count
+                          ? PERMA_OK
+                          : perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory for %u queues", queues);
+    const size_t *learned = rt->learned_capacities && rt->learned_build == rt->build_serial &&
+                                    rt->learned_count == queues
+                                ? rt->learned_capacities
+                                : NULL;
+    perma_error error;
+    if (st == PERMA_OK &&
+        perma_queues_initial(layout, seeds, learned, capacities, &rt->stats.queues_kept, &error) != PERMA_OK)
+        st = perma_take_error(rt, &error);
+    size_t bytes = 0;
+    if (st == PERMA_OK) {
+        bytes = perma_queues_bytes(layout, capacities);
+        perma_queues_seed_shares(layout, seeds, first, count);
+    }
     if (st == PERMA_OK)
-        st = perma_state_upload(rt, capacities);
+        st = perma_state_upload(rt, capacities, bytes, first, count);
     free(capacities);
+    free(first);
+    free(count);
     for (unsigned q = 0; q < rt->proc_count; ++q) {
         perma_proc_info *p = &rt->procs[q];
         if (st == PERMA_OK) {
@@ -142,16 +166,6 @@ static perma_status launch_until_done(perma_runtime *rt, double deadline)
     return st;
 }
 
-/* A trace that cannot be written fails the run before it starts, not
- * after all its work. */
-static perma_status check_trace_path(perma_runtime *rt)
-{
-    perma_error error;
-    if (rt->config.trace_path && perma_output_check(rt->config.trace_path, &error) != PERMA_OK)
-        return perma_set_error(rt, error.status, "cannot write the trace: %s", error.message);
-    return PERMA_OK;
-}
-
 /* The trace is written after a failure too (it shows what ran before it),
  * keeping the failure's message. */
 static perma_status write_trace(perma_runtime *rt, perma_status st)
@@ -167,12 +181,34 @@ static perma_status write_trace(perma_runtime *rt, perma_status st)
     return st;
 }
 
+/* Keep what the queues grew to (the run succeeded), or nothing. */
+static void learn_capacities(perma_runtime *rt, const perma_queue_state *queues, unsigned count, bool succeeded)
+{
+    perma_run_release(rt);
+    if (!succeeded || !count)
+        return;
+    rt->learned_capacities = malloc(count * sizeof *rt->learned_capacities);
+    if (!rt->learned_capacities)
+        return; /* an optimisation only */
+    for (unsigned qi = 0; qi < count; ++qi)
+        rt->learned_capacities[qi] = queues[qi].capacity;
+    rt->learned_count = count;
+    rt->learned_build = rt->build_serial;
+}
+
+void perma_run_release(perma_runtime *rt)
+{
+    free(rt->learned_capacities);
+    rt->learned_capacities = NULL;
+    rt->learned_count = 0;
+}
+
 perma_status perma_forget_capacities(perma_runtime *rt)
 {
     if (!rt)
         return PERMA_ERR_ARGUMENT;
     perma_call_begin(rt, "perma_forget_capacities", false);
-    rt->state.capacities_learned = false;
+    perma_run_release(rt);
     return PERMA_OK;
 }
 
@@ -181,12 +217,15 @@ perma_status perma_run(perma_runtime *rt)
     if (!rt)
         return PERMA_ERR_ARGUMENT;
     perma_status st = perma_call_begin(rt, "perma_run", true);
-    if (st == PERMA_OK)
-        st = check_trace_path(rt);
+    /* A trace that cannot be written fails the run before it starts, not
+     * after all its work. */
+    perma_error error;
+    if (st == PERMA_OK && rt->config.trace_path && perma_output_check(rt->config.trace_path, &error) != PERMA_OK)
+        st = perma_set_error(rt, error.status, "cannot write the trace: %s", error.message);
     if (st == PERMA_OK)
         perma_reductions_invalidate(rt);
     if (st == PERMA_OK)
-        st = perma_build(rt);
+        st = perma_build_program(rt);
     if (st != PERMA_OK) {
         /* A run consumes its seeds whether it succeeds or not. */
         for (unsigned q = 0; q < rt->proc_count; ++q)
@@ -201,10 +240,18 @@ perma_status perma_run(perma_runtime *rt)
     double deadline = start + perma_time_limit(rt);
     rt->grow_starved = true;
 
+    /* The launch state: the queues with the seeds, and the reductions'
+     * slots at their identities. */
+    uint64_t *slots;
+    size_t slot_words;
+    perma_status reduce_st = perma_reductions_identities(rt, &slots, &slot_words);
     st = upload_seeds(rt);
-    perma_progress_run_begins(rt, start);
     if (st == PERMA_OK)
-        st = perma_reductions_reset(rt);
+        st = reduce_st;
+    if (st == PERMA_OK && slots)
+        st = perma_state_write_reductions(rt, slots, slot_words);
+    free(slots);
+    perma_progress_run_begins(rt, start);
     if (st == PERMA_OK)
         st = perma_buffers_copy(rt, PERMA_READ);
     if (st == PERMA_OK)
@@ -214,9 +261,11 @@ perma_status perma_run(perma_runtime *rt)
     if (st == PERMA_OK)
         st = perma_reductions_collect(rt);
     rt->stats.seconds = perma_progress_stop_clock(rt);
-    rt->state.capacities_learned = st == PERMA_OK;
+    unsigned queue_count;
+    const perma_queue_state *queues = perma_state_queues(rt, &queue_count);
+    learn_capacities(rt, queues, queue_count, st == PERMA_OK);
     st = write_trace(rt, st);
-    perma_stats_finish(rt);
+    perma_stats_finish(rt, queues, queue_count);
     perma_progress_run_ends(rt);
     if (st == PERMA_OK)
         rt->message[0] = '\0';

@@ -72,8 +72,8 @@ perma_status perma_create(const perma_config *config, perma_runtime **out, perma
     rt->config = *config;
     /* Debug mode: one work-group, so printf output of a procedure comes in
      * order, and PERMA_DEBUG defined for the procedures. */
-    const char *debug = getenv("PERMA_DEBUG");
-    rt->debug = debug && *debug && strcmp(debug, "0") != 0;
+    perma_settings_read(&rt->settings);
+    rt->debug = rt->settings.debug;
     if (rt->debug)
         rt->config.work_groups = 1;
     rt->config.build_options = NULL; /* copied below */
@@ -87,15 +87,18 @@ perma_status perma_create(const perma_config *config, perma_runtime **out, perma
         if (!rt->config.build_options)
             st = perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory copying build options");
     }
-    const char *trace = config->trace_path ? config->trace_path : getenv("PERMA_TRACE");
+    const char *trace = config->trace_path ? config->trace_path : rt->settings.trace;
     if (st == PERMA_OK && trace && *trace) {
         rt->config.trace_path = strdup(trace);
         if (!rt->config.trace_path)
             st = perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory copying the trace path");
         rt->trace_events = config->trace_events ? config->trace_events : 65536;
     }
-    if (st == PERMA_OK && !config->local_memory_limit)
-        st = perma_env_local_memory_limit(rt, &rt->config.local_memory_limit);
+    if (st == PERMA_OK && !config->local_memory_limit) {
+        rt->config.local_memory_limit = rt->settings.local_memory_limit;
+        if (rt->settings.local_memory_error.status != PERMA_OK)
+            st = perma_take_error(rt, &rt->settings.local_memory_error);
+    }
     if (st == PERMA_OK)
         st = perma_device_open(rt);
     if (st == PERMA_OK)
@@ -160,6 +163,7 @@ void perma_destroy(perma_runtime *rt)
     if (rt->queue)
         clFinish(rt->queue);
     perma_state_close(rt);
+    perma_run_release(rt);
     perma_release_program(rt);
     for (unsigned i = 0; i < rt->buffer_count; ++i) {
         if (rt->buffers[i].mem)

@@ -15,6 +15,35 @@
  * implementation can map it without copying. */
 #define PAGE_BYTES 4096
 
+/* A device buffer and its size. */
+typedef struct perma_device_buffer {
+    cl_mem mem;
+    size_t bytes;
+} perma_device_buffer;
+
+/* Everything the kernels use on the device, owned by state.c: each buffer
+ * is created when first needed and replaced only by a bigger one. */
+struct perma_device_state {
+    perma_device_buffer ctl;      /* control block (kernels/perma_abi.h) */
+    perma_device_buffer data;     /* queue items */
+    perma_device_buffer seq;      /* queue completion marks (kernels/perma_queue.cl) */
+    perma_device_buffer stats;    /* a statistics record per group */
+    perma_device_buffer trace;    /* trace records per group */
+    perma_device_buffer input;    /* the items a step kernel consumes */
+    perma_device_buffer relayout; /* a regrowth's perma_relayout_records, then its overflow segments */
+    perma_device_buffer emit_areas; /* a group's emit area each: staging, overflow (kernels/perma_abi.h) */
+    perma_device_buffer reductions; /* a slot of reduce_words words per work-item (kernels/perma_reduce.cl) */
+    uint32_t *overflow_headers;   /* the areas' headers as the last launch left them (perma_state_read_overflow) */
+    bool overflow_known;          /* overflow_headers were read for the growth to come */
+    perma_ctl_block *stopped;     /* the control block as a launch that stopped for room left it
+                                     (perma_state_read_queues), for the growth to come */
+    cl_mem abort_mem;             /* the watch page (kernels/perma_abi.h): the abort */
+    uint32_t *abort_flag;         /* flag, each group's progress; page-aligned host memory */
+    size_t watch_bytes;           /* its size (whole pages) */
+    perma_queue_state *queues;    /* queue_count entries, index set * procs + proc */
+    unsigned queue_count;
+};
+
 /* The watch page of this build: a record per group, sized for its
  * procedures. */
 static size_t watch_bytes(const perma_runtime *rt)
@@ -97,12 +126,18 @@ static perma_status zero(perma_runtime *rt, perma_device_buffer *b, size_t bytes
 
 static size_t ctl_bytes(const perma_runtime *rt)
 {
-    return 4 * (size_t)PERMA_CTL_WORDS_FOR(perma_queues_count(rt), rt->work_groups);
+    return 4 * (size_t)PERMA_CTL_WORDS_FOR(rt->queue_layout.count, rt->work_groups);
 }
 
+size_t perma_ctl_block_bytes(size_t queues)
+{
+    return sizeof(perma_ctl_block) + queues * sizeof(perma_queue_record);
+}
+
+/* The statistics buffer: one record per group. */
 static size_t stats_bytes(const perma_runtime *rt)
 {
-    return 4 * perma_stats_words(rt->work_groups, rt->proc_count, rt->max_edges);
+    return 4 * (size_t)rt->work_groups * PERMA_STAT_GROUP_WORDS_FOR(rt->proc_count, rt->max_edges);
 }
 
 /* Words of one group's emit area (kernels/perma_abi.h). */
@@ -123,7 +158,10 @@ static size_t trace_bytes(const perma_runtime *rt)
 
 perma_status perma_state_open(perma_runtime *rt)
 {
-    (void)rt; /* every buffer is made when a launch first needs it */
+    /* Every buffer is made when a launch first needs it. */
+    rt->state = calloc(1, sizeof *rt->state);
+    if (!rt->state)
+        return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory for the device state");
     return PERMA_OK;
 }
 
@@ -141,7 +179,7 @@ static void release_watch_page(perma_device_state *s)
  * procedures (no kernel runs between launches). */
 static perma_status ensure_watch_page(perma_runtime *rt)
 {
-    perma_device_state *s = &rt->state;
+    perma_device_state *s = rt->state;
     size_t bytes = watch_bytes(rt);
     if (s->abort_mem && s->watch_bytes >= bytes)
         return PERMA_OK;
@@ -154,7 +192,8 @@ static perma_status ensure_watch_page(perma_runtime *rt)
     s->abort_mem = clCreateBuffer(rt->context, CL_MEM_READ_WRITE | CL_MEM_USE_HOST_PTR, bytes, s->abort_flag, &err);
     if (err != CL_SUCCESS) {
         release_watch_page(s);
-        PERMA_CL_CHECK(rt, "clCreateBuffer (watch page)", err);
+        if (err != CL_SUCCESS)
+            return perma_cl_error(rt, "clCreateBuffer (watch page)", err);
     }
     s->watch_bytes = bytes;
     return PERMA_OK;
@@ -162,7 +201,9 @@ static perma_status ensure_watch_page(perma_runtime *rt)
 
 void perma_state_close(perma_runtime *rt)
 {
-    perma_device_state *s = &rt->state;
+    perma_device_state *s = rt->state;
+    if (!s)
+        return;
     perma_device_buffer *buffers[] = { &s->ctl, &s->data, &s->seq, &s->stats, &s->trace, &s->input, &s->relayout,
                                        &s->emit_areas, &s->reductions };
     for (size_t i = 0; i < sizeof buffers / sizeof buffers[0]; ++i)
@@ -173,12 +214,15 @@ void perma_state_close(perma_runtime *rt)
     s->queue_count = 0;
     free(s->overflow_headers);
     s->overflow_headers = NULL;
+    free(s->stopped);
+    free(s);
+    rt->state = NULL;
 }
 
 /* The buffers every launch needs, at the sizes of this build. */
 static perma_status ensure_launch_buffers(perma_runtime *rt)
 {
-    perma_device_state *s = &rt->state;
+    perma_device_state *s = rt->state;
     perma_status st = ensure(rt, &s->ctl, ctl_bytes(rt), "control block");
     if (st == PERMA_OK)
         st = ensure(rt, &s->stats, stats_bytes(rt), "statistics");
@@ -196,7 +240,7 @@ static perma_status ensure_launch_buffers(perma_runtime *rt)
 
 perma_status perma_state_empty(perma_runtime *rt)
 {
-    perma_device_state *s = &rt->state;
+    perma_device_state *s = rt->state;
     perma_status st = ensure_launch_buffers(rt);
     if (st == PERMA_OK)
         __atomic_store_n(s->abort_flag + PERMA_WATCH_ABORT, 0u, __ATOMIC_SEQ_CST);
@@ -211,11 +255,12 @@ perma_status perma_state_empty(perma_runtime *rt)
     return st;
 }
 
-/* Record the queues' capacities (and reset their regrowths when `fresh`). */
-static perma_status set_queues(perma_runtime *rt, const size_t *capacities, bool fresh)
+/* Record the queues' capacities, `bytes` in all (and reset their
+ * regrowths when `fresh`). */
+static perma_status set_queues(perma_runtime *rt, const size_t *capacities, size_t bytes, bool fresh)
 {
-    perma_device_state *s = &rt->state;
-    unsigned count = perma_queues_count(rt);
+    perma_device_state *s = rt->state;
+    unsigned count = rt->queue_layout.count;
     if (s->queue_count != count) {
         perma_queue_state *queues = calloc(count, sizeof *queues);
         if (!queues)
@@ -232,16 +277,23 @@ static perma_status set_queues(perma_runtime *rt, const size_t *capacities, bool
             s->queues[qi].regrowths++;
         s->queues[qi].capacity = capacities[qi];
     }
-    size_t bytes = perma_queues_bytes(rt, capacities);
     if (bytes > rt->stats.peak_queue_bytes)
         rt->stats.peak_queue_bytes = bytes;
     return PERMA_OK;
 }
 
-perma_status perma_state_upload(perma_runtime *rt, const size_t *capacities)
+/* The queues' capacities on the device now. */
+static void capacities_now(const perma_device_state *s, size_t *out)
 {
-    perma_device_state *s = &rt->state;
-    unsigned count = perma_queues_count(rt);
+    for (unsigned qi = 0; qi < s->queue_count; ++qi)
+        out[qi] = s->queues[qi].capacity;
+}
+
+perma_status perma_state_upload(perma_runtime *rt, const size_t *capacities, size_t bytes, const size_t *seed_first,
+                                const size_t *seed_count)
+{
+    perma_device_state *s = rt->state;
+    unsigned count = rt->queue_layout.count;
     size_t data_words = 0, seq_words = 0, outstanding = 0;
     for (unsigned qi = 0; qi < count; ++qi) {
         data_words += capacities[qi] * item_words(rt, qi);
@@ -252,15 +304,13 @@ perma_status perma_state_upload(perma_runtime *rt, const size_t *capacities)
     uint32_t *seq = calloc(seq_words ? seq_words : 1, 4);
     perma_status st = PERMA_OK;
     if (!ctl || !data || !seq) {
-        st = perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory laying out %zu bytes of queues",
-                             perma_queues_bytes(rt, capacities));
+        st = perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory laying out %zu bytes of queues", bytes);
         goto done;
     }
     size_t data_off = 0, seq_off = 0;
     for (unsigned qi = 0; qi < count; ++qi) {
         const perma_proc_info *p = &rt->procs[qi % rt->proc_count];
-        size_t first, items, cap = capacities[qi];
-        perma_queues_seed_share(rt, qi, &first, &items);
+        size_t first = seed_first[qi], items = seed_count[qi], cap = capacities[qi];
         ctl->queues[qi] = (perma_queue_record){ .head = 0, .tail = (uint32_t)items, .room = (uint32_t)(cap - items),
                                                 .cap = (uint32_t)cap, .data = (uint32_t)data_off,
                                                 .seq = (uint32_t)seq_off, .peak = (uint32_t)items,
@@ -285,7 +335,7 @@ perma_status perma_state_upload(perma_runtime *rt, const size_t *capacities)
         (st = write_buffer(rt, &s->data, data, data_words * 4, "queue items")) != PERMA_OK ||
         (st = write_buffer(rt, &s->seq, seq, seq_words * 4, "queue completion marks")) != PERMA_OK)
         goto done;
-    st = set_queues(rt, capacities, true);
+    st = set_queues(rt, capacities, bytes, true);
 done:
     free(ctl);
     free(data);
@@ -298,24 +348,24 @@ perma_status perma_state_begin_launch(perma_runtime *rt)
     perma_status st = ensure_launch_buffers(rt);
     if (st != PERMA_OK)
         return st;
-    memset(rt->state.abort_flag, 0, rt->state.watch_bytes); /* no kernel is running */
+    memset(rt->state->abort_flag, 0, rt->state->watch_bytes); /* no kernel is running */
     __atomic_thread_fence(__ATOMIC_SEQ_CST);
-    return zero(rt, &rt->state.stats, stats_bytes(rt), "statistics");
+    return zero(rt, &rt->state->stats, stats_bytes(rt), "statistics");
 }
 
 void perma_state_raise_abort(perma_runtime *rt)
 {
-    __atomic_store_n(rt->state.abort_flag + PERMA_WATCH_ABORT, 1u, __ATOMIC_SEQ_CST);
+    __atomic_store_n(rt->state->abort_flag + PERMA_WATCH_ABORT, 1u, __ATOMIC_SEQ_CST);
 }
 
 const uint32_t *perma_state_watch_record(const perma_runtime *rt, unsigned group)
 {
-    return rt->state.abort_flag + PERMA_WATCH_RECORDS + (size_t)group * PERMA_WATCH_RECORD_WORDS_FOR(rt->proc_count);
+    return rt->state->abort_flag + PERMA_WATCH_RECORDS + (size_t)group * PERMA_WATCH_RECORD_WORDS_FOR(rt->proc_count);
 }
 
 bool perma_state_abort_raised(const perma_runtime *rt)
 {
-    return __atomic_load_n(rt->state.abort_flag + PERMA_WATCH_ABORT, __ATOMIC_SEQ_CST) != 0;
+    return __atomic_load_n(rt->state->abort_flag + PERMA_WATCH_ABORT, __ATOMIC_SEQ_CST) != 0;
 }
 
 uint64_t perma_state_watch(const perma_runtime *rt, unsigned *running, unsigned procs)
@@ -334,19 +384,20 @@ uint64_t perma_state_watch(const perma_runtime *rt, unsigned *running, unsigned 
 
 perma_status perma_state_read_control(perma_runtime *rt, perma_ctl_block *out, unsigned queues)
 {
-    return read_buffer(rt, &rt->state.ctl, out, perma_ctl_block_bytes(queues), "control block");
+    return read_buffer(rt, &rt->state->ctl, out, perma_ctl_block_bytes(queues), "control block");
 }
 
 perma_status perma_state_read_header(perma_runtime *rt, perma_ctl_header *out)
 {
-    return read_buffer(rt, &rt->state.ctl, out, sizeof *out, "control block");
+    return read_buffer(rt, &rt->state->ctl, out, sizeof *out, "control block");
 }
 
 perma_status perma_state_write_queue_counters(perma_runtime *rt, unsigned q, const perma_queue_record *record)
 {
-    PERMA_CL_CHECK(rt, "clEnqueueWriteBuffer (queue record)",
-                   clEnqueueWriteBuffer(rt->queue, rt->state.ctl.mem, CL_FALSE, perma_ctl_block_bytes(q),
-                                        sizeof *record, record, 0, NULL, NULL));
+    cl_int err = clEnqueueWriteBuffer(rt->queue, rt->state->ctl.mem, CL_FALSE, perma_ctl_block_bytes(q),
+                                      sizeof *record, record, 0, NULL, NULL);
+    if (err != CL_SUCCESS)
+        return perma_cl_error(rt, "clEnqueueWriteBuffer (queue record)", err);
     return PERMA_OK;
 }
 
@@ -356,9 +407,10 @@ static const uint32_t *overflow_header(const perma_device_state *s, unsigned g)
     return s->overflow_headers + (size_t)g * PERMA_EMIT_AREA_HEADER;
 }
 
-perma_status perma_state_read_overflow(perma_runtime *rt, size_t *per_queue)
+/* The items each queue's groups left in their overflow areas (per_queue[qi]). */
+static perma_status read_overflow(perma_runtime *rt, size_t *per_queue)
 {
-    perma_device_state *s = &rt->state;
+    perma_device_state *s = rt->state;
     if (!s->overflow_headers) {
         s->overflow_headers = calloc((size_t)rt->work_groups * PERMA_EMIT_AREA_HEADER, 4);
         if (!s->overflow_headers)
@@ -369,7 +421,8 @@ perma_status perma_state_read_overflow(perma_runtime *rt, size_t *per_queue)
     cl_int err = clEnqueueReadBufferRect(rt->queue, s->emit_areas.mem, CL_TRUE, origin, origin, region,
                                          4 * emit_area_words(rt), 0, 4 * PERMA_EMIT_AREA_HEADER, 0,
                                          s->overflow_headers, 0, NULL, NULL);
-    PERMA_CL_CHECK(rt, "clEnqueueReadBufferRect (overflow records)", err);
+    if (err != CL_SUCCESS)
+        return perma_cl_error(rt, "clEnqueueReadBufferRect (overflow records)", err);
     memset(per_queue, 0, s->queue_count * sizeof *per_queue);
     for (unsigned g = 0; g < rt->work_groups; ++g) {
         const uint32_t *h = overflow_header(s, g);
@@ -391,6 +444,25 @@ perma_status perma_state_read_overflow(perma_runtime *rt, size_t *per_queue)
     return PERMA_OK;
 }
 
+perma_status perma_state_read_queues(perma_runtime *rt, bool with_overflow, size_t *capacities, size_t *queued,
+                                     size_t *overflow)
+{
+    perma_device_state *s = rt->state;
+    unsigned queues = s->queue_count;
+    perma_ctl_block *ctl = realloc(s->stopped, perma_ctl_block_bytes(queues));
+    if (!ctl)
+        return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory growing queues");
+    s->stopped = ctl;
+    perma_status st = perma_state_read_control(rt, ctl, queues);
+    memset(overflow, 0, queues * sizeof *overflow);
+    if (st == PERMA_OK && with_overflow)
+        st = read_overflow(rt, overflow);
+    capacities_now(s, capacities);
+    for (unsigned qi = 0; st == PERMA_OK && qi < queues; ++qi)
+        queued[qi] = (uint32_t)(ctl->queues[qi].tail - ctl->queues[qi].head);
+    return st;
+}
+
 /* Items queue qi gets from the overflow areas (0 unless read). */
 static size_t overflowed(const perma_device_state *s, unsigned qi, unsigned groups)
 {
@@ -408,7 +480,7 @@ static size_t overflowed(const perma_device_state *s, unsigned qi, unsigned grou
  * in a queue or an overflow area, each queue at the capacity it was given. */
 static perma_status check_stopped(perma_runtime *rt, const perma_ctl_block *ctl)
 {
-    const perma_device_state *s = &rt->state;
+    const perma_device_state *s = rt->state;
     size_t queued = 0;
     for (unsigned qi = 0; qi < s->queue_count; ++qi)
         queued += (uint32_t)(ctl->queues[qi].tail - ctl->queues[qi].head) + overflowed(s, qi, rt->work_groups);
@@ -447,7 +519,7 @@ static size_t max_segments(const perma_runtime *rt)
 static void plan_overflow(const perma_runtime *rt, unsigned qi, perma_relayout_record *rec, uint32_t *segments,
                           size_t *used, size_t segments_at)
 {
-    const perma_device_state *s = &rt->state;
+    const perma_device_state *s = rt->state;
     size_t group_words = emit_area_words(rt);
     rec->overflow_first = (uint32_t)(segments_at + *used);
     for (unsigned g = 0; s->overflow_known && g < rt->work_groups; ++g) {
@@ -475,9 +547,9 @@ static void plan_relayout(const perma_runtime *rt, const perma_ctl_block *ctl, c
     *data_words = *slots = 0;
     next->header.outstanding = ctl->header.outstanding;
     next->header.grow_starved = rt->grow_starved;
-    uint32_t *segments = (uint32_t *)(map + rt->state.queue_count);
-    size_t used = 0, segments_at = rt->state.queue_count * (size_t)PERMA_RELAYOUT_RECORD_WORDS;
-    for (unsigned qi = 0; qi < rt->state.queue_count; ++qi) {
+    uint32_t *segments = (uint32_t *)(map + rt->state->queue_count);
+    size_t used = 0, segments_at = rt->state->queue_count * (size_t)PERMA_RELAYOUT_RECORD_WORDS;
+    for (unsigned qi = 0; qi < rt->state->queue_count; ++qi) {
         const perma_queue_record *old = &ctl->queues[qi];
         uint32_t count = old->tail - old->head, cap = (uint32_t)capacities[qi];
         map[qi] = (perma_relayout_record){ .head = old->head, .count = count, .old_cap = old->cap,
@@ -498,7 +570,7 @@ static void plan_relayout(const perma_runtime *rt, const perma_ctl_block *ctl, c
 static perma_status run_relayout(perma_runtime *rt, unsigned queues, size_t slots, perma_device_buffer *data,
                                  perma_device_buffer *seq)
 {
-    perma_device_state *s = &rt->state;
+    perma_device_state *s = rt->state;
     cl_uint queue_count = queues, slot_count = (cl_uint)slots;
     const struct {
         cl_uint index;
@@ -515,19 +587,23 @@ static perma_status run_relayout(perma_runtime *rt, unsigned queues, size_t slot
         { PERMA_RELAYOUT_ARG_EMIT_AREAS, sizeof(cl_mem), &s->emit_areas.mem },
     };
     _Static_assert(sizeof args / sizeof args[0] == PERMA_RELAYOUT_ARG_TOTAL, "every argument of perma_relayout_kernel");
-    for (size_t i = 0; i < sizeof args / sizeof args[0]; ++i)
-        PERMA_CL_CHECK(rt, "clSetKernelArg (relayout)",
-                       clSetKernelArg(rt->relayout_kernel, args[i].index, args[i].size, args[i].value));
+    cl_int err = CL_SUCCESS;
+    for (size_t i = 0; i < sizeof args / sizeof args[0] && err == CL_SUCCESS; ++i)
+        err = clSetKernelArg(rt->relayout_kernel, args[i].index, args[i].size, args[i].value);
+    if (err != CL_SUCCESS)
+        return perma_cl_error(rt, "clSetKernelArg (relayout)", err);
     size_t local = 64, global = (slots + local - 1) / local * local;
-    PERMA_CL_CHECK(rt, "clEnqueueNDRangeKernel (relayout)",
-                   clEnqueueNDRangeKernel(rt->queue, rt->relayout_kernel, 1, NULL, &global, &local, 0, NULL, NULL));
+    err = clEnqueueNDRangeKernel(rt->queue, rt->relayout_kernel, 1, NULL, &global, &local, 0, NULL, NULL);
+    if (err != CL_SUCCESS)
+        return perma_cl_error(rt, "clEnqueueNDRangeKernel (relayout)", err);
     return PERMA_OK;
 }
 
-perma_status perma_state_grow(perma_runtime *rt, const perma_ctl_block *ctl, const size_t *capacities)
+perma_status perma_state_grow(perma_runtime *rt, const size_t *capacities, size_t bytes)
 {
-    perma_device_state *s = &rt->state;
+    perma_device_state *s = rt->state;
     unsigned queues = s->queue_count;
+    const perma_ctl_block *ctl = s->stopped;
     perma_status st = check_stopped(rt, ctl);
     if (st != PERMA_OK)
         return st;
@@ -554,7 +630,7 @@ perma_status perma_state_grow(perma_runtime *rt, const perma_ctl_block *ctl, con
     s->data = data;
     s->seq = seq;
     data.mem = seq.mem = NULL;
-    st = set_queues(rt, capacities, false);
+    st = set_queues(rt, capacities, bytes, false);
 done:
     s->overflow_known = false; /* appended (or the run failed) */
     release(&data);
@@ -566,22 +642,22 @@ done:
 
 perma_status perma_state_read_stats(perma_runtime *rt, uint32_t *words, size_t count)
 {
-    return read_buffer(rt, &rt->state.stats, words, count * 4, "statistics");
+    return read_buffer(rt, &rt->state->stats, words, count * 4, "statistics");
 }
 
 perma_status perma_state_read_trace(perma_runtime *rt, uint32_t *words, size_t count)
 {
-    return read_buffer(rt, &rt->state.trace, words, count * 4, "trace");
+    return read_buffer(rt, &rt->state->trace, words, count * 4, "trace");
 }
 
 perma_status perma_state_ensure_input(perma_runtime *rt, size_t words)
 {
-    return ensure(rt, &rt->state.input, words * 4, "step input");
+    return ensure(rt, &rt->state->input, words * 4, "step input");
 }
 
 perma_status perma_state_bind(perma_runtime *rt, cl_kernel kernel, cl_uint first_user_arg)
 {
-    perma_device_state *s = &rt->state;
+    perma_device_state *s = rt->state;
     perma_status st = ensure_launch_buffers(rt);
     if (st != PERMA_OK)
         return st;
@@ -594,15 +670,70 @@ perma_status perma_state_bind(perma_runtime *rt, cl_kernel kernel, cl_uint first
     common[PERMA_ARG_TRACE] = s->trace.mem;
     common[PERMA_ARG_EMIT_AREAS] = s->emit_areas.mem;
     common[PERMA_ARG_REDUCTIONS] = s->reductions.mem;
-    for (cl_uint i = 0; i < PERMA_MEGAKERNEL_USER_ARGS; ++i)
-        PERMA_CL_CHECK(rt, "clSetKernelArg", clSetKernelArg(kernel, i, sizeof(cl_mem), &common[i]));
+    cl_int err = CL_SUCCESS;
+    for (cl_uint i = 0; i < PERMA_MEGAKERNEL_USER_ARGS && err == CL_SUCCESS; ++i)
+        err = clSetKernelArg(kernel, i, sizeof(cl_mem), &common[i]);
+    if (err != CL_SUCCESS)
+        return perma_cl_error(rt, "clSetKernelArg", err);
     for (unsigned b = 0; b < rt->buffer_count; ++b) {
         if (!rt->buffers[b].mem)
             return perma_set_error(rt, PERMA_ERR_STATE, "buffer '%s' has no memory bound", rt->buffers[b].name);
-        cl_int err = clSetKernelArg(kernel, first_user_arg + b, sizeof(cl_mem), &rt->buffers[b].mem);
+        err = clSetKernelArg(kernel, first_user_arg + b, sizeof(cl_mem), &rt->buffers[b].mem);
         if (err != CL_SUCCESS)
             return perma_set_error(rt, PERMA_ERR_OPENCL, "clSetKernelArg (buffer '%s') failed: %s (%d)",
                                    rt->buffers[b].name, perma_cl_error_name(err), (int)err);
     }
     return PERMA_OK;
+}
+
+const perma_queue_state *perma_state_queues(const perma_runtime *rt, unsigned *count)
+{
+    *count = rt->state->queue_count;
+    return rt->state->queues;
+}
+
+perma_status perma_state_write_reductions(perma_runtime *rt, const uint64_t *slots, size_t words)
+{
+    cl_int err = clEnqueueWriteBuffer(rt->queue, rt->state->reductions.mem, CL_TRUE, 0, words * sizeof *slots, slots,
+                                      0, NULL, NULL);
+    return err == CL_SUCCESS ? PERMA_OK : perma_cl_error(rt, "clEnqueueWriteBuffer (reductions)", err);
+}
+
+perma_status perma_state_read_reductions(perma_runtime *rt, uint64_t *slots, size_t words)
+{
+    cl_int err = clEnqueueReadBuffer(rt->queue, rt->state->reductions.mem, CL_TRUE, 0, words * sizeof *slots, slots, 0,
+                                     NULL, NULL);
+    return err == CL_SUCCESS ? PERMA_OK : perma_cl_error(rt, "clEnqueueReadBuffer (reductions)", err);
+}
+
+perma_status perma_state_bind_take(perma_runtime *rt)
+{
+    const perma_device_state *s = rt->state;
+    const struct {
+        cl_uint index;
+        const cl_mem *mem;
+    } args[] = {
+        { PERMA_TAKE_ARG_CTL, &s->ctl.mem },
+        { PERMA_TAKE_ARG_QUEUE_DATA, &s->data.mem },
+        { PERMA_TAKE_ARG_QUEUE_SEQ, &s->seq.mem },
+        { PERMA_TAKE_ARG_INPUT, &s->input.mem },
+    };
+    cl_int err = CL_SUCCESS;
+    for (size_t i = 0; i < sizeof args / sizeof args[0] && err == CL_SUCCESS; ++i)
+        err = clSetKernelArg(rt->take_kernel, args[i].index, sizeof(cl_mem), args[i].mem);
+    return err == CL_SUCCESS ? PERMA_OK : perma_cl_error(rt, "clSetKernelArg (take)", err);
+}
+
+perma_status perma_state_bind_step(perma_runtime *rt)
+{
+    perma_status st = perma_state_bind(rt, rt->step_kernel, PERMA_STEP_USER_ARGS);
+    if (st != PERMA_OK)
+        return st;
+    cl_int err = clSetKernelArg(rt->step_kernel, PERMA_STEP_ARG_INPUT, sizeof(cl_mem), &rt->state->input.mem);
+    return err == CL_SUCCESS ? PERMA_OK : perma_cl_error(rt, "clSetKernelArg (step)", err);
+}
+
+uint32_t perma_state_watch_clock(const perma_runtime *rt)
+{
+    return __atomic_load_n(rt->state->abort_flag + PERMA_WATCH_CLOCK, __ATOMIC_RELAXED);
 }

@@ -15,7 +15,7 @@ void perma_stats_reset(perma_runtime *rt)
     rt->stats.work_groups = rt->work_groups;
     rt->stats.group_size = rt->group_size;
     rt->stats.procedure_count = rt->proc_count;
-    rt->stats.queue_memory_limit = perma_queues_memory_limit(rt);
+    rt->stats.queue_memory_limit = rt->queue_layout.memory_limit;
     for (unsigned q = 0; q < rt->proc_count; ++q) {
         perma_proc_info *p = &rt->procs[q];
         memset(&p->stats, 0, sizeof p->stats);
@@ -30,7 +30,7 @@ perma_status perma_stats_collect(perma_runtime *rt)
     unsigned n = rt->proc_count, stride = PERMA_STAT_PROC_WORDS_FOR(rt->max_edges);
     unsigned group_words = PERMA_STAT_GROUP_WORDS_FOR(n, rt->max_edges);
     size_t stats_words = (size_t)rt->work_groups * group_words;
-    unsigned queues = rt->state.queue_count;
+    unsigned queues = rt->queue_layout.count;
     size_t ctl_bytes = perma_ctl_block_bytes(queues);
     if (!rt->group_stats) {
         rt->group_stats = calloc(rt->work_groups, sizeof *rt->group_stats);
@@ -91,13 +91,14 @@ perma_status perma_stats_collect(perma_runtime *rt)
     return PERMA_OK;
 }
 
-/* The largest capacity of target t's queues (one per queue set). */
-static size_t target_capacity(const perma_runtime *rt, unsigned t)
+/* The largest capacity of target t's queues (one per queue set) among
+ * the `count` queues. */
+static size_t target_capacity(const perma_runtime *rt, const perma_queue_state *queues, unsigned count, unsigned t)
 {
     size_t cap = 0;
-    for (unsigned qi = t; qi < rt->state.queue_count; qi += rt->proc_count)
-        if (rt->state.queues[qi].capacity > cap)
-            cap = rt->state.queues[qi].capacity;
+    for (unsigned qi = t; qi < count; qi += rt->proc_count)
+        if (queues[qi].capacity > cap)
+            cap = queues[qi].capacity;
     return cap;
 }
 
@@ -109,7 +110,7 @@ static size_t target_capacity(const perma_runtime *rt, unsigned t)
  * item, did not fit the target's queue, so a batch could only reserve room
  * for a few items.  The .emits entry responsible: the one staging the most
  * bytes, or reserving the most for its target's capacity. */
-static void explain_batches(perma_runtime *rt, unsigned q)
+static void explain_batches(perma_runtime *rt, const perma_queue_state *queues, unsigned count, unsigned q)
 {
     const perma_proc_info *p = &rt->procs[q];
     perma_procedure_stats *ps = &rt->procs[q].stats;
@@ -118,7 +119,7 @@ static void explain_batches(perma_runtime *rt, unsigned q)
     ps->batch_cut_emit = -1;
     if (ps->peak_queue_items <= p->max_batch)
         return;
-    if (p->max_batch_local < perma_full_batch(rt, p)) {
+    if (p->max_batch_local < p->full_batch) {
         ps->batch_cut = PERMA_BATCH_CUT_LOCAL_MEMORY;
         return;
     }
@@ -138,7 +139,7 @@ static void explain_batches(perma_runtime *rt, unsigned q)
         return;
     double worst = 1.0;
     for (unsigned e = 0; e < p->emit_count; ++e) {
-        size_t cap = target_capacity(rt, (unsigned)p->emit_target[e]);
+        size_t cap = target_capacity(rt, queues, count, (unsigned)p->emit_target[e]);
         double mean = (double)ps->emitted[e] / (double)ps->items;
         double over = cap ? (double)p->max_batch * mean / (double)cap : 0.0;
         if (over > worst) {
@@ -151,23 +152,23 @@ static void explain_batches(perma_runtime *rt, unsigned q)
 
 /* Each procedure's final queue capacity (summed over queue sets), most
  * regrowths of one of its queues, and its batches. */
-void perma_stats_finish(perma_runtime *rt)
+void perma_stats_finish(perma_runtime *rt, const perma_queue_state *queues, unsigned count)
 {
     for (unsigned q = 0; q < rt->proc_count; ++q) {
         rt->procs[q].stats.initial_capacity = 0;
         rt->procs[q].stats.queue_capacity = 0;
         rt->procs[q].stats.regrowths = 0;
     }
-    for (unsigned qi = 0; qi < rt->state.queue_count; ++qi) {
+    for (unsigned qi = 0; qi < count; ++qi) {
         perma_procedure_stats *ps = &rt->procs[qi % rt->proc_count].stats;
-        ps->initial_capacity += rt->state.queues[qi].initial;
-        ps->queue_capacity += rt->state.queues[qi].capacity;
-        if (rt->state.queues[qi].regrowths > ps->regrowths)
-            ps->regrowths = rt->state.queues[qi].regrowths;
+        ps->initial_capacity += queues[qi].initial;
+        ps->queue_capacity += queues[qi].capacity;
+        if (queues[qi].regrowths > ps->regrowths)
+            ps->regrowths = queues[qi].regrowths;
     }
     if (rt->built)
         for (unsigned q = 0; q < rt->proc_count; ++q)
-            explain_batches(rt, q);
+            explain_batches(rt, queues, count, q);
 }
 
 perma_status perma_get_stats(perma_runtime *rt, perma_stats *out)
@@ -239,9 +240,11 @@ perma_status perma_get_group_stats(perma_runtime *rt, unsigned group, perma_grou
  * declaration responsible and the fix. */
 static void print_batch_warning(const perma_runtime *rt, unsigned q, FILE *out)
 {
+    unsigned count;
+    const perma_queue_state *queues = perma_state_queues(rt, &count);
     const perma_proc_info *p = &rt->procs[q];
     const perma_procedure_stats *ps = &p->stats;
-    unsigned full = perma_full_batch(rt, p);
+    unsigned full = p->full_batch;
     int e = ps->batch_cut_emit;
     const char *target = e >= 0 ? p->emit_target_name[e] : "";
     if (ps->batch_cut == PERMA_BATCH_CUT_STAGING && e >= 0)
@@ -262,8 +265,8 @@ static void print_batch_warning(const perma_runtime *rt, unsigned q, FILE *out)
                      "cut, up to config.queue_memory_limit, %zu bytes); raise the limit, or let fewer items wait "
                      "(docs/writing-procedures.md, section 6)\n",
                 p->name, (double)ps->items / (double)ps->batches, ps->batch_size,
-                (double)ps->emitted[e] / (double)ps->items, target, target_capacity(rt, (unsigned)p->emit_target[e]),
-                perma_queues_memory_limit(rt));
+                (double)ps->emitted[e] / (double)ps->items, target, target_capacity(rt, queues, count, (unsigned)p->emit_target[e]),
+                perma_queue_memory_limit(rt));
 }
 
 void perma_print_stats(perma_runtime *rt, FILE *out)

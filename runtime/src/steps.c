@@ -45,7 +45,7 @@ static uint32_t least_worth_a_launch(const perma_runtime *rt, unsigned q, uint32
     uint64_t least = (uint64_t)rt->work_groups * p->max_batch * STEP_MIN_BATCHES, reserved = 0;
     for (unsigned e = 0; e < p->emit_count; ++e)
         reserved += (uint64_t)p->emit_max[e] * (rt->procs[p->emit_target[e]].item_size + PERMA_QUEUE_SLOT_OVERHEAD);
-    uint64_t affordable = reserved ? perma_queues_memory_limit(rt) / 4 / reserved : least;
+    uint64_t affordable = reserved ? perma_queue_memory_limit(rt) / 4 / reserved : least;
     if (least > affordable)
         least = affordable > 0 ? affordable : 1;
     return want < least ? want : (uint32_t)least;
@@ -71,15 +71,15 @@ static perma_status set_take_args(perma_runtime *rt, cl_uint qi, cl_uint first, 
         size_t size;
         const void *value;
     } args[] = {
-        { PERMA_TAKE_ARG_CTL, sizeof(cl_mem), &rt->state.ctl.mem },
-        { PERMA_TAKE_ARG_QUEUE_DATA, sizeof(cl_mem), &rt->state.data.mem },
-        { PERMA_TAKE_ARG_QUEUE_SEQ, sizeof(cl_mem), &rt->state.seq.mem },
-        { PERMA_TAKE_ARG_INPUT, sizeof(cl_mem), &rt->state.input.mem },
         { PERMA_TAKE_ARG_QUEUE, sizeof qi, &qi },
         { PERMA_TAKE_ARG_FIRST, sizeof first, &first },
         { PERMA_TAKE_ARG_COUNT, sizeof take, &take },
     };
-    _Static_assert(sizeof args / sizeof args[0] == PERMA_TAKE_ARG_TOTAL, "every argument of perma_take_kernel");
+    _Static_assert(sizeof args / sizeof args[0] + 4 == PERMA_TAKE_ARG_TOTAL,
+                   "every argument of perma_take_kernel (four are the state's)");
+    perma_status st = perma_state_bind_take(rt);
+    if (st != PERMA_OK)
+        return st;
     for (size_t i = 0; i < sizeof args / sizeof args[0]; ++i)
         PERMA_CL_CHECK(rt, "clSetKernelArg (take)",
                        clSetKernelArg(rt->take_kernel, args[i].index, args[i].size, args[i].value));
@@ -88,11 +88,9 @@ static perma_status set_take_args(perma_runtime *rt, cl_uint qi, cl_uint first, 
 
 static perma_status set_step_args(perma_runtime *rt, cl_uint proc, cl_uint count)
 {
-    perma_status st = perma_state_bind(rt, rt->step_kernel, PERMA_STEP_USER_ARGS);
+    perma_status st = perma_state_bind_step(rt);
     if (st != PERMA_OK)
         return st;
-    PERMA_CL_CHECK(rt, "clSetKernelArg (step)",
-                   clSetKernelArg(rt->step_kernel, PERMA_STEP_ARG_INPUT, sizeof(cl_mem), &rt->state.input.mem));
     PERMA_CL_CHECK(rt, "clSetKernelArg (step)", clSetKernelArg(rt->step_kernel, PERMA_STEP_ARG_PROC, sizeof proc, &proc));
     PERMA_CL_CHECK(rt, "clSetKernelArg (step)",
                    clSetKernelArg(rt->step_kernel, PERMA_STEP_ARG_COUNT, sizeof count, &count));

@@ -72,10 +72,6 @@ static void push_sample(perma_runtime *rt, double time, uint32_t tick)
     rt->trace_samples[rt->trace_sample_count++] = (perma_trace_sample){ time, tick };
 }
 
-static uint32_t clock_now(const perma_runtime *rt)
-{
-    return __atomic_load_n(rt->state.abort_flag + PERMA_WATCH_CLOCK, __ATOMIC_RELAXED);
-}
 
 void perma_trace_launch_begins(perma_runtime *rt, double now)
 {
@@ -90,7 +86,7 @@ void perma_trace_read_clock(perma_runtime *rt, double now)
 {
     if (!perma_trace_on_device(rt) || rt->trace_sample_count == 0)
         return;
-    uint32_t tick = clock_now(rt);
+    uint32_t tick = perma_state_watch_clock(rt);
     if (tick == rt->trace_samples[rt->trace_sample_count - 1].tick) {
         /* Not moved: remember the latest time it still showed this. */
         rt->trace_pending = true;

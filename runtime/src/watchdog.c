@@ -3,7 +3,7 @@
  *   - the stall limit (config.stall_limit): no item completed anywhere for
  *     that long, read from the groups' batch counts on the watch page
  *     (kernels/perma_abi.h) where the host can see them while the kernel
- *     runs (rt->watch_visible).
+ *     runs (rt->caps.watch_visible).
  * Either raises the abort flag every group polls and keeps the reason for
  * the error; a kernel that has not stopped GRACE_SECONDS later (a
  * procedure that never returns) is given up (rt->hung).
@@ -362,7 +362,7 @@ static perma_status watch(perma_runtime *rt, cl_event done, double deadline)
         for (unsigned q = 0; q < rt->proc_count && !page_seen; ++q)
             page_seen = running[q] != 0;
         page_seen = page_seen || finished != 0;
-        if (aborted_at == 0.0 && rt->watch_visible && page_seen && now - progress_at > stall_limit) {
+        if (aborted_at == 0.0 && rt->caps.watch_visible && page_seen && now - progress_at > stall_limit) {
             w->stalled = true;
             describe_in_flight(rt, running, w->in_flight, sizeof w->in_flight);
             perma_state_raise_abort(rt);
