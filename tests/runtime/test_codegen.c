@@ -42,9 +42,14 @@ static char *generate(perma_runtime *rt)
     ck_assert_perma_ok(rt, perma_register(rt, &consume, &id));
     ck_assert_perma_ok(rt, perma_register(rt, &count, &id));
     ck_assert_perma_ok(rt, perma_build_layout(rt));
-    perma_strbuf sb;
+    perma_strbuf sb, reduce_constants, reduce_helpers;
     perma_strbuf_init(&sb);
-    ck_assert_perma_ok(rt, perma_generate_program(rt, &sb));
+    perma_strbuf_init(&reduce_constants);
+    perma_strbuf_init(&reduce_helpers);
+    perma_reductions_generate(rt, &reduce_constants, &reduce_helpers);
+    ck_assert_perma_ok(rt, perma_generate_program(rt, &reduce_constants, &reduce_helpers, &sb));
+    perma_strbuf_free(&reduce_constants);
+    perma_strbuf_free(&reduce_helpers);
     ck_assert(!sb.failed);
     return sb.data;
 }
