@@ -84,6 +84,7 @@ static perma_runtime *log_runtime(char *log)
     perma_config_init(&rt->config);
     rt->config.build_log = collect;
     rt->config.build_log_user = log;
+    perma_settings_read(&rt->settings); /* as perma_create does: PERMA_BUILD_LOG */
     log[0] = '\0';
     return rt;
 }
@@ -130,6 +131,7 @@ START_TEST(perma_build_log_shows_the_whole_log)
     ck_assert_str_eq(log, "perma: build log (the build failed):\nx.cl:1:1: error: bad\n");
     /* PERMA_BUILD_LOG=0 is off. */
     setenv("PERMA_BUILD_LOG", "0", 1);
+    perma_settings_read(&rt->settings);
     log[0] = '\0';
     perma_build_log_show(rt, "x.cl:1:1: error: bad\n", true);
     ck_assert_str_eq(log, "");
