@@ -2,6 +2,7 @@
  * grow when a launch runs out of room, and the cap on their memory.  Only
  * numbers: the device state (state.c) lays the queues out. */
 #include "executor.h"
+#include "schedule_table.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -27,7 +28,8 @@ size_t perma_queues_memory_limit(const perma_runtime *rt)
 
 unsigned perma_queues_sets(const perma_runtime *rt)
 {
-    return rt->executor->persistent && rt->config.schedule.strategy != PERMA_STRATEGY_SHARED ? rt->work_groups : 1;
+    const perma_strategy_info *strategy = perma_strategy_row((int)rt->config.schedule.strategy);
+    return rt->executor->persistent && strategy && strategy->per_group_queue_sets ? rt->work_groups : 1;
 }
 
 static size_t initial_capacity(const perma_runtime *rt)
