@@ -143,9 +143,15 @@ typedef struct bench_variant {
     char name[80];          /* its rows' name: the label, plus " @DEVICE" with --devices */
 } bench_variant;
 
-/* The labels of the variants every benchmark measures. */
-extern const char *const bench_variants[];
-extern const unsigned bench_variant_count;
+/* The variants every benchmark measures: how many, and the label of
+ * variant `index` (NULL past the last one). */
+unsigned bench_variant_count(void);
+const char *bench_variant_label(unsigned index);
+/* The labels of every schedule of `set` (perma_schedule_all), the bounded
+ * batches with their default limit named ("bounded-batches/p=4096"), at
+ * most `max` of them; returns how many. */
+#define BENCH_LABEL_SIZE 64
+unsigned bench_schedule_labels(perma_schedule_set set, char (*labels)[BENCH_LABEL_SIZE], unsigned max);
 
 /* Parse a label into *out (out->label points to it); the parser's status
  * and, in *error (may be NULL), its message. */

@@ -181,9 +181,9 @@ static int run_order(const bench_options *o, pipe_state *s, int upstream_first, 
         bench_report_add(report, &row, 0);
     }
 
-    for (unsigned i = 0; i < bench_variant_count; ++i) {
+    for (unsigned i = 0; i < bench_variant_count(); ++i) {
         bench_variant v;
-        if (!bench_variant_select(o, bench_variants[i], &v))
+        if (!bench_variant_select(o, bench_variant_label(i), &v))
             continue;
         for (unsigned d = 0; d < bench_device_passes(o); ++d) {
             bench_variant_use_device(o, d, &v);

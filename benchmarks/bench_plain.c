@@ -69,9 +69,9 @@ static void perma_row(const plain_options *o, const bench_variant *v, plain_coun
 void plain_perma_rows(const plain_options *o, bench_report *report, const char *title, const char *unit,
                       double units, const plain_perma *w)
 {
-    for (unsigned i = 0; i < bench_variant_count; ++i) {
+    for (unsigned i = 0; i < bench_variant_count(); ++i) {
         bench_variant v;
-        if (!bench_variant_select(o->common, bench_variants[i], &v))
+        if (!bench_variant_select(o->common, bench_variant_label(i), &v))
             continue;
         for (unsigned d = 0; d < bench_device_passes(o->common); ++d) {
             bench_variant_use_device(o->common, d, &v);

@@ -431,9 +431,9 @@ int bench_queue(bench_options *o, int argc, char **argv)
         s->seeds[g] = g;
     for (unsigned gi = 0; gi < group_count; ++gi)
         for (unsigned si = 0; si < size_count; ++si)
-            for (unsigned i = 0; i < bench_variant_count; ++i) {
+            for (unsigned i = 0; i < bench_variant_count(); ++i) {
                 bench_variant v;
-                if (!bench_variant_select(o, bench_variants[i], &v))
+                if (!bench_variant_select(o, bench_variant_label(i), &v))
                     continue;
                 for (unsigned d = 0; d < bench_device_passes(o); ++d) {
                     bench_variant_use_device(o, d, &v);

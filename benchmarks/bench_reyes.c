@@ -32,20 +32,36 @@
 #define STAGE_MODES 3
 #define MAX_SIZES REYES_BENCH_MAX_SIZES
 
-/* The variants measured: every technique and the main strategies, as
- * schedule labels.  print_summary compares entries 0 (megakernel/shared)
- * and 4 (kernel-per-procedure). */
-static const char *const reyes_variants[] = {
-    "megakernel/shared",
-    "megakernel/stealing/random",
-    "megakernel/donation",
-    "megakernel/stealing-donation/random",
-    "kernel-per-procedure",
-    "bounded-batches/p=4096",
-};
-#define VARIANT_COUNT (sizeof reyes_variants / sizeof reyes_variants[0])
+/* The variants measured: every technique and strategy with the default
+ * victim (perma_schedule_all), as schedule labels.  print_summary compares
+ * entry 0 (megakernel/shared) with kernel-per-procedure. */
+#define VARIANT_MAX 16
+static char reyes_variants[VARIANT_MAX][BENCH_LABEL_SIZE];
+
+static unsigned variant_count(void)
+{
+    static unsigned count;
+    if (!count)
+        count = bench_schedule_labels(PERMA_SCHEDULES_DEFAULT_VICTIM, reyes_variants, VARIANT_MAX);
+    return count;
+}
+
+/* The label of entry v ("" past the last one). */
+static const char *reyes_variant(unsigned v)
+{
+    return v < variant_count() ? reyes_variants[v] : "";
+}
+
+/* The entry of kernel-per-procedure (VARIANT_MAX: none). */
+static unsigned kernel_per_procedure_variant(void)
+{
+    for (unsigned v = 0; v < variant_count(); ++v)
+        if (strcmp(reyes_variant(v), perma_technique_name(PERMA_TECHNIQUE_KERNEL_PER_PROCEDURE)) == 0)
+            return v;
+    return VARIANT_MAX;
+}
 /* A renderer per variant and device (--devices): slot v * BENCH_MAX_DEVICES + d. */
-#define SLOTS (VARIANT_COUNT * BENCH_MAX_DEVICES)
+#define SLOTS (VARIANT_MAX * BENCH_MAX_DEVICES)
 #define SLOT(v, d) ((v) * BENCH_MAX_DEVICES + (d))
 
 /* Stage modes in the order the rows are printed. */
@@ -378,7 +394,7 @@ static void print_summary(const bench_options *options, const double reference[S
     printf("\n  stages (by difference, seconds):     subdivide   dice geometry   shade+sample   total\n");
     printf("  %-34s %9.4f %15.4f %14.4f %7.4f\n", "C reference (1 thread)", reference[2],
            reference[1] - reference[2], reference[0] - reference[1], reference[0]);
-    for (unsigned v = 0; v < VARIANT_COUNT; ++v) {
+    for (unsigned v = 0; v < variant_count(); ++v) {
         for (unsigned d = 0; d < bench_device_passes(options); ++d) {
             const variant_times *t = &times[SLOT(v, d)];
             if (!t->ran)
@@ -388,7 +404,9 @@ static void print_summary(const bench_options *options, const double reference[S
         }
     }
     for (unsigned d = 0; d < bench_device_passes(options); ++d) {
-        const variant_times *mk = &times[SLOT(0, d)], *kpp = &times[SLOT(4, d)];
+        unsigned kpp_variant = kernel_per_procedure_variant();
+        const variant_times *mk = &times[SLOT(0, d)];
+        const variant_times *kpp = kpp_variant < VARIANT_MAX ? &times[SLOT(kpp_variant, d)] : NULL;
         const char *on = options->device_count ? options->devices[d] : "";
         if (!mk->ran)
             continue;
@@ -399,7 +417,7 @@ static void print_summary(const bench_options *options, const double reference[S
         if (vs_openmp > 0.0)
             printf("  %s%smegakernel/shared vs C reference OpenMP (%u threads): full render %.2fx (target >= 1.5x: "
                    "%s)\n", on, *on ? ": " : "", threads, vs_openmp, vs_openmp >= 1.5 ? "met" : "NOT met");
-        if (kpp->ran) {
+        if (kpp && kpp->ran) {
             double vs_kpp = ratio(kpp->seconds[0], mk->seconds[0]);
             printf("  %s%smegakernel/shared vs kernel-per-procedure: full render %.2fx (target >= 2x: %s), "
                    "geometry only %.2fx\n", on, *on ? ": " : "", vs_kpp, vs_kpp >= 2.0 ? "met" : "NOT met",
@@ -418,9 +436,9 @@ int reyes_bench_file_exists(const char *path)
 static void create_renderers(const reyes_bench_args *a, const bench_options *options,
                              reyes_renderer *renderers[SLOTS])
 {
-    for (unsigned i = 0; i < VARIANT_COUNT; ++i) {
+    for (unsigned i = 0; i < variant_count(); ++i) {
         bench_variant v;
-        if (!bench_variant_select(options, reyes_variants[i], &v))
+        if (!bench_variant_select(options, reyes_variant(i), &v))
             continue;
         for (unsigned d = 0; d < bench_device_passes(options); ++d) {
             bench_variant_use_device(options, d, &v);
@@ -439,7 +457,7 @@ static void warm_up(const reyes_scene *scene, const reyes_bench_args *a, const b
 {
     for (unsigned i = 0; i < SLOTS; ++i) {
         bench_variant v;
-        if (!renderers[i] || bench_variant_parse(reyes_variants[i / BENCH_MAX_DEVICES], &v, NULL) != PERMA_OK)
+        if (!renderers[i] || bench_variant_parse(reyes_variant(i / BENCH_MAX_DEVICES), &v, NULL) != PERMA_OK)
             continue;
         reyes_options o = reyes_bench_render_options(a, options, &v, 64, 64);
         reyes_camera camera;
@@ -510,7 +528,7 @@ static void run_workload(bench_report *report, const char *model, const reyes_sc
     for (unsigned i = 0; i < SLOTS; ++i) {
         unsigned v = i / BENCH_MAX_DEVICES, d = i % BENCH_MAX_DEVICES;
         bench_variant variant;
-        if (!renderers[i] || bench_variant_parse(reyes_variants[v], &variant, NULL) != PERMA_OK)
+        if (!renderers[i] || bench_variant_parse(reyes_variant(v), &variant, NULL) != PERMA_OK)
             continue;
         bench_variant_use_device(options, d, &variant);
         snprintf(times[i].name, sizeof times[i].name, "%s", variant.name);
@@ -520,7 +538,7 @@ static void run_workload(bench_report *report, const char *model, const reyes_sc
     }
     bench_variant first;
     perma_error parse_error;
-    if (bench_variant_parse(reyes_variants[0], &first, &parse_error) != PERMA_OK) {
+    if (bench_variant_parse(reyes_variant(0), &first, &parse_error) != PERMA_OK) {
         printf("reyes: %s\n", parse_error.message);
         return;
     }
@@ -591,7 +609,7 @@ static void run_defaults(bench_report *report, const char *model, const reyes_sc
     static stage_timing single, parallel, plain[BENCH_MAX_DEVICES], stitched[BENCH_MAX_DEVICES];
     unsigned threads = bench_threads(options), devices = bench_device_passes(options);
     bench_variant variant;
-    if (bench_variant_parse(reyes_variants[0], &variant, NULL) != PERMA_OK)
+    if (bench_variant_parse(reyes_variant(0), &variant, NULL) != PERMA_OK)
         return;
     reyes_options o[BENCH_MAX_DEVICES], base = reyes_bench_render_options(a, options, &variant, width, height);
     base.shading_rate = 1.0f;

@@ -228,8 +228,8 @@ static reyes_renderer *create_renderer(const reyes_bench_args *a, const bench_op
  * *out; 0 if none. */
 static int first_selected(const bench_options *options, bench_variant *out)
 {
-    for (unsigned v = 0; v < bench_variant_count; ++v)
-        if (bench_variant_select(options, bench_variants[v], out))
+    for (unsigned v = 0; v < bench_variant_count(); ++v)
+        if (bench_variant_select(options, bench_variant_label(v), out))
             return 1;
     return 0;
 }
@@ -437,12 +437,12 @@ int reyes_bench_effects(bench_report *report, const reyes_bench_args *a, const b
     if (a->workloads & REYES_BENCH_BUCKETS) {
         /* Megakernel/shared keeps its queues small anyway; kernel-per-
          * procedure holds a breadth-first level, which buckets bound. */
-        const char *labels[2] = { bench_variants[0], NULL };
-        for (unsigned v = 0; v < bench_variant_count; ++v) {
+        const char *labels[2] = { bench_variant_label(0), NULL };
+        for (unsigned v = 0; v < bench_variant_count(); ++v) {
             perma_schedule s;
-            if (perma_schedule_parse(bench_variants[v], &s, NULL) == PERMA_OK
+            if (perma_schedule_parse(bench_variant_label(v), &s, NULL) == PERMA_OK
                 && s.technique == PERMA_TECHNIQUE_KERNEL_PER_PROCEDURE)
-                labels[1] = bench_variants[v];
+                labels[1] = bench_variant_label(v);
         }
         bench_variant parsed[2];
         const bench_variant *variants[2] = { &parsed[0], &parsed[1] };

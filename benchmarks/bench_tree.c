@@ -268,9 +268,9 @@ static int run_tree(const bench_options *o, const uts_tree *t, unsigned group_si
         fprintf(stderr, "perma-bench: out of memory\n");
         return 1;
     }
-    for (unsigned i = 0; i < bench_variant_count; ++i) {
+    for (unsigned i = 0; i < bench_variant_count(); ++i) {
         bench_variant v;
-        if (!bench_variant_select(o, bench_variants[i], &v))
+        if (!bench_variant_select(o, bench_variant_label(i), &v))
             continue;
         for (unsigned d = 0; d < bench_device_passes(o); ++d) {
             bench_variant_use_device(o, d, &v);

@@ -31,9 +31,7 @@ import subprocess
 import sys
 import time
 
-VARIANTS = ["megakernel/shared", "megakernel/stealing/random", "megakernel/stealing/round-robin",
-            "megakernel/donation", "megakernel/stealing-donation/random", "megakernel/shared+local256",
-            "megakernel/stealing/random+local256", "kernel-per-procedure", "bounded-batches/p=4096"]
+SCHEDULES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "runtime", "tools", "schedules.py")
 BENCHMARKS = ["pipeline", "tree", "queue"]
 
 
@@ -95,9 +93,17 @@ def thread_report(pid):
     return "\n".join(lines)
 
 
+def schedules():
+    """The schedules perma-bench measures (the runtime's schedule table, the
+    victims under one stealing strategy): as --only text a label also
+    selects its rows with options (+local256, /p=4096)."""
+    return subprocess.run([sys.executable, SCHEDULES, "once"], check=True, stdout=subprocess.PIPE,
+                          text=True).stdout.split()
+
+
 def stress(args, bench):
     commands = [[bench, b, "--quick", "--repeat", "1"] for b in BENCHMARKS]
-    commands += [[bench, b, "--quick", "--repeat", "1", "--only", v] for b in BENCHMARKS for v in VARIANTS]
+    commands += [[bench, b, "--quick", "--repeat", "1", "--only", v] for b in BENCHMARKS for v in schedules()]
     rng = random.Random(args.seed)
     hogs = start_hogs(args.hogs)
     running = {}

@@ -1,25 +1,66 @@
-/* The perma variants every benchmark measures: one row per technique and
- * megakernel strategy, as schedule labels (perma_schedule_parse).  A
- * variant the runtime does not implement yet fails in perma_create or
- * perma_run and prints as n/a, so entries simply start working when the
- * runtime does. */
+/* The perma variants every benchmark measures: one row per schedule of the
+ * runtime (perma_schedule_all, the victims under one stealing strategy),
+ * plus a local front queue under two of them, as schedule labels
+ * (perma_schedule_parse).  A variant the runtime does not implement yet
+ * fails in perma_create or perma_run and prints as n/a, so entries simply
+ * start working when the runtime does. */
 #include "bench.h"
 
+#include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
 
-const char *const bench_variants[] = {
-    "megakernel/shared",
-    "megakernel/stealing/random",
-    "megakernel/stealing/round-robin",
-    "megakernel/donation",
-    "megakernel/stealing-donation/random",
-    "megakernel/shared+local256",
-    "megakernel/stealing/random+local256",
-    "kernel-per-procedure",
-    "bounded-batches/p=4096",
-};
-const unsigned bench_variant_count = sizeof bench_variants / sizeof bench_variants[0];
+/* The bounded batches' default limit (perma.h), named in their rows'
+ * label so that the rows say what they measured. */
+#define BOUNDED_BATCH_LIMIT 4096
+
+unsigned bench_schedule_labels(perma_schedule_set set, char (*labels)[BENCH_LABEL_SIZE], unsigned max)
+{
+    perma_schedule s;
+    unsigned n = 0;
+    for (; n < max && perma_schedule_all(set, n, &s) == PERMA_OK; ++n) {
+        if (s.technique == PERMA_TECHNIQUE_BOUNDED_BATCHES)
+            s.batch_limit = BOUNDED_BATCH_LIMIT;
+        perma_schedule_format(&s, labels[n], BENCH_LABEL_SIZE);
+    }
+    return n;
+}
+
+/* After the megakernel's rows: its local front queue (+localN) under the
+ * shared queues and under stealing. */
+static const char *const local_queue_rows[] = { "megakernel/shared+local256", "megakernel/stealing/random+local256" };
+#define LOCAL_QUEUE_ROWS (sizeof local_queue_rows / sizeof local_queue_rows[0])
+#define MAX_VARIANTS 32
+
+static char labels[MAX_VARIANTS][BENCH_LABEL_SIZE];
+static unsigned count;
+
+static void list_variants(void)
+{
+    char schedules[MAX_VARIANTS - LOCAL_QUEUE_ROWS][BENCH_LABEL_SIZE];
+    unsigned n = bench_schedule_labels(PERMA_SCHEDULES_VICTIMS_ONCE, schedules, MAX_VARIANTS - LOCAL_QUEUE_ROWS);
+    bool local_rows_listed = false;
+    for (unsigned i = 0; i < n; ++i) {
+        if (!local_rows_listed && strncmp(schedules[i], "megakernel", strlen("megakernel")) != 0) {
+            for (unsigned r = 0; r < LOCAL_QUEUE_ROWS; ++r)
+                snprintf(labels[count++], BENCH_LABEL_SIZE, "%s", local_queue_rows[r]);
+            local_rows_listed = true;
+        }
+        memcpy(labels[count++], schedules[i], BENCH_LABEL_SIZE);
+    }
+}
+
+unsigned bench_variant_count(void)
+{
+    if (!count)
+        list_variants();
+    return count;
+}
+
+const char *bench_variant_label(unsigned index)
+{
+    return index < bench_variant_count() ? labels[index] : NULL;
+}
 
 perma_status bench_variant_parse(const char *label, bench_variant *out, perma_error *error)
 {

@@ -26,7 +26,7 @@
     ((ctl) + PERMA_CTL_HEADER_WORDS + PERMA_QUEUE_SETS * PERMA_NUM_PROCS * PERMA_QUEUE_WORDS + \
      (g) * PERMA_GROUP_WORDS)
 
-/* The phases of a batch (perma_schedule, perma_read_items, perma_dispatch,
+/* The phases of a batch (perma_pick_batch, perma_read_items, perma_dispatch,
  * perma_emit, perma_reserve_emits, perma_write_emits, perma_publish_emits)
  * are inline; built with -DPERMA_PROFILE_PHASES (e.g. through PoCL's
  * POCL_EXTRA_BUILD_FLAGS) they and the procedures stay separate functions,

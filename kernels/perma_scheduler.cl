@@ -8,7 +8,19 @@
  * procedure); with the distributed strategies each group owns a set, emits
  * into its own set, steals batches from other sets when its own is empty
  * (PERMA_STEALING) and moves items to the emptiest set when its own queue
- * passes a threshold (PERMA_DONATION).
+ * passes a threshold (PERMA_DONATION).  Which of these a strategy does is
+ * its row of the schedule table (runtime/src/schedules.def), which codegen
+ * turns into the PERMA_STEALING / PERMA_DONATION constants.
+ *
+ * perma_pick_batch tries the ways to find a batch in order, each a small
+ * function that is a no-op when the schedule does not use it:
+ *   perma_take_local   the group's local front queue (+localN)
+ *   perma_donate       give items away (donation)
+ *   perma_take_own     the group's own queue set (every strategy)
+ *   perma_steal        another group's set (stealing)
+ *   perma_adopt        the set of a group that is not running (donation
+ *                      without stealing)
+ * and each that finds one starts it with perma_begin_batch.
  *
  * Uses the generated tables (perma_order, perma_max_batch, ...), the
  * generated perma_dispatch(), PERMA_BUFFER_PARAMS and PERMA_BIND_BUFFERS.
@@ -81,7 +93,7 @@ inline uint perma_try_donate(__global uint *ctl, uint own, uint *proc, uint *des
         int fewest = mine;
         for (uint s = 0; s < PERMA_QUEUE_SETS; ++s) {
             if (s == own || !perma_group_running(ctl, s))
-                continue; /* nobody serves it now (perma_try_adopt) */
+                continue; /* nobody serves it now (perma_adopt) */
             int theirs = perma_queue_available(PERMA_QUEUE(ctl, PERMA_QINDEX(s, q)));
             if (theirs < fewest) {
                 fewest = theirs;
@@ -106,38 +118,10 @@ inline uint perma_try_donate(__global uint *ctl, uint own, uint *proc, uint *des
     return 0;
 }
 
-#if PERMA_DONATION && !PERMA_STEALING
-/* Take a batch from the set of a group that is not running (not started
- * yet, or left).  OpenCL does not promise that the groups of a launch run
- * at the same time, and Intel's CPU runtime starts a launch's second group
- * only when its first one has left (or a host thread waits for the launch):
- * without stealing, items in such a set would wait for a group that waits
- * for them.  So whoever runs serves it, as a thief would. */
-inline uint perma_try_adopt(__global uint *ctl, __local perma_group_mem *mem, uint own, uint *proc, uint *from,
-                            uint *start)
-{
-    for (uint s = 0; s < PERMA_QUEUE_SETS; ++s) {
-        if (s == own || perma_group_running(ctl, s))
-            continue;
-        for (uint i = 0; i < PERMA_NUM_PROCS; ++i) {
-            int starved; /* unused: an adopted batch does not count toward the starve limit */
-            uint q = perma_order[i];
-            uint got = perma_try_take(ctl, mem, own, s, q, 0, start, &starved);
-            if (got) {
-                *proc = q;
-                *from = s;
-                return got;
-            }
-        }
-    }
-    return 0;
-}
-#endif
-
 /* True when every running group found nothing to start since `epoch` and
  * no batch finished since: nobody can make progress until the host grows
  * queues.  Groups that are not running count for nothing: every strategy
- * lets the running groups take their items (stealing, or perma_try_adopt). */
+ * lets the running groups take their items (stealing, or perma_adopt). */
 inline int perma_all_blocked(__global uint *ctl, uint epoch, uint groups)
 {
     for (uint g = 0; g < groups; ++g) {
@@ -194,40 +178,6 @@ inline void perma_set_batch(__local uint *batch, uint command, uint proc, uint s
     batch[PERMA_B_DEST] = dest;
 }
 
-#if PERMA_LOCAL_QUEUE
-/* Flush every local stack to the global queues (work-item 0); returns the
- * items moved, and counts a flush that moved any as progress. */
-inline uint perma_local_flush_all(__global uint *ctl, __global uint *queue_data, __global uint *queue_seq, __local perma_group_mem *mem, uint own,
-                                  __local uint *group_stat)
-{
-    uint moved = 0;
-    for (uint p = 0; p < PERMA_NUM_PROCS; ++p)
-        moved += perma_local_flush(ctl, queue_data, queue_seq, mem, own, p);
-    group_stat[PERMA_GSTAT_SPILLS] += moved;
-    if (moved) {
-        mem_fence(CLK_GLOBAL_MEM_FENCE); /* the items are published before the progress is seen */
-        atomic_inc(ctl + PERMA_CTL_PROGRESS);
-    }
-    return moved;
-}
-
-/* Take a batch from the local stack of q (top first) if its targets have
- * room; the items already hold ROOM in the global queue of q. */
-inline uint perma_try_take_local(__global uint *ctl, __local perma_group_mem *mem, uint own, uint q, uint *start,
-                                 int *starved)
-{
-    uint n = min(mem->lq_count[q], perma_max_batch[q]);
-    if (n == 0)
-        return 0;
-    n = perma_fit_batch(ctl, mem, own, q, n, starved);
-    if (n == 0)
-        return 0;
-    mem->lq_count[q] -= n;
-    *start = mem->lq_count[q];
-    return n;
-}
-#endif
-
 /* Count a schedule that room cut short for procedure `starved` (-1: the
  * batch of procedure `taken` was not cut, which resets the count if the
  * count is that procedure's; batches of other procedures in between, such
@@ -265,15 +215,184 @@ inline int perma_note_starved(__global uint *ctl, __local const perma_group_mem 
     return 0;
 }
 
-/* Work-item 0: choose what the group does next and write it to batch[]. */
-PERMA_PHASE void perma_schedule(__global uint *ctl, __global uint *queue_data, __global uint *queue_seq, __global uint *group_words,
-                                uint groups, uint own, volatile __global uint *abort_flag,
-                                __local perma_group_mem *mem, uint *victim_state, uint *starve_count)
+/* What work-item 0 of a group needs to pick its next batch. */
+typedef struct perma_picker {
+    __global uint *ctl;
+    __global uint *queue_data; /* the local front queue's flush only */
+    __global uint *queue_seq;
+    __global uint *group_words;
+    __local perma_group_mem *mem;
+    __local uint *group_stat;
+    uint groups;
+    uint own;           /* the group's queue set */
+    uint *victim_state; /* stealing only: perma_first_victim's state */
+    uint *starve_count; /* perma_note_starved's count */
+    int starved;        /* the procedure room last cut short (perma_fit_batch), -1: none */
+} perma_picker;
+
+/* How a batch was found: what it counts in the group's statistics and the
+ * trace, and whether it counts toward the starve limit. */
+#define PERMA_FOUND_OWN 0u      /* the own queue set */
+#define PERMA_FOUND_LOCAL 1u    /* the local front queue */
+#define PERMA_FOUND_STOLEN 2u   /* another group's set */
+#define PERMA_FOUND_ADOPTED 3u  /* the set of a group that is not running */
+#define PERMA_FOUND_DONATED 4u  /* own items to give to set `dest` */
+
+/* Start the batch of `count` items of q at `start` in queue `source`
+ * (`dest`: the queue a donation goes to): count it toward the starve limit
+ * unless adopted or donated, count steals and donations, mark the group
+ * running and describe the batch. */
+inline void perma_begin_batch(perma_picker *p, uint found, uint q, uint start, uint count, uint source, uint dest)
 {
-    __local uint *batch = mem->batch;
-    __local uint *group_stat = mem->stats + PERMA_NUM_PROCS * PERMA_STAT_PROC_WORDS;
-    (void)queue_data; /* used by the local front queue's flush only */
-    (void)victim_state; /* used by stealing only */
+    __local uint *batch = p->mem->batch;
+    if (found != PERMA_FOUND_ADOPTED && found != PERMA_FOUND_DONATED)
+        perma_note_starved(p->ctl, p->mem, p->groups, p->own, p->starved, q, p->starve_count);
+    if (found == PERMA_FOUND_STOLEN || found == PERMA_FOUND_ADOPTED)
+        p->group_stat[PERMA_GSTAT_STEALS] += 1u;
+    if (found == PERMA_FOUND_DONATED) {
+        p->group_stat[PERMA_GSTAT_DONATIONS] += 1u;
+        p->group_stat[PERMA_GSTAT_DONATED] += count;
+    }
+    perma_set_blocked(p->group_words, 0u);
+    uint command = found == PERMA_FOUND_DONATED ? PERMA_CMD_DONATE
+                 : found == PERMA_FOUND_LOCAL ? PERMA_CMD_RUN_LOCAL : PERMA_CMD_RUN;
+    perma_set_batch(batch, command, q, start, count, source, dest);
+    if (found == PERMA_FOUND_STOLEN || found == PERMA_FOUND_ADOPTED)
+        batch[PERMA_B_KIND] = PERMA_TRACE_STEAL;
+}
+
+/* Take a batch of q from queue set `from` and start it as `found`; 0 when
+ * there was none.  An adopted take leaves p->starved as it was: it does
+ * not count toward the starve limit. */
+inline int perma_take_from(perma_picker *p, uint found, uint from, uint q, int full_only)
+{
+    uint start = 0;
+    int starved = p->starved;
+    uint got = perma_try_take(p->ctl, p->mem, p->own, from, q, full_only, &start, &starved);
+    if (found != PERMA_FOUND_ADOPTED)
+        p->starved = starved;
+    if (got)
+        perma_begin_batch(p, found, q, start, got, PERMA_QINDEX(from, q), 0);
+    return got != 0;
+}
+
+/* The own queue set: pass 0 takes only queues that fill a whole batch
+ * (Whippletree's rule); pass 1 takes any.  Within a pass, priority order. */
+inline int perma_take_own(perma_picker *p)
+{
+    for (uint pass = 0; pass < 2; ++pass)
+        for (uint i = 0; i < PERMA_NUM_PROCS; ++i)
+            if (perma_take_from(p, PERMA_FOUND_OWN, p->own, perma_order[i], pass == 0))
+                return 1;
+    return 0;
+}
+
+/* Every other group's set from set `first` on (adopted: only the sets of
+ * groups that are not running), each in priority order. */
+inline int perma_take_from_others(perma_picker *p, uint found, uint first)
+{
+    for (uint attempt = 0; attempt < PERMA_QUEUE_SETS; ++attempt) {
+        uint s = (first + attempt) % PERMA_QUEUE_SETS;
+        if (s == p->own || (found == PERMA_FOUND_ADOPTED && perma_group_running(p->ctl, s)))
+            continue;
+        for (uint i = 0; i < PERMA_NUM_PROCS; ++i)
+            if (perma_take_from(p, found, s, perma_order[i], 0))
+                return 1;
+    }
+    return 0;
+}
+
+#if PERMA_STEALING
+/* Every other group's set, from the victim policy's first pick on. */
+inline int perma_steal(perma_picker *p)
+{
+    return perma_take_from_others(p, PERMA_FOUND_STOLEN, perma_first_victim(p->own, p->victim_state));
+}
+#else
+inline int perma_steal(perma_picker *p) { (void)p; return 0; }
+#endif
+
+#if PERMA_DONATION
+/* Give up to a batch of an overfull own queue to the emptiest running set. */
+inline int perma_donate(perma_picker *p)
+{
+    uint q = 0, dest = 0, start = 0;
+    uint got = perma_try_donate(p->ctl, p->own, &q, &dest, &start);
+    if (got)
+        perma_begin_batch(p, PERMA_FOUND_DONATED, q, start, got, PERMA_QINDEX(p->own, q), dest);
+    return got != 0;
+}
+#else
+inline int perma_donate(perma_picker *p) { (void)p; return 0; }
+#endif
+
+#if PERMA_DONATION && !PERMA_STEALING
+/* Take a batch from the set of a group that is not running (not started
+ * yet, or left).  OpenCL does not promise that the groups of a launch run
+ * at the same time, and Intel's CPU runtime starts a launch's second group
+ * only when its first one has left (or a host thread waits for the launch):
+ * without stealing, items in such a set would wait for a group that waits
+ * for them.  So whoever runs serves it, as a thief would.  An adopted batch
+ * does not count toward the starve limit. */
+inline int perma_adopt(perma_picker *p)
+{
+    return perma_take_from_others(p, PERMA_FOUND_ADOPTED, 0);
+}
+#else
+inline int perma_adopt(perma_picker *p) { (void)p; return 0; }
+#endif
+
+#if PERMA_LOCAL_QUEUE
+/* Flush every local stack to the global queues (work-item 0); returns the
+ * items moved, and counts a flush that moved any as progress. */
+inline uint perma_flush_local(perma_picker *p)
+{
+    uint moved = 0;
+    for (uint q = 0; q < PERMA_NUM_PROCS; ++q)
+        moved += perma_local_flush(p->ctl, p->queue_data, p->queue_seq, p->mem, p->own, q);
+    p->group_stat[PERMA_GSTAT_SPILLS] += moved;
+    if (moved) {
+        mem_fence(CLK_GLOBAL_MEM_FENCE); /* the items are published before the progress is seen */
+        atomic_inc(p->ctl + PERMA_CTL_PROGRESS);
+    }
+    return moved;
+}
+
+/* A batch from the local stack of a procedure (top first, priority order)
+ * whose targets have room; the items already hold ROOM in the global queue
+ * of their procedure. */
+inline int perma_take_local(perma_picker *p)
+{
+    __local perma_group_mem *mem = p->mem;
+    for (uint i = 0; i < PERMA_NUM_PROCS; ++i) {
+        uint q = perma_order[i];
+        uint n = min(mem->lq_count[q], perma_max_batch[q]);
+        if (n == 0)
+            continue;
+        n = perma_fit_batch(p->ctl, mem, p->own, q, n, &p->starved);
+        if (n == 0)
+            continue;
+        mem->lq_count[q] -= n;
+        perma_begin_batch(p, PERMA_FOUND_LOCAL, q, mem->lq_count[q], n, PERMA_QINDEX(p->own, q), 0);
+        return 1;
+    }
+    return 0;
+}
+#else
+inline uint perma_flush_local(perma_picker *p) { (void)p; return 0; }
+inline int perma_take_local(perma_picker *p) { (void)p; return 0; }
+#endif
+
+/* Work-item 0: choose what the group does next and write it to batch[]. */
+PERMA_PHASE void perma_pick_batch(__global uint *ctl, __global uint *queue_data, __global uint *queue_seq,
+                                  __global uint *group_words, uint groups, uint own,
+                                  volatile __global uint *abort_flag, __local perma_group_mem *mem,
+                                  uint *victim_state, uint *starve_count)
+{
+    perma_picker picker = { ctl, queue_data, queue_seq, group_words, mem,
+                            mem->stats + PERMA_NUM_PROCS * PERMA_STAT_PROC_WORDS, groups, own,
+                            victim_state, starve_count, -1 };
+    perma_picker *p = &picker;
     for (uint poll = 0;; ++poll) {
         if (perma_load(ctl + PERMA_CTL_EXIT))
             break;
@@ -285,85 +404,17 @@ PERMA_PHASE void perma_schedule(__global uint *ctl, __global uint *queue_data, _
             break;
 
         uint epoch = perma_load(ctl + PERMA_CTL_PROGRESS);
-        int starved = -1;
-        uint start = 0, q = 0, dest = 0, got;
-#if PERMA_LOCAL_QUEUE
-        for (uint i = 0; i < PERMA_NUM_PROCS; ++i) {
-            q = perma_order[i];
-            got = perma_try_take_local(ctl, mem, own, q, &start, &starved);
-            if (got) {
-                perma_note_starved(ctl, mem, groups, own, starved, q, starve_count);
-                perma_set_blocked(group_words, 0u);
-                perma_set_batch(batch, PERMA_CMD_RUN_LOCAL, q, start, got, PERMA_QINDEX(own, q), 0);
-                return;
-            }
-        }
-#endif
-#if PERMA_DONATION
-        got = perma_try_donate(ctl, own, &q, &dest, &start);
-        if (got) {
-            perma_set_blocked(group_words, 0u);
-            group_stat[PERMA_GSTAT_DONATIONS] += 1u;
-            group_stat[PERMA_GSTAT_DONATED] += got;
-            perma_set_batch(batch, PERMA_CMD_DONATE, q, start, got, PERMA_QINDEX(own, q), dest);
+        p->starved = -1;
+        if (perma_take_local(p) || perma_donate(p) || perma_take_own(p) || perma_steal(p) || perma_adopt(p))
             return;
-        }
-#endif
-        /* Pass 0 takes only queues that fill a whole batch (Whippletree's
-         * rule); pass 1 takes any.  Within a pass, priority order. */
-        for (uint pass = 0; pass < 2; ++pass) {
-            for (uint i = 0; i < PERMA_NUM_PROCS; ++i) {
-                q = perma_order[i];
-                got = perma_try_take(ctl, mem, own, own, q, pass == 0, &start, &starved);
-                if (got) {
-                    perma_note_starved(ctl, mem, groups, own, starved, q, starve_count);
-                    perma_set_blocked(group_words, 0u);
-                    perma_set_batch(batch, PERMA_CMD_RUN, q, start, got, PERMA_QINDEX(own, q), 0);
-                    return;
-                }
-            }
-        }
-#if PERMA_STEALING
-        uint first = perma_first_victim(own, victim_state);
-        for (uint attempt = 0; attempt < PERMA_QUEUE_SETS; ++attempt) {
-            uint victim = (first + attempt) % PERMA_QUEUE_SETS;
-            if (victim == own)
-                continue;
-            for (uint i = 0; i < PERMA_NUM_PROCS; ++i) {
-                q = perma_order[i];
-                got = perma_try_take(ctl, mem, own, victim, q, 0, &start, &starved);
-                if (got) {
-                    perma_note_starved(ctl, mem, groups, own, starved, q, starve_count);
-                    group_stat[PERMA_GSTAT_STEALS] += 1u;
-                    perma_set_blocked(group_words, 0u);
-                    perma_set_batch(batch, PERMA_CMD_RUN, q, start, got, PERMA_QINDEX(victim, q), 0);
-                    batch[PERMA_B_KIND] = PERMA_TRACE_STEAL;
-                    return;
-                }
-            }
-        }
-#endif
-#if PERMA_DONATION && !PERMA_STEALING
-        uint from = 0;
-        got = perma_try_adopt(ctl, mem, own, &q, &from, &start);
-        if (got) {
-            group_stat[PERMA_GSTAT_STEALS] += 1u;
-            perma_set_blocked(group_words, 0u);
-            perma_set_batch(batch, PERMA_CMD_RUN, q, start, got, PERMA_QINDEX(from, q), 0);
-            batch[PERMA_B_KIND] = PERMA_TRACE_STEAL;
-            return;
-        }
-#endif
-#if PERMA_LOCAL_QUEUE
         /* Local items that cannot run now go where other groups and the
          * host can see them before this group calls itself stalled.  That
          * publishes work, so it is progress: a group that looked at this
          * set before the flush must not take this group's stall for a
          * deadlock (and stop the launch while the items are taken). */
-        if (perma_local_flush_all(ctl, queue_data, queue_seq, mem, own, group_stat))
+        if (perma_flush_local(p))
             continue;
-#endif
-        group_stat[PERMA_GSTAT_IDLE_POLLS] += 1u;
+        p->group_stat[PERMA_GSTAT_IDLE_POLLS] += 1u;
         /* Nothing this group can start: either no room for the work it sees,
          * or no work it may take (another group's set, without stealing).
          * If every running group is in that state since the same epoch while
@@ -374,23 +425,20 @@ PERMA_PHASE void perma_schedule(__global uint *ctl, __global uint *queue_data, _
             break;
         }
         /* Work in sight but no room to start any of it. */
-        if (starved >= 0 && perma_note_starved(ctl, mem, groups, own, starved, q, starve_count))
+        if (p->starved >= 0 && perma_note_starved(ctl, mem, groups, own, p->starved, 0, starve_count))
             break;
-        (void)dest;
         if (poll >= PERMA_IDLE_POLLS) {
-            perma_set_batch(batch, PERMA_CMD_IDLE, 0, 0, 0, 0, 0);
+            perma_set_batch(mem->batch, PERMA_CMD_IDLE, 0, 0, 0, 0, 0);
             return;
         }
     }
-#if PERMA_LOCAL_QUEUE
     /* Another group stopped the launch for bigger queues while this one
      * held items on its local stacks (it ran a batch after the stall was
      * called): they must reach the global queues, which the host carries
      * over to the next launch.  After any other status the run is over. */
-    if (perma_load(ctl + PERMA_CTL_STATUS) == PERMA_KSTATUS_NEEDS_ROOM)
-        perma_local_flush_all(ctl, queue_data, queue_seq, mem, own, group_stat);
-#endif
-    perma_set_batch(batch, PERMA_CMD_EXIT, 0, 0, 0, 0, 0);
+    if (PERMA_LOCAL_QUEUE && perma_load(ctl + PERMA_CTL_STATUS) == PERMA_KSTATUS_NEEDS_ROOM)
+        perma_flush_local(p);
+    perma_set_batch(mem->batch, PERMA_CMD_EXIT, 0, 0, 0, 0, 0);
 }
 
 /* Declare a group's __local memory and `mem`, its address. */
@@ -436,8 +484,8 @@ void perma_megakernel(PERMA_COMMON_ARGS(PERMA_ARG_PARAM) PERMA_BUFFER_PARAMS)
     uint command = PERMA_CMD_IDLE;
     while (command != PERMA_CMD_EXIT) {
         if (lid == 0)
-            perma_schedule(ctl, queue_data, queue_seq, group_words, get_num_groups(0), own, abort_flag, mem,
-                           &victim_state, &starve_count);
+            perma_pick_batch(ctl, queue_data, queue_seq, group_words, get_num_groups(0), own, abort_flag, mem,
+                             &victim_state, &starve_count);
         barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
         command = mem->batch[PERMA_B_COMMAND];
 #if PERMA_TRACE_EVENTS

@@ -4,16 +4,6 @@
 #include <string.h>
 #include <time.h>
 
-/* Schedule labels (perma_schedule_parse). */
-static const char *const schedules[] = {
-    "megakernel/shared",
-    "megakernel/stealing",
-    "megakernel/donation",
-    "megakernel/stealing-donation",
-    "kernel-per-procedure",
-    "bounded-batches",
-};
-
 double example_compare_now(void)
 {
     struct timespec t;
@@ -96,13 +86,9 @@ static int time_schedule(const example_compare *ex, const perma_schedule *schedu
 int example_compare_schedules(const example_compare *ex, unsigned work_groups, unsigned repeats,
                               double sequential, FILE *out, char *message, size_t size)
 {
-    for (size_t i = 0; i < sizeof schedules / sizeof schedules[0]; ++i) {
-        perma_schedule schedule;
-        perma_error error;
-        if (perma_schedule_parse(schedules[i], &schedule, &error) != PERMA_OK) {
-            snprintf(message, size, "--compare: %s", error.message);
-            return 1;
-        }
+    /* Every technique and strategy, the stealing ones with their default victim. */
+    perma_schedule schedule;
+    for (unsigned i = 0; perma_schedule_all(PERMA_SCHEDULES_DEFAULT_VICTIM, i, &schedule) == PERMA_OK; ++i) {
         double build, seconds;
         unsigned long long items;
         int st = time_schedule(ex, &schedule, work_groups, repeats, &build, &seconds, &items, message, size);

@@ -199,6 +199,32 @@ perma_status perma_schedule_parse(const char *label, perma_schedule *out, perma_
  * snprintf (>= size: truncated), or -1 (buf "") when the technique,
  * strategy or victim has no name. */
 int perma_schedule_format(const perma_schedule *schedule, char *buf, size_t size);
+/* Which schedules perma_schedule_all visits. */
+typedef enum perma_schedule_set {
+    PERMA_SCHEDULES_ALL = 0,        /* every one */
+    PERMA_SCHEDULES_VICTIMS_ONCE,   /* victims other than the default (random)
+                                     * only under the first stealing strategy
+                                     * (stealing): the victim policy is the
+                                     * same code under every stealing strategy */
+    PERMA_SCHEDULES_DEFAULT_VICTIM  /* the default victim only */
+} perma_schedule_set;
+/* Every schedule that differs in technique, strategy or victim, with no
+ * local queue and the default batch limit, in a fixed order: every
+ * technique; under megakernel every strategy; under a stealing strategy
+ * every victim.  PERMA_SCHEDULES_ALL visits "megakernel/shared",
+ * "megakernel/stealing/random", "megakernel/stealing/round-robin",
+ * "megakernel/donation", "megakernel/stealing-donation/random",
+ * "megakernel/stealing-donation/round-robin", "kernel-per-procedure",
+ * "bounded-batches"; the other sets leave some victims out.  Sets *out to
+ * schedule number `index` (from 0) of `set` and returns PERMA_OK;
+ * PERMA_ERR_ARGUMENT, *out untouched, past the last one or for an unknown
+ * set:
+ *
+ *     for (unsigned i = 0; perma_schedule_all(PERMA_SCHEDULES_ALL, i, &s) == PERMA_OK; ++i) ...
+ *
+ * Tests, benchmarks and examples iterate it rather than list schedules, so
+ * that a new strategy (one row of runtime/src/schedules.def) reaches them. */
+perma_status perma_schedule_all(perma_schedule_set set, unsigned index, perma_schedule *out);
 
 typedef struct perma_config {
     /* OpenCL device.  platform_index >= 0 picks the platform by index;

@@ -2,6 +2,7 @@
  * constants and tables, the user's sources with #line directives, typed
  * emit helpers, the dispatch switch and the scheduler loop. */
 #include "executor.h"
+#include "schedule_table.h"
 
 #include <string.h>
 
@@ -254,6 +255,10 @@ static void append_dispatch(perma_runtime *rt, perma_strbuf *sb)
 perma_status perma_generate_program(perma_runtime *rt, const perma_strbuf *reduce_constants,
                                     const perma_strbuf *reduce_helpers, perma_strbuf *sb)
 {
+    /* The strategy's parts the scheduler compiles in (kernels/perma_scheduler.cl);
+     * with one queue set there is nobody to steal from or donate to. */
+    const perma_strategy_info *strategy = perma_strategy_row((int)rt->config.schedule.strategy);
+    bool distributed = rt->queue_sets > 1 && strategy;
     bool item_barrier = false;
     for (unsigned i = 0; i < rt->proc_count; ++i)
         item_barrier = item_barrier || !rt->procs[i].simple;
@@ -275,10 +280,7 @@ perma_status perma_generate_program(perma_runtime *rt, const perma_strbuf *reduc
                             "#define PERMA_TRACE_EVENTS %uu\n",
                         rt->proc_count, rt->group_size, item_barrier, rt->proc_count, rt->max_edges, rt->arena_words,
                         rt->stage_words, rt->queue_sets,
-                        rt->queue_sets > 1 && (rt->config.schedule.strategy == PERMA_STRATEGY_STEALING ||
-                                               rt->config.schedule.strategy == PERMA_STRATEGY_STEALING_DONATION),
-                        rt->queue_sets > 1 && (rt->config.schedule.strategy == PERMA_STRATEGY_DONATION ||
-                                               rt->config.schedule.strategy == PERMA_STRATEGY_STEALING_DONATION),
+                        distributed && strategy->steals, distributed && strategy->donates,
                         rt->config.schedule.victim == PERMA_VICTIM_ROUND_ROBIN, rt->config.donation_threshold,
                         rt->local_queue_items, rt->lq_words ? rt->lq_words : 1u,
                         rt->device_trace_events);

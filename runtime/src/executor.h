@@ -7,7 +7,8 @@
  *
  * A technique is one table of these functions in its own file, in the
  * spirit of hiredis' per-variant function tables and Whippletree's
- * technique classes. */
+ * technique classes; its name, description and what its label takes are
+ * its row of the schedule table (schedules.def, schedule_table.h). */
 #ifndef PERMA_EXECUTOR_H
 #define PERMA_EXECUTOR_H
 

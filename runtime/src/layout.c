@@ -1,6 +1,7 @@
 /* Resolving the procedure graph and laying out each procedure's __local
  * arena: its batch of items, scratch, per-item emit counters and staging. */
 #include "executor.h"
+#include "schedule_table.h"
 
 #include <ctype.h>
 #include <string.h>
@@ -194,7 +195,8 @@ size_t perma_local_memory(const perma_runtime *rt)
 
 unsigned perma_queue_sets(const perma_runtime *rt)
 {
-    return rt->executor->persistent && rt->config.schedule.strategy != PERMA_STRATEGY_SHARED ? rt->work_groups : 1;
+    const perma_strategy_info *strategy = perma_strategy_row((int)rt->config.schedule.strategy);
+    return rt->executor->persistent && strategy && strategy->per_group_queue_sets ? rt->work_groups : 1;
 }
 
 size_t perma_queue_memory_limit(const perma_runtime *rt)

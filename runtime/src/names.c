@@ -1,34 +1,44 @@
-/* Command-line names of techniques, strategies and victim policies. */
+/* Command-line names of techniques, strategies and victim policies: the
+ * names of the schedule table's rows (schedules.def). */
 #include "internal.h"
+#include "schedule_table.h"
 
 #include <string.h>
 
-static const char *const technique_names[] = { "megakernel", "kernel-per-procedure", "bounded-batches" };
-static const char *const strategy_names[] = { "shared", "stealing", "donation", "stealing-donation" };
-static const char *const victim_names[] = { "random", "round-robin" };
-
-#define COUNT(a) (sizeof(a) / sizeof((a)[0]))
-
-static const char *name_of(const char *const *names, size_t count, int value)
+const char *perma_technique_name(perma_technique t)
 {
-    return value >= 0 && (size_t)value < count ? names[value] : NULL;
+    const perma_technique_info *row = perma_technique_row((int)t);
+    return row ? row->name : NULL;
 }
 
-static int index_of(const char *const *names, size_t count, const char *name)
+const char *perma_strategy_name(perma_strategy s)
 {
-    for (size_t i = 0; name && i < count; ++i)
-        if (strcmp(names[i], name) == 0)
-            return (int)i;
+    const perma_strategy_info *row = perma_strategy_row((int)s);
+    return row ? row->name : NULL;
+}
+
+const char *perma_victim_name(perma_victim v)
+{
+    const perma_victim_info *row = perma_victim_row((int)v);
+    return row ? row->name : NULL;
+}
+
+const char *perma_technique_name_at(int i) { return perma_technique_name((perma_technique)i); }
+const char *perma_strategy_name_at(int i) { return perma_strategy_name((perma_strategy)i); }
+const char *perma_victim_name_at(int i) { return perma_victim_name((perma_victim)i); }
+
+/* The index whose name name_at gives is `name`; -1 for none. */
+static int index_of(const char *(*name_at)(int), const char *name)
+{
+    for (int i = 0; name && name_at(i); ++i)
+        if (strcmp(name_at(i), name) == 0)
+            return i;
     return -1;
 }
 
-const char *perma_technique_name(perma_technique t) { return name_of(technique_names, COUNT(technique_names), (int)t); }
-const char *perma_strategy_name(perma_strategy s) { return name_of(strategy_names, COUNT(strategy_names), (int)s); }
-const char *perma_victim_name(perma_victim v) { return name_of(victim_names, COUNT(victim_names), (int)v); }
-
 perma_status perma_technique_parse(const char *name, perma_technique *out)
 {
-    int i = index_of(technique_names, COUNT(technique_names), name);
+    int i = index_of(perma_technique_name_at, name);
     if (i < 0)
         return PERMA_ERR_ARGUMENT;
     *out = (perma_technique)i;
@@ -37,7 +47,7 @@ perma_status perma_technique_parse(const char *name, perma_technique *out)
 
 perma_status perma_strategy_parse(const char *name, perma_strategy *out)
 {
-    int i = index_of(strategy_names, COUNT(strategy_names), name);
+    int i = index_of(perma_strategy_name_at, name);
     if (i < 0)
         return PERMA_ERR_ARGUMENT;
     *out = (perma_strategy)i;
@@ -46,7 +56,7 @@ perma_status perma_strategy_parse(const char *name, perma_strategy *out)
 
 perma_status perma_victim_parse(const char *name, perma_victim *out)
 {
-    int i = index_of(victim_names, COUNT(victim_names), name);
+    int i = index_of(perma_victim_name_at, name);
     if (i < 0)
         return PERMA_ERR_ARGUMENT;
     *out = (perma_victim)i;

@@ -1,6 +1,7 @@
 /* Schedule labels: "megakernel/stealing/round-robin+local32" and the like
  * (grammar in perma.h), parsed into and formatted from perma_schedule. */
 #include "internal.h"
+#include "schedule_table.h"
 
 #include <limits.h>
 #include <stdarg.h>
@@ -37,9 +38,18 @@ static perma_status fail(const cursor *c, const char *fmt, ...)
     return PERMA_ERR_ARGUMENT;
 }
 
-static int steals(perma_strategy strategy)
+static bool steals(perma_strategy strategy)
 {
-    return strategy == PERMA_STRATEGY_STEALING || strategy == PERMA_STRATEGY_STEALING_DONATION;
+    const perma_strategy_info *row = perma_strategy_row((int)strategy);
+    return row && row->steals;
+}
+
+/* The techniques' rows: what their labels take. */
+static const perma_technique_info none;
+static const perma_technique_info *technique_row(perma_technique technique)
+{
+    const perma_technique_info *row = perma_technique_row((int)technique);
+    return row ? row : &none;
 }
 
 /* Consume `separator` if it is next. */
@@ -69,10 +79,6 @@ static void part_string(part p, char *out, size_t size)
     out[p.length] = '\0';
 }
 
-static const char *technique_at(int i) { return perma_technique_name((perma_technique)i); }
-static const char *strategy_at(int i) { return perma_strategy_name((perma_strategy)i); }
-static const char *victim_at(int i) { return perma_victim_name((perma_victim)i); }
-
 /* "a, b, c": every name name_at gives from 0 up to the first NULL. */
 static void join_names(const char *(*name_at)(int), char *out, size_t size)
 {
@@ -99,7 +105,7 @@ static perma_status parse_technique(cursor *c, perma_technique *out)
     part p = next_part(c);
     part_string(p, name, sizeof name);
     if (perma_technique_parse(name, out) != PERMA_OK)
-        return unknown(c, "technique", p, technique_at);
+        return unknown(c, "technique", p, perma_technique_name_at);
     return PERMA_OK;
 }
 
@@ -109,20 +115,40 @@ static perma_status parse_strategy(cursor *c, perma_strategy *out)
     part p = next_part(c);
     part_string(p, name, sizeof name);
     if (perma_strategy_parse(name, out) != PERMA_OK)
-        return unknown(c, "strategy", p, strategy_at);
+        return unknown(c, "strategy", p, perma_strategy_name_at);
     return PERMA_OK;
+}
+
+/* "a, b or c": the strategies that steal (those a victim may follow). */
+static void join_stealing(char *out, size_t size)
+{
+    int count = 0, listed = 0;
+    for (int i = 0; perma_strategy_name_at(i); ++i)
+        count += steals((perma_strategy)i);
+    out[0] = '\0';
+    for (int i = 0; perma_strategy_name_at(i); ++i) {
+        if (!steals((perma_strategy)i))
+            continue;
+        size_t used = strlen(out);
+        const char *separator = listed == 0 ? "" : listed == count - 1 ? " or " : ", ";
+        snprintf(out + used, size - used, "%s%s", separator, perma_strategy_name_at(i));
+        ++listed;
+    }
 }
 
 static perma_status parse_victim(cursor *c, perma_strategy strategy, perma_victim *out)
 {
     char name[32];
     part p = next_part(c);
-    if (!steals(strategy))
-        return fail(c, "victim '%.*s' after strategy '%s' (a victim only follows stealing or "
-                    "stealing-donation)", p.length, p.text, perma_strategy_name(strategy));
+    if (!steals(strategy)) {
+        char stealing[160];
+        join_stealing(stealing, sizeof stealing);
+        return fail(c, "victim '%.*s' after strategy '%s' (a victim only follows %s)", p.length, p.text,
+                    perma_strategy_name(strategy), stealing);
+    }
     part_string(p, name, sizeof name);
     if (perma_victim_parse(name, out) != PERMA_OK)
-        return unknown(c, "victim", p, victim_at);
+        return unknown(c, "victim", p, perma_victim_name_at);
     return PERMA_OK;
 }
 
@@ -142,7 +168,7 @@ static unsigned count_of(const char *text, int length)
     return (unsigned)value;
 }
 
-/* "+localN" after a megakernel strategy, the '+' consumed. */
+/* "+localN" after a technique whose label takes it, the '+' consumed. */
 static perma_status parse_local(cursor *c, unsigned *out)
 {
     static const char prefix[] = "local";
@@ -160,21 +186,19 @@ static perma_status parse_local(cursor *c, unsigned *out)
     return PERMA_OK;
 }
 
-/* What may follow "megakernel": [/strategy[/victim]][+localN]. */
-static perma_status parse_megakernel(cursor *c, perma_schedule *s)
+/* [/strategy[/victim]] after a technique whose label takes strategies. */
+static perma_status parse_strategy_part(cursor *c, perma_schedule *s)
 {
     perma_status st = PERMA_OK;
     if (accept(c, '/'))
         st = parse_strategy(c, &s->strategy);
     if (st == PERMA_OK && accept(c, '/'))
         st = parse_victim(c, s->strategy, &s->victim);
-    if (st == PERMA_OK && accept(c, '+'))
-        st = parse_local(c, &s->local_queue_items);
     return st;
 }
 
-/* What may follow "bounded-batches": [/p=N]. */
-static perma_status parse_bounded(cursor *c, perma_schedule *s)
+/* [/p=N] after a technique whose label takes a batch limit. */
+static perma_status parse_batch_limit(cursor *c, perma_schedule *s)
 {
     if (!accept(c, '/'))
         return PERMA_OK;
@@ -199,10 +223,11 @@ static perma_status parse_end(const cursor *c, perma_technique technique)
 {
     if (!*c->at)
         return PERMA_OK;
-    if (technique == PERMA_TECHNIQUE_KERNEL_PER_PROCEDURE && c->at[0] == '/')
-        return fail(c, "'%s' after kernel-per-procedure (a strategy is only valid with megakernel)",
-                    c->at);
-    if (technique != PERMA_TECHNIQUE_MEGAKERNEL && c->at[0] == '+')
+    const perma_technique_info *row = technique_row(technique);
+    if (!row->strategies && !row->batch_limit && c->at[0] == '/')
+        return fail(c, "'%s' after %s (a strategy is only valid with megakernel)", c->at,
+                    perma_technique_name(technique));
+    if (!row->local_queue && c->at[0] == '+')
         return fail(c, "'%s' after %s (+localN is only valid with megakernel)", c->at,
                     perma_technique_name(technique));
     return fail(c, "unexpected '%s' at the end", c->at);
@@ -218,10 +243,13 @@ perma_status perma_schedule_parse(const char *label, perma_schedule *out, perma_
     perma_schedule s;
     memset(&s, 0, sizeof s);
     perma_status st = parse_technique(&c, &s.technique);
-    if (st == PERMA_OK && s.technique == PERMA_TECHNIQUE_MEGAKERNEL)
-        st = parse_megakernel(&c, &s);
-    if (st == PERMA_OK && s.technique == PERMA_TECHNIQUE_BOUNDED_BATCHES)
-        st = parse_bounded(&c, &s);
+    const perma_technique_info *row = technique_row(s.technique);
+    if (st == PERMA_OK && row->strategies)
+        st = parse_strategy_part(&c, &s);
+    if (st == PERMA_OK && row->batch_limit)
+        st = parse_batch_limit(&c, &s);
+    if (st == PERMA_OK && row->local_queue && accept(&c, '+'))
+        st = parse_local(&c, &s.local_queue_items);
     if (st == PERMA_OK)
         st = parse_end(&c, s.technique);
     if (st != PERMA_OK)
@@ -234,33 +262,85 @@ perma_status perma_schedule_parse(const char *label, perma_schedule *out, perma_
     return PERMA_OK;
 }
 
-/* The megakernel part after the technique: "/strategy[/victim][+localN]";
- * -1 for an unnamed strategy or victim. */
-static int format_megakernel(const perma_schedule *s, char *buf, size_t size)
+/* "/strategy[/victim]": the victim only for a stealing strategy; false for
+ * an unnamed strategy or victim. */
+static bool format_strategy(const perma_schedule *s, char *buf, size_t size)
 {
     const char *strategy = perma_strategy_name(s->strategy);
     const char *victim = steals(s->strategy) ? perma_victim_name(s->victim) : "";
     if (!strategy || !victim)
-        return -1;
-    char local[32] = "";
-    if (s->local_queue_items)
-        snprintf(local, sizeof local, "+local%u", s->local_queue_items);
-    return snprintf(buf, size, "/%s%s%s%s", strategy, *victim ? "/" : "", victim, local);
+        return false;
+    snprintf(buf, size, "/%s%s%s", strategy, *victim ? "/" : "", victim);
+    return true;
 }
 
 int perma_schedule_format(const perma_schedule *s, char *buf, size_t size)
 {
     const char *technique = perma_technique_name(s->technique);
-    char rest[96] = "";
-    int n = 0;
-    if (technique && s->technique == PERMA_TECHNIQUE_MEGAKERNEL)
-        n = format_megakernel(s, rest, sizeof rest);
-    else if (s->technique == PERMA_TECHNIQUE_BOUNDED_BATCHES && s->batch_limit)
-        n = snprintf(rest, sizeof rest, "/p=%u", s->batch_limit);
-    if (!technique || n < 0) {
+    const perma_technique_info *row = technique_row(s->technique);
+    char strategy[64] = "", limit[32] = "", local[32] = "";
+    bool named = technique != NULL;
+    if (row->strategies)
+        named = named && format_strategy(s, strategy, sizeof strategy);
+    if (row->batch_limit && s->batch_limit)
+        snprintf(limit, sizeof limit, "/p=%u", s->batch_limit);
+    if (row->local_queue && s->local_queue_items)
+        snprintf(local, sizeof local, "+local%u", s->local_queue_items);
+    if (!named) {
         if (size)
             buf[0] = '\0';
         return -1;
     }
-    return snprintf(buf, size, "%s%s", technique, rest);
+    return snprintf(buf, size, "%s%s%s%s", technique, strategy, limit, local);
+}
+
+/* How many names name_at gives. */
+static int count_names(const char *(*name_at)(int))
+{
+    int n = 0;
+    while (name_at(n))
+        ++n;
+    return n;
+}
+
+/* The first strategy that steals: where PERMA_SCHEDULES_VICTIMS_ONCE puts
+ * the other victim policies. */
+static int first_stealing_strategy(void)
+{
+    for (int st = 0; perma_strategy_name_at(st); ++st)
+        if (steals((perma_strategy)st))
+            return st;
+    return -1;
+}
+
+/* Whether `set` leaves out victim v of strategy st (v > 0: not the default). */
+static bool left_out(perma_schedule_set set, int st, int v)
+{
+    if (v == 0 || set == PERMA_SCHEDULES_ALL)
+        return false;
+    return set == PERMA_SCHEDULES_DEFAULT_VICTIM || st != first_stealing_strategy();
+}
+
+perma_status perma_schedule_all(perma_schedule_set set, unsigned index, perma_schedule *out)
+{
+    if (set != PERMA_SCHEDULES_ALL && set != PERMA_SCHEDULES_VICTIMS_ONCE && set != PERMA_SCHEDULES_DEFAULT_VICTIM)
+        return PERMA_ERR_ARGUMENT;
+    unsigned at = 0;
+    for (int t = 0; perma_technique_row(t); ++t) {
+        bool strategies = perma_technique_row(t)->strategies;
+        int strategy_count = strategies ? count_names(perma_strategy_name_at) : 1;
+        for (int st = 0; st < strategy_count; ++st) {
+            int victim_count = strategies && steals((perma_strategy)st) ? count_names(perma_victim_name_at) : 1;
+            for (int v = 0; v < victim_count; ++v) {
+                if (left_out(set, st, v) || at++ != index)
+                    continue;
+                memset(out, 0, sizeof *out);
+                out->technique = (perma_technique)t;
+                out->strategy = (perma_strategy)st;
+                out->victim = (perma_victim)v;
+                return PERMA_OK;
+            }
+        }
+    }
+    return PERMA_ERR_ARGUMENT;
 }

@@ -2,11 +2,13 @@
  * that the Python binding's ctypes mirrors of them (runtime/python/perma/
  * _capi.py) match the C compiler's layout (test_abi.py).  A field added to
  * a structure changes its size here, so the test fails until _capi.py and
- * this list name it too. */
+ * this list name it too.  With --enums: the values of perma.h's enums that
+ * _capi.py mirrors. */
 #include <perma.h>
 
 #include <stddef.h>
 #include <stdio.h>
+#include <string.h>
 
 static int first_struct = 1, first_field;
 
@@ -18,8 +20,18 @@ static int first_struct = 1, first_field;
     printf("%s\"%s\": %zu", first_field ? "" : ", ", #F, offsetof(T, F));                      \
     first_field = 0
 
-int main(void)
+static int enums(void)
 {
+    printf("{\"PERMA_SCHEDULES_ALL\": %d, \"PERMA_SCHEDULES_VICTIMS_ONCE\": %d, "
+           "\"PERMA_SCHEDULES_DEFAULT_VICTIM\": %d}\n",
+           PERMA_SCHEDULES_ALL, PERMA_SCHEDULES_VICTIMS_ONCE, PERMA_SCHEDULES_DEFAULT_VICTIM);
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    if (argc == 2 && strcmp(argv[1], "--enums") == 0)
+        return enums();
     STRUCT(perma_error);
     FIELD(perma_error, status); FIELD(perma_error, message);
     STRUCT(perma_schedule);

@@ -27,3 +27,11 @@ def test_struct_layout(c_layout, name):
 
 def test_every_struct_is_mirrored(c_layout):
     assert sorted(c_layout) == sorted(_capi.STRUCTS)
+
+
+def test_enum_values():
+    program = os.environ.get('PERMA_ABI_LAYOUT')
+    if not program:
+        pytest.skip('PERMA_ABI_LAYOUT (the abi_layout program meson builds) is not set')
+    values = json.loads(subprocess.run([program, '--enums'], check=True, capture_output=True, text=True).stdout)
+    assert values == _capi.SCHEDULE_SETS

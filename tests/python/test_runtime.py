@@ -1,4 +1,8 @@
 """Runs through the binding: items, buffers each way, stats as dicts."""
+import os
+import subprocess
+import sys
+
 import numpy as np
 import pytest
 
@@ -148,6 +152,28 @@ def test_schedule_labels():
     assert perma.schedule_label('megakernel') == 'megakernel/shared'
     assert perma.schedule_label('megakernel/stealing+local32') == 'megakernel/stealing/random+local32'
     assert perma.schedule_label('bounded-batches/p=64') == 'bounded-batches/p=64'
+
+
+@pytest.mark.parametrize('which', ['all', 'once', 'default'])
+def test_every_schedule_matches_the_configure_time_list(which):
+    """meson's test variants (runtime/tools/schedules.py, which reads the
+    schedule table before libperma exists) are perma_schedule_all's."""
+    labels = perma.all_schedules(which)
+    assert labels[0] == 'megakernel/shared' and 'kernel-per-procedure' in labels
+    assert all(perma.schedule_label(label) == label for label in labels)
+    script = os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', '..', 'runtime', 'tools', 'schedules.py')
+    printed = subprocess.run([sys.executable, script, which], check=True, capture_output=True, text=True).stdout
+    variants = subprocess.run([sys.executable, script, '--variants', which], check=True, capture_output=True,
+                              text=True).stdout
+    assert printed.split() == labels
+    # A variant's name is its label with '-' for '/', without the default victim.
+    names = [line.split('|')[0] for line in variants.split()]
+    assert names == [label.replace('/random', '').replace('/', '-') for label in labels]
+
+
+def test_all_schedules_refuses_an_unknown_set():
+    with pytest.raises(perma.ArgumentError, match='which schedules'):
+        perma.all_schedules('some')
 
 
 def test_context_manager_closes():

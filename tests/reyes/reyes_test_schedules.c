@@ -6,19 +6,38 @@
 
 #include "reyes_test_util.h"
 
-/* test_reyes_blur uses entries 1 (stealing) and 6 (kernel-per-procedure). */
-const char *const reyes_test_schedules[] = {
-    "megakernel/shared",
-    "megakernel/stealing/random",
-    "megakernel/stealing/round-robin",
-    "megakernel/donation",
-    "megakernel/stealing-donation/random",
-    "megakernel/shared+local64",
-    "kernel-per-procedure",
-    "bounded-batches",
-    "bounded-batches/p=64",
-};
-const unsigned reyes_test_schedule_count = sizeof reyes_test_schedules / sizeof reyes_test_schedules[0];
+/* On top of every schedule (perma_schedule_all, the victims under one
+ * stealing strategy): a local front queue and a small batch limit. */
+static const char *const with_options[] = { "megakernel/shared+local64", "bounded-batches/p=64" };
+#define WITH_OPTIONS (sizeof with_options / sizeof with_options[0])
+#define MAX_SCHEDULES 32
+
+static char labels[MAX_SCHEDULES][64];
+static unsigned label_count;
+
+static void list_schedules(void)
+{
+    perma_schedule s;
+    while (label_count < MAX_SCHEDULES && perma_schedule_all(PERMA_SCHEDULES_VICTIMS_ONCE, label_count, &s) == PERMA_OK) {
+        ck_assert_int_gt(perma_schedule_format(&s, labels[label_count], sizeof labels[0]), 0);
+        ++label_count;
+    }
+    for (unsigned i = 0; i < WITH_OPTIONS && label_count < MAX_SCHEDULES; ++i)
+        snprintf(labels[label_count++], sizeof labels[0], "%s", with_options[i]);
+}
+
+unsigned reyes_test_schedule_count(void)
+{
+    if (!label_count)
+        list_schedules();
+    return label_count;
+}
+
+const char *reyes_test_schedule(unsigned index)
+{
+    ck_assert_uint_lt(index, reyes_test_schedule_count());
+    return labels[index];
+}
 
 void reyes_test_apply_schedule(const char *label, unsigned work_groups, reyes_options *o)
 {

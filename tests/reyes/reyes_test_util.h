@@ -88,11 +88,12 @@ reyes_renderer *reyes_test_moving_renderer(unsigned work_groups);
 /* reyes_test_moving_renderer if options rotate, else reyes_test_renderer. */
 reyes_renderer *reyes_test_renderer_for(const reyes_options *options, unsigned work_groups);
 
-/* Schedule labels (perma_schedule_parse): every technique, every
- * megakernel strategy, both victims, a local front queue and a small batch
- * limit.  "megakernel/stealing/round-robin", "bounded-batches/p=64", ... */
-extern const char *const reyes_test_schedules[];
-extern const unsigned reyes_test_schedule_count;
+/* Schedule labels (perma_schedule_parse): every schedule of the runtime
+ * (perma_schedule_all: every technique, every megakernel strategy, every
+ * victim under one stealing strategy), then a local front queue and a small
+ * batch limit.  "megakernel/stealing/round-robin", "bounded-batches/p=64", ... */
+unsigned reyes_test_schedule_count(void);
+const char *reyes_test_schedule(unsigned index);
 
 /* Set the scheduling fields of *options from a schedule label and a group
  * count; fails the test with the parser's message if the label is bad. */

@@ -540,10 +540,10 @@ static void expect_schedules_identical(reyes_options o)
     o.height = 48;
     o.spp = 4;
     reyes_image a, b;
-    reyes_test_apply_schedule(reyes_test_schedules[1], 2, &o);
+    reyes_test_apply_schedule("megakernel/stealing/random", 2, &o);
     ck_assert_int_eq(o.schedule.strategy, PERMA_STRATEGY_STEALING);
     reyes_test_render_once(&scene, &top, &o, &a, NULL);
-    reyes_test_apply_schedule(reyes_test_schedules[6], 1, &o);
+    reyes_test_apply_schedule("kernel-per-procedure", 1, &o);
     ck_assert_int_eq(o.schedule.technique, PERMA_TECHNIQUE_KERNEL_PER_PROCEDURE);
     reyes_test_render_once(&scene, &top, &o, &b, NULL);
     ck_assert_uint_gt(reyes_test_covered_samples(&a), 0);

@@ -146,18 +146,17 @@ END_TEST
  * lands in the render options passed to perma_config. */
 START_TEST(test_scheduling_names)
 {
-    const char *techniques[] = {"megakernel", "kernel-per-procedure", "bounded-batches"};
-    const char *strategies[] = {"shared", "stealing", "donation", "stealing-donation"};
-    for (int t = 0; t < 3; ++t) {
-        for (int s = 0; s < 4; ++s) {
+    for (perma_technique t = 0; perma_technique_name(t); ++t) {
+        for (perma_strategy s = 0; perma_strategy_name(s); ++s) {
+            const char *technique = perma_technique_name(t), *strategy = perma_strategy_name(s);
             reyes_cli cli;
             char message[512];
-            ck_assert_int_eq(PARSE(&cli, message, "--technique", (char *)techniques[t], "--strategy",
-                                   (char *)strategies[s], "--victim", "round-robin", "--local-queue",
+            ck_assert_int_eq(PARSE(&cli, message, "--technique", (char *)technique, "--strategy",
+                                   (char *)strategy, "--victim", "round-robin", "--local-queue",
                                    "128", "--batch-limit", "512"),
                              PERMA_CLI_OK);
-            ck_assert_str_eq(perma_technique_name(cli.render.schedule.technique), techniques[t]);
-            ck_assert_str_eq(perma_strategy_name(cli.render.schedule.strategy), strategies[s]);
+            ck_assert_int_eq(cli.render.schedule.technique, t);
+            ck_assert_int_eq(cli.render.schedule.strategy, s);
             ck_assert_int_eq(cli.render.schedule.victim, PERMA_VICTIM_ROUND_ROBIN);
             ck_assert_uint_eq(cli.render.schedule.local_queue_items, 128);
             ck_assert_uint_eq(cli.render.schedule.batch_limit, 512);

@@ -76,8 +76,8 @@ START_TEST(test_teapot_counts_every_schedule)
     o.spp = 1;
     reyes_stats first;
     memset(&first, 0, sizeof first);
-    for (unsigned s = 0; s < reyes_test_schedule_count; ++s) {
-        const char *label = reyes_test_schedules[s];
+    for (unsigned s = 0; s < reyes_test_schedule_count(); ++s) {
+        const char *label = reyes_test_schedule(s);
         reyes_test_apply_schedule(label, 2, &o);
         reyes_image image;
         reyes_stats stats;

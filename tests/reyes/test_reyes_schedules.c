@@ -25,11 +25,11 @@ START_TEST(test_every_schedule_identical)
     memset(&first_stats, 0, sizeof first_stats);
     memset(&first_rate_stats, 0, sizeof first_rate_stats);
     unsigned rendered = 0;
-    for (unsigned s = 0; s < reyes_test_schedule_count; ++s) {
+    for (unsigned s = 0; s < reyes_test_schedule_count(); ++s) {
         for (unsigned groups = 1; groups <= 2; ++groups) {
             char label[128];
-            snprintf(label, sizeof label, "%s groups=%u", reyes_test_schedules[s], groups);
-            reyes_test_apply_schedule(reyes_test_schedules[s], groups, &o);
+            snprintf(label, sizeof label, "%s groups=%u", reyes_test_schedule(s), groups);
+            reyes_test_apply_schedule(reyes_test_schedule(s), groups, &o);
             reyes_image image, rate_image;
             reyes_stats stats, rate_stats;
             reyes_renderer *renderer;

@@ -7,6 +7,8 @@
  */
 #include "perma_test.h"
 
+#include <stdbool.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -267,6 +269,196 @@ START_TEST(format_rejects_unnamed_values_and_truncates)
 }
 END_TEST
 
+/* perma_schedule_all in order: what the tests, benchmarks and examples
+ * iterate (and meson's test variants, runtime/schedules.py). */
+static const char *const every_schedule[] = {
+    "megakernel/shared",
+    "megakernel/stealing/random",
+    "megakernel/stealing/round-robin",
+    "megakernel/donation",
+    "megakernel/stealing-donation/random",
+    "megakernel/stealing-donation/round-robin",
+    "kernel-per-procedure",
+    "bounded-batches",
+};
+
+static void expect_parse_error(const char *label, const char *message)
+{
+    perma_schedule s;
+    perma_error error = { PERMA_OK, "" };
+    ck_assert_msg(perma_schedule_parse(label, &s, &error) == PERMA_ERR_ARGUMENT, "'%s' parsed", label);
+    ck_assert_int_eq(error.status, PERMA_ERR_ARGUMENT);
+    ck_assert_str_eq(error.message, message);
+}
+
+START_TEST(schedule_all_lists_every_schedule_in_order)
+{
+    perma_schedule s;
+    unsigned n = 0;
+    for (; perma_schedule_all(PERMA_SCHEDULES_ALL, n, &s) == PERMA_OK; ++n) {
+        ck_assert_uint_lt(n, COUNT(every_schedule));
+        expect_format(&s, every_schedule[n]);
+        ck_assert_uint_eq(s.local_queue_items, 0);
+        ck_assert_uint_eq(s.batch_limit, 0);
+    }
+    ck_assert_uint_eq(n, COUNT(every_schedule));
+    /* Past the end *out stays as it was. */
+    memset(&s, 0xab, sizeof s);
+    perma_schedule untouched = s;
+    ck_assert_int_eq(perma_schedule_all(PERMA_SCHEDULES_ALL, n, &s), PERMA_ERR_ARGUMENT);
+    ck_assert_int_eq(perma_schedule_all(PERMA_SCHEDULES_ALL, ~0u, &s), PERMA_ERR_ARGUMENT);
+    ck_assert(memcmp(&s, &untouched, sizeof s) == 0);
+    ck_assert_int_eq(perma_schedule_all((perma_schedule_set)3, 0, &s), PERMA_ERR_ARGUMENT);
+    ck_assert(memcmp(&s, &untouched, sizeof s) == 0);
+}
+END_TEST
+
+/* The labels of a set, one after another with a space after each. */
+static void set_labels(perma_schedule_set set, char *out, size_t size)
+{
+    perma_schedule s;
+    out[0] = '\0';
+    for (unsigned i = 0; perma_schedule_all(set, i, &s) == PERMA_OK; ++i) {
+        char label[128];
+        ck_assert_int_gt(perma_schedule_format(&s, label, sizeof label), 0);
+        snprintf(out + strlen(out), size - strlen(out), "%s ", label);
+    }
+}
+
+START_TEST(schedule_sets_leave_out_victims)
+{
+    char labels[1024];
+    set_labels(PERMA_SCHEDULES_VICTIMS_ONCE, labels, sizeof labels);
+    ck_assert_str_eq(labels, "megakernel/shared megakernel/stealing/random megakernel/stealing/round-robin "
+                             "megakernel/donation megakernel/stealing-donation/random kernel-per-procedure "
+                             "bounded-batches ");
+    set_labels(PERMA_SCHEDULES_DEFAULT_VICTIM, labels, sizeof labels);
+    ck_assert_str_eq(labels, "megakernel/shared megakernel/stealing/random megakernel/donation "
+                             "megakernel/stealing-donation/random kernel-per-procedure bounded-batches ");
+}
+END_TEST
+
+/* Every schedule of the table, with and without the options its technique
+ * takes, formats to a label that parses back to it. */
+START_TEST(every_schedule_round_trips)
+{
+    perma_schedule s;
+    for (unsigned i = 0; perma_schedule_all(PERMA_SCHEDULES_ALL, i, &s) == PERMA_OK; ++i) {
+        for (unsigned option = 0; option < 3; ++option) {
+            perma_schedule variant = s;
+            if (option == 1 && s.technique == PERMA_TECHNIQUE_MEGAKERNEL)
+                variant.local_queue_items = 32;
+            if (option == 2 && s.technique == PERMA_TECHNIQUE_BOUNDED_BATCHES)
+                variant.batch_limit = 64;
+            char label[128];
+            int n = perma_schedule_format(&variant, label, sizeof label);
+            ck_assert_int_gt(n, 0);
+            ck_assert_uint_eq((size_t)n, strlen(label));
+            perma_schedule back = parse_ok(label);
+            ck_assert_msg(memcmp(&back, &variant, sizeof back) == 0, "'%s' parses to another schedule", label);
+        }
+    }
+}
+END_TEST
+
+/* "a, b, c": every name from 0 on. */
+static void join(const char *(*name_at)(int), char *out, size_t size)
+{
+    out[0] = '\0';
+    for (int i = 0; name_at(i); ++i)
+        snprintf(out + strlen(out), size - strlen(out), "%s%s", i ? ", " : "", name_at(i));
+}
+
+static const char *technique_at(int i) { return perma_technique_name((perma_technique)i); }
+static const char *strategy_at(int i) { return perma_strategy_name((perma_strategy)i); }
+static const char *victim_at(int i) { return perma_victim_name((perma_victim)i); }
+
+/* Every name parses to its value, and every name appears in the list of
+ * schedules; a misspelt name is refused with the whole list. */
+START_TEST(every_name_parses_and_is_scheduled)
+{
+    char labels[1024];
+    set_labels(PERMA_SCHEDULES_ALL, labels, sizeof labels);
+    for (int i = 0; technique_at(i); ++i) {
+        perma_technique t;
+        ck_assert_int_eq(perma_technique_parse(technique_at(i), &t), PERMA_OK);
+        ck_assert_int_eq(t, i);
+        ck_assert_msg(strstr(labels, technique_at(i)), "no schedule of %s", technique_at(i));
+    }
+    for (int i = 0; strategy_at(i); ++i) {
+        perma_strategy st;
+        ck_assert_int_eq(perma_strategy_parse(strategy_at(i), &st), PERMA_OK);
+        ck_assert_int_eq(st, i);
+        char part[64];
+        snprintf(part, sizeof part, "/%s", strategy_at(i));
+        ck_assert_msg(strstr(labels, part), "no schedule of %s", strategy_at(i));
+    }
+    for (int i = 0; victim_at(i); ++i) {
+        perma_victim v;
+        ck_assert_int_eq(perma_victim_parse(victim_at(i), &v), PERMA_OK);
+        ck_assert_int_eq(v, i);
+        ck_assert_msg(strstr(labels, victim_at(i)), "no schedule of %s", victim_at(i));
+    }
+    char names[256], message[512];
+    join(technique_at, names, sizeof names);
+    snprintf(message, sizeof message, "schedule 'megakernal': unknown technique 'megakernal' (%s)", names);
+    expect_parse_error("megakernal", message);
+    join(strategy_at, names, sizeof names);
+    snprintf(message, sizeof message, "schedule 'megakernel/sharde': unknown strategy 'sharde' (%s)", names);
+    expect_parse_error("megakernel/sharde", message);
+    join(victim_at, names, sizeof names);
+    snprintf(message, sizeof message, "schedule 'megakernel/stealing/rr': unknown victim 'rr' (%s)", names);
+    expect_parse_error("megakernel/stealing/rr", message);
+}
+END_TEST
+
+/* What a schedule's technique or strategy does not take is refused, by
+ * status and message, for every schedule of the table. */
+START_TEST(every_schedule_refuses_what_it_does_not_take)
+{
+    perma_schedule s;
+    for (unsigned i = 0; perma_schedule_all(PERMA_SCHEDULES_ALL, i, &s) == PERMA_OK; ++i) {
+        char label[128], bad_label[160], message[512];
+        perma_schedule_format(&s, label, sizeof label);
+        const char *technique = perma_technique_name(s.technique), *strategy = perma_strategy_name(s.strategy);
+        bool megakernel = s.technique == PERMA_TECHNIQUE_MEGAKERNEL;
+        bool steals = s.strategy == PERMA_STRATEGY_STEALING || s.strategy == PERMA_STRATEGY_STEALING_DONATION;
+        if (megakernel && !steals) {
+            snprintf(bad_label, sizeof bad_label, "%s/random", label);
+            snprintf(message, sizeof message, "schedule '%s': victim 'random' after strategy '%s' (a victim "
+                     "only follows stealing or stealing-donation)", bad_label, strategy);
+            expect_parse_error(bad_label, message);
+        }
+        if (megakernel && steals) {
+            snprintf(bad_label, sizeof bad_label, "%s/random", label);
+            snprintf(message, sizeof message, "schedule '%s': unexpected '/random' at the end", bad_label);
+            expect_parse_error(bad_label, message);
+        }
+        if (!megakernel) {
+            snprintf(bad_label, sizeof bad_label, "%s+local8", label);
+            snprintf(message, sizeof message, "schedule '%s': '+local8' after %s (+localN is only valid with "
+                     "megakernel)", bad_label, technique);
+            expect_parse_error(bad_label, message);
+        }
+        if (s.technique == PERMA_TECHNIQUE_KERNEL_PER_PROCEDURE) {
+            snprintf(bad_label, sizeof bad_label, "%s/shared", label);
+            snprintf(message, sizeof message, "schedule '%s': '/shared' after %s (a strategy is only valid "
+                     "with megakernel)", bad_label, technique);
+            expect_parse_error(bad_label, message);
+        }
+        /* A misspelt last name: the list of the names that could go there. */
+        snprintf(bad_label, sizeof bad_label, "%s!", label);
+        const char *what = !megakernel ? "technique" : steals ? "victim" : "strategy";
+        const char *(*name_at)(int) = !megakernel ? technique_at : steals ? victim_at : strategy_at;
+        const char *last = strrchr(bad_label, '/') ? strrchr(bad_label, '/') + 1 : bad_label;
+        snprintf(message, sizeof message, "schedule '%s': unknown %s '%s' (", bad_label, what, last);
+        join(name_at, message + strlen(message), sizeof message - strlen(message));
+        strcat(message, ")");
+        expect_parse_error(bad_label, message);
+    }
+}
+END_TEST
+
 int main(void)
 {
     Suite *suite = suite_create("schedule");
@@ -280,6 +472,11 @@ int main(void)
     tcase_add_test(tc, long_label_message_is_truncated_not_overrun);
     tcase_add_test(tc, format_leaves_out_fields_the_technique_ignores);
     tcase_add_test(tc, format_rejects_unnamed_values_and_truncates);
+    tcase_add_test(tc, schedule_all_lists_every_schedule_in_order);
+    tcase_add_test(tc, schedule_sets_leave_out_victims);
+    tcase_add_test(tc, every_schedule_round_trips);
+    tcase_add_test(tc, every_name_parses_and_is_scheduled);
+    tcase_add_test(tc, every_schedule_refuses_what_it_does_not_take);
     suite_add_tcase(suite, tc);
     return test_run_suite(suite) ? EXIT_FAILURE : EXIT_SUCCESS;
 }

@@ -33,29 +33,45 @@ static const shape shapes[] = {
 };
 enum { SHAPES = sizeof shapes / sizeof shapes[0] };
 
-/* Schedule labels (perma_schedule_parse; the stealing victim is the
- * default, random).  Failure messages name them and PERMA_STRESS_VARIANT=N
- * indexes this list: keep the order. */
-static const char *const variants[] = {
-    "megakernel/shared",
-    "megakernel/stealing",
-    "megakernel/donation",
-    "megakernel/stealing-donation",
-    "megakernel/shared+local32",
-    "megakernel/stealing+local32",
-    "kernel-per-procedure",
-    "bounded-batches",
-    "megakernel/donation+local32",
-    "megakernel/stealing-donation+local32",
-    "megakernel/stealing/round-robin+local32",
-};
+/* The schedules: every one (perma_schedule_all, the victims under one
+ * stealing strategy), then every megakernel one of those with a local
+ * front queue of 32 items.  Failure messages name them by label and
+ * PERMA_STRESS_VARIANT=N indexes this list. */
+#define MAX_VARIANTS 32
+static perma_schedule variants[MAX_VARIANTS];
+static char variant_labels[MAX_VARIANTS][64];
+static unsigned variant_count;
+
+static void list_variants(void)
+{
+    perma_schedule s;
+    while (variant_count < MAX_VARIANTS &&
+           perma_schedule_all(PERMA_SCHEDULES_VICTIMS_ONCE, variant_count, &s) == PERMA_OK)
+        variants[variant_count++] = s;
+    for (unsigned i = 0, plain = variant_count; i < plain && variant_count < MAX_VARIANTS; ++i) {
+        if (variants[i].technique != PERMA_TECHNIQUE_MEGAKERNEL)
+            continue;
+        variants[variant_count] = variants[i];
+        variants[variant_count++].local_queue_items = 32;
+    }
+    for (unsigned i = 0; i < variant_count; ++i)
+        perma_schedule_format(&variants[i], variant_labels[i], sizeof variant_labels[i]);
+}
 
 static perma_schedule variant_schedule(unsigned variant)
 {
-    perma_schedule schedule;
-    perma_error error;
-    ck_assert_msg(perma_schedule_parse(variants[variant], &schedule, &error) == PERMA_OK, "%s", error.message);
-    return schedule;
+    ck_assert_uint_lt(variant, variant_count);
+    return variants[variant];
+}
+
+/* The variant of a label; fails the test if there is none. */
+static unsigned variant_of(const char *label)
+{
+    for (unsigned i = 0; i < variant_count; ++i)
+        if (strcmp(variant_labels[i], label) == 0)
+            return i;
+    ck_abort_msg("no stress variant %s", label);
+    return 0;
 }
 
 /* The hash both sides use; kept in sync with MIX_SOURCE. */
@@ -256,16 +272,16 @@ static void run_graph(stress_runtime *s, unsigned index, const graph *g, unsigne
      * are the point. */
     ck_assert_perma_ok(s->rt, perma_forget_capacities(s->rt));
     perma_status st = perma_run(s->rt);
-    ck_assert_msg(st == PERMA_OK, "graph %u (shape %u) under %s: %s", index, g->shape, variants[variant],
+    ck_assert_msg(st == PERMA_OK, "graph %u (shape %u) under %s: %s", index, g->shape, variant_labels[variant],
                   perma_errmsg(s->rt));
     totals expected;
     simulate_graph(g, &expected);
-    ck_assert_msg(s->errors[0] == 0, "graph %u under %s: %u items arrived corrupted", index, variants[variant],
+    ck_assert_msg(s->errors[0] == 0, "graph %u under %s: %u items arrived corrupted", index, variant_labels[variant],
                   s->errors[0]);
     for (unsigned p = 0; p < sh->procs; ++p) {
         ck_assert_msg(s->counts[p] == expected.counts[p] && s->sums[p] == expected.sums[p],
                       "graph %u (shape %u) under %s: procedure %u ran %u items (id sum %llu), the simulation %u (%llu)",
-                      index, g->shape, variants[variant], p, s->counts[p], (unsigned long long)s->sums[p],
+                      index, g->shape, variant_labels[variant], p, s->counts[p], (unsigned long long)s->sums[p],
                       expected.counts[p], (unsigned long long)expected.sums[p]);
     }
 }
@@ -300,9 +316,9 @@ END_TEST
  * pass of all 200 graphs failed about 6 times in 10). */
 START_TEST(local_queue_stalls_lose_nothing)
 {
-    const unsigned local_variants[] = { 4, 5 }; /* shared+local32, stealing+local32 */
+    const char *const local_variants[] = { "megakernel/shared+local32", "megakernel/stealing/random+local32" };
     enum { REPEATS = 12 };
-    unsigned variant = local_variants[_i];
+    unsigned variant = variant_of(local_variants[_i]);
     ck_assert_uint_eq(variant_schedule(variant).local_queue_items, 32);
     stress_runtime s;
     open_shape(&s, 0, variant);
@@ -326,11 +342,11 @@ START_TEST(local_queue_stalls_lose_nothing)
 END_TEST
 
 /* PERMA_STRESS_VARIANT=N runs variant N only (0-based, in the order of the
- * table above): to repeat one variant many times while hunting a race. */
+ * list above): to repeat one variant many times while hunting a race. */
 static void variant_range(int *first, int *end)
 {
     *first = 0;
-    *end = (int)(sizeof variants / sizeof variants[0]);
+    *end = (int)variant_count;
     const char *only = getenv("PERMA_STRESS_VARIANT");
     if (only && *only) {
         char *rest;
@@ -347,6 +363,7 @@ static void variant_range(int *first, int *end)
 int main(void)
 {
     int first, end;
+    list_variants();
     variant_range(&first, &end);
     Suite *s = suite_create("stress");
     TCase *tc = tcase_create("stress");

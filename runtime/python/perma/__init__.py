@@ -22,4 +22,4 @@ from .errors import (ArgumentError, BuildError, CapacityError, DeviceError, Emit
                      NoDeviceError, NoMemoryError, NoPlatformError, OpenCLError, PermaError, StateError, Status,
                      TimeoutError, status_name)
 from .runtime import Procedure, Runtime
-from .schedule import schedule_label
+from .schedule import all_schedules, schedule_label

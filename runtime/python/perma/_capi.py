@@ -94,6 +94,9 @@ STRUCTS = {'perma_error': Error, 'perma_schedule': Schedule, 'perma_config': Con
            'perma_procedure_stats': ProcedureStats, 'perma_group_stats': GroupStats,
            'perma_stats': Stats}
 
+# perma_schedule_set (perma.h) by its C names (the layout test checks the values).
+SCHEDULE_SETS = {'PERMA_SCHEDULES_ALL': 0, 'PERMA_SCHEDULES_VICTIMS_ONCE': 1, 'PERMA_SCHEDULES_DEFAULT_VICTIM': 2}
+
 RT = c_void_p  # perma_runtime *
 STATUS = c_int
 
@@ -105,6 +108,7 @@ PROTOTYPES = {
     'perma_victim_name': (c_char_p, [c_int]),
     'perma_schedule_parse': (STATUS, [c_char_p, POINTER(Schedule), POINTER(Error)]),
     'perma_schedule_format': (c_int, [POINTER(Schedule), c_char_p, c_size_t]),
+    'perma_schedule_all': (STATUS, [c_int, c_uint, POINTER(Schedule)]),
     'perma_config_init': (None, [POINTER(Config)]),
     'perma_device_list': (STATUS, [c_char_p, POINTER(DeviceRef), c_uint, POINTER(c_uint), POINTER(Error)]),
     'perma_device_ref_format': (c_int, [POINTER(DeviceRef), c_char_p, c_size_t]),
