@@ -256,8 +256,9 @@ perma_status perma_generate_program(perma_runtime *rt, const perma_strbuf *reduc
                                     const perma_strbuf *reduce_helpers, perma_strbuf *sb)
 {
     /* The strategy's parts the scheduler compiles in (kernels/perma_scheduler.cl);
-     * with one queue set there is nobody to steal from or donate to. */
-    const perma_strategy_info *strategy = perma_strategy_row((int)rt->config.schedule.strategy);
+     * with one queue set there is nobody to steal from or donate to.  The
+     * table's row was looked up with the layout (perma_build_layout). */
+    const perma_strategy_info *strategy = rt->strategy;
     bool distributed = rt->queue_sets > 1 && strategy;
     bool item_barrier = false;
     for (unsigned i = 0; i < rt->proc_count; ++i)

@@ -172,6 +172,7 @@ struct perma_runtime {
     unsigned lq_words;
     unsigned order[PERMA_MAX_PROCEDURES];
     unsigned queue_sets;            /* 1 (shared) or one per group (distributed) */
+    const struct perma_strategy_info *strategy; /* the schedule table's row (schedule_table.h) */
     perma_queue_layout queue_layout; /* what the queue planner knows of the build (queues.h) */
     unsigned device_trace_events;   /* trace records per group the device keeps; 0: none */
 

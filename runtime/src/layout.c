@@ -193,10 +193,14 @@ size_t perma_local_memory(const perma_runtime *rt)
     return limit;
 }
 
+static unsigned queue_sets_of(const perma_runtime *rt, const perma_strategy_info *strategy)
+{
+    return rt->executor->persistent && strategy && strategy->per_group_queue_sets ? rt->work_groups : 1;
+}
+
 unsigned perma_queue_sets(const perma_runtime *rt)
 {
-    const perma_strategy_info *strategy = perma_strategy_row((int)rt->config.schedule.strategy);
-    return rt->executor->persistent && strategy && strategy->per_group_queue_sets ? rt->work_groups : 1;
+    return queue_sets_of(rt, perma_strategy_row((int)rt->config.schedule.strategy));
 }
 
 size_t perma_queue_memory_limit(const perma_runtime *rt)
@@ -313,7 +317,8 @@ perma_status perma_build_layout(perma_runtime *rt)
     /* Queues can belong to groups, and groups keep local front queues,
      * only when the groups live for the whole launch. */
     bool persistent = rt->executor->persistent;
-    rt->queue_sets = perma_queue_sets(rt);
+    rt->strategy = perma_strategy_row((int)rt->config.schedule.strategy);
+    rt->queue_sets = queue_sets_of(rt, rt->strategy);
     perma_queue_layout_fill(rt, rt->queue_sets, &rt->queue_layout);
     rt->device_trace_events = persistent && rt->config.trace_path ? rt->trace_events : 0;
 
