@@ -99,8 +99,8 @@ perma_status perma_declare_reduction(perma_runtime *rt, const char *name, perma_
     r->result = result;
     rt->reduction_count++;
     rt->reductions_valid = false;
-    /* reduce_NAME() is part of the program: generate it again. */
-    perma_release_program(rt);
+    /* reduce_NAME() is part of the program: the next build generates it
+     * again (perma_build_program releases the old program first). */
     rt->built = false;
     return PERMA_OK;
 }
