@@ -12,7 +12,9 @@ line comes after every module that calls it, so reading down the graph
 goes down the call tree; a call cycle is reported and fails --check.
 
 --check compares the graph with the block between the markers in
-DESIGN_MD and exits 1 naming the first difference; --write replaces it.
+DESIGN_MD and checks that DESIGN_MD names every module (`name.c`, in its
+table of modules); it exits 1 naming the first difference.  --write
+replaces the block.
 Without either the graph is printed.
 """
 import os
@@ -162,6 +164,11 @@ def main(argv):
         return 1
     if cycle:
         print('call cycle among: ' + ' '.join(cycle), file=sys.stderr)
+        return 1
+    unnamed = [m for m in sorted(graph(argv[1])) if '`%s.c`' % m not in doc]
+    if unnamed:
+        print('%s: the module table does not name %s' % (design, ', '.join('`%s.c`' % m for m in unnamed)),
+              file=sys.stderr)
         return 1
     print('%s: the module graph matches the code (%d modules, no call cycle)' % (design, len(graph(argv[1]))))
     return 0
