@@ -219,9 +219,9 @@ unsigned bench_threads(const bench_options *options);
 /* ---- what it is doing (activity.c) ---- */
 
 /* Take SIGTERM, SIGINT and SIGHUP (blocked in every thread, waited for by
- * one thread, whatever handlers libraries install): each then ends perma-bench with a
- * line on stderr naming the benchmark, the seconds since this call and the
- * activity last set, and exit status 1. */
+ * one thread, whatever handlers libraries install): each then ends
+ * perma-bench with a line on stderr naming the benchmark, the seconds since
+ * this call and the activity last set, and exit status 1. */
 void bench_activity_start(const char *benchmark);
 /* Set the activity, e.g. "building %s (%s)" with a variant and workload. */
 void bench_activity(const char *fmt, ...) __attribute__((format(printf, 1, 2)));

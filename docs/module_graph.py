@@ -138,10 +138,14 @@ def main(argv):
     if len(argv) < 2:
         print(__doc__, file=sys.stderr)
         return 2
-    text, cycle = render(graph(argv[1]))
+    edges = graph(argv[1])
+    text, cycle = render(edges)
     if len(argv) == 2:
         print(text)
         return 1 if cycle else 0
+    if len(argv) != 4 or argv[2] not in ('--check', '--write'):
+        print(__doc__, file=sys.stderr)
+        return 2
     mode, design = argv[2], argv[3]
     with open(design) as f:
         doc = f.read()
@@ -156,7 +160,7 @@ def main(argv):
         return 1 if cycle else 0
     if current.strip() != text.strip():
         old, new = current.strip().split('\n'), text.split('\n')
-        for i, (a, b) in enumerate(zip(old + [''] * len(new), new + [''] * len(old))):
+        for a, b in zip(old + [''] * len(new), new + [''] * len(old)):
             if a != b:
                 print('%s: the module graph is out of date (regenerate: docs/module_graph.py %s --write %s)\n'
                       '  in the file: %r\n  from code:   %r' % (design, argv[1], design, a, b), file=sys.stderr)
@@ -165,12 +169,12 @@ def main(argv):
     if cycle:
         print('call cycle among: ' + ' '.join(cycle), file=sys.stderr)
         return 1
-    unnamed = [m for m in sorted(graph(argv[1])) if '`%s.c`' % m not in doc]
+    unnamed = [m for m in sorted(edges) if '`%s.c`' % m not in doc]
     if unnamed:
         print('%s: the module table does not name %s' % (design, ', '.join('`%s.c`' % m for m in unnamed)),
               file=sys.stderr)
         return 1
-    print('%s: the module graph matches the code (%d modules, no call cycle)' % (design, len(graph(argv[1]))))
+    print('%s: the module graph matches the code (%d modules, no call cycle)' % (design, len(edges)))
     return 0
 
 

@@ -22,7 +22,7 @@ import subprocess
 import sys
 import time
 
-SIGNALS = {'SIGHUP': signal.SIGHUP, 'SIGINT': signal.SIGINT, 'SIGTERM': signal.SIGTERM}
+STOP_SIGNALS = (signal.SIGHUP, signal.SIGINT, signal.SIGTERM)
 
 
 def mask(path, field):
@@ -67,9 +67,9 @@ def main():
         if name == 'stop-signals':
             waiters += 1  # in sigwait() its mask shows the signals it waits for unblocked
             continue
-        for name, number in SIGNALS.items():
+        for number in STOP_SIGNALS:
             if not blocked & bit(number):
-                unblocked.append('thread %s does not block %s' % (task, name))
+                unblocked.append('thread %s does not block %s' % (task, number.name))
     os.kill(job.pid, signal.SIGTERM)
     os.kill(job.pid, signal.SIGTERM)
     _, err = job.communicate(timeout=60)
