@@ -41,43 +41,81 @@ END_TEST
 
 /* The procedures of the stuck tests: `fine` items complete, item 0 emits
  * one `stuck` item, which loops until the host sets release[0] (never) or,
- * if `cooperative`, until the watchdog asks the run to stop. */
-static void add_stuck_procedures(perma_runtime *rt, int cooperative, perma_proc *f, perma_proc *s, uint32_t release[1])
+ * with `stop_condition`, until the watchdog asks the run to stop. */
+#define STUCK_SOURCE(stop_condition)                                                                             \
+    "void fine(perma_ctx *ctx, __local const uint *x) { if (*x == 0u) { uint v = 1u; emit_stuck(ctx, &v); } }\n" \
+    "void stuck(perma_ctx *ctx, __local const uint *x)\n"                                                        \
+    "{\n"                                                                                                        \
+    "    while (atomic_add(&ctx->buf.release[0], 0u) == 0u" stop_condition ")\n"                                 \
+    "        ;\n"                                                                                                \
+    "    (void)x;\n"                                                                                             \
+    "}\n"
+
+/* The start of the watchdog's message when the stuck item holds the run. */
+#define STUCK_STALL_MESSAGE \
+    "no item completed for 1 s (config.stall_limit): procedure 'stuck' (1 work-group) had items in flight"
+
+/* The configuration of the stuck runs: a stall limit of 1 s. */
+static perma_config stuck_config(perma_technique technique)
+{
+    perma_config config;
+    perma_config_init(&config);
+    config.schedule.technique = technique;
+    config.stall_limit = 1.0;
+    return config;
+}
+
+/* A run that gets stuck: `release` is bound as ctx->buf.release and the
+ * host never sets it; `fine` is the procedure seeded. */
+typedef struct stuck_run {
+    perma_proc fine;
+    uint32_t release[1];
+} stuck_run;
+
+/* Register the stuck procedures on `rt` (polling perma_stop_requested if
+ * `cooperative`), build, and seed 99 items that complete and one that
+ * emits the stuck item.  Returns the first failure (message in
+ * perma_errmsg(rt)); `run` must outlive the runs of `rt`. */
+static perma_status set_up_stuck_run(perma_runtime *rt, bool cooperative, stuck_run *run)
 {
     perma_procedure fine = {
         .name = "fine", .item_type = "uint", .item_size = 4, .source_file = "stuck.cl", .function = "fine",
-        .source = cooperative
-                      ? "void fine(perma_ctx *ctx, __local const uint *x) { if (*x == 0u) { uint v = 1u; emit_stuck(ctx, &v); } }\n"
-                        "void stuck(perma_ctx *ctx, __local const uint *x)\n"
-                        "{\n"
-                        "    while (atomic_add(&ctx->buf.release[0], 0u) == 0u && !perma_stop_requested(ctx))\n"
-                        "        ;\n"
-                        "    (void)x;\n"
-                        "}\n"
-                      : "void fine(perma_ctx *ctx, __local const uint *x) { if (*x == 0u) { uint v = 1u; emit_stuck(ctx, &v); } }\n"
-                        "void stuck(perma_ctx *ctx, __local const uint *x)\n"
-                        "{\n"
-                        "    while (atomic_add(&ctx->buf.release[0], 0u) == 0u)\n"
-                        "        ;\n"
-                        "    (void)x;\n"
-                        "}\n",
+        .source = cooperative ? STUCK_SOURCE(" && !perma_stop_requested(ctx)") : STUCK_SOURCE(""),
         .emits = { { "stuck", 1 } },
     };
     perma_procedure stuck = fine;
     stuck.name = stuck.function = "stuck";
     memset(stuck.emits, 0, sizeof stuck.emits);
-    ck_assert_perma_ok(rt, perma_register(rt, &fine, f));
-    ck_assert_perma_ok(rt, perma_register(rt, &stuck, s));
-    ck_assert_perma_ok(rt, perma_bind_host(rt, "release", "__global uint *", release, sizeof(uint32_t), PERMA_READ));
-}
-
-/* 99 items that complete and one that emits the stuck item. */
-static void seed_stuck_run(perma_runtime *rt, perma_proc f)
-{
+    perma_proc stuck_id;
+    run->release[0] = 0;
     uint32_t values[100] = { 0 };
     for (unsigned i = 1; i < 100; ++i)
         values[i] = i;
-    ck_assert_perma_ok(rt, perma_seed(rt, f, values, 100));
+    perma_status st = perma_register(rt, &fine, &run->fine);
+    if (st == PERMA_OK)
+        st = perma_register(rt, &stuck, &stuck_id);
+    if (st == PERMA_OK)
+        st = perma_bind_host(rt, "release", "__global uint *", run->release, sizeof(uint32_t), PERMA_READ);
+    if (st == PERMA_OK)
+        st = perma_build(rt);
+    if (st == PERMA_OK)
+        st = perma_seed(rt, run->fine, values, 100);
+    return st;
+}
+
+/* A runtime under `technique` whose run the stuck item held until the
+ * watchdog stopped it: the run failed with the stall error, after
+ * *seconds. */
+static perma_runtime *stalled_runtime(perma_technique technique, bool cooperative, stuck_run *run, double *seconds)
+{
+    perma_config config = stuck_config(technique);
+    perma_runtime *rt = test_runtime_config(&config);
+    ck_assert_perma_ok(rt, set_up_stuck_run(rt, cooperative, run));
+    double start = perma_test_now();
+    ck_assert_int_eq(perma_run(rt), PERMA_ERR_TIMEOUT);
+    *seconds = perma_test_now() - start;
+    ck_assert_contains(perma_errmsg(rt), STUCK_STALL_MESSAGE);
+    return rt;
 }
 
 /* A procedure that never returns: nothing completes, so the watchdog stops
@@ -89,25 +127,14 @@ static void seed_stuck_run(perma_runtime *rt, perma_proc f)
  * made exit() wait for the stuck kernel forever. */
 static void stuck_procedure(perma_technique technique)
 {
-    perma_config config;
-    perma_config_init(&config);
-    config.schedule.technique = technique;
-    config.stall_limit = 1.0;
-    perma_runtime *rt = test_runtime_config(&config);
-    perma_proc f, s;
-    uint32_t release[1] = { 0 };
-    add_stuck_procedures(rt, 0, &f, &s, release);
-    ck_assert_perma_ok(rt, perma_build(rt));
-    seed_stuck_run(rt, f);
-    double start = perma_test_now();
-    ck_assert_int_eq(perma_run(rt), PERMA_ERR_TIMEOUT);
-    double seconds = perma_test_now() - start;
-    ck_assert_contains(perma_errmsg(rt), "no item completed for 1 s (config.stall_limit): procedure 'stuck' "
-                                         "(1 work-group) had items in flight (a procedure that never returns?)");
+    stuck_run run;
+    double seconds;
+    perma_runtime *rt = stalled_runtime(technique, false, &run, &seconds);
+    ck_assert_contains(perma_errmsg(rt), STUCK_STALL_MESSAGE " (a procedure that never returns?)");
     ck_assert_contains(perma_errmsg(rt), "the kernel did not stop within 10 s after being told to; this runtime "
                                          "can no longer be used");
     ck_assert_msg(seconds < 25.0, "the stall took %.1f s to end the run", seconds);
-    ck_assert_int_eq(perma_seed(rt, f, release, 1), PERMA_ERR_STATE);
+    ck_assert_int_eq(perma_seed(rt, run.fine, run.release, 1), PERMA_ERR_STATE);
     ck_assert_contains(perma_errmsg(rt), "perma_seed: a previous run's kernel did not stop");
     ck_assert_int_eq(perma_run(rt), PERMA_ERR_STATE);
     ck_assert_contains(perma_errmsg(rt), "perma_run: a previous run's kernel did not stop");
@@ -141,16 +168,11 @@ START_TEST(stuck_kernel_lets_the_process_exit)
     ck_assert_int_ge(child, 0);
     if (child == 0) {
         close(report[0]);
-        perma_config config;
-        perma_config_init(&config);
-        config.stall_limit = 1.0;
+        perma_config config = stuck_config(PERMA_TECHNIQUE_MEGAKERNEL);
         perma_runtime *rt = NULL;
-        perma_proc f, s;
-        uint32_t release[1] = { 0 };
-        if (perma_create(&config, &rt, NULL) != PERMA_OK)
+        stuck_run run;
+        if (perma_create(&config, &rt, NULL) != PERMA_OK || set_up_stuck_run(rt, false, &run) != PERMA_OK)
             _exit(90);
-        add_stuck_procedures(rt, 0, &f, &s, release);
-        seed_stuck_run(rt, f);
         if (perma_run(rt) != PERMA_ERR_TIMEOUT || !strstr(perma_errmsg(rt), "did not stop"))
             _exit(91);
         perma_destroy(rt);
@@ -186,20 +208,9 @@ END_TEST
  * is not given up on, and the runtime runs the next work. */
 static void cooperative_stop(perma_technique technique)
 {
-    perma_config config;
-    perma_config_init(&config);
-    config.schedule.technique = technique;
-    config.stall_limit = 1.0;
-    perma_runtime *rt = test_runtime_config(&config);
-    perma_proc f, s;
-    uint32_t release[1] = { 0 };
-    add_stuck_procedures(rt, 1, &f, &s, release);
-    seed_stuck_run(rt, f);
-    double start = perma_test_now();
-    ck_assert_int_eq(perma_run(rt), PERMA_ERR_TIMEOUT);
-    double seconds = perma_test_now() - start;
-    ck_assert_contains(perma_errmsg(rt), "no item completed for 1 s (config.stall_limit): procedure 'stuck' "
-                                         "(1 work-group) had items in flight");
+    stuck_run run;
+    double seconds;
+    perma_runtime *rt = stalled_runtime(technique, true, &run, &seconds);
     ck_assert_contains(perma_errmsg(rt), "; the run was stopped");
     ck_assert_msg(!strstr(perma_errmsg(rt), "did not stop"), "given up on: %s", perma_errmsg(rt));
     ck_assert_msg(seconds < 10.0, "the stall took %.1f s to end the run", seconds);
@@ -207,10 +218,10 @@ static void cooperative_stop(perma_technique technique)
     uint32_t values[100];
     for (unsigned i = 0; i < 100; ++i)
         values[i] = i + 1;
-    ck_assert_perma_ok(rt, perma_seed(rt, f, values, 100));
+    ck_assert_perma_ok(rt, perma_seed(rt, run.fine, values, 100));
     ck_assert_perma_ok(rt, perma_run(rt));
     perma_procedure_stats ps;
-    ck_assert_perma_ok(rt, perma_get_procedure_stats(rt, f, &ps));
+    ck_assert_perma_ok(rt, perma_get_procedure_stats(rt, run.fine, &ps));
     ck_assert_uint_eq(ps.items, 100);
     perma_destroy(rt);
 }
