@@ -1,5 +1,6 @@
-/* perma-bench reyes: the arguments shared by the stage workload
- * (bench_reyes.c) and the effect workloads (bench_reyes_effects.c). */
+/* perma-bench reyes: the arguments (bench_reyes_args.c) shared by the
+ * stage workload (bench_reyes.c) and the effect workloads
+ * (bench_reyes_effects.c). */
 #ifndef BENCH_REYES_H
 #define BENCH_REYES_H
 
@@ -26,6 +27,10 @@ typedef struct reyes_bench_args {
     unsigned workloads;       /* REYES_BENCH_* bits */
 } reyes_bench_args;
 
+/* Parse perma-bench reyes's arguments into *a (the common ones into
+ * *options): PERMA_CLI_OK, or what the command returns
+ * perma_cli_exit_status of. */
+perma_cli_status reyes_bench_parse_args(int argc, char **argv, bench_options *options, reyes_bench_args *a);
 /* 1 if the file can be read. */
 int reyes_bench_file_exists(const char *path);
 /* Render options for a variant (its scheduling fields) at an image size,
