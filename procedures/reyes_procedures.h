@@ -25,6 +25,7 @@
     L(displace, cl)              \
     L(surface, cl)               \
     L(grid, cl)                  \
+    L(sharp_quads, cl)           \
     L(rasterize, cl)
 
 /* X(ENUM, name, item type, priority, emits): procedure `name` is the
