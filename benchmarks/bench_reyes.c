@@ -169,9 +169,11 @@ static void warm_up(const reyes_scene *scene, const reyes_bench_args *a, const b
     }
 }
 
-/* The issue's cameras for the two models (docs/reyes.md, *Measured*);
- * other models are framed. */
-static int model_camera(const char *model, reyes_camera *camera)
+/* The camera of a workload: the issue's for the two models (docs/reyes.md,
+ * *Measured*); other models are framed.  0 (the reason printed) when the
+ * scene cannot be framed. */
+static int workload_camera(const char *workload, const char *model, const reyes_scene *scene, unsigned width,
+                           unsigned height, reyes_camera *camera)
 {
     static const struct { const char *model; float eye[3], at[3], fov; } cameras[] = {
         { "teapot", { 8.0f, -8.0f, 6.0f }, { 0.0f, 0.0f, 1.5f }, 40.0f },
@@ -187,6 +189,10 @@ static int model_camera(const char *model, reyes_camera *camera)
         camera->fov_deg = cameras[k].fov;
         return 1;
     }
+    reyes_error error;
+    if (reyes_camera_frame(scene, 40.0f, (float)width / (float)height, camera, &error) == REYES_OK)
+        return 1;
+    printf("reyes: %s: %s\n", workload, error.message);
     return 0;
 }
 
@@ -202,12 +208,8 @@ static void run_workload(bench_report *report, const char *model, const reyes_sc
     snprintf(workload, sizeof workload, "%s %ux%u bound %g", model, width, height, (double)a->bound_px);
     bench_report_workload(report, workload);
     reyes_camera camera;
-    reyes_error error;
-    if (!model_camera(model, &camera)
-        && reyes_camera_frame(scene, 40.0f, (float)width / (float)height, &camera, &error) != REYES_OK) {
-        printf("reyes: %s: %s\n", workload, error.message);
+    if (!workload_camera(workload, model, scene, width, height, &camera))
         return;
-    }
     static stage_timing reference[STAGE_MODES], parallel, timings[SLOTS][STAGE_MODES];
     unsigned threads = bench_threads(options);
     variant_times times[SLOTS];
@@ -300,12 +302,8 @@ static void run_defaults(bench_report *report, const char *model, const reyes_sc
     snprintf(workload, sizeof workload, "%s %ux%u shading rate 1", model, width, height);
     bench_report_workload(report, workload);
     reyes_camera camera;
-    reyes_error error;
-    if (!model_camera(model, &camera)
-        && reyes_camera_frame(scene, 40.0f, (float)width / (float)height, &camera, &error) != REYES_OK) {
-        printf("reyes: %s: %s\n", workload, error.message);
+    if (!workload_camera(workload, model, scene, width, height, &camera))
         return;
-    }
     static stage_timing single, parallel, plain[BENCH_MAX_DEVICES], stitched[BENCH_MAX_DEVICES];
     unsigned threads = bench_threads(options), devices = bench_device_passes(options);
     bench_variant variant;
