@@ -160,14 +160,17 @@ perma_status perma_victim_parse(const char *name, perma_victim *out);
 /* A schedule: how the work runs (perma_config.schedule), written as one
  * label on command lines, in tables and in reports:
  *
- *     megakernel[/STRATEGY[/VICTIM]][+localN]
+ *     megakernel[/STRATEGY[/VICTIM][/d=N]][+localN]
  *     kernel-per-procedure
  *     bounded-batches[/p=N]
  *
  * e.g. "megakernel/shared", "megakernel/stealing/round-robin",
- * "megakernel/shared+local32", "bounded-batches/p=64".  STRATEGY and VICTIM
- * are the names above; STRATEGY defaults to shared, VICTIM (only after a
- * stealing strategy: stealing, stealing-donation) to random.  +localN sets
+ * "megakernel/shared+local32", "megakernel/donation/d=256",
+ * "megakernel/stealing-donation/random/d=64+local32",
+ * "bounded-batches/p=64".  STRATEGY and VICTIM are the names above;
+ * STRATEGY defaults to shared, VICTIM (only after a stealing strategy:
+ * stealing, stealing-donation) to random.  /d=N (only after a donating
+ * strategy: donation, stealing-donation) sets donation_threshold, +localN
  * local_queue_items, /p=N batch_limit; N is a decimal number >= 1 (leave
  * the part out for the default).  All fields zero (what perma_config_init
  * sets) is megakernel/shared. */
@@ -182,6 +185,10 @@ typedef struct perma_schedule {
     unsigned local_queue_items;
     /* Bounded batches only: most items taken per host iteration; 0 = 4096. */
     unsigned batch_limit;
+    /* Donating strategies only (donation, stealing-donation): a group whose
+     * queue of a procedure holds more than this many items gives up to a
+     * batch of it to the emptiest group; 0 = 4 batches of that procedure. */
+    unsigned donation_threshold;
 } perma_schedule;
 
 /* Parse a label into *out (set only on success).  PERMA_ERR_ARGUMENT for
@@ -192,10 +199,10 @@ typedef struct perma_schedule {
 perma_status perma_schedule_parse(const char *label, perma_schedule *out, perma_error *error);
 /* Write the canonical label of *schedule into buf (always terminated when
  * size > 0): a megakernel's strategy is always named, and so is the victim
- * of a stealing strategy ("megakernel/stealing/random"); +localN and /p=N
- * only when not 0.  Fields the technique does not use are left out.  The
- * label parses back to the same schedule, and formatting a parsed
- * canonical label gives the same text.  Returns the label's length like
+ * of a stealing strategy ("megakernel/stealing/random"); /d=N, +localN and
+ * /p=N only when not 0.  Fields the technique or strategy does not use are
+ * left out.  The label parses back to the same schedule, and formatting a
+ * parsed canonical label gives the same text.  Returns the label's length like
  * snprintf (>= size: truncated), or -1 (buf "") when the technique,
  * strategy or victim has no name. */
 int perma_schedule_format(const perma_schedule *schedule, char *buf, size_t size);
@@ -209,9 +216,9 @@ typedef enum perma_schedule_set {
     PERMA_SCHEDULES_DEFAULT_VICTIM  /* the default victim only */
 } perma_schedule_set;
 /* Every schedule that differs in technique, strategy or victim, with no
- * local queue and the default batch limit, in a fixed order: every
- * technique; under megakernel every strategy; under a stealing strategy
- * every victim.  PERMA_SCHEDULES_ALL visits "megakernel/shared",
+ * local queue, the default batch limit and the default donation threshold,
+ * in a fixed order: every technique; under megakernel every strategy; under
+ * a stealing strategy every victim.  PERMA_SCHEDULES_ALL visits "megakernel/shared",
  * "megakernel/stealing/random", "megakernel/stealing/round-robin",
  * "megakernel/donation", "megakernel/stealing-donation/random",
  * "megakernel/stealing-donation/round-robin", "kernel-per-procedure",
@@ -317,12 +324,9 @@ typedef struct perma_config {
     void (*build_log)(void *user, const char *text);
     void *build_log_user;
     /* How the work runs: technique, strategy, victim, local front queue,
-     * batch limit (perma_schedule_parse fills one from a label); all zero
-     * = megakernel/shared. */
+     * batch limit, donation threshold (perma_schedule_parse fills one from
+     * a label); all zero = megakernel/shared. */
     perma_schedule schedule;
-    /* Donation: a group whose queue of a procedure holds more than this many
-     * items gives a share to the emptiest group; 0 = 4 batches. */
-    unsigned donation_threshold;
     /* Trace: if set (or the PERMA_TRACE environment variable names a file),
      * every run writes its batches as Chrome trace events (JSON, viewable
      * in Perfetto or chrome://tracing): one track per work-group, one event

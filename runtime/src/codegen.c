@@ -282,7 +282,7 @@ perma_status perma_generate_program(perma_runtime *rt, const perma_strbuf *reduc
                         rt->proc_count, rt->group_size, item_barrier, rt->proc_count, rt->max_edges, rt->arena_words,
                         rt->stage_words, rt->queue_sets,
                         distributed && strategy->steals, distributed && strategy->donates,
-                        rt->config.schedule.victim == PERMA_VICTIM_ROUND_ROBIN, rt->config.donation_threshold,
+                        rt->config.schedule.victim == PERMA_VICTIM_ROUND_ROBIN, rt->config.schedule.donation_threshold,
                         rt->local_queue_items, rt->lq_words ? rt->lq_words : 1u,
                         rt->device_trace_events);
     if (reduce_constants->length)

@@ -5,6 +5,7 @@
 
 #include <limits.h>
 #include <stdarg.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -42,6 +43,52 @@ static bool steals(perma_strategy strategy)
 {
     const perma_strategy_info *row = perma_strategy_row((int)strategy);
     return row && row->steals;
+}
+
+/* The label options a strategy's row may list in its `parameters` column
+ * ("/d=N"), and the perma_schedule field each sets (an unsigned, 0 = the
+ * default). */
+typedef struct strategy_option {
+    const char *name; /* "d": the label says /d=N */
+    size_t field;     /* offsetof the field in perma_schedule */
+} strategy_option;
+
+static const strategy_option strategy_options[] = {
+    { "d", offsetof(perma_schedule, donation_threshold) },
+};
+
+#define OPTION_COUNT (sizeof strategy_options / sizeof strategy_options[0])
+
+static unsigned option_value(const perma_schedule *s, const strategy_option *option)
+{
+    unsigned value;
+    memcpy(&value, (const char *)s + option->field, sizeof value);
+    return value;
+}
+
+static void set_option_value(perma_schedule *s, const strategy_option *option, unsigned value)
+{
+    memcpy((char *)s + option->field, &value, sizeof value);
+}
+
+/* Whether the row lists the option: "/NAME=N" as one of its
+ * space-separated parameters. */
+static bool row_takes(const perma_strategy_info *row, const strategy_option *option)
+{
+    char token[32];
+    int n = snprintf(token, sizeof token, "/%s=N", option->name);
+    if (!row || n < 0 || (size_t)n >= sizeof token)
+        return false;
+    for (const char *at = row->parameters; (at = strstr(at, token)) != NULL; at += n)
+        if ((at == row->parameters || at[-1] == ' ') && (at[n] == '\0' || at[n] == ' '))
+            return true;
+    return false;
+}
+
+static bool row_steals(const perma_strategy_info *row, const strategy_option *unused)
+{
+    (void)unused;
+    return row->steals;
 }
 
 /* The techniques' rows: what their labels take. */
@@ -119,15 +166,17 @@ static perma_status parse_strategy(cursor *c, perma_strategy *out)
     return PERMA_OK;
 }
 
-/* "a, b or c": the strategies that steal (those a victim may follow). */
-static void join_stealing(char *out, size_t size)
+/* "a, b or c": the strategies whose rows pass test(row, option), such as
+ * those that steal (which a victim may follow). */
+typedef bool strategy_test(const perma_strategy_info *row, const strategy_option *option);
+static void join_strategies(strategy_test *test, const strategy_option *option, char *out, size_t size)
 {
     int count = 0, listed = 0;
-    for (int i = 0; perma_strategy_name_at(i); ++i)
-        count += steals((perma_strategy)i);
+    for (int i = 0; perma_strategy_row(i); ++i)
+        count += test(perma_strategy_row(i), option);
     out[0] = '\0';
-    for (int i = 0; perma_strategy_name_at(i); ++i) {
-        if (!steals((perma_strategy)i))
+    for (int i = 0; perma_strategy_row(i); ++i) {
+        if (!test(perma_strategy_row(i), option))
             continue;
         size_t used = strlen(out);
         const char *separator = listed == 0 ? "" : listed == count - 1 ? " or " : ", ";
@@ -142,7 +191,7 @@ static perma_status parse_victim(cursor *c, perma_strategy strategy, perma_victi
     part p = next_part(c);
     if (!steals(strategy)) {
         char stealing[160];
-        join_stealing(stealing, sizeof stealing);
+        join_strategies(row_steals, NULL, stealing, sizeof stealing);
         return fail(c, "victim '%.*s' after strategy '%s' (a victim only follows %s)", p.length, p.text,
                     perma_strategy_name(strategy), stealing);
     }
@@ -186,14 +235,68 @@ static perma_status parse_local(cursor *c, unsigned *out)
     return PERMA_OK;
 }
 
-/* [/strategy[/victim]] after a technique whose label takes strategies. */
+/* The N of an option part "NAME=N" whose name has name_length characters. */
+static perma_status parse_option_count(const cursor *c, part p, int name_length, unsigned *out)
+{
+    *out = count_of(p.text + name_length + 1, p.length - name_length - 1);
+    if (!*out)
+        return fail(c, "'/%.*s' needs a number of items >= 1, e.g. /%.*s=64 (leave it out for the "
+                    "default)", p.length, p.text, name_length, p.text);
+    return PERMA_OK;
+}
+
+/* Whether the next part is an option "/NAME=N" rather than a name. */
+static bool option_next(const cursor *c)
+{
+    if (c->at[0] != '/')
+        return false;
+    return memchr(c->at + 1, '=', strcspn(c->at + 1, "/+")) != NULL;
+}
+
+/* "/NAME=N" after the strategy (and victim), the '/' consumed: only an
+ * option the strategy's row lists, and only once. */
+static perma_status parse_strategy_option(cursor *c, perma_schedule *s)
+{
+    part p = next_part(c);
+    int name_length = (int)(strchr(p.text, '=') - p.text);
+    const perma_strategy_info *row = perma_strategy_row((int)s->strategy);
+    const strategy_option *option = NULL;
+    for (size_t i = 0; i < OPTION_COUNT && !option; ++i)
+        if ((int)strlen(strategy_options[i].name) == name_length &&
+            strncmp(strategy_options[i].name, p.text, (size_t)name_length) == 0)
+            option = &strategy_options[i];
+    if (!option || !row_takes(row, option)) {
+        char strategies[160] = "";
+        if (option)
+            join_strategies(row_takes, option, strategies, sizeof strategies);
+        const char *name = perma_strategy_name(s->strategy);
+        if (!option || !*strategies)
+            return fail(c, "unknown option '/%.*s' after strategy '%s' (%s takes %s)", p.length, p.text, name,
+                        name, *row->parameters ? row->parameters : "no option");
+        return fail(c, "option '/%.*s' after strategy '%s' (/%s=N only follows %s)", p.length, p.text, name,
+                    option->name, strategies);
+    }
+    if (option_value(s, option))
+        return fail(c, "'/%.*s' after another /%s=N (give it once)", p.length, p.text, option->name);
+    unsigned value;
+    perma_status st = parse_option_count(c, p, name_length, &value);
+    if (st == PERMA_OK)
+        set_option_value(s, option, value);
+    return st;
+}
+
+/* [/strategy[/victim][/option=N...]] after a technique whose label takes
+ * strategies; an option right after the technique follows the default
+ * strategy. */
 static perma_status parse_strategy_part(cursor *c, perma_schedule *s)
 {
     perma_status st = PERMA_OK;
-    if (accept(c, '/'))
+    if (!option_next(c) && accept(c, '/'))
         st = parse_strategy(c, &s->strategy);
-    if (st == PERMA_OK && accept(c, '/'))
+    if (st == PERMA_OK && !option_next(c) && accept(c, '/'))
         st = parse_victim(c, s->strategy, &s->victim);
+    while (st == PERMA_OK && option_next(c) && accept(c, '/'))
+        st = parse_strategy_option(c, s);
     return st;
 }
 
@@ -211,11 +314,7 @@ static perma_status parse_batch_limit(cursor *c, perma_schedule *s)
     if (p.length < 2 || strncmp(p.text, "p=", 2) != 0)
         return fail(c, "unknown option '/%.*s' (bounded-batches takes /p=N: at most N items per "
                     "host iteration)", p.length, p.text);
-    s->batch_limit = count_of(p.text + 2, p.length - 2);
-    if (!s->batch_limit)
-        return fail(c, "'/%.*s' needs a number of items >= 1, e.g. /p=64 (leave it out for the "
-                    "default)", p.length, p.text);
-    return PERMA_OK;
+    return parse_option_count(c, p, 1, &s->batch_limit);
 }
 
 /* The label must end here; name what does not fit. */
@@ -262,15 +361,21 @@ perma_status perma_schedule_parse(const char *label, perma_schedule *out, perma_
     return PERMA_OK;
 }
 
-/* "/strategy[/victim]": the victim only for a stealing strategy; false for
- * an unnamed strategy or victim. */
+/* "/strategy[/victim][/option=N...]": the victim only for a stealing
+ * strategy, the options the strategy takes that are not 0; false for an
+ * unnamed strategy or victim. */
 static bool format_strategy(const perma_schedule *s, char *buf, size_t size)
 {
     const char *strategy = perma_strategy_name(s->strategy);
     const char *victim = steals(s->strategy) ? perma_victim_name(s->victim) : "";
     if (!strategy || !victim)
         return false;
-    snprintf(buf, size, "/%s%s%s", strategy, *victim ? "/" : "", victim);
+    int used = snprintf(buf, size, "/%s%s%s", strategy, *victim ? "/" : "", victim);
+    for (size_t i = 0; i < OPTION_COUNT && used >= 0 && (size_t)used < size; ++i) {
+        const strategy_option *option = &strategy_options[i];
+        if (option_value(s, option) && row_takes(perma_strategy_row((int)s->strategy), option))
+            used += snprintf(buf + used, size - (size_t)used, "/%s=%u", option->name, option_value(s, option));
+    }
     return true;
 }
 

@@ -23,7 +23,7 @@ typedef struct perma_strategy_info {
     bool steals;
     bool donates;
     bool per_group_queue_sets;
-    const char *parameters; /* perma_config fields it reads, "" for none */
+    const char *parameters; /* label options it takes ("/d=N ..."), "" for none */
     const char *description;
 } perma_strategy_info;
 

@@ -37,13 +37,14 @@ int main(int argc, char **argv)
     STRUCT(perma_schedule);
     FIELD(perma_schedule, technique); FIELD(perma_schedule, strategy); FIELD(perma_schedule, victim);
     FIELD(perma_schedule, local_queue_items); FIELD(perma_schedule, batch_limit);
+    FIELD(perma_schedule, donation_threshold);
     STRUCT(perma_config);
     FIELD(perma_config, platform_index); FIELD(perma_config, device_index); FIELD(perma_config, platform_name);
     FIELD(perma_config, sub_devices); FIELD(perma_config, sub_device); FIELD(perma_config, work_groups);
     FIELD(perma_config, group_size); FIELD(perma_config, items_per_work_item); FIELD(perma_config, queue_capacity);
     FIELD(perma_config, queue_memory_limit); FIELD(perma_config, time_limit); FIELD(perma_config, stall_limit);
     FIELD(perma_config, local_memory_limit); FIELD(perma_config, build_options); FIELD(perma_config, build_log);
-    FIELD(perma_config, build_log_user); FIELD(perma_config, schedule); FIELD(perma_config, donation_threshold);
+    FIELD(perma_config, build_log_user); FIELD(perma_config, schedule);
     FIELD(perma_config, trace_path); FIELD(perma_config, trace_events); FIELD(perma_config, progress);
     FIELD(perma_config, progress_user); FIELD(perma_config, progress_interval);
     STRUCT(perma_device_ref);

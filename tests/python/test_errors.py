@@ -39,6 +39,19 @@ def test_bad_schedule():
     assert isinstance(info.value, ValueError)
 
 
+def test_donation_threshold_only_in_the_label():
+    """The threshold is the label's /d=N, after a donating strategy only;
+    there is no Runtime keyword for it."""
+    with pytest.raises(perma.ArgumentError,
+                       match=r"schedule 'megakernel/stealing/d=4': option '/d=4' after strategy 'stealing' "
+                             r"\(/d=N only follows donation or stealing-donation\)") as info:
+        perma.Runtime('megakernel/stealing/d=4')
+    check(info, ARGUMENT)
+    with pytest.raises(perma.ArgumentError, match=r'unknown option donation_threshold \(options: ') as info:
+        perma.Runtime('megakernel/donation', donation_threshold=4)
+    check(info, ARGUMENT)
+
+
 def test_missing_device():
     with pytest.raises(perma.NoDeviceError, match=r"device list '7:7'.*platform 7") as info:
         perma.Runtime(device='7:7')

@@ -152,6 +152,17 @@ def test_schedule_labels():
     assert perma.schedule_label('megakernel') == 'megakernel/shared'
     assert perma.schedule_label('megakernel/stealing+local32') == 'megakernel/stealing/random+local32'
     assert perma.schedule_label('bounded-batches/p=64') == 'bounded-batches/p=64'
+    assert perma.schedule_label('megakernel/stealing-donation/d=64+local32') == \
+        'megakernel/stealing-donation/random/d=64+local32'
+
+
+def test_donation_threshold_is_part_of_the_schedule():
+    """The label's /d=N fills perma_schedule.donation_threshold (the
+    struct's last field: the ABI check covers its offset)."""
+    schedule = perma.schedule.parse_schedule('megakernel/donation/d=256')
+    assert schedule.donation_threshold == 256
+    assert perma.schedule.format_schedule(schedule) == 'megakernel/donation/d=256'
+    assert perma.schedule.parse_schedule('megakernel/donation').donation_threshold == 0
 
 
 @pytest.mark.parametrize('which', ['all', 'once', 'default'])

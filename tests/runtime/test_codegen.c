@@ -54,13 +54,23 @@ static char *generate(perma_runtime *rt)
     return sb.data;
 }
 
-static perma_runtime *runtime(void)
+/* A runtime of 2 groups of 8 under the schedule `label` (NULL: the
+ * default). */
+static perma_runtime *runtime_under(const char *label)
 {
     perma_config config;
     perma_config_init(&config);
     config.group_size = 8;
     config.work_groups = 2;
+    perma_error error;
+    if (label)
+        ck_assert_msg(perma_schedule_parse(label, &config.schedule, &error) == PERMA_OK, "%s", error.message);
     return test_runtime_config(&config);
+}
+
+static perma_runtime *runtime(void)
+{
+    return runtime_under(NULL);
 }
 
 static unsigned occurrences(const char *text, const char *needle)
@@ -134,4 +144,32 @@ START_TEST(user_sources_appear_once_with_their_lines)
 }
 END_TEST
 
-PERMA_TEST_MAIN("codegen", generated_text_has_the_expected_functions, user_sources_appear_once_with_their_lines)
+/* The schedule's strategy, victim and donation threshold (/d=N) are the
+ * program's constants: what the device's scheduler compiles in. */
+START_TEST(schedule_constants_follow_the_label)
+{
+    static const struct {
+        const char *label, *constants;
+    } cases[] = {
+        { "megakernel/shared", "#define PERMA_QUEUE_SETS 1u\n#define PERMA_STEALING 0\n#define PERMA_DONATION 0\n"
+                               "#define PERMA_VICTIM_ROUND_ROBIN 0\n#define PERMA_DONATION_THRESHOLD 0u\n" },
+        { "megakernel/donation", "#define PERMA_QUEUE_SETS 2u\n#define PERMA_STEALING 0\n#define PERMA_DONATION 1\n"
+                                 "#define PERMA_VICTIM_ROUND_ROBIN 0\n#define PERMA_DONATION_THRESHOLD 0u\n" },
+        { "megakernel/donation/d=256", "#define PERMA_DONATION 1\n#define PERMA_VICTIM_ROUND_ROBIN 0\n"
+                                       "#define PERMA_DONATION_THRESHOLD 256u\n" },
+        { "megakernel/stealing-donation/round-robin/d=1",
+          "#define PERMA_STEALING 1\n#define PERMA_DONATION 1\n#define PERMA_VICTIM_ROUND_ROBIN 1\n"
+          "#define PERMA_DONATION_THRESHOLD 1u\n" },
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+        perma_runtime *rt = runtime_under(cases[i].label);
+        char *text = generate(rt);
+        ck_assert_msg(strstr(text, cases[i].constants), "%s: no %s", cases[i].label, cases[i].constants);
+        free(text);
+        perma_destroy(rt);
+    }
+}
+END_TEST
+
+PERMA_TEST_MAIN("codegen", generated_text_has_the_expected_functions, user_sources_appear_once_with_their_lines,
+                schedule_constants_follow_the_label)

@@ -2,7 +2,8 @@
  * Schedule labels (perma_schedule_parse/format): every label the
  * benchmarks, examples and tests use parses and formats back, a default
  * perma_config's schedule is megakernel/shared, and bad labels are
- * PERMA_ERR_ARGUMENT with a message naming the bad part.  No device is
+ * PERMA_ERR_ARGUMENT with a message naming the bad part; the donation
+ * threshold (/d=N) only after a donating strategy.  No device is
  * needed.
  */
 #include "perma_test.h"
@@ -28,6 +29,10 @@ static const char *const canonical[] = {
     "bounded-batches",
     "bounded-batches/p=64",
     "bounded-batches/p=4096",
+    "megakernel/donation/d=256",
+    "megakernel/stealing-donation/random/d=1",
+    "megakernel/stealing-donation/round-robin/d=64+local32",
+    "megakernel/donation/d=4294967295",
 };
 
 /* Short forms in use (the stress test, the examples' --compare): the
@@ -40,6 +45,8 @@ static const struct {
     { "megakernel/stealing+local32", "megakernel/stealing/random+local32" },
     { "megakernel", "megakernel/shared" },
     { "megakernel+local8", "megakernel/shared+local8" },
+    { "megakernel/stealing-donation/d=64", "megakernel/stealing-donation/random/d=64" },
+    { "megakernel/stealing-donation/d=64+local32", "megakernel/stealing-donation/random/d=64+local32" },
 };
 
 #define COUNT(a) (sizeof(a) / sizeof((a)[0]))
@@ -94,6 +101,17 @@ START_TEST(parse_sets_every_field)
     ck_assert_int_eq(s.victim, PERMA_VICTIM_ROUND_ROBIN);
     ck_assert_uint_eq(s.local_queue_items, 32);
     ck_assert_uint_eq(s.batch_limit, 0);
+    ck_assert_uint_eq(s.donation_threshold, 0);
+
+    s = parse_ok("megakernel/stealing-donation/round-robin/d=64+local32");
+    ck_assert_int_eq(s.strategy, PERMA_STRATEGY_STEALING_DONATION);
+    ck_assert_int_eq(s.victim, PERMA_VICTIM_ROUND_ROBIN);
+    ck_assert_uint_eq(s.donation_threshold, 64);
+    ck_assert_uint_eq(s.local_queue_items, 32);
+
+    s = parse_ok("megakernel/donation/d=1");
+    ck_assert_int_eq(s.strategy, PERMA_STRATEGY_DONATION);
+    ck_assert_uint_eq(s.donation_threshold, 1);
 
     s = parse_ok("bounded-batches/p=64");
     ck_assert_int_eq(s.technique, PERMA_TECHNIQUE_BOUNDED_BATCHES);
@@ -189,6 +207,45 @@ static const struct {
       "schedule 'bounded-batches/q=4': unknown option '/q=4' (bounded-batches takes /p=N: at most N "
       "items per host iteration)" },
     { "bounded-batches/p=64/x", "schedule 'bounded-batches/p=64/x': unexpected '/x' at the end" },
+    /* The donation threshold: only after a donating strategy, once, N >= 1. */
+    { "megakernel/stealing/d=4",
+      "schedule 'megakernel/stealing/d=4': option '/d=4' after strategy 'stealing' (/d=N only follows "
+      "donation or stealing-donation)" },
+    { "megakernel/stealing/round-robin/d=4",
+      "schedule 'megakernel/stealing/round-robin/d=4': option '/d=4' after strategy 'stealing' (/d=N only "
+      "follows donation or stealing-donation)" },
+    { "megakernel/d=4",
+      "schedule 'megakernel/d=4': option '/d=4' after strategy 'shared' (/d=N only follows donation or "
+      "stealing-donation)" },
+    { "megakernel/donation/d=0",
+      "schedule 'megakernel/donation/d=0': '/d=0' needs a number of items >= 1, e.g. /d=64 (leave it out "
+      "for the default)" },
+    { "megakernel/donation/d=junk",
+      "schedule 'megakernel/donation/d=junk': '/d=junk' needs a number of items >= 1, e.g. /d=64 (leave it "
+      "out for the default)" },
+    { "megakernel/donation/d=",
+      "schedule 'megakernel/donation/d=': '/d=' needs a number of items >= 1, e.g. /d=64 (leave it out "
+      "for the default)" },
+    { "megakernel/donation/d=4294967296",
+      "schedule 'megakernel/donation/d=4294967296': '/d=4294967296' needs a number of items >= 1, e.g. "
+      "/d=64 (leave it out for the default)" },
+    { "megakernel/donation/d=8/d=16",
+      "schedule 'megakernel/donation/d=8/d=16': '/d=16' after another /d=N (give it once)" },
+    { "megakernel/donation/x=3",
+      "schedule 'megakernel/donation/x=3': unknown option '/x=3' after strategy 'donation' (donation takes "
+      "/d=N)" },
+    { "megakernel/shared/d2=3",
+      "schedule 'megakernel/shared/d2=3': unknown option '/d2=3' after strategy 'shared' (shared takes no "
+      "option)" },
+    { "megakernel/stealing-donation/d=8/random",
+      "schedule 'megakernel/stealing-donation/d=8/random': unexpected '/random' at the end" },
+    { "megakernel/donation+local32/d=8", "schedule 'megakernel/donation+local32/d=8': unexpected '/d=8' at the end" },
+    { "kernel-per-procedure/d=8",
+      "schedule 'kernel-per-procedure/d=8': '/d=8' after kernel-per-procedure (a strategy is only valid with "
+      "megakernel)" },
+    { "bounded-batches/d=8",
+      "schedule 'bounded-batches/d=8': unknown option '/d=8' (bounded-batches takes /p=N: at most N items "
+      "per host iteration)" },
 };
 
 START_TEST(bad_labels_name_the_bad_part)
@@ -234,21 +291,25 @@ END_TEST
 START_TEST(format_leaves_out_fields_the_technique_ignores)
 {
     perma_schedule s = { PERMA_TECHNIQUE_KERNEL_PER_PROCEDURE, PERMA_STRATEGY_STEALING,
-                         PERMA_VICTIM_ROUND_ROBIN, 32, 64 };
+                         PERMA_VICTIM_ROUND_ROBIN, 32, 64, 16 };
     expect_format(&s, "kernel-per-procedure");
     s.technique = PERMA_TECHNIQUE_BOUNDED_BATCHES;
     expect_format(&s, "bounded-batches/p=64");
     s.technique = PERMA_TECHNIQUE_MEGAKERNEL;
-    expect_format(&s, "megakernel/stealing/round-robin+local32");
+    expect_format(&s, "megakernel/stealing/round-robin+local32"); /* stealing does not donate */
     s.strategy = PERMA_STRATEGY_DONATION;
-    expect_format(&s, "megakernel/donation+local32");
+    expect_format(&s, "megakernel/donation/d=16+local32");
+    s.strategy = PERMA_STRATEGY_STEALING_DONATION;
+    expect_format(&s, "megakernel/stealing-donation/round-robin/d=16+local32");
+    s.strategy = PERMA_STRATEGY_SHARED;
+    expect_format(&s, "megakernel/shared+local32");
 }
 END_TEST
 
 START_TEST(format_rejects_unnamed_values_and_truncates)
 {
     char buf[64] = "old";
-    perma_schedule s = { (perma_technique)42, PERMA_STRATEGY_SHARED, PERMA_VICTIM_RANDOM, 0, 0 };
+    perma_schedule s = { (perma_technique)42, PERMA_STRATEGY_SHARED, PERMA_VICTIM_RANDOM, 0, 0, 0 };
     ck_assert_int_eq(perma_schedule_format(&s, buf, sizeof buf), -1);
     ck_assert_str_eq(buf, "");
     s.technique = PERMA_TECHNIQUE_MEGAKERNEL;
@@ -268,6 +329,13 @@ START_TEST(format_rejects_unnamed_values_and_truncates)
     ck_assert_int_eq(perma_schedule_format(&s, NULL, 0), (int)strlen("megakernel/stealing/random"));
 }
 END_TEST
+
+/* Whether the schedule's strategy donates (its label takes /d=N). */
+static bool donates(const perma_schedule *s)
+{
+    return s->technique == PERMA_TECHNIQUE_MEGAKERNEL &&
+           (s->strategy == PERMA_STRATEGY_DONATION || s->strategy == PERMA_STRATEGY_STEALING_DONATION);
+}
 
 /* perma_schedule_all in order: what the tests, benchmarks and examples
  * iterate (and meson's test variants, runtime/schedules.py). */
@@ -300,6 +368,7 @@ START_TEST(schedule_all_lists_every_schedule_in_order)
         expect_format(&s, every_schedule[n]);
         ck_assert_uint_eq(s.local_queue_items, 0);
         ck_assert_uint_eq(s.batch_limit, 0);
+        ck_assert_uint_eq(s.donation_threshold, 0);
     }
     ck_assert_uint_eq(n, COUNT(every_schedule));
     /* Past the end *out stays as it was. */
@@ -344,12 +413,14 @@ START_TEST(every_schedule_round_trips)
 {
     perma_schedule s;
     for (unsigned i = 0; perma_schedule_all(PERMA_SCHEDULES_ALL, i, &s) == PERMA_OK; ++i) {
-        for (unsigned option = 0; option < 3; ++option) {
+        for (unsigned option = 0; option < 5; ++option) {
             perma_schedule variant = s;
-            if (option == 1 && s.technique == PERMA_TECHNIQUE_MEGAKERNEL)
+            if ((option == 1 || option == 4) && s.technique == PERMA_TECHNIQUE_MEGAKERNEL)
                 variant.local_queue_items = 32;
             if (option == 2 && s.technique == PERMA_TECHNIQUE_BOUNDED_BATCHES)
                 variant.batch_limit = 64;
+            if (option >= 3 && donates(&s))
+                variant.donation_threshold = option == 3 ? 1 : 256;
             char label[128];
             int n = perma_schedule_format(&variant, label, sizeof label);
             ck_assert_int_gt(n, 0);
@@ -423,6 +494,18 @@ START_TEST(every_schedule_refuses_what_it_does_not_take)
         const char *technique = perma_technique_name(s.technique), *strategy = perma_strategy_name(s.strategy);
         bool megakernel = s.technique == PERMA_TECHNIQUE_MEGAKERNEL;
         bool steals = s.strategy == PERMA_STRATEGY_STEALING || s.strategy == PERMA_STRATEGY_STEALING_DONATION;
+        if (megakernel && !donates(&s)) {
+            snprintf(bad_label, sizeof bad_label, "%s/d=4", label);
+            snprintf(message, sizeof message, "schedule '%s': option '/d=4' after strategy '%s' (/d=N only "
+                     "follows donation or stealing-donation)", bad_label, strategy);
+            expect_parse_error(bad_label, message);
+        }
+        if (donates(&s)) {
+            snprintf(bad_label, sizeof bad_label, "%s/d=4/d=4", label);
+            snprintf(message, sizeof message, "schedule '%s': '/d=4' after another /d=N (give it once)",
+                     bad_label);
+            expect_parse_error(bad_label, message);
+        }
         if (megakernel && !steals) {
             snprintf(bad_label, sizeof bad_label, "%s/random", label);
             snprintf(message, sizeof message, "schedule '%s': victim 'random' after strategy '%s' (a victim "

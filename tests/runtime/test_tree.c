@@ -4,6 +4,7 @@
 #include "perma_test.h"
 #include "tree_procedure.h"
 
+#include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -124,6 +125,86 @@ START_TEST(tree_many_roots)
 }
 END_TEST
 
+/* The donation threshold is the schedule's (/d=N).  One tree of depth 16,
+ * its root seeded alone into group 0's queue set, grows that set far past
+ * the default threshold (4 batches: 1024 items here); the other groups get
+ * items only by donation, or by adopting the set of a group that is not
+ * running.  Whether another group is there before group 0 is done is up to
+ * the device's threads (a loaded CPU often runs a short launch on one
+ * thread; Intel's CPU runtime never runs two groups of a launch at once),
+ * so the tree runs until runs with another group there (witnesses) show
+ * the difference, at most DONATION_RUNS times; without witnesses the runs
+ * only check their counts and that nothing was donated above the
+ * threshold. */
+enum { DONATION_DEPTH = 16, DONATION_RUNS = 40, DONATION_WITNESSES = 3 };
+
+typedef struct tree_runtime {
+    perma_runtime *rt;
+    perma_proc id;
+    uint32_t counts[2];
+    uint64_t sums[1];
+} tree_runtime;
+
+static void tree_runtime_open(tree_runtime *t, const char *label)
+{
+    perma_config config;
+    perma_config_init(&config);
+    config.time_limit = 120;
+    perma_error error;
+    ck_assert_msg(perma_schedule_parse(label, &config.schedule, &error) == PERMA_OK, "%s", error.message);
+    t->rt = test_runtime_config(&config);
+    t->id = tree_add(t->rt, 1, t->counts, t->sums);
+}
+
+/* One tree, checked; its donations.  *others: a group other than 0 ran a
+ * batch or looked for one while the tree was not done. */
+static uint64_t donation_run(tree_runtime *t, bool *others)
+{
+    memset(t->counts, 0, sizeof t->counts);
+    struct tree_node root = { 0, DONATION_DEPTH, 1, 0 };
+    ck_assert_perma_ok(t->rt, perma_seed(t->rt, t->id, &root, 1));
+    ck_assert_perma_ok(t->rt, perma_run(t->rt));
+    ck_assert_uint_eq(t->counts[0], 1u << DONATION_DEPTH);
+    perma_stats st;
+    ck_assert_perma_ok(t->rt, perma_get_stats(t->rt, &st));
+    check_group_stats(t->rt, &st);
+    *others = false;
+    for (unsigned g = 1; g < st.work_groups; ++g) {
+        perma_group_stats gs;
+        ck_assert_perma_ok(t->rt, perma_get_group_stats(t->rt, g, &gs));
+        *others = *others || gs.batches > 0 || gs.idle_polls > 0;
+    }
+    return st.donations;
+}
+
+START_TEST(donation_threshold_is_the_schedules)
+{
+    tree_runtime never, standard;
+    tree_runtime_open(&never, "megakernel/donation/d=1048576"); /* more than any queue holds */
+    tree_runtime_open(&standard, "megakernel/donation");
+    unsigned never_witnessed = 0, standard_witnessed = 0;
+    uint64_t donations = 0;
+    for (unsigned run = 0; run < DONATION_RUNS; ++run) {
+        bool standard_done = donations > 0 || standard_witnessed >= DONATION_WITNESSES;
+        if (never_witnessed >= DONATION_WITNESSES && standard_done)
+            break;
+        bool others;
+        ck_assert_uint_eq(donation_run(&never, &others), 0);
+        never_witnessed += others;
+        if (!standard_done) {
+            donations = donation_run(&standard, &others);
+            standard_witnessed += others;
+        }
+    }
+    /* The default threshold does donate where another group is there. */
+    if (standard_witnessed >= DONATION_WITNESSES)
+        ck_assert_msg(donations > 0, "no donation at the default threshold in %u runs with another group there",
+                      standard_witnessed);
+    perma_destroy(never.rt);
+    perma_destroy(standard.rt);
+}
+END_TEST
+
 int main(void)
 {
     Suite *s = suite_create("tree");
@@ -131,6 +212,11 @@ int main(void)
     tcase_set_timeout(tc, PERMA_TEST_TIMEOUT);
     tcase_add_loop_test(tc, tree_counts_exact, 0, (int)(sizeof configs / sizeof configs[0]));
     tcase_add_test(tc, tree_many_roots);
+    /* The threshold once, under megakernel/donation: each threshold is a
+     * build of its own. */
+    const char *strategy = getenv("PERMA_TEST_STRATEGY");
+    if (strategy && strcmp(strategy, "donation") == 0)
+        tcase_add_test(tc, donation_threshold_is_the_schedules);
     suite_add_tcase(s, tc);
     return test_run_suite(s) ? EXIT_FAILURE : EXIT_SUCCESS;
 }

@@ -30,7 +30,7 @@ class Error(ctypes.Structure):
 
 class Schedule(ctypes.Structure):
     _fields_ = [('technique', c_int), ('strategy', c_int), ('victim', c_int),
-                ('local_queue_items', c_uint), ('batch_limit', c_uint)]
+                ('local_queue_items', c_uint), ('batch_limit', c_uint), ('donation_threshold', c_uint)]
 
 
 BUILD_LOG = ctypes.CFUNCTYPE(None, c_void_p, c_char_p)
@@ -44,7 +44,7 @@ class Config(ctypes.Structure):
                 ('time_limit', c_double), ('stall_limit', c_double),
                 ('local_memory_limit', c_size_t), ('build_options', c_char_p),
                 ('build_log', BUILD_LOG), ('build_log_user', c_void_p),
-                ('schedule', Schedule), ('donation_threshold', c_uint),
+                ('schedule', Schedule),
                 ('trace_path', c_char_p), ('trace_events', c_uint),
                 ('progress', c_void_p), ('progress_user', c_void_p), ('progress_interval', c_double)]
 

@@ -17,8 +17,8 @@ ACCESS = {'read': 1, 'write': 2, 'readwrite': 3}
 
 # perma_config fields a Runtime takes as keyword arguments (0 or None: perma's default).
 CONFIG_OPTIONS = ('work_groups', 'group_size', 'items_per_work_item', 'queue_capacity', 'queue_memory_limit',
-                  'time_limit', 'stall_limit', 'local_memory_limit', 'build_options', 'donation_threshold',
-                  'trace_path', 'trace_events')
+                  'time_limit', 'stall_limit', 'local_memory_limit', 'build_options', 'trace_path',
+                  'trace_events')
 
 
 def _count(value, what):
