@@ -345,11 +345,12 @@ static Suite *suite(void)
 
 /* Every model framed and small on screen (2.5 times as far), held to
  * issue 25's targets where the defaults meet them and elsewhere to the
- * bound measured (docs/reyes.md: the killeroo's 11532 small patches
- * take more than 4 micropolygons per covered pixel at a shading rate of
- * 1 with silhouettes within a fiftieth of a pixel; small on screen the
- * teaspoon's FLIP error is 7 % above the fixed grids', whose silhouettes
- * are exact to a thousandth of a pixel). */
+ * bound measured (docs/reyes.md: small on screen the teaspoon's FLIP
+ * error is 7 % above the fixed grids', whose silhouettes are exact to a
+ * thousandth of a pixel).  The killeroo's 11532 small patches meet 4
+ * micropolygons per covered pixel only with occlusion culling (2.28 and
+ * 3.87-3.89 measured with it, 5.15 and 8.01 without; the counts vary a
+ * little with the timing of the two groups). */
 START_TEST(test_models)
 {
     const struct {
@@ -357,9 +358,9 @@ START_TEST(test_models)
         bounds framed, small;
     } models[] = {
         {"teapot.bpt", targets, targets},
-        {"killeroo.bpt", {5.2, 0.01}, {8.1, 0.01}}, /* 5.15 and 8.01 measured (8.37 dicing sampleless grids) */
+        {"killeroo.bpt", targets, targets},
         {"newell-teapot.bpt", targets, {4.0, 0.02}},
-        {"teacup.bpt", targets, {4.2, 0.01}},
+        {"teacup.bpt", targets, targets},
         {"teaspoon.bpt", targets, {4.0, 0.07}},
     };
     const reyes_quality_view views[] = { {0, 25, 1.0f}, {30, 30, 2.5f} };
