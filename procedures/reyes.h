@@ -191,6 +191,13 @@ typedef struct reyes_options {
     unsigned spp;         /* samples per pixel (default 4) */
     unsigned max_depth;   /* split depth that forces dicing (default 20) */
     int backface_cull;    /* default 0: the models have open, two-sided parts */
+    /* 1 (default): with a shading rate (undisplaced, unblurred, not
+     * wedges), dice skips a small grid whose samples already all hold a
+     * nearer surface (docs/reyes.md, "Occlusion culling"); the image is
+     * the same, but which grids are skipped depends on the order they
+     * run in, so the micropolygon counts depend on the schedule.  0: off
+     * (counts that match the C reference and every schedule). */
+    unsigned occlusion_cull;
     float cull_margin;    /* frustum margin, fraction of the viewport (default 0.05) */
     uint32_t background;  /* RGBA8 of empty samples */
     /* REYES_STAGES_ALL (default); REYES_STAGES_GEOMETRY or _SUBDIVIDE stop
@@ -327,6 +334,7 @@ typedef struct reyes_stats {
     uint64_t samples_written;
     uint64_t stitches;        /* edges stitched (stitch items) */
     uint64_t fillers;         /* crack-filling triangles in front of the eye */
+    uint64_t occluded;        /* grids dice skipped as hidden (occlusion_cull; schedule-dependent) */
     /* With reyes_options.area_stats (unblurred full renders): the
      * micropolygons' total area on screen in square pixels and how many
      * fell in each area bin (reyes_area_bin_lower; mean and percentiles:

@@ -26,7 +26,8 @@
     L(surface, cl)               \
     L(grid, cl)                  \
     L(sharp_quads, cl)           \
-    L(rasterize, cl)
+    L(rasterize, cl)             \
+    L(occlusion, cl)
 
 /* X(ENUM, name, item type, priority, emits): procedure `name` is the
  * function reyes_NAME in device/reyes_NAME.cl over items of the type,

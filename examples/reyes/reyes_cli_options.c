@@ -16,6 +16,7 @@
 #define REYES_MAX_FRAMES 100000u
 
 static const char *const crack_fix_names[] = { "none", "stitch", "wedge", NULL };   /* REYES_CRACK_FIX_* */
+static const char *const off_on_names[] = { "off", "on", NULL };
 static const char *const subdivision_names[] = { "bound", "tiered", NULL };          /* REYES_SUBDIVISION_* */
 
 /* Models: every operand, into cli->models (room for argc of them). */
@@ -195,6 +196,8 @@ void reyes_cli_describe(reyes_cli *cli, const char *program, reyes_cli_descripti
         { PERMA_CLI_FLAG("coordinator-only", &cli->coordinator_only,
                          "mpirun: rank 0 hands out and gathers but renders nothing (a head node)") },
         { PERMA_CLI_FLAG("backface", &r->backface_cull, "cull patches that face away entirely") },
+        { PERMA_CLI_CHOICE("occlusion", "on|off", &r->occlusion_cull, off_on_names,
+                           "skip small grids hidden by what is already drawn (default on; shading rate only)") },
         { PERMA_CLI_TEXT("stats", "FILE", &cli->stats_path, "write statistics as JSON") },
         { PERMA_CLI_FLAG("progress", &cli->progress, "show the progress line on stderr even when it is not a "
                                                      "terminal (under mpirun: rank 0's, for the whole job)") },

@@ -195,10 +195,10 @@ uint reyes_split_reason(__global const struct reyes_params *p, __global const fl
     return (tiers.failed & REYES_TIER_EDGE) ? REYES_COUNT_SPLIT_EDGE : REYES_COUNT_SPLIT_INNER;
 }
 
-/* First pass of crack stitching: append the sub-patch to dice and its
- * screen box to the leaves buffer (the count goes on past the capacity, so
- * the host can retry with a larger buffer). */
-void reyes_record_leaf(perma_ctx *ctx, const struct reyes_subpatch *sp, float2 lo, float2 hi)
+/* First pass of crack stitching: append the sub-patch to dice, its
+ * screen box and its hull's nearest clip w to the leaves buffer (the count
+ * goes on past the capacity, so the host can retry with a larger buffer). */
+void reyes_record_leaf(perma_ctx *ctx, const struct reyes_subpatch *sp, float2 lo, float2 hi, float near_w)
 {
     __global const struct reyes_params *p = ctx->buf.params;
     uint index = atomic_inc(&ctx->buf.counters[REYES_COUNT_LEAVES]);
@@ -210,6 +210,7 @@ void reyes_record_leaf(perma_ctx *ctx, const struct reyes_subpatch *sp, float2 l
     leaf->lo_y = lo.y;
     leaf->hi_x = hi.x;
     leaf->hi_y = hi.y;
+    leaf->near_w = near_w;
 }
 
 /* How far the lens can move a point at clip depth w, in units of
@@ -297,44 +298,28 @@ void reyes_blur_leaf_box(__global const struct reyes_params *p, const float3 cp[
 }
 
 /* Whether the projected hull s[16] may cover one of the image's sample
- * positions (reyes_sample.cl): 0 only when none lies in its octagon (its
- * box [lo, hi] cut by the extremes of x + y and x - y), each side moved
- * out by REYES_SAMPLE_BOX_MARGIN pixels, so a surface inside the hull
+ * positions (reyes_sample.cl): 0 only when none lies in its octagon
+ * (reyes_hull_octagon, reyes_occlusion.cl), so a surface inside the hull
  * covers no sample and dicing it cannot change the image.  Sub-pixel
  * patches (a killeroo seen small) often fall between the samples.
  * Boxes over more than REYES_SAMPLE_BOX_PIXELS pixels are not searched
- * (1).  The margin covers the rounding by which dice's vertices may
- * stray from the hull. */
-#define REYES_SAMPLE_BOX_MARGIN (1.0f / 64.0f)
+ * (1). */
 #define REYES_SAMPLE_BOX_PIXELS 4
 int reyes_hull_has_sample(__global const struct reyes_params *p, const float2 s[16], float2 lo, float2 hi)
 {
-    lo -= REYES_SAMPLE_BOX_MARGIN;
-    hi += REYES_SAMPLE_BOX_MARGIN;
-    if (!(hi.x >= 0.0f && hi.y >= 0.0f && lo.x < p->width && lo.y < p->height))
+    struct reyes_octagon o = reyes_hull_octagon(s, lo, hi);
+    if (!(o.hi.x >= 0.0f && o.hi.y >= 0.0f && o.lo.x < p->width && o.lo.y < p->height))
         return 1; /* off the image or NaN: the frustum test's business */
-    float2 first = fmax(floor(lo), (float2)(0.0f, 0.0f));
-    float2 last = fmin(floor(hi), (float2)(p->width - 1.0f, p->height - 1.0f));
+    float2 first = fmax(floor(o.lo), (float2)(0.0f, 0.0f));
+    float2 last = fmin(floor(o.hi), (float2)(p->width - 1.0f, p->height - 1.0f));
     if ((last.x - first.x + 1.0f) * (last.y - first.y + 1.0f) > (float)REYES_SAMPLE_BOX_PIXELS)
         return 1;
-    /* The diagonal extremes: min and max of x + y (.x) and x - y (.y). */
-    float2 diag_lo = (float2)(INFINITY, INFINITY), diag_hi = (float2)(-INFINITY, -INFINITY);
-    for (int k = 0; k < 16; ++k) {
-        float2 d = (float2)(s[k].x + s[k].y, s[k].x - s[k].y);
-        diag_lo = fmin(diag_lo, d);
-        diag_hi = fmax(diag_hi, d);
-    }
-    diag_lo -= 2.0f * REYES_SAMPLE_BOX_MARGIN;
-    diag_hi += 2.0f * REYES_SAMPLE_BOX_MARGIN;
     uint columns = reyes_sample_columns(p->spp), rows = (p->spp + columns - 1u) / columns;
     for (uint py = (uint)first.y; py <= (uint)last.y; ++py)
         for (uint px = (uint)first.x; px <= (uint)last.x; ++px)
-            for (uint k = 0; k < p->spp; ++k) {
-                float2 at = reyes_sample_position_on(px, py, k, columns, rows);
-                float2 d = (float2)(at.x + at.y, at.x - at.y);
-                if (all(at >= lo) && all(at <= hi) && all(d >= diag_lo) && all(d <= diag_hi))
+            for (uint k = 0; k < p->spp; ++k)
+                if (reyes_octagon_contains(&o, reyes_sample_position_on(px, py, k, columns, rows)))
                     return 1;
-            }
     return 0;
 }
 
@@ -420,7 +405,10 @@ void reyes_bound(perma_ctx *ctx, __local const struct reyes_subpatch *item)
                 reyes_blur_leaf_box(p, cp, clip, radius, &lo, &hi);
             else
                 reyes_grow_box(p, clip, radius, &lo, &hi);
-            reyes_record_leaf(ctx, &sp, lo, hi);
+            float near_w = INFINITY;
+            for (int k = 0; k < 16; ++k)
+                near_w = fmin(near_w, clip[k].w);
+            reyes_record_leaf(ctx, &sp, lo, hi, near_w);
         } else if (sampleless)
             atomic_inc(&counters[REYES_COUNT_CULLED]);
         else

@@ -412,6 +412,13 @@ void reyes_dice(perma_ctx *ctx, __local const struct reyes_subpatch *item)
     atomic_inc(&counters[REYES_COUNT_GRIDS]);
     if (p->stages == REYES_STAGES_SUBDIVIDE)
         return;
+    if (p->occlusion_cull) {
+        struct reyes_subpatch sp = *item;
+        if (reyes_grid_occluded(p, ctx->buf.patches, ctx->buf.samples, &sp)) {
+            atomic_inc(&counters[REYES_COUNT_OCCLUDED]);
+            return;
+        }
+    }
     int2 size = reyes_dice_size(p, item->dice_size); /* n x n without a shading rate */
     s->grid.columns = (uint)size.x;
     s->grid.rows = (uint)size.y;

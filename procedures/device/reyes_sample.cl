@@ -142,19 +142,26 @@ REYES_INLINE ulong reyes_triangle_sample(float x, float y, const struct reyes_qu
     return inside && area != 0.0f ? packed : REYES_EMPTY_SAMPLE;
 }
 
-/* Keep the smaller of the sample's value and `value`.  Values only ever
- * decrease, so a depth word that is already below ours (a possibly stale
- * but never too small read of the high half) means the atomic would not
- * change anything: most hidden fragments skip it. */
-REYES_INLINE void reyes_sample_merge(__global ulong *samples, uint index, ulong value)
+/* The depth bits (the high half) of a sample, read while other groups
+ * may lower it: possibly stale, so never smaller than the sample's
+ * current depth (values only ever decrease).  perma_load: a volatile
+ * load (an atomic under the race check). */
+REYES_INLINE uint reyes_sample_depth_bits(__global ulong *samples, uint index)
 {
 #ifdef __ENDIAN_LITTLE__
     const uint high = 1u;
 #else
     const uint high = 0u;
 #endif
-    /* perma_load: a volatile load (an atomic under the race check). */
-    if ((uint)(value >> 32) <= perma_load((__global uint *)(samples + index) + high))
+    return perma_load((__global uint *)(samples + index) + high);
+}
+
+/* Keep the smaller of the sample's value and `value`.  A depth word that
+ * is already below ours means the atomic would not change anything: most
+ * hidden fragments skip it. */
+REYES_INLINE void reyes_sample_merge(__global ulong *samples, uint index, ulong value)
+{
+    if ((uint)(value >> 32) <= reyes_sample_depth_bits(samples, index))
         atom_min(&samples[index], value);
 }
 

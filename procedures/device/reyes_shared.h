@@ -62,6 +62,7 @@ struct reyes_moving_quad {
 struct reyes_leaf {
     struct reyes_subpatch sp;
     float lo_x, lo_y, hi_x, hi_y;
+    float near_w; /* its control hull's nearest clip w: dice's front-to-back order */
 };
 
 /* Edges of a sub-patch, in the order of reyes_stitch.edge. */
@@ -128,6 +129,7 @@ struct reyes_stitch {
 #define REYES_COUNT_SPLIT_EDGE 8
 #define REYES_COUNT_SPLIT_INNER 9
 #define REYES_COUNT_SPLIT_NEAR 10
+#define REYES_COUNT_OCCLUDED 11 /* grids dice skipped as hidden (reyes_occlusion.cl) */
 /* With reyes_params.area_stats: the micropolygons' total screen area in
  * units of 2^-10 square pixels (a 64-bit count in words 12 and 13), and
  * how many fell in each of REYES_AREA_BINS bins by area: bin 0 below
@@ -275,7 +277,11 @@ struct reyes_params {
      * stray from its curve on screen (pixels), and the shortest piece
      * that bending asks for, in sides of the rate in space. */
     float rate_sag, rate_min_piece;
-    REYES_U32 pad6[2];
+    /* 1: dice skips a grid that the samples already hold nearer surfaces
+     * over (reyes_grid_occluded, reyes_occlusion.cl); only with a shading
+     * rate, undisplaced, unblurred, without wedges, in full renders. */
+    REYES_U32 occlusion_cull;
+    REYES_U32 pad6;
 };
 
 #endif

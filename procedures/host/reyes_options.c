@@ -18,6 +18,7 @@ void reyes_options_init(reyes_options *options)
     options->spp = 4;
     options->max_depth = 20;
     options->backface_cull = 0;
+    options->occlusion_cull = 1;
     options->cull_margin = 0.05f;
     options->background = REYES_RGBA(24, 26, 32);
     options->crack_fix = REYES_CRACK_FIX_STITCH;
@@ -167,6 +168,8 @@ reyes_status reyes_options_check(const reyes_options *o, reyes_error *error)
         && o->displace_amplitude != 0.0f)
         return reyes_fail(error, REYES_ERR_ARGUMENT,
                           "crack fix wedge cannot be combined with displacement yet");
+    if (o->occlusion_cull > 1)
+        return reyes_fail(error, REYES_ERR_ARGUMENT, "occlusion_cull %u is not 0 (off) or 1 (on)", o->occlusion_cull);
     if ((o->bucket_width == 0) != (o->bucket_height == 0))
         return reyes_fail(error, REYES_ERR_ARGUMENT, "bucket %ux%u: both sides or neither must be 0",
                           o->bucket_width, o->bucket_height);

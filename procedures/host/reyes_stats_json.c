@@ -75,6 +75,8 @@ reyes_status reyes_write_stats_json(FILE *out, const reyes_stats *s, const reyes
             s->split_bound, s->split_edge, s->split_inner, s->split_near);
     fprintf(out, "  \"culled\": %" PRIu64 ",\n", s->culled);
     fprintf(out, "  \"grids\": %" PRIu64 ",\n", s->grids);
+    fprintf(out, "  \"occlusion\": \"%s\", \"occluded\": %" PRIu64 ",\n", o->occlusion_cull ? "on" : "off",
+            s->occluded);
     fprintf(out, "  \"forced_dice\": %" PRIu64 ",\n", s->forced_dice);
     fprintf(out, "  \"micropolygons\": %" PRIu64 ",\n", s->micropolygons);
     write_areas(out, s, o);

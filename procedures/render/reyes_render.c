@@ -14,6 +14,7 @@ static void free_buffers(render_buffers *b)
     free(b->seeds);
     free(b->leaves);
     free(b->dice_seeds);
+    free(b->near_order);
     free(b->stitch_seeds);
     reyes_stitch_plan_free(&b->plan);
     reyes_gray_map_free(&b->map);
@@ -101,6 +102,7 @@ static void count_stats(const reyes_scene *scene, const render_buffers *b, reyes
     stats->forced_dice = b->counters[REYES_COUNT_FORCED_DICE];
     stats->micropolygons = b->counters[REYES_COUNT_MICROPOLYGONS];
     stats->fillers = b->counters[REYES_COUNT_FILLERS];
+    stats->occluded = b->counters[REYES_COUNT_OCCLUDED];
     stats->split_bound = b->counters[REYES_COUNT_SPLIT_BOUND];
     stats->split_edge = b->counters[REYES_COUNT_SPLIT_EDGE];
     stats->split_inner = b->counters[REYES_COUNT_SPLIT_INNER];

@@ -156,5 +156,10 @@ reyes_status render_fill_params(const reyes_scene *scene, const reyes_camera *ca
     set_rays(p);
     p->rate_sag = REYES_RATE_SAG;
     p->rate_min_piece = REYES_RATE_MIN_PIECE;
+    /* Like the sampleless test: fixed grids (--grid N) keep the
+     * reference's counts; displaced and blurred grids leave their hull. */
+    int displaced = o->displace_mode != REYES_DISPLACE_NONE && o->displace_amplitude != 0.0f;
+    p->occlusion_cull = o->occlusion_cull && o->shading_rate > 0.0f && !p->blur && !p->wedges && !displaced
+                        && o->stages == REYES_STAGES_ALL;
     return REYES_OK;
 }

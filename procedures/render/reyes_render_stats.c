@@ -35,6 +35,7 @@ static void add_procedure(perma_procedure_stats *total, const perma_procedure_st
     total->peak_queue_items = max_u64(total->peak_queue_items, run->peak_queue_items);
     total->queue_capacity = max_size(total->queue_capacity, run->queue_capacity);
     total->regrowths += run->regrowths;
+    total->batch_size = total->batch_size > run->batch_size ? total->batch_size : run->batch_size;
 }
 
 void reyes_stats_add_run(reyes_stats *total, const perma_stats *run,

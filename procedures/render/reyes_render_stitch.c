@@ -8,6 +8,42 @@
 #include "reyes_render_internal.h"
 #include "reyes_renderer_internal.h"
 
+/* A leaf's place in the front-to-back order: its hull's nearest clip w,
+ * then its index (a total order: the same seeds on every run). */
+typedef struct near_key {
+    float near_w;
+    size_t leaf;
+} near_key;
+
+static int compare_near(const void *pa, const void *pb)
+{
+    const near_key *a = pa, *b = pb;
+    if (a->near_w != b->near_w)
+        return a->near_w < b->near_w ? -1 : 1;
+    return a->leaf < b->leaf ? -1 : a->leaf > b->leaf;
+}
+
+/* The leaves' indices front to back: dice takes its seeds in about that
+ * order, so the near grids are rasterized before the far ones they hide
+ * are tested (occlusion culling, reyes_occlusion.cl). */
+static reyes_status order_front_to_back(render_buffers *b, reyes_error *error)
+{
+    size_t count = b->leaf_count ? b->leaf_count : 1;
+    near_key *keys = malloc(count * sizeof *keys);
+    b->near_order = malloc(count * sizeof *b->near_order);
+    if (!keys || !b->near_order) {
+        free(keys);
+        return reyes_fail(error, REYES_ERR_NO_MEMORY, "out of memory for %zu grids", b->leaf_count);
+    }
+    for (size_t l = 0; l < b->leaf_count; ++l)
+        keys[l] = (near_key){ b->leaves[l].near_w, l };
+    qsort(keys, b->leaf_count, sizeof *keys, compare_near);
+    for (size_t l = 0; l < b->leaf_count; ++l)
+        b->near_order[l] = keys[l].leaf;
+    free(keys);
+    return REYES_OK;
+}
+
 /* First pass of crack stitching, over the whole image: bound and split
  * record the sub-patches to dice (retrying with a larger buffer if they
  * did not fit), then the stitch plan is built from them. */
@@ -51,6 +87,9 @@ reyes_status render_subdivide_and_plan(reyes_renderer *r, const reyes_scene *sce
      * image: let them grow their own. */
     perma_forget_capacities(r->rt);
     reyes_leaves_sort(b->leaves, b->leaf_count);
+    reyes_status ordered = order_front_to_back(b, error);
+    if (ordered != REYES_OK)
+        return ordered;
     b->dice_seeds = malloc((b->leaf_count ? b->leaf_count : 1) * sizeof *b->dice_seeds);
     if (!b->dice_seeds)
         return reyes_fail(error, REYES_ERR_NO_MEMORY, "out of memory for %zu grids", b->leaf_count);
@@ -84,7 +123,7 @@ void render_select_stitched_seeds(const reyes_options *o, tile t, render_buffers
 {
     b->dice_seed_count = b->stitch_seed_count = 0;
     for (size_t l = 0; l < b->leaf_count; ++l) {
-        const struct reyes_leaf *leaf = &b->leaves[l];
+        const struct reyes_leaf *leaf = &b->leaves[b->near_order[l]];
         if (!(leaf->sp.dice_size & REYES_DICE_NO_SAMPLE)
             && box_meets_tile(o, t, leaf->lo_x, leaf->lo_y, leaf->hi_x, leaf->hi_y))
             b->dice_seeds[b->dice_seed_count++] = leaf->sp;

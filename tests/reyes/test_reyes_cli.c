@@ -29,6 +29,7 @@ START_TEST(test_defaults)
     ck_assert_uint_eq(cli.render.grid, 16);
     ck_assert_float_eq(cli.render.shading_rate, 1.0f); /* the library's default is 0: fixed grids */
     ck_assert_uint_eq(cli.render.crack_fix, REYES_CRACK_FIX_STITCH);
+    ck_assert_uint_eq(cli.render.occlusion_cull, 1);
     ck_assert_uint_eq(cli.render.bucket_width, 0);
     ck_assert(!cli.has_camera);
     ck_assert_int_eq(cli.render.area_stats, 0); /* no --stats: the areas are not tallied */
@@ -44,7 +45,7 @@ START_TEST(test_all_options)
                            "--grid", "8", "--spp", "9", "--max-depth", "12", "--camera",
                            "1,2,3,-4.5,0,1e1", "--fov", "30", "--technique", "megakernel",
                            "--strategy", "shared", "--stats", "s.json", "--groups", "2", "b.bpt",
-                           "--backface", "--bucket", "32x16", "--crack-fix", "none", "--displace",
+                           "--backface", "--occlusion", "off", "--bucket", "32x16", "--crack-fix", "none", "--displace",
                            "png:dir/a:b.png:0.25", "--motion", "0.5,0,-1", "--motion-rotate", "0,1,2,-45", "--aperture", "0.1",
                            "--focus", "7", "--blur-algo", "bbox", "--blur-tile", "3",
                            "--blur-permutations", "64", "--time-samples", "8", "--",
@@ -69,6 +70,7 @@ START_TEST(test_all_options)
     ck_assert_int_eq(cli.render.area_stats, 1); /* the JSON's micropolygon_area */
     ck_assert_uint_eq(cli.render.work_groups, 2);
     ck_assert_int_eq(cli.render.backface_cull, 1);
+    ck_assert_uint_eq(cli.render.occlusion_cull, 0);
     ck_assert_uint_eq(cli.render.bucket_width, 32);
     ck_assert_uint_eq(cli.render.bucket_height, 16);
     ck_assert_uint_eq(cli.render.crack_fix, REYES_CRACK_FIX_NONE);

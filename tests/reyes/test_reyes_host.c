@@ -169,6 +169,12 @@ START_TEST(test_options_check)
     o.crack_fix = REYES_CRACK_FIX_WEDGE;
     ck_assert_int_eq(reyes_options_check(&o, &error), REYES_ERR_ARGUMENT);
     ck_assert(strstr(error.message, "crack fix wedge needs fixed grids") != NULL);
+    /* Occlusion culling: on by default, 0 or 1. */
+    reyes_options_init(&o);
+    ck_assert_uint_eq(o.occlusion_cull, 1);
+    o.occlusion_cull = 2;
+    ck_assert_int_eq(reyes_options_check(&o, &error), REYES_ERR_ARGUMENT);
+    ck_assert_str_eq(error.message, "occlusion_cull 2 is not 0 (off) or 1 (on)");
     reyes_options_init(&o);
     o.width = 16384;
     o.height = 16384;
@@ -264,6 +270,7 @@ START_TEST(test_stats_json)
     stats.patches_in = 32;
     stats.splits = 1234;
     stats.grids = 1267;
+    stats.occluded = 45;
     stats.procedures[REYES_PROC_BOUND].name = "bound";
     stats.procedures[REYES_PROC_BOUND].emit_count = 3;
     stats.procedures[REYES_PROC_BOUND].emitted[2] = 1267;
@@ -273,7 +280,7 @@ START_TEST(test_stats_json)
     ck_assert_int_eq(reyes_write_stats_json(f, &stats, &o, &error), REYES_OK);
     fclose(f);
     const char *keys[] = {"\"patches_in\": 32", "\"splits\": 1234", "\"culled\": 0",
-                          "\"grids\": 1267", "\"micropolygons\"", "\"samples_written\"",
+                          "\"grids\": 1267", "\"occlusion\": \"on\", \"occluded\": 45", "\"micropolygons\"", "\"samples_written\"",
                           "\"peak_queue_bytes\"", "\"seconds\"", "\"procedures\"",
                           "\"bound\": {\"items\": 0", "\"emitted\": [0, 0, 1267]",
                           "\"blur_algo\": \"interleaved\", \"blur_tile\": 4, \"blur_permutations\": 8",

@@ -245,6 +245,88 @@ START_TEST(test_sampleless_grids)
 }
 END_TEST
 
+/* A flat square patch in the plane z = `z`, x and y from x0, y0, `size`
+ * wide. */
+static void add_square(reyes_scene *scene, float x0, float y0, float z, float size)
+{
+    float cp[4][4][3];
+    for (int r = 0; r < 4; ++r)
+        for (int c = 0; c < 4; ++c) {
+            cp[r][c][0] = x0 + size * (float)c / 3.0f;
+            cp[r][c][1] = y0 + size * (float)r / 3.0f;
+            cp[r][c][2] = z;
+        }
+    reyes_error error;
+    ck_assert_int_eq(reyes_scene_add_patch(scene, cp, REYES_RGBA(200, 200, 200), &error), REYES_OK);
+}
+
+/* Occlusion culling: 64 squares of about 1.5 pixels behind a near one
+ * that hides them all.  The leaves are seeded front to back and one
+ * work-group runs dice's batches one after another, so every far grid in
+ * a batch after the near square's last is skipped; in that batch
+ * itself the items run in any order (in lockstep on a GPU).  The image
+ * is the same bytes as without the culling, with one work-group or two
+ * (whose counts depend on timing). */
+START_TEST(test_occluded_grids)
+{
+    reyes_scene scene, near_only;
+    reyes_scene_init(&scene);
+    reyes_scene_init(&near_only);
+    add_square(&scene, -1.0f, -1.0f, 0.0f, 2.0f);
+    add_square(&near_only, -1.0f, -1.0f, 0.0f, 2.0f);
+    const int side = 8;
+    for (int i = 0; i < side; ++i)
+        for (int j = 0; j < side; ++j)
+            add_square(&scene, -0.5f + 0.13f * (float)i, -0.5f + 0.13f * (float)j, -2.0f, 0.1f);
+    reyes_camera camera = { {0.0f, 0.0f, 4.0f}, {0.0f, 0.0f, 0.0f}, 40.0f };
+    reyes_options o;
+    reyes_options_init(&o);
+    o.width = o.height = 64;
+    o.shading_rate = 1.0f;
+    reyes_image culled, kept, alone;
+    reyes_stats culled_stats, kept_stats, alone_stats;
+    reyes_test_render(reyes_test_renderer(1), &scene, &camera, &o, &culled, &culled_stats);
+    reyes_test_render(reyes_test_renderer(1), &near_only, &camera, &o, &alone, &alone_stats);
+    o.occlusion_cull = 0;
+    reyes_test_render(reyes_test_renderer(1), &scene, &camera, &o, &kept, &kept_stats);
+    uint64_t far = (uint64_t)(side * side), near = alone_stats.grids;
+    uint64_t batch = culled_stats.procedures[REYES_PROC_DICE].batch_size;
+    /* Far grids that share a batch with near ones may be tested first. */
+    uint64_t mixed = near % batch ? batch - near % batch : 0;
+    printf("a square hiding %d small ones, 1 work-group: %llu grids (%llu near) in batches of %llu, %llu skipped as "
+           "hidden, %llu micropolygons (%llu without occlusion culling, %llu the near square alone)\n",
+           side * side, (unsigned long long)culled_stats.grids, (unsigned long long)near, (unsigned long long)batch,
+           (unsigned long long)culled_stats.occluded, (unsigned long long)culled_stats.micropolygons,
+           (unsigned long long)kept_stats.micropolygons, (unsigned long long)alone_stats.micropolygons);
+    ck_assert_uint_eq(kept_stats.grids, near + far);
+    ck_assert_uint_eq(culled_stats.grids, kept_stats.grids);
+    ck_assert_uint_eq(kept_stats.occluded, 0);
+    ck_assert_uint_gt(batch, 0);
+    ck_assert_uint_ge(culled_stats.occluded, far - (mixed < far ? mixed : far));
+    ck_assert_uint_le(culled_stats.occluded, far);
+    /* Each skipped grid would have been at least 1 micropolygon. */
+    ck_assert_uint_le(culled_stats.micropolygons, kept_stats.micropolygons - culled_stats.occluded);
+    ck_assert_uint_ge(culled_stats.micropolygons, alone_stats.micropolygons);
+    reyes_test_expect_same_image(&kept, &culled, "occlusion culling, 1 work-group");
+    reyes_test_expect_same_image(&alone, &culled, "the near square alone");
+    reyes_image two_groups;
+    reyes_stats two_groups_stats;
+    o.occlusion_cull = 1;
+    reyes_test_render(reyes_test_renderer(2), &scene, &camera, &o, &two_groups, &two_groups_stats);
+    reyes_test_expect_same_image(&kept, &two_groups, "occlusion culling, 2 work-groups");
+    reyes_image_free(&culled);
+    reyes_image_free(&kept);
+    reyes_image_free(&alone);
+    reyes_image_free(&two_groups);
+    reyes_stats_free(&culled_stats);
+    reyes_stats_free(&kept_stats);
+    reyes_stats_free(&alone_stats);
+    reyes_stats_free(&two_groups_stats);
+    reyes_scene_free(&scene);
+    reyes_scene_free(&near_only);
+}
+END_TEST
+
 static Suite *suite(void)
 {
     Suite *s = suite_create("reyes_quality");
@@ -252,6 +334,7 @@ static Suite *suite(void)
     tcase_set_timeout(tc, 300);
     tcase_add_test(tc, test_micropolygon_areas);
     tcase_add_test(tc, test_sampleless_grids);
+    tcase_add_test(tc, test_occluded_grids);
     tcase_add_test(tc, test_subdivision_model);
     tcase_add_test(tc, test_builtin_scene);
     suite_add_tcase(s, tc);
@@ -262,11 +345,12 @@ static Suite *suite(void)
 
 /* Every model framed and small on screen (2.5 times as far), held to
  * issue 25's targets where the defaults meet them and elsewhere to the
- * bound measured (docs/reyes.md: the killeroo's 11532 small patches
- * take more than 4 micropolygons per covered pixel at a shading rate of
- * 1 with silhouettes within a fiftieth of a pixel; small on screen the
- * teaspoon's FLIP error is 7 % above the fixed grids', whose silhouettes
- * are exact to a thousandth of a pixel). */
+ * bound measured (docs/reyes.md: small on screen the teaspoon's FLIP
+ * error is 7 % above the fixed grids', whose silhouettes are exact to a
+ * thousandth of a pixel).  The killeroo's 11532 small patches meet 4
+ * micropolygons per covered pixel only with occlusion culling (2.28 and
+ * 3.87-3.89 measured with it, 5.15 and 8.01 without; the counts vary a
+ * little with the timing of the two groups). */
 START_TEST(test_models)
 {
     const struct {
@@ -274,9 +358,9 @@ START_TEST(test_models)
         bounds framed, small;
     } models[] = {
         {"teapot.bpt", targets, targets},
-        {"killeroo.bpt", {5.2, 0.01}, {8.1, 0.01}}, /* 5.15 and 8.01 measured (8.37 dicing sampleless grids) */
+        {"killeroo.bpt", targets, targets},
         {"newell-teapot.bpt", targets, {4.0, 0.02}},
-        {"teacup.bpt", targets, {4.2, 0.01}},
+        {"teacup.bpt", targets, targets},
         {"teaspoon.bpt", targets, {4.0, 0.07}},
     };
     const reyes_quality_view views[] = { {0, 25, 1.0f}, {30, 30, 2.5f} };
