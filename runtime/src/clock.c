@@ -1,4 +1,5 @@
 /* The host clock every deadline and trace timestamp uses. */
+#include "clock.h"
 #include "internal.h"
 
 #include <time.h>

@@ -1,8 +1,12 @@
 /* Generating the megakernel's OpenCL C from the registered procedures:
  * constants and tables, the user's sources with #line directives, typed
  * emit helpers, the dispatch switch and the scheduler loop. */
+#include "abi.h"
+#include "barriers.h"
+#include "codegen.h"
 #include "executor.h"
 #include "schedule_table.h"
+#include "strbuf.h"
 
 #include <string.h>
 

@@ -1,6 +1,7 @@
 /* Bounded batches: take at most batch_limit items from the tail of the
  * highest-priority non-empty queue (last in, first out), so the queues
  * hold O(N + p * k) items instead of a whole tree level. */
+#include "state.h"
 #include "steps.h"
 
 #define DEFAULT_BATCH_LIMIT 4096

@@ -1,6 +1,7 @@
 /* Kernel-per-procedure: take every queued item of the next non-empty
  * queue, visiting the queues round-robin: breadth-first, level by level,
  * like Patney and Owens' bound/split loop. */
+#include "state.h"
 #include "steps.h"
 
 static int next_round_robin(perma_runtime *rt, const perma_ctl_block *ctl)

@@ -1,7 +1,11 @@
 /* The megakernel: one launch of the persistent kernel (its groups schedule
  * themselves, kernels/perma_scheduler.cl) under the watchdog, until the
  * work is done or no group can start anything. */
+#include "clock.h"
 #include "executor.h"
+#include "state.h"
+#include "trace.h"
+#include "watchdog.h"
 
 static size_t global_size(const perma_runtime *rt)
 {

@@ -1,6 +1,7 @@
 /* Resolving the procedure graph and laying out each procedure's __local
  * arena: its batch of items, scratch, per-item emit counters and staging. */
 #include "executor.h"
+#include "layout.h"
 #include "schedule_table.h"
 
 #include <ctype.h>

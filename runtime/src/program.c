@@ -1,5 +1,16 @@
 /* Compiling the generated megakernel. */
+#include "abi.h"
+#include "barriers.h"
+#include "build_log.h"
+#include "clock.h"
+#include "codegen.h"
 #include "executor.h"
+#include "layout.h"
+#include "program.h"
+#include "program_cache.h"
+#include "reductions.h"
+#include "state.h"
+#include "strbuf.h"
 
 #include <stdlib.h>
 #include <string.h>

@@ -51,7 +51,11 @@
  * first; temporary files older than an hour (a writer that died) go too.
  */
 #define _DEFAULT_SOURCE /* flock */
+#include "build_log.h"
+#include "clock.h"
 #include "internal.h"
+#include "program_cache.h"
+#include "strbuf.h"
 
 #include <dirent.h>
 #include <errno.h>

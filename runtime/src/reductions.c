@@ -7,7 +7,11 @@
  * the reductions buffer; the host fills the slots with the identities
  * before a run and combines them after it, in slot order (which does not
  * matter: every combination here is exact). */
+#include "files.h"
 #include "internal.h"
+#include "reductions.h"
+#include "state.h"
+#include "strbuf.h"
 
 #include <float.h>
 #include <limits.h>

@@ -9,7 +9,18 @@
  *
  * The technique is the executor's business (executor.h); the queues' sizes
  * are queues.c's. */
+#include "buffers.h"
+#include "clock.h"
 #include "executor.h"
+#include "outcome.h"
+#include "program.h"
+#include "progress.h"
+#include "reductions.h"
+#include "run.h"
+#include "state.h"
+#include "stats.h"
+#include "trace.h"
+#include "trace_file.h"
 
 #include <stdlib.h>
 #include <string.h>

@@ -1,5 +1,13 @@
 /* Creating and destroying a runtime. */
+#include "device.h"
 #include "executor.h"
+#include "program.h"
+#include "progress.h"
+#include "reductions.h"
+#include "run.h"
+#include "state.h"
+#include "trace.h"
+#include "watchdog.h"
 
 #include <pthread.h>
 #include <stdlib.h>

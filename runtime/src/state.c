@@ -4,6 +4,7 @@
  * when it must grow; the queues grow on the device, so after the seeds'
  * upload no queued item passes through the host. */
 #include "internal.h"
+#include "state.h"
 
 #include <stddef.h>
 #include <stdio.h>

@@ -1,5 +1,8 @@
 /* Run statistics: collected from each launch, summed, printed. */
 #include "internal.h"
+#include "layout.h"
+#include "state.h"
+#include "stats.h"
 
 #include <inttypes.h>
 #include <stdlib.h>

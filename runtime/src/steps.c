@@ -11,7 +11,12 @@
  * those.  So a breadth-first level is split into
  * launches that fit rather than reserving its whole worst case at once
  * (which failed at the memory limit where the other techniques succeed). */
+#include "clock.h"
+#include "layout.h"
+#include "state.h"
 #include "steps.h"
+#include "trace.h"
+#include "watchdog.h"
 
 #include <stdlib.h>
 #include <string.h>

@@ -8,6 +8,7 @@
 #define PERMA_STEPS_H
 
 #include "executor.h"
+#include "state.h"
 
 typedef struct perma_step_policy {
     /* The queue to serve next, or -1 when every queue is empty. */

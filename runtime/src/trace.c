@@ -16,6 +16,8 @@
  * and the ticks spread evenly over the launch.  Host-driven steps are
  * timed on the host. */
 #include "internal.h"
+#include "state.h"
+#include "trace.h"
 
 #include <stdlib.h>
 #include <string.h>

@@ -14,6 +14,8 @@
  * written and their identity (device and inode): a file replaced or
  * removed meanwhile is written anew. */
 #include "internal.h"
+#include "trace.h"
+#include "trace_file.h"
 
 #include <errno.h>
 #include <pthread.h>

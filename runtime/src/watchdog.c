@@ -31,7 +31,12 @@
  * for a hung waiter is never (a deliberate leak, like the hung runtime's
  * OpenCL objects).  A process forked after a launch starts a waiter of
  * its own at its first watched launch. */
+#include "clock.h"
 #include "internal.h"
+#include "progress.h"
+#include "state.h"
+#include "trace.h"
+#include "watchdog.h"
 
 #include <errno.h>
 #include <pthread.h>

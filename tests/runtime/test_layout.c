@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "internal.h"
+#include "layout.h"
 
 /* Groups of 8 work-items and 32 KiB of __local memory (OpenCL's minimum),
  * whatever the device has. */
