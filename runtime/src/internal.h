@@ -159,16 +159,7 @@ struct perma_runtime {
     perma_stats stats;
     perma_steps_state steps;
 
-    /* Trace of the current run (trace.c). */
-    unsigned trace_events;          /* per group and launch */
-    struct perma_trace_event *trace;
-    size_t trace_count, trace_alloc;
-    double trace_start_time;        /* host time of the run's start */
-    /* The launch's trace clock as the host saw it (trace.c). */
-    struct perma_trace_sample *trace_samples;
-    size_t trace_sample_count, trace_sample_alloc;
-    bool trace_pending;             /* the clock showed the last sample's tick still at: */
-    double trace_pending_time;
+    struct perma_trace_state *trace; /* trace.c's, opaque elsewhere (trace.h); NULL: no trace */
 };
 
 /* Format the runtime's message and return `status`. */

@@ -321,7 +321,7 @@ perma_status perma_build_layout(perma_runtime *rt)
     rt->strategy = perma_strategy_row((int)rt->config.schedule.strategy);
     rt->queue_sets = queue_sets_of(rt, rt->strategy);
     perma_queue_layout_fill(rt, rt->queue_sets, &rt->queue_layout);
-    rt->device_trace_events = persistent && rt->config.trace_path ? rt->trace_events : 0;
+    rt->device_trace_events = persistent && rt->config.trace_path ? rt->config.trace_events : 0;
 
     rt->max_edges = 1;
     for (unsigned i = 0; i < rt->proc_count; ++i)

@@ -100,7 +100,9 @@ perma_status perma_create(const perma_config *config, perma_runtime **out, perma
         rt->config.trace_path = strdup(trace);
         if (!rt->config.trace_path)
             st = perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory copying the trace path");
-        rt->trace_events = config->trace_events ? config->trace_events : 65536;
+        rt->config.trace_events = config->trace_events ? config->trace_events : 65536;
+        if (st == PERMA_OK)
+            st = perma_trace_open(rt);
     }
     if (st == PERMA_OK && !config->local_memory_limit) {
         rt->config.local_memory_limit = rt->settings.local_memory_limit;
