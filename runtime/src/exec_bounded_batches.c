@@ -9,8 +9,8 @@
 static int highest_priority(perma_runtime *rt, const perma_ctl_block *ctl)
 {
     for (unsigned i = 0; i < rt->proc_count; ++i)
-        if (perma_steps_queued(ctl, rt->order[i]) > 0)
-            return (int)rt->order[i];
+        if (perma_steps_queued(ctl, rt->build.order[i]) > 0)
+            return (int)rt->build.order[i];
     return -1;
 }
 

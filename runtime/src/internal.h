@@ -12,8 +12,8 @@
 #include "perma_abi.h"
 #include "device.h"
 #include "environment.h"
+#include "program.h"
 #include "queues.h"
-#include "reductions.h"
 
 #include <stdarg.h>
 #include <stdbool.h>
@@ -118,34 +118,11 @@ struct perma_runtime {
     unsigned proc_count;
     perma_buffer_binding buffers[PERMA_MAX_BUFFERS];
     unsigned buffer_count;
-    perma_reduction reductions[PERMA_MAX_REDUCTIONS];
-    unsigned reduction_count;
-    unsigned reduce_words;          /* words of a work-item's lane, all reductions (set at build) */
-    bool reductions_valid;          /* the values are those of the last run, which succeeded */
+    struct perma_reductions_state *reductions; /* reductions.c's, opaque elsewhere (reductions.h) */
 
-    /* Build products. */
-    bool built;
-    unsigned build_serial;         /* builds so far */
-    /* What the last run grew the queues to, when it succeeded (run.c): the
-     * next run of the same build starts from them, memory permitting. */
-    size_t *learned_capacities;    /* learned_count entries; NULL: none */
-    unsigned learned_count, learned_build;
-    perma_build_info build_info;   /* how the last build got its program */
-    cl_program program;
-    cl_kernel kernel;          /* perma_megakernel */
-    cl_kernel step_kernel;     /* perma_step_kernel (host-driven techniques) */
-    cl_kernel take_kernel;     /* perma_take_kernel */
-    cl_kernel relayout_kernel; /* perma_relayout_kernel (queue growth) */
-    unsigned max_edges;
-    unsigned arena_words;
-    unsigned stage_words;      /* a group's staging area for emits (global memory), words */
-    unsigned local_queue_items;        /* 0: no local front queue */
-    unsigned lq_words;
-    unsigned order[PERMA_MAX_PROCEDURES];
-    unsigned queue_sets;            /* 1 (shared) or one per group (distributed) */
-    const struct perma_strategy_info *strategy; /* the schedule table's row (schedule_table.h) */
-    perma_queue_layout queue_layout; /* what the queue planner knows of the build (queues.h) */
-    unsigned device_trace_events;   /* trace records per group the device keeps; 0: none */
+    bool built;                     /* the build products are those of the procedures, sources,
+                                       buffers and reductions registered now */
+    perma_build_products build;     /* program.h */
 
     perma_device_state *state;      /* state.c's, opaque elsewhere (state.h) */
     perma_group_stats *group_stats; /* work_groups entries */

@@ -13,7 +13,7 @@
  * the cache (NULL: none; a damaged entry is removed with a notice).
  * perma_cache_lock takes the entry's build lock, waiting (bounded) while
  * another process or thread holds it: after it, load again before
- * building.  perma_cache_store stores rt->program, built from source,
+ * building.  perma_cache_store stores rt->build.program, built from source,
  * when its build took enough CPU time (true: stored);
  * perma_cache_entry_close lets go of the lock. */
 typedef struct perma_cache_entry {

@@ -8,28 +8,13 @@
 #include <stddef.h>
 #include <stdint.h>
 
-/* A declared reduction (reductions.c). */
-typedef struct perma_reduction {
-    char *name;
-    perma_reduce_op op;
-    perma_value_type type;
-    void *result;          /* the host variable every successful run sets, or NULL */
-    unsigned offset;       /* its first word in a work-item's lane (64-bit words) */
-    unsigned words;        /* its words in a lane */
-    union {
-        uint32_t u;
-        int32_t i;
-        uint64_t ul;
-        int64_t l;
-        float f;
-        double d;
-    } value;               /* the result of the last run */
-} perma_reduction;
-
-/* reductions.c: at build, the lane layout and the reductions' two parts
+/* reductions.c: the declared reductions, its state (opaque outside it;
+ * made at perma_create, freed at perma_destroy).  At build, the lane layout and the reductions' two parts
  * of the generated program (`constants`, which go before perma_ctx; after
  * it `helpers`, the reduce_NAME() functions and the lane's initialisation
  * and fold); before a run the slots' identities, after one the results. */
+typedef struct perma_reductions_state perma_reductions_state;
+perma_status perma_reductions_open(perma_runtime *rt);
 void perma_reductions_generate(perma_runtime *rt, perma_strbuf *constants, perma_strbuf *helpers);
 /* Every work-item's slot filled with the identities (before a run; *slots
  * NULL without reductions; the caller frees it). */

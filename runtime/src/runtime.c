@@ -112,6 +112,8 @@ perma_status perma_create(const perma_config *config, perma_runtime **out, perma
     if (st == PERMA_OK)
         st = perma_device_open(rt);
     if (st == PERMA_OK)
+        st = perma_reductions_open(rt);
+    if (st == PERMA_OK)
         st = perma_state_open(rt);
     if (st == PERMA_OK)
         st = perma_watchdog_open(rt);

@@ -87,7 +87,7 @@ static perma_status set_take_args(perma_runtime *rt, cl_uint qi, cl_uint first, 
         return st;
     for (size_t i = 0; i < sizeof args / sizeof args[0]; ++i)
         PERMA_CL_CHECK(rt, "clSetKernelArg (take)",
-                       clSetKernelArg(rt->take_kernel, args[i].index, args[i].size, args[i].value));
+                       clSetKernelArg(rt->build.take_kernel, args[i].index, args[i].size, args[i].value));
     return PERMA_OK;
 }
 
@@ -96,9 +96,10 @@ static perma_status set_step_args(perma_runtime *rt, cl_uint proc, cl_uint count
     perma_status st = perma_state_bind_step(rt);
     if (st != PERMA_OK)
         return st;
-    PERMA_CL_CHECK(rt, "clSetKernelArg (step)", clSetKernelArg(rt->step_kernel, PERMA_STEP_ARG_PROC, sizeof proc, &proc));
     PERMA_CL_CHECK(rt, "clSetKernelArg (step)",
-                   clSetKernelArg(rt->step_kernel, PERMA_STEP_ARG_COUNT, sizeof count, &count));
+                   clSetKernelArg(rt->build.step_kernel, PERMA_STEP_ARG_PROC, sizeof proc, &proc));
+    PERMA_CL_CHECK(rt, "clSetKernelArg (step)",
+                   clSetKernelArg(rt->build.step_kernel, PERMA_STEP_ARG_COUNT, sizeof count, &count));
     return PERMA_OK;
 }
 
@@ -114,7 +115,8 @@ static perma_status launch_step(perma_runtime *rt, unsigned q, uint32_t first, u
         return st;
     size_t take_global = ((size_t)take + 63) / 64 * 64;
     PERMA_CL_CHECK(rt, "clEnqueueNDRangeKernel (take)",
-                   clEnqueueNDRangeKernel(rt->queue, rt->take_kernel, 1, NULL, &take_global, NULL, 0, NULL, NULL));
+                   clEnqueueNDRangeKernel(rt->queue, rt->build.take_kernel, 1, NULL, &take_global, NULL, 0, NULL,
+                                          NULL));
     st = set_step_args(rt, q, take);
     if (st != PERMA_OK)
         return st;
@@ -123,7 +125,7 @@ static perma_status launch_step(perma_runtime *rt, unsigned q, uint32_t first, u
     size_t local = rt->group_size, batches = ((size_t)take + p->max_batch - 1) / p->max_batch;
     size_t global = (batches < rt->work_groups ? batches : rt->work_groups) * local;
     PERMA_CL_CHECK(rt, "clEnqueueNDRangeKernel (step)",
-                   clEnqueueNDRangeKernel(rt->queue, rt->step_kernel, 1, NULL, &global, &local, 0, NULL, done));
+                   clEnqueueNDRangeKernel(rt->queue, rt->build.step_kernel, 1, NULL, &global, &local, 0, NULL, done));
     clFlush(rt->queue);
     return PERMA_OK;
 }
@@ -139,13 +141,14 @@ perma_status perma_steps_warm_up(perma_runtime *rt)
         return st;
     size_t take_global = 64;
     PERMA_CL_CHECK(rt, "clEnqueueNDRangeKernel (take warm-up)",
-                   clEnqueueNDRangeKernel(rt->queue, rt->take_kernel, 1, NULL, &take_global, NULL, 0, NULL, NULL));
+                   clEnqueueNDRangeKernel(rt->queue, rt->build.take_kernel, 1, NULL, &take_global, NULL, 0, NULL,
+                                          NULL));
     st = set_step_args(rt, 0, 0);
     if (st != PERMA_OK)
         return st;
     size_t local = rt->group_size;
     PERMA_CL_CHECK(rt, "clEnqueueNDRangeKernel (step warm-up)",
-                   clEnqueueNDRangeKernel(rt->queue, rt->step_kernel, 1, NULL, &local, &local, 0, NULL, NULL));
+                   clEnqueueNDRangeKernel(rt->queue, rt->build.step_kernel, 1, NULL, &local, &local, 0, NULL, NULL));
     return PERMA_OK;
 }
 

@@ -45,7 +45,7 @@ perma_status perma_trace_open(perma_runtime *rt)
  * device_trace_events); the host records the steps of the others. */
 bool perma_trace_on_device(const perma_runtime *rt)
 {
-    return rt->device_trace_events > 0;
+    return rt->build.device_trace_events > 0;
 }
 
 void perma_trace_reset(perma_runtime *rt, double start)
@@ -169,8 +169,8 @@ static double tick_time(const perma_trace_sample *samples, size_t count, uint32_
  * then the records; kernels/perma_abi.h). */
 static uint32_t records(const perma_runtime *rt, const uint32_t *buffer, unsigned g)
 {
-    uint32_t count = buffer[g * PERMA_TRACE_GROUP_WORDS_FOR((size_t)rt->device_trace_events)];
-    return count < rt->device_trace_events ? count : rt->device_trace_events;
+    uint32_t count = buffer[g * PERMA_TRACE_GROUP_WORDS_FOR((size_t)rt->build.device_trace_events)];
+    return count < rt->build.device_trace_events ? count : rt->build.device_trace_events;
 }
 
 static perma_trace_record record(const uint32_t *buffer, unsigned g, uint32_t i, size_t per_group)
@@ -185,7 +185,7 @@ perma_status perma_trace_collect(perma_runtime *rt)
     perma_trace_state *t = rt->trace;
     if (!perma_trace_on_device(rt))
         return PERMA_OK;
-    size_t per_group = PERMA_TRACE_GROUP_WORDS_FOR((size_t)rt->device_trace_events);
+    size_t per_group = PERMA_TRACE_GROUP_WORDS_FOR((size_t)rt->build.device_trace_events);
     size_t words = rt->work_groups * per_group;
     uint32_t *buffer = malloc(words * 4);
     if (!buffer)
