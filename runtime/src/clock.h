@@ -7,7 +7,7 @@
  * run's time and stall limits. */
 double perma_now(void);
 double perma_cpu_now(void);
-double perma_time_limit(const perma_runtime *rt);
-double perma_stall_limit(const perma_runtime *rt);
+double perma_time_limit(const perma_config *config);
+double perma_stall_limit(const perma_config *config);
 
 #endif

@@ -83,9 +83,6 @@ typedef struct perma_buffer_binding {
 } perma_buffer_binding;
 
 struct perma_executor;
-typedef struct perma_device_state perma_device_state;
-typedef struct perma_watchdog perma_watchdog;
-typedef struct perma_progress_state perma_progress_state;
 
 /* What the host-driven techniques keep between launches of a run
  * (steps.c). */
@@ -124,13 +121,13 @@ struct perma_runtime {
                                        buffers and reductions registered now */
     perma_build_products build;     /* program.h */
 
-    perma_device_state *state;      /* state.c's, opaque elsewhere (state.h) */
+    struct perma_device_state *state; /* state.c's, opaque elsewhere (state.h) */
     perma_group_stats *group_stats; /* work_groups entries */
     bool hung;                      /* a kernel ignored the watchdog; do not wait on it */
     perma_runtime *next_hung;       /* runtime.c's list of the hung runtimes perma_destroy kept */
     bool grow_starved;              /* a group starved of room may stop a launch to grow queues */
-    perma_watchdog *watchdog;       /* watchdog.c */
-    perma_progress_state *progress; /* progress.c */
+    struct perma_watchdog *watchdog; /* watchdog.c's, opaque elsewhere (watchdog.h) */
+    struct perma_progress_state *progress; /* progress.c's, opaque elsewhere (progress.h) */
     bool debug;                     /* PERMA_DEBUG: one group, -DPERMA_DEBUG */
 
     perma_stats stats;

@@ -4,7 +4,9 @@
 #include "perma.h"
 
 /* progress.c: the progress of a run (perma_get_progress, config.progress),
- * told by the run loop and sampled by the watchdog from the watch page. */
+ * told by the run loop and sampled by the watchdog from the watch page.
+ * Its state is opaque outside progress.c. */
+typedef struct perma_progress_state perma_progress_state;
 perma_status perma_progress_open(perma_runtime *rt);
 void perma_progress_close(perma_runtime *rt);
 void perma_progress_run_begins(perma_runtime *rt, double start); /* the seeds are uploaded */

@@ -248,7 +248,7 @@ perma_status perma_run(perma_runtime *rt)
     perma_trace_reset(rt, start);
     if (rt->config.trace_path)
         perma_trace_file_run_begins(start);
-    double deadline = start + perma_time_limit(rt);
+    double deadline = start + perma_time_limit(&rt->config);
     rt->grow_starved = true;
 
     /* The launch state: the queues with the seeds, and the reductions'

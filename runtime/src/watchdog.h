@@ -8,7 +8,9 @@
  * stall limit, the abort flag is raised (every group polls it) and the
  * reason kept for perma_watchdog_stop_error; PERMA_ERR_TIMEOUT only if the
  * kernel does not stop within the grace period (rt->hung: the runtime is
- * then unusable). */
+ * then unusable).  Its state (the waiter thread, the stop's reason) is
+ * opaque outside watchdog.c. */
+typedef struct perma_watchdog perma_watchdog;
 perma_status perma_watchdog_open(perma_runtime *rt);
 /* Frees the watchdog and stops its waiter thread: joined, or detached if
  * rt->hung (it is blocked on the kernel that never ended). */
