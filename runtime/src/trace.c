@@ -42,7 +42,7 @@ perma_status perma_trace_open(perma_runtime *rt)
 }
 
 /* Persistent groups record their own batches (the build decides:
- * device_trace_events); the host records the steps of the others. */
+ * build.device_trace_events); the host records the steps of the others. */
 bool perma_trace_on_device(const perma_runtime *rt)
 {
     return rt->build.device_trace_events > 0;
