@@ -10,8 +10,9 @@ struct perma_strategy_info;
 
 /* What a build fixes, the same until the next build: the layout
  * (layout.c), the reductions' lane (reductions.c) and the program and its
- * kernels (program.c) fill it at perma_build; the code generator, the
- * executors, the device state and the statistics read it. */
+ * kernels (program.c) fill it at perma_build, and the run loop (run.c)
+ * what the runs of this build learned; the code generator, the executors,
+ * the device state and the statistics only read it. */
 typedef struct perma_build_products {
     unsigned serial;               /* builds so far */
     perma_build_info info;         /* how the last build got its program */
