@@ -1,5 +1,5 @@
-/* device.h: the device the runtime opened and what it can do (device.c),
- * and the process's memory limits (memory.c). */
+/* device.h: the device the runtime opened and what it can do (device.c,
+ * sub_devices.c), and the process's memory limits (memory.c). */
 #ifndef PERMA_DEVICE_H
 #define PERMA_DEVICE_H
 
@@ -30,6 +30,9 @@ typedef struct perma_device_caps {
  * the device, fill rt->caps, create the context); let go of it. */
 perma_status perma_device_open(perma_runtime *rt);
 void perma_device_close(perma_runtime *rt);
+/* sub_devices.c: point rt->device at part `part` of the device split
+ * into `parts` equal sub-devices. */
+perma_status perma_open_sub_device(perma_runtime *rt, int platform, int device, unsigned parts, unsigned part);
 
 /* The tighter of the process's memory limits (memory.c): false if none is set. */
 typedef struct perma_headroom {
