@@ -122,7 +122,7 @@ struct perma_runtime {
     perma_build_products build;     /* program.h */
 
     struct perma_device_state *state; /* state.c's, opaque elsewhere (state.h) */
-    perma_group_stats *group_stats; /* work_groups entries */
+    perma_group_stats *group_stats; /* work_groups entries (stats.c) */
     bool hung;                      /* a kernel ignored the watchdog; do not wait on it */
     perma_runtime *next_hung;       /* runtime.c's list of the hung runtimes perma_destroy kept */
     bool grow_starved;              /* a group starved of room may stop a launch to grow queues */

@@ -6,6 +6,7 @@
 #include "reductions.h"
 #include "run.h"
 #include "state.h"
+#include "stats.h"
 #include "trace.h"
 #include "watchdog.h"
 
@@ -196,7 +197,7 @@ void perma_destroy(perma_runtime *rt)
     free((char *)rt->config.trace_path);
     perma_trace_release(rt);
     perma_progress_close(rt);
-    free(rt->group_stats);
+    perma_stats_release(rt);
     free(rt);
 }
 

@@ -224,6 +224,12 @@ perma_status perma_get_local_memory(perma_runtime *rt, size_t *bytes)
     return PERMA_OK;
 }
 
+void perma_stats_release(perma_runtime *rt)
+{
+    free(rt->group_stats);
+    rt->group_stats = NULL;
+}
+
 perma_status perma_get_group_stats(perma_runtime *rt, unsigned group, perma_group_stats *out)
 {
     if (!rt)
