@@ -6,8 +6,9 @@
 
 #define DEFAULT_BATCH_LIMIT 4096
 
-static int highest_priority(perma_runtime *rt, const perma_ctl_block *ctl)
+static int highest_priority(const perma_runtime *rt, const perma_ctl_block *ctl, unsigned *cursor)
 {
+    (void)cursor;
     for (unsigned i = 0; i < rt->proc_count; ++i)
         if (perma_steps_queued(ctl, rt->build.order[i]) > 0)
             return (int)rt->build.order[i];

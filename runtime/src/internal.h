@@ -84,16 +84,6 @@ typedef struct perma_buffer_binding {
 
 struct perma_executor;
 
-/* What the host-driven techniques keep between launches of a run
- * (steps.c). */
-typedef struct perma_steps_state {
-    unsigned cursor;         /* kernel-per-procedure: where the round-robin goes on */
-    int traced_proc;         /* the step in flight, for the trace; -1: none */
-    cl_event running;        /* the step kernel in flight; NULL: none */
-    uint32_t traced_items;
-    double traced_start;
-} perma_steps_state;
-
 struct perma_runtime {
     perma_config config;
     const struct perma_executor *executor; /* the technique (executor.h) */
@@ -131,7 +121,8 @@ struct perma_runtime {
     bool debug;                     /* PERMA_DEBUG: one group, -DPERMA_DEBUG */
 
     perma_stats stats;
-    perma_steps_state steps;
+    struct perma_steps_state *steps; /* steps.c's, opaque elsewhere (steps.h); NULL until a
+                                        host-driven run */
 
     struct perma_trace_state *trace; /* trace.c's, opaque elsewhere (trace.h); NULL: no trace */
 };

@@ -7,6 +7,7 @@
 #include "run.h"
 #include "state.h"
 #include "stats.h"
+#include "steps.h"
 #include "trace.h"
 #include "watchdog.h"
 
@@ -177,6 +178,7 @@ void perma_destroy(perma_runtime *rt)
         clFinish(rt->queue);
     perma_state_close(rt);
     perma_run_release(rt);
+    perma_steps_release(rt);
     perma_release_program(rt);
     for (unsigned i = 0; i < rt->buffer_count; ++i) {
         if (rt->buffers[i].mem)

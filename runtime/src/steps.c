@@ -152,18 +152,37 @@ perma_status perma_steps_warm_up(perma_runtime *rt)
     return PERMA_OK;
 }
 
+struct perma_steps_state {
+    unsigned cursor;         /* the policy's: kernel-per-procedure's round-robin goes on there */
+    int traced_proc;         /* the step in flight, for the trace; -1: none */
+    cl_event running;        /* the step kernel in flight; NULL: none */
+    uint32_t traced_items;
+    double traced_start;
+};
+
 perma_status perma_steps_prepare(perma_runtime *rt)
 {
-    rt->steps.cursor = 0;
-    rt->steps.traced_proc = -1;
-    rt->steps.running = NULL;
+    if (!rt->steps) {
+        rt->steps = calloc(1, sizeof *rt->steps);
+        if (!rt->steps)
+            return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory for the host-driven steps");
+    }
+    rt->steps->cursor = 0;
+    rt->steps->traced_proc = -1;
+    rt->steps->running = NULL;
     return PERMA_OK;
+}
+
+void perma_steps_release(perma_runtime *rt)
+{
+    free(rt->steps);
+    rt->steps = NULL;
 }
 
 /* Wait for the step in flight, if any, under the watchdog. */
 static perma_status wait_for_step(perma_runtime *rt, double deadline)
 {
-    perma_steps_state *s = &rt->steps;
+    perma_steps_state *s = rt->steps;
     if (!s->running)
         return PERMA_OK;
     perma_status st = perma_watch_event(rt, s->running, deadline);
@@ -200,7 +219,7 @@ static perma_status take_items(perma_runtime *rt, perma_ctl_block *ctl, unsigned
 static perma_status run_steps(perma_runtime *rt, const perma_step_policy *policy, double deadline,
                               perma_ctl_block *ctl, perma_launch_outcome *outcome)
 {
-    perma_steps_state *s = &rt->steps;
+    perma_steps_state *s = rt->steps;
     for (;;) {
         perma_status st = wait_for_step(rt, deadline);
         if (st == PERMA_OK)
@@ -220,7 +239,7 @@ static perma_status run_steps(perma_runtime *rt, const perma_step_policy *policy
             outcome->header.status = PERMA_KSTATUS_ABORTED;
             return PERMA_OK;
         }
-        int chosen = policy->choose(rt, ctl);
+        int chosen = policy->choose(rt, ctl, &s->cursor);
         if (chosen < 0)
             return PERMA_OK;
         unsigned q = (unsigned)chosen;
@@ -255,9 +274,9 @@ perma_status perma_steps_launch(perma_runtime *rt, double deadline, perma_launch
     perma_status st = run_steps(rt, policy, deadline, ctl, outcome);
     if (st != PERMA_OK && !rt->hung) {
         clFinish(rt->queue); /* a queue record write may still read *ctl */
-        if (rt->steps.running)
-            clReleaseEvent(rt->steps.running);
-        rt->steps.running = NULL;
+        if (rt->steps->running)
+            clReleaseEvent(rt->steps->running);
+        rt->steps->running = NULL;
     }
     free(ctl);
     return st;
