@@ -3,7 +3,10 @@
  * index the kernels use, the compile-time checks the generated program
  * makes of the device's sizes and offsets, and the sentence for a build
  * log in which one of those failed. */
+#include "abi.h"
 #include "internal.h"
+#include "state.h"
+#include "strbuf.h"
 
 #include <stddef.h>
 #include <stdio.h>

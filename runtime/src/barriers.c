@@ -6,7 +6,10 @@
  * a procedure, as calls of an undeclared function whose name says why: the
  * compiler reports them at the user's file and line, and the host turns
  * that error into a sentence naming the procedure. */
+#include "barriers.h"
+#include "build_log.h"
 #include "internal.h"
+#include "strbuf.h"
 
 #include <ctype.h>
 #include <stdio.h>

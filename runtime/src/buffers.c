@@ -1,5 +1,8 @@
 /* User buffers, passed to the megakernel as arguments. */
+#include "buffers.h"
+#include "files.h"
 #include "internal.h"
+#include "program.h"
 
 #include <stdio.h>
 #include <stdint.h>

@@ -5,7 +5,9 @@
  * "FILE:LINE:COL: warning: TEXT", whichever way the compiler wrote them
  * (PoCL: "warning: FILE:LINE:COL: TEXT", clang and Intel's compiler:
  * "FILE:LINE:COL: warning: TEXT"). */
+#include "build_log.h"
 #include "internal.h"
+#include "strbuf.h"
 
 #include <stdarg.h>
 #include <stdio.h>

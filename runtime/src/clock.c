@@ -1,5 +1,5 @@
 /* The host clock every deadline and trace timestamp uses. */
-#include "internal.h"
+#include "clock.h"
 
 #include <time.h>
 
@@ -21,14 +21,14 @@ double perma_cpu_now(void)
 }
 
 /* The watchdog's limit in seconds: config.time_limit, 0 meaning 600. */
-double perma_time_limit(const perma_runtime *rt)
+double perma_time_limit(const perma_config *config)
 {
-    return rt->config.time_limit > 0 ? rt->config.time_limit : 600.0;
+    return config->time_limit > 0 ? config->time_limit : 600.0;
 }
 
 /* Seconds without a completed item before the watchdog stops a run:
  * config.stall_limit, 0 meaning 20. */
-double perma_stall_limit(const perma_runtime *rt)
+double perma_stall_limit(const perma_config *config)
 {
-    return rt->config.stall_limit > 0 ? rt->config.stall_limit : 20.0;
+    return config->stall_limit > 0 ? config->stall_limit : 20.0;
 }

@@ -1,8 +1,12 @@
 /* Generating the megakernel's OpenCL C from the registered procedures:
  * constants and tables, the user's sources with #line directives, typed
  * emit helpers, the dispatch switch and the scheduler loop. */
+#include "abi.h"
+#include "barriers.h"
+#include "codegen.h"
 #include "executor.h"
 #include "schedule_table.h"
+#include "strbuf.h"
 
 #include <string.h>
 
@@ -41,7 +45,7 @@ static void append_uint_table(perma_strbuf *sb, const char *name, const unsigned
 
 static void append_tables(perma_runtime *rt, perma_strbuf *sb)
 {
-    unsigned n = rt->proc_count, me = rt->max_edges;
+    unsigned n = rt->proc_count, me = rt->build.max_edges;
     unsigned v[PERMA_MAX_PROCEDURES] = { 0 };
     unsigned edges[PERMA_MAX_PROCEDURES * PERMA_MAX_EMITS];
 #define PER_PROC(table, expr)                  \
@@ -64,7 +68,7 @@ static void append_tables(perma_runtime *rt, perma_strbuf *sb)
         append_uint_table(sb, table, edges, n * me);           \
     } while (0)
 
-    append_uint_table(sb, "perma_order", rt->order, n);
+    append_uint_table(sb, "perma_order", rt->build.order, n);
     PER_PROC("perma_max_batch", p->max_batch);
     PER_PROC("perma_item_words", (unsigned)(p->item_size / 4));
     PER_PROC("perma_items_off", p->items_off);
@@ -258,8 +262,8 @@ perma_status perma_generate_program(perma_runtime *rt, const perma_strbuf *reduc
     /* The strategy's parts the scheduler compiles in (kernels/perma_scheduler.cl);
      * with one queue set there is nobody to steal from or donate to.  The
      * table's row was looked up with the layout (perma_build_layout). */
-    const perma_strategy_info *strategy = rt->strategy;
-    bool distributed = rt->queue_sets > 1 && strategy;
+    const perma_strategy_info *strategy = rt->build.strategy;
+    bool distributed = rt->build.queue_sets > 1 && strategy;
     bool item_barrier = false;
     for (unsigned i = 0; i < rt->proc_count; ++i)
         item_barrier = item_barrier || !rt->procs[i].simple;
@@ -279,12 +283,12 @@ perma_status perma_generate_program(perma_runtime *rt, const perma_strbuf *reduc
                             "#define PERMA_LOCAL_QUEUE %uu\n"
                             "#define PERMA_LQ_WORDS %uu\n"
                             "#define PERMA_TRACE_EVENTS %uu\n",
-                        rt->proc_count, rt->group_size, item_barrier, rt->proc_count, rt->max_edges, rt->arena_words,
-                        rt->stage_words, rt->queue_sets,
+                        rt->proc_count, rt->group_size, item_barrier, rt->proc_count, rt->build.max_edges,
+                        rt->build.arena_words, rt->build.stage_words, rt->build.queue_sets,
                         distributed && strategy->steals, distributed && strategy->donates,
                         rt->config.schedule.victim == PERMA_VICTIM_ROUND_ROBIN, rt->config.schedule.donation_threshold,
-                        rt->local_queue_items, rt->lq_words ? rt->lq_words : 1u,
-                        rt->device_trace_events);
+                        rt->build.local_queue_items, rt->build.lq_words ? rt->build.lq_words : 1u,
+                        rt->build.device_trace_events);
     if (reduce_constants->length)
         perma_strbuf_append(sb, reduce_constants->data);
     perma_strbuf_append(sb, perma_kernel_abi);

@@ -1,4 +1,5 @@
 /* Choosing the OpenCL device and the number of persistent work-groups. */
+#include "device.h"
 #include "device_list.h"
 #include "internal.h"
 

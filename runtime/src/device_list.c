@@ -1,6 +1,7 @@
 /* Device lists: parsing "P:D", "NAME:D", "P:D/N", "P:D/N.K" and "all", and
  * expanding a list into device references checked against the installed
  * platforms. */
+#include "device.h"
 #include "device_list.h"
 #include "internal.h"
 

@@ -53,12 +53,6 @@ bool perma_device_list_first(const char *list, perma_device_entry *first, size_t
  * *why says why ("has 2 compute units ..."). */
 bool perma_device_splits_equally(cl_device_id device, unsigned parts, char *why, size_t why_size);
 
-/* Point rt->device at part `part` of the device split into `parts` equal
- * sub-devices (sub_devices.c). */
-struct perma_runtime;
-perma_status perma_open_sub_device(struct perma_runtime *rt, int platform, int device, unsigned parts,
-                                   unsigned part);
-
 /* What PERMA_DEVICE may hold, for messages. */
 #define PERMA_DEVICE_FORMS "platform:device (e.g. 0:0) or NAME[:device] (a platform's name or vendor, " \
                            "e.g. intel or pocl:0), either with /N (N equal sub-devices) or /N.K (the K-th " \

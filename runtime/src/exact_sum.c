@@ -8,7 +8,7 @@
  * signed 64-bit words.  A slot's digits are below 2^32 per launch that
  * folded into it; each is normalized before it is added, so a total's
  * digit stays below 2^32 times the number of slots. */
-#include "internal.h"
+#include "reductions.h"
 
 #include <float.h>
 #include <math.h>

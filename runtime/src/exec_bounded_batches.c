@@ -1,15 +1,17 @@
 /* Bounded batches: take at most batch_limit items from the tail of the
  * highest-priority non-empty queue (last in, first out), so the queues
  * hold O(N + p * k) items instead of a whole tree level. */
+#include "state.h"
 #include "steps.h"
 
 #define DEFAULT_BATCH_LIMIT 4096
 
-static int highest_priority(perma_runtime *rt, const perma_ctl_block *ctl)
+static int highest_priority(const perma_runtime *rt, const perma_ctl_block *ctl, unsigned *cursor)
 {
+    (void)cursor;
     for (unsigned i = 0; i < rt->proc_count; ++i)
-        if (perma_steps_queued(ctl, rt->order[i]) > 0)
-            return (int)rt->order[i];
+        if (perma_steps_queued(ctl, rt->build.order[i]) > 0)
+            return (int)rt->build.order[i];
     return -1;
 }
 

@@ -1,15 +1,16 @@
 /* Kernel-per-procedure: take every queued item of the next non-empty
  * queue, visiting the queues round-robin: breadth-first, level by level,
  * like Patney and Owens' bound/split loop. */
+#include "state.h"
 #include "steps.h"
 
-static int next_round_robin(perma_runtime *rt, const perma_ctl_block *ctl)
+static int next_round_robin(const perma_runtime *rt, const perma_ctl_block *ctl, unsigned *cursor)
 {
     unsigned n = rt->proc_count;
     for (unsigned i = 0; i < n; ++i) {
-        unsigned q = (rt->steps.cursor + i) % n;
+        unsigned q = (*cursor + i) % n;
         if (perma_steps_queued(ctl, q) > 0) {
-            rt->steps.cursor = (q + 1) % n;
+            *cursor = (q + 1) % n;
             return (int)q;
         }
     }

@@ -1,5 +1,7 @@
 /* Reading source files and checking names. */
+#include "files.h"
 #include "internal.h"
+#include "strbuf.h"
 
 #include <ctype.h>
 #include <errno.h>

@@ -1,6 +1,7 @@
 /* Resolving the procedure graph and laying out each procedure's __local
  * arena: its batch of items, scratch, per-item emit counters and staging. */
 #include "executor.h"
+#include "layout.h"
 #include "schedule_table.h"
 
 #include <ctype.h>
@@ -173,15 +174,15 @@ static bool served_before(const perma_proc_info *a, unsigned ia, const perma_pro
 static void compute_order(perma_runtime *rt)
 {
     for (unsigned i = 0; i < rt->proc_count; ++i)
-        rt->order[i] = i;
+        rt->build.order[i] = i;
     for (unsigned i = 1; i < rt->proc_count; ++i) {
-        unsigned v = rt->order[i];
+        unsigned v = rt->build.order[i];
         unsigned j = i;
-        while (j > 0 && served_before(&rt->procs[v], v, &rt->procs[rt->order[j - 1]], rt->order[j - 1])) {
-            rt->order[j] = rt->order[j - 1];
+        while (j > 0 && served_before(&rt->procs[v], v, &rt->procs[rt->build.order[j - 1]], rt->build.order[j - 1])) {
+            rt->build.order[j] = rt->build.order[j - 1];
             --j;
         }
-        rt->order[j] = v;
+        rt->build.order[j] = v;
     }
 }
 
@@ -317,36 +318,36 @@ perma_status perma_build_layout(perma_runtime *rt)
     /* Queues can belong to groups, and groups keep local front queues,
      * only when the groups live for the whole launch. */
     bool persistent = rt->executor->persistent;
-    rt->strategy = perma_strategy_row((int)rt->config.schedule.strategy);
-    rt->queue_sets = queue_sets_of(rt, rt->strategy);
-    perma_queue_layout_fill(rt, rt->queue_sets, &rt->queue_layout);
-    rt->device_trace_events = persistent && rt->config.trace_path ? rt->trace_events : 0;
+    rt->build.strategy = perma_strategy_row((int)rt->config.schedule.strategy);
+    rt->build.queue_sets = queue_sets_of(rt, rt->build.strategy);
+    perma_queue_layout_fill(rt, rt->build.queue_sets, &rt->build.queue_layout);
+    rt->build.device_trace_events = persistent && rt->config.trace_path ? rt->config.trace_events : 0;
 
-    rt->max_edges = 1;
+    rt->build.max_edges = 1;
     for (unsigned i = 0; i < rt->proc_count; ++i)
-        if (rt->procs[i].emit_count > rt->max_edges)
-            rt->max_edges = rt->procs[i].emit_count;
+        if (rt->procs[i].emit_count > rt->build.max_edges)
+            rt->build.max_edges = rt->procs[i].emit_count;
 
     size_t limit = perma_local_memory(rt);
     /* The local front queue: a stack of local_queue_items per procedure. */
-    rt->local_queue_items = persistent ? rt->config.schedule.local_queue_items : 0;
-    rt->lq_words = 0;
+    rt->build.local_queue_items = persistent ? rt->config.schedule.local_queue_items : 0;
+    rt->build.lq_words = 0;
     for (unsigned i = 0; i < rt->proc_count; ++i) {
-        rt->procs[i].lq_off = rt->lq_words;
-        rt->lq_words += rt->local_queue_items * words_of(rt->procs[i].item_size);
+        rt->procs[i].lq_off = rt->build.lq_words;
+        rt->build.lq_words += rt->build.local_queue_items * words_of(rt->procs[i].item_size);
     }
     /* The kernel's other __local words: statistics, edge counters, batch,
      * and the local front queues. */
-    size_t fixed = 4 * ((size_t)rt->proc_count * (3 + rt->max_edges) + 6 * rt->max_edges + 32 +
-                        (size_t)rt->lq_words);
+    size_t fixed = 4 * ((size_t)rt->proc_count * (3 + rt->build.max_edges) + 6 * rt->build.max_edges + 32 +
+                        (size_t)rt->build.lq_words);
     if (fixed >= limit)
         return perma_set_error(rt, PERMA_ERR_ARGUMENT,
                                "config.schedule.local_queue_items %u needs %u bytes of __local memory, more than the "
-                               "%zu bytes available", rt->local_queue_items, 4 * rt->lq_words, limit);
+                               "%zu bytes available", rt->build.local_queue_items, 4 * rt->build.lq_words, limit);
     size_t budget_words = (limit - fixed) / 4;
 
-    rt->arena_words = 16;
-    rt->stage_words = 16;
+    rt->build.arena_words = 16;
+    rt->build.stage_words = 16;
     size_t stage_budget = stage_limit(rt);
     for (unsigned i = 0; i < rt->proc_count; ++i) {
         perma_proc_info *p = &rt->procs[i];
@@ -369,11 +370,11 @@ perma_status perma_build_layout(perma_runtime *rt)
                                    p->name, 4 * stage_cost(rt, p, 1, false), 4 * stage_budget);
         p->max_batch = batch;
         unsigned cost = arena_cost(rt, p, batch, true);
-        if (cost > rt->arena_words)
-            rt->arena_words = cost;
+        if (cost > rt->build.arena_words)
+            rt->build.arena_words = cost;
         size_t staged = stage_cost(rt, p, batch, true);
-        if (staged > rt->stage_words)
-            rt->stage_words = (unsigned)staged;
+        if (staged > rt->build.stage_words)
+            rt->build.stage_words = (unsigned)staged;
     }
     return PERMA_OK;
 }

@@ -4,6 +4,7 @@
  * starting its threads, crashes loading a program or asserts when a
  * buffer's memory is first used.  So the runtime refuses, with a message
  * naming what did not fit, what the driver would not survive. */
+#include "device.h"
 #include "internal.h"
 
 #include <stdio.h>

@@ -1,6 +1,5 @@
 /* Command-line names of techniques, strategies and victim policies: the
  * names of the schedule table's rows (schedules.def). */
-#include "internal.h"
 #include "schedule_table.h"
 
 #include <string.h>

@@ -1,6 +1,8 @@
 /* The error a failed launch's status words stand for: which procedure
  * emitted too much, or the watchdog's stop (the details as kernels/perma_abi.h defines them). */
 #include "internal.h"
+#include "outcome.h"
+#include "watchdog.h"
 
 static perma_status emit_limit_error(perma_runtime *rt, uint32_t proc, uint32_t code)
 {

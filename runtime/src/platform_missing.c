@@ -1,8 +1,8 @@
 /* Why the ICD loader found no OpenCL platform: no driver is registered, or
  * the registered drivers could not be loaded (a broken installation, or a
  * memory limit too small for the driver's libraries). */
+#include "device.h"
 #include "device_list.h"
-#include "internal.h"
 
 #include <dirent.h>
 #include <stdio.h>

@@ -1,5 +1,8 @@
 /* Registering procedures and shared sources, seeding their queues. */
+#include "files.h"
 #include "internal.h"
+#include "layout.h"
+#include "program.h"
 
 #include <stdlib.h>
 #include <string.h>

@@ -1,5 +1,16 @@
 /* Compiling the generated megakernel. */
+#include "abi.h"
+#include "barriers.h"
+#include "build_log.h"
+#include "clock.h"
+#include "codegen.h"
 #include "executor.h"
+#include "layout.h"
+#include "program.h"
+#include "program_cache.h"
+#include "reductions.h"
+#include "state.h"
+#include "strbuf.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -11,10 +22,10 @@ static const char *const kernel_names[] = { "perma_megakernel", "perma_step_kern
 
 static void kernel_slots(perma_runtime *rt, cl_kernel *slots[KERNEL_COUNT])
 {
-    slots[0] = &rt->kernel;
-    slots[1] = &rt->step_kernel;
-    slots[2] = &rt->take_kernel;
-    slots[3] = &rt->relayout_kernel;
+    slots[0] = &rt->build.kernel;
+    slots[1] = &rt->build.step_kernel;
+    slots[2] = &rt->build.take_kernel;
+    slots[3] = &rt->build.relayout_kernel;
 }
 
 void perma_release_program(perma_runtime *rt)
@@ -26,9 +37,9 @@ void perma_release_program(perma_runtime *rt)
             clReleaseKernel(*kernels[i]);
         *kernels[i] = NULL;
     }
-    if (rt->program)
-        clReleaseProgram(rt->program);
-    rt->program = NULL;
+    if (rt->build.program)
+        clReleaseProgram(rt->build.program);
+    rt->build.program = NULL;
 }
 
 /* Keep the lines of a build log that say what is wrong, within the message. */
@@ -59,11 +70,11 @@ static void summarize_log(const char *log, char *out, size_t size)
 static char *read_build_log(perma_runtime *rt)
 {
     size_t size = 0;
-    if (clGetProgramBuildInfo(rt->program, rt->device, CL_PROGRAM_BUILD_LOG, 0, NULL, &size) != CL_SUCCESS)
+    if (clGetProgramBuildInfo(rt->build.program, rt->device, CL_PROGRAM_BUILD_LOG, 0, NULL, &size) != CL_SUCCESS)
         size = 0;
     char *log = calloc(1, size + 1);
     if (log && size)
-        clGetProgramBuildInfo(rt->program, rt->device, CL_PROGRAM_BUILD_LOG, size, log, NULL);
+        clGetProgramBuildInfo(rt->build.program, rt->device, CL_PROGRAM_BUILD_LOG, size, log, NULL);
     return log;
 }
 
@@ -113,7 +124,7 @@ static perma_status warm_up(perma_runtime *rt)
  * program is then released. */
 static perma_status check_build(perma_runtime *rt, cl_int err)
 {
-    if (!rt->program && err != CL_SUCCESS)
+    if (!rt->build.program && err != CL_SUCCESS)
         return perma_cl_error(rt, "clCreateProgramWithSource", err);
     if (err == CL_BUILD_PROGRAM_FAILURE || err == CL_INVALID_BUILD_OPTIONS) {
         perma_status st = report_build_failure(rt, err);
@@ -127,7 +138,7 @@ static perma_status check_build(perma_runtime *rt, cl_int err)
     return PERMA_OK;
 }
 
-/* rt->program for the generated `text`: from the disk cache
+/* rt->build.program for the generated `text`: from the disk cache
  * (program_cache.c), else built from source.  A miss takes the entry's
  * build lock first, which waits while another process builds the same
  * program, and looks again: a farm's ranks compile it once.  The lock is
@@ -138,15 +149,15 @@ static perma_status build_program(perma_runtime *rt, const char *text, const cha
 {
     cl_int err = CL_SUCCESS;
     perma_cache_entry_open(rt, text, options, entry);
-    rt->program = perma_cache_load(rt, entry, options);
-    if (!rt->program && perma_cache_lock(entry))
-        rt->program = perma_cache_load(rt, entry, options);
-    rt->build_info.wait_seconds = entry->waited;
-    rt->build_info.origin = rt->program ? PERMA_PROGRAM_CACHED : PERMA_PROGRAM_COMPILED;
-    if (!rt->program) {
-        rt->program = clCreateProgramWithSource(rt->context, 1, &text, NULL, &err);
+    rt->build.program = perma_cache_load(rt, entry, options);
+    if (!rt->build.program && perma_cache_lock(entry))
+        rt->build.program = perma_cache_load(rt, entry, options);
+    rt->build.info.wait_seconds = entry->waited;
+    rt->build.info.origin = rt->build.program ? PERMA_PROGRAM_CACHED : PERMA_PROGRAM_COMPILED;
+    if (!rt->build.program) {
+        rt->build.program = clCreateProgramWithSource(rt->context, 1, &text, NULL, &err);
         if (err == CL_SUCCESS)
-            err = clBuildProgram(rt->program, 1, &rt->device, options, NULL, NULL);
+            err = clBuildProgram(rt->build.program, 1, &rt->device, options, NULL, NULL);
     }
     return check_build(rt, err);
 }
@@ -157,7 +168,7 @@ static perma_status create_kernels(perma_runtime *rt)
     cl_kernel *kernels[KERNEL_COUNT];
     kernel_slots(rt, kernels);
     for (size_t i = 0; i < KERNEL_COUNT; ++i) {
-        *kernels[i] = clCreateKernel(rt->program, kernel_names[i], &err);
+        *kernels[i] = clCreateKernel(rt->build.program, kernel_names[i], &err);
         if (err != CL_SUCCESS)
             return perma_set_error(rt, PERMA_ERR_OPENCL, "clCreateKernel(%s) failed: %s (%d)", kernel_names[i],
                                    perma_cl_error_name(err), (int)err);
@@ -166,13 +177,13 @@ static perma_status create_kernels(perma_runtime *rt)
 }
 
 /* The program, its kernels and their compile at the first launch (PoCL),
- * all in rt->build_info.seconds; a program compiled here without warnings
+ * all in rt->build.info.seconds; a program compiled here without warnings
  * is stored after that launch, by the CPU time all of it took (waiting for
  * another process's build costs none). */
 static perma_status build_and_warm_up(perma_runtime *rt, const char *text, const char *options)
 {
     double start = perma_now(), cpu_start = perma_cpu_now();
-    memset(&rt->build_info, 0, sizeof rt->build_info);
+    memset(&rt->build.info, 0, sizeof rt->build.info);
     perma_cache_entry entry;
     perma_status st = build_program(rt, text, options, &entry);
     /* A program with warnings is not cached, so that every build shows them. */
@@ -181,13 +192,13 @@ static perma_status build_and_warm_up(perma_runtime *rt, const char *text, const
         st = create_kernels(rt);
     if (st == PERMA_OK)
         st = warm_up(rt);
-    rt->build_info.seconds = perma_now() - start;
+    rt->build.info.seconds = perma_now() - start;
     double cpu_seconds = perma_cpu_now() - cpu_start;
     if (st != PERMA_OK) {
         perma_release_program(rt);
-        rt->build_info.origin = PERMA_PROGRAM_NOT_BUILT;
-    } else if (rt->build_info.origin == PERMA_PROGRAM_COMPILED && !warned) {
-        rt->build_info.stored = perma_cache_store(rt, &entry, cpu_seconds);
+        rt->build.info.origin = PERMA_PROGRAM_NOT_BUILT;
+    } else if (rt->build.info.origin == PERMA_PROGRAM_COMPILED && !warned) {
+        rt->build.info.stored = perma_cache_store(rt, &entry, cpu_seconds);
     }
     perma_cache_entry_close(&entry);
     return st;
@@ -230,7 +241,7 @@ perma_status perma_build_program(perma_runtime *rt)
     if (st != PERMA_OK)
         return st;
     rt->built = true;
-    rt->build_serial++; /* queue i may mean another queue now */
+    rt->build.serial++; /* queue i may mean another queue now */
     rt->message[0] = '\0';
     return PERMA_OK;
 }
@@ -248,6 +259,6 @@ perma_status perma_get_build_info(perma_runtime *rt, perma_build_info *out)
     if (!rt || !out)
         return PERMA_ERR_ARGUMENT;
     perma_call_begin(rt, "perma_get_build_info", false);
-    *out = rt->build_info;
+    *out = rt->build.info;
     return PERMA_OK;
 }

@@ -51,7 +51,11 @@
  * first; temporary files older than an hour (a writer that died) go too.
  */
 #define _DEFAULT_SOURCE /* flock */
+#include "build_log.h"
+#include "clock.h"
 #include "internal.h"
+#include "program_cache.h"
+#include "strbuf.h"
 
 #include <dirent.h>
 #include <errno.h>
@@ -455,12 +459,13 @@ bool perma_cache_store(perma_runtime *rt, const perma_cache_entry *entry, double
     if (!entry->usable || !entry->stores || cpu_seconds < least)
         return false;
     size_t binary_size = 0;
-    if (clGetProgramInfo(rt->program, CL_PROGRAM_BINARY_SIZES, sizeof binary_size, &binary_size, NULL) != CL_SUCCESS
+    cl_program program = rt->build.program;
+    if (clGetProgramInfo(program, CL_PROGRAM_BINARY_SIZES, sizeof binary_size, &binary_size, NULL) != CL_SUCCESS
         || binary_size == 0)
         return false;
     unsigned char *binary = malloc(binary_size);
     bool stored = binary
-                  && clGetProgramInfo(rt->program, CL_PROGRAM_BINARIES, sizeof binary, &binary, NULL) == CL_SUCCESS
+                  && clGetProgramInfo(program, CL_PROGRAM_BINARIES, sizeof binary, &binary, NULL) == CL_SUCCESS
                   && write_entry(entry, binary, binary_size);
     if (stored)
         evict(entry->dir);

@@ -13,7 +13,10 @@
  * Nothing is sampled until progress is wanted (a callback configured, or
  * perma_get_progress called once), so a runtime whose progress nobody
  * reads pays only the kernel's stores. */
+#include "clock.h"
 #include "internal.h"
+#include "progress.h"
+#include "state.h"
 
 #include <pthread.h>
 #include <stdlib.h>

@@ -7,7 +7,11 @@
  * the reductions buffer; the host fills the slots with the identities
  * before a run and combines them after it, in slot order (which does not
  * matter: every combination here is exact). */
+#include "files.h"
 #include "internal.h"
+#include "reductions.h"
+#include "state.h"
+#include "strbuf.h"
 
 #include <float.h>
 #include <limits.h>
@@ -18,6 +22,38 @@ static const char *const op_names[] = { "sum", "min", "max" };
 static const char *const type_names[] = { "uint", "int", "ulong", "long", "float", "double" };
 /* Bytes of a host variable of each type. */
 static const size_t type_bytes[] = { 4, 4, 8, 8, 4, 8 };
+
+/* A declared reduction. */
+typedef struct perma_reduction {
+    char *name;
+    perma_reduce_op op;
+    perma_value_type type;
+    void *result;          /* the host variable every successful run sets, or NULL */
+    unsigned offset;       /* its first word in a work-item's lane (64-bit words) */
+    unsigned words;        /* its words in a lane */
+    union {
+        uint32_t u;
+        int32_t i;
+        uint64_t ul;
+        int64_t l;
+        float f;
+        double d;
+    } value;               /* the result of the last run */
+} perma_reduction;
+
+struct perma_reductions_state {
+    perma_reduction list[PERMA_MAX_REDUCTIONS];
+    unsigned count;
+    bool valid;            /* the values are those of the last run, which succeeded */
+};
+
+perma_status perma_reductions_open(perma_runtime *rt)
+{
+    rt->reductions = calloc(1, sizeof *rt->reductions);
+    if (!rt->reductions)
+        return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory for the reductions");
+    return PERMA_OK;
+}
 
 const char *perma_reduce_op_name(perma_reduce_op op)
 {
@@ -45,9 +81,9 @@ static unsigned lane_words(const perma_reduction *r)
 
 static perma_reduction *find(perma_runtime *rt, const char *name)
 {
-    for (unsigned i = 0; name && i < rt->reduction_count; ++i)
-        if (strcmp(rt->reductions[i].name, name) == 0)
-            return &rt->reductions[i];
+    for (unsigned i = 0; name && i < rt->reductions->count; ++i)
+        if (strcmp(rt->reductions->list[i].name, name) == 0)
+            return &rt->reductions->list[i];
     return NULL;
 }
 
@@ -86,10 +122,10 @@ perma_status perma_declare_reduction(perma_runtime *rt, const char *name, perma_
         return perma_set_error(rt, PERMA_ERR_ARGUMENT,
                                "perma_declare_reduction('%s'): type double, but the device has no double precision "
                                "(cl_khr_fp64)", n);
-    if (rt->reduction_count == PERMA_MAX_REDUCTIONS)
+    if (rt->reductions->count == PERMA_MAX_REDUCTIONS)
         return perma_set_error(rt, PERMA_ERR_ARGUMENT, "perma_declare_reduction('%s'): more than %d reductions", n,
                                PERMA_MAX_REDUCTIONS);
-    perma_reduction *r = &rt->reductions[rt->reduction_count];
+    perma_reduction *r = &rt->reductions->list[rt->reductions->count];
     memset(r, 0, sizeof *r);
     r->name = strdup(name);
     if (!r->name)
@@ -97,8 +133,8 @@ perma_status perma_declare_reduction(perma_runtime *rt, const char *name, perma_
     r->op = op;
     r->type = type;
     r->result = result;
-    rt->reduction_count++;
-    rt->reductions_valid = false;
+    rt->reductions->count++;
+    rt->reductions->valid = false;
     /* reduce_NAME() is part of the program: the next build generates it
      * again (perma_build_program releases the old program first). */
     rt->built = false;
@@ -120,7 +156,7 @@ perma_status perma_get_reduction(perma_runtime *rt, const char *name, perma_valu
                                type_names[r->type], perma_value_type_name(type) ? perma_value_type_name(type) : "?");
     if (!out)
         return perma_set_error(rt, PERMA_ERR_ARGUMENT, "perma_get_reduction('%s'): out is NULL", n);
-    if (!rt->reductions_valid)
+    if (!rt->reductions->valid)
         return perma_set_error(rt, PERMA_ERR_STATE,
                                "perma_get_reduction('%s'): no result: no run has succeeded since the reduction was "
                                "declared (or the last run failed)", n);
@@ -130,30 +166,33 @@ perma_status perma_get_reduction(perma_runtime *rt, const char *name, perma_valu
 
 void perma_reductions_release(perma_runtime *rt)
 {
-    for (unsigned i = 0; i < rt->reduction_count; ++i)
-        free(rt->reductions[i].name);
-    rt->reduction_count = 0;
+    if (!rt->reductions)
+        return;
+    for (unsigned i = 0; i < rt->reductions->count; ++i)
+        free(rt->reductions->list[i].name);
+    free(rt->reductions);
+    rt->reductions = NULL;
 }
 
 static void lane_layout(perma_runtime *rt)
 {
     unsigned offset = 0;
-    for (unsigned i = 0; i < rt->reduction_count; ++i) {
-        perma_reduction *r = &rt->reductions[i];
+    for (unsigned i = 0; i < rt->reductions->count; ++i) {
+        perma_reduction *r = &rt->reductions->list[i];
         r->offset = offset;
         r->words = lane_words(r);
         offset += r->words;
     }
-    rt->reduce_words = offset;
+    rt->build.reduce_words = offset;
 }
 
 static void append_constants(const perma_runtime *rt, perma_strbuf *sb)
 {
     bool doubles = false;
-    for (unsigned i = 0; i < rt->reduction_count; ++i)
-        doubles = doubles || rt->reductions[i].type == PERMA_TYPE_DOUBLE;
+    for (unsigned i = 0; i < rt->reductions->count; ++i)
+        doubles = doubles || rt->reductions->list[i].type == PERMA_TYPE_DOUBLE;
     perma_strbuf_printf(sb, "#define PERMA_NUM_REDUCTIONS %uu\n#define PERMA_REDUCE_WORDS %uu\n%s",
-                        rt->reduction_count, rt->reduce_words ? rt->reduce_words : 1u,
+                        rt->reductions->count, rt->build.reduce_words ? rt->build.reduce_words : 1u,
                         doubles ? "#define PERMA_REDUCE_DOUBLE 1\n" : "");
 }
 
@@ -186,8 +225,8 @@ static uint64_t identity(const perma_reduction *r)
 
 static void append_helpers(const perma_runtime *rt, perma_strbuf *sb)
 {
-    for (unsigned i = 0; i < rt->reduction_count; ++i) {
-        const perma_reduction *r = &rt->reductions[i];
+    for (unsigned i = 0; i < rt->reductions->count; ++i) {
+        const perma_reduction *r = &rt->reductions->list[i];
         const char *type = type_names[r->type];
         perma_strbuf_printf(sb, "inline void reduce_%s(perma_ctx *ctx, %s value)\n{\n    ulong *lane = ctx->reduce + %uu;\n",
                             r->name, type, r->offset);
@@ -204,16 +243,16 @@ static void append_helpers(const perma_runtime *rt, perma_strbuf *sb)
     }
     /* The lane's identities, and its fold into a slot. */
     perma_strbuf_append(sb, "inline void perma_reduce_init(ulong *lane)\n{\n");
-    for (unsigned i = 0; i < rt->reduction_count; ++i) {
-        const perma_reduction *r = &rt->reductions[i];
+    for (unsigned i = 0; i < rt->reductions->count; ++i) {
+        const perma_reduction *r = &rt->reductions->list[i];
         perma_strbuf_printf(sb, "    lane[%u] = 0x%llxul;\n", r->offset, (unsigned long long)identity(r));
         if (r->words > 1)
             perma_strbuf_printf(sb, "    for (uint i = 1; i < %uu; ++i)\n        lane[%u + i] = 0;\n", r->words,
                                 r->offset);
     }
     perma_strbuf_append(sb, "}\ninline void perma_reduce_fold(__global ulong *slot, ulong *lane)\n{\n");
-    for (unsigned i = 0; i < rt->reduction_count; ++i) {
-        const perma_reduction *r = &rt->reductions[i];
+    for (unsigned i = 0; i < rt->reductions->count; ++i) {
+        const perma_reduction *r = &rt->reductions->list[i];
         unsigned o = r->offset;
         if (r->words > 1)
             perma_strbuf_printf(sb, "    perma_exact_fold(slot + %u, lane + %u, %uu);\n", o, o, r->words - 1);
@@ -243,15 +282,15 @@ perma_status perma_reductions_identities(perma_runtime *rt, uint64_t **out, size
 {
     *out = NULL;
     *out_words = 0;
-    if (!rt->reduction_count)
+    if (!rt->reductions->count)
         return PERMA_OK;
-    size_t words = slot_count(rt) * rt->reduce_words;
+    size_t words = slot_count(rt) * rt->build.reduce_words;
     uint64_t *slots = calloc(words, sizeof *slots);
     if (!slots)
         return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory for the reductions");
     for (size_t s = 0; s < slot_count(rt); ++s)
-        for (unsigned i = 0; i < rt->reduction_count; ++i)
-            slots[s * rt->reduce_words + rt->reductions[i].offset] = identity(&rt->reductions[i]);
+        for (unsigned i = 0; i < rt->reductions->count; ++i)
+            slots[s * rt->build.reduce_words + rt->reductions->list[i].offset] = identity(&rt->reductions->list[i]);
     *out = slots;
     *out_words = words;
     return PERMA_OK;
@@ -308,10 +347,10 @@ static void combine(perma_reduction *r, const uint64_t *slots, size_t count, uns
 
 perma_status perma_reductions_collect(perma_runtime *rt)
 {
-    rt->reductions_valid = false;
-    if (!rt->reduction_count)
+    rt->reductions->valid = false;
+    if (!rt->reductions->count)
         return PERMA_OK;
-    size_t words = slot_count(rt) * rt->reduce_words;
+    size_t words = slot_count(rt) * rt->build.reduce_words;
     uint64_t *slots = malloc(words * sizeof *slots);
     if (!slots)
         return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory for the reductions");
@@ -320,18 +359,18 @@ perma_status perma_reductions_collect(perma_runtime *rt)
         free(slots);
         return st;
     }
-    for (unsigned i = 0; i < rt->reduction_count; ++i) {
-        perma_reduction *r = &rt->reductions[i];
-        combine(r, slots, slot_count(rt), rt->reduce_words);
+    for (unsigned i = 0; i < rt->reductions->count; ++i) {
+        perma_reduction *r = &rt->reductions->list[i];
+        combine(r, slots, slot_count(rt), rt->build.reduce_words);
         if (r->result)
             memcpy(r->result, &r->value, type_bytes[r->type]);
     }
     free(slots);
-    rt->reductions_valid = true;
+    rt->reductions->valid = true;
     return PERMA_OK;
 }
 
 void perma_reductions_invalidate(perma_runtime *rt)
 {
-    rt->reductions_valid = false;
+    rt->reductions->valid = false;
 }

@@ -9,7 +9,18 @@
  *
  * The technique is the executor's business (executor.h); the queues' sizes
  * are queues.c's. */
+#include "buffers.h"
+#include "clock.h"
 #include "executor.h"
+#include "outcome.h"
+#include "program.h"
+#include "progress.h"
+#include "reductions.h"
+#include "run.h"
+#include "state.h"
+#include "stats.h"
+#include "trace.h"
+#include "trace_file.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -20,7 +31,7 @@
  * a stall, or what a host-driven step needs. */
 static perma_status grow_queues(perma_runtime *rt, const perma_launch_outcome *outcome)
 {
-    const perma_queue_layout *layout = &rt->queue_layout;
+    const perma_queue_layout *layout = &rt->build.queue_layout;
     unsigned queues = layout->count;
     size_t *capacities = malloc(queues * sizeof *capacities), *current = malloc(queues * sizeof *current);
     size_t *queued = malloc(queues * sizeof *queued), *overflow = malloc(queues * sizeof *overflow);
@@ -70,7 +81,7 @@ static perma_status grow_queues(perma_runtime *rt, const perma_launch_outcome *o
  * succeeds or not. */
 static perma_status upload_seeds(perma_runtime *rt)
 {
-    const perma_queue_layout *layout = &rt->queue_layout;
+    const perma_queue_layout *layout = &rt->build.queue_layout;
     unsigned queues = layout->count;
     size_t seeds[PERMA_MAX_PROCEDURES];
     for (unsigned q = 0; q < rt->proc_count; ++q)
@@ -80,9 +91,9 @@ static perma_status upload_seeds(perma_runtime *rt)
     perma_status st = capacities && first && count
                           ? PERMA_OK
                           : perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory for %u queues", queues);
-    const size_t *learned = rt->learned_capacities && rt->learned_build == rt->build_serial &&
-                                    rt->learned_count == queues
-                                ? rt->learned_capacities
+    const size_t *learned = rt->build.learned_capacities && rt->build.learned_build == rt->build.serial &&
+                                    rt->build.learned_count == queues
+                                ? rt->build.learned_capacities
                                 : NULL;
     perma_error error;
     if (st == PERMA_OK &&
@@ -187,20 +198,20 @@ static void learn_capacities(perma_runtime *rt, const perma_queue_state *queues,
     perma_run_release(rt);
     if (!succeeded || !count)
         return;
-    rt->learned_capacities = malloc(count * sizeof *rt->learned_capacities);
-    if (!rt->learned_capacities)
+    rt->build.learned_capacities = malloc(count * sizeof *rt->build.learned_capacities);
+    if (!rt->build.learned_capacities)
         return; /* an optimisation only */
     for (unsigned qi = 0; qi < count; ++qi)
-        rt->learned_capacities[qi] = queues[qi].capacity;
-    rt->learned_count = count;
-    rt->learned_build = rt->build_serial;
+        rt->build.learned_capacities[qi] = queues[qi].capacity;
+    rt->build.learned_count = count;
+    rt->build.learned_build = rt->build.serial;
 }
 
 void perma_run_release(perma_runtime *rt)
 {
-    free(rt->learned_capacities);
-    rt->learned_capacities = NULL;
-    rt->learned_count = 0;
+    free(rt->build.learned_capacities);
+    rt->build.learned_capacities = NULL;
+    rt->build.learned_count = 0;
 }
 
 perma_status perma_forget_capacities(perma_runtime *rt)
@@ -237,7 +248,7 @@ perma_status perma_run(perma_runtime *rt)
     perma_trace_reset(rt, start);
     if (rt->config.trace_path)
         perma_trace_file_run_begins(start);
-    double deadline = start + perma_time_limit(rt);
+    double deadline = start + perma_time_limit(&rt->config);
     rt->grow_starved = true;
 
     /* The launch state: the queues with the seeds, and the reductions'

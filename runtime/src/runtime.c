@@ -1,5 +1,15 @@
 /* Creating and destroying a runtime. */
+#include "device.h"
 #include "executor.h"
+#include "program.h"
+#include "progress.h"
+#include "reductions.h"
+#include "run.h"
+#include "state.h"
+#include "stats.h"
+#include "steps.h"
+#include "trace.h"
+#include "watchdog.h"
 
 #include <pthread.h>
 #include <stdlib.h>
@@ -92,7 +102,9 @@ perma_status perma_create(const perma_config *config, perma_runtime **out, perma
         rt->config.trace_path = strdup(trace);
         if (!rt->config.trace_path)
             st = perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory copying the trace path");
-        rt->trace_events = config->trace_events ? config->trace_events : 65536;
+        rt->config.trace_events = config->trace_events ? config->trace_events : 65536;
+        if (st == PERMA_OK)
+            st = perma_trace_open(rt);
     }
     if (st == PERMA_OK && !config->local_memory_limit) {
         rt->config.local_memory_limit = rt->settings.local_memory_limit;
@@ -101,6 +113,8 @@ perma_status perma_create(const perma_config *config, perma_runtime **out, perma
     }
     if (st == PERMA_OK)
         st = perma_device_open(rt);
+    if (st == PERMA_OK)
+        st = perma_reductions_open(rt);
     if (st == PERMA_OK)
         st = perma_state_open(rt);
     if (st == PERMA_OK)
@@ -164,6 +178,7 @@ void perma_destroy(perma_runtime *rt)
         clFinish(rt->queue);
     perma_state_close(rt);
     perma_run_release(rt);
+    perma_steps_release(rt);
     perma_release_program(rt);
     for (unsigned i = 0; i < rt->buffer_count; ++i) {
         if (rt->buffers[i].mem)
@@ -184,7 +199,7 @@ void perma_destroy(perma_runtime *rt)
     free((char *)rt->config.trace_path);
     perma_trace_release(rt);
     perma_progress_close(rt);
-    free(rt->group_stats);
+    perma_stats_release(rt);
     free(rt);
 }
 

@@ -1,6 +1,5 @@
 /* Schedule labels: "megakernel/stealing/round-robin+local32" and the like
  * (grammar in perma.h), parsed into and formatted from perma_schedule. */
-#include "internal.h"
 #include "schedule_table.h"
 
 #include <limits.h>

@@ -4,6 +4,7 @@
  * when it must grow; the queues grow on the device, so after the seeds'
  * upload no queued item passes through the host. */
 #include "internal.h"
+#include "state.h"
 
 #include <stddef.h>
 #include <stdio.h>
@@ -126,7 +127,7 @@ static perma_status zero(perma_runtime *rt, perma_device_buffer *b, size_t bytes
 
 static size_t ctl_bytes(const perma_runtime *rt)
 {
-    return 4 * (size_t)PERMA_CTL_WORDS_FOR(rt->queue_layout.count, rt->work_groups);
+    return 4 * (size_t)PERMA_CTL_WORDS_FOR(rt->build.queue_layout.count, rt->work_groups);
 }
 
 size_t perma_ctl_block_bytes(size_t queues)
@@ -137,13 +138,13 @@ size_t perma_ctl_block_bytes(size_t queues)
 /* The statistics buffer: one record per group. */
 static size_t stats_bytes(const perma_runtime *rt)
 {
-    return 4 * (size_t)rt->work_groups * PERMA_STAT_GROUP_WORDS_FOR(rt->proc_count, rt->max_edges);
+    return 4 * (size_t)rt->work_groups * PERMA_STAT_GROUP_WORDS_FOR(rt->proc_count, rt->build.max_edges);
 }
 
 /* Words of one group's emit area (kernels/perma_abi.h). */
 static size_t emit_area_words(const perma_runtime *rt)
 {
-    return PERMA_EMIT_AREA_WORDS_FOR((size_t)rt->stage_words);
+    return PERMA_EMIT_AREA_WORDS_FOR((size_t)rt->build.stage_words);
 }
 
 static size_t emit_areas_bytes(const perma_runtime *rt)
@@ -153,7 +154,7 @@ static size_t emit_areas_bytes(const perma_runtime *rt)
 
 static size_t trace_bytes(const perma_runtime *rt)
 {
-    return 4 * (size_t)rt->work_groups * PERMA_TRACE_GROUP_WORDS_FOR((size_t)rt->device_trace_events);
+    return 4 * (size_t)rt->work_groups * PERMA_TRACE_GROUP_WORDS_FOR((size_t)rt->build.device_trace_events);
 }
 
 perma_status perma_state_open(perma_runtime *rt)
@@ -231,7 +232,8 @@ static perma_status ensure_launch_buffers(perma_runtime *rt)
     if (st == PERMA_OK)
         st = ensure(rt, &s->emit_areas, emit_areas_bytes(rt), "emit areas");
     if (st == PERMA_OK)
-        st = ensure(rt, &s->reductions, 8 * (size_t)rt->work_groups * rt->group_size * (rt->reduce_words ? rt->reduce_words : 1),
+        st = ensure(rt, &s->reductions,
+                    8 * (size_t)rt->work_groups * rt->group_size * (rt->build.reduce_words ? rt->build.reduce_words : 1),
                     "reductions");
     if (st == PERMA_OK)
         st = ensure_watch_page(rt);
@@ -260,7 +262,7 @@ perma_status perma_state_empty(perma_runtime *rt)
 static perma_status set_queues(perma_runtime *rt, const size_t *capacities, size_t bytes, bool fresh)
 {
     perma_device_state *s = rt->state;
-    unsigned count = rt->queue_layout.count;
+    unsigned count = rt->build.queue_layout.count;
     if (s->queue_count != count) {
         perma_queue_state *queues = calloc(count, sizeof *queues);
         if (!queues)
@@ -293,7 +295,7 @@ perma_status perma_state_upload(perma_runtime *rt, const size_t *capacities, siz
                                 const size_t *seed_count)
 {
     perma_device_state *s = rt->state;
-    unsigned count = rt->queue_layout.count;
+    unsigned count = rt->build.queue_layout.count;
     size_t data_words = 0, seq_words = 0, outstanding = 0;
     for (unsigned qi = 0; qi < count; ++qi) {
         data_words += capacities[qi] * item_words(rt, qi);
@@ -433,7 +435,7 @@ static perma_status read_overflow(perma_runtime *rt, size_t *per_queue)
             const uint32_t *rec = h + PERMA_OVERFLOW_RECORD(r);
             if (rec[PERMA_OVERFLOW_QUEUE] >= s->queue_count ||
                 rec[PERMA_OVERFLOW_AT] + (size_t)rec[PERMA_OVERFLOW_COUNT] * item_words(rt, rec[PERMA_OVERFLOW_QUEUE]) >
-                    rt->stage_words)
+                    rt->build.stage_words)
                 return perma_set_error(rt, PERMA_ERR_DEVICE, "work-group %u reports an overflow record out of range "
                                        "(queue %u, %u items at word %u)", g, rec[PERMA_OVERFLOW_QUEUE],
                                        rec[PERMA_OVERFLOW_COUNT], rec[PERMA_OVERFLOW_AT]);
@@ -529,7 +531,7 @@ static void plan_overflow(const perma_runtime *rt, unsigned qi, perma_relayout_r
             if (o[PERMA_OVERFLOW_QUEUE] != qi)
                 continue;
             segments[(*used)++] =
-                (uint32_t)(g * group_words + PERMA_EMIT_AREA_OVERFLOW_FOR((size_t)rt->stage_words) + o[PERMA_OVERFLOW_AT]);
+                (uint32_t)(g * group_words + PERMA_EMIT_AREA_OVERFLOW_FOR((size_t)rt->build.stage_words) + o[PERMA_OVERFLOW_AT]);
             segments[(*used)++] = o[PERMA_OVERFLOW_COUNT];
             rec->overflow += o[PERMA_OVERFLOW_COUNT];
             rec->overflow_segments++;
@@ -589,11 +591,11 @@ static perma_status run_relayout(perma_runtime *rt, unsigned queues, size_t slot
     _Static_assert(sizeof args / sizeof args[0] == PERMA_RELAYOUT_ARG_TOTAL, "every argument of perma_relayout_kernel");
     cl_int err = CL_SUCCESS;
     for (size_t i = 0; i < sizeof args / sizeof args[0] && err == CL_SUCCESS; ++i)
-        err = clSetKernelArg(rt->relayout_kernel, args[i].index, args[i].size, args[i].value);
+        err = clSetKernelArg(rt->build.relayout_kernel, args[i].index, args[i].size, args[i].value);
     if (err != CL_SUCCESS)
         return perma_cl_error(rt, "clSetKernelArg (relayout)", err);
     size_t local = 64, global = (slots + local - 1) / local * local;
-    err = clEnqueueNDRangeKernel(rt->queue, rt->relayout_kernel, 1, NULL, &global, &local, 0, NULL, NULL);
+    err = clEnqueueNDRangeKernel(rt->queue, rt->build.relayout_kernel, 1, NULL, &global, &local, 0, NULL, NULL);
     if (err != CL_SUCCESS)
         return perma_cl_error(rt, "clEnqueueNDRangeKernel (relayout)", err);
     return PERMA_OK;
@@ -720,16 +722,16 @@ perma_status perma_state_bind_take(perma_runtime *rt)
     };
     cl_int err = CL_SUCCESS;
     for (size_t i = 0; i < sizeof args / sizeof args[0] && err == CL_SUCCESS; ++i)
-        err = clSetKernelArg(rt->take_kernel, args[i].index, sizeof(cl_mem), args[i].mem);
+        err = clSetKernelArg(rt->build.take_kernel, args[i].index, sizeof(cl_mem), args[i].mem);
     return err == CL_SUCCESS ? PERMA_OK : perma_cl_error(rt, "clSetKernelArg (take)", err);
 }
 
 perma_status perma_state_bind_step(perma_runtime *rt)
 {
-    perma_status st = perma_state_bind(rt, rt->step_kernel, PERMA_STEP_USER_ARGS);
+    perma_status st = perma_state_bind(rt, rt->build.step_kernel, PERMA_STEP_USER_ARGS);
     if (st != PERMA_OK)
         return st;
-    cl_int err = clSetKernelArg(rt->step_kernel, PERMA_STEP_ARG_INPUT, sizeof(cl_mem), &rt->state->input.mem);
+    cl_int err = clSetKernelArg(rt->build.step_kernel, PERMA_STEP_ARG_INPUT, sizeof(cl_mem), &rt->state->input.mem);
     return err == CL_SUCCESS ? PERMA_OK : perma_cl_error(rt, "clSetKernelArg (step)", err);
 }
 

@@ -1,5 +1,8 @@
 /* Run statistics: collected from each launch, summed, printed. */
 #include "internal.h"
+#include "layout.h"
+#include "state.h"
+#include "stats.h"
 
 #include <inttypes.h>
 #include <stdlib.h>
@@ -15,7 +18,7 @@ void perma_stats_reset(perma_runtime *rt)
     rt->stats.work_groups = rt->work_groups;
     rt->stats.group_size = rt->group_size;
     rt->stats.procedure_count = rt->proc_count;
-    rt->stats.queue_memory_limit = rt->queue_layout.memory_limit;
+    rt->stats.queue_memory_limit = rt->build.queue_layout.memory_limit;
     for (unsigned q = 0; q < rt->proc_count; ++q) {
         perma_proc_info *p = &rt->procs[q];
         memset(&p->stats, 0, sizeof p->stats);
@@ -27,10 +30,10 @@ void perma_stats_reset(perma_runtime *rt)
 /* Add the per-group counters and queue peaks of the launch that just ended. */
 perma_status perma_stats_collect(perma_runtime *rt)
 {
-    unsigned n = rt->proc_count, stride = PERMA_STAT_PROC_WORDS_FOR(rt->max_edges);
-    unsigned group_words = PERMA_STAT_GROUP_WORDS_FOR(n, rt->max_edges);
+    unsigned n = rt->proc_count, stride = PERMA_STAT_PROC_WORDS_FOR(rt->build.max_edges);
+    unsigned group_words = PERMA_STAT_GROUP_WORDS_FOR(n, rt->build.max_edges);
     size_t stats_words = (size_t)rt->work_groups * group_words;
-    unsigned queues = rt->queue_layout.count;
+    unsigned queues = rt->build.queue_layout.count;
     size_t ctl_bytes = perma_ctl_block_bytes(queues);
     if (!rt->group_stats) {
         rt->group_stats = calloc(rt->work_groups, sizeof *rt->group_stats);
@@ -81,7 +84,7 @@ perma_status perma_stats_collect(perma_runtime *rt)
     /* A procedure's peak: the sum over queue sets of each queue's peak. */
     for (unsigned q = 0; q < n; ++q) {
         uint64_t peak = 0;
-        for (unsigned set = 0; set < rt->queue_sets; ++set)
+        for (unsigned set = 0; set < rt->build.queue_sets; ++set)
             peak += ctl->queues[set * n + q].peak;
         if (peak > rt->procs[q].stats.peak_queue_items)
             rt->procs[q].stats.peak_queue_items = peak;
@@ -221,6 +224,12 @@ perma_status perma_get_local_memory(perma_runtime *rt, size_t *bytes)
     return PERMA_OK;
 }
 
+void perma_stats_release(perma_runtime *rt)
+{
+    free(rt->group_stats);
+    rt->group_stats = NULL;
+}
+
 perma_status perma_get_group_stats(perma_runtime *rt, unsigned group, perma_group_stats *out)
 {
     if (!rt)
@@ -253,7 +262,7 @@ static void print_batch_warning(const perma_runtime *rt, unsigned q, FILE *out)
                      "stages at most %zu bytes; declare fewer, or emit them from a separate procedure "
                      "(docs/writing-procedures.md, section 6)\n", p->name, ps->batch_size, full, e, p->emit_max[e],
                 rt->procs[p->emit_target[e]].item_size, target,
-                (size_t)p->emit_max[e] * rt->procs[p->emit_target[e]].item_size, 4 * (size_t)rt->stage_words);
+                (size_t)p->emit_max[e] * rt->procs[p->emit_target[e]].item_size, 4 * (size_t)rt->build.stage_words);
     else if (ps->batch_cut == PERMA_BATCH_CUT_LOCAL_MEMORY)
         fprintf(out, "warning: procedure '%s' runs at most %u items per batch instead of %u: its items and scratch "
                      "(.local_bytes_per_item) do not fit more in __local memory\n",

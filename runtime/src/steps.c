@@ -11,7 +11,12 @@
  * those.  So a breadth-first level is split into
  * launches that fit rather than reserving its whole worst case at once
  * (which failed at the memory limit where the other techniques succeed). */
+#include "clock.h"
+#include "layout.h"
+#include "state.h"
 #include "steps.h"
+#include "trace.h"
+#include "watchdog.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -82,7 +87,7 @@ static perma_status set_take_args(perma_runtime *rt, cl_uint qi, cl_uint first, 
         return st;
     for (size_t i = 0; i < sizeof args / sizeof args[0]; ++i)
         PERMA_CL_CHECK(rt, "clSetKernelArg (take)",
-                       clSetKernelArg(rt->take_kernel, args[i].index, args[i].size, args[i].value));
+                       clSetKernelArg(rt->build.take_kernel, args[i].index, args[i].size, args[i].value));
     return PERMA_OK;
 }
 
@@ -91,9 +96,10 @@ static perma_status set_step_args(perma_runtime *rt, cl_uint proc, cl_uint count
     perma_status st = perma_state_bind_step(rt);
     if (st != PERMA_OK)
         return st;
-    PERMA_CL_CHECK(rt, "clSetKernelArg (step)", clSetKernelArg(rt->step_kernel, PERMA_STEP_ARG_PROC, sizeof proc, &proc));
     PERMA_CL_CHECK(rt, "clSetKernelArg (step)",
-                   clSetKernelArg(rt->step_kernel, PERMA_STEP_ARG_COUNT, sizeof count, &count));
+                   clSetKernelArg(rt->build.step_kernel, PERMA_STEP_ARG_PROC, sizeof proc, &proc));
+    PERMA_CL_CHECK(rt, "clSetKernelArg (step)",
+                   clSetKernelArg(rt->build.step_kernel, PERMA_STEP_ARG_COUNT, sizeof count, &count));
     return PERMA_OK;
 }
 
@@ -109,7 +115,8 @@ static perma_status launch_step(perma_runtime *rt, unsigned q, uint32_t first, u
         return st;
     size_t take_global = ((size_t)take + 63) / 64 * 64;
     PERMA_CL_CHECK(rt, "clEnqueueNDRangeKernel (take)",
-                   clEnqueueNDRangeKernel(rt->queue, rt->take_kernel, 1, NULL, &take_global, NULL, 0, NULL, NULL));
+                   clEnqueueNDRangeKernel(rt->queue, rt->build.take_kernel, 1, NULL, &take_global, NULL, 0, NULL,
+                                          NULL));
     st = set_step_args(rt, q, take);
     if (st != PERMA_OK)
         return st;
@@ -118,7 +125,7 @@ static perma_status launch_step(perma_runtime *rt, unsigned q, uint32_t first, u
     size_t local = rt->group_size, batches = ((size_t)take + p->max_batch - 1) / p->max_batch;
     size_t global = (batches < rt->work_groups ? batches : rt->work_groups) * local;
     PERMA_CL_CHECK(rt, "clEnqueueNDRangeKernel (step)",
-                   clEnqueueNDRangeKernel(rt->queue, rt->step_kernel, 1, NULL, &global, &local, 0, NULL, done));
+                   clEnqueueNDRangeKernel(rt->queue, rt->build.step_kernel, 1, NULL, &global, &local, 0, NULL, done));
     clFlush(rt->queue);
     return PERMA_OK;
 }
@@ -134,28 +141,48 @@ perma_status perma_steps_warm_up(perma_runtime *rt)
         return st;
     size_t take_global = 64;
     PERMA_CL_CHECK(rt, "clEnqueueNDRangeKernel (take warm-up)",
-                   clEnqueueNDRangeKernel(rt->queue, rt->take_kernel, 1, NULL, &take_global, NULL, 0, NULL, NULL));
+                   clEnqueueNDRangeKernel(rt->queue, rt->build.take_kernel, 1, NULL, &take_global, NULL, 0, NULL,
+                                          NULL));
     st = set_step_args(rt, 0, 0);
     if (st != PERMA_OK)
         return st;
     size_t local = rt->group_size;
     PERMA_CL_CHECK(rt, "clEnqueueNDRangeKernel (step warm-up)",
-                   clEnqueueNDRangeKernel(rt->queue, rt->step_kernel, 1, NULL, &local, &local, 0, NULL, NULL));
+                   clEnqueueNDRangeKernel(rt->queue, rt->build.step_kernel, 1, NULL, &local, &local, 0, NULL, NULL));
     return PERMA_OK;
 }
 
+struct perma_steps_state {
+    unsigned cursor;         /* the policy's: kernel-per-procedure's round-robin goes on there */
+    int traced_proc;         /* the step in flight, for the trace; -1: none */
+    cl_event running;        /* the step kernel in flight; NULL: none */
+    uint32_t traced_items;
+    double traced_start;
+};
+
 perma_status perma_steps_prepare(perma_runtime *rt)
 {
-    rt->steps.cursor = 0;
-    rt->steps.traced_proc = -1;
-    rt->steps.running = NULL;
+    if (!rt->steps) {
+        rt->steps = calloc(1, sizeof *rt->steps);
+        if (!rt->steps)
+            return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory for the host-driven steps");
+    }
+    rt->steps->cursor = 0;
+    rt->steps->traced_proc = -1;
+    rt->steps->running = NULL;
     return PERMA_OK;
+}
+
+void perma_steps_release(perma_runtime *rt)
+{
+    free(rt->steps);
+    rt->steps = NULL;
 }
 
 /* Wait for the step in flight, if any, under the watchdog. */
 static perma_status wait_for_step(perma_runtime *rt, double deadline)
 {
-    perma_steps_state *s = &rt->steps;
+    perma_steps_state *s = rt->steps;
     if (!s->running)
         return PERMA_OK;
     perma_status st = perma_watch_event(rt, s->running, deadline);
@@ -192,7 +219,7 @@ static perma_status take_items(perma_runtime *rt, perma_ctl_block *ctl, unsigned
 static perma_status run_steps(perma_runtime *rt, const perma_step_policy *policy, double deadline,
                               perma_ctl_block *ctl, perma_launch_outcome *outcome)
 {
-    perma_steps_state *s = &rt->steps;
+    perma_steps_state *s = rt->steps;
     for (;;) {
         perma_status st = wait_for_step(rt, deadline);
         if (st == PERMA_OK)
@@ -212,7 +239,7 @@ static perma_status run_steps(perma_runtime *rt, const perma_step_policy *policy
             outcome->header.status = PERMA_KSTATUS_ABORTED;
             return PERMA_OK;
         }
-        int chosen = policy->choose(rt, ctl);
+        int chosen = policy->choose(rt, ctl, &s->cursor);
         if (chosen < 0)
             return PERMA_OK;
         unsigned q = (unsigned)chosen;
@@ -247,9 +274,9 @@ perma_status perma_steps_launch(perma_runtime *rt, double deadline, perma_launch
     perma_status st = run_steps(rt, policy, deadline, ctl, outcome);
     if (st != PERMA_OK && !rt->hung) {
         clFinish(rt->queue); /* a queue record write may still read *ctl */
-        if (rt->steps.running)
-            clReleaseEvent(rt->steps.running);
-        rt->steps.running = NULL;
+        if (rt->steps->running)
+            clReleaseEvent(rt->steps->running);
+        rt->steps->running = NULL;
     }
     free(ctl);
     return st;

@@ -8,10 +8,12 @@
 #define PERMA_STEPS_H
 
 #include "executor.h"
+#include "state.h"
 
 typedef struct perma_step_policy {
-    /* The queue to serve next, or -1 when every queue is empty. */
-    int (*choose)(perma_runtime *rt, const perma_ctl_block *ctl);
+    /* The queue to serve next, or -1 when every queue is empty; *cursor is
+     * the policy's to keep between the steps of a run (0 at its start). */
+    int (*choose)(const perma_runtime *rt, const perma_ctl_block *ctl, unsigned *cursor);
     /* How many of the `available` queued items to take. */
     uint32_t (*take)(const perma_runtime *rt, uint32_t available);
     /* Take from the tail (last in, first out) instead of the head. */
@@ -34,8 +36,15 @@ static inline uint32_t perma_steps_queued(const perma_ctl_block *ctl, unsigned q
     return ctl->queues[q].tail - ctl->queues[q].head;
 }
 
+/* What the host-driven techniques keep between launches of a run (the
+ * policy's cursor, the step in flight); opaque outside steps.c, made by
+ * the first perma_steps_prepare, freed by perma_steps_release
+ * (perma_destroy). */
+typedef struct perma_steps_state perma_steps_state;
+
 perma_status perma_steps_warm_up(perma_runtime *rt);
 perma_status perma_steps_prepare(perma_runtime *rt);
+void perma_steps_release(perma_runtime *rt);
 /* The launch of a perma_step_executor (rt->executor). */
 perma_status perma_steps_launch(perma_runtime *rt, double deadline, perma_launch_outcome *outcome);
 

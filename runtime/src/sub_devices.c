@@ -9,6 +9,7 @@
  * (seen with MALLOC_PERTURB_ in the devices test).  The cost is a few
  * handles per split, once.
  */
+#include "device.h"
 #include "device_list.h"
 #include "internal.h"
 

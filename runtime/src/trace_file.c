@@ -14,6 +14,8 @@
  * written and their identity (device and inode): a file replaced or
  * removed meanwhile is written anew. */
 #include "internal.h"
+#include "trace.h"
+#include "trace_file.h"
 
 #include <errno.h>
 #include <pthread.h>
@@ -90,6 +92,9 @@ static void write_string(FILE *f, const char *s)
 static void write_run(FILE *f, const perma_runtime *rt, unsigned run, double zero)
 {
     bool host = !perma_trace_on_device(rt);
+    size_t count;
+    double start;
+    const perma_trace_event *events = perma_trace_events(rt, &count, &start);
     char schedule[128];
     if (perma_schedule_format(&rt->config.schedule, schedule, sizeof schedule) < 0)
         snprintf(schedule, sizeof schedule, "?");
@@ -101,7 +106,7 @@ static void write_run(FILE *f, const perma_runtime *rt, unsigned run, double zer
     fprintf(f, ",\"run\":%u,\"schedule\":", run);
     write_string(f, schedule);
     fprintf(f, ",\"work_groups\":%u,\"start_us\":%.3f,\"seconds\":%.6f,\"clock\":\"%s\"}}", rt->work_groups,
-            (rt->trace_start_time - zero) * 1e6, rt->stats.seconds,
+            (start - zero) * 1e6, rt->stats.seconds,
             host ? "host" : "device ticks timed by host samples");
     fprintf(f, ",\n{\"name\":\"process_sort_index\",\"ph\":\"M\",\"pid\":%u,\"args\":{\"sort_index\":%u}}", run, run);
     if (host)
@@ -111,8 +116,8 @@ static void write_run(FILE *f, const perma_runtime *rt, unsigned run, double zer
         for (unsigned g = 0; g < rt->work_groups; ++g)
             fprintf(f, ",\n{\"name\":\"thread_name\",\"ph\":\"M\",\"pid\":%u,\"tid\":%u,\"args\":{\"name\":\"group %u\"}}",
                     run, g, g);
-    for (size_t i = 0; i < rt->trace_count; ++i) {
-        const perma_trace_event *e = &rt->trace[i];
+    for (size_t i = 0; i < count; ++i) {
+        const perma_trace_event *e = &events[i];
         double duration = e->end > e->start ? e->end - e->start : 0.0;
         fprintf(f, ",\n{\"name\":\"%s\",\"cat\":\"%s\",\"ph\":\"X\",\"pid\":%u,\"tid\":%u,\"ts\":%.3f,\"dur\":%.3f,"
                    "\"args\":{\"items\":%u,\"kind\":\"%s\"}}",

@@ -31,7 +31,12 @@
  * for a hung waiter is never (a deliberate leak, like the hung runtime's
  * OpenCL objects).  A process forked after a launch starts a waiter of
  * its own at its first watched launch. */
+#include "clock.h"
 #include "internal.h"
+#include "progress.h"
+#include "state.h"
+#include "trace.h"
+#include "watchdog.h"
 
 #include <errno.h>
 #include <pthread.h>
@@ -278,15 +283,15 @@ static bool stop_reason(const perma_runtime *rt, char *out, size_t size)
 {
     const perma_watchdog *w = rt->watchdog;
     if (!w || !w->stalled) {
-        snprintf(out, size, "the run passed its time limit of %g s (config.time_limit)", perma_time_limit(rt));
+        snprintf(out, size, "the run passed its time limit of %g s (config.time_limit)", perma_time_limit(&rt->config));
         return false;
     }
     if (w->in_flight[0])
         snprintf(out, size, "no item completed for %g s (config.stall_limit): %s had items in flight "
-                            "(a procedure that never returns?)", perma_stall_limit(rt), w->in_flight);
+                            "(a procedure that never returns?)", perma_stall_limit(&rt->config), w->in_flight);
     else
         snprintf(out, size, "no item completed for %g s (config.stall_limit), and no procedure had an item in "
-                            "flight", perma_stall_limit(rt));
+                            "flight", perma_stall_limit(&rt->config));
     return true;
 }
 
@@ -332,7 +337,7 @@ static perma_status watch(perma_runtime *rt, cl_event done, double deadline)
     w->stalled = false;
     clSetEventCallback(done, CL_COMPLETE, on_complete, NULL); /* without it the wait polls */
     unsigned running[PERMA_MAX_PROCEDURES];
-    double stall_limit = perma_stall_limit(rt), now = perma_now(), pause = 50e-6;
+    double stall_limit = perma_stall_limit(&rt->config), now = perma_now(), pause = 50e-6;
     double progress_at = now, aborted_at = 0.0;
     uint64_t batches = perma_state_watch(rt, running, rt->proc_count);
     /* The stall limit applies once the host has seen the kernel write its

@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "build_log.h"
 #include "internal.h"
 
 /* perma_build_log_diagnostic over all of `line`; "" in where when it is not one. */

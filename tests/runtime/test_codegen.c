@@ -8,7 +8,11 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "codegen.h"
 #include "internal.h"
+#include "layout.h"
+#include "reductions.h"
+#include "strbuf.h"
 
 /* `produce` (uint, in produce.cl) emits up to 2 struct pair into
  * `consume`, a cooperative procedure of 4 threads per item; `count` shares

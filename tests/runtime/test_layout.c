@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "internal.h"
+#include "layout.h"
 
 /* Groups of 8 work-items and 32 KiB of __local memory (OpenCL's minimum),
  * whatever the device has. */
@@ -57,7 +58,7 @@ START_TEST(order_is_priority_then_depth_then_registration)
     const unsigned depths[] = { 0, 1, 2, 0, 0 }, order[] = { 3, 2, 1, 4, 0 };
     for (unsigned i = 0; i < 5; ++i) {
         ck_assert_uint_eq(rt->procs[i].depth, depths[i]);
-        ck_assert_uint_eq(rt->order[i], order[i]);
+        ck_assert_uint_eq(rt->build.order[i], order[i]);
     }
     ck_assert_int_eq(rt->procs[0].emit_target[0], 1);
     ck_assert_int_eq(rt->procs[1].emit_target[0], 2);
@@ -75,8 +76,8 @@ START_TEST(a_cycle_is_ordered_by_its_priorities)
     ck_assert_perma_ok(rt, perma_build_layout(rt));
     ck_assert_uint_eq(rt->procs[0].depth, 0);
     ck_assert_uint_eq(rt->procs[1].depth, 1);
-    ck_assert_uint_eq(rt->order[0], 1);
-    ck_assert_uint_eq(rt->order[1], 0);
+    ck_assert_uint_eq(rt->build.order[0], 1);
+    ck_assert_uint_eq(rt->build.order[1], 0);
     perma_destroy(rt);
 }
 END_TEST
@@ -116,8 +117,8 @@ START_TEST(arena_offsets_follow_the_batch)
 
     /* The arena is the largest procedure's (b: 192 words; a: 64 + 8 lane
      * counters); the staging area a's: 8 lanes x 4 items x 2 emits x 2 words. */
-    ck_assert_uint_eq(rt->arena_words, 192);
-    ck_assert_uint_eq(rt->stage_words, 128);
+    ck_assert_uint_eq(rt->build.arena_words, 192);
+    ck_assert_uint_eq(rt->build.stage_words, 128);
     perma_destroy(rt);
 }
 END_TEST
@@ -133,7 +134,7 @@ START_TEST(local_memory_cuts_the_batch)
     ck_assert_perma_ok(rt, perma_build_layout(rt));
     ck_assert_uint_eq(rt->procs[0].max_batch_local, 31);
     ck_assert_uint_eq(rt->procs[0].max_batch, 31);
-    ck_assert_uint_eq(rt->arena_words, 31 * 256);
+    ck_assert_uint_eq(rt->build.arena_words, 31 * 256);
     perma_destroy(rt);
 }
 END_TEST
