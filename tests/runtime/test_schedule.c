@@ -93,41 +93,38 @@ START_TEST(short_forms_format_canonically)
 }
 END_TEST
 
+/* Labels and every field they set (the rest zero: the defaults). */
+static const struct {
+    const char *label;
+    perma_schedule fields;
+} parsed_fields[] = {
+    { "megakernel/stealing-donation/round-robin+local32",
+      { .technique = PERMA_TECHNIQUE_MEGAKERNEL, .strategy = PERMA_STRATEGY_STEALING_DONATION,
+        .victim = PERMA_VICTIM_ROUND_ROBIN, .local_queue_items = 32 } },
+    { "megakernel/stealing-donation/round-robin/d=64+local32",
+      { .technique = PERMA_TECHNIQUE_MEGAKERNEL, .strategy = PERMA_STRATEGY_STEALING_DONATION,
+        .victim = PERMA_VICTIM_ROUND_ROBIN, .local_queue_items = 32, .donation_threshold = 64 } },
+    { "megakernel/donation/d=1",
+      { .technique = PERMA_TECHNIQUE_MEGAKERNEL, .strategy = PERMA_STRATEGY_DONATION, .donation_threshold = 1 } },
+    { "bounded-batches/p=64", { .technique = PERMA_TECHNIQUE_BOUNDED_BATCHES, .batch_limit = 64 } },
+    { "kernel-per-procedure", { .technique = PERMA_TECHNIQUE_KERNEL_PER_PROCEDURE } },
+    { "megakernel/donation+local4096",
+      { .technique = PERMA_TECHNIQUE_MEGAKERNEL, .strategy = PERMA_STRATEGY_DONATION,
+        .local_queue_items = PERMA_MAX_LOCAL_QUEUE_ITEMS } },
+};
+
 START_TEST(parse_sets_every_field)
 {
-    perma_schedule s = parse_ok("megakernel/stealing-donation/round-robin+local32");
-    ck_assert_int_eq(s.technique, PERMA_TECHNIQUE_MEGAKERNEL);
-    ck_assert_int_eq(s.strategy, PERMA_STRATEGY_STEALING_DONATION);
-    ck_assert_int_eq(s.victim, PERMA_VICTIM_ROUND_ROBIN);
-    ck_assert_uint_eq(s.local_queue_items, 32);
-    ck_assert_uint_eq(s.batch_limit, 0);
-    ck_assert_uint_eq(s.donation_threshold, 0);
-
-    s = parse_ok("megakernel/stealing-donation/round-robin/d=64+local32");
-    ck_assert_int_eq(s.strategy, PERMA_STRATEGY_STEALING_DONATION);
-    ck_assert_int_eq(s.victim, PERMA_VICTIM_ROUND_ROBIN);
-    ck_assert_uint_eq(s.donation_threshold, 64);
-    ck_assert_uint_eq(s.local_queue_items, 32);
-
-    s = parse_ok("megakernel/donation/d=1");
-    ck_assert_int_eq(s.strategy, PERMA_STRATEGY_DONATION);
-    ck_assert_uint_eq(s.donation_threshold, 1);
-
-    s = parse_ok("bounded-batches/p=64");
-    ck_assert_int_eq(s.technique, PERMA_TECHNIQUE_BOUNDED_BATCHES);
-    ck_assert_int_eq(s.strategy, PERMA_STRATEGY_SHARED);
-    ck_assert_int_eq(s.victim, PERMA_VICTIM_RANDOM);
-    ck_assert_uint_eq(s.local_queue_items, 0);
-    ck_assert_uint_eq(s.batch_limit, 64);
-
-    s = parse_ok("kernel-per-procedure");
-    ck_assert_int_eq(s.technique, PERMA_TECHNIQUE_KERNEL_PER_PROCEDURE);
-    ck_assert_int_eq(s.strategy, PERMA_STRATEGY_SHARED);
-    ck_assert_uint_eq(s.local_queue_items, 0);
-    ck_assert_uint_eq(s.batch_limit, 0);
-
-    s = parse_ok("megakernel/donation+local4096");
-    ck_assert_uint_eq(s.local_queue_items, PERMA_MAX_LOCAL_QUEUE_ITEMS);
+    for (size_t i = 0; i < sizeof parsed_fields / sizeof parsed_fields[0]; ++i) {
+        const perma_schedule *want = &parsed_fields[i].fields;
+        perma_schedule s = parse_ok(parsed_fields[i].label);
+        ck_assert_msg(s.technique == want->technique && s.strategy == want->strategy && s.victim == want->victim
+                          && s.local_queue_items == want->local_queue_items && s.batch_limit == want->batch_limit
+                          && s.donation_threshold == want->donation_threshold,
+                      "'%s' parsed to technique %d strategy %d victim %d local %u batch %u threshold %u",
+                      parsed_fields[i].label, (int)s.technique, (int)s.strategy, (int)s.victim,
+                      s.local_queue_items, s.batch_limit, s.donation_threshold);
+    }
 }
 END_TEST
 
