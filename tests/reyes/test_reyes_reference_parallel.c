@@ -2,12 +2,27 @@
  * the same image, bit for bit, and the same counts as on one thread, and
  * the same refusals; and its occlusion culling (reyes_reference_occlusion.c):
  * the same image with it and without, fewer micropolygons where grids
- * are hidden. */
+ * are hidden.  Built a second time with REYES_MODELS_DIR (suite shared):
+ * then the culling on ../shared's models only. */
 #include <check.h>
 #include <string.h>
 
 #include "reyes_reference_parallel.h"
 #include "reyes_test_util.h"
+
+/* The C reference's render of scene with o, checked to succeed. */
+static reyes_reference_counts render(const reyes_scene *scene, const reyes_camera *camera, const reyes_options *o,
+                                     unsigned threads, reyes_image *image)
+{
+    reyes_reference_counts counts;
+    reyes_error error;
+    reyes_status status = threads ? reyes_reference_render_parallel(scene, camera, o, threads, image, &counts, &error)
+                                  : reyes_reference_render(scene, camera, o, image, &counts, &error);
+    ck_assert_msg(status == REYES_OK, "%s", error.message);
+    return counts;
+}
+
+#ifndef REYES_MODELS_DIR
 
 /* Render on one thread and on 1, 2 and 3 threads; every image and count
  * equal.  With occlusion culling (at a shading rate) which grids the
@@ -85,18 +100,6 @@ START_TEST(test_parallel_identical)
     reyes_scene_free(&scene);
 }
 END_TEST
-
-/* The C reference's render of scene with o, checked to succeed. */
-static reyes_reference_counts render(const reyes_scene *scene, const reyes_camera *camera, const reyes_options *o,
-                                     unsigned threads, reyes_image *image)
-{
-    reyes_reference_counts counts;
-    reyes_error error;
-    reyes_status status = threads ? reyes_reference_render_parallel(scene, camera, o, threads, image, &counts, &error)
-                                  : reyes_reference_render(scene, camera, o, image, &counts, &error);
-    ck_assert_msg(status == REYES_OK, "%s", error.message);
-    return counts;
-}
 
 /* Occlusion culling in the C reference, as test_occluded_grids
  * (reyes_quality) has it in the renderer: 64 squares of about 1.5 pixels
@@ -208,3 +211,58 @@ int main(void)
     suite_add_tcase(s, tc);
     return reyes_test_run_suite(s) == 0 ? 0 : 1;
 }
+
+#else
+
+/* Occlusion culling on the models of perma-bench reyes's defaults
+ * workload (its cameras, 512x512, a shading rate of 1): the same image
+ * bytes with and without it, on one thread and on two, and fewer
+ * micropolygons. */
+START_TEST(test_models_occlusion)
+{
+    static const struct { const char *file; reyes_camera camera; } models[] = {
+        { "teapot.bpt", { {8.0f, -8.0f, 6.0f}, {0.0f, 0.0f, 1.5f}, 40.0f } },
+        { "killeroo.bpt", { {8.0f, 0.0f, 2.0f}, {0.0f, 0.0f, 0.0f}, 45.0f } },
+    };
+    for (size_t m = 0; m < sizeof models / sizeof models[0]; ++m) {
+        reyes_scene scene;
+        reyes_test_load_model(&scene, REYES_MODELS_DIR, models[m].file);
+        reyes_options o;
+        reyes_options_init(&o);
+        o.width = o.height = 512;
+        o.crack_fix = REYES_CRACK_FIX_NONE;
+        o.shading_rate = 1.0f;
+        reyes_image culled, kept, threaded;
+        reyes_reference_counts on = render(&scene, &models[m].camera, &o, 0, &culled);
+        reyes_reference_counts two = render(&scene, &models[m].camera, &o, 2, &threaded);
+        o.occlusion_cull = 0;
+        reyes_reference_counts off = render(&scene, &models[m].camera, &o, 0, &kept);
+        printf("C reference, %s 512x512, shading rate 1: %llu of %llu grids skipped as hidden, %llu micropolygons "
+               "(%llu without occlusion culling; 2 threads: %llu skipped, %llu micropolygons)\n",
+               models[m].file, (unsigned long long)on.occluded, (unsigned long long)on.grids,
+               (unsigned long long)on.micropolygons, (unsigned long long)off.micropolygons,
+               (unsigned long long)two.occluded, (unsigned long long)two.micropolygons);
+        ck_assert_uint_eq(on.grids, off.grids);
+        ck_assert_uint_gt(on.occluded, on.grids / 4);
+        ck_assert_uint_lt(on.micropolygons, off.micropolygons);
+        ck_assert_uint_lt(two.micropolygons, off.micropolygons);
+        reyes_test_expect_same_image(&kept, &culled, models[m].file);
+        reyes_test_expect_same_image(&kept, &threaded, models[m].file);
+        reyes_image_free(&culled);
+        reyes_image_free(&kept);
+        reyes_image_free(&threaded);
+        reyes_scene_free(&scene);
+    }
+}
+END_TEST
+
+int main(void)
+{
+    Suite *s = suite_create("reyes_reference_parallel_models");
+    TCase *tc = tcase_create("models");
+    tcase_add_test(tc, test_models_occlusion);
+    suite_add_tcase(s, tc);
+    return reyes_test_run_suite(s) == 0 ? 0 : 1;
+}
+
+#endif
