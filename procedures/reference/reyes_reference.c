@@ -11,7 +11,9 @@
  * dicing and sample shading (reyes_rate.cl, reyes_sample_shading.cl),
  * which it does not model; it stays the speed baseline of that workload
  * (perma-bench reyes --workload defaults), not a check of its counts or
- * images.
+ * images.  At a shading rate it also culls hidden grids as the renderer
+ * does (reyes_reference_occlusion.c): the leaves are diced front to back
+ * and each tested against the samples first.
  */
 #include <math.h>
 #include <stdlib.h>

@@ -1,5 +1,6 @@
 /* The C reference's pieces: subdivision (reyes_reference.c), dicing and
- * shading (reyes_reference_dice.c) and sampling (reyes_reference_sample.c). */
+ * shading (reyes_reference_dice.c), sampling (reyes_reference_sample.c)
+ * and the hull's tests against the samples (reyes_reference_occlusion.c). */
 #ifndef REYES_REFERENCE_INTERNAL_H
 #define REYES_REFERENCE_INTERNAL_H
 
