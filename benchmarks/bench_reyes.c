@@ -264,7 +264,7 @@ static void run_workload(bench_report *report, const char *model, const reyes_sc
     double reference_seconds[STAGE_MODES];
     for (int m = 0; m < STAGE_MODES; ++m)
         reference_seconds[m] = reyes_bench_reference_row(report, workload, m, &reference[m], 1, NULL);
-    double parallel_seconds = reyes_bench_reference_row(report, workload, -1, &parallel, threads, &reference[0].counts);
+    double parallel_seconds = reyes_bench_reference_row(report, workload, -1, &parallel, threads, &reference[0]);
     for (unsigned i = 0; i < SLOTS; ++i) {
         if (!usable[i])
             continue;
@@ -339,7 +339,7 @@ static void run_defaults(bench_report *report, const char *model, const reyes_sc
         }
     }
     reyes_bench_reference_row(report, workload, 0, &single, 1, NULL);
-    double openmp = reyes_bench_reference_row(report, workload, -1, &parallel, threads, &single.counts);
+    double openmp = reyes_bench_reference_row(report, workload, -1, &parallel, threads, &single);
     for (unsigned d = 0; d < devices; ++d) {
         char label[128];
         o[d].crack_fix = REYES_CRACK_FIX_NONE;

@@ -25,6 +25,7 @@ typedef struct reyes_bench_args {
     int sizes_given;          /* --size was given (else the workload's default sizes) */
     float bound_px;
     unsigned workloads;       /* REYES_BENCH_* bits */
+    unsigned occlusion_cull;  /* --occlusion: reyes_options.occlusion_cull of every render */
 } reyes_bench_args;
 
 /* Parse perma-bench reyes's arguments into *a (the common ones into

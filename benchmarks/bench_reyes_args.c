@@ -11,6 +11,8 @@
 
 #define MAX_SIZES REYES_BENCH_MAX_SIZES
 
+static const char *const off_on_names[] = { "off", "on", NULL };
+
 /* The workloads, for --help. */
 static const char workloads_help[] =
     "workloads (--workload, comma-separated; default stages,defaults; all = every one):\n"
@@ -28,7 +30,8 @@ static const char workloads_help[] =
     "  defaults  the same models and sizes at the command's default dicing, a shading\n"
     "            rate of 1: the C reference at that rate on one thread and on --threads\n"
     "            OpenMP threads, megakernel/shared without a crack fix and stitched\n"
-    "            (the command's default), interleaved run by run.\n"
+    "            (the command's default), interleaved run by run; the renderer and the C\n"
+    "            reference both cull hidden grids (--occlusion off: neither does).\n"
     "  displace  the same models and sizes plain and with bumps displacement.\n"
     "  blur      killeroo at 800x600 (or --size) at 16, 25 and 64 spp, unblurred and\n"
     "            with each blur algorithm (simple, interleaved, bbox) under a\n"
@@ -93,12 +96,15 @@ perma_cli_status reyes_bench_parse_args(int argc, char **argv, bench_options *op
     a->models_dir = REYES_BENCH_MODELS_DIR;
     a->bound_px = 8.0f;
     a->workloads = REYES_BENCH_STAGES | REYES_BENCH_DEFAULTS;
+    a->occlusion_cull = 1;
     const perma_cli_option rows[] = {
         { PERMA_CLI_TEXT("models", "DIR", &a->models_dir, "where teapot.bpt and killeroo.bpt are") },
         { PERMA_CLI_CUSTOM("size", "WxH", parse_size, a,
                            "an image size (up to 4 times; default: the workload's sizes)") },
         { PERMA_CLI_FLOAT("bound", "PX", &a->bound_px, 0.5, INFINITY, "dice patches of at most PX pixels (default 8)") },
         { PERMA_CLI_CUSTOM("workload", "LIST", parse_workloads, &a->workloads, "the workloads below (default stages,defaults)") },
+        { PERMA_CLI_CHOICE("occlusion", "on|off", &a->occlusion_cull, off_on_names,
+                           "cull hidden grids at a shading rate, renderer and C reference (default on)") },
     };
     perma_cli_status parsed = bench_parse(options, "[options]", workloads_help, rows, sizeof rows / sizeof rows[0],
                                           argc, argv);
@@ -124,6 +130,7 @@ reyes_options reyes_bench_render_options(const reyes_bench_args *a, const bench_
     o.width = width;
     o.height = height;
     o.bound_px = a->bound_px;
+    o.occlusion_cull = a->occlusion_cull;
     o.work_groups = options->groups;
     o.schedule = v->schedule;
     return o;

@@ -27,6 +27,18 @@ static double process_cpu_seconds(void)
     return (double)now.tv_sec + 1e-9 * (double)now.tv_nsec;
 }
 
+/* FNV-1a of an image's colours and coverage. */
+static uint64_t image_hash(const reyes_image *image)
+{
+    size_t pixels = (size_t)image->width * image->height;
+    uint64_t h = 0xcbf29ce484222325u;
+    for (size_t k = 0; k < 3 * pixels; ++k)
+        h = (h ^ image->rgb[k]) * 0x100000001b3u;
+    for (size_t k = 0; k < pixels; ++k)
+        h = (h ^ image->coverage[k]) * 0x100000001b3u;
+    return h;
+}
+
 /* One run of the C reference in mode o->stages (the full pipeline for
  * REYES_STAGES_ALL; on `threads` OpenMP threads when not 0). */
 void reyes_bench_time_reference(stage_timing *t, const reyes_scene *scene, const reyes_camera *camera,
@@ -36,22 +48,28 @@ void reyes_bench_time_reference(stage_timing *t, const reyes_scene *scene, const
         return;
     reyes_error error;
     reyes_status status;
+    reyes_image image = { 0 };
     double cpu = process_cpu_seconds();
-    if (o->stages == REYES_STAGES_ALL) {
-        reyes_image image;
+    if (o->stages == REYES_STAGES_ALL)
         status = threads ? reyes_reference_render_parallel(scene, camera, o, threads, &image, &t->counts, &error)
                          : reyes_reference_render(scene, camera, o, &image, &t->counts, &error);
-        reyes_image_free(&image);
-    } else {
+    else
         status = reyes_reference_run(scene, camera, o, &t->counts, &error);
-    }
+    double used = process_cpu_seconds() - cpu;
     if (status != REYES_OK) {
         snprintf(t->message, sizeof t->message, "%s", error.message);
         t->ran = 0;
         return;
     }
+    if (o->stages == REYES_STAGES_ALL) {
+        uint64_t hash = image_hash(&image);
+        t->image_changed |= t->runs > 0 && hash != t->image_hash;
+        t->image_hash = hash;
+        t->culls = o->occlusion_cull && o->shading_rate > 0.0f;
+        reyes_image_free(&image);
+    }
     t->seconds[t->runs] = t->walls[t->runs] = t->counts.seconds;
-    t->cpus[t->runs] = process_cpu_seconds() - cpu;
+    t->cpus[t->runs] = used;
     ++t->runs;
 }
 
@@ -80,9 +98,11 @@ void reyes_bench_time_render(stage_timing *t, reyes_renderer *renderer, const re
 
 /* The row of the C reference in one mode (the full render is the
  * workload's baseline; mode -1: the full render on `threads` OpenMP
- * threads, its counts checked against the single-threaded one's). */
+ * threads, its image and counts checked against the single-threaded
+ * one's: with occlusion culling only those that do not depend on the
+ * order of dicing, every count otherwise). */
 double reyes_bench_reference_row(bench_report *report, const char *workload, int mode, const stage_timing *t,
-                                 unsigned threads, const reyes_reference_counts *single)
+                                 unsigned threads, const stage_timing *single)
 {
     const char *labels[STAGE_MODES] = { "C reference full render", "C reference bound/split/dice",
                                         "C reference bound/split" };
@@ -95,12 +115,18 @@ double reyes_bench_reference_row(bench_report *report, const char *workload, int
         row.seconds = row.wall_seconds = reyes_bench_best_of(t->seconds, t->runs);
         row.units = (double)t->counts.micropolygons;
         row.count = row.expected = t->counts.grids;
-        snprintf(row.message, sizeof row.message, "splits %llu grids %llu", (unsigned long long)t->counts.splits,
-                 (unsigned long long)t->counts.grids);
+        snprintf(row.message, sizeof row.message, "splits %llu grids %llu%s", (unsigned long long)t->counts.splits,
+                 (unsigned long long)t->counts.grids, t->culls ? "" : t->image_changed ? "; the image changed" : "");
+        if (t->culls)
+            snprintf(row.message, sizeof row.message, "splits %llu grids %llu occluded %llu%s",
+                     (unsigned long long)t->counts.splits, (unsigned long long)t->counts.grids,
+                     (unsigned long long)t->counts.occluded, t->image_changed ? "; the image changed" : "");
         if (mode < 0) {
-            const reyes_reference_counts *c = &t->counts;
-            int same = c->splits == single->splits && c->grids == single->grids && c->culled == single->culled
-                       && c->micropolygons == single->micropolygons && c->samples_written == single->samples_written;
+            const reyes_reference_counts *c = &t->counts, *s = &single->counts;
+            int same = c->splits == s->splits && c->grids == s->grids && c->culled == s->culled
+                       && c->samples_written == s->samples_written && t->image_hash == single->image_hash
+                       && !t->image_changed && !single->image_changed
+                       && (t->culls || (c->micropolygons == s->micropolygons && c->occluded == s->occluded));
             row.check = same ? BENCH_CHECK_PASS : BENCH_CHECK_FAIL;
         }
     }

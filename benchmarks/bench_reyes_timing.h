@@ -19,6 +19,12 @@ typedef struct stage_timing {
     double cpus[MAX_RUNS]; /* the process's CPU seconds over the whole call */
     reyes_stats stats;
     reyes_reference_counts counts;
+    /* The C reference's full render: a hash of its image (rgb and
+     * coverage), 1 when one run's differed from another's, and 1 when it
+     * culls hidden grids (its dicing counts then depend on the order the
+     * threads dice in). */
+    uint64_t image_hash;
+    int image_changed, culls;
     char message[REYES_MESSAGE_MAX];
 } stage_timing;
 
@@ -33,7 +39,7 @@ void reyes_bench_time_render(stage_timing *t, reyes_renderer *renderer, const re
 /* The report's rows of the C reference and of a variant in one mode:
  * they return the row's seconds, 0 when it did not run. */
 double reyes_bench_reference_row(bench_report *report, const char *workload, int mode, const stage_timing *t,
-                                 unsigned threads, const reyes_reference_counts *single);
+                                 unsigned threads, const stage_timing *single);
 double reyes_bench_variant_row(bench_report *report, const char *workload, const char *label,
                                const stage_timing *t, const reyes_options *o,
                                const reyes_reference_counts *reference);

@@ -304,7 +304,6 @@ void reyes_blur_leaf_box(__global const struct reyes_params *p, const float3 cp[
  * patches (a killeroo seen small) often fall between the samples.
  * Boxes over more than REYES_SAMPLE_BOX_PIXELS pixels are not searched
  * (1). */
-#define REYES_SAMPLE_BOX_PIXELS 4
 int reyes_hull_has_sample(__global const struct reyes_params *p, const float2 s[16], float2 lo, float2 hi)
 {
     struct reyes_octagon o = reyes_hull_octagon(s, lo, hi);

@@ -4,12 +4,10 @@
  * surface nearer than the nearest point the grid can have, so that
  * dicing, shading and rasterizing it could not change a sample.  The
  * hull's octagon is also the sampleless test's (reyes_hull_has_sample,
- * reyes_bound.cl).
+ * reyes_bound.cl).  The constants (REYES_SAMPLE_BOX_MARGIN,
+ * REYES_OCCLUSION_*) are in reyes_shared.h: the C reference makes the
+ * same test.
  */
-
-/* How far dice's vertices may stray from the projected hull (rounding),
- * in pixels: every side of the octagon is moved out by this much. */
-#define REYES_SAMPLE_BOX_MARGIN (1.0f / 64.0f)
 
 /* The octagon around a projected hull s[16] with screen box lo..hi: the
  * box cut by the extremes of x + y and x - y (diag_lo, diag_hi: .x for
@@ -40,17 +38,6 @@ REYES_INLINE int reyes_octagon_contains(const struct reyes_octagon *o, float2 at
     float2 d = (float2)(at.x + at.y, at.x - at.y);
     return all(at >= o->lo) && all(at <= o->hi) && all(d >= o->diag_lo) && all(d <= o->diag_hi);
 }
-
-/* Grids whose octagon spans more pixels of the tile than this are not
- * tested (kept): the test reads every sample under them. */
-#define REYES_OCCLUSION_PIXELS 256
-/* The margin by which a stored depth must be nearer than the hull's
- * nearest clip w: a part of it (relative), for the rounding of the
- * vertices' w and of rasterize's interpolation between them, plus the
- * rounding of the w of points of the size of the scene's coordinates
- * (absolute, REYES_OCCLUSION_ULPS float steps of it). */
-#define REYES_OCCLUSION_RELATIVE (1.0f / 256.0f)
-#define REYES_OCCLUSION_ULPS 64.0f
 
 /* 1 when the sub-patch cannot change the image because every sample of
  * the tile inside its projected hull's octagon already holds a depth

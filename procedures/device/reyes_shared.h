@@ -181,6 +181,24 @@ struct reyes_stitch {
 #define REYES_SPECULAR 0.35f
 #define REYES_SHININESS 40.0f
 
+/* The hull tests of bound and dice, shared with the C reference: a
+ * projected control hull's octagon (the screen box cut by the extremes of
+ * x + y and x - y) with every side moved out by REYES_SAMPLE_BOX_MARGIN
+ * pixels, how far dice's vertices may stray from it (rounding).  bound's
+ * sampleless test (reyes_hull_has_sample) searches boxes of at most
+ * REYES_SAMPLE_BOX_PIXELS pixels for a sample in it.  Occlusion culling
+ * (reyes_occlusion.cl) tests hulls of at most REYES_OCCLUSION_PIXELS
+ * pixels (it reads every sample under them), against a depth limit of
+ * the hull's nearest clip w less a part of it (REYES_OCCLUSION_RELATIVE:
+ * the rounding of the vertices' w and of the interpolation between them)
+ * and REYES_OCCLUSION_ULPS float steps of the w of points of the size of
+ * the scene's coordinates. */
+#define REYES_SAMPLE_BOX_MARGIN (1.0f / 64.0f)
+#define REYES_SAMPLE_BOX_PIXELS 4
+#define REYES_OCCLUSION_PIXELS 256
+#define REYES_OCCLUSION_RELATIVE (1.0f / 256.0f)
+#define REYES_OCCLUSION_ULPS 64.0f
+
 /* Scene and camera parameters, one per render (only scalars: the layout is
  * the same on host and device). */
 struct reyes_params {

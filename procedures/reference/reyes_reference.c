@@ -11,7 +11,9 @@
  * dicing and sample shading (reyes_rate.cl, reyes_sample_shading.cl),
  * which it does not model; it stays the speed baseline of that workload
  * (perma-bench reyes --workload defaults), not a check of its counts or
- * images.
+ * images.  At a shading rate it also culls hidden grids as the renderer
+ * does (reyes_reference_occlusion.c): the leaves are diced front to back
+ * and each tested against the samples first.
  */
 #include <math.h>
 #include <stdlib.h>
@@ -291,23 +293,35 @@ static void bound(context *c, struct reyes_subpatch sp)
         split_it = tiered_split(c, cp, clip, &along_u);
     if (forced || !split_it) {
         c->counts->forced_dice += (uint64_t)forced;
-        /* As bound: with a shading rate, a grid that covers no sample is
-         * not diced. */
-        if (o->shading_rate > 0.0f && !reference_hull_has_sample(o->width, o->height, o->spp, sx, sy, lox, loy, hix, hiy)) {
-            ++c->counts->culled;
-            return;
-        }
+        reference_leaf leaf = { .sp = sp };
         if (o->shading_rate > 0.0f) {
+            /* As bound: with a shading rate, a grid that covers no sample
+             * is not diced. */
+            leaf.octagon = reference_hull_octagon(sx, sy, lox, loy, hix, hiy);
+            if (!reference_hull_has_sample(o->width, o->height, o->spp, &leaf.octagon)) {
+                ++c->counts->culled;
+                return;
+            }
             unsigned nu = (unsigned)fminf(need[0], (float)(o->grid - 1)), nv = (unsigned)fminf(need[1], (float)(o->grid - 1));
-            sp.dice_size = (nu + 1u) | ((nv + 1u) << 8);
+            leaf.sp.dice_size = (nu + 1u) | ((nv + 1u) << 8);
         }
         ++c->counts->grids;
         if (o->stages == REYES_STAGES_SUBDIVIDE)
             return;
-        if (c->leaves)
-            reference_leaves_add(c->leaves, &sp);
-        else
-            reference_dice(c, &sp);
+        if (!c->leaves) {
+            reference_dice(c, &leaf.sp);
+            return;
+        }
+        leaf.order = c->patch_leaves++;
+        float largest = 0.0f;
+        leaf.near_w = INFINITY;
+        for (int k = 0; k < 16; ++k) {
+            leaf.near_w = fminf(leaf.near_w, clip[k].w);
+            largest = fmaxf(largest, fabsf(cp[k].x) + fabsf(cp[k].y) + fabsf(cp[k].z));
+        }
+        if (c->occlusion)
+            reference_occlusion_setup(c, &leaf, largest);
+        reference_leaves_add(c->leaves, &leaf);
     } else {
         split(c, sp, along_u);
     }
@@ -364,14 +378,15 @@ reyes_status reference_grid_alloc(reference_context *c, reyes_error *error)
 
 void reference_subdivide_patch(reference_context *c, uint32_t patch)
 {
+    c->patch_leaves = 0;
     bound(c, (struct reyes_subpatch){ .patch = patch, .u1 = 1.0f, .v1 = 1.0f });
 }
 
-void reference_leaves_add(reference_leaves *leaves, const struct reyes_subpatch *sp)
+void reference_leaves_add(reference_leaves *leaves, const reference_leaf *leaf)
 {
     if (leaves->count == leaves->capacity) {
         size_t capacity = leaves->capacity ? 2 * leaves->capacity : 1024;
-        struct reyes_subpatch *grown = realloc(leaves->items, capacity * sizeof *grown);
+        reference_leaf *grown = realloc(leaves->items, capacity * sizeof *grown);
         if (!grown) {
             leaves->failed = 1;
             return;
@@ -379,7 +394,13 @@ void reference_leaves_add(reference_leaves *leaves, const struct reyes_subpatch 
         leaves->items = grown;
         leaves->capacity = capacity;
     }
-    leaves->items[leaves->count++] = *sp;
+    leaves->items[leaves->count++] = *leaf;
+}
+
+void reference_leaves_free(reference_leaves *leaves)
+{
+    free(leaves->items);
+    memset(leaves, 0, sizeof *leaves);
 }
 
 reyes_status reference_subdivide_all(reference_context *c, const reyes_scene *scene,
@@ -388,12 +409,24 @@ reyes_status reference_subdivide_all(reference_context *c, const reyes_scene *sc
     reyes_status status = reference_grid_alloc(c, error);
     if (status != REYES_OK)
         return status;
+    /* With occlusion culling the grids are diced front to back, after
+     * every patch is subdivided, so that the near ones hide the far. */
+    reference_leaves leaves = { 0 };
+    c->leaves = c->occlusion ? &leaves : NULL;
     struct timespec start;
     clock_gettime(CLOCK_MONOTONIC, &start);
     for (size_t p = 0; p < scene->patch_count; ++p)
         reference_subdivide_patch(c, (uint32_t)p);
+    if (!leaves.failed) {
+        reference_leaves_sort(leaves.items, leaves.count);
+        for (size_t k = 0; k < leaves.count; ++k)
+            reference_dice_leaf(c, &leaves.items[k]);
+    }
     out->seconds = reference_seconds_since(&start);
-    return REYES_OK;
+    c->leaves = NULL;
+    int failed = leaves.failed;
+    reference_leaves_free(&leaves);
+    return failed ? reyes_fail(error, REYES_ERR_NO_MEMORY, "out of memory for the sub-patches to dice") : REYES_OK;
 }
 
 reyes_status reyes_reference_run(const reyes_scene *scene, const reyes_camera *camera,

@@ -15,6 +15,7 @@ typedef struct reyes_reference_counts {
     uint64_t grids;
     uint64_t forced_dice;
     uint64_t micropolygons; /* quads dice would emit (in front, on the image) */
+    uint64_t occluded;      /* grids not diced as hidden (occlusion culling; order-dependent with threads) */
     uint64_t samples_written; /* covered samples of a full render */
     unsigned max_depth_seen;
     double seconds;
@@ -34,7 +35,12 @@ reyes_status reyes_reference_run(const reyes_scene *scene, const reyes_camera *c
  * of the samples before and the resolve after are left out on both
  * sides).  Renders without a crack fix (a stitched or wedged render
  * differs along the cracks), and refuses motion blur, depth of field and
- * displacement. */
+ * displacement.  With a shading rate and options->occlusion_cull (the
+ * default) it culls hidden grids as the renderer does (reyes_occlusion.cl):
+ * it dices the sub-patches front to back, by their control hulls' nearest
+ * clip w, and skips each whose every sample under its hull's octagon
+ * already holds a nearer surface (counted in occluded; still in grids).
+ * The image is the same bytes as with occlusion_cull 0. */
 reyes_status reyes_reference_render(const reyes_scene *scene, const reyes_camera *camera,
                                     const reyes_options *options, reyes_image *image,
                                     reyes_reference_counts *out, reyes_error *error);

@@ -43,6 +43,9 @@ reyes_status reference_render_begin(reference_context *c, reyes_options *full, r
     if (status == REYES_OK)
         status = image_alloc(image, options->width, options->height, error);
     c->samples = samples;
+    /* As the renderer: only with a shading rate (it refuses displacement
+     * and blur, under which a grid leaves its hull). */
+    c->occlusion = options->occlusion_cull && options->shading_rate > 0.0f;
     return status;
 }
 

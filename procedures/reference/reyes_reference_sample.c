@@ -80,74 +80,6 @@ static inline uint32_t channel_byte(float value)
     return (uint32_t)(int32_t)((scaled + 8388608.0f) - 8388608.0f);
 }
 
-/* The position of the sample in stratum (sx, sy) of the image's lattice:
- * pixel (*px, *py), index *k (>= spp: the stratum holds no sample), as
- * reyes_sample_xy.  The quotients are exact in float (sx + 1/2 lies at
- * least 1 / (2 columns) from a multiple of columns, far more than the
- * rounding error below 2^20), so this vectorises. */
-static inline void stratum_sample(int sx, int sy, int columns, int rows, float *x, float *y, int *px, int *py,
-                                  int *k)
-{
-    int pixel_x = (int)(((float)sx + 0.5f) / (float)columns), pixel_y = (int)(((float)sy + 0.5f) / (float)rows);
-    int cell_x = sx - pixel_x * columns, cell_y = sy - pixel_y * rows;
-    *k = cell_y * columns + cell_x;
-    uint32_t h = reyes_hash32((uint32_t)pixel_x * 0x9e3779b9u
-                              ^ reyes_hash32((uint32_t)pixel_y * 0x85ebca6bu ^ reyes_hash32((uint32_t)*k)));
-    float jx = (float)(int)(h & 0xffffu) * (1.0f / 65536.0f), jy = (float)(int)(h >> 16) * (1.0f / 65536.0f);
-    *x = (float)pixel_x + ((float)cell_x + jx) / (float)columns;
-    *y = (float)pixel_y + ((float)cell_y + jy) / (float)rows;
-    *px = pixel_x;
-    *py = pixel_y;
-}
-
-/* As reyes_hull_has_sample (reyes_bound.cl): whether the projected hull
- * (sx, sy)[16] of screen box [lo, hi] may cover a sample position of a
- * width x height image at spp samples per pixel: 0 only when none lies
- * in its octagon (the box cut by the extremes of x + y and x - y) grown
- * by 1/64 pixel.  Boxes over more than 4 pixels are not searched (1). */
-int reference_hull_has_sample(unsigned width, unsigned height, unsigned spp, const float sx[16], const float sy[16],
-                              float lo_x, float lo_y, float hi_x, float hi_y)
-{
-    const float margin = 1.0f / 64.0f;
-    lo_x -= margin;
-    lo_y -= margin;
-    hi_x += margin;
-    hi_y += margin;
-    if (!(hi_x >= 0.0f && hi_y >= 0.0f && lo_x < (float)width && lo_y < (float)height))
-        return 1;
-    float first_x = max_f(floorf(lo_x), 0.0f), first_y = max_f(floorf(lo_y), 0.0f);
-    float last_x = min_f(floorf(hi_x), (float)width - 1.0f), last_y = min_f(floorf(hi_y), (float)height - 1.0f);
-    if ((last_x - first_x + 1.0f) * (last_y - first_y + 1.0f) > 4.0f)
-        return 1;
-    float sum_lo = INFINITY, sum_hi = -INFINITY, difference_lo = INFINITY, difference_hi = -INFINITY;
-    for (int k = 0; k < 16; ++k) {
-        sum_lo = min_f(sum_lo, sx[k] + sy[k]);
-        sum_hi = max_f(sum_hi, sx[k] + sy[k]);
-        difference_lo = min_f(difference_lo, sx[k] - sy[k]);
-        difference_hi = max_f(difference_hi, sx[k] - sy[k]);
-    }
-    sum_lo -= 2.0f * margin;
-    sum_hi += 2.0f * margin;
-    difference_lo -= 2.0f * margin;
-    difference_hi += 2.0f * margin;
-    int columns = 1;
-    while ((unsigned)(columns * columns) < spp)
-        ++columns;
-    int rows = ((int)spp + columns - 1) / columns;
-    for (int py = (int)first_y; py <= (int)last_y; ++py)
-        for (int px = (int)first_x; px <= (int)last_x; ++px)
-            for (int k = 0; k < (int)spp; ++k) {
-                float x, y;
-                int pixel_x, pixel_y, index;
-                stratum_sample(px * columns + k % columns, py * rows + k / columns, columns, rows, &x, &y, &pixel_x,
-                               &pixel_y, &index);
-                if (x >= lo_x && x <= hi_x && y >= lo_y && y <= hi_y && x + y >= sum_lo && x + y <= sum_hi
-                    && x - y >= difference_lo && x - y <= difference_hi)
-                    return 1;
-            }
-    return 0;
-}
-
 /* Quads whose box reaches at most this many strata across and down are
  * sampled side by side (a step through the strata for all of a row's
  * quads at once: as many steps as the row's widest and tallest quad
@@ -291,7 +223,7 @@ REFERENCE_VECTOR_HELPER void row_candidates(quad_row *q, const reference_samples
     for (unsigned i = 0; i < lanes; ++i) {
         float x, y;
         int px, py, k;
-        stratum_sample(q->sx0[i] + dx, q->sy0[i] + dy, columns, rows, &x, &y, &px, &py, &k);
+        reference_stratum_sample(q->sx0[i] + dx, q->sy0[i] + dy, columns, rows, &x, &y, &px, &py, &k);
         int small = (q->wide[i] < SMALL_STRATA) & (q->tall[i] < SMALL_STRATA);
         int ok = q->live[i] & small & (dx <= q->wide[i]) & (dy <= q->tall[i]) & (k < spp)
                  & (x >= q->lo_x[i]) & (x <= q->hi_x[i]) & (y >= q->lo_y[i]) & (y <= q->hi_y[i]);
@@ -365,7 +297,7 @@ static void sample_large_quad(const reference_samples *s, const reference_grid *
         for (int dx = 0; dx <= q->wide[i]; ++dx) {
             float x, y;
             int px, py, k;
-            stratum_sample(q->sx0[i] + dx, q->sy0[i] + dy, columns, rows, &x, &y, &px, &py, &k);
+            reference_stratum_sample(q->sx0[i] + dx, q->sy0[i] + dy, columns, rows, &x, &y, &px, &py, &k);
             if (k >= (int)s->spp || !((x >= q->lo_x[i]) & (x <= q->hi_x[i]) & (y >= q->lo_y[i]) & (y <= q->hi_y[i])))
                 continue;
             int hit = covers(q, i, x, y);

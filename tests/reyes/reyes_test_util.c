@@ -112,6 +112,19 @@ void reyes_test_add_far_patch(reyes_scene *scene, float distance)
     ck_assert_int_eq(reyes_scene_add_patch(scene, cp, REYES_RGBA(90, 170, 90), &error), REYES_OK);
 }
 
+void reyes_test_add_square(reyes_scene *scene, float x0, float y0, float z, float size)
+{
+    float cp[4][4][3];
+    for (int r = 0; r < 4; ++r)
+        for (int c = 0; c < 4; ++c) {
+            cp[r][c][0] = x0 + size * (float)c / 3.0f;
+            cp[r][c][1] = y0 + size * (float)r / 3.0f;
+            cp[r][c][2] = z;
+        }
+    reyes_error error;
+    ck_assert_int_eq(reyes_scene_add_patch(scene, cp, REYES_RGBA(200, 200, 200), &error), REYES_OK);
+}
+
 void reyes_test_expect_same_image(const reyes_image *expected, const reyes_image *image, const char *label)
 {
     ck_assert_msg(image->width == expected->width && image->height == expected->height,

@@ -47,6 +47,10 @@ void reyes_test_sphere_scene(reyes_scene *scene);
  * moved to (distance, 0, 0): one stray point far from the rest. */
 void reyes_test_add_far_patch(reyes_scene *scene, float distance);
 
+/* Append a flat square patch in the plane z = `z`, x and y from x0, y0,
+ * `size` wide. */
+void reyes_test_add_square(reyes_scene *scene, float x0, float y0, float z, float size);
+
 /* The two renders are byte-identical: size, colors and coverage; the
  * failure names `label` and how many pixels differ. */
 void reyes_test_expect_same_image(const reyes_image *expected, const reyes_image *image, const char *label);

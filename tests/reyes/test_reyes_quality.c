@@ -245,21 +245,6 @@ START_TEST(test_sampleless_grids)
 }
 END_TEST
 
-/* A flat square patch in the plane z = `z`, x and y from x0, y0, `size`
- * wide. */
-static void add_square(reyes_scene *scene, float x0, float y0, float z, float size)
-{
-    float cp[4][4][3];
-    for (int r = 0; r < 4; ++r)
-        for (int c = 0; c < 4; ++c) {
-            cp[r][c][0] = x0 + size * (float)c / 3.0f;
-            cp[r][c][1] = y0 + size * (float)r / 3.0f;
-            cp[r][c][2] = z;
-        }
-    reyes_error error;
-    ck_assert_int_eq(reyes_scene_add_patch(scene, cp, REYES_RGBA(200, 200, 200), &error), REYES_OK);
-}
-
 /* Occlusion culling: 64 squares of about 1.5 pixels behind a near one
  * that hides them all.  The leaves are seeded front to back and one
  * work-group runs dice's batches one after another, so every far grid in
@@ -272,12 +257,12 @@ START_TEST(test_occluded_grids)
     reyes_scene scene, near_only;
     reyes_scene_init(&scene);
     reyes_scene_init(&near_only);
-    add_square(&scene, -1.0f, -1.0f, 0.0f, 2.0f);
-    add_square(&near_only, -1.0f, -1.0f, 0.0f, 2.0f);
+    reyes_test_add_square(&scene, -1.0f, -1.0f, 0.0f, 2.0f);
+    reyes_test_add_square(&near_only, -1.0f, -1.0f, 0.0f, 2.0f);
     const int side = 8;
     for (int i = 0; i < side; ++i)
         for (int j = 0; j < side; ++j)
-            add_square(&scene, -0.5f + 0.13f * (float)i, -0.5f + 0.13f * (float)j, -2.0f, 0.1f);
+            reyes_test_add_square(&scene, -0.5f + 0.13f * (float)i, -0.5f + 0.13f * (float)j, -2.0f, 0.1f);
     reyes_camera camera = { {0.0f, 0.0f, 4.0f}, {0.0f, 0.0f, 0.0f}, 40.0f };
     reyes_options o;
     reyes_options_init(&o);
