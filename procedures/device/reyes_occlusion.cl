@@ -52,8 +52,8 @@ REYES_INLINE int reyes_octagon_contains(const struct reyes_octagon *o, float2 at
  * undershoots its corners' least w only where the barycentric weights
  * sum to less than 1 by rounding: by at most 6.5e-5 of it over the 42
  * quality views measured (docs/reyes.md), 1/4096 is 2.4e-4.  A wider
- * margin keeps grids just behind a silhouette (1/256: the killeroo seen
- * small takes 4.7 micropolygons per covered pixel instead of 3.9). */
+ * margin keeps grids just behind the surface that hides them (1/256: the
+ * killeroo seen small takes 4.7 micropolygons per covered pixel, not 3.9). */
 #define REYES_OCCLUSION_RELATIVE (1.0f / 4096.0f)
 #define REYES_OCCLUSION_ULPS 64.0f
 
