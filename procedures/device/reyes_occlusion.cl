@@ -46,12 +46,10 @@ REYES_INLINE int reyes_octagon_contains(const struct reyes_octagon *o, float2 at
 #define REYES_OCCLUSION_PIXELS 256
 /* The margin by which a stored depth must be nearer than the hull's
  * nearest clip w: a part of it (relative), for the rounding of the
- * vertices' w and of rasterize's interpolation between them, plus the
- * rounding of the w of points of the size of the scene's coordinates
- * (absolute, REYES_OCCLUSION_ULPS float steps of it).  Interpolation
- * undershoots its corners' least w only where the barycentric weights
- * sum to less than 1 by rounding: by at most 6.5e-5 of it over the 42
- * quality views measured (docs/reyes.md), 1/4096 is 2.4e-4.  A wider
+ * vertices' w, plus the rounding of the w of points of the size of the
+ * scene's coordinates (absolute, REYES_OCCLUSION_ULPS float steps of it).
+ * rasterize's interpolation never goes below its corners' least w
+ * (reyes_interpolated_depth, reyes_sample.cl), so it needs none.  A wider
  * margin keeps grids just behind the surface that hides them (1/256: the
  * killeroo seen small takes 4.7 micropolygons per covered pixel, not 3.9). */
 #define REYES_OCCLUSION_RELATIVE (1.0f / 4096.0f)
