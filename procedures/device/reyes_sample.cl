@@ -114,6 +114,20 @@ REYES_INLINE int reyes_triangle_covers(float x, float y, const struct reyes_tria
     return inside && area != 0.0f;
 }
 
+/* The depth at barycentric weights (ba, bb, bc) of corners at depths za,
+ * zb, zc: never below the least of them (nor 0).  Rounding makes the
+ * weights sum to a little less than 1 on thin triangles; occlusion
+ * culling (reyes_occlusion.cl) relies on a surface's depth being at
+ * least its control hull's nearest w, less the rounding of its vertices. */
+#define REYES_DEFINE_INTERPOLATED_DEPTH(name, type)                                  \
+    REYES_INLINE type name(type ba, type bb, type bc, type za, type zb, type zc)     \
+    {                                                                                \
+        return fmax(ba * za + bb * zb + bc * zc, fmax(fmin(fmin(za, zb), zc), 0.0f)); \
+    }
+REYES_DEFINE_INTERPOLATED_DEPTH(reyes_interpolated_depth, float)
+REYES_DEFINE_INTERPOLATED_DEPTH(reyes_interpolated_depth8, float8)
+REYES_DEFINE_INTERPOLATED_DEPTH(reyes_interpolated_depth16, float16)
+
 /* An empty sample (the host clears the buffer to all ones). */
 #define REYES_EMPTY_SAMPLE 0xfffffffffffffffful
 
@@ -132,7 +146,7 @@ REYES_INLINE ulong reyes_triangle_sample(float x, float y, const struct reyes_qu
     uint qa = q->rgba[t->a], qb = q->rgba[t->b], qc = q->rgba[t->c];
     float inv_area = 1.0f / area;
     float ba = wa * inv_area, bb = wb * inv_area, bc = wc * inv_area;
-    float depth = fmax(ba * q->z[t->a] + bb * q->z[t->b] + bc * q->z[t->c], 0.0f);
+    float depth = reyes_interpolated_depth(ba, bb, bc, q->z[t->a], q->z[t->b], q->z[t->c]);
     float ra = reyes_channel(qa, 0u), rb = reyes_channel(qb, 0u), rc = reyes_channel(qc, 0u);
     float ga = reyes_channel(qa, 8u), gb = reyes_channel(qb, 8u), gc = reyes_channel(qc, 8u);
     float la = reyes_channel(qa, 16u), lb = reyes_channel(qb, 16u), lc = reyes_channel(qc, 16u);
@@ -180,7 +194,7 @@ REYES_INLINE ulong reyes_triangle_sample_lit(__global const struct reyes_params 
         return REYES_EMPTY_SAMPLE;
     float inv_area = 1.0f / area;
     float ba = wa * inv_area, bb = wb * inv_area, bc = wc * inv_area;
-    float depth = fmax(ba * q->z[t->a] + bb * q->z[t->b] + bc * q->z[t->c], 0.0f);
+    float depth = reyes_interpolated_depth(ba, bb, bc, q->z[t->a], q->z[t->b], q->z[t->c]);
     const int corner[3] = {t->a, t->b, t->c};
     const float weight[3] = {ba, bb, bc};
     float n[3] = {0.0f, 0.0f, 0.0f};

@@ -247,7 +247,7 @@ void reyes_quad_pixels(__global const struct reyes_params *p, __global ulong *sa
                     }
                 }
                 float8 ba = wa * inv_area, bb = wb * inv_area, bc = wc * inv_area;
-                float8 depth = fmax(ba * za + bb * zb + bc * zc, 0.0f);
+                float8 depth = reyes_interpolated_depth8(ba, bb, bc, za, zb, zc);
                 uint8 rgba;
                 if (g->shading != REYES_SHADE_VERTICES) {
                     float8 n[3] = {ba * ca[0] + bb * cb[0] + bc * cc[0], ba * ca[1] + bb * cb[1] + bc * cc[1],
@@ -340,7 +340,7 @@ REYES_INLINE ulong16 reyes_triangle_values16(float16 wa, float16 wb, float16 wc,
                                              int16 covered)
 {
     float16 ba = wa * inv_area, bb = wb * inv_area, bc = wc * inv_area;
-    float16 depth = fmax(ba * z[a] + bb * z[b] + bc * z[c], 0.0f);
+    float16 depth = reyes_interpolated_depth16(ba, bb, bc, z[a], z[b], z[c]);
     uint16 rgba = reyes_channel_byte16(ba * color[a][0] + bb * color[b][0] + bc * color[c][0])
                   | (reyes_channel_byte16(ba * color[a][1] + bb * color[b][1] + bc * color[c][1]) << 8)
                   | (reyes_channel_byte16(ba * color[a][2] + bb * color[b][2] + bc * color[c][2]) << 16)
@@ -362,7 +362,7 @@ REYES_INLINE ulong16 reyes_triangle_lit16(__global const struct reyes_params *p,
                                           float16 x, float16 y)
 {
     float16 ba = wa * inv_area, bb = wb * inv_area, bc = wc * inv_area;
-    float16 depth = fmax(ba * z[a] + bb * z[b] + bc * z[c], 0.0f);
+    float16 depth = reyes_interpolated_depth16(ba, bb, bc, z[a], z[b], z[c]);
     float16 n[3];
     for (int k = 0; k < 3; ++k)
         n[k] = ba * normal[a][k] + bb * normal[b][k] + bc * normal[c][k];

@@ -243,7 +243,10 @@ static inline uint64_t triangle_value(const reference_grid *g, float area, unsig
 {
     float inv_area = 1.0f / area;
     float ba = wa * inv_area, bb = wb * inv_area, bc = wc * inv_area;
-    float depth = max_f(ba * g->w[a] + bb * g->w[b] + bc * g->w[c], 0.0f);
+    /* Never below the corners' least depth, as the renderer's
+     * (reyes_interpolated_depth): occlusion culling relies on it. */
+    float nearest = max_f(min_f(min_f(g->w[a], g->w[b]), g->w[c]), 0.0f);
+    float depth = max_f(ba * g->w[a] + bb * g->w[b] + bc * g->w[c], nearest);
     uint32_t rgba = 255u << 24;
     for (int ch = 0; ch < 3; ++ch) {
         const float *color = g->color[ch];
