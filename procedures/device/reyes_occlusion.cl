@@ -90,10 +90,12 @@ int reyes_grid_occluded(__global const struct reyes_params *p, __global const fl
     for (uint py = (uint)first.y; py <= (uint)last.y; ++py)
         for (uint px = (uint)first.x; px <= (uint)last.x; ++px)
             for (uint k = 0; k < spp; ++k) {
-                if (!reyes_octagon_contains(&o, reyes_sample_position_on(px, py, k, columns, rows)))
-                    continue;
+                /* The depth first: a sample nearer than the limit needs no
+                 * position (a hidden grid's test makes none). */
                 uint index = ((py - tile_y) * tile_width + (px - tile_x)) * spp + k;
-                if (reyes_sample_depth_bits(samples, index) >= limit_bits)
+                if (reyes_sample_depth_bits(samples, index) < limit_bits)
+                    continue;
+                if (reyes_octagon_contains(&o, reyes_sample_position_on(px, py, k, columns, rows)))
                     return 0;
             }
     return 1;
