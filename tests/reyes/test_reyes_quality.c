@@ -134,14 +134,7 @@ START_TEST(test_micropolygon_areas)
     reyes_scene scene;
     reyes_error error;
     reyes_scene_init(&scene);
-    float cp[4][4][3];
-    for (int r = 0; r < 4; ++r)
-        for (int c = 0; c < 4; ++c) {
-            cp[r][c][0] = (float)c / 3.0f * 2.0f - 1.0f;
-            cp[r][c][1] = (float)r / 3.0f * 2.0f - 1.0f;
-            cp[r][c][2] = 0.0f;
-        }
-    ck_assert_int_eq(reyes_scene_add_patch(&scene, cp, REYES_RGBA(200, 200, 200), &error), REYES_OK);
+    reyes_test_add_square(&scene, -1.0f, -1.0f, 0.0f, 2.0f);
     reyes_camera camera = { {0.2f, 0.1f, 4.0f}, {0.0f, 0.0f, 0.0f}, 40.0f };
     reyes_options o;
     reyes_options_init(&o);
@@ -196,21 +189,13 @@ END_TEST
 START_TEST(test_sampleless_grids)
 {
     reyes_scene scene;
-    reyes_error error;
     reyes_scene_init(&scene);
     const int side = 12;
     const float size = 0.02f; /* about 0.45 pixel at 64x64 */
     for (int i = 0; i < side; ++i)
         for (int j = 0; j < side; ++j) {
             float x0 = -1.2f + 0.2037f * (float)i + 0.0131f * (float)j, y0 = -1.2f + 0.1979f * (float)j;
-            float cp[4][4][3];
-            for (int r = 0; r < 4; ++r)
-                for (int c = 0; c < 4; ++c) {
-                    cp[r][c][0] = x0 + size * (float)c / 3.0f;
-                    cp[r][c][1] = y0 + size * (float)r / 3.0f;
-                    cp[r][c][2] = 0.0f;
-                }
-            ck_assert_int_eq(reyes_scene_add_patch(&scene, cp, REYES_RGBA(200, 200, 200), &error), REYES_OK);
+            reyes_test_add_square(&scene, x0, y0, 0.0f, size);
         }
     reyes_camera camera = { {0.0f, 0.0f, 4.0f}, {0.0f, 0.0f, 0.0f}, 40.0f };
     reyes_options o;
