@@ -12,17 +12,6 @@
 #include "reyes_look.h"
 #include "reyes_reference_internal.h"
 
-/* fminf and fmaxf would be library calls (their NaN rules); these are not. */
-static inline float min_f(float a, float b)
-{
-    return a < b ? a : b;
-}
-
-static inline float max_f(float a, float b)
-{
-    return a > b ? a : b;
-}
-
 static inline void bernstein(float t, float b[4])
 {
     float s = 1.0f - t;

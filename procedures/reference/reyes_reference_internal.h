@@ -158,6 +158,17 @@ reyes_status reference_render_end(reyes_status status, reference_samples *sample
 #define REFERENCE_VECTOR_HELPER static inline
 #endif
 
+/* fminf and fmaxf would be library calls (their NaN rules); these are not. */
+static inline float min_f(float a, float b)
+{
+    return a < b ? a : b;
+}
+
+static inline float max_f(float a, float b)
+{
+    return a > b ? a : b;
+}
+
 /* The position of the sample in stratum (sx, sy) of the image's lattice:
  * pixel (*px, *py), index *k (>= spp: the stratum holds no sample), as
  * reyes_sample_xy.  The quotients are exact in float (sx + 1/2 lies at

@@ -12,17 +12,6 @@
 
 #include "reyes_reference_internal.h"
 
-/* fminf and fmaxf would be library calls (their NaN rules); these are not. */
-static inline float min_f(float a, float b)
-{
-    return a < b ? a : b;
-}
-
-static inline float max_f(float a, float b)
-{
-    return a > b ? a : b;
-}
-
 reference_octagon reference_hull_octagon(const float sx[16], const float sy[16], float lo_x, float lo_y, float hi_x,
                                          float hi_y)
 {

@@ -53,17 +53,6 @@ void reference_samples_free(reference_samples *s)
     memset(s, 0, sizeof *s);
 }
 
-/* fminf and fmaxf would be library calls (their NaN rules); these are not. */
-static inline float min_f(float a, float b)
-{
-    return a < b ? a : b;
-}
-
-static inline float max_f(float a, float b)
-{
-    return a > b ? a : b;
-}
-
 static inline int min_i(int a, int b)
 {
     return a < b ? a : b;
