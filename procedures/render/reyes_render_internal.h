@@ -20,7 +20,7 @@ typedef struct render_buffers {
     int stitched;
     struct reyes_leaf *leaves;
     size_t leaf_count, leaf_capacity;
-    size_t *near_order;             /* leaf indices, nearest hull first */
+    size_t *near_order;             /* leaf indices in seeding order (nearest hull first when culling) */
     reyes_stitch_plan plan;
     struct reyes_subpatch *dice_seeds;
     struct reyes_stitch *stitch_seeds;

@@ -23,18 +23,24 @@ static int compare_near(const void *pa, const void *pb)
     return a->leaf < b->leaf ? -1 : a->leaf > b->leaf;
 }
 
-/* The leaves' indices front to back: dice takes its seeds in about that
- * order, so the near grids are rasterized before the far ones they hide
- * are tested (occlusion culling, reyes_occlusion.cl). */
-static reyes_status order_front_to_back(render_buffers *b, reyes_error *error)
+/* The order dice takes its seeds in: with occlusion culling the leaves
+ * front to back, so the near grids are rasterized before the far ones
+ * they hide are tested (reyes_occlusion.cl); without it the order changes
+ * nothing, and the leaves stay as recorded (no sort). */
+static reyes_status order_seeds(render_buffers *b, reyes_error *error)
 {
     size_t count = b->leaf_count ? b->leaf_count : 1;
-    near_key *keys = malloc(count * sizeof *keys);
     b->near_order = malloc(count * sizeof *b->near_order);
-    if (!keys || !b->near_order) {
-        free(keys);
+    if (!b->near_order)
         return reyes_fail(error, REYES_ERR_NO_MEMORY, "out of memory for %zu grids", b->leaf_count);
+    if (!b->params.occlusion_cull) {
+        for (size_t l = 0; l < b->leaf_count; ++l)
+            b->near_order[l] = l;
+        return REYES_OK;
     }
+    near_key *keys = malloc(count * sizeof *keys);
+    if (!keys)
+        return reyes_fail(error, REYES_ERR_NO_MEMORY, "out of memory for %zu grids", b->leaf_count);
     for (size_t l = 0; l < b->leaf_count; ++l)
         keys[l] = (near_key){ b->leaves[l].near_w, l };
     qsort(keys, b->leaf_count, sizeof *keys, compare_near);
@@ -87,7 +93,7 @@ reyes_status render_subdivide_and_plan(reyes_renderer *r, const reyes_scene *sce
      * image: let them grow their own. */
     perma_forget_capacities(r->rt);
     reyes_leaves_sort(b->leaves, b->leaf_count);
-    reyes_status ordered = order_front_to_back(b, error);
+    reyes_status ordered = order_seeds(b, error);
     if (ordered != REYES_OK)
         return ordered;
     b->dice_seeds = malloc((b->leaf_count ? b->leaf_count : 1) * sizeof *b->dice_seeds);
