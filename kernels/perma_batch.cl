@@ -38,8 +38,10 @@
  * barrier; the address of a kernel-scope __local variable is the same for
  * all work-items.) */
 typedef struct perma_group_mem {
-    uint arena[PERMA_ARENA_WORDS] __attribute__((aligned(64))); /* items, scratch, emit counters, staging */
-    uint lq[PERMA_LQ_WORDS] __attribute__((aligned(64)));       /* local front queue: a stack per procedure */
+    /* Items lie in place for their procedures at offsets that are multiples
+     * of their size, from a base aligned for any OpenCL type (double16). */
+    uint arena[PERMA_ARENA_WORDS] __attribute__((aligned(128))); /* items, scratch, emit counters, staging */
+    uint lq[PERMA_LQ_WORDS] __attribute__((aligned(128)));       /* local front queue: a stack per procedure */
     uint edge_counts[PERMA_MAX_EDGES];     /* per edge: items the batch emitted */
     uint edge_base[2 * PERMA_MAX_EDGES];   /* per edge: first local, then first global position */
     uint edge_keep[PERMA_MAX_EDGES];       /* per edge: emits kept on the local stack */
@@ -170,7 +172,7 @@ inline uint perma_local_flush(__global uint *ctl, __global uint *queue_data, __g
  * (PERMA_SWITCH_WORDS), so the copy is a few vector moves, not a loop. */
 PERMA_INLINE void perma_copy_items_in(uint lid, uint count, uint start, __global uint *source,
                                       __global const uint *queue_data, __global uint *marks,
-                                      __global const uint *input, __local uint *items, const uint words)
+                                      __global const uint *input, __local perma_item_word *items, const uint words)
 {
     if (input) {
         __global const uint *in = input + start * words;
@@ -208,7 +210,8 @@ PERMA_PHASE void perma_read_items(uint lid, __global uint *ctl, __global uint *q
     __global uint *source = PERMA_QUEUE(ctl, mem->batch[PERMA_B_SOURCE]);
     const uint words = perma_item_words[proc];
     const uint edges = run ? perma_edge_count[proc] : 0u;
-    __local uint *items = mem->arena + perma_items_off[proc];
+    /* Written as perma_item_word: the procedure reads them by its own type. */
+    __local perma_item_word *items = (__local perma_item_word *)(mem->arena + perma_items_off[proc]);
     __local uint *counts = mem->arena + perma_counters_off[proc]; /* [slot * edges + edge] */
     read_mem_fence(CLK_GLOBAL_MEM_FENCE);
     if (input || !from_local) {
@@ -353,8 +356,8 @@ PERMA_PHASE void perma_reserve_emits(__global uint *ctl, __global uint *queue_da
  * slots[(pos0 + i) * words] unmasked.  `words` is a constant in each caller
  * (PERMA_SWITCH_WORDS). */
 PERMA_INLINE void perma_copy_emits_out(uint first, uint split, uint end, uint keep, __global const uint *src,
-                                       __local uint *stack, __global uint *slots, uint mask, __global uint *marks,
-                                       uint pos0, const uint words)
+                                       __local perma_item_word *stack, __global uint *slots, uint mask,
+                                       __global uint *marks, uint pos0, const uint words)
 {
     if (!marks) {
         for (uint i = first; i < end; ++i)
@@ -408,7 +411,8 @@ PERMA_PHASE void perma_write_emits(uint lid, __global uint *ctl, __global uint *
         __global uint *marks = over ? (__global uint *)0 : perma_queue_marks(target, queue_seq, 0u);
         __global const uint *stage = perma_emit_area(emit_areas) + PERMA_EMIT_AREA_STAGE +
                                      perma_edge_stage[proc * PERMA_MAX_EDGES + e];
-        __local uint *stack = mem->lq + perma_lq_off[t] + mem->edge_base[e] * tw;
+        /* Stacked items run in place: written as perma_item_word. */
+        __local perma_item_word *stack = (__local perma_item_word *)(mem->lq + perma_lq_off[t]) + mem->edge_base[e] * tw;
         /* Emits [first, end) of logical index i lie at src + i * tw: one
          * block of this work-item (lane staging) or one per item. */
         const uint lanes = perma_lane_items[proc];

@@ -35,10 +35,12 @@ typedef struct perma_ctx {
     perma_buffers buf;                /* user buffers, by name */
 } perma_ctx;
 
-/* Stage one item emitted into procedure `target` by the running procedure.
- * Returns 1 if staged, 0 if the target is not declared in .emits or the item
- * already emitted its declared maximum there (the run then fails). */
-PERMA_PHASE int perma_emit(perma_ctx *ctx, uint target, const uint *src)
+/* Stage one item emitted into procedure `target` by the running procedure
+ * (its words: the emit helper hands them over as perma_item_word, see
+ * kernels/perma_prelude.cl).  Returns 1 if staged, 0 if the target is not
+ * declared in .emits or the item already emitted its declared maximum there
+ * (the run then fails). */
+PERMA_PHASE int perma_emit(perma_ctx *ctx, uint target, const perma_item_word *src)
 {
     if (!ctx->active)
         return 0;
@@ -58,7 +60,7 @@ PERMA_PHASE int perma_emit(perma_ctx *ctx, uint target, const uint *src)
     uint words = perma_item_words[target];
     uint at = ctx->lane_counts ? ctx->lane * perma_lane_items[ctx->proc] * max + ctx->lane_counts[edge]++
                                : ctx->slot * max + own;
-    __global uint *dst = ctx->stage + perma_edge_stage[e] + at * words;
+    __global perma_item_word *dst = (__global perma_item_word *)ctx->stage + perma_edge_stage[e] + at * words;
     for (uint w = 0; w < words; ++w)
         dst[w] = src[w];
     return 1;

@@ -135,7 +135,11 @@ static void append_kernel_params(perma_runtime *rt, perma_strbuf *sb)
     perma_strbuf_append(sb, " (b).perma_watch_page = abort_flag; } while (0)\n");
 }
 
-/* One emit helper per procedure that something emits into. */
+/* One emit helper per procedure that something emits into.  It hands
+ * perma_emit the item as may-alias words (kernels/perma_prelude.cl,
+ * perma_item_word: why not as uint); an item type aligned to less than 4
+ * bytes is first copied by its own type into a union with such words, so
+ * the words are aligned (the branch not taken is compiled away). */
 static void append_emit_helpers(perma_runtime *rt, perma_strbuf *sb)
 {
     for (unsigned t = 0; t < rt->proc_count; ++t) {
@@ -146,10 +150,17 @@ static void append_emit_helpers(perma_runtime *rt, perma_strbuf *sb)
         if (!targeted)
             continue;
         const perma_proc_info *p = &rt->procs[t];
+        const char *type = p->item_type;
         perma_strbuf_printf(sb,
                             "inline int emit_%s(perma_ctx *ctx, const %s *item)\n"
-                            "{\n    return perma_emit(ctx, %uu, (const uint *)item);\n}\n",
-                            p->name, p->item_type, t);
+                            "{\n"
+                            "    if (__alignof__(%s) %% 4u == 0u)\n"
+                            "        return perma_emit(ctx, %uu, (const perma_item_word *)item);\n"
+                            "    union { %s item; perma_item_word words[%zu]; } copy;\n"
+                            "    copy.item = *item;\n"
+                            "    return perma_emit(ctx, %uu, copy.words);\n"
+                            "}\n",
+                            p->name, type, type, t, type, p->item_size / 4, t);
     }
 }
 

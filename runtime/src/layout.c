@@ -333,6 +333,9 @@ perma_status perma_build_layout(perma_runtime *rt)
     rt->build.local_queue_items = persistent ? rt->config.schedule.local_queue_items : 0;
     rt->build.lq_words = 0;
     for (unsigned i = 0; i < rt->proc_count; ++i) {
+        /* Each stack aligned as the kernel's arena (128 bytes), so items
+         * run in place there are aligned for their type. */
+        rt->build.lq_words = round_up(rt->build.lq_words, 32);
         rt->procs[i].lq_off = rt->build.lq_words;
         rt->build.lq_words += rt->build.local_queue_items * words_of(rt->procs[i].item_size);
     }

@@ -6,7 +6,7 @@
 /* PERMA_TEST_TECHNIQUE, PERMA_TEST_STRATEGY, PERMA_TEST_VICTIM and
  * PERMA_TEST_LOCAL_QUEUE select the variant every test runs under (meson
  * registers each test once per variant). */
-static void apply_variant(perma_config *config)
+void test_apply_variant(perma_config *config)
 {
     const char *v;
     if ((v = getenv("PERMA_TEST_TECHNIQUE")) && *v)
@@ -25,7 +25,7 @@ static void apply_variant(perma_config *config)
 perma_runtime *test_runtime_config(const perma_config *requested)
 {
     perma_config variant = *requested;
-    apply_variant(&variant);
+    test_apply_variant(&variant);
     const perma_config *config = &variant;
     perma_runtime *rt = NULL;
     perma_error error;
