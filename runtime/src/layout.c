@@ -254,8 +254,9 @@ static void compute_full_batches(perma_runtime *rt)
 static unsigned arena_cost(const perma_runtime *rt, perma_proc_info *p, unsigned batch, bool assign)
 {
     /* Lanes only for whole rounds of the group, so no lane has room for an
-     * item it never gets. */
-    bool lanes = p->simple && batch % rt->group_size == 0;
+     * item it never gets; always with work-first stacks, whose batches
+     * stage per work-item (kernels/perma_batch.cl, perma_run_simple). */
+    bool lanes = p->simple && (batch % rt->group_size == 0 || rt->build.wf_items);
     unsigned lane_items = (batch + rt->group_size - 1) / rt->group_size;
     unsigned offset = 0;
     if (assign) {
@@ -280,7 +281,7 @@ static unsigned arena_cost(const perma_runtime *rt, perma_proc_info *p, unsigned
  * as arena_cost says), edge after edge. */
 static size_t stage_cost(const perma_runtime *rt, perma_proc_info *p, unsigned batch, bool assign)
 {
-    bool lanes = p->simple && batch % rt->group_size == 0;
+    bool lanes = p->simple && (batch % rt->group_size == 0 || rt->build.wf_items);
     size_t staged = lanes ? (size_t)rt->group_size * ((batch + rt->group_size - 1) / rt->group_size) : batch;
     size_t offset = 0;
     for (unsigned e = 0; e < p->emit_count; ++e) {
@@ -299,6 +300,73 @@ static size_t stage_limit(const perma_runtime *rt)
 {
     size_t limit = rt->caps.max_alloc ? (size_t)(rt->caps.max_alloc / (16 * (cl_ulong)rt->work_groups)) : PERMA_STAGE_LIMIT_WORDS;
     return limit < PERMA_STAGE_LIMIT_WORDS ? limit : PERMA_STAGE_LIMIT_WORDS;
+}
+
+/* Items a work-item runs from its stack in one batch: long enough that a
+ * batch's own cost is small beside its items, short enough that a batch
+ * ends soon for the watchdog, progress, priorities, an idle group's share
+ * and, on a GPU, the divergence of the work-items' loops. */
+#define WF_BUDGET_CPU 1024
+#define WF_BUDGET_GPU 32
+
+/* The largest power of two (at most 128) that divides `bytes`: the most
+ * alignment a type of that size can have in OpenCL C. */
+static unsigned alignment_of_size(size_t bytes)
+{
+    unsigned a = 1;
+    while (a < 128 && bytes % (2 * a) == 0)
+        a *= 2;
+    return a;
+}
+
+/* Work-first (perma_schedule.work_first_items): which procedures' items
+ * may run from a work-item's stack, and the stacks' shape.  A procedure is
+ * stackable when it runs one thread per item and is not cooperative, has
+ * no scratch (its items run outside the batch's arena), declares at most
+ * half a stack of emits (an item runs from the stack only with room for
+ * all of them), and emits only into stackable procedures (its items never
+ * stage emits, so they may run in any batch).  The stack's slots hold the
+ * largest stackable item, aligned for every stackable type. */
+static void compute_work_first(perma_runtime *rt)
+{
+    unsigned n = rt->proc_count, items = rt->config.schedule.work_first_items;
+    bool on = rt->executor->persistent && items > 0;
+    for (unsigned i = 0; i < n; ++i) {
+        perma_proc_info *p = &rt->procs[i];
+        p->wf_need = 0;
+        for (unsigned e = 0; e < p->emit_count; ++e)
+            p->wf_need += p->emit_max[e];
+        p->stackable = on && p->simple && p->local_bytes_per_item == 0 && 2 * p->wf_need <= items;
+    }
+    for (bool changed = true; changed;) {
+        changed = false;
+        for (unsigned i = 0; i < n; ++i)
+            for (unsigned e = 0; e < rt->procs[i].emit_count && rt->procs[i].stackable; ++e)
+                if (!rt->procs[rt->procs[i].emit_target[e]].stackable) {
+                    rt->procs[i].stackable = false;
+                    changed = true;
+                }
+    }
+    unsigned slot = 0, align = 1;
+    for (unsigned i = 0; i < n; ++i) {
+        if (!rt->procs[i].stackable)
+            continue;
+        if (words_of(rt->procs[i].item_size) > slot)
+            slot = words_of(rt->procs[i].item_size);
+        if (alignment_of_size(rt->procs[i].item_size) > align)
+            align = alignment_of_size(rt->procs[i].item_size);
+    }
+    rt->build.wf_items = slot ? items : 0;
+    rt->build.wf_slot_words = slot ? round_up(slot, align < 4 ? 1 : align / 4) : 0;
+    rt->build.wf_budget = rt->caps.is_cpu ? WF_BUDGET_CPU : WF_BUDGET_GPU;
+    /* The stacks (slots, then a word per slot: its procedure), a stack
+     * pointer and a row of emit counters per work-item, counters per
+     * procedure and edge, and room to align the slots to 128 bytes. */
+    size_t g = rt->group_size, stacks = g * rt->build.wf_items;
+    rt->build.wf_words = rt->build.wf_items ? (unsigned)(stacks * (rt->build.wf_slot_words + 1) + g +
+                                                         g * rt->build.max_edges + n * (1 + rt->build.max_edges) +
+                                                         4 + 32)
+                                            : 0;
 }
 
 perma_status perma_build_layout(perma_runtime *rt)
@@ -328,6 +396,8 @@ perma_status perma_build_layout(perma_runtime *rt)
         if (rt->procs[i].emit_count > rt->build.max_edges)
             rt->build.max_edges = rt->procs[i].emit_count;
 
+    compute_work_first(rt);
+
     size_t limit = perma_local_memory(rt);
     /* The local front queue: a stack of local_queue_items per procedure. */
     rt->build.local_queue_items = persistent ? rt->config.schedule.local_queue_items : 0;
@@ -347,6 +417,14 @@ perma_status perma_build_layout(perma_runtime *rt)
         return perma_set_error(rt, PERMA_ERR_ARGUMENT,
                                "config.schedule.local_queue_items %u needs %u bytes of __local memory, more than the "
                                "%zu bytes available", rt->build.local_queue_items, 4 * rt->build.lq_words, limit);
+    fixed += 4 * (size_t)rt->build.wf_words;
+    if (fixed >= limit)
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT,
+                               "config.schedule.work_first_items %u needs %zu bytes of __local memory for the stacks "
+                               "of %u work-items (items of up to %u bytes), more than the %zu bytes available: give "
+                               "fewer items (+wfN) or a smaller config.group_size",
+                               rt->build.wf_items, 4 * (size_t)rt->build.wf_words, rt->group_size,
+                               4 * rt->build.wf_slot_words, limit);
     size_t budget_words = (limit - fixed) / 4;
 
     rt->build.arena_words = 16;
@@ -379,5 +457,9 @@ perma_status perma_build_layout(perma_runtime *rt)
         if (staged > rt->build.stage_words)
             rt->build.stage_words = (unsigned)staged;
     }
+    /* A launch that stops for room moves the items on the group's stacks to
+     * its overflow data (as large as the staging), after the last batch's
+     * overflowed emits: room for both. */
+    rt->build.stage_words += rt->group_size * rt->build.wf_items * rt->build.wf_slot_words;
     return PERMA_OK;
 }
