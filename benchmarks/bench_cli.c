@@ -63,5 +63,9 @@ perma_cli_status bench_parse(bench_options *options, const char *synopsis, const
         .table_count = count ? 2 : 1,
         .notes = BENCH_EXIT_STATUS,
     };
-    return perma_cli_parse(&cli, argc, argv, message, sizeof message);
+    perma_cli_status st = perma_cli_parse(&cli, argc, argv, message, sizeof message);
+    /* --only =LABEL names any schedule, listed or not: it becomes a row. */
+    if (options->only && options->only[0] == '=')
+        bench_variant_add(options->only + 1);
+    return st;
 }

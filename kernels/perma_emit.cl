@@ -95,14 +95,23 @@ PERMA_PHASE int perma_emit(perma_ctx *ctx, uint target, const perma_item_word *s
 /* Push an item of procedure `target` onto the running work-item's stack:
  * the slot to write it to (the emit helper stores it there by its own
  * type, so the procedure that runs it reads the same fields it was
- * written with), or 0 if perma_count_emit refused it.  The caller made
- * sure of the room (ctx->wf_room). */
+ * written with), or 0 after recording the error if the target is not
+ * declared in .emits or the stack is full.  The caller made sure of the
+ * room for the item's declared emits (ctx->wf_room); whether it kept to
+ * them is checked from the stack when it returns (perma_run_simple), so a
+ * push costs no counting. */
 PERMA_PHASE __local uint *perma_wf_push(perma_ctx *ctx, uint target)
 {
-    uint own;
-    if (perma_count_emit(ctx, target, &own) < 0)
-        return 0;
     uint sp = ctx->wf_sp;
+    if (perma_edge_index[ctx->proc * PERMA_NUM_PROCS + target] < 0) {
+        atomic_cmpxchg(ctx->error_code, 0u, PERMA_EMIT_ERROR_UNDECLARED | target);
+        return 0;
+    }
+    if (sp >= PERMA_WORK_FIRST) { /* past every declared maximum */
+        atomic_cmpxchg(ctx->error_code, 0u,
+                       PERMA_EMIT_ERROR_LIMIT | (uint)perma_edge_index[ctx->proc * PERMA_NUM_PROCS + target]);
+        return 0;
+    }
     ctx->wf_procs[sp] = target;
     ctx->wf_sp = sp + 1u;
     return ctx->wf_slots + sp * PERMA_WF_SLOT_WORDS;

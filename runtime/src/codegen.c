@@ -158,7 +158,7 @@ static void append_emit_helpers(perma_runtime *rt, perma_strbuf *sb)
             continue;
         const perma_proc_info *p = &rt->procs[t];
         const char *type = p->item_type;
-        perma_strbuf_printf(sb, "inline int emit_%s(perma_ctx *ctx, const %s *item)\n{\n", p->name, type);
+        perma_strbuf_printf(sb, "PERMA_INLINE int emit_%s(perma_ctx *ctx, const %s *item)\n{\n", p->name, type);
         /* Work-first: onto the work-item's stack, stored by its own type. */
         if (p->stackable)
             perma_strbuf_printf(sb,
@@ -217,8 +217,17 @@ static void append_procedure_sources(perma_runtime *rt, perma_strbuf *sb)
 static void append_run_simple(perma_runtime *rt, perma_strbuf *sb)
 {
     perma_strbuf_append(sb,
-        "PERMA_PHASE void perma_run_simple(uint lid, __local perma_group_mem *mem, perma_ctx *ctx)\n"
+        "__attribute__((noinline, flatten)) void perma_run_simple(uint lid, __local perma_group_mem *mem,\n"
+        "                                                         const perma_ctx *caller)\n"
         "{\n"
+        "    perma_ctx context = *caller; /* its own copies: the fields can live in registers */\n"
+        "    perma_ctx *ctx = &context;\n"
+        "#if PERMA_NUM_REDUCTIONS\n"
+        "    ulong lane[PERMA_REDUCE_WORDS];\n"
+        "    for (uint w = 0; w < PERMA_REDUCE_WORDS; ++w)\n"
+        "        lane[w] = caller->reduce[w];\n"
+        "    ctx->reduce = lane;\n"
+        "#endif\n"
         "    const uint batch_proc = mem->batch[PERMA_B_PROC];\n"
         "    const uint run = perma_simple[batch_proc] ? perma_batch_run(mem) : 0u;\n"
         "    __local uint *items = perma_batch_items(mem);\n"
@@ -282,12 +291,33 @@ static void append_run_simple(perma_runtime *rt, perma_strbuf *sb)
             continue;
         perma_strbuf_printf(sb, "        case %u:\n            %s(ctx, (__local const %s *)item);\n", i, p->function,
                             p->item_type);
-        for (unsigned e = 0; e < p->emit_count; ++e) {
-            if (p->stackable)
-                perma_strbuf_printf(sb, "            pushed_%u_%u += ctx->wf_room ? min(own[%u], %uu) : 0u;\n", i, e, e,
-                                    p->emit_max[e]);
-            perma_strbuf_printf(sb, "            own[%u] = 0u;\n", e);
+        /* Its pushes, per edge, from the stack (at most the declared
+         * maximum each); the staged emits' counters, for the next item. */
+        if (p->stackable && p->emit_count) {
+            perma_strbuf_append(sb, "            if (ctx->wf_room) {\n");
+            if (p->emit_count == 1) {
+                perma_strbuf_append(sb, "                uint count_0 = ctx->wf_sp - sp;\n");
+            } else {
+                for (unsigned e = 0; e < p->emit_count; ++e)
+                    perma_strbuf_printf(sb, "                uint count_%u = 0u;\n", e);
+                perma_strbuf_append(sb, "                for (uint i = sp; i < ctx->wf_sp; ++i) {\n");
+                for (unsigned e = 0; e < p->emit_count; ++e)
+                    perma_strbuf_printf(sb, "                    count_%u += procs[i] == %uu;\n", e,
+                                        (unsigned)p->emit_target[e]);
+                perma_strbuf_append(sb, "                }\n");
+            }
+            for (unsigned e = 0; e < p->emit_count; ++e)
+                perma_strbuf_printf(sb,
+                                    "                if (count_%u > %uu)\n"
+                                    "                    atomic_cmpxchg(ctx->error_code, 0u, PERMA_EMIT_ERROR_LIMIT | %uu);\n"
+                                    "                pushed_%u_%u += count_%u;\n",
+                                    e, p->emit_max[e], e, i, e, e);
+            perma_strbuf_append(sb, "            } else {\n");
         }
+        for (unsigned e = 0; e < p->emit_count; ++e)
+            perma_strbuf_printf(sb, "            own[%u] = 0u;\n", e);
+        if (p->stackable && p->emit_count)
+            perma_strbuf_append(sb, "            }\n");
         if (p->stackable)
             perma_strbuf_printf(sb, "            ran_%u += stacked;\n", i);
         perma_strbuf_append(sb, "            break;\n");
@@ -299,7 +329,11 @@ static void append_run_simple(perma_runtime *rt, perma_strbuf *sb)
         "        if (stacked && sp == top + 1u)\n"
         "            sp = top; /* it pushed nothing: its slot is free now */\n"
         "    }\n"
-        "    mem->wf_sp[lid] = sp;\n");
+        "    mem->wf_sp[lid] = sp;\n"
+        "#if PERMA_NUM_REDUCTIONS\n"
+        "    for (uint w = 0; w < PERMA_REDUCE_WORDS; ++w)\n"
+        "        caller->reduce[w] = lane[w];\n"
+        "#endif\n");
     for (unsigned i = 0; i < rt->proc_count; ++i) {
         const perma_proc_info *p = &rt->procs[i];
         if (!p->stackable)
