@@ -91,6 +91,7 @@ extern "C" {
 #define PERMA_MAX_QUEUED_ITEMS ((size_t)1 << 30) /* most items one queue holds (seeds included) */
 #define PERMA_MAX_LOCAL_QUEUE_ITEMS 4096 /* most perma_schedule.local_queue_items */
 #define PERMA_MAX_WORK_FIRST_ITEMS 4096 /* most perma_schedule.work_first_items */
+#define PERMA_WORK_FIRST_OFF 0xffffffffu /* perma_schedule.work_first_items: no stacks ("+wf0") */
 #define PERMA_MESSAGE_MAX 1024
 
 typedef enum perma_status {
@@ -172,8 +173,8 @@ perma_status perma_victim_parse(const char *name, perma_victim *out);
  * STRATEGY defaults to shared, VICTIM (only after a stealing strategy:
  * stealing, stealing-donation) to random.  /d=N (only after a donating
  * strategy: donation, stealing-donation) sets donation_threshold, +localN
- * local_queue_items, +wfN work_first_items, /p=N batch_limit; N is a
- * decimal number >= 1 (leave
+ * local_queue_items, +wfN work_first_items (+wf0: PERMA_WORK_FIRST_OFF),
+ * /p=N batch_limit; N is a decimal number >= 1 (leave
  * the part out for the default).  All fields zero (what perma_config_init
  * sets) is megakernel/shared. */
 typedef struct perma_schedule {
@@ -195,9 +196,12 @@ typedef struct perma_schedule {
      * *What an item costs*): a work-item runs the items its procedure emits
      * into a procedure of one thread per item right away, depth first,
      * from a stack of this many items in __local memory, and only what does
-     * not fit, or what it gives to an idle group, goes through the queues;
-     * 0 = off, at most PERMA_MAX_WORK_FIRST_ITEMS (the device's __local
-     * memory may allow fewer: perma_create says so). */
+     * not fit, or what it gives to an idle group, goes through the queues.
+     * 0 = the default: on, with a stack the device's __local memory holds
+     * (128 items on a CPU; perma_stats.stack_items says); N (at most
+     * PERMA_MAX_WORK_FIRST_ITEMS; the device may allow fewer: perma_create
+     * says so) = N items; PERMA_WORK_FIRST_OFF = off, every item goes
+     * through the queues. */
     unsigned work_first_items;
 } perma_schedule;
 
@@ -754,6 +758,8 @@ typedef struct perma_stats {
      * most, whatever the work). */
     uint64_t stacked_items, stack_spills;
     unsigned stack_peak;
+    unsigned stack_items;      /* items a work-item's stack holds (0: no stacks: work-first is off, or
+                                  no procedure's items can run from one) */
 } perma_stats;
 
 perma_status perma_get_stats(perma_runtime *rt, perma_stats *out);

@@ -327,16 +327,46 @@ static unsigned alignment_of_size(size_t bytes)
  * all of them), and emits only into stackable procedures (its items never
  * stage emits, so they may run in any batch).  The stack's slots hold the
  * largest stackable item, aligned for every stackable type. */
-static void compute_work_first(perma_runtime *rt)
+/* The __local words of the stacks of `items` items of `slot_words` words:
+ * the slots, a word per slot (its procedure), a stack pointer and a row of
+ * emit counters per work-item, counters per procedure and edge, and room
+ * to align the slots to 128 bytes. */
+static size_t wf_words_of(const perma_runtime *rt, unsigned items, unsigned slot_words)
+{
+    size_t g = rt->group_size, stacks = g * items;
+    return stacks * (slot_words + 1) + g + g * rt->build.max_edges + rt->proc_count * (1 + rt->build.max_edges) + 4 +
+           32;
+}
+
+/* Stack items when the schedule leaves it to the runtime: 128 (a depth
+ * first search of most trees fits, so few items spill), or fewer when
+ * the stacks would take more than half the __local memory `free` words
+ * leave (a GPU's 48 KiB); 0 when not even 8 fit. */
+static unsigned default_work_first_items(const perma_runtime *rt, unsigned slot_words, size_t free)
+{
+    unsigned items = 128;
+    while (items >= 8 && wf_words_of(rt, items, slot_words) > free / 2)
+        items /= 2;
+    return items >= 8 ? items : 0;
+}
+
+static void compute_work_first(perma_runtime *rt, size_t free)
 {
     unsigned n = rt->proc_count, items = rt->config.schedule.work_first_items;
-    bool on = rt->executor->persistent && items > 0;
+    bool on = rt->executor->persistent && items != PERMA_WORK_FIRST_OFF;
+    /* The largest slot any procedure would need, for the default size. */
+    unsigned widest = 1;
+    for (unsigned i = 0; i < n; ++i)
+        if (words_of(rt->procs[i].item_size) > widest)
+            widest = words_of(rt->procs[i].item_size);
+    if (on && items == 0)
+        items = default_work_first_items(rt, widest, free);
     for (unsigned i = 0; i < n; ++i) {
         perma_proc_info *p = &rt->procs[i];
         p->wf_need = 0;
         for (unsigned e = 0; e < p->emit_count; ++e)
             p->wf_need += p->emit_max[e];
-        p->stackable = on && p->simple && p->local_bytes_per_item == 0 && 2 * p->wf_need <= items;
+        p->stackable = on && items && p->simple && p->local_bytes_per_item == 0 && 2 * p->wf_need <= items;
     }
     for (bool changed = true; changed;) {
         changed = false;
@@ -347,8 +377,14 @@ static void compute_work_first(perma_runtime *rt)
                     changed = true;
                 }
     }
+    /* Stacks only where an item can land on one: a stackable procedure
+     * that emits into a stackable one. */
+    bool pushed = false;
+    for (unsigned i = 0; i < n; ++i)
+        pushed = pushed || (rt->procs[i].stackable && rt->procs[i].emit_count);
     unsigned slot = 0, align = 1;
     for (unsigned i = 0; i < n; ++i) {
+        rt->procs[i].stackable = rt->procs[i].stackable && pushed;
         if (!rt->procs[i].stackable)
             continue;
         if (words_of(rt->procs[i].item_size) > slot)
@@ -359,14 +395,8 @@ static void compute_work_first(perma_runtime *rt)
     rt->build.wf_items = slot ? items : 0;
     rt->build.wf_slot_words = slot ? round_up(slot, align < 4 ? 1 : align / 4) : 0;
     rt->build.wf_budget = rt->caps.is_cpu ? WF_BUDGET_CPU : WF_BUDGET_GPU;
-    /* The stacks (slots, then a word per slot: its procedure), a stack
-     * pointer and a row of emit counters per work-item, counters per
-     * procedure and edge, and room to align the slots to 128 bytes. */
-    size_t g = rt->group_size, stacks = g * rt->build.wf_items;
-    rt->build.wf_words = rt->build.wf_items ? (unsigned)(stacks * (rt->build.wf_slot_words + 1) + g +
-                                                         g * rt->build.max_edges + n * (1 + rt->build.max_edges) +
-                                                         4 + 32)
-                                            : 0;
+    rt->build.wf_words =
+        rt->build.wf_items ? (unsigned)wf_words_of(rt, rt->build.wf_items, rt->build.wf_slot_words) : 0;
 }
 
 perma_status perma_build_layout(perma_runtime *rt)
@@ -396,8 +426,6 @@ perma_status perma_build_layout(perma_runtime *rt)
         if (rt->procs[i].emit_count > rt->build.max_edges)
             rt->build.max_edges = rt->procs[i].emit_count;
 
-    compute_work_first(rt);
-
     size_t limit = perma_local_memory(rt);
     /* The local front queue: a stack of local_queue_items per procedure. */
     rt->build.local_queue_items = persistent ? rt->config.schedule.local_queue_items : 0;
@@ -411,12 +439,13 @@ perma_status perma_build_layout(perma_runtime *rt)
     }
     /* The kernel's other __local words: statistics, edge counters, batch,
      * and the local front queues. */
-    size_t fixed = 4 * ((size_t)rt->proc_count * (3 + rt->build.max_edges) + 6 * rt->build.max_edges + 32 +
+    size_t fixed = 4 * ((size_t)rt->proc_count * (4 + rt->build.max_edges) + 6 * rt->build.max_edges + 32 +
                         (size_t)rt->build.lq_words);
     if (fixed >= limit)
         return perma_set_error(rt, PERMA_ERR_ARGUMENT,
                                "config.schedule.local_queue_items %u needs %u bytes of __local memory, more than the "
                                "%zu bytes available", rt->build.local_queue_items, 4 * rt->build.lq_words, limit);
+    compute_work_first(rt, (limit - fixed) / 4);
     fixed += 4 * (size_t)rt->build.wf_words;
     if (fixed >= limit)
         return perma_set_error(rt, PERMA_ERR_ARGUMENT,

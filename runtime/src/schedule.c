@@ -229,7 +229,7 @@ static perma_status parse_plus_option(cursor *c, perma_schedule *s)
         { "local", offsetof(perma_schedule, local_queue_items), PERMA_MAX_LOCAL_QUEUE_ITEMS, "in a local queue",
           "no local queue" },
         { "wf", offsetof(perma_schedule, work_first_items), PERMA_MAX_WORK_FIRST_ITEMS, "on a work-item's stack",
-          "no work-first stacks" },
+          "the default stack, +wf0 for none" },
     };
     part p = next_part(c);
     for (size_t i = 0; i < sizeof options / sizeof options[0]; ++i) {
@@ -240,6 +240,12 @@ static perma_status parse_plus_option(cursor *c, perma_schedule *s)
         unsigned value, *out = (unsigned *)((char *)s + options[i].field);
         if (*out)
             return fail(c, "'+%.*s' after another +%sN (give it once)", p.length, p.text, options[i].prefix);
+        /* +wf0: no stacks (work-first is on by default). */
+        if (options[i].field == offsetof(perma_schedule, work_first_items) && p.length == prefix_length + 1 &&
+            p.text[prefix_length] == '0') {
+            *out = PERMA_WORK_FIRST_OFF;
+            return PERMA_OK;
+        }
         value = count_of(p.text + prefix_length, p.length - prefix_length);
         if (!value)
             return fail(c, "'+%.*s' needs a number of items >= 1, e.g. +%s32 (leave it out for %s)", p.length,
@@ -250,7 +256,7 @@ static perma_status parse_plus_option(cursor *c, perma_schedule *s)
         return PERMA_OK;
     }
     return fail(c, "unknown option '+%.*s' (+localN: N items in a local queue; +wfN: work-first, a stack of N "
-                "items per work-item)", p.length, p.text);
+                "items per work-item, +wf0 none)", p.length, p.text);
 }
 
 /* The N of an option part "NAME=N" whose name has name_length characters. */
@@ -410,7 +416,8 @@ int perma_schedule_format(const perma_schedule *s, char *buf, size_t size)
     if (row->local_queue && s->local_queue_items)
         snprintf(local, sizeof local, "+local%u", s->local_queue_items);
     if (row->local_queue && s->work_first_items)
-        snprintf(work_first, sizeof work_first, "+wf%u", s->work_first_items);
+        snprintf(work_first, sizeof work_first, "+wf%u",
+                 s->work_first_items == PERMA_WORK_FIRST_OFF ? 0u : s->work_first_items);
     if (!named) {
         if (size)
             buf[0] = '\0';

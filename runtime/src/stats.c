@@ -19,6 +19,7 @@ void perma_stats_reset(perma_runtime *rt)
     rt->stats.group_size = rt->group_size;
     rt->stats.procedure_count = rt->proc_count;
     rt->stats.queue_memory_limit = rt->build.queue_layout.memory_limit;
+    rt->stats.stack_items = rt->build.wf_items;
     for (unsigned q = 0; q < rt->proc_count; ++q) {
         perma_proc_info *p = &rt->procs[q];
         memset(&p->stats, 0, sizeof p->stats);
@@ -305,10 +306,10 @@ void perma_print_stats(perma_runtime *rt, FILE *out)
         fprintf(out, "load balancing: %" PRIu64 " steal(s), %" PRIu64 " donation(s), %" PRIu64
                      " spill(s), %" PRIu64 " idle poll(s)\n",
                 s->steals, s->donations, s->spills, s->idle_polls);
-    if (s->stacked_items || s->stack_spills)
-        fprintf(out, "work-first: %" PRIu64 " item(s) ran from the work-items' stacks (deepest %u), %" PRIu64
+    if (s->stack_items)
+        fprintf(out, "work-first: stacks of %u items; %" PRIu64 " item(s) ran from them (deepest %u), %" PRIu64
                      " moved from them to the queues\n",
-                s->stacked_items, s->stack_peak, s->stack_spills);
+                s->stack_items, s->stacked_items, s->stack_peak, s->stack_spills);
     fprintf(out, "%-20s %12s %10s %10s %10s %12s %10s  %s\n", "procedure", "items", "batches", "batch",
             "seeded", "peak queued", "capacity", "emitted");
     for (unsigned q = 0; q < rt->proc_count; ++q) {

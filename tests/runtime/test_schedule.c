@@ -36,6 +36,8 @@ static const char *const canonical[] = {
     "megakernel/shared+wf32",
     "megakernel/stealing/random+local32+wf16",
     "megakernel/donation/d=64+wf4096",
+    "megakernel/shared+wf0",
+    "megakernel/stealing/random+local32+wf0",
 };
 
 /* Short forms in use (the stress test, the examples' --compare): the
@@ -191,20 +193,22 @@ static const struct {
       "queue" },
     { "megakernel/shared+queue4",
       "schedule 'megakernel/shared+queue4': unknown option '+queue4' (+localN: N items in a local "
-      "queue; +wfN: work-first, a stack of N items per work-item)" },
+      "queue; +wfN: work-first, a stack of N items per work-item, +wf0 none)" },
     { "megakernel/shared+wf",
       "schedule 'megakernel/shared+wf': '+wf' needs a number of items >= 1, e.g. +wf32 (leave it out for "
-      "no work-first stacks)" },
-    { "megakernel/shared+wf0",
-      "schedule 'megakernel/shared+wf0': '+wf0' needs a number of items >= 1, e.g. +wf32 (leave it out for "
-      "no work-first stacks)" },
+      "the default stack, +wf0 for none)" },
+    { "megakernel/shared+wf00",
+      "schedule 'megakernel/shared+wf00': '+wf00' needs a number of items >= 1, e.g. +wf32 (leave it out for "
+      "the default stack, +wf0 for none)" },
+    { "megakernel/shared+wf0+wf8",
+      "schedule 'megakernel/shared+wf0+wf8': '+wf8' after another +wfN (give it once)" },
     { "megakernel/shared+wf4097",
       "schedule 'megakernel/shared+wf4097': '+wf4097': at most 4096 items on a work-item's stack" },
     { "megakernel/shared+wf8+wf8",
       "schedule 'megakernel/shared+wf8+wf8': '+wf8' after another +wfN (give it once)" },
     { "megakernel/shared+wfx",
       "schedule 'megakernel/shared+wfx': unknown option '+wfx' (+localN: N items in a local "
-      "queue; +wfN: work-first, a stack of N items per work-item)" },
+      "queue; +wfN: work-first, a stack of N items per work-item, +wf0 none)" },
     { "bounded-batches+wf8",
       "schedule 'bounded-batches+wf8': '+wf8' after bounded-batches (+localN and +wfN are only "
       "valid with megakernel)" },

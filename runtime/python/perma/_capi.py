@@ -88,7 +88,8 @@ class Stats(ctypes.Structure):
                 ('queues_kept', c_uint), ('items', c_uint64), ('steals', c_uint64),
                 ('donations', c_uint64), ('spills', c_uint64), ('idle_polls', c_uint64),
                 ('overflowed_items', c_uint64), ('technique', c_int), ('strategy', c_int),
-                ('stacked_items', c_uint64), ('stack_spills', c_uint64), ('stack_peak', c_uint)]
+                ('stacked_items', c_uint64), ('stack_spills', c_uint64), ('stack_peak', c_uint),
+                ('stack_items', c_uint)]
 
 
 # Every structure above, by its C name (for the layout test).
