@@ -6,8 +6,7 @@
         rt.add_type('node', node)                  # struct node { uint depth; };
         split = rt.register('split', SOURCE, item=node, emits={'split': 2})
         rt.declare_reduction('leaves', 'sum', np.uint32)  # reduce_leaves(ctx, v)
-        values = np.zeros(16, np.float32)
-        rt.bind('values', values)                  # ctx->buf.values, __global float *
+        # rt.bind('values', array): a numpy array as ctx->buf.values
         rt.seed(split, np.array([(20,)], node))
         stats = rt.run()                           # rt.reduction('leaves') == 2**20
         print(stats['items'], stats['procedures']['split']['emitted'])
