@@ -133,6 +133,7 @@ reyes_options reyes_bench_render_options(const reyes_bench_args *a, const bench_
     o.occlusion_cull = a->occlusion_cull;
     o.work_groups = options->groups;
     o.schedule = v->schedule;
+    o.trace_path = options->trace_path;
     return o;
 }
 

@@ -276,6 +276,10 @@ typedef struct reyes_options {
     void (*progress)(void *user, const perma_progress *progress);
     void *progress_user;
     double progress_interval;
+    /* perma_config.trace_path, passed when the renderer is created: the
+     * Chrome trace file every perma run of the renderer adds its batches
+     * to.  NULL (default): PERMA_TRACE's, or none. */
+    const char *trace_path;
 } reyes_options;
 
 void reyes_options_init(reyes_options *options);
