@@ -23,7 +23,7 @@ static const char workloads_help[] =
     "            single-threaded C reference of the same pipeline (shading and\n"
     "            sampling included) timed the same way, and its full render on\n"
     "            --threads OpenMP threads.  No crack fix (the C reference has none);\n"
-    "            the cameras of issue 13 (docs/reyes.md).\n"
+    "            fixed cameras (docs/reyes-measurements.md).\n"
     "            Rows: seconds are the best perma_run time of --repeat runs, the\n"
     "            configurations interleaved run by run; 'vs seq' is the C reference's\n"
     "            full render / row.\n"

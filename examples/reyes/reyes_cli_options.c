@@ -134,7 +134,7 @@ void reyes_cli_describe(reyes_cli *cli, const char *program, reyes_cli_descripti
                           "view depth in focus (default: distance to the camera target)"),
           .open = PERMA_CLI_ABOVE_LOW },
         { PERMA_CLI_CHOICE_OF("blur-algo", "NAME", &r->blur_algo, reyes_blur_algo_name,
-                              "blur sampling (default interleaved; docs/reyes.md)") },
+                              "blur sampling (default interleaved; docs/reyes-effects.md)") },
         { PERMA_CLI_WHOLE("blur-tile", "K", &r->blur_tile, 1, REYES_MAX_BLUR_TILE,
                           "interleaved: tiles of KxK pixels (default 4)") },
         { PERMA_CLI_WHOLE("blur-permutations", "P", &r->blur_permutations, 1, REYES_MAX_BLUR_PERMUTATIONS,
