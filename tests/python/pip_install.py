@@ -34,7 +34,8 @@ def readme_example(source_root):
     with open(os.path.join(source_root, 'README.md'), encoding='utf-8') as f:
         text = f.read()
     section = text[text.index('\n## From Python\n'):]
-    return section[section.index('```python\n') + len('```python\n'):section.index('\n```\n')] + '\n'
+    start = section.index('```python\n') + len('```python\n')
+    return section[start:section.index('\n```\n', start)] + '\n'
 
 
 def run(command, env):
