@@ -26,6 +26,7 @@ typedef struct bench_options {
     const char *only;       /* --only TEXT: run only perma variants whose label contains it
                              * (=LABEL: only that label) */
     int verbose;            /* --verbose: perma_print_stats after each perma row */
+    const char *trace_path; /* --trace FILE: every perma run's batches as a Chrome trace, or NULL */
     /* --devices LIST: PERMA_DEVICE values (e.g. pocl,intel); every perma
      * row is measured once per device, the rows of a variant side by side. */
     const char *devices[BENCH_MAX_DEVICES];
@@ -49,7 +50,7 @@ int bench_plain(bench_options *options, int argc, char **argv);
 
 /* ---- command lines (bench_cli.c) ---- */
 
-#define BENCH_COMMON_OPTIONS 9
+#define BENCH_COMMON_OPTIONS 10
 #define BENCH_EXIT_STATUS \
     "exit status: 0 all checks passed, 1 a result was wrong or output failed, 2 bad usage.\n" \
     "Variants the runtime does not support print as n/a."
@@ -188,9 +189,10 @@ typedef struct bench_workload {
 } bench_workload;
 
 /* Create a runtime for `variant` with the given group size and work-group
- * count.  On failure returns NULL and writes the message into row. */
-perma_runtime *bench_perma_create(const bench_variant *variant, unsigned group_size,
-                                  unsigned work_groups, bench_row *row);
+ * count (and the options' trace file).  On failure returns NULL and writes
+ * the message into row. */
+perma_runtime *bench_perma_create(const bench_options *options, const bench_variant *variant,
+                                  unsigned group_size, unsigned work_groups, bench_row *row);
 
 /* Build, run once untimed (warm-up), then options->repeat timed runs.
  * Fills row (times: median of perma_stats.seconds and of wall time; the

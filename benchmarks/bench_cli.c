@@ -42,6 +42,9 @@ void bench_common_options(bench_options *o, perma_cli_option rows[BENCH_COMMON_O
                            "measure every perma variant on each device of LIST, side by side (PERMA_DEVICE "
                            "values: pocl,intel or 0:0,1:0; the reyes effect workloads use the first)") },
         { PERMA_CLI_FLAG("verbose", &o->verbose, "print perma's statistics after each perma run") },
+        { PERMA_CLI_TEXT("trace", "FILE", &o->trace_path, "write every perma run's batches (warm-up and timed runs of "
+                                                          "every row) to FILE as a Chrome trace (perma-trace-to-svg "
+                                                          "reads it)") },
     };
     memcpy(rows, common, sizeof common);
 }

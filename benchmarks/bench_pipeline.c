@@ -77,7 +77,7 @@ static void run_perma(const bench_options *o, const bench_variant *v, pipe_state
     row.group_size = group_size;
     row.work_groups = o->groups;
     row.units = (double)s->expected.items;
-    perma_runtime *rt = bench_perma_create(v, group_size, o->groups, &row);
+    perma_runtime *rt = bench_perma_create(o, v, group_size, o->groups, &row);
     if (rt) {
         /* Upstream first: explicit priorities producer > transform > consumer;
          * 0 everywhere keeps the runtime's default (deepest first). */

@@ -53,7 +53,7 @@ static void perma_row(const plain_options *o, const bench_variant *v, plain_coun
     row.group_size = o->group_size;
     row.work_groups = o->common->groups;
     row.units = units;
-    perma_runtime *rt = bench_perma_create(v, o->group_size, o->common->groups, &row);
+    perma_runtime *rt = bench_perma_create(o->common, v, o->group_size, o->common->groups, &row);
     if (rt) {
         perma_status st = w->setup(w->run.state, rt, count);
         if (st != PERMA_OK)

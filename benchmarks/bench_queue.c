@@ -177,7 +177,7 @@ static void run_perma(const bench_options *o, const bench_variant *v, queue_stat
     row.group_size = group_size;
     row.work_groups = groups;
     row.units = total_items(&s->params);
-    perma_runtime *rt = bench_perma_create(v, group_size, groups, &row);
+    perma_runtime *rt = bench_perma_create(o, v, group_size, groups, &row);
     if (rt) {
         perma_procedure generate = {
             .name = "generate", .item_type = "struct generator_item", .item_size = 4,

@@ -169,7 +169,7 @@ static void warm_up(const reyes_scene *scene, const reyes_bench_args *a, const b
     }
 }
 
-/* The camera of a workload: the issue's for the two models (docs/reyes.md,
+/* The camera of a workload: a fixed one for the two models (docs/reyes-measurements.md,
  * *Measured*); other models are framed.  0 (the reason printed) when the
  * scene cannot be framed. */
 static int workload_camera(const char *workload, const char *model, const reyes_scene *scene, unsigned width,

@@ -23,7 +23,7 @@ static const char workloads_help[] =
     "            single-threaded C reference of the same pipeline (shading and\n"
     "            sampling included) timed the same way, and its full render on\n"
     "            --threads OpenMP threads.  No crack fix (the C reference has none);\n"
-    "            the cameras of issue 13 (docs/reyes.md).\n"
+    "            fixed cameras (docs/reyes-measurements.md).\n"
     "            Rows: seconds are the best perma_run time of --repeat runs, the\n"
     "            configurations interleaved run by run; 'vs seq' is the C reference's\n"
     "            full render / row.\n"
@@ -133,6 +133,7 @@ reyes_options reyes_bench_render_options(const reyes_bench_args *a, const bench_
     o.occlusion_cull = a->occlusion_cull;
     o.work_groups = options->groups;
     o.schedule = v->schedule;
+    o.trace_path = options->trace_path;
     return o;
 }
 

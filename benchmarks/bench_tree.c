@@ -162,7 +162,7 @@ static void run_perma_variant(const bench_options *o, const bench_variant *v, tr
     bench_row_init(&row, title, v->name, "nodes");
     row.group_size = group_size;
     row.work_groups = o->groups;
-    perma_runtime *rt = bench_perma_create(v, group_size, o->groups, &row);
+    perma_runtime *rt = bench_perma_create(o, v, group_size, o->groups, &row);
     if (rt) {
         const uts_tree *t = s->tree;
         perma_procedure visit = {

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """A farm's start on a cold program cache: what N ranks pay to compile
-(docs/benchmarks.md, *A model of the speedup with N nodes*; docs/scale-out.md).
+(docs/scale-out.md, *How the speedup scales with N nodes*).
 
 usage: cold_farm.py [--build DIR] [--vs DIR] [--ranks 2] [--rounds 2]
                     [--model FILE] [--size WxH] [--bucket WxH] [--device intel]

@@ -3,11 +3,12 @@
 
 #include <string.h>
 
-perma_runtime *bench_perma_create(const bench_variant *v, unsigned group_size, unsigned work_groups,
-                                  bench_row *row)
+perma_runtime *bench_perma_create(const bench_options *o, const bench_variant *v, unsigned group_size,
+                                  unsigned work_groups, bench_row *row)
 {
     perma_config config;
     perma_config_init(&config);
+    config.trace_path = o->trace_path;
     config.schedule = v->schedule;
     config.group_size = group_size;
     config.work_groups = work_groups;

@@ -13,7 +13,7 @@
 # megakernel's shared object: functions named _pocl_kernel*, emit_* and
 # perma_* are the runtime's, the rest the procedures'.  Removing the
 # runtime's share entirely would make the megakernel at most
-# 1 / (1 - share) times faster: docs/benchmarks.md uses it to bound the
+# 1 / (1 - share) times faster: docs/reyes-measurements.md uses it to bound the
 # megakernel / kernel-per-procedure ratio (issue 13, target 4).
 # Needs perf (Debian: linux-perf).
 set -eu

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Bucketed Reyes renders on 1 vs 2 devices and ranks, side by side, and the
-inputs of the N-node speedup model (docs/benchmarks.md, docs/scale-out.md).
+inputs of the N-node speedup model (docs/scale-out.md).
 
 usage: scale_out.py [--build DIR] [--repeat N] [--size WxH] [--bucket WxH] [--spp N]
                     [--mpirun PATH|none] [--cold-build SECONDS]
@@ -160,7 +160,7 @@ def main(argv):
         if gaps:
             print('  remote rank, per bucket: turnaround - render time: mean %.2f ms, median %.2f ms'
                   % (1e3 * statistics.mean(gaps), 1e3 * statistics.median(gaps)))
-    # The model (docs/benchmarks.md): N nodes with one such device each,
+    # The model (docs/scale-out.md): N nodes with one such device each,
     # buckets handed out one at a time, started by mpirun (M) after a build
     # of C seconds on every node (in parallel; 0 on warm caches).
     # T(1) = C + F + S; T(N) between M + C + F + max((S + B m) / N, t_max)

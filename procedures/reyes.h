@@ -165,7 +165,7 @@ typedef struct reyes_options {
     unsigned width, height;
     float bound_px;       /* dice below this screen bound (default 8) */
     unsigned grid;        /* grid vertices per side (default 16); with a shading rate, the most */
-    /* Shading-rate dicing (docs/reyes.md): 0 (default) dices every
+    /* Shading-rate dicing (docs/reyes-dicing.md): 0 (default) dices every
      * sub-patch grid x grid; R > 0 dices each to the fewest vertices along
      * u and v (at most grid) whose micropolygons are at most R pixels in
      * area on screen, and splits a sub-patch until that fits (instead of
@@ -178,7 +178,7 @@ typedef struct reyes_options {
     int show_grid_sizes;
     /* When to stop splitting: REYES_SUBDIVISION_BOUND (default) dices a
      * sub-patch whose screen bound is at most bound_px;
-     * REYES_SUBDIVISION_TIERED (docs/reyes.md) dices one whose edge and
+     * REYES_SUBDIVISION_TIERED (docs/reyes-dicing.md) dices one whose edge and
      * inner control-net curves are all within flat_epsilon pixels of
      * straight, uniformly parametrised lines (the geometric and the full,
      * parametric deviation mixed by flat_lambda in 0..1) and whose bound
@@ -193,7 +193,7 @@ typedef struct reyes_options {
     int backface_cull;    /* default 0: the models have open, two-sided parts */
     /* 1 (default): with a shading rate (undisplaced, unblurred, not
      * wedges), dice skips a small grid whose samples already all hold a
-     * nearer surface (docs/reyes.md, "Occlusion culling"); the image is
+     * nearer surface (docs/reyes-dicing.md, "Occlusion culling"); the image is
      * the same, but which grids are skipped depends on the order they
      * run in, so the micropolygon counts depend on the schedule.  0: off
      * (counts that match the C reference and every schedule). */
@@ -224,10 +224,10 @@ typedef struct reyes_options {
      * between patches (needs REYES_SUBDIVISION_TIERED and no displacement:
      * every edge settles on a flat segment of its base patch's line and
      * both sides reach the polyline of its curve at grid - 1 steps with
-     * wedge strips; docs/reyes.md),
+     * wedge strips; docs/reyes-dicing.md),
      * REYES_CRACK_FIX_NONE leaves them. */
     unsigned crack_fix;
-    /* Displacement along the normal (docs/reyes.md): REYES_DISPLACE_NONE
+    /* Displacement along the normal (docs/reyes-effects.md): REYES_DISPLACE_NONE
      * (default), _BUMPS (procedural noise bumps of height 0..amplitude) or
      * _MAP (grayscale PNG `displace_map`, bilinear at the base patch's
      * (u,v), white = amplitude).  Amplitude 0 renders as no displacement. */
@@ -251,7 +251,7 @@ typedef struct reyes_options {
     float aperture;
     float focus;
     unsigned time_samples;
-    /* How samples get their time and lens position (docs/reyes.md):
+    /* How samples get their time and lens position (docs/reyes-effects.md):
      * REYES_BLUR_SIMPLE, _INTERLEAVED (default) or _BBOX; interleaved uses
      * tiles of blur_tile x blur_tile pixels (default 4) and
      * blur_permutations permutations of their slots (default 8). */
@@ -276,6 +276,10 @@ typedef struct reyes_options {
     void (*progress)(void *user, const perma_progress *progress);
     void *progress_user;
     double progress_interval;
+    /* perma_config.trace_path, passed when the renderer is created: the
+     * Chrome trace file every perma run of the renderer adds its batches
+     * to.  NULL (default): PERMA_TRACE's, or none. */
+    const char *trace_path;
 } reyes_options;
 
 void reyes_options_init(reyes_options *options);

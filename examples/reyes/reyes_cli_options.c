@@ -134,7 +134,7 @@ void reyes_cli_describe(reyes_cli *cli, const char *program, reyes_cli_descripti
                           "view depth in focus (default: distance to the camera target)"),
           .open = PERMA_CLI_ABOVE_LOW },
         { PERMA_CLI_CHOICE_OF("blur-algo", "NAME", &r->blur_algo, reyes_blur_algo_name,
-                              "blur sampling (default interleaved; docs/reyes.md)") },
+                              "blur sampling (default interleaved; docs/reyes-effects.md)") },
         { PERMA_CLI_WHOLE("blur-tile", "K", &r->blur_tile, 1, REYES_MAX_BLUR_TILE,
                           "interleaved: tiles of KxK pixels (default 4)") },
         { PERMA_CLI_WHOLE("blur-permutations", "P", &r->blur_permutations, 1, REYES_MAX_BLUR_PERMUTATIONS,
@@ -199,6 +199,9 @@ void reyes_cli_describe(reyes_cli *cli, const char *program, reyes_cli_descripti
         { PERMA_CLI_CHOICE("occlusion", "on|off", &r->occlusion_cull, off_on_names,
                            "skip small grids hidden by what is already drawn (default on; shading rate only)") },
         { PERMA_CLI_TEXT("stats", "FILE", &cli->stats_path, "write statistics as JSON") },
+        { PERMA_CLI_TEXT("trace", "FILE", &r->trace_path,
+                         "write every perma run's batches to FILE as a Chrome trace (perma-trace-to-svg reads it; "
+                         "under mpirun each rank writes FILE with -rankN before its extension)") },
         { PERMA_CLI_FLAG("progress", &cli->progress, "show the progress line on stderr even when it is not a "
                                                      "terminal (under mpirun: rank 0's, for the whole job)") },
         { PERMA_CLI_FLAG("quiet", &cli->quiet, "print nothing but errors (no progress line, no summary)"),

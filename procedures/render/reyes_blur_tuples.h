@@ -1,5 +1,5 @@
 /* The (u,v,t) tuples of motion blur and depth of field, made on the host
- * and read by the rasterizer (reyes_blur.cl; docs/reyes.md). */
+ * and read by the rasterizer (reyes_blur.cl; docs/reyes-effects.md). */
 #ifndef REYES_BLUR_TUPLES_H
 #define REYES_BLUR_TUPLES_H
 

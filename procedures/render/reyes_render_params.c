@@ -79,7 +79,7 @@ static void set_blur(const reyes_camera *camera, const reyes_options *o, struct 
 
 /* Shading-rate counts (reyes_rate.cl): chords within a fiftieth of a
  * pixel of the surface on screen where it bends, in pieces no shorter
- * than half the rate's side in space (docs/reyes.md: what these buy and
+ * than half the rate's side in space (docs/reyes-dicing.md: what these buy and
  * cost). */
 #define REYES_RATE_SAG 0.02f
 #define REYES_RATE_MIN_PIECE 0.5f

@@ -94,6 +94,7 @@ static perma_status create_runtime(const reyes_options *options, unsigned group_
     config.progress = options->progress;
     config.progress_user = options->progress_user;
     config.progress_interval = options->progress_interval;
+    config.trace_path = options->trace_path;
     if (options->device)
         perma_config_set_device(&config, options->device);
     return perma_create(&config, rt, perr);

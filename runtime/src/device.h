@@ -10,7 +10,7 @@
 
 /* What the device is and how its OpenCL implementation behaves, found
  * once when it is opened (device.c).  Modules ask these instead of
- * testing the implementation where a quirk bites (docs/design.md,
+ * testing the implementation where a quirk bites (docs/design-runs.md,
  * Portability: quirk -> capability -> file). */
 typedef struct perma_device_caps {
     bool is_cpu;             /* CL_DEVICE_TYPE_CPU: groups at most the physical cores (device.c); its

@@ -62,6 +62,27 @@ static double cache_min_seconds(void)
     return end && *end ? 1.0 : seconds;
 }
 
+/* PERMA_STOP_GRACE: seconds in 0.1..3600, 10 when unset or empty. */
+static void stop_grace(perma_settings *out)
+{
+    out->stop_grace = 10.0;
+    out->stop_grace_error.status = PERMA_OK;
+    out->stop_grace_error.message[0] = '\0';
+    const char *text = getenv("PERMA_STOP_GRACE");
+    if (!text || !*text)
+        return;
+    char *end;
+    errno = 0;
+    double seconds = strtod(text, &end);
+    if (end == text || *end || errno || !(seconds >= 0.1 && seconds <= 3600.0)) {
+        out->stop_grace_error.status = PERMA_ERR_ARGUMENT;
+        snprintf(out->stop_grace_error.message, sizeof out->stop_grace_error.message,
+                 "PERMA_STOP_GRACE '%s' is not a number of seconds in 0.1..3600", text);
+        return;
+    }
+    out->stop_grace = seconds;
+}
+
 void perma_settings_read(perma_settings *out)
 {
     out->debug = flag("PERMA_DEBUG");
@@ -72,6 +93,7 @@ void perma_settings_read(perma_settings *out)
     text_of("PERMA_DUMP_PROGRAM", out->dump_program, sizeof out->dump_program);
     out->cache_dir_set = text_of("PERMA_CACHE_DIR", out->cache_dir, sizeof out->cache_dir);
     out->cache_min_seconds = cache_min_seconds();
+    stop_grace(out);
 }
 
 const char *perma_settings_device(char *out, size_t size)

@@ -24,6 +24,11 @@ typedef struct perma_settings {
     char cache_dir[PERMA_SETTING_MAX];    /* PERMA_CACHE_DIR ("": the default; "off", "0": none) */
     bool cache_dir_set;         /* PERMA_CACHE_DIR is set (even to "") */
     double cache_min_seconds;   /* PERMA_CACHE_MIN_SECONDS (1 when unset or not a number) */
+    /* PERMA_STOP_GRACE: the seconds a kernel told to stop gets before the
+     * run is given up (watchdog.c; 10 when unset or empty); a value that is
+     * not one is an error, stop_grace_error, at perma_create. */
+    double stop_grace;
+    perma_error stop_grace_error;
 } perma_settings;
 
 /* Read them all. */

@@ -114,6 +114,8 @@ perma_status perma_create(const perma_config *config, perma_runtime **out, perma
         if (rt->settings.local_memory_error.status != PERMA_OK)
             st = perma_take_error(rt, &rt->settings.local_memory_error);
     }
+    if (st == PERMA_OK && rt->settings.stop_grace_error.status != PERMA_OK)
+        st = perma_take_error(rt, &rt->settings.stop_grace_error);
     if (st == PERMA_OK)
         st = perma_device_open(rt);
     if (st == PERMA_OK)

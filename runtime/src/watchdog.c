@@ -5,8 +5,9 @@
  *     (kernels/perma_abi.h) where the host can see them while the kernel
  *     runs (rt->caps.watch_visible).
  * Either raises the abort flag every group polls and keeps the reason for
- * the error; a kernel that has not stopped GRACE_SECONDS later (a
- * procedure that never returns) is given up (rt->hung).
+ * the error; a kernel that has not stopped the grace period later
+ * (PERMA_STOP_GRACE, 10 s by default: a procedure that never returns) is
+ * given up (rt->hung).
  *
  * The wait sleeps on a condition variable that the completion callbacks
  * of events signal, so a short launch (a host-driven step) is not held up
@@ -46,8 +47,6 @@
 #include <time.h>
 #include <unistd.h>
 
-/* Seconds a kernel gets to notice the abort flag before we give up on it. */
-#define GRACE_SECONDS 10.0
 /* Most seconds between looks at the event, the clock and the watch page. */
 #define CHECK_SECONDS 0.05
 
@@ -326,7 +325,7 @@ static perma_status give_up(perma_runtime *rt)
     return perma_set_error(rt, PERMA_ERR_TIMEOUT,
                            "%s, and the kernel did not stop within %g s after being told to; this runtime can no "
                            "longer be used, and the kernel keeps a compute unit busy until the process exits",
-                           reason, GRACE_SECONDS);
+                           reason, rt->settings.stop_grace);
 }
 
 /* Wait for the command of `done`; past the deadline or the stall limit
@@ -377,7 +376,7 @@ static perma_status watch(perma_runtime *rt, cl_event done, double deadline)
             perma_state_raise_abort(rt);
             aborted_at = now;
         }
-        if (aborted_at != 0.0 && now > aborted_at + GRACE_SECONDS)
+        if (aborted_at != 0.0 && now > aborted_at + rt->settings.stop_grace)
             return give_up(rt);
         wait_for_callback(seen, now + pause);
         if (pause < (perma_trace_on_device(rt) ? PERMA_TRACE_SAMPLE_SECONDS : CHECK_SECONDS))

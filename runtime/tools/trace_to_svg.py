@@ -10,8 +10,9 @@ group time no batch ran (idle).  --json prints the same as one JSON object.
 With OUT.svg it also draws one row per track (work-group, or host steps) of
 every run, one box per batch, coloured by procedure.  The same file opens
 in Perfetto (ui.perfetto.dev) or chrome://tracing.  A run writes a trace when
-PERMA_TRACE names a file (or perma_config.trace_path).  Installed as
-perma-trace-to-svg; in the source tree runtime/tools/trace_to_svg.py.
+PERMA_TRACE names a file (or perma_config.trace_path; reyes-render and
+perma-bench take --trace FILE).  Installed as perma-trace-to-svg; in the
+source tree runtime/tools/trace_to_svg.py.
 
 exit status: 0 ok, 1 a trace that cannot be read or has no events, 2 bad usage
 """

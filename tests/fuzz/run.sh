@@ -123,7 +123,9 @@ for target in $targets; do
     done
 
     echo "fuzz_$target: fuzzing for $seconds s (log: $log)"
-    "$work/fuzz_$target" "$corpus" -dict="$here/$target.dict" \
+    # The corpus grows in $corpus; tests/fuzz/grown/TARGET (what earlier
+    # runs found, minimized) is read too, so a run starts where they ended.
+    "$work/fuzz_$target" "$corpus" "$here/grown/$target" -dict="$here/$target.dict" \
         -max_total_time="$seconds" -max_len="$max_len" -rss_limit_mb=2048 -timeout=10 \
         -error_exitcode=1 -timeout_exitcode=1 -print_final_stats=1 \
         -artifact_prefix="$artifacts/" >"$log" 2>&1

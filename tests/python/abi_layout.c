@@ -22,9 +22,14 @@ static int first_struct = 1, first_field;
 
 static int enums(void)
 {
-    printf("{\"PERMA_SCHEDULES_ALL\": %d, \"PERMA_SCHEDULES_VICTIMS_ONCE\": %d, "
-           "\"PERMA_SCHEDULES_DEFAULT_VICTIM\": %d}\n",
-           PERMA_SCHEDULES_ALL, PERMA_SCHEDULES_VICTIMS_ONCE, PERMA_SCHEDULES_DEFAULT_VICTIM);
+#define ENUM(V, LAST) printf("  \"%s\": %d%s\n", #V, (int)(V), (LAST) ? "" : ",")
+    printf("{\n");
+    ENUM(PERMA_SCHEDULES_ALL, 0); ENUM(PERMA_SCHEDULES_VICTIMS_ONCE, 0); ENUM(PERMA_SCHEDULES_DEFAULT_VICTIM, 0);
+    ENUM(PERMA_REDUCE_SUM, 0); ENUM(PERMA_REDUCE_MIN, 0); ENUM(PERMA_REDUCE_MAX, 0);
+    ENUM(PERMA_TYPE_UINT, 0); ENUM(PERMA_TYPE_INT, 0); ENUM(PERMA_TYPE_ULONG, 0); ENUM(PERMA_TYPE_LONG, 0);
+    ENUM(PERMA_TYPE_FLOAT, 0); ENUM(PERMA_TYPE_DOUBLE, 1);
+    printf("}\n");
+#undef ENUM
     return 0;
 }
 

@@ -21,10 +21,15 @@ MAX_DEPTH = 12
 SPLIT = """
 // A binary tree: a node of depth d > 0 has two children of depth d - 1;
 // every node adds weights[depth] to weight_sum, every leaf counts itself and
-// writes its id + 1 to leaf_ids[id].
+// writes its id + 1 to leaf_ids[id].  The reductions: nodes (ulong sum),
+// deepest (uint max), last_id (int min of -id), weight (double sum).
 void split(perma_ctx *ctx, __local const struct node *n)
 {
     atomic_add(&ctx->buf.weight_sum[0], ctx->buf.weights[n->depth]);
+    reduce_nodes(ctx, 1ul);
+    reduce_deepest(ctx, n->depth);
+    reduce_last_id(ctx, -(int)n->id);
+    reduce_weight(ctx, 0.5 * ctx->buf.weights[n->depth]);
     if (n->depth == 0u) {
         atomic_inc(&ctx->buf.leaves[0]);
         ctx->buf.leaf_ids[n->id] = n->id + 1u;
@@ -86,6 +91,10 @@ class Workloads:
         self.rt.bind('weight_sum', self.weight_sum)
         self.rt.bind('leaf_ids', self.leaf_ids, access='write')
         self.rt.bind('copies', self.copies)
+        self.rt.declare_reduction('nodes', 'sum', np.uint64)
+        self.rt.declare_reduction('deepest', 'max', np.uint32)
+        self.rt.declare_reduction('last_id', 'min', np.int32)
+        self.rt.declare_reduction('weight', 'sum', np.float64)
 
     def tree(self, *depths):
         """Run trees of these depths; returns the run's stats."""

@@ -34,4 +34,4 @@ def test_enum_values():
     if not program:
         pytest.skip('PERMA_ABI_LAYOUT (the abi_layout program meson builds) is not set')
     values = json.loads(subprocess.run([program, '--enums'], check=True, capture_output=True, text=True).stdout)
-    assert values == _capi.SCHEDULE_SETS
+    assert values == _capi.ENUMS

@@ -188,3 +188,25 @@ def test_time_limit(make_workloads):
         w.rt.run()
     check(info, perma.Status.TIMEOUT)
     assert isinstance(info.value, TimeoutError)  # the built-in one too
+
+
+def test_bad_reductions():
+    with perma.Runtime() as rt:
+        with pytest.raises(perma.ArgumentError, match=r"^reduction 'n': op 'avg' is not one of sum, min, max$") as info:
+            rt.declare_reduction('n', 'avg', np.uint32)
+        check(info, ARGUMENT)
+        for bad in (np.uint8, np.float16, 'U4', None, np.dtype('>u4')):
+            with pytest.raises(perma.ArgumentError, match=r"^reduction 'n': type .* is not one of numpy's uint32, "
+                               r"int32, uint64, int64, float32 or float64$"):
+                rt.declare_reduction('n', 'sum', bad)
+        with pytest.raises(perma.ArgumentError, match=r"name '2n' is not a C identifier"):
+            rt.declare_reduction('2n', 'sum', np.uint32)
+        rt.declare_reduction('n', 'max', np.int64)
+        with pytest.raises(perma.ArgumentError, match=r"reduction 'n' is already declared"):
+            rt.declare_reduction('n', 'sum', np.uint32)
+        with pytest.raises(perma.StateError, match=r"perma_get_reduction\('n'\): no result: no run has succeeded"
+                           ) as info:
+            rt.reduction('n')
+        check(info, perma.Status.STATE)
+        with pytest.raises(perma.ArgumentError, match=r"no reduction named 'm' is declared"):
+            rt.reduction('m')

@@ -37,6 +37,23 @@ def test_tree_counts_and_stats(workloads):
     assert w.rt.group_stats(0) == stats['groups'][0]
 
 
+def test_reductions(workloads):
+    w = workloads
+    stats = w.tree(12)
+    nodes = w.rt.reduction('nodes')
+    assert nodes == 8191 and nodes.dtype == np.uint64
+    deepest = w.rt.reduction('deepest')
+    assert deepest == 12 and deepest.dtype == np.uint32
+    assert w.rt.reduction('last_id') == -4095 and w.rt.reduction('last_id').dtype == np.int32
+    assert w.rt.reduction('weight') == tree_weight(12, w.weights) / 2
+    assert stats['reductions'] == {'nodes': 8191, 'deepest': 12, 'last_id': -4095,
+                                   'weight': tree_weight(12, w.weights) / 2}
+    assert [type(v) for v in stats['reductions'].values()] == [np.uint64, np.uint32, np.int32, np.float64]
+    w.tree(3, 0)  # each run starts from the identities
+    assert w.rt.stats()['reductions'] == {'nodes': 15 + 1, 'deepest': 3, 'last_id': -7,
+                                          'weight': (tree_weight(3, w.weights) + tree_weight(0, w.weights)) / 2}
+
+
 def test_several_roots_in_one_run(workloads):
     w = workloads
     stats = w.tree(3, 5, 0)

@@ -5,7 +5,7 @@
  * covered pixel and the distribution of their areas, cracks (see-through
  * samples and holes at 1 sample per pixel, at the renderer's own sample
  * positions) and the mean FLIP error (reyes_flip.h).  The numbers of
- * docs/reyes.md's quality tables; not a test (the tests check the same
+ * docs/reyes-measurements.md's quality tables; not a test (the tests check the same
  * things on fewer views).
  *
  *   reyes-quality [--size N] [--spp N] [--rate R] [--crack-fix NAME] [--no-grid] [--cracks] [--dump DIR]
@@ -121,7 +121,7 @@ int main(int argc, char **argv)
         { PERMA_CLI_TEXT("dump", "DIR", &s.dump, "write each render, its reference and their error as PNGs here") },
         { PERMA_CLI_CUSTOM("views", "a,e,d/...", parse_views, &s,
                            "views: azimuth,elevation (degrees about the framed camera's target), distance (in "
-                           "framed distances), separated by '/' (default: docs/reyes.md's 7)") },
+                           "framed distances), separated by '/' (default: docs/reyes-measurements.md's 7)") },
     };
     const perma_cli_table table = { "options", rows, sizeof rows / sizeof rows[0] };
     const perma_cli_option model_row = { PERMA_CLI_CUSTOM(NULL, "MODEL", add_model, &s, NULL) };
@@ -129,7 +129,7 @@ int main(int argc, char **argv)
         .program = "reyes-quality",
         .synopsis = "[options] MODEL...",
         .about = "Render each model from several views with fixed grids and with a shading rate, hold\n"
-                 "each against the brute-force reference and print a line per render (docs/reyes.md's\n"
+                 "each against the brute-force reference and print a line per render (docs/reyes-measurements.md's\n"
                  "quality tables).  MODEL: a .bpt file, builtin or subdivision[:LEVELS][:loose].",
         .tables = &table,
         .table_count = 1,

@@ -118,7 +118,7 @@ START_TEST(test_killeroo)
 END_TEST
 
 /* The teapot and killeroo with the cameras of the speed benchmark
- * (docs/reyes.md) equal the C reference's images within rounding. */
+ * (docs/reyes-measurements.md) equal the C reference's images within rounding. */
 START_TEST(test_models_match_reference)
 {
     static const struct {

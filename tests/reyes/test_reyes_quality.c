@@ -1,6 +1,6 @@
 /*
  * The command's default dicing (shading rate 1) held to fixed 16x16 grids
- * and to the brute-force reference (issue 25, docs/reyes.md *Dicing to a
+ * and to the brute-force reference (docs/reyes-dicing.md *Dicing to a
  * shading rate*): no sample sees through a crack (1 sample per pixel, at
  * the renderer's own sample positions), at most 4 micropolygons per
  * covered pixel, and a FLIP error against the converged image (16
@@ -25,7 +25,7 @@
  * are held within 1 %, the resolution of these comparisons (they differ by
  * a few millionths on views where the two images are equally good, and
  * rounding on another OpenCL implementation may tip those either way).
- * docs/reyes.md has the views of ../shared's models that the defaults do
+ * docs/reyes-measurements.md has the views of ../shared's models that the defaults do
  * not bring within the targets. */
 typedef struct bounds {
     double density, flip_slack;
@@ -315,7 +315,7 @@ static Suite *suite(void)
 
 /* Every model framed and small on screen (2.5 times as far), held to
  * issue 25's targets where the defaults meet them and elsewhere to the
- * bound measured (docs/reyes.md: small on screen the teaspoon's FLIP
+ * bound measured (docs/reyes-measurements.md: small on screen the teaspoon's FLIP
  * error is 7 % above the fixed grids', whose silhouettes are exact to a
  * thousandth of a pixel).  The killeroo's 11532 small patches meet 4
  * micropolygons per covered pixel only with occlusion culling (2.30 and
@@ -346,7 +346,7 @@ START_TEST(test_models)
 END_TEST
 
 /* The two views that took the most micropolygons per covered pixel
- * (docs/reyes.md, view 6: 4 framed distances away, at 512x512): the
+ * (docs/reyes-measurements.md, view 6: 4 framed distances away, at 512x512): the
  * killeroo's 11532 sub-pixel patches meet 4 only because occlusion
  * culling skips the grids just behind the surface that hides them (its
  * margin at 1/256 of the depth: 4.7; 3.91-3.98 measured, held to 4.25

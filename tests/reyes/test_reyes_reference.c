@@ -2,7 +2,7 @@
  * Renders held against the brute-force reference (reyes_brute.h): the
  * built-in scene from several views and, with REYES_MODELS_DIR (suite
  * 'shared'), the teapot.  Each comparison prints its numbers
- * (docs/reyes.md quotes them).
+ * (docs/reyes-measurements.md quotes them).
  */
 #include <check.h>
 #include <math.h>
@@ -116,7 +116,7 @@ static void expect_views_close(const reyes_scene *scene, const reyes_camera *fra
     }
 }
 
-/* Wedges overhang nothing (docs/reyes.md): they add no more samples that
+/* Wedges overhang nothing (docs/reyes-dicing.md): they add no more samples that
  * the reference leaves empty or sees on another surface, and no more
  * badly wrong pixels, than the same render without a crack fix (the
  * grids alone), give or take `slack`. */

@@ -1,5 +1,5 @@
 /* The configuration perma_create takes (runtime.c): bad values named by
- * field, and PERMA_DEBUG's one work-group. */
+ * field, PERMA_STOP_GRACE's, and PERMA_DEBUG's one work-group. */
 #include "perma_test.h"
 
 #include <stdio.h>
@@ -23,6 +23,31 @@ START_TEST(bad_config_values)
     config.group_size = 100000;
     ck_assert_int_eq(perma_create(&config, &rt, &error), PERMA_ERR_ARGUMENT);
     ck_assert_contains(error.message, "config.group_size 100000");
+}
+END_TEST
+
+/* PERMA_STOP_GRACE: seconds in 0.1..3600; anything else fails
+ * perma_create naming the variable and its value (test_watchdog runs a
+ * stuck kernel under a value and checks the message quotes it). */
+START_TEST(bad_stop_grace)
+{
+    const char *const bad[] = { "x", "0", "-1", "0.05", "3601", "5s", "nan", "inf" };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
+        setenv("PERMA_STOP_GRACE", bad[i], 1);
+        perma_config config;
+        perma_config_init(&config);
+        perma_runtime *rt = NULL;
+        perma_error error;
+        ck_assert_int_eq(perma_create(&config, &rt, &error), PERMA_ERR_ARGUMENT);
+        ck_assert_ptr_null(rt);
+        char expected[128];
+        snprintf(expected, sizeof expected, "PERMA_STOP_GRACE '%s' is not a number of seconds in 0.1..3600", bad[i]);
+        ck_assert_contains(error.message, expected);
+    }
+    setenv("PERMA_STOP_GRACE", "", 1); /* empty: the default, as unset */
+    perma_runtime *rt = test_runtime(64, 0, 0);
+    perma_destroy(rt);
+    unsetenv("PERMA_STOP_GRACE");
 }
 END_TEST
 
@@ -59,4 +84,4 @@ START_TEST(debug_mode)
 }
 END_TEST
 
-PERMA_TEST_MAIN("config", bad_config_values, debug_mode)
+PERMA_TEST_MAIN("config", bad_config_values, bad_stop_grace, debug_mode)

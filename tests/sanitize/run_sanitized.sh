@@ -11,11 +11,13 @@ if [ ! -f "$dir/build.ninja" ]; then
     meson setup "$dir" "$source" -Db_sanitize=address,undefined -Db_lundef=false \
         -Dsanitize_suite=false >/dev/null
 fi
-ninja -C "$dir" >/dev/null
 export LSAN_OPTIONS="suppressions=$source/tests/sanitize/lsan.supp:print_suppressions=0"
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0"
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
-meson test -C "$dir" --no-rebuild --print-errorlogs \
+# meson test builds what these tests need (their executables and what
+# they depend on), not the whole project: the benchmarks, other examples
+# and the man pages are not sanitized here.
+meson test -C "$dir" --print-errorlogs \
     tree@megakernel-shared tree@megakernel-stealing-donation chain@megakernel-stealing \
     chain@kernel-per-procedure overflow@megakernel-shared overflow@megakernel-stealing-local-queue \
     overflow@bounded-batches cooperative@megakernel-shared trace@megakernel-stealing \

@@ -33,6 +33,7 @@ Cases:
   queens-killed  a rank of perma-queens killed: rank 0 says so
   queens-stuck   a rank of perma-queens stopped: --rank-timeout ends the job
 """
+import json
 import os
 import re
 import signal
@@ -109,7 +110,9 @@ def case_buckets(args, tmp):
     if args.ranks == 2:
         extra = ['--coordinator-only']
     else:
+        # Every rank renders, each tracing to its own file (--trace: FILE-rankN).
         extra = ['--devices', '0:0/2'] if splittable(args.program, tmp) else []
+        extra += ['--trace', os.path.join(tmp, 'trace.json')]
     status, out = run(mpirun_command(args.mpirun, args.ranks) + [args.program, '-o', spread, '--progress'] + RENDER
                       + extra, tmp)
     expect(status == 0, 'mpirun -n %d failed' % args.ranks, out)
@@ -119,6 +122,15 @@ def case_buckets(args, tmp):
     taken = [int(n) for n in re.findall(r'rank \d+, device \S+: (\d+) buckets', out)]
     renderers = args.ranks - (1 if extra == ['--coordinator-only'] else 0)
     expect(len(taken) == renderers and sum(taken) == 24, 'the ranks did not take 24 buckets', out)
+    if '--trace' in extra:
+        traces = sorted(f for f in os.listdir(tmp) if f.startswith('trace'))
+        expect(traces == ['trace-rank%d.json' % r for r in range(args.ranks)],
+               'expected a trace per rank, found %s' % traces, out)
+        for rank, buckets in enumerate(taken):
+            events = json.loads(read(os.path.join(tmp, traces[rank])))['traceEvents']
+            batches = [e for e in events if e.get('ph') == 'X' and e.get('name') == 'dice']
+            expect(not buckets or batches, 'rank %d rendered %d buckets but traced no dice batch' % (rank, buckets),
+                   out)
     print(out)
 
 

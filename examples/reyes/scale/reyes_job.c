@@ -108,6 +108,8 @@ reyes_status reyes_job_check_outputs(const reyes_job *job, const char *stats_pat
     reyes_status status = reyes_check_output(path, job->frames ? "--frames" : "--output", error);
     if (status == REYES_OK && stats_path)
         status = reyes_check_output(stats_path, "--stats", error);
+    if (status == REYES_OK && job->options.trace_path)
+        status = reyes_check_output(job->options.trace_path, "--trace", error);
     return status;
 }
 

@@ -93,6 +93,7 @@ typedef struct rank_setup {
     int have_job;
     reyes_status status;       /* of the setup */
     reyes_error error;
+    char trace_path[4200];     /* --trace FILE as this rank writes it: FILE-rankN */
 } rank_setup;
 
 /* Frames are numbered from 1 in messages, as in their file names. */
@@ -146,6 +147,14 @@ static void setup_rank(rank_setup *s, const reyes_cli *cli)
     s->have_job = 1;
     if (s->status == REYES_OK)
         s->job.options.device = &s->device;
+    if (s->status == REYES_OK && cli->render.trace_path) {
+        /* Ranks are processes: one trace file each (trace.json: trace-rank1.json). */
+        const char *path = cli->render.trace_path, *slash = strrchr(path, '/');
+        const char *dot = strrchr(slash ? slash + 1 : path, '.');
+        int stem = dot && dot != (slash ? slash + 1 : path) ? (int)(dot - path) : (int)strlen(path);
+        snprintf(s->trace_path, sizeof s->trace_path, "%.*s-rank%d%s", stem, path, s->rank, path + stem);
+        s->job.options.trace_path = s->trace_path;
+    }
 }
 
 /* Every rank compares its job with rank 0's before rendering; 0 when they

@@ -7,16 +7,27 @@ here fails a test instead of corrupting memory.  Adding a C function to the
 binding is one entry in PROTOTYPES and a method that calls it.
 """
 import ctypes
-import ctypes.util
-import os
 from ctypes import POINTER, c_char, c_char_p, c_double, c_int, c_size_t, c_uint, c_uint64, c_void_p
+
+from . import _locate
 
 try:
     from . import _configured  # written by meson into the build tree and the installed package
-except ImportError:            # the package run from the source tree: PERMA_LIBRARY or the system's
+except ImportError:            # installed with pip, or run from the source tree
     _configured = None
 
-VERSION = _configured.VERSION if _configured else '(source tree)'
+
+def _version():
+    if _configured:
+        return _configured.VERSION
+    try:
+        from importlib.metadata import PackageNotFoundError, version
+        return version('perma')
+    except (ImportError, PackageNotFoundError):
+        return '(source tree)'
+
+
+VERSION = _version()
 
 NAME_MAX = 63
 MAX_EMITS = 8
@@ -100,6 +111,11 @@ STRUCTS = {'perma_error': Error, 'perma_schedule': Schedule, 'perma_config': Con
 
 # perma_schedule_set (perma.h) by its C names (the layout test checks the values).
 SCHEDULE_SETS = {'PERMA_SCHEDULES_ALL': 0, 'PERMA_SCHEDULES_VICTIMS_ONCE': 1, 'PERMA_SCHEDULES_DEFAULT_VICTIM': 2}
+# perma_reduce_op and perma_value_type (perma.h), likewise.
+REDUCE_OPS = {'PERMA_REDUCE_SUM': 0, 'PERMA_REDUCE_MIN': 1, 'PERMA_REDUCE_MAX': 2}
+VALUE_TYPES = {'PERMA_TYPE_UINT': 0, 'PERMA_TYPE_INT': 1, 'PERMA_TYPE_ULONG': 2, 'PERMA_TYPE_LONG': 3,
+               'PERMA_TYPE_FLOAT': 4, 'PERMA_TYPE_DOUBLE': 5}
+ENUMS = dict(SCHEDULE_SETS, **REDUCE_OPS, **VALUE_TYPES)
 
 RT = c_void_p  # perma_runtime *
 STATUS = c_int
@@ -126,6 +142,8 @@ PROTOTYPES = {
     'perma_bind_host': (STATUS, [RT, c_char_p, c_char_p, c_void_p, c_size_t, c_uint]),
     'perma_build': (STATUS, [RT]),
     'perma_seed': (STATUS, [RT, c_int, c_void_p, c_size_t]),
+    'perma_declare_reduction': (STATUS, [RT, c_char_p, c_int, c_int, c_void_p]),
+    'perma_get_reduction': (STATUS, [RT, c_char_p, c_int, c_void_p]),
     'perma_forget_capacities': (STATUS, [RT]),
     'perma_run': (STATUS, [RT]),
     'perma_get_stats': (STATUS, [RT, POINTER(Stats)]),
@@ -137,32 +155,18 @@ PROTOTYPES = {
 }
 
 
-def library_candidates():
-    """Where to look for libperma, in order."""
-    explicit = os.environ.get('PERMA_LIBRARY')
-    if explicit:
-        return [explicit]
-    found = ctypes.util.find_library('perma')
-    return (_configured.library_paths() if _configured else []) + ([found] if found else []) + ['libperma.so.0']
-
-
 def load():
-    """libperma with every function of PROTOTYPES declared; ImportError saying where it looked."""
-    tried = []
-    for path in library_candidates():
-        try:
-            lib = ctypes.CDLL(path)
-            break
-        except OSError as error:
-            tried.append('%s (%s)' % (path, error))
-    else:
-        raise ImportError('perma: cannot load libperma; tried %s.  Set PERMA_LIBRARY to the path of '
-                          'libperma.so, e.g. build/runtime/libperma.so in a build tree' % '; '.join(tried))
+    """libperma (_locate.py says where it looks) with every function of PROTOTYPES declared."""
+    lib, path = _locate.load(configured=_configured.library_paths() if _configured else None)
     for name, (restype, argtypes) in PROTOTYPES.items():
-        function = getattr(lib, name)
+        try:
+            function = getattr(lib, name)
+        except AttributeError:
+            raise ImportError('perma: %s has no %s: a libperma older than this package (%s)'
+                              % (path, name, VERSION)) from None
         function.restype = restype
         function.argtypes = argtypes
-    return lib
+    return lib, path
 
 
-lib = load()
+lib, LIBRARY = load()

@@ -9,6 +9,7 @@ from ._capi import lib
 from .cltypes import cl_declaration, scalar_type
 from .devices import Device, devices
 from .errors import ArgumentError, StateError, check
+from .reductions import reduce_op, value_type
 from .schedule import parse_schedule
 from .stats import group_stats_dict, procedure_stats_dict, stats_dict, stats_text
 
@@ -96,6 +97,7 @@ class Runtime:
         self._handle = handle
         self._buffers = {}      # name -> the numpy array perma copies from and to
         self._types = []        # (dtype, OpenCL type) declared with add_type
+        self._reductions = {}   # name -> (dtype, perma_value_type) declared with declare_reduction
         self.procedures = {}    # name -> Procedure
 
     @staticmethod
@@ -233,6 +235,26 @@ class Runtime:
         self._check(lib.perma_seed(self._rt(), procedure.handle, items.ctypes.data_as(ctypes.c_void_p),
                                    items.size))
 
+    def declare_reduction(self, name, op, dtype):
+        """Declare reduction NAME (perma_declare_reduction) before the run that uses it.
+
+        Procedures call reduce_NAME(ctx, value) with a value of dtype's
+        OpenCL C type; op is 'sum', 'min' or 'max'; dtype one of numpy's
+        uint32, int32, uint64, int64, float32, float64.  The result of each
+        run: reduction(name), or stats()['reductions'][name]."""
+        code = reduce_op(op, name)
+        dtype, vtype = value_type(dtype, name)
+        self._check(lib.perma_declare_reduction(self._rt(), _bytes(name, 'name'), code, vtype, None))
+        self._reductions[name] = (dtype, vtype)
+
+    def reduction(self, name):
+        """The last run's result of reduction NAME as a numpy scalar of its type (perma_get_reduction)."""
+        dtype, vtype = self._reductions.get(name, (np.dtype(np.uint32), 0))  # unknown: libperma names it
+        out = np.zeros(1, dtype)
+        self._check(lib.perma_get_reduction(self._rt(), _bytes(name, 'name'), vtype,
+                                            out.ctypes.data_as(ctypes.c_void_p)))
+        return out[0]
+
     def _procedure(self, procedure):
         if isinstance(procedure, str):
             return self.find(procedure)
@@ -281,12 +303,17 @@ class Runtime:
         return group_stats_dict(out)
 
     def stats(self):
-        """The last run's statistics as a dict, with 'procedures' (by name) and 'groups' (a list)."""
+        """The last run's statistics as a dict, with 'procedures' (by name), 'groups' (a list) and
+        'reductions' (by name; empty when no run has succeeded since the last declaration)."""
         out = _capi.Stats()
         self._check(lib.perma_get_stats(self._rt(), byref(out)))
         result = stats_dict(out)
         result['procedures'] = {name: self.procedure_stats(p) for name, p in self.procedures.items()}
         result['groups'] = [self.group_stats(g) for g in range(self.work_groups[0])]
+        try:
+            result['reductions'] = {name: self.reduction(name) for name in self._reductions}
+        except StateError:
+            result['reductions'] = {}
         return result
 
     def stats_text(self):
