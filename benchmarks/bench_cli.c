@@ -63,5 +63,21 @@ perma_cli_status bench_parse(bench_options *options, const char *synopsis, const
         .table_count = count ? 2 : 1,
         .notes = BENCH_EXIT_STATUS,
     };
-    return perma_cli_parse(&cli, argc, argv, message, sizeof message);
+    perma_cli_status status = perma_cli_parse(&cli, argc, argv, message, sizeof message);
+    const perma_file_role csv = { options->csv_path, "--csv", 1 };
+    return status == PERMA_CLI_OK ? perma_cli_check_files(&cli, &csv, 1, message, sizeof message) : status;
+}
+
+perma_cli_status bench_check_inputs(const bench_options *options, const char *command, const perma_file_role *inputs,
+                                    size_t count)
+{
+    perma_file_role files[8];
+    char program[64], message[PERMA_CLI_MESSAGE_MAX];
+    if (count + 1 > sizeof files / sizeof files[0])
+        count = sizeof files / sizeof files[0] - 1;
+    memcpy(files, inputs, count * sizeof *inputs);
+    files[count] = (perma_file_role){ options->csv_path, "--csv", 1 };
+    snprintf(program, sizeof program, "perma-bench %s", command);
+    const perma_cli cli = { .program = program };
+    return perma_cli_check_files(&cli, files, count + 1, message, sizeof message);
 }

@@ -204,6 +204,8 @@ int main(int argc, char **argv)
     /* Under mpirun every rank parses the same line; rank 0 speaks. */
     int quiet = reyes_mpi_launched() && reyes_mpi_launched_rank() != 0;
     perma_cli_status parsed = reyes_cli_parse(argc, argv, &cli, message, sizeof message);
+    if (parsed == PERMA_CLI_OK)
+        parsed = reyes_cli_check_files(&cli, message, sizeof message);
     int code = EXIT_SUCCESS;
     if (parsed == PERMA_CLI_USAGE) {
         if (!quiet)

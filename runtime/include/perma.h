@@ -829,6 +829,27 @@ perma_status perma_output_commit(perma_output *out, perma_error *error);
 /* Give up: remove the temporary file and free `out` (NULL is fine). */
 void perma_output_discard(perma_output *out);
 
+/* A file a program reads or writes, as its command line names it. */
+typedef struct perma_file_role {
+    const char *path;   /* NULL or "": not used */
+    const char *name;   /* the option or role, in messages: "--output", "--stats", "the model" */
+    int written;        /* 1: an output; 0: an input */
+} perma_file_role;
+
+/* Refuse files that would overwrite each other: PERMA_ERR_ARGUMENT when
+ * two outputs are the same file or an output is the same file as an
+ * input (inputs may repeat), the message naming both, e.g. "--stats
+ * 'a.png' and --output 'a.png' are the same file: one would overwrite the
+ * other", "--output 'm.bpt' is the same file as the model 'm.bpt', which
+ * it would overwrite".  The trace that the PERMA_TRACE environment
+ * variable names counts as an output named "PERMA_TRACE".  Where a path
+ * exists, the same file is the same device and inode (through symbolic
+ * and hard links, "./" and ".."); where it does not, the same absolute
+ * path once its directory is resolved.  A device or named pipe that is
+ * there (/dev/null) is written in place and clashes with nothing.  For
+ * the command line, before any work; the first clash is reported. */
+perma_status perma_check_distinct_files(const perma_file_role *files, size_t count, perma_error *error);
+
 #ifdef __cplusplus
 }
 #endif

@@ -40,6 +40,7 @@
 #include <math.h> /* INFINITY, the bound of a FLOAT or DOUBLE row without one */
 #include <stddef.h>
 #include <stdio.h>
+#include <perma.h> /* perma_file_role */
 
 #define PERMA_CLI_MESSAGE_MAX 512 /* room for any message of the engine */
 #define PERMA_CLI_EXIT_USAGE 2    /* the exit status of bad usage */
@@ -152,6 +153,12 @@ perma_cli_status perma_cli_parse(const perma_cli *cli, int argc, char **argv, ch
  * PERMA_CLI_USAGE. */
 perma_cli_status perma_cli_fail(const perma_cli *cli, char *message, size_t size, const char *format, ...)
     __attribute__((format(printf, 4, 5)));
+
+/* The files of a parsed command line (perma_check_distinct_files): two
+ * outputs that are one file, or an output that is an input, are bad
+ * usage, said as perma_cli_fail says it; else PERMA_CLI_OK. */
+perma_cli_status perma_cli_check_files(const perma_cli *cli, const perma_file_role *files, size_t count,
+                                       char *message, size_t size);
 
 /* "PROGRAM: MESSAGE (see --help)" on stderr: how bad usage is said. */
 void perma_cli_print_error(const char *program, const char *message);
