@@ -28,6 +28,18 @@
  * what went wrong, naming the procedure, parameter, file or OpenCL call.
  * The library never calls exit() or abort().
  *
+ * Threads.  Different runtimes run at once in different threads (a
+ * runtime per device or sub-device; perma_run blocks its thread).  One
+ * runtime takes one call at a time: a call on it while another call on it
+ * has not returned (from another thread, or from a progress or build-log
+ * callback inside it) fails with PERMA_ERR_STATE and changes nothing;
+ * perma_errmsg in the refused call's thread names both calls, and the
+ * running call goes on undisturbed.  perma_print_stats then prints that
+ * message instead of the table.  The exceptions, callable from any thread
+ * at any time: perma_get_progress, perma_errmsg, perma_device_summary and
+ * perma_cl_context/_device/_queue.  perma_destroy must not overlap any
+ * other call on the runtime.
+ *
  * Device side.  A procedure is an OpenCL C function
  *
  *     void NAME(perma_ctx *ctx, __local const ITEM_TYPE *item);

@@ -62,10 +62,8 @@ static perma_status binding_for(perma_runtime *rt, const char *name, const char 
     return PERMA_OK;
 }
 
-perma_status perma_bind_cl(perma_runtime *rt, const char *name, const char *type, cl_mem buffer)
+static perma_status bind_cl_call(perma_runtime *rt, const char *name, const char *type, cl_mem buffer)
 {
-    if (!rt)
-        return PERMA_ERR_ARGUMENT;
     perma_status begun = perma_call_begin(rt, "perma_bind_cl", true);
     if (begun != PERMA_OK)
         return begun;
@@ -78,6 +76,11 @@ perma_status perma_bind_cl(perma_runtime *rt, const char *name, const char *type
     PERMA_CL_CHECK(rt, "clRetainMemObject", clRetainMemObject(buffer));
     b->mem = buffer;
     return PERMA_OK;
+}
+
+perma_status perma_bind_cl(perma_runtime *rt, const char *name, const char *type, cl_mem buffer)
+{
+    PERMA_EXCLUSIVE_CALL(rt, "perma_bind_cl", bind_cl_call(rt, name, type, buffer));
 }
 
 /* Bind host memory under `name` for the public call `call`; *out: the
@@ -101,7 +104,7 @@ static perma_status bind_host(perma_runtime *rt, const char *call, const char *n
         return st;
     char what[PERMA_NAME_MAX + 16];
     snprintf(what, sizeof what, "buffer '%s'", b->name);
-    st = perma_check_memory(rt, bytes, what);
+    st = perma_memory_check(rt, bytes, what);
     if (st != PERMA_OK)
         return st;
     cl_int err;
@@ -114,23 +117,25 @@ static perma_status bind_host(perma_runtime *rt, const char *call, const char *n
     return PERMA_OK;
 }
 
+static perma_status bind_host_call(perma_runtime *rt, const char *name, const char *type,
+                                   void *host, size_t bytes, unsigned flags)
+{
+    perma_buffer_binding *b;
+    return bind_host(rt, "perma_bind_host", name, type, host, bytes, flags, &b);
+}
+
 perma_status perma_bind_host(perma_runtime *rt, const char *name, const char *type,
                              void *host, size_t bytes, unsigned flags)
 {
-    if (!rt)
-        return PERMA_ERR_ARGUMENT;
-    perma_buffer_binding *b;
-    return bind_host(rt, "perma_bind_host", name, type, host, bytes, flags, &b);
+    PERMA_EXCLUSIVE_CALL(rt, "perma_bind_host", bind_host_call(rt, name, type, host, bytes, flags));
 }
 
 /* The typed binding (PERMA_BIND_HOST_ARRAY): the pointer type is made from
  * the element type, and the build checks the element's size on the device
  * (abi.c). */
-perma_status perma_bind_host_array(perma_runtime *rt, const char *name, const char *element_type, void *host,
-                                   size_t count, size_t element_size, unsigned flags)
+static perma_status bind_host_array_call(perma_runtime *rt, const char *name, const char *element_type, void *host,
+                                         size_t count, size_t element_size, unsigned flags)
 {
-    if (!rt)
-        return PERMA_ERR_ARGUMENT;
     perma_call_begin(rt, "perma_bind_host_array", false);
     const char *shown = name ? name : "(null)";
     if (!element_type || !*element_type || strpbrk(element_type, "*;{}[]()\n"))
@@ -166,6 +171,13 @@ perma_status perma_bind_host_array(perma_runtime *rt, const char *name, const ch
         b->element_size = element_size;
     }
     return PERMA_OK;
+}
+
+perma_status perma_bind_host_array(perma_runtime *rt, const char *name, const char *element_type, void *host,
+                                   size_t count, size_t element_size, unsigned flags)
+{
+    PERMA_EXCLUSIVE_CALL(rt, "perma_bind_host_array",
+                         bind_host_array_call(rt, name, element_type, host, count, element_size, flags));
 }
 
 perma_status perma_buffers_copy(perma_runtime *rt, unsigned flag)

@@ -40,10 +40,8 @@ static void invalidate_build(perma_runtime *rt)
     rt->built = false;
 }
 
-perma_status perma_add_source(perma_runtime *rt, const char *source, const char *file)
+static perma_status add_source_call(perma_runtime *rt, const char *source, const char *file)
 {
-    if (!rt)
-        return PERMA_ERR_ARGUMENT;
     perma_status begun = perma_call_begin(rt, "perma_add_source", true);
     if (begun != PERMA_OK)
         return begun;
@@ -60,6 +58,11 @@ perma_status perma_add_source(perma_runtime *rt, const char *source, const char 
     rt->source_count++;
     invalidate_build(rt);
     return PERMA_OK;
+}
+
+perma_status perma_add_source(perma_runtime *rt, const char *source, const char *file)
+{
+    PERMA_EXCLUSIVE_CALL(rt, "perma_add_source", add_source_call(rt, source, file));
 }
 
 /* Check every field of a description; the message names the field. */
@@ -118,10 +121,8 @@ static perma_status validate(perma_runtime *rt, const perma_procedure *d)
     return PERMA_OK;
 }
 
-perma_status perma_register(perma_runtime *rt, const perma_procedure *d, perma_proc *out)
+static perma_status register_call(perma_runtime *rt, const perma_procedure *d, perma_proc *out)
 {
-    if (!rt)
-        return PERMA_ERR_ARGUMENT;
     perma_status begun = perma_call_begin(rt, "perma_register", true);
     if (begun != PERMA_OK)
         return begun;
@@ -168,10 +169,13 @@ perma_status perma_register(perma_runtime *rt, const perma_procedure *d, perma_p
     return PERMA_OK;
 }
 
-perma_status perma_find(perma_runtime *rt, const char *name, perma_proc *out)
+perma_status perma_register(perma_runtime *rt, const perma_procedure *d, perma_proc *out)
 {
-    if (!rt)
-        return PERMA_ERR_ARGUMENT;
+    PERMA_EXCLUSIVE_CALL(rt, "perma_register", register_call(rt, d, out));
+}
+
+static perma_status find_call(perma_runtime *rt, const char *name, perma_proc *out)
+{
     perma_call_begin(rt, "perma_find", false);
     if (!out)
         return perma_set_error(rt, PERMA_ERR_ARGUMENT, "perma_find('%s'): out is NULL", name ? name : "(null)");
@@ -184,10 +188,13 @@ perma_status perma_find(perma_runtime *rt, const char *name, perma_proc *out)
     return perma_set_error(rt, PERMA_ERR_ARGUMENT, "no procedure named '%s'", name ? name : "(null)");
 }
 
-perma_status perma_seed(perma_runtime *rt, perma_proc proc, const void *items, size_t count)
+perma_status perma_find(perma_runtime *rt, const char *name, perma_proc *out)
 {
-    if (!rt)
-        return PERMA_ERR_ARGUMENT;
+    PERMA_EXCLUSIVE_CALL(rt, "perma_find", find_call(rt, name, out));
+}
+
+static perma_status seed_call(perma_runtime *rt, perma_proc proc, const void *items, size_t count)
+{
     perma_status begun = perma_call_begin(rt, "perma_seed", true);
     if (begun != PERMA_OK)
         return begun;
@@ -217,4 +224,9 @@ perma_status perma_seed(perma_runtime *rt, perma_proc proc, const void *items, s
     memcpy(p->seeds + p->seed_count * p->item_size, items, count * p->item_size);
     p->seed_count += count;
     return PERMA_OK;
+}
+
+perma_status perma_seed(perma_runtime *rt, perma_proc proc, const void *items, size_t count)
+{
+    PERMA_EXCLUSIVE_CALL(rt, "perma_seed", seed_call(rt, proc, items, count));
 }
