@@ -448,7 +448,7 @@ typedef struct perma_emit {
 
 /* A procedure, in the spirit of StarPU's codelet. */
 typedef struct perma_procedure {
-    const char *name;         /* C identifier, unique; also the queue name */
+    const char *name;         /* C identifier, unique, not reserved (Names, below); also the queue name */
     const char *item_type;    /* OpenCL C type of one item, e.g. "struct node" */
     size_t item_size;         /* sizeof(item_type) on the device: 4..65536, multiple of 4 */
     unsigned threads_per_item;/* 1..group size; 0 means 1 */
@@ -481,7 +481,21 @@ enum {
  * `type` (e.g. "__global float *", "__global const struct patch *").
  * Bind every name before the first run; binding the same name again later
  * (same type) swaps the memory.  perma_bind_cl uses the caller's cl_mem
- * (not released by perma); perma_bind_host copies `bytes` of host memory. */
+ * (not released by perma); perma_bind_host copies `bytes` of host memory,
+ * which must be a whole number of elements when `type` points to a
+ * built-in scalar or vector ("__global uint *": a multiple of 4).
+ *
+ * Names.  Procedure, function, buffer and reduction names are C
+ * identifiers that the generated program can take: an OpenCL C keyword or
+ * type ("kernel", "int", "global", "float4"), a name beginning with perma_
+ * or PERMA_ (the runtime's own) or reserved for the compiler ("__x",
+ * "_X") is PERMA_ERR_ARGUMENT where it is given, naming it and why.
+ *
+ * PERMA_CHECK_BOUNDS=1 in the environment (read by perma_create): 1024
+ * guard words follow every perma_bind_host buffer on the device, set
+ * before each run and compared after it; a procedure that wrote into them
+ * fails the run with PERMA_ERR_DEVICE naming the buffer, before anything
+ * is copied back (docs/writing-procedures.md, Debugging). */
 perma_status perma_bind_cl(perma_runtime *rt, const char *name, const char *type, cl_mem buffer);
 perma_status perma_bind_host(perma_runtime *rt, const char *name, const char *type,
                              void *host, size_t bytes, unsigned flags);

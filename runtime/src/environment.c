@@ -72,6 +72,7 @@ void perma_settings_read(perma_settings *out)
     text_of("PERMA_DUMP_PROGRAM", out->dump_program, sizeof out->dump_program);
     out->cache_dir_set = text_of("PERMA_CACHE_DIR", out->cache_dir, sizeof out->cache_dir);
     out->cache_min_seconds = cache_min_seconds();
+    out->check_bounds = flag("PERMA_CHECK_BOUNDS");
 }
 
 const char *perma_settings_device(char *out, size_t size)

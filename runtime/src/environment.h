@@ -24,6 +24,7 @@ typedef struct perma_settings {
     char cache_dir[PERMA_SETTING_MAX];    /* PERMA_CACHE_DIR ("": the default; "off", "0": none) */
     bool cache_dir_set;         /* PERMA_CACHE_DIR is set (even to "") */
     double cache_min_seconds;   /* PERMA_CACHE_MIN_SECONDS (1 when unset or not a number) */
+    bool check_bounds;          /* PERMA_CHECK_BOUNDS set, not "0": guard words after host buffers (buffers.c) */
 } perma_settings;
 
 /* Read them all. */

@@ -80,6 +80,7 @@ typedef struct perma_buffer_binding {
      * for the other bindings. */
     char *element_type;
     size_t element_size;
+    bool guarded;    /* PERMA_CHECK_BOUNDS: guard words follow the bytes on the device (buffers.c) */
 } perma_buffer_binding;
 
 struct perma_executor;

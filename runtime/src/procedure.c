@@ -73,6 +73,9 @@ static perma_status validate(perma_runtime *rt, const perma_procedure *d)
         return perma_set_error(rt, PERMA_ERR_ARGUMENT,
                                "procedure name '%s' is not a C identifier of at most %d characters",
                                n, PERMA_NAME_MAX);
+    const char *reserved = perma_reserved_name(d->name);
+    if (reserved)
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT, "procedure name '%s' is %s; choose another name", n, reserved);
     for (unsigned i = 0; i < rt->proc_count; ++i)
         if (strcmp(rt->procs[i].name, d->name) == 0)
             return perma_set_error(rt, PERMA_ERR_ARGUMENT, "procedure '%s' is already registered", n);
@@ -102,6 +105,10 @@ static perma_status validate(perma_runtime *rt, const perma_procedure *d)
         return perma_set_error(rt, PERMA_ERR_ARGUMENT,
                                "procedure '%s': function '%s' is not a C identifier", n,
                                d->function ? d->function : "(null)");
+    reserved = perma_reserved_name(d->function);
+    if (reserved)
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT, "procedure '%s': function name '%s' is %s; rename the function",
+                               n, d->function, reserved);
     for (unsigned e = 0; e < PERMA_MAX_EMITS && d->emits[e].target; ++e) {
         if (!perma_is_identifier(d->emits[e].target))
             return perma_set_error(rt, PERMA_ERR_ARGUMENT,

@@ -105,6 +105,9 @@ static perma_status declare_reduction_call(perma_runtime *rt, const char *name, 
         return perma_set_error(rt, PERMA_ERR_ARGUMENT,
                                "perma_declare_reduction: name '%s' is not a C identifier of at most %d characters", n,
                                PERMA_NAME_MAX);
+    if (perma_reserved_name(name))
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT, "perma_declare_reduction: name '%s' is %s; choose another name",
+                               n, perma_reserved_name(name));
     if (find(rt, name))
         return perma_set_error(rt, PERMA_ERR_ARGUMENT, "perma_declare_reduction: reduction '%s' is already declared",
                                n);
