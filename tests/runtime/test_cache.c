@@ -2,10 +2,11 @@
  * second build of the same program loads the stored binary; a damaged
  * entry (cut short, empty, a flipped bit, trailing bytes, not an entry, a
  * named pipe or a directory) is removed with a one-line notice and
- * rebuilt, never handed to the implementation; processes and threads building the same program at once
- * compile it once and leave one whole entry and no other file; a held
- * build lock is waited for, a stale one is not; PoCL's fast builds are not
- * stored however long a loaded machine makes them; PERMA_CACHE_DIR=off
+ * rebuilt, never handed to the implementation; processes and threads
+ * building the same program at once compile it once and leave one whole
+ * entry and no other file; a held build lock is waited for, a stale one is
+ * not; PoCL's fast builds are not stored however long a loaded machine
+ * makes them; PERMA_CACHE_DIR=off
  * writes nothing.  PERMA_CACHE_MIN_SECONDS=0 stores every program, PoCL's
  * included. */
 #define _DEFAULT_SOURCE /* flock */
