@@ -5,8 +5,8 @@
  * (Under mpirun, rank 0 says it: mpi_job.h.)
  *
  * The signals are blocked in every thread and taken by one thread with
- * sigwait(), as perma-bench does (benchmarks/activity.c): PoCL's LLVM
- * installs its own handlers for them at its first compile.  Files are
+ * sigwait() (perma_cli_take_stop_signals): PoCL's LLVM installs its own
+ * handlers for them at its first compile.  Files are
  * written under a lock that the signal's thread takes before it speaks, so
  * a file being written is finished first: the message is exact and no
  * temporary file is left.

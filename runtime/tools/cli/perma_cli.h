@@ -167,6 +167,18 @@ void perma_cli_print_error(const char *program, const char *message);
  * --version, PERMA_CLI_EXIT_USAGE after bad usage (0 for PERMA_CLI_OK). */
 int perma_cli_exit_status(perma_cli_status status);
 
+/* Stop signals.  A program that runs OpenCL work takes SIGINT, SIGTERM
+ * and SIGHUP in a thread of its own ("stop-signals") with sigwait(),
+ * blocked in every other thread: PoCL's LLVM installs handlers for them at
+ * its first compile, so a handler of the program's may not be the one that
+ * runs.  Call before any thread starts.  stopped(number) runs in that
+ * thread when one comes (to say what was going on); when it returns, the
+ * process ends by the signal, as it would have without it.  0, or -1 when
+ * the thread could not start (the signals keep their default actions). */
+int perma_cli_take_stop_signals(void (*stopped)(int number));
+/* "SIGINT", "SIGTERM", "SIGHUP" ("a signal" for another). */
+const char *perma_cli_signal_name(int number);
+
 /* The --help text: usage lines, about, operands and options (with their
  * ranges), --help and --version, notes. */
 void perma_cli_help(const perma_cli *cli, FILE *out);
