@@ -17,12 +17,10 @@
  * `timeout` sends SIGTERM to the process and then to its group - found the
  * default action and ended perma-bench without a word (exit 143, 2 runs in
  * 16 with two SIGTERMs after a build).  A blocked signal never reaches any
- * handler, whoever installed it. */
-#define _GNU_SOURCE /* pthread_setname_np */
+ * handler, whoever installed it (perma_cli_take_stop_signals). */
 #include "bench.h"
 
 #include <pthread.h>
-#include <signal.h>
 #include <stdarg.h>
 #include <string.h>
 #include <time.h>
@@ -33,24 +31,9 @@ static pthread_mutex_t text_lock = PTHREAD_MUTEX_INITIALIZER;
 static char command[64] = "perma-bench";
 static struct timespec started;
 
-static void stop_signals(sigset_t *set)
+/* Say where perma-bench was, end. */
+static void stopped(int number)
 {
-    sigemptyset(set);
-    sigaddset(set, SIGTERM);
-    sigaddset(set, SIGINT);
-    sigaddset(set, SIGHUP);
-}
-
-/* The thread that takes the stop signals: say where perma-bench was, end. */
-static void *wait_for_stop(void *unused)
-{
-    (void)unused;
-    pthread_setname_np(pthread_self(), "stop-signals"); /* tests tell it apart */
-    sigset_t set;
-    stop_signals(&set);
-    int number = 0;
-    while (sigwait(&set, &number) != 0)
-        ;
     struct timespec now;
     clock_gettime(CLOCK_MONOTONIC, &now);
     pthread_mutex_lock(&text_lock);
@@ -64,17 +47,9 @@ void bench_activity_start(const char *benchmark)
 {
     snprintf(command, sizeof command, "perma-bench %s", benchmark);
     clock_gettime(CLOCK_MONOTONIC, &started);
-    /* Blocked here, before OpenCL and OpenMP start their threads, so every
-     * thread inherits the mask and only wait_for_stop takes the signals. */
-    sigset_t set, before;
-    stop_signals(&set);
-    pthread_sigmask(SIG_BLOCK, &set, &before);
-    pthread_t waiter;
-    if (pthread_create(&waiter, NULL, wait_for_stop, NULL) != 0) {
-        pthread_sigmask(SIG_SETMASK, &before, NULL); /* no thread: the signals' defaults */
-        return;
-    }
-    pthread_detach(waiter);
+    /* Before OpenCL and OpenMP start their threads, so every thread
+     * inherits the mask and only the stop-signals thread takes them. */
+    perma_cli_take_stop_signals(stopped);
 }
 
 void bench_activity(const char *fmt, ...)

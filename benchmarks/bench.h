@@ -66,6 +66,13 @@ void bench_common_options(bench_options *o, perma_cli_option rows[BENCH_COMMON_O
 perma_cli_status bench_parse(bench_options *options, const char *synopsis, const char *about,
                              const perma_cli_option *rows, size_t count, int argc, char **argv);
 
+/* --csv and --trace are none of the `count` inputs (at most 6) nor each
+ * other nor PERMA_TRACE: PERMA_CLI_OK, or PERMA_CLI_USAGE with the clash
+ * printed for "perma-bench COMMAND" (bench_parse checks the outputs
+ * alone). */
+perma_cli_status bench_check_inputs(const bench_options *options, const char *command, const perma_file_role *inputs,
+                                    size_t count);
+
 /* ---- results (report.c) ---- */
 
 typedef enum bench_check {

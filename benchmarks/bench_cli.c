@@ -66,9 +66,25 @@ perma_cli_status bench_parse(bench_options *options, const char *synopsis, const
         .table_count = count ? 2 : 1,
         .notes = BENCH_EXIT_STATUS,
     };
-    perma_cli_status st = perma_cli_parse(&cli, argc, argv, message, sizeof message);
+    perma_cli_status status = perma_cli_parse(&cli, argc, argv, message, sizeof message);
     /* --only =LABEL names any schedule, listed or not: it becomes a row. */
-    if (options->only && options->only[0] == '=')
+    if (status == PERMA_CLI_OK && options->only && options->only[0] == '=')
         bench_variant_add(options->only + 1);
-    return st;
+    const perma_file_role outputs[] = { { options->csv_path, "--csv", 1 }, { options->trace_path, "--trace", 1 } };
+    return status == PERMA_CLI_OK ? perma_cli_check_files(&cli, outputs, 2, message, sizeof message) : status;
+}
+
+perma_cli_status bench_check_inputs(const bench_options *options, const char *command, const perma_file_role *inputs,
+                                    size_t count)
+{
+    perma_file_role files[8];
+    char program[64], message[PERMA_CLI_MESSAGE_MAX];
+    if (count + 2 > sizeof files / sizeof files[0])
+        count = sizeof files / sizeof files[0] - 2;
+    memcpy(files, inputs, count * sizeof *inputs);
+    files[count] = (perma_file_role){ options->csv_path, "--csv", 1 };
+    files[count + 1] = (perma_file_role){ options->trace_path, "--trace", 1 };
+    snprintf(program, sizeof program, "perma-bench %s", command);
+    const perma_cli cli = { .program = program };
+    return perma_cli_check_files(&cli, files, count + 2, message, sizeof message);
 }

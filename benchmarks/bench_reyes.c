@@ -365,7 +365,7 @@ int bench_reyes(bench_options *options, int argc, char **argv)
     perma_cli_status parsed = reyes_bench_parse_args(argc, argv, options, &a);
     if (parsed != PERMA_CLI_OK)
         return perma_cli_exit_status(parsed);
-    const char *models[] = { "teapot", "killeroo" };
+    const char *const *models = reyes_bench_models;
     unsigned model_count = a.workloads & (REYES_BENCH_STAGES | REYES_BENCH_DEFAULTS) ? (options->quick ? 1 : 2) : 0;
     bench_report *report;
     if (bench_report_open(&report, "reyes", options))

@@ -18,6 +18,10 @@ enum {
     REYES_BENCH_DEFAULTS = 16, /* shading rate 1 (no crack fix, stitched) vs the C reference at rate 1 */
 };
 
+/* The models of the stages and defaults workloads, in --models DIR as NAME.bpt. */
+#define REYES_BENCH_MODEL_COUNT 2
+extern const char *const reyes_bench_models[REYES_BENCH_MODEL_COUNT];
+
 typedef struct reyes_bench_args {
     const char *models_dir;
     unsigned widths[REYES_BENCH_MAX_SIZES], heights[REYES_BENCH_MAX_SIZES];

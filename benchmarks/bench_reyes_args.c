@@ -89,6 +89,8 @@ static int parse_workloads(const perma_cli_option *option, const char *value, ch
     return 0;
 }
 
+const char *const reyes_bench_models[REYES_BENCH_MODEL_COUNT] = { "teapot", "killeroo" };
+
 /* PERMA_CLI_OK, or what the command returns perma_cli_exit_status of. */
 perma_cli_status reyes_bench_parse_args(int argc, char **argv, bench_options *options, reyes_bench_args *a)
 {
@@ -108,6 +110,16 @@ perma_cli_status reyes_bench_parse_args(int argc, char **argv, bench_options *op
     };
     perma_cli_status parsed = bench_parse(options, "[options]", workloads_help, rows, sizeof rows / sizeof rows[0],
                                           argc, argv);
+    if (parsed != PERMA_CLI_OK)
+        return parsed;
+    /* --csv must not overwrite a model. */
+    char paths[REYES_BENCH_MODEL_COUNT][4200];
+    perma_file_role models[REYES_BENCH_MODEL_COUNT];
+    for (unsigned m = 0; m < REYES_BENCH_MODEL_COUNT; ++m) {
+        snprintf(paths[m], sizeof paths[m], "%s/%s.bpt", a->models_dir, reyes_bench_models[m]);
+        models[m] = (perma_file_role){ paths[m], "the model", 0 };
+    }
+    parsed = bench_check_inputs(options, argv[0], models, REYES_BENCH_MODEL_COUNT);
     if (parsed != PERMA_CLI_OK)
         return parsed;
     a->sizes_given = a->size_count > 0;

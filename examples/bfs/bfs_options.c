@@ -43,5 +43,6 @@ perma_cli_status bfs_parse_options(int argc, char **argv, bfs_options *o, char *
     if (o->generate && o->degree >= o->generate)
         return perma_cli_fail(&cli, message, size, "--degree %u must be below --generate %u", o->degree,
                               o->generate);
-    return PERMA_CLI_OK;
+    const perma_file_role files[] = { { o->edge_file, "the edge file", 0 }, { o->output, "--output", 1 } };
+    return perma_cli_check_files(&cli, files, 2, message, size);
 }

@@ -43,5 +43,7 @@ perma_cli_status mandel_parse_options(int argc, char **argv, mandel_options *o, 
         .table_count = 2,
         .notes = "exit status: 0 ok, 1 runtime failure, 2 bad usage",
     };
-    return perma_cli_parse(&cli, argc, argv, message, size);
+    perma_cli_status status = perma_cli_parse(&cli, argc, argv, message, size);
+    const perma_file_role image = { o->output, "--output", 1 };
+    return status == PERMA_CLI_OK ? perma_cli_check_files(&cli, &image, 1, message, size) : status;
 }

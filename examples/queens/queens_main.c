@@ -20,12 +20,14 @@ _Static_assert(sizeof(queens_start) == sizeof(unsigned), "--start is a choice ro
 static perma_cli_status parse(int argc, char **argv, queens_job *job, int quiet)
 {
     static const char *const starts[] = { "even", "rank0", NULL }; /* queens_start */
-    int timeout_given = 0;
+    int timeout_given = 0, depth_given = 0;
     char message[PERMA_CLI_MESSAGE_MAX];
     const perma_cli_option rows[] = {
         { PERMA_CLI_WHOLE("n", "N", &job->n, 1, QUEENS_MAX_N, "board size (default 10)") },
         { PERMA_CLI_WHOLE("depth", "D", &job->depth, 0, QUEENS_MAX_N,
-                          "rows the host places to cut the tree into subtrees, at most N (default 3)") },
+                          "rows the host places to cut the tree into subtrees, at most N (default 3, or N if "
+                          "smaller)"),
+          .given = &depth_given },
         { PERMA_CLI_WHOLE("chunk", "C", &job->chunk, 1, 65536, "subtrees per perma run (default 16)") },
         { PERMA_CLI_CHOICE("start", "S", &job->start, starts,
                            "even: each rank starts with an equal share (default); rank0: rank 0 starts with all, "
@@ -51,6 +53,9 @@ static perma_cli_status parse(int argc, char **argv, queens_job *job, int quiet)
     perma_cli_status status = perma_cli_parse(&cli, argc, argv, message, sizeof message);
     if (status != PERMA_CLI_OK)
         return status;
+    /* The default depth fits any board; a depth given must. */
+    if (!depth_given && job->depth > job->n)
+        job->depth = job->n;
     if (job->depth > job->n)
         return perma_cli_fail(&cli, message, sizeof message, "--depth %u: expected rows 0..%u (--n)", job->depth,
                               job->n);

@@ -3,6 +3,7 @@
  * argv with the table (reyes_cli_options.c); then the options that depend
  * on each other are checked.
  */
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -59,6 +60,54 @@ perma_cli_status reyes_cli_parse(int argc, char **argv, reyes_cli *cli, char *me
     if (cli->progress && cli->quiet)
         return perma_cli_fail(&d.cli, message, size, "--progress and --quiet contradict each other");
     return check_subdivision_options(cli, &d.cli, message, size);
+}
+
+void reyes_cli_frame_path(const char *output, unsigned frame, char *path, size_t size)
+{
+    const char *slash = strrchr(output, '/');
+    const char *dot = strrchr(output, '.');
+    if (!dot || (slash && dot < slash) || dot == output || (slash && dot == slash + 1))
+        dot = output + strlen(output);
+    snprintf(path, size, "%.*s-%04u%s", (int)(dot - output), output, frame + 1, dot);
+}
+
+perma_cli_status reyes_cli_check_files(const reyes_cli *cli, char *message, size_t size)
+{
+    /* The models, the displacement map, then the image or every frame,
+     * the statistics and the trace (the runtime's check adds PERMA_TRACE). */
+    size_t images = cli->frames ? cli->frames : 1, count = cli->model_count + 3 + images, n = 0;
+    perma_file_role *files = calloc(count, sizeof *files);
+    int ok = files != NULL;
+    for (size_t m = 0; ok && m < cli->model_count; ++m)
+        files[n++] = (perma_file_role){ cli->models[m], "the model", 0 };
+    if (ok)
+        files[n++] = (perma_file_role){ cli->render.displace_map, "--displace", 0 };
+    size_t first_frame = n;
+    for (unsigned f = 0; ok && f < cli->frames; ++f) {
+        char path[REYES_CLI_PATH_MAX];
+        reyes_cli_frame_path(cli->output, f, path, sizeof path);
+        files[n].path = strdup(path);
+        files[n].name = "--frames";
+        files[n].written = 1;
+        ok = files[n++].path != NULL;
+    }
+    if (ok && !cli->frames)
+        files[n++] = (perma_file_role){ cli->output, "--output", 1 };
+    if (ok)
+        files[n++] = (perma_file_role){ cli->stats_path, "--stats", 1 };
+    if (ok)
+        files[n++] = (perma_file_role){ cli->render.trace_path, "--trace", 1 };
+    perma_error error;
+    perma_status status = ok ? perma_check_distinct_files(files, n, &error) : PERMA_ERR_NO_MEMORY;
+    if (status == PERMA_ERR_NO_MEMORY)
+        snprintf(error.message, sizeof error.message, "out of memory checking the names of %zu files", count);
+    for (size_t k = first_frame; files && k < first_frame + cli->frames && k < n; ++k)
+        free((char *)files[k].path);
+    free(files);
+    if (status == PERMA_OK)
+        return PERMA_CLI_OK;
+    snprintf(message, size, "%s", error.message);
+    return PERMA_CLI_USAGE;
 }
 
 void reyes_cli_free(reyes_cli *cli)

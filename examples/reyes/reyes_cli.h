@@ -52,6 +52,19 @@ typedef struct reyes_cli {
 perma_cli_status reyes_cli_parse(int argc, char **argv, reyes_cli *cli, char *message, size_t size);
 void reyes_cli_free(reyes_cli *cli);
 
+/* Longest file name of a frame (reyes_cli_frame_path). */
+#define REYES_CLI_PATH_MAX 4200
+
+/* The file of frame `frame` (0-based) of output `output`: "NAME-0001.png"
+ * for "NAME.png" (the extension, if any, is kept at the end). */
+void reyes_cli_frame_path(const char *output, unsigned frame, char *path, size_t size);
+
+/* The files of a parsed command line, before any work: no output may be
+ * another output (image or frame, --stats, PERMA_TRACE) or an input (a
+ * model, the --displace map); PERMA_CLI_USAGE with the message naming
+ * both (perma_check_distinct_files) otherwise. */
+perma_cli_status reyes_cli_check_files(const reyes_cli *cli, char *message, size_t size);
+
 /* The value of option `name` (without dashes) when it is a flag ("on" or
  * "off") or a choice of names (the name, e.g. "stitch"), into out; 0 when
  * it is neither (an option with its own parser) or no option. */

@@ -9,6 +9,7 @@
  * options that depend on each other: reyes_cli.c.
  */
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "reyes_cli_internal.h"
@@ -37,6 +38,26 @@ static int parse_floats(const perma_cli_option *option, const char *value, char 
     for (const char *c = option->argument; *c; ++c)
         count += *c == ',';
     return perma_cli_floats(value, option->target, count, option->argument, complaint, size);
+}
+
+/* ex,ey,ez,ax,ay,az: points within the coordinates a model may have
+ * (beyond them the renderer's single-precision arithmetic overflows). */
+static int parse_camera(const perma_cli_option *option, const char *value, char *complaint, size_t size)
+{
+    double v[6];
+    if (perma_cli_doubles(value, v, 6, option->argument, complaint, size) != 0)
+        return 1;
+    for (int k = 0; k < 6; ++k) {
+        if (fabs(v[k]) > (double)REYES_MAX_COORDINATE) {
+            snprintf(complaint, size, "the %s's %c, %g, is beyond +-%g, the supported range of coordinates",
+                     k < 3 ? "eye" : "target", "xyz"[k % 3], v[k], (double)REYES_MAX_COORDINATE);
+            return 1;
+        }
+    }
+    float *camera = option->target;
+    for (int k = 0; k < 6; ++k)
+        camera[k] = (float)v[k];
+    return 0;
 }
 
 /* bumps:AMPLITUDE or png:FILE:AMPLITUDE (the amplitude after the last ':'). */
@@ -164,7 +185,7 @@ void reyes_cli_describe(reyes_cli *cli, const char *program, reyes_cli_descripti
         { PERMA_CLI_WHOLE("spp", "N", &r->spp, 1, REYES_MAX_SPP, "jittered samples per pixel (default 4)") },
         { PERMA_CLI_WHOLE("max-depth", "D", &r->max_depth, 0, REYES_MAX_DEPTH,
                           "splits after which a patch is diced anyway (default 20)") },
-        { PERMA_CLI_CUSTOM("camera", "ex,ey,ez,ax,ay,az", parse_floats, cli->camera,
+        { PERMA_CLI_CUSTOM("camera", "ex,ey,ez,ax,ay,az", parse_camera, cli->camera,
                            "eye and target (default: frame the scene)"),
           .given = &cli->has_camera },
         { PERMA_CLI_FLOAT("fov", "DEG", &cli->fov_deg, 0.5, 179, "vertical field of view (default 40)"),

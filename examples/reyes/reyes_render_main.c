@@ -13,6 +13,7 @@
 
 #include "reyes_cli.h"
 #include "reyes_farm.h"
+#include "reyes_interrupt.h"
 #include "reyes_mpi.h"
 #include "reyes_progress.h"
 #include "reyes_reference.h"
@@ -56,6 +57,32 @@ static reyes_status progress_done(void *user, unsigned bucket, const reyes_image
     return REYES_OK;
 }
 
+/* The files an interrupt finds written: the image (or, with frames, the
+ * frames the pool names) and the statistics. */
+typedef struct written_files {
+    const char *image, *stats;
+    reyes_pool *pool;
+} written_files;
+
+static void describe_written(void *user, char *out, size_t size)
+{
+    const written_files *w = user;
+    char frames[512] = "";
+    if (w->pool)
+        reyes_pool_describe_written(w->pool, frames, sizeof frames);
+    if (w->image)
+        snprintf(out, size, "%s%s%s %s written", w->image, w->stats ? " and " : "", w->stats ? w->stats : "",
+                 w->stats ? "were" : "was");
+    else
+        snprintf(out, size, "%s%s%s%s", frames, w->stats ? "; " : "", w->stats ? w->stats : "",
+                 w->stats ? " was written" : "");
+}
+
+static void describe_text(void *user, char *out, size_t size)
+{
+    snprintf(out, size, "%s", (const char *)user);
+}
+
 /* One image on one device: the full statistics. */
 static reyes_status run(const reyes_cli *cli, const char *program, reyes_error *error)
 {
@@ -96,7 +123,11 @@ static reyes_status run(const reyes_cli *cli, const char *program, reyes_error *
         const reyes_stats_output stats_output = { &stats, &cli->render };
         const reyes_output_file files[] = { { cli->output, reyes_png_writer, &image },
                                             { cli->stats_path, reyes_stats_writer, &stats_output } };
+        static written_files written;
+        written = (written_files){ cli->output, cli->stats_path, NULL };
+        reyes_interrupt_outputs_begin();
         status = reyes_write_outputs(files, cli->stats_path ? 2 : 1, error);
+        reyes_interrupt_outputs_end(status == REYES_OK ? describe_written : NULL, &written);
     }
     if (shown && buckets.count) {
         reyes_progress_finish(&progress, status == REYES_OK);
@@ -169,13 +200,20 @@ static reyes_status run_farm(const reyes_cli *cli, const char *program, reyes_er
         reyes_progress_start(&progress, stderr, terminal, program, job.frames ? "frames" : "buckets", job.items);
         pool.progress = &progress;
     }
+    static written_files before, after;
+    before = (written_files){ NULL, NULL, job.frames ? &pool : NULL };
+    after = (written_files){ job.frames ? NULL : cli->output, cli->stats_path, before.pool };
+    reyes_interrupt_describe_with(job.frames ? describe_written : NULL, &before);
     status = reyes_farm_run(&pool, devices, count, workers, error);
     double seconds = now() - start;
     reyes_work_report reports[PERMA_MAX_DEVICES];
     for (unsigned k = 0; k < count; ++k)
         reports[k] = workers[k].report;
-    if (status == REYES_OK)
+    if (status == REYES_OK) {
+        reyes_interrupt_outputs_begin();
         status = reyes_report_write_outputs(&pool, reports, count, seconds, cli->stats_path, error);
+        reyes_interrupt_outputs_end(status == REYES_OK ? describe_written : NULL, &after);
+    }
     if (shown) {
         reyes_progress_finish(&progress, status == REYES_OK);
         reyes_progress_free(&progress);
@@ -191,6 +229,12 @@ static reyes_status run_farm(const reyes_cli *cli, const char *program, reyes_er
         snprintf(message, sizeof message, "%s", error->message);
         snprintf(error->message, sizeof error->message, "%.500s; %s", message, written);
     }
+    if (job.frames) {
+        /* The pool is going: what it says now stays true. */
+        static char final[1024];
+        describe_written(&after, final, sizeof final);
+        reyes_interrupt_describe_with(describe_text, final);
+    }
     reyes_pool_free(&pool);
     reyes_job_free(&job);
     return status;
@@ -204,6 +248,8 @@ int main(int argc, char **argv)
     /* Under mpirun every rank parses the same line; rank 0 speaks. */
     int quiet = reyes_mpi_launched() && reyes_mpi_launched_rank() != 0;
     perma_cli_status parsed = reyes_cli_parse(argc, argv, &cli, message, sizeof message);
+    if (parsed == PERMA_CLI_OK)
+        parsed = reyes_cli_check_files(&cli, message, sizeof message);
     int code = EXIT_SUCCESS;
     if (parsed == PERMA_CLI_USAGE) {
         if (!quiet)
@@ -227,6 +273,7 @@ int main(int argc, char **argv)
         code = PERMA_CLI_EXIT_USAGE;
     } else {
         reyes_error error;
+        reyes_interrupt_watch(program);
         reyes_status status = cli.devices || cli.frames ? run_farm(&cli, program, &error) : run(&cli, program, &error);
         /* Options that parse but do not fit together are bad usage too. */
         if (status == REYES_ERR_ARGUMENT)

@@ -112,6 +112,13 @@ reyes_status reyes_camera_matrix(const reyes_camera *camera, float aspect, float
     reyes_status status = check_fov(camera->fov_deg, error);
     if (status != REYES_OK)
         return status;
+    for (int k = 0; k < 6; ++k) {
+        const float *point = k < 3 ? camera->eye : camera->at;
+        if (!(fabsf(point[k % 3]) <= REYES_MAX_COORDINATE))
+            return reyes_fail(error, REYES_ERR_ARGUMENT, "camera %s (%g, %g, %g) is beyond +-%g, the supported range "
+                              "of coordinates", k < 3 ? "eye" : "target", (double)point[0], (double)point[1],
+                              (double)point[2], (double)REYES_MAX_COORDINATE);
+    }
     (void)near_w; /* depth is the clip w itself; the near plane is tested on w */
     float forward[3], side[3], up[3] = {0.0f, 0.0f, 1.0f}, true_up[3];
     sub3(camera->at, camera->eye, forward);

@@ -28,6 +28,18 @@
  * what went wrong, naming the procedure, parameter, file or OpenCL call.
  * The library never calls exit() or abort().
  *
+ * Threads.  Different runtimes run at once in different threads (a
+ * runtime per device or sub-device; perma_run blocks its thread).  One
+ * runtime takes one call at a time: a call on it while another call on it
+ * has not returned (from another thread, or from a progress or build-log
+ * callback inside it) fails with PERMA_ERR_STATE and changes nothing;
+ * perma_errmsg in the refused call's thread names both calls, and the
+ * running call goes on undisturbed.  perma_print_stats then prints that
+ * message instead of the table.  The exceptions, callable from any thread
+ * at any time: perma_get_progress, perma_errmsg, perma_device_summary and
+ * perma_cl_context/_device/_queue.  perma_destroy must not overlap any
+ * other call on the runtime.
+ *
  * Device side.  A procedure is an OpenCL C function
  *
  *     void NAME(perma_ctx *ctx, __local const ITEM_TYPE *item);
@@ -450,7 +462,7 @@ typedef struct perma_emit {
 
 /* A procedure, in the spirit of StarPU's codelet. */
 typedef struct perma_procedure {
-    const char *name;         /* C identifier, unique; also the queue name */
+    const char *name;         /* C identifier, unique, not reserved (Names, below); also the queue name */
     const char *item_type;    /* OpenCL C type of one item, e.g. "struct node" */
     size_t item_size;         /* sizeof(item_type) on the device: 4..65536, multiple of 4 */
     unsigned threads_per_item;/* 1..group size; 0 means 1 */
@@ -483,7 +495,21 @@ enum {
  * `type` (e.g. "__global float *", "__global const struct patch *").
  * Bind every name before the first run; binding the same name again later
  * (same type) swaps the memory.  perma_bind_cl uses the caller's cl_mem
- * (not released by perma); perma_bind_host copies `bytes` of host memory. */
+ * (not released by perma); perma_bind_host copies `bytes` of host memory,
+ * which must be a whole number of elements when `type` points to a
+ * built-in scalar or vector ("__global uint *": a multiple of 4).
+ *
+ * Names.  Procedure, function, buffer and reduction names are C
+ * identifiers that the generated program can take: an OpenCL C keyword or
+ * type ("kernel", "int", "global", "float4"), a name beginning with perma_
+ * or PERMA_ (the runtime's own) or reserved for the compiler ("__x",
+ * "_X") is PERMA_ERR_ARGUMENT where it is given, naming it and why.
+ *
+ * PERMA_CHECK_BOUNDS=1 in the environment (read by perma_create): 1024
+ * guard words follow every perma_bind_host buffer on the device, set
+ * before each run and compared after it; a procedure that wrote into them
+ * fails the run with PERMA_ERR_DEVICE naming the buffer, before anything
+ * is copied back (docs/writing-procedures.md, Debugging). */
 perma_status perma_bind_cl(perma_runtime *rt, const char *name, const char *type, cl_mem buffer);
 perma_status perma_bind_host(perma_runtime *rt, const char *name, const char *type,
                              void *host, size_t bytes, unsigned flags);
@@ -863,6 +889,27 @@ perma_status perma_output_commit(perma_output *out, perma_error *error);
 
 /* Give up: remove the temporary file and free `out` (NULL is fine). */
 void perma_output_discard(perma_output *out);
+
+/* A file a program reads or writes, as its command line names it. */
+typedef struct perma_file_role {
+    const char *path;   /* NULL or "": not used */
+    const char *name;   /* the option or role, in messages: "--output", "--stats", "the model" */
+    int written;        /* 1: an output; 0: an input */
+} perma_file_role;
+
+/* Refuse files that would overwrite each other: PERMA_ERR_ARGUMENT when
+ * two outputs are the same file or an output is the same file as an
+ * input (inputs may repeat), the message naming both, e.g. "--stats
+ * 'a.png' and --output 'a.png' are the same file: one would overwrite the
+ * other", "--output 'm.bpt' is the same file as the model 'm.bpt', which
+ * it would overwrite".  The trace that the PERMA_TRACE environment
+ * variable names counts as an output named "PERMA_TRACE".  Where a path
+ * exists, the same file is the same device and inode (through symbolic
+ * and hard links, "./" and ".."); where it does not, the same absolute
+ * path once its directory is resolved.  A device or named pipe that is
+ * there (/dev/null) is written in place and clashes with nothing.  For
+ * the command line, before any work; the first clash is reported. */
+perma_status perma_check_distinct_files(const perma_file_role *files, size_t count, perma_error *error);
 
 #ifdef __cplusplus
 }

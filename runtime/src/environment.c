@@ -94,6 +94,7 @@ void perma_settings_read(perma_settings *out)
     out->cache_dir_set = text_of("PERMA_CACHE_DIR", out->cache_dir, sizeof out->cache_dir);
     out->cache_min_seconds = cache_min_seconds();
     stop_grace(out);
+    out->check_bounds = flag("PERMA_CHECK_BOUNDS");
 }
 
 const char *perma_settings_device(char *out, size_t size)

@@ -29,6 +29,7 @@ typedef struct perma_settings {
      * not one is an error, stop_grace_error, at perma_create. */
     double stop_grace;
     perma_error stop_grace_error;
+    bool check_bounds;          /* PERMA_CHECK_BOUNDS set, not "0": guard words after host buffers (buffers.c) */
 } perma_settings;
 
 /* Read them all. */

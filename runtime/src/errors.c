@@ -100,7 +100,35 @@ perma_status perma_call_begin(perma_runtime *rt, const char *call, bool uses_dev
     return PERMA_OK;
 }
 
+/* A call refused because another held the runtime says so in its own
+ * thread: the runtime's message belongs to the call that runs. */
+static _Thread_local const perma_runtime *refused_runtime;
+static _Thread_local char refused_message[PERMA_MESSAGE_MAX];
+
+perma_status perma_call_claim(perma_runtime *rt, const char *call)
+{
+    refused_runtime = NULL;
+    const char *running = NULL;
+    if (__atomic_compare_exchange_n(&rt->current_call, &running, call, false, __ATOMIC_ACQUIRE, __ATOMIC_RELAXED))
+        return PERMA_OK;
+    snprintf(refused_message, sizeof refused_message,
+             "%s: %s is running on this runtime (in another thread, or this call comes from inside it); a "
+             "runtime takes one call at a time: use a runtime per thread, or a lock around the calls", call,
+             running);
+    refused_runtime = rt;
+    return PERMA_ERR_STATE;
+}
+
+void perma_call_release(perma_runtime *rt)
+{
+    if (refused_runtime == rt)
+        refused_runtime = NULL; /* a call refused from inside this one came before it ended */
+    __atomic_store_n(&rt->current_call, NULL, __ATOMIC_RELEASE);
+}
+
 const char *perma_errmsg(const perma_runtime *rt)
 {
+    if (rt && rt == refused_runtime)
+        return refused_message;
     return rt ? rt->message : "no runtime (perma_create failed or was not called)";
 }

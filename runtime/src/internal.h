@@ -83,6 +83,7 @@ typedef struct perma_buffer_binding {
      * for the other bindings. */
     char *element_type;
     size_t element_size;
+    bool guarded;    /* PERMA_CHECK_BOUNDS: guard words follow the bytes on the device (buffers.c) */
 } perma_buffer_binding;
 
 struct perma_executor;
@@ -92,6 +93,7 @@ struct perma_runtime {
     const struct perma_executor *executor; /* the technique (executor.h) */
     char message[PERMA_MESSAGE_MAX];
     char summary[512];
+    const char *current_call;  /* the public call running on it, NULL between calls (errors.c) */
 
     cl_platform_id platform;
     cl_device_id device;
@@ -142,6 +144,30 @@ perma_status perma_take_error(perma_runtime *rt, const perma_error *error);
  * the program or the device state (`uses_device`) is PERMA_ERR_STATE after
  * a kernel did not stop (rt->hung); the message names `call`. */
 perma_status perma_call_begin(perma_runtime *rt, const char *call, bool uses_device);
+
+/* A runtime takes one public call at a time (perma.h, *Threads*): claim
+ * it for `call`, or PERMA_ERR_STATE when another call holds it (the
+ * message, naming both calls, is this thread's: perma_errmsg); release it
+ * when the call ends. */
+perma_status perma_call_claim(perma_runtime *rt, const char *call);
+void perma_call_release(perma_runtime *rt);
+
+/* perma_check_memory inside a call that holds the runtime (memory.c). */
+perma_status perma_memory_check(perma_runtime *rt, size_t bytes, const char *what);
+
+/* The body of a public call: the runtime claimed for `name` while `body`
+ * (an expression giving the status) runs. */
+#define PERMA_EXCLUSIVE_CALL(rt, name, body)                                                 \
+    do {                                                                                    \
+        if (!(rt))                                                                          \
+            return PERMA_ERR_ARGUMENT;                                                      \
+        perma_status claimed_ = perma_call_claim((rt), (name));                             \
+        if (claimed_ != PERMA_OK)                                                           \
+            return claimed_;                                                                \
+        perma_status result_ = (body);                                                      \
+        perma_call_release(rt);                                                             \
+        return result_;                                                                     \
+    } while (0)
 
 /* Name of an OpenCL error code, e.g. "CL_OUT_OF_RESOURCES". */
 const char *perma_cl_error_name(cl_int code);

@@ -109,10 +109,8 @@ bool perma_memory_driver_fits(char *message, size_t size, bool runtime)
     return true;
 }
 
-perma_status perma_check_memory(perma_runtime *rt, size_t bytes, const char *what)
+perma_status perma_memory_check(perma_runtime *rt, size_t bytes, const char *what)
 {
-    if (!rt)
-        return PERMA_ERR_ARGUMENT;
     if (!what)
         what = "a buffer";
     if (rt->caps.max_alloc && bytes > rt->caps.max_alloc)
@@ -126,4 +124,9 @@ perma_status perma_check_memory(perma_runtime *rt, size_t bytes, const char *wha
                                                            || bytes > h.free - RUN_MARGIN_BYTES))
         return refuse(rt, &h, bytes, what);
     return PERMA_OK;
+}
+
+perma_status perma_check_memory(perma_runtime *rt, size_t bytes, const char *what)
+{
+    PERMA_EXCLUSIVE_CALL(rt, "perma_check_memory", perma_memory_check(rt, bytes, what));
 }

@@ -247,3 +247,203 @@ perma_status perma_output_commit(perma_output *out, perma_error *error)
     perma_output_discard(out);
     return PERMA_OK;
 }
+
+/* ---- Outputs that would overwrite each other or an input ---- */
+
+/* What a path is, for comparing: the device and inode of the file there,
+ * or (nothing there) the absolute path it would be created at. */
+typedef struct file_identity {
+    int kind;           /* IDENTITY_* */
+    dev_t dev;
+    ino_t ino;
+    char *path;         /* IDENTITY_PATH: normalised, absolute */
+    size_t index;       /* into the caller's files; `count` for the trace */
+} file_identity;
+
+enum { IDENTITY_NONE = 0, IDENTITY_INODE, IDENTITY_PATH };
+
+/* Remove "." and "x/.." components and repeated slashes from an absolute
+ * path, in place. */
+static void collapse(char *path)
+{
+    char *out = path;
+    const char *in = path;
+    while (*in) {
+        while (*in == '/')
+            ++in;
+        const char *end = in + strcspn(in, "/");
+        size_t n = (size_t)(end - in);
+        if (n == 1 && in[0] == '.') {
+            /* nothing */
+        } else if (n == 2 && in[0] == '.' && in[1] == '.') {
+            while (out > path && *--out != '/')
+                ;
+        } else if (n) {
+            *out++ = '/';
+            memmove(out, in, n);
+            out += n;
+        }
+        in = end;
+    }
+    if (out == path)
+        *out++ = '/';
+    *out = '\0';
+}
+
+/* The directory part of the last path normalised, and what it resolved to:
+ * the frames of an animation share one. */
+typedef struct directory_cache {
+    char *name, *resolved;
+} directory_cache;
+
+/* The absolute path a file that is not there would be created at: its
+ * directory resolved (symbolic links, "..") where it exists, the rest
+ * collapsed.  NULL when out of memory. */
+static char *creation_path(const char *path, directory_cache *cache)
+{
+    const char *slash = strrchr(path, '/');
+    char *directory = slash ? strndup(path, slash == path ? 1 : (size_t)(slash - path)) : strdup(".");
+    const char *base = slash ? slash + 1 : path;
+    if (!directory)
+        return NULL;
+    if (!cache->name || strcmp(cache->name, directory) != 0) {
+        free(cache->name);
+        free(cache->resolved);
+        cache->name = directory;
+        cache->resolved = realpath(directory, NULL);
+        if (!cache->resolved) {
+            /* Not there (creating the file fails anyway): the text itself,
+             * made absolute. */
+            char cwd[PATH_MAX] = "";
+            if (directory[0] != '/' && !getcwd(cwd, sizeof cwd))
+                snprintf(cwd, sizeof cwd, ".");
+            size_t size = strlen(cwd) + strlen(directory) + 2;
+            cache->resolved = malloc(size);
+            if (cache->resolved)
+                snprintf(cache->resolved, size, "%s/%s", cwd, directory);
+        }
+    } else {
+        free(directory);
+    }
+    if (!cache->resolved)
+        return NULL;
+    size_t size = strlen(cache->resolved) + strlen(base) + 2;
+    char *full = malloc(size);
+    if (full) {
+        snprintf(full, size, "%s/%s", cache->resolved, base);
+        collapse(full);
+    }
+    return full;
+}
+
+static int compare_identities(const void *pa, const void *pb)
+{
+    const file_identity *a = pa, *b = pb;
+    if (a->kind != b->kind)
+        return a->kind < b->kind ? -1 : 1;
+    int c = 0;
+    if (a->kind == IDENTITY_INODE)
+        c = a->dev != b->dev ? (a->dev < b->dev ? -1 : 1) : a->ino != b->ino ? (a->ino < b->ino ? -1 : 1) : 0;
+    else if (a->kind == IDENTITY_PATH)
+        c = strcmp(a->path, b->path);
+    return c ? c : a->index < b->index ? -1 : a->index > b->index;
+}
+
+static int same_identity(const file_identity *a, const file_identity *b)
+{
+    return a->kind == b->kind && (a->kind == IDENTITY_INODE ? a->dev == b->dev && a->ino == b->ino
+                                                            : strcmp(a->path, b->path) == 0);
+}
+
+/* Where `path` is (IDENTITY_NONE: a device or pipe, written in place, or
+ * out of memory with *failed set). */
+static void identify(const char *path, size_t index, directory_cache *cache, file_identity *out, bool *failed)
+{
+    struct stat st;
+    memset(out, 0, sizeof *out);
+    out->index = index;
+    if (stat(path, &st) == 0) {
+        if (S_ISREG(st.st_mode) || S_ISDIR(st.st_mode)) {
+            out->kind = IDENTITY_INODE;
+            out->dev = st.st_dev;
+            out->ino = st.st_ino;
+        }
+        return;
+    }
+    out->path = creation_path(path, cache);
+    if (out->path)
+        out->kind = IDENTITY_PATH;
+    else
+        *failed = true;
+}
+
+/* The first clash of sorted identities: two entries of one group of which
+ * one is written, as the lower and higher index; 0 if none. */
+static int find_clash(const file_identity *ids, size_t n, const perma_file_role *files, size_t count,
+                      size_t *first, size_t *second)
+{
+    int found = 0;
+    for (size_t i = 0; i < n;) {
+        size_t j = i + 1;
+        while (j < n && same_identity(&ids[i], &ids[j]))
+            ++j;
+        /* The group ids[i..j) is sorted by index: its first output, paired
+         * with the group's first other member. */
+        for (size_t k = i; k < j && j - i > 1; ++k) {
+            size_t at = ids[k].index;
+            if (at != count && !files[at].written)
+                continue;
+            size_t other = ids[k == i ? i + 1 : i].index;
+            size_t a = other < at ? other : at, b = other < at ? at : other;
+            if (!found || a < *first || (a == *first && b < *second))
+                *first = a, *second = b;
+            found = 1;
+            break;
+        }
+        i = j;
+    }
+    return found;
+}
+
+perma_status perma_check_distinct_files(const perma_file_role *files, size_t count, perma_error *error)
+{
+    const char *trace = getenv("PERMA_TRACE");
+    file_identity *ids = calloc(count + 1, sizeof *ids);
+    if (!ids)
+        return fail(error, PERMA_ERR_NO_MEMORY, "out of memory comparing %zu file names", count);
+    directory_cache cache = { NULL, NULL };
+    bool failed = false;
+    size_t n = 0;
+    for (size_t k = 0; k <= count; ++k) {
+        const char *path = k < count ? files[k].path : trace;
+        if (path && *path) {
+            identify(path, k, &cache, &ids[n], &failed);
+            n += ids[n].kind != IDENTITY_NONE;
+        }
+    }
+    free(cache.name);
+    free(cache.resolved);
+    perma_status st = PERMA_OK;
+    size_t a = 0, b = 0;
+    qsort(ids, n, sizeof *ids, compare_identities);
+    if (failed) {
+        st = fail(error, PERMA_ERR_NO_MEMORY, "out of memory comparing %zu file names", count);
+    } else if (find_clash(ids, n, files, count, &a, &b)) {
+        /* a < b, so only b can be the trace, which is written. */
+        const char *names[2] = { files[a].name, b == count ? "PERMA_TRACE" : files[b].name };
+        const char *paths[2] = { files[a].path, b == count ? trace : files[b].path };
+        bool b_written = b == count || files[b].written;
+        if (files[a].written && b_written)
+            st = fail(error, PERMA_ERR_ARGUMENT, "%s '%s' and %s '%s' are the same file: one would overwrite the other",
+                      names[0], paths[0], names[1], paths[1]);
+        else {
+            int out = files[a].written ? 0 : 1;
+            st = fail(error, PERMA_ERR_ARGUMENT, "%s '%s' is the same file as %s '%s', which it would overwrite",
+                      names[out], paths[out], names[1 - out], paths[1 - out]);
+        }
+    }
+    for (size_t k = 0; k < n; ++k)
+        free(ids[k].path);
+    free(ids);
+    return st;
+}

@@ -40,10 +40,8 @@ static void invalidate_build(perma_runtime *rt)
     rt->built = false;
 }
 
-perma_status perma_add_source(perma_runtime *rt, const char *source, const char *file)
+static perma_status add_source_call(perma_runtime *rt, const char *source, const char *file)
 {
-    if (!rt)
-        return PERMA_ERR_ARGUMENT;
     perma_status begun = perma_call_begin(rt, "perma_add_source", true);
     if (begun != PERMA_OK)
         return begun;
@@ -62,6 +60,11 @@ perma_status perma_add_source(perma_runtime *rt, const char *source, const char 
     return PERMA_OK;
 }
 
+perma_status perma_add_source(perma_runtime *rt, const char *source, const char *file)
+{
+    PERMA_EXCLUSIVE_CALL(rt, "perma_add_source", add_source_call(rt, source, file));
+}
+
 /* Check every field of a description; the message names the field. */
 static perma_status validate(perma_runtime *rt, const perma_procedure *d)
 {
@@ -70,6 +73,9 @@ static perma_status validate(perma_runtime *rt, const perma_procedure *d)
         return perma_set_error(rt, PERMA_ERR_ARGUMENT,
                                "procedure name '%s' is not a C identifier of at most %d characters",
                                n, PERMA_NAME_MAX);
+    const char *reserved = perma_reserved_name(d->name);
+    if (reserved)
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT, "procedure name '%s' is %s; choose another name", n, reserved);
     for (unsigned i = 0; i < rt->proc_count; ++i)
         if (strcmp(rt->procs[i].name, d->name) == 0)
             return perma_set_error(rt, PERMA_ERR_ARGUMENT, "procedure '%s' is already registered", n);
@@ -99,6 +105,10 @@ static perma_status validate(perma_runtime *rt, const perma_procedure *d)
         return perma_set_error(rt, PERMA_ERR_ARGUMENT,
                                "procedure '%s': function '%s' is not a C identifier", n,
                                d->function ? d->function : "(null)");
+    reserved = perma_reserved_name(d->function);
+    if (reserved)
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT, "procedure '%s': function name '%s' is %s; rename the function",
+                               n, d->function, reserved);
     for (unsigned e = 0; e < PERMA_MAX_EMITS && d->emits[e].target; ++e) {
         if (!perma_is_identifier(d->emits[e].target))
             return perma_set_error(rt, PERMA_ERR_ARGUMENT,
@@ -118,10 +128,8 @@ static perma_status validate(perma_runtime *rt, const perma_procedure *d)
     return PERMA_OK;
 }
 
-perma_status perma_register(perma_runtime *rt, const perma_procedure *d, perma_proc *out)
+static perma_status register_call(perma_runtime *rt, const perma_procedure *d, perma_proc *out)
 {
-    if (!rt)
-        return PERMA_ERR_ARGUMENT;
     perma_status begun = perma_call_begin(rt, "perma_register", true);
     if (begun != PERMA_OK)
         return begun;
@@ -168,10 +176,13 @@ perma_status perma_register(perma_runtime *rt, const perma_procedure *d, perma_p
     return PERMA_OK;
 }
 
-perma_status perma_find(perma_runtime *rt, const char *name, perma_proc *out)
+perma_status perma_register(perma_runtime *rt, const perma_procedure *d, perma_proc *out)
 {
-    if (!rt)
-        return PERMA_ERR_ARGUMENT;
+    PERMA_EXCLUSIVE_CALL(rt, "perma_register", register_call(rt, d, out));
+}
+
+static perma_status find_call(perma_runtime *rt, const char *name, perma_proc *out)
+{
     perma_call_begin(rt, "perma_find", false);
     if (!out)
         return perma_set_error(rt, PERMA_ERR_ARGUMENT, "perma_find('%s'): out is NULL", name ? name : "(null)");
@@ -184,10 +195,13 @@ perma_status perma_find(perma_runtime *rt, const char *name, perma_proc *out)
     return perma_set_error(rt, PERMA_ERR_ARGUMENT, "no procedure named '%s'", name ? name : "(null)");
 }
 
-perma_status perma_seed(perma_runtime *rt, perma_proc proc, const void *items, size_t count)
+perma_status perma_find(perma_runtime *rt, const char *name, perma_proc *out)
 {
-    if (!rt)
-        return PERMA_ERR_ARGUMENT;
+    PERMA_EXCLUSIVE_CALL(rt, "perma_find", find_call(rt, name, out));
+}
+
+static perma_status seed_call(perma_runtime *rt, perma_proc proc, const void *items, size_t count)
+{
     perma_status begun = perma_call_begin(rt, "perma_seed", true);
     if (begun != PERMA_OK)
         return begun;
@@ -217,4 +231,9 @@ perma_status perma_seed(perma_runtime *rt, perma_proc proc, const void *items, s
     memcpy(p->seeds + p->seed_count * p->item_size, items, count * p->item_size);
     p->seed_count += count;
     return PERMA_OK;
+}
+
+perma_status perma_seed(perma_runtime *rt, perma_proc proc, const void *items, size_t count)
+{
+    PERMA_EXCLUSIVE_CALL(rt, "perma_seed", seed_call(rt, proc, items, count));
 }

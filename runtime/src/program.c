@@ -246,19 +246,27 @@ perma_status perma_build_program(perma_runtime *rt)
     return PERMA_OK;
 }
 
-perma_status perma_build(perma_runtime *rt)
+static perma_status build_call(perma_runtime *rt)
 {
-    if (!rt)
-        return PERMA_ERR_ARGUMENT;
     perma_status begun = perma_call_begin(rt, "perma_build", true);
     return begun == PERMA_OK ? perma_build_program(rt) : begun;
 }
 
-perma_status perma_get_build_info(perma_runtime *rt, perma_build_info *out)
+perma_status perma_build(perma_runtime *rt)
+{
+    PERMA_EXCLUSIVE_CALL(rt, "perma_build", build_call(rt));
+}
+
+static perma_status get_build_info_call(perma_runtime *rt, perma_build_info *out)
 {
     if (!rt || !out)
         return PERMA_ERR_ARGUMENT;
     perma_call_begin(rt, "perma_get_build_info", false);
     *out = rt->build.info;
     return PERMA_OK;
+}
+
+perma_status perma_get_build_info(perma_runtime *rt, perma_build_info *out)
+{
+    PERMA_EXCLUSIVE_CALL(rt, "perma_get_build_info", get_build_info_call(rt, out));
 }

@@ -164,29 +164,48 @@ static uint64_t entry_checksum(const void *key, size_t key_length, const void *b
     return checksum(checksum(CHECKSUM_SEED, key, key_length), binary, binary_length);
 }
 
-/* Read a whole file into *data (NULL for an empty one); false with errno
- * when it cannot be read. */
-static bool read_file(const char *path, unsigned char **data, size_t *size)
+/* What a file that is not a regular one is, for a message. */
+static const char *file_kind(mode_t mode)
+{
+    return S_ISDIR(mode) ? "a directory" : S_ISFIFO(mode) ? "a named pipe" : S_ISCHR(mode) ? "a character device"
+           : S_ISBLK(mode) ? "a block device" : S_ISSOCK(mode) ? "a socket" : "not a regular file";
+}
+
+/* Read a whole regular file into *data (NULL for an empty one); false with
+ * errno when it cannot be read, or with *kind naming what it is when it
+ * is not a regular file.  Opened without blocking: opening a named pipe
+ * for reading waits for a writer (it hung perma_build). */
+static bool read_file(const char *path, unsigned char **data, size_t *size, const char **kind)
 {
     *data = NULL;
     *size = 0;
-    FILE *f = fopen(path, "rb");
-    if (!f)
+    *kind = NULL;
+    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0)
         return false;
-    bool ok = false;
     struct stat st;
-    if (fstat(fileno(f), &st) == 0 && st.st_size >= 0) {
-        size_t length = (size_t)st.st_size;
-        unsigned char *bytes = length ? malloc(length) : NULL;
-        if (length == 0 || (bytes && fread(bytes, 1, length, f) == length)) {
-            *data = bytes;
-            *size = length;
-            ok = true;
-        } else {
-            free(bytes);
-            if (!errno)
-                errno = EIO;
-        }
+    bool stated = fstat(fd, &st) == 0;
+    if (!stated || !S_ISREG(st.st_mode) || st.st_size < 0) {
+        *kind = stated ? file_kind(st.st_mode) : NULL;
+        close(fd);
+        return false;
+    }
+    FILE *f = fdopen(fd, "rb");
+    if (!f) {
+        close(fd);
+        return false;
+    }
+    bool ok = false;
+    size_t length = (size_t)st.st_size;
+    unsigned char *bytes = length ? malloc(length) : NULL;
+    if (length == 0 || (bytes && fread(bytes, 1, length, f) == length)) {
+        *data = bytes;
+        *size = length;
+        ok = true;
+    } else {
+        free(bytes);
+        if (!errno)
+            errno = EIO;
     }
     fclose(f);
     return ok;
@@ -276,7 +295,8 @@ bool perma_cache_lock(perma_cache_entry *entry)
 /* Remove a bad entry; the one-line notice saying why in notice[]. */
 static void discard(const char *path, const char *why, char *notice, size_t size)
 {
-    unlink(path);
+    if (unlink(path) != 0 && errno == EISDIR)
+        rmdir(path); /* an empty directory where the entry should be */
     snprintf(notice, size, "perma: discarded the damaged program-cache entry %s (%s); building the program from "
              "source", path, why);
 }
@@ -360,8 +380,14 @@ cl_program perma_cache_load(perma_runtime *rt, const perma_cache_entry *entry, c
     unsigned char *data = NULL;
     size_t size = 0;
     cl_program program = NULL;
-    if (read_file(entry->path, &data, &size))
+    const char *kind;
+    if (read_file(entry->path, &data, &size, &kind))
         program = load_entry(rt, entry, options, data, size, notice, sizeof notice);
+    else if (kind) {
+        char why[64];
+        snprintf(why, sizeof why, "%s, not a file", kind);
+        discard(entry->path, why, notice, sizeof notice);
+    }
     else if (errno != ENOENT)
         snprintf(notice, sizeof notice, "perma: cannot read the program-cache entry %s (%s); building the program "
                  "from source", entry->path, strerror(errno));

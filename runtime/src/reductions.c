@@ -94,11 +94,9 @@ static bool device_has_doubles(const perma_runtime *rt)
            config != 0;
 }
 
-perma_status perma_declare_reduction(perma_runtime *rt, const char *name, perma_reduce_op op, perma_value_type type,
-                                     void *result)
+static perma_status declare_reduction_call(perma_runtime *rt, const char *name, perma_reduce_op op, perma_value_type type,
+                                           void *result)
 {
-    if (!rt)
-        return PERMA_ERR_ARGUMENT;
     perma_status begun = perma_call_begin(rt, "perma_declare_reduction", true);
     if (begun != PERMA_OK)
         return begun;
@@ -107,6 +105,9 @@ perma_status perma_declare_reduction(perma_runtime *rt, const char *name, perma_
         return perma_set_error(rt, PERMA_ERR_ARGUMENT,
                                "perma_declare_reduction: name '%s' is not a C identifier of at most %d characters", n,
                                PERMA_NAME_MAX);
+    if (perma_reserved_name(name))
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT, "perma_declare_reduction: name '%s' is %s; choose another name",
+                               n, perma_reserved_name(name));
     if (find(rt, name))
         return perma_set_error(rt, PERMA_ERR_ARGUMENT, "perma_declare_reduction: reduction '%s' is already declared",
                                n);
@@ -141,10 +142,14 @@ perma_status perma_declare_reduction(perma_runtime *rt, const char *name, perma_
     return PERMA_OK;
 }
 
-perma_status perma_get_reduction(perma_runtime *rt, const char *name, perma_value_type type, void *out)
+perma_status perma_declare_reduction(perma_runtime *rt, const char *name, perma_reduce_op op, perma_value_type type,
+                                     void *result)
 {
-    if (!rt)
-        return PERMA_ERR_ARGUMENT;
+    PERMA_EXCLUSIVE_CALL(rt, "perma_declare_reduction", declare_reduction_call(rt, name, op, type, result));
+}
+
+static perma_status get_reduction_call(perma_runtime *rt, const char *name, perma_value_type type, void *out)
+{
     perma_call_begin(rt, "perma_get_reduction", false);
     const char *n = name ? name : "(null)";
     perma_reduction *r = find(rt, name);
@@ -162,6 +167,11 @@ perma_status perma_get_reduction(perma_runtime *rt, const char *name, perma_valu
                                "declared (or the last run failed)", n);
     memcpy(out, &r->value, type_bytes[type]);
     return PERMA_OK;
+}
+
+perma_status perma_get_reduction(perma_runtime *rt, const char *name, perma_value_type type, void *out)
+{
+    PERMA_EXCLUSIVE_CALL(rt, "perma_get_reduction", get_reduction_call(rt, name, type, out));
 }
 
 void perma_reductions_release(perma_runtime *rt)

@@ -214,19 +214,20 @@ void perma_run_release(perma_runtime *rt)
     rt->build.learned_count = 0;
 }
 
-perma_status perma_forget_capacities(perma_runtime *rt)
+static perma_status forget_capacities_call(perma_runtime *rt)
 {
-    if (!rt)
-        return PERMA_ERR_ARGUMENT;
     perma_call_begin(rt, "perma_forget_capacities", false);
     perma_run_release(rt);
     return PERMA_OK;
 }
 
-perma_status perma_run(perma_runtime *rt)
+perma_status perma_forget_capacities(perma_runtime *rt)
 {
-    if (!rt)
-        return PERMA_ERR_ARGUMENT;
+    PERMA_EXCLUSIVE_CALL(rt, "perma_forget_capacities", forget_capacities_call(rt));
+}
+
+static perma_status run_call(perma_runtime *rt)
+{
     perma_status st = perma_call_begin(rt, "perma_run", true);
     /* A trace that cannot be written fails the run before it starts, not
      * after all its work. */
@@ -281,4 +282,9 @@ perma_status perma_run(perma_runtime *rt)
     if (st == PERMA_OK)
         rt->message[0] = '\0';
     return st;
+}
+
+perma_status perma_run(perma_runtime *rt)
+{
+    PERMA_EXCLUSIVE_CALL(rt, "perma_run", run_call(rt));
 }

@@ -73,7 +73,7 @@ static perma_status create(perma_runtime *rt, perma_device_buffer *b, size_t byt
         bytes = 4;
     char name[64];
     snprintf(name, sizeof name, "the %s", what);
-    perma_status st = perma_check_memory(rt, bytes, name);
+    perma_status st = perma_memory_check(rt, bytes, name);
     if (st != PERMA_OK)
         return st;
     cl_int err;

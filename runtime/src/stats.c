@@ -184,10 +184,8 @@ void perma_stats_finish(perma_runtime *rt, const perma_queue_state *queues, unsi
             explain_batches(rt, queues, count, q);
 }
 
-perma_status perma_get_stats(perma_runtime *rt, perma_stats *out)
+static perma_status get_stats_call(perma_runtime *rt, perma_stats *out)
 {
-    if (!rt)
-        return PERMA_ERR_ARGUMENT;
     perma_call_begin(rt, "perma_get_stats", false);
     if (!out)
         return perma_set_error(rt, PERMA_ERR_ARGUMENT, "perma_get_stats: out is NULL");
@@ -195,10 +193,13 @@ perma_status perma_get_stats(perma_runtime *rt, perma_stats *out)
     return PERMA_OK;
 }
 
-perma_status perma_get_procedure_stats(perma_runtime *rt, perma_proc proc, perma_procedure_stats *out)
+perma_status perma_get_stats(perma_runtime *rt, perma_stats *out)
 {
-    if (!rt)
-        return PERMA_ERR_ARGUMENT;
+    PERMA_EXCLUSIVE_CALL(rt, "perma_get_stats", get_stats_call(rt, out));
+}
+
+static perma_status get_procedure_stats_call(perma_runtime *rt, perma_proc proc, perma_procedure_stats *out)
+{
     perma_call_begin(rt, "perma_get_procedure_stats", false);
     if (proc < 0 || (unsigned)proc >= rt->proc_count || !out)
         return perma_set_error(rt, PERMA_ERR_ARGUMENT, "perma_get_procedure_stats: %d is not a registered procedure",
@@ -209,10 +210,13 @@ perma_status perma_get_procedure_stats(perma_runtime *rt, perma_proc proc, perma
     return PERMA_OK;
 }
 
-perma_status perma_get_work_groups(perma_runtime *rt, unsigned *work_groups, unsigned *group_size)
+perma_status perma_get_procedure_stats(perma_runtime *rt, perma_proc proc, perma_procedure_stats *out)
 {
-    if (!rt)
-        return PERMA_ERR_ARGUMENT;
+    PERMA_EXCLUSIVE_CALL(rt, "perma_get_procedure_stats", get_procedure_stats_call(rt, proc, out));
+}
+
+static perma_status get_work_groups_call(perma_runtime *rt, unsigned *work_groups, unsigned *group_size)
+{
     perma_call_begin(rt, "perma_get_work_groups", false);
     if (!work_groups && !group_size)
         return perma_set_error(rt, PERMA_ERR_ARGUMENT, "perma_get_work_groups: both out pointers are NULL");
@@ -223,15 +227,23 @@ perma_status perma_get_work_groups(perma_runtime *rt, unsigned *work_groups, uns
     return PERMA_OK;
 }
 
-perma_status perma_get_local_memory(perma_runtime *rt, size_t *bytes)
+perma_status perma_get_work_groups(perma_runtime *rt, unsigned *work_groups, unsigned *group_size)
 {
-    if (!rt)
-        return PERMA_ERR_ARGUMENT;
+    PERMA_EXCLUSIVE_CALL(rt, "perma_get_work_groups", get_work_groups_call(rt, work_groups, group_size));
+}
+
+static perma_status get_local_memory_call(perma_runtime *rt, size_t *bytes)
+{
     perma_call_begin(rt, "perma_get_local_memory", false);
     if (!bytes)
         return perma_set_error(rt, PERMA_ERR_ARGUMENT, "perma_get_local_memory: bytes is NULL");
     *bytes = perma_local_memory(rt);
     return PERMA_OK;
+}
+
+perma_status perma_get_local_memory(perma_runtime *rt, size_t *bytes)
+{
+    PERMA_EXCLUSIVE_CALL(rt, "perma_get_local_memory", get_local_memory_call(rt, bytes));
 }
 
 void perma_stats_release(perma_runtime *rt)
@@ -240,10 +252,8 @@ void perma_stats_release(perma_runtime *rt)
     rt->group_stats = NULL;
 }
 
-perma_status perma_get_group_stats(perma_runtime *rt, unsigned group, perma_group_stats *out)
+static perma_status get_group_stats_call(perma_runtime *rt, unsigned group, perma_group_stats *out)
 {
-    if (!rt)
-        return PERMA_ERR_ARGUMENT;
     perma_call_begin(rt, "perma_get_group_stats", false);
     if (group >= rt->work_groups || !out)
         return perma_set_error(rt, PERMA_ERR_ARGUMENT, "perma_get_group_stats: group %u is not in 0..%u",
@@ -253,6 +263,11 @@ perma_status perma_get_group_stats(perma_runtime *rt, unsigned group, perma_grou
     else
         memset(out, 0, sizeof *out);
     return PERMA_OK;
+}
+
+perma_status perma_get_group_stats(perma_runtime *rt, unsigned group, perma_group_stats *out)
+{
+    PERMA_EXCLUSIVE_CALL(rt, "perma_get_group_stats", get_group_stats_call(rt, group, out));
 }
 
 /* The warning for a procedure whose batches were cut, naming the
@@ -288,10 +303,8 @@ static void print_batch_warning(const perma_runtime *rt, unsigned q, FILE *out)
                 perma_queue_memory_limit(rt));
 }
 
-void perma_print_stats(perma_runtime *rt, FILE *out)
+static void print_stats(perma_runtime *rt, FILE *out)
 {
-    if (!rt || !out)
-        return;
     const perma_stats *s = &rt->stats;
     fprintf(out, "perma run (%s, %s): %.3f s, %u launch(es), %u regrowth(s), %u group(s) x %u work-items, "
                  "peak queue memory %zu bytes (limit %zu)\n",
@@ -326,4 +339,16 @@ void perma_print_stats(perma_runtime *rt, FILE *out)
     }
     for (unsigned q = 0; q < rt->proc_count; ++q)
         print_batch_warning(rt, q, out);
+}
+
+void perma_print_stats(perma_runtime *rt, FILE *out)
+{
+    if (!rt || !out)
+        return;
+    if (perma_call_claim(rt, "perma_print_stats") != PERMA_OK) {
+        fprintf(out, "perma: no statistics: %s\n", perma_errmsg(rt));
+        return;
+    }
+    print_stats(rt, out);
+    perma_call_release(rt);
 }

@@ -71,7 +71,8 @@ target_sources() {
                   "$source/examples/reyes/reyes_cli_options.c $source/runtime/tools/cli/perma_cli_parse.c"\
                   "$source/runtime/tools/cli/perma_cli_values.c $source/runtime/tools/cli/perma_cli_help.c"\
                   "$source/procedures/host/reyes_options.c $source/procedures/host/reyes_error.c"\
-                  "$source/runtime/src/names.c $source/runtime/src/schedule.c $source/runtime/src/schedule_table.c" ;;
+                  "$source/runtime/src/names.c $source/runtime/src/schedule.c $source/runtime/src/schedule_table.c"\
+                  "$source/runtime/src/output_file.c" ;;
     esac
 }
 target_max_len() {

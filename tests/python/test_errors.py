@@ -169,6 +169,31 @@ def test_python_side_checks(workloads):
     check(info, ARGUMENT)
 
 
+def test_element_type_checked_against_the_dtype(workloads):
+    """A type whose elements are not the array's (it was accepted, and the
+    device wrote past the array's end)."""
+    rt = workloads.rt
+    with pytest.raises(perma.ArgumentError, match=r"buffer 'bytes': type '__global uint \*' points to uint, 4 bytes "
+                                                  r"each, but the array's elements are uint8, 1 bytes each") as info:
+        rt.bind('bytes', np.zeros(16, np.uint8), type='__global uint *')
+    check(info, ARGUMENT)
+    with pytest.raises(perma.ArgumentError, match=r"points to struct node, 8 bytes each, but the array's elements "
+                                                  r"are uint32, 4 bytes each"):
+        rt.bind('nodes', np.zeros(4, np.uint32), type='__global const struct node *')
+    with pytest.raises(perma.ArgumentError, match=r"points to float4, 16 bytes each"):
+        rt.bind('v', np.zeros(4, np.float32), type='__global float4 *')
+    # Matching sizes, and a view of the bytes, bind.
+    rt.bind('v', np.zeros(4, np.float32).view(np.uint32), type='__global const unsigned int *', access='read')
+    rt.bind('bytes', np.zeros(16, np.uint8).view(np.uint32), type='__global uint *')
+
+
+def test_reserved_buffer_name(workloads):
+    with pytest.raises(perma.ArgumentError, match=r"buffer name 'kernel' is an OpenCL C keyword; choose another "
+                                                  r"name") as info:
+        workloads.rt.bind('kernel', np.zeros(4, np.uint32))
+    check(info, ARGUMENT)
+
+
 def test_emit_limit_then_the_runtime_runs_on(workloads):
     w = workloads
     w.rt.seed(w.greedy, np.array([(3, 0)], NODE))

@@ -5,8 +5,10 @@
 #include <check.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <time.h>
 
 #include "reyes_shared.h"
+#include "reyes_stitch_glue.h"
 #include "reyes_test_util.h"
 
 #define VIEWS 24
@@ -135,6 +137,95 @@ START_TEST(test_builtin_wedges)
 }
 END_TEST
 
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+/* A square of side `size` in the plane x = 0 from (y0, z0). */
+static void add_upright_square(reyes_scene *scene, float y0, float z0, float size)
+{
+    float cp[4][4][3];
+    for (int r = 0; r < 4; ++r)
+        for (int c = 0; c < 4; ++c) {
+            cp[r][c][0] = 0.0f;
+            cp[r][c][1] = y0 + size * (float)c / 3.0f;
+            cp[r][c][2] = z0 + size * (float)r / 3.0f;
+        }
+    reyes_error error;
+    ck_assert_int_eq(reyes_scene_add_patch(scene, cp, REYES_RGBA(200, 200, 200), &error), REYES_OK);
+}
+
+#define SEAM_SIDE 300        /* squares per side of the grid */
+#define SEAM_COPIES 10000    /* coincident copies of one square */
+
+/* 10^5 patches whose boundaries the stitch must glue nearly: a grid of
+ * 300 x 300 squares in one plane, each shifted by up to 2e-4 of its side
+ * (near seams, not exact ones), and 10^4 copies of one square.  Gluing
+ * compared every pair of loose boundaries: 10^4 such patches took 15 s,
+ * 10^5 did not finish in 300 s; it indexes them now, and the render takes
+ * seconds.  The seams are glued: no crack shows at 1 sample per pixel. */
+START_TEST(test_many_near_seams_render_in_seconds)
+{
+    reyes_scene scene;
+    reyes_scene_init(&scene);
+    const float side = 1.0f / SEAM_SIDE;
+    for (unsigned i = 0; i < SEAM_SIDE * SEAM_SIDE; ++i) {
+        float shift = side * 1e-4f * (float)(i % 3);
+        add_upright_square(&scene, (float)(i % SEAM_SIDE) * side + shift, (float)(i / SEAM_SIDE) * side - shift,
+                           side);
+    }
+    for (unsigned k = 0; k < SEAM_COPIES; ++k)
+        add_upright_square(&scene, 0.25f, 0.25f, 0.5f);
+    ck_assert_uint_eq(scene.patch_count, 100000);
+    /* Every seam of the grid glued (2 x 300 x 299 of them), and the first
+     * two copies' boundaries (more than two patches on one curve: the
+     * first two glue, the rest stay loose). */
+    boundary_link *links = malloc(scene.patch_count * 4 * sizeof *links);
+    ck_assert_ptr_nonnull(links);
+    reyes_error error;
+    double start = now();
+    ck_assert_int_eq(reyes_glue_boundaries(&scene, 1, links, &error), REYES_OK);
+    double glue_seconds = now() - start;
+    size_t glued = 0;
+    for (size_t b = 0; b < scene.patch_count * 4; ++b)
+        glued += links[b].patch >= 0;
+    ck_assert_uint_eq(glued, 2 * (2 * SEAM_SIDE * (SEAM_SIDE - 1)) + 8);
+    for (uint32_t b = 0; b < 4; ++b) {
+        const boundary_link *first = &links[(size_t)SEAM_SIDE * SEAM_SIDE * 4 + b];
+        ck_assert_int_eq(first->patch, SEAM_SIDE * SEAM_SIDE + 1);
+        ck_assert_uint_eq(first->boundary, b);
+        ck_assert_uint_eq(first->reversed, 0);
+    }
+    free(links);
+    reyes_options o;
+    reyes_options_init(&o);
+    o.width = o.height = 64;
+    o.spp = 1;
+    o.crack_fix = REYES_CRACK_FIX_STITCH;
+    const reyes_camera camera = { { 1.2f, 0.5f, 0.5f }, { 0.0f, 0.5f, 0.5f }, 40.0f };
+    reyes_renderer *renderer;
+    ck_assert_int_eq(reyes_renderer_create(&o, &renderer, &error), REYES_OK);
+    reyes_image image;
+    reyes_stats stats;
+    start = now();
+    reyes_test_render(renderer, &scene, &camera, &o, &image, &stats);
+    double seconds = now() - start;
+    printf("%zu patches with near seams: glued in %.2f s, rendered in %.2f s\n", scene.patch_count, glue_seconds,
+           seconds);
+    ck_assert_msg(glue_seconds < 20.0 && seconds < 60.0, "gluing took %.1f s, the render %.1f s", glue_seconds,
+                  seconds);
+    ck_assert_uint_eq(reyes_test_hole_pixels(&image, MAX_HOLE), 0);
+    ck_assert_uint_eq(reyes_test_covered_samples(&image), (uint64_t)o.width * o.height);
+    reyes_image_free(&image);
+    reyes_stats_free(&stats);
+    reyes_renderer_destroy(renderer);
+    reyes_scene_free(&scene);
+}
+END_TEST
+
 int main(void)
 {
     Suite *s = suite_create("reyes_cracks");
@@ -143,6 +234,7 @@ int main(void)
     tcase_add_test(tc, test_sphere_watertight);
     tcase_add_test(tc, test_sphere_watertight_tiered);
     tcase_add_test(tc, test_builtin_wedges);
+    tcase_add_test(tc, test_many_near_seams_render_in_seconds);
     suite_add_tcase(s, tc);
     return reyes_test_run_suite(s) ? EXIT_FAILURE : EXIT_SUCCESS;
 }

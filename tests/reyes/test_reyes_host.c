@@ -80,6 +80,15 @@ START_TEST(test_camera_projection)
     ck_assert_float_eq_tol(px, 32, 1e-3f);
     reyes_camera same = { .eye = {1, 1, 1}, .at = {1, 1, 1}, .fov_deg = 60 };
     ck_assert_int_eq(reyes_camera_matrix(&same, 1.0f, 0.01f, m, &error), REYES_ERR_ARGUMENT);
+    ck_assert_str_eq(error.message, "camera eye and target are the same point");
+    /* A camera far out is said to be so (it was "the same point": the
+     * distance overflowed). */
+    reyes_camera far = { .eye = {2e19f, -10, 3}, .at = {0, 0, 1}, .fov_deg = 60 };
+    ck_assert_int_eq(reyes_camera_matrix(&far, 1.0f, 0.01f, m, &error), REYES_ERR_ARGUMENT);
+    ck_assert_str_eq(error.message, "camera eye (2e+19, -10, 3) is beyond +-1e+18, the supported range of coordinates");
+    far = (reyes_camera){ .eye = {0, -10, 3}, .at = {1e30f, 0, 1}, .fov_deg = 60 };
+    ck_assert_int_eq(reyes_camera_matrix(&far, 1.0f, 0.01f, m, &error), REYES_ERR_ARGUMENT);
+    ck_assert_str_eq(error.message, "camera target (1e+30, 0, 1) is beyond +-1e+18, the supported range of coordinates");
 }
 END_TEST
 

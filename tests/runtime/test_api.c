@@ -8,6 +8,8 @@
 #define CL_TARGET_OPENCL_VERSION 200
 #include "perma_test.h"
 
+#include <pthread.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -274,6 +276,92 @@ START_TEST(seeds_beyond_the_limits_are_refused_at_seed)
 }
 END_TEST
 
+/* Calls made while another call holds the runtime: from a second thread
+ * (started and joined inside the first run, from its progress callback,
+ * so the two surely overlap) and from the callback itself. */
+typedef struct overlapping_calls {
+    perma_runtime *rt;
+    perma_proc id;
+    unsigned callbacks;
+    perma_status status[3];
+    char message[3][PERMA_MESSAGE_MAX];
+} overlapping_calls;
+
+static void note(overlapping_calls *c, int k, perma_status status)
+{
+    c->status[k] = status;
+    snprintf(c->message[k], sizeof c->message[k], "%s", perma_errmsg(c->rt));
+}
+
+static void *second_thread(void *arg)
+{
+    overlapping_calls *c = arg;
+    note(c, 0, perma_run(c->rt));
+    uint32_t item = 100;
+    note(c, 1, perma_seed(c->rt, c->id, &item, 1));
+    return NULL;
+}
+
+static void during_the_run(void *user, const perma_progress *progress)
+{
+    overlapping_calls *c = user;
+    (void)progress;
+    if (c->callbacks++ > 0)
+        return;
+    pthread_t thread; /* no ck_assert here: this is the runtime's thread */
+    if (pthread_create(&thread, NULL, second_thread, c) == 0)
+        pthread_join(thread, NULL);
+    perma_stats stats;
+    note(c, 2, perma_get_stats(c->rt, &stats));
+}
+
+/* A runtime takes one call at a time: a second call while one runs fails
+ * with PERMA_ERR_STATE naming both and changes nothing; the running call
+ * ends exactly, its message untouched (it once returned PERMA_OK on both
+ * threads and lost the results). */
+START_TEST(a_second_call_while_one_runs_is_refused)
+{
+    uint32_t per_group[65] = { 0 }, groups[1] = { 64 }, items[3] = { 1, 2, 3 };
+    overlapping_calls c = { 0 };
+    perma_config config;
+    perma_config_init(&config);
+    config.group_size = 64;
+    config.progress = during_the_run;
+    config.progress_user = &c;
+    c.rt = test_runtime_config(&config);
+    perma_procedure p = count_procedure();
+    ck_assert_perma_ok(c.rt, perma_register(c.rt, &p, &c.id));
+    ck_assert_perma_ok(c.rt, perma_bind_host(c.rt, "per_group", "__global uint *", per_group, sizeof per_group,
+                                             PERMA_READ_WRITE));
+    ck_assert_perma_ok(c.rt, perma_bind_host(c.rt, "groups", "__global const uint *", groups, sizeof groups,
+                                             PERMA_READ));
+    ck_assert_perma_ok(c.rt, perma_seed(c.rt, c.id, items, 3));
+    ck_assert_perma_ok(c.rt, perma_run(c.rt));
+    ck_assert_str_eq(perma_errmsg(c.rt), "");
+    ck_assert_uint_ge(c.callbacks, 1);
+    const char *calls[3] = { "perma_run", "perma_seed", "perma_get_stats" };
+    for (int k = 0; k < 3; ++k) {
+        char expected[256];
+        ck_assert_int_eq(c.status[k], PERMA_ERR_STATE);
+        snprintf(expected, sizeof expected, "%s: perma_run is running on this runtime (in another thread, or this "
+                 "call comes from inside it); a runtime takes one call at a time", calls[k]);
+        ck_assert_contains(c.message[k], expected);
+    }
+    uint32_t total = 0;
+    for (unsigned g = 0; g < 65; ++g)
+        total += per_group[g];
+    ck_assert_uint_eq(total, 6);
+    /* The refused seed was not queued; the runtime takes calls again. */
+    memset(per_group, 0, sizeof per_group);
+    ck_assert_perma_ok(c.rt, perma_run(c.rt));
+    for (unsigned g = 0; g < 65; ++g)
+        ck_assert_uint_eq(per_group[g], 0);
+    perma_stats stats;
+    ck_assert_perma_ok(c.rt, perma_get_stats(c.rt, &stats));
+    perma_destroy(c.rt);
+}
+END_TEST
+
 int main(void)
 {
     Suite *s = suite_create("api");
@@ -286,6 +374,7 @@ int main(void)
     tcase_add_test(tc, work_groups_known_before_the_first_run);
     tcase_add_test(tc, default_queue_memory_limit_is_half_the_largest_allocation);
     tcase_add_test(tc, seeds_beyond_the_limits_are_refused_at_seed);
+    tcase_add_test(tc, a_second_call_while_one_runs_is_refused);
     suite_add_tcase(s, tc);
     return test_run_suite(s) ? EXIT_FAILURE : EXIT_SUCCESS;
 }

@@ -15,6 +15,7 @@ struct pair {
 
 #include "perma_test.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -144,9 +145,10 @@ START_TEST(bad_typed_bindings_are_refused)
     ck_assert_contains(perma_errmsg(rt), "buffer 'v': flags 0 must be PERMA_READ, PERMA_WRITE or both");
     ck_assert_perma_ok(rt, PERMA_BIND_HOST_ARRAY(rt, "v", values, PERMA_READ_WRITE));
     double wider[4] = { 0 };
-    ck_assert_int_eq(perma_bind_host_array(rt, "v", "float", wider, 4, sizeof wider[0], PERMA_READ_WRITE),
+    ck_assert_perma_ok(rt, perma_bind_host_array(rt, "w", "struct blob", values, 2, 8, PERMA_READ_WRITE));
+    ck_assert_int_eq(perma_bind_host_array(rt, "w", "struct blob", wider, 2, 16, PERMA_READ_WRITE),
                      PERMA_ERR_ARGUMENT);
-    ck_assert_contains(perma_errmsg(rt), "buffer 'v' was bound with elements of 4 bytes and cannot be rebound with 8");
+    ck_assert_contains(perma_errmsg(rt), "buffer 'w' was bound with elements of 8 bytes and cannot be rebound with 16");
     perma_destroy(rt);
 }
 END_TEST
@@ -170,6 +172,82 @@ START_TEST(element_size_differing_on_the_device_fails_the_build)
 }
 END_TEST
 
+/* The element type a binding names against the host's sizes, where the
+ * runtime knows the type's size (the built-in scalars and vectors): a
+ * byte count that is no whole number of elements, typed elements of
+ * another size (they were accepted, and the device read and wrote past
+ * the end). */
+START_TEST(element_types_are_checked_against_the_sizes)
+{
+    perma_runtime *rt = test_runtime(64, 0, 0);
+    uint8_t bytes[6] = { 0 };
+    ck_assert_int_eq(perma_bind_host(rt, "b", "__global uint *", bytes, sizeof bytes, PERMA_READ_WRITE),
+                     PERMA_ERR_ARGUMENT);
+    ck_assert_str_eq(perma_errmsg(rt), "buffer 'b': 6 bytes is not a whole number of 'uint' elements (4 bytes "
+                                       "each), which type '__global uint *' points to");
+    ck_assert_int_eq(perma_bind_host(rt, "b", "__global const unsigned short *", bytes, 5, PERMA_READ),
+                     PERMA_ERR_ARGUMENT);
+    ck_assert_contains(perma_errmsg(rt), "5 bytes is not a whole number of 'ushort' elements (2 bytes each)");
+    ck_assert_int_eq(perma_bind_host(rt, "b", "__global float3 *", bytes, 4, PERMA_READ), PERMA_ERR_ARGUMENT);
+    ck_assert_contains(perma_errmsg(rt), "'float3' elements (16 bytes each)");
+    ck_assert_int_eq(perma_bind_host_array(rt, "b", "uint", bytes, 4, 1, PERMA_READ_WRITE), PERMA_ERR_ARGUMENT);
+    ck_assert_str_eq(perma_errmsg(rt), "buffer 'b': element type 'uint' is 4 bytes on the device, but the host's "
+                                       "elements are 1 bytes");
+    ck_assert_int_eq(perma_bind_host_array(rt, "b", "double", bytes, 1, 4, PERMA_READ), PERMA_ERR_ARGUMENT);
+    ck_assert_contains(perma_errmsg(rt), "element type 'double' is 8 bytes on the device");
+    /* Whole elements, and types whose size only the device knows, pass. */
+    ck_assert_perma_ok(rt, perma_bind_host(rt, "b", "__global uchar *", bytes, sizeof bytes, PERMA_READ_WRITE));
+    ck_assert_perma_ok(rt, perma_bind_host(rt, "c", "__global const struct thing *", bytes, 6, PERMA_READ));
+    ck_assert_perma_ok(rt, perma_bind_host(rt, "d", "__global ushort *", bytes, 6, PERMA_READ));
+    perma_destroy(rt);
+}
+END_TEST
+
+/* A procedure that writes `over` elements past the end of its buffer of
+ * 16 uints. */
+static perma_status run_writing_past(unsigned over, uint32_t out[16], perma_runtime **rt_out)
+{
+    setenv("PERMA_CHECK_BOUNDS", "1", 1);
+    perma_runtime *rt = test_runtime(64, 0, 0);
+    unsetenv("PERMA_CHECK_BOUNDS");
+    char source[512];
+    snprintf(source, sizeof source,
+             "void fill(perma_ctx *ctx, __local const uint *i)\n"
+             "{\n"
+             "    for (uint k = 0; k < 16u + %uu; ++k)\n"
+             "        ctx->buf.out[k] = *i + k;\n"
+             "}\n", over);
+    perma_procedure p = { .name = "fill", .item_type = "uint", .item_size = 4, .source = source,
+                          .source_file = "fill.cl", .function = "fill" };
+    perma_proc id;
+    ck_assert_perma_ok(rt, perma_register(rt, &p, &id));
+    ck_assert_perma_ok(rt, perma_bind_host(rt, "out", "__global uint *", out, 16 * sizeof *out, PERMA_READ_WRITE));
+    uint32_t seed = 100;
+    ck_assert_perma_ok(rt, perma_seed(rt, id, &seed, 1));
+    *rt_out = rt;
+    return perma_run(rt);
+}
+
+/* PERMA_CHECK_BOUNDS=1: guard words after every host buffer, checked
+ * after the run; a write past the end fails the run naming the buffer
+ * (it returned PERMA_OK and the process crashed later), one within the
+ * bounds runs exactly as without the check. */
+START_TEST(checked_bounds_name_the_buffer_written_past)
+{
+    uint32_t out[16] = { 0 };
+    perma_runtime *rt;
+    ck_assert_int_eq(run_writing_past(3, out, &rt), PERMA_ERR_DEVICE);
+    ck_assert_str_eq(perma_errmsg(rt), "buffer 'out' (64 bytes): a procedure wrote past its end: 3 of the 1024 guard "
+                                       "words after it changed, the first at byte 64 (element type '__global uint "
+                                       "*'; PERMA_CHECK_BOUNDS)");
+    perma_destroy(rt);
+    ck_assert_perma_ok(NULL, run_writing_past(0, out, &rt));
+    for (uint32_t k = 0; k < 16; ++k)
+        ck_assert_uint_eq(out[k], 100 + k);
+    perma_destroy(rt);
+}
+END_TEST
+
 int main(void)
 {
     Suite *s = suite_create("bind");
@@ -179,6 +257,8 @@ int main(void)
     tcase_add_test(tc, typed_arrays_reach_the_device);
     tcase_add_test(tc, bad_typed_bindings_are_refused);
     tcase_add_test(tc, element_size_differing_on_the_device_fails_the_build);
+    tcase_add_test(tc, element_types_are_checked_against_the_sizes);
+    tcase_add_test(tc, checked_bounds_name_the_buffer_written_past);
     suite_add_tcase(s, tc);
     return test_run_suite(s) ? EXIT_FAILURE : EXIT_SUCCESS;
 }

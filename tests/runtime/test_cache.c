@@ -1,11 +1,12 @@
 /* The disk cache of compiled programs (runtime/src/program_cache.c): a
  * second build of the same program loads the stored binary; a damaged
- * entry (cut short, empty, a flipped bit, trailing bytes, not an entry) is
- * removed with a one-line notice and rebuilt, never handed to the
- * implementation; processes and threads building the same program at once
- * compile it once and leave one whole entry and no other file; a held
- * build lock is waited for, a stale one is not; PoCL's fast builds are not
- * stored however long a loaded machine makes them; PERMA_CACHE_DIR=off
+ * entry (cut short, empty, a flipped bit, trailing bytes, not an entry, a
+ * named pipe or a directory) is removed with a one-line notice and
+ * rebuilt, never handed to the implementation; processes and threads
+ * building the same program at once compile it once and leave one whole
+ * entry and no other file; a held build lock is waited for, a stale one is
+ * not; PoCL's fast builds are not stored however long a loaded machine
+ * makes them; PERMA_CACHE_DIR=off
  * writes nothing.  PERMA_CACHE_MIN_SECONDS=0 stores every program, PoCL's
  * included. */
 #define _DEFAULT_SOURCE /* flock */
@@ -505,6 +506,34 @@ START_TEST(off_writes_nothing)
 }
 END_TEST
 
+/* An entry that is a named pipe is not opened for reading, which waits
+ * for a writer (perma_build hung there): it is discarded like a damaged
+ * entry, the program built from source and stored in its place.  An
+ * empty directory there the same. */
+START_TEST(entries_that_are_not_files_are_discarded)
+{
+    char path[PATH_MAX_LENGTH];
+    built b;
+    run_tree(NULL, &b);
+    for (int directory = 0; directory < 2; ++directory) {
+        ck_assert_uint_eq(entries(path, sizeof path), 1);
+        ck_assert_int_eq(unlink(path), 0);
+        ck_assert_int_eq(directory ? mkdir(path, 0700) : mkfifo(path, 0600), 0);
+        alarm(60); /* a hang fails the test rather than waiting for Check's timeout */
+        run_tree(NULL, &b);
+        alarm(0);
+        char expected[PATH_MAX_LENGTH + 128];
+        snprintf(expected, sizeof expected, "perma: discarded the damaged program-cache entry %s (%s, not a file); "
+                 "building the program from source\n", path, directory ? "a directory" : "a named pipe");
+        ck_assert_str_eq(b.log, expected);
+        ck_assert_int_eq(b.info.origin, PERMA_PROGRAM_COMPILED);
+        ck_assert_int_eq(b.info.stored, 1);
+        run_tree(NULL, &b);
+        ck_assert_int_eq(b.info.origin, PERMA_PROGRAM_CACHED);
+    }
+}
+END_TEST
+
 int main(void)
 {
     Suite *s = suite_create("cache");
@@ -518,6 +547,7 @@ int main(void)
     tcase_add_test(tc, held_lock_is_waited_for_and_stale_one_is_not);
     tcase_add_test(tc, stale_temporary_files_are_removed);
     tcase_add_test(tc, off_writes_nothing);
+    tcase_add_test(tc, entries_that_are_not_files_are_discarded);
     tcase_add_test(tc, slow_wall_time_alone_stores_nothing);
     suite_add_tcase(s, tc);
     return test_run_suite(s) ? EXIT_FAILURE : EXIT_SUCCESS;

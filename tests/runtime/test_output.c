@@ -187,6 +187,61 @@ START_TEST(a_link_keeps_pointing_to_the_new_file)
 }
 END_TEST
 
+/* Outputs that are one file, or an output that is an input, are refused
+ * naming both; through "./", "..", a symbolic link and a hard link; a
+ * file not there yet by its path; devices never clash. */
+START_TEST(outputs_that_overwrite_each_other_are_refused)
+{
+    make_dir();
+    unsetenv("PERMA_TRACE");
+    char model[128], image[128], other[128], dotted[128], soft[128], hard[128], fresh[128], fresh_dotted[256];
+    path_in_dir(model, sizeof model, "m.bpt");
+    path_in_dir(image, sizeof image, "a.png");
+    path_in_dir(other, sizeof other, "b.json");
+    snprintf(dotted, sizeof dotted, "%s/./../%s/a.png", dir, strrchr(dir, '/') + 1);
+    path_in_dir(soft, sizeof soft, "link.png");
+    path_in_dir(hard, sizeof hard, "hard.bpt");
+    path_in_dir(fresh, sizeof fresh, "new.png");
+    snprintf(fresh_dotted, sizeof fresh_dotted, "%s/../%s/./new.png", dir, strrchr(dir, '/') + 1);
+    write_text(model, "1\n");
+    write_text(image, "png\n");
+    ck_assert_int_eq(symlink(image, soft), 0);
+    ck_assert_int_eq(link(model, hard), 0);
+    perma_error error;
+    perma_file_role fine[] = { { model, "the model", 0 }, { model, "the model", 0 }, { image, "--output", 1 },
+                               { other, "--stats", 1 }, { "/dev/null", "--a", 1 }, { "/dev/null", "--b", 1 },
+                               { NULL, "--unused", 1 } };
+    ck_assert_int_eq(perma_check_distinct_files(fine, 7, &error), PERMA_OK);
+    perma_file_role two[] = { { model, "the model", 0 }, { image, "--output", 1 }, { dotted, "--stats", 1 } };
+    ck_assert_int_eq(perma_check_distinct_files(two, 3, &error), PERMA_ERR_ARGUMENT);
+    char expected[1024];
+    snprintf(expected, sizeof expected, "--output '%s' and --stats '%s' are the same file: one would overwrite the other",
+             image, dotted);
+    ck_assert_str_eq(error.message, expected);
+    perma_file_role linked[] = { { soft, "--stats", 1 }, { image, "--output", 1 } };
+    ck_assert_int_eq(perma_check_distinct_files(linked, 2, &error), PERMA_ERR_ARGUMENT);
+    ck_assert_ptr_nonnull(strstr(error.message, "--stats '"));
+    perma_file_role input[] = { { hard, "the model", 0 }, { model, "--output", 1 } };
+    ck_assert_int_eq(perma_check_distinct_files(input, 2, &error), PERMA_ERR_ARGUMENT);
+    snprintf(expected, sizeof expected, "--output '%s' is the same file as the model '%s', which it would overwrite",
+             model, hard);
+    ck_assert_str_eq(error.message, expected);
+    perma_file_role not_there[] = { { fresh, "--output", 1 }, { fresh_dotted, "--stats", 1 } };
+    ck_assert_int_eq(perma_check_distinct_files(not_there, 2, &error), PERMA_ERR_ARGUMENT);
+    ck_assert_ptr_nonnull(strstr(error.message, "are the same file"));
+    /* The trace counts as an output. */
+    setenv("PERMA_TRACE", dotted, 1);
+    perma_file_role traced[] = { { image, "--output", 1 } };
+    ck_assert_int_eq(perma_check_distinct_files(traced, 1, &error), PERMA_ERR_ARGUMENT);
+    snprintf(expected, sizeof expected, "--output '%s' and PERMA_TRACE '%s' are the same file: one would overwrite the other",
+             image, dotted);
+    ck_assert_str_eq(error.message, expected);
+    unsetenv("PERMA_TRACE");
+    ck_assert_str_eq(read_text(image), "png\n");
+    remove_dir();
+}
+END_TEST
+
 int main(void)
 {
     Suite *s = suite_create("output");
@@ -196,6 +251,7 @@ int main(void)
     tcase_add_test(tc, finish_then_discard_writes_nothing);
     tcase_add_test(tc, bad_paths_are_named);
     tcase_add_test(tc, a_link_keeps_pointing_to_the_new_file);
+    tcase_add_test(tc, outputs_that_overwrite_each_other_are_refused);
     suite_add_tcase(s, tc);
     return test_run_suite(s) ? EXIT_FAILURE : EXIT_SUCCESS;
 }

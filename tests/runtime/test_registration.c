@@ -78,6 +78,55 @@ START_TEST(bad_registration_fields)
 }
 END_TEST
 
+/* Names the generated program cannot take are refused where they are
+ * given, saying why (a buffer named 'kernel' once failed the build in
+ * perma-generated.cl, a function named perma_megakernel in the
+ * scheduler's source). */
+START_TEST(reserved_names_are_refused_at_registration)
+{
+    perma_runtime *rt = test_runtime(64, 0, 0);
+    perma_procedure p = test_noop_procedure();
+    p.name = "kernel";
+    expect_rejected(rt, &p, "procedure name 'kernel' is an OpenCL C keyword; choose another name");
+    p.name = "uint4";
+    expect_rejected(rt, &p, "procedure name 'uint4' is an OpenCL C type");
+    p.name = "perma_queue";
+    expect_rejected(rt, &p, "procedure name 'perma_queue' is reserved for perma's own names (perma_ and PERMA_)");
+    p = test_noop_procedure();
+    p.function = "perma_megakernel";
+    expect_rejected(rt, &p, "procedure 'noop': function name 'perma_megakernel' is reserved for perma's own names "
+                            "(perma_ and PERMA_); rename the function");
+    p.function = "__noop";
+    expect_rejected(rt, &p, "function name '__noop' is reserved for the compiler");
+    p.function = "global";
+    expect_rejected(rt, &p, "function name 'global' is an OpenCL C keyword");
+    uint32_t buf[4];
+    const char *const buffers[][2] = { { "kernel", "an OpenCL C keyword" }, { "int", "an OpenCL C keyword" },
+                                       { "global", "an OpenCL C keyword" }, { "float2", "an OpenCL C type" },
+                                       { "size_t", "an OpenCL C type" }, { "PERMA_WORDS", "reserved for perma's" } };
+    for (size_t k = 0; k < sizeof buffers / sizeof buffers[0]; ++k) {
+        char expected[160];
+        snprintf(expected, sizeof expected, "buffer name '%s' is %s", buffers[k][0], buffers[k][1]);
+        ck_assert_int_eq(perma_bind_host(rt, buffers[k][0], "__global uint *", buf, sizeof buf, PERMA_WRITE),
+                         PERMA_ERR_ARGUMENT);
+        ck_assert_contains(perma_errmsg(rt), expected);
+    }
+    ck_assert_int_eq(perma_declare_reduction(rt, "double", PERMA_REDUCE_SUM, PERMA_TYPE_UINT, NULL),
+                     PERMA_ERR_ARGUMENT);
+    ck_assert_contains(perma_errmsg(rt), "perma_declare_reduction: name 'double' is an OpenCL C keyword");
+    /* Names that only look alike are fine, and nothing refused was kept. */
+    p = test_noop_procedure();
+    p.name = "kernels";
+    perma_proc id;
+    ck_assert_perma_ok(rt, perma_register(rt, &p, &id));
+    ck_assert_perma_ok(rt, perma_bind_host(rt, "integer", "__global uint *", buf, sizeof buf, PERMA_WRITE));
+    perma_proc found;
+    ck_assert_int_eq(perma_find(rt, "kernel", &found), PERMA_ERR_ARGUMENT);
+    ck_assert_perma_ok(rt, perma_build(rt));
+    perma_destroy(rt);
+}
+END_TEST
+
 START_TEST(no_procedures_is_a_state_error)
 {
     perma_runtime *rt = test_runtime(64, 0, 0);
@@ -152,4 +201,4 @@ START_TEST(cycle_without_priority_order)
 }
 END_TEST
 
-PERMA_TEST_MAIN("registration", bad_registration_fields, no_procedures_is_a_state_error, unknown_emit_target, function_missing_from_its_source, cycle_without_priority_order)
+PERMA_TEST_MAIN("registration", bad_registration_fields, reserved_names_are_refused_at_registration, no_procedures_is_a_state_error, unknown_emit_target, function_missing_from_its_source, cycle_without_priority_order)

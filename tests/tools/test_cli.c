@@ -367,7 +367,14 @@ START_TEST(number_lists)
     ck_assert_int_ne(perma_cli_floats("1,x,3", xyz, 3, "dx,dy,dz", complaint, sizeof complaint), 0);
     ck_assert_str_eq(complaint, "'x' is not a number");
     ck_assert_int_ne(perma_cli_floats("1,2,1e39", xyz, 3, "dx,dy,dz", complaint, sizeof complaint), 0);
-    ck_assert_str_eq(complaint, "'1e39' is not a number");
+    ck_assert_str_eq(complaint, "'1e39' is out of range: numbers here are at most +-3.40282e+38");
+    ck_assert_int_ne(perma_cli_floats("1,2,-1e39", xyz, 3, "dx,dy,dz", complaint, sizeof complaint), 0);
+    ck_assert_str_eq(complaint, "'-1e39' is out of range: numbers here are at most +-3.40282e+38");
+    ck_assert_int_ne(perma_cli_floats("1,2,inf", xyz, 3, "dx,dy,dz", complaint, sizeof complaint), 0);
+    ck_assert_str_eq(complaint, "'inf' is not a number");
+    ck_assert_int_ne(perma_cli_doubles("1,2,3,1e999", four, 4, "X0,X1,Y0,Y1", complaint, sizeof complaint), 0);
+    ck_assert_str_eq(complaint, "'1e999' is out of range: numbers here are at most +-1.79769e+308");
+    ck_assert_int_eq(perma_cli_floats("1,2,1e-60", xyz, 3, "dx,dy,dz", complaint, sizeof complaint), 0);
     ck_assert_int_eq(perma_cli_doubles("-2.2,0.8,-1.125,1.125", four, 4, "X0,X1,Y0,Y1", complaint, sizeof complaint),
                      0);
     ck_assert(four[0] == -2.2 && four[3] == 1.125);

@@ -132,12 +132,7 @@ void reyes_job_bucket_rect(const reyes_job *job, unsigned item, unsigned rect[4]
 
 void reyes_job_frame_path(const reyes_job *job, unsigned frame, char *path, size_t size)
 {
-    const char *name = job->output;
-    const char *slash = strrchr(name, '/');
-    const char *dot = strrchr(name, '.');
-    if (!dot || (slash && dot < slash) || dot == name || (slash && dot == slash + 1))
-        dot = name + strlen(name);
-    snprintf(path, size, "%.*s-%04u%s", (int)(dot - name), name, frame + 1, dot);
+    reyes_cli_frame_path(job->output, frame, path, size);
 }
 
 /* Rotation matrix by `deg` degrees about `axis` (any length but 0). */

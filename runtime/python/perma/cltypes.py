@@ -33,6 +33,34 @@ def scalar_type(dtype):
     return SCALARS.get((dtype.kind, dtype.itemsize))
 
 
+SIZES = {name: size for (_, size), name in SCALARS.items()}
+SIZES['half'] = 2
+VECTOR = re.compile(r'(%s)(2|3|4|8|16)?$' % '|'.join(sorted(SIZES, key=len, reverse=True)))
+QUALIFIERS = {'__global', 'global', '__constant', 'constant', 'const', 'volatile', 'restrict', '__restrict'}
+
+
+def builtin_size(name):
+    """Bytes of a built-in OpenCL C scalar or vector type ('uint' 4, 'float3' 16), or None."""
+    match = VECTOR.match(name)
+    if not match:
+        return None
+    lanes = int(match.group(2) or 1)
+    return SIZES[match.group(1)] * (4 if lanes == 3 else lanes)
+
+
+def pointee(pointer_type):
+    """The element type an OpenCL C pointer type points to ('uint' for '__global const uint *'), or None."""
+    head, star, rest = pointer_type.partition('*')
+    if not star or '*' in rest:
+        return None
+    words = [word for word in head.split() if word not in QUALIFIERS]
+    if len(words) == 2 and words[0] in ('unsigned', 'signed') and words[1] in ('char', 'short', 'int', 'long'):
+        return ('u' if words[0] == 'unsigned' else '') + words[1]
+    if len(words) == 2 and words[0] == 'struct':
+        return 'struct ' + words[1]
+    return words[0] if len(words) == 1 else None
+
+
 def _member_type(dtype, where, depth):
     """(declaration head, alignment, nested lines) of one element type."""
     scalar = scalar_type(dtype)

@@ -6,7 +6,7 @@ import numpy as np
 
 from . import _capi
 from ._capi import lib
-from .cltypes import cl_declaration, scalar_type
+from .cltypes import builtin_size, cl_declaration, pointee, scalar_type
 from .devices import Device, devices
 from .errors import ArgumentError, StateError, check
 from .reductions import reduce_op, value_type
@@ -221,9 +221,23 @@ class Runtime:
             raise ArgumentError("buffer '%s': the array is read-only, but access '%s' writes it" % (name, access))
         if type is None:
             type = '__global %s%s *' % ('const ' if access == 'read' else '', self.cl_type(array.dtype))
+        else:
+            self._check_element_type(name, array, type)
         self._check(lib.perma_bind_host(self._rt(), _bytes(name, 'name'), _bytes(type, 'type'),
                                         array.ctypes.data_as(ctypes.c_void_p), array.nbytes, ACCESS[access]))
         self._buffers[name] = array
+
+    def _check_element_type(self, name, array, type):
+        """The elements `type` points to must be the size of the array's (where that size is known here)."""
+        element = pointee(type)
+        size = builtin_size(element) if element else None
+        for dtype, declared in self._types:
+            if declared == element:
+                size = dtype.itemsize
+        if size is not None and size != array.dtype.itemsize:
+            raise ArgumentError("buffer '%s': type '%s' points to %s, %d bytes each, but the array's elements are "
+                                "%s, %d bytes each: give the type of the array's elements, or bind a view of it "
+                                "(array.view(...))" % (name, type, element, size, array.dtype, array.dtype.itemsize))
 
     def seed(self, procedure, items):
         """Queue items (an array of the procedure's dtype, or what converts to one) for the next run."""

@@ -40,6 +40,7 @@
 #include <math.h> /* INFINITY, the bound of a FLOAT or DOUBLE row without one */
 #include <stddef.h>
 #include <stdio.h>
+#include <perma.h> /* perma_file_role */
 
 #define PERMA_CLI_MESSAGE_MAX 512 /* room for any message of the engine */
 #define PERMA_CLI_EXIT_USAGE 2    /* the exit status of bad usage */
@@ -153,12 +154,30 @@ perma_cli_status perma_cli_parse(const perma_cli *cli, int argc, char **argv, ch
 perma_cli_status perma_cli_fail(const perma_cli *cli, char *message, size_t size, const char *format, ...)
     __attribute__((format(printf, 4, 5)));
 
+/* The files of a parsed command line (perma_check_distinct_files): two
+ * outputs that are one file, or an output that is an input, are bad
+ * usage, said as perma_cli_fail says it; else PERMA_CLI_OK. */
+perma_cli_status perma_cli_check_files(const perma_cli *cli, const perma_file_role *files, size_t count,
+                                       char *message, size_t size);
+
 /* "PROGRAM: MESSAGE (see --help)" on stderr: how bad usage is said. */
 void perma_cli_print_error(const char *program, const char *message);
 
 /* The exit status a status ends the program with: 0 after --help or
  * --version, PERMA_CLI_EXIT_USAGE after bad usage (0 for PERMA_CLI_OK). */
 int perma_cli_exit_status(perma_cli_status status);
+
+/* Stop signals.  A program that runs OpenCL work takes SIGINT, SIGTERM
+ * and SIGHUP in a thread of its own ("stop-signals") with sigwait(),
+ * blocked in every other thread: PoCL's LLVM installs handlers for them at
+ * its first compile, so a handler of the program's may not be the one that
+ * runs.  Call before any thread starts.  stopped(number) runs in that
+ * thread when one comes (to say what was going on); when it returns, the
+ * process ends by the signal, as it would have without it.  0, or -1 when
+ * the thread could not start (the signals keep their default actions). */
+int perma_cli_take_stop_signals(void (*stopped)(int number));
+/* "SIGINT", "SIGTERM", "SIGHUP" ("a signal" for another). */
+const char *perma_cli_signal_name(int number);
 
 /* The --help text: usage lines, about, operands and options (with their
  * ranges), --help and --version, notes. */

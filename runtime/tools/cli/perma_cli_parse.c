@@ -80,6 +80,15 @@ perma_cli_status perma_cli_fail(const perma_cli *cli, char *message, size_t size
     return PERMA_CLI_USAGE;
 }
 
+perma_cli_status perma_cli_check_files(const perma_cli *cli, const perma_file_role *files, size_t count,
+                                       char *message, size_t size)
+{
+    perma_error error;
+    if (perma_check_distinct_files(files, count, &error) == PERMA_OK)
+        return PERMA_CLI_OK;
+    return perma_cli_fail(cli, message, size, "%s", error.message);
+}
+
 int perma_cli_exit_status(perma_cli_status status)
 {
     return status == PERMA_CLI_USAGE ? PERMA_CLI_EXIT_USAGE : 0;

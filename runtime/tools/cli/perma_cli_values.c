@@ -6,6 +6,7 @@
  */
 #include <ctype.h>
 #include <errno.h>
+#include <float.h>
 #include <limits.h>
 #include <stdlib.h>
 #include <string.h>
@@ -280,7 +281,15 @@ static int parse_list(const char *text, void *out, int is_float, size_t count, c
         number[n] = '\0';
         size_t stride = is_float ? sizeof(float) : sizeof(double);
         if (!parse_number(number, is_float, (char *)out + k * stride)) {
-            snprintf(complaint, size, "'%s' is not a number", number);
+            /* Digits all read, yet not finite: too large for the type. */
+            char *end;
+            const char *digits = number + (number[0] == '+' || number[0] == '-');
+            strtod(number, &end);
+            if (!*end && (isdigit((unsigned char)*digits) || *digits == '.'))
+                snprintf(complaint, size, "'%s' is out of range: numbers here are at most +-%g", number,
+                         is_float ? (double)FLT_MAX : DBL_MAX);
+            else
+                snprintf(complaint, size, "'%s' is not a number", number);
             return 1;
         }
         at += n + (last ? 0 : 1);
