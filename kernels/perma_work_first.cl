@@ -121,13 +121,20 @@ inline int perma_wf_relieve(__global uint *ctl, __global uint *queue_data, __glo
 {
     int hungry = mem->wf_total > 1u && perma_load_int(ctl + PERMA_CTL_HUNGRY) > 0;
     int runnable = 0;
+    uint given = 0;
     for (uint l = 0; l < PERMA_GROUP_SIZE; ++l) {
         uint sp = mem->wf_sp[l];
         if (perma_wf_stuck(mem, l))
             perma_wf_spill(ctl, queue_data, queue_seq, mem, l, (sp + 1u) / 2u, own);
         else if (hungry && sp > 1u)
-            perma_wf_spill(ctl, queue_data, queue_seq, mem, l, sp / 2u, give);
+            given += perma_wf_spill(ctl, queue_data, queue_seq, mem, l, sp / 2u, give);
         runnable = runnable || (mem->wf_sp[l] && !perma_wf_stuck(mem, l));
+    }
+    /* Items put into another group's set are a donation. */
+    if (given && give != own) {
+        __local uint *group_stat = mem->stats + PERMA_NUM_PROCS * PERMA_STAT_PROC_WORDS;
+        group_stat[PERMA_GSTAT_DONATIONS] += 1u;
+        group_stat[PERMA_GSTAT_DONATED] += given;
     }
     return runnable;
 }

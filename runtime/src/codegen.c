@@ -242,7 +242,12 @@ static void append_run_simple(perma_runtime *rt, perma_strbuf *sb)
         "    ctx->item_emit_counts = own;\n"
         "    ctx->wf_procs = procs;\n"
         "    ctx->wf_slots = slots;\n"
-        "    uint sp = mem->wf_sp[lid], peak = sp, slot = lid, budget = PERMA_WF_BUDGET;\n");
+        "    uint sp = mem->wf_sp[lid], peak = sp, slot = lid, budget = PERMA_WF_BUDGET;\n"
+        "    /* The group's record in the watch page names the procedure running\n"
+        "     * (the watchdog's message, if one never returns). */\n"
+        "    volatile __global uint *watch = ctx->buf.perma_watch_page + PERMA_WATCH_RECORDS +\n"
+        "                                    get_group_id(0) * PERMA_WATCH_GROUP_WORDS + PERMA_WATCH_RUNNING;\n"
+        "    uint shown = batch_proc;\n");
     for (unsigned i = 0; i < rt->proc_count; ++i) {
         const perma_proc_info *p = &rt->procs[i];
         if (!p->stackable)
@@ -284,6 +289,10 @@ static void append_run_simple(perma_runtime *rt, perma_strbuf *sb)
         "            continue;\n"
         "        ctx->wf_sp = sp;\n"
         "        ctx->proc = q;\n"
+        "        if (q != shown) {\n"
+        "            *watch = q + 1u;\n"
+        "            shown = q;\n"
+        "        }\n"
         "        switch (q) {\n");
     for (unsigned i = 0; i < rt->proc_count; ++i) {
         const perma_proc_info *p = &rt->procs[i];

@@ -1,7 +1,8 @@
 #!/bin/sh
 # Outputs that are the same file as each other or as an input are refused
 # before any work (exit 2, both named), whatever the path says: "./",
-# a symbolic link, a hard link, a frame's name, the trace.  The files are
+# a symbolic link, a hard link, a frame's name, the trace (--trace or
+# PERMA_TRACE).  The files are
 # left as they were.  PERMA_DEVICE=9:9 makes any work that started fail
 # otherwise (exit 1).
 # Usage: output_clash.sh REYES_RENDER PERMA_BENCH PERMA_MANDELBROT PERMA_BFS (from the project root)
@@ -47,6 +48,12 @@ expect output_is_trace "--output 'x.png' and PERMA_TRACE '$dir/x.png' are the sa
     env PERMA_TRACE="$dir/x.png" "$R" --size 16x16 -o x.png
 expect bench_csv_is_trace "perma-bench queue: --csv 'q.csv' and PERMA_TRACE './q.csv' are the same file" \
     env PERMA_TRACE=./q.csv "$B" queue --quick --repeat 1 --csv q.csv
+expect output_is_trace_option "--output 'x.png' and --trace 'link.png' are the same file" \
+    "$R" --size 16x16 -o x.png --trace link.png
+expect trace_is_model "--trace 'mine.bpt' is the same file as the model 'mine.bpt', which it would overwrite" \
+    "$R" mine.bpt --size 16x16 -o z.png --trace mine.bpt
+expect bench_csv_is_trace_option "perma-bench queue: --csv 'q.csv' and --trace './q.csv' are the same file" \
+    "$B" queue --quick --repeat 1 --csv q.csv --trace ./q.csv
 cp tests/reliability/flat.bpt "$dir/teapot.bpt"
 expect bench_csv_is_model "perma-bench reyes: --csv 'teapot.bpt' is the same file as the model '$dir/../$(basename "$dir")/teapot.bpt'" \
     "$B" reyes --quick --repeat 1 --models "$dir/../$(basename "$dir")" --csv teapot.bpt

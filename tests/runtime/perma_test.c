@@ -18,8 +18,8 @@ void test_apply_variant(perma_config *config)
         ck_assert_msg(perma_victim_parse(v, &config->schedule.victim) == PERMA_OK, "bad PERMA_TEST_VICTIM %s", v);
     if ((v = getenv("PERMA_TEST_LOCAL_QUEUE")) && *v)
         config->schedule.local_queue_items = (unsigned)strtoul(v, NULL, 10);
-    if ((v = getenv("PERMA_TEST_WORK_FIRST")) && *v)
-        config->schedule.work_first_items = (unsigned)strtoul(v, NULL, 10);
+    if ((v = getenv("PERMA_TEST_WORK_FIRST")) && *v) /* 0: off (every item through the queues) */
+        config->schedule.work_first_items = strtoul(v, NULL, 10) ? (unsigned)strtoul(v, NULL, 10) : PERMA_WORK_FIRST_OFF;
     if ((v = getenv("PERMA_TEST_BATCH_LIMIT")) && *v)
         config->schedule.batch_limit = (unsigned)strtoul(v, NULL, 10);
 }
@@ -34,6 +34,29 @@ perma_runtime *test_runtime_config(const perma_config *requested)
     perma_status st = perma_create(config, &rt, &error);
     ck_assert_msg(st == PERMA_OK, "perma_create: %s: %s", perma_status_name(st), error.message);
     return rt;
+}
+
+perma_runtime *test_runtime_queues_config(const perma_config *requested)
+{
+    perma_config config = *requested;
+    test_apply_variant(&config);
+    config.schedule.work_first_items = PERMA_WORK_FIRST_OFF;
+    perma_runtime *rt = NULL;
+    perma_error error;
+    perma_status st = perma_create(&config, &rt, &error);
+    ck_assert_msg(st == PERMA_OK, "perma_create: %s: %s", perma_status_name(st), error.message);
+    return rt;
+}
+
+perma_runtime *test_runtime_queues(unsigned group_size, unsigned work_groups, size_t queue_capacity)
+{
+    perma_config config;
+    perma_config_init(&config);
+    config.group_size = group_size;
+    config.work_groups = work_groups;
+    config.queue_capacity = queue_capacity;
+    config.time_limit = 120;
+    return test_runtime_queues_config(&config);
 }
 
 perma_runtime *test_runtime(unsigned group_size, unsigned work_groups, size_t queue_capacity)

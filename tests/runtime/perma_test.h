@@ -12,6 +12,11 @@
 /* A runtime on the default device with the given group size (0 = default),
  * work-group count (0 = automatic) and queue capacity (0 = default). */
 perma_runtime *test_runtime(unsigned group_size, unsigned work_groups, size_t queue_capacity);
+/* The same with every item through the queues, whatever the variant
+ * (work-first stacks off): for the tests of queue growth and overflow,
+ * which a depth-first run would not make grow. */
+perma_runtime *test_runtime_queues(unsigned group_size, unsigned work_groups, size_t queue_capacity);
+perma_runtime *test_runtime_queues_config(const perma_config *config);
 /* Set the schedule of the variant the test runs under (PERMA_TEST_*), as
  * test_runtime_config does. */
 void test_apply_variant(perma_config *config);

@@ -11,7 +11,7 @@
 
 START_TEST(tiny_queue_regrows_to_exact_result)
 {
-    perma_runtime *rt = test_runtime(64, 2, 2);
+    perma_runtime *rt = test_runtime_queues(64, 2, 2);
     uint32_t counts[2] = { 0, 0 };
     uint64_t sums[1] = { 0 };
     perma_proc id = tree_add(rt, 1, counts, sums);
@@ -87,11 +87,13 @@ START_TEST(tiny_queue_regrows_to_exact_result)
 END_TEST
 
 /* Built directly, not through the test variant: depth-first variants (a
- * local front queue, bounded batches) would fit the cap. */
+ * local front queue, bounded batches, work-first stacks) fit the cap, and
+ * the test shows they do. */
 START_TEST(memory_cap_is_a_clear_error)
 {
     perma_config config;
     perma_config_init(&config);
+    config.schedule.work_first_items = PERMA_WORK_FIRST_OFF; /* breadth first */
     config.queue_capacity = 16;
     config.queue_memory_limit = 64 * 1024;
     config.time_limit = 60;
@@ -107,8 +109,28 @@ START_TEST(memory_cap_is_a_clear_error)
     ck_assert_contains(perma_errmsg(rt), "queue 'tree'");
     ck_assert_contains(perma_errmsg(rt), "memory limit of 65536 bytes");
 
-    /* The same cap is enough for bounded batches: a stack of batches. */
+    /* The same cap is enough with work-first stacks of 64 items (deeper
+     * than the tree, whatever the device's __local memory: 8 work-items):
+     * the queue holds the seed, not a tree level. */
     perma_destroy(rt);
+    config.schedule.work_first_items = 64;
+    config.group_size = 8;
+    ck_assert_msg(perma_create(&config, &rt, &error) == PERMA_OK, "%s", error.message);
+    id = tree_add(rt, 1, counts, sums);
+    ck_assert_perma_ok(rt, perma_seed(rt, id, &root, 1));
+    counts[0] = 0;
+    ck_assert_perma_ok(rt, perma_run(rt));
+    ck_assert_uint_eq(counts[0], 1u << 16);
+    perma_stats st;
+    ck_assert_perma_ok(rt, perma_get_stats(rt, &st));
+    ck_assert_uint_gt(st.stack_items, 0);
+    ck_assert_uint_gt(st.stacked_items, (2u << 16) / 2);
+    ck_assert_uint_le(st.peak_queue_bytes, config.queue_memory_limit);
+
+    /* And for bounded batches: a stack of batches. */
+    perma_destroy(rt);
+    counts[0] = 0;
+    config.group_size = 0;
     config.schedule.technique = PERMA_TECHNIQUE_BOUNDED_BATCHES;
     config.schedule.batch_limit = 64;
     ck_assert_msg(perma_create(&config, &rt, &error) == PERMA_OK, "%s", error.message);
@@ -169,6 +191,7 @@ START_TEST(kept_capacities_give_way_to_the_memory_limit)
 {
     perma_config config;
     perma_config_init(&config);
+    config.schedule.work_first_items = PERMA_WORK_FIRST_OFF; /* its tree grows the queue */
     config.queue_capacity = 16;
     config.queue_memory_limit = 1 << 20;
     config.time_limit = 120;
@@ -375,7 +398,7 @@ static void run_bursts(perma_runtime *rt, uint64_t *overflowed)
 START_TEST(emits_beyond_the_reservation_overflow_and_arrive)
 {
     uint64_t overflowed;
-    perma_runtime *rt = test_runtime(64, 2, 16);
+    perma_runtime *rt = test_runtime_queues(64, 2, 16);
     run_bursts(rt, &overflowed);
     perma_destroy(rt);
 }
@@ -385,6 +408,7 @@ START_TEST(overflow_path_taken)
 {
     perma_config config;
     perma_config_init(&config);
+    config.schedule.work_first_items = PERMA_WORK_FIRST_OFF; /* the bursts go through the queues */
     config.work_groups = 1;
     config.queue_capacity = 16;
     config.time_limit = 120;

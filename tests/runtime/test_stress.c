@@ -34,8 +34,9 @@ static const shape shapes[] = {
 enum { SHAPES = sizeof shapes / sizeof shapes[0] };
 
 /* The schedules: every one (perma_schedule_all, the victims under one
- * stealing strategy), then every megakernel one of those with a local
- * front queue of 32 items, then with work-first stacks of 6 items.  Failure messages name them by label and
+ * stealing strategy; work-first stacks by default), then every megakernel
+ * one of those without stacks and with a local front queue of 32 items,
+ * then with work-first stacks of 6 items.  Failure messages name them by label and
  * PERMA_STRESS_VARIANT=N indexes this list. */
 #define MAX_VARIANTS 32
 static perma_schedule variants[MAX_VARIANTS];
@@ -48,10 +49,13 @@ static void list_variants(void)
     while (variant_count < MAX_VARIANTS &&
            perma_schedule_all(PERMA_SCHEDULES_VICTIMS_ONCE, variant_count, &s) == PERMA_OK)
         variants[variant_count++] = s;
+    /* Without work-first stacks, with a local front queue: every item
+     * through the queues. */
     for (unsigned i = 0, plain = variant_count; i < plain && variant_count < MAX_VARIANTS; ++i) {
         if (variants[i].technique != PERMA_TECHNIQUE_MEGAKERNEL)
             continue;
         variants[variant_count] = variants[i];
+        variants[variant_count].work_first_items = PERMA_WORK_FIRST_OFF;
         variants[variant_count++].local_queue_items = 32;
     }
     /* Work-first with stacks of 6 items: full stacks spill, and stacks are
@@ -324,7 +328,7 @@ END_TEST
  * pass of all 200 graphs failed about 6 times in 10). */
 START_TEST(local_queue_stalls_lose_nothing)
 {
-    const char *const local_variants[] = { "megakernel/shared+local32", "megakernel/stealing/random+local32" };
+    const char *const local_variants[] = { "megakernel/shared+local32+wf0", "megakernel/stealing/random+local32+wf0" };
     enum { REPEATS = 12 };
     unsigned variant = variant_of(local_variants[_i]);
     ck_assert_uint_eq(variant_schedule(variant).local_queue_items, 32);
