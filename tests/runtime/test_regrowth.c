@@ -52,14 +52,16 @@ static size_t max_size(size_t a, size_t b)
 
 /* A runtime of the variant under test with the fat procedure, its
  * queues starting at `capacity`, counting into counts[2] (leaves, wrong
- * payloads), built, with a root that splits down to `depth` seeded. */
+ * payloads), built, with a root that splits down to `depth` seeded.
+ * Without work-first stacks: the tree must go through the queues to grow
+ * them. */
 static perma_runtime *fat_runtime(size_t capacity, uint32_t depth, uint32_t *counts, perma_proc *id)
 {
     perma_config config;
     perma_config_init(&config);
     config.queue_capacity = capacity;
     config.time_limit = 120;
-    perma_runtime *rt = test_runtime_config(&config);
+    perma_runtime *rt = test_runtime_queues_config(&config);
     ck_assert_perma_ok(rt, perma_add_source(rt, FAT_TYPES, "fat_types.cl"));
     perma_procedure fat = { .name = "fat", .item_type = "struct fat_node", .item_size = sizeof(struct fat_node),
                             .source = FAT_SOURCE, .function = "fat_split", .emits = { { "fat", 2 } } };
