@@ -109,6 +109,9 @@ reyes_status reyes_write_stats_json(FILE *out, const reyes_stats *s, const reyes
             o->schedule.batch_limit);
     fprintf(out, "  \"steals\": %" PRIu64 ", \"donations\": %" PRIu64 ", \"spills\": %" PRIu64 ",\n",
             s->run.steals, s->run.donations, s->run.spills);
+    fprintf(out, "  \"stack_items\": %u, \"stacked_items\": %" PRIu64 ", \"stack_spills\": %" PRIu64
+                 ", \"stack_peak\": %u,\n",
+            s->run.stack_items, s->run.stacked_items, s->run.stack_spills, s->run.stack_peak);
     fprintf(out, "  \"procedures\": {\n");
     for (int p = 0; p < REYES_PROC_COUNT; ++p)
         write_procedure(out, &s->procedures[p], p == REYES_PROC_COUNT - 1);

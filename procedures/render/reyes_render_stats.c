@@ -36,6 +36,7 @@ static void add_procedure(perma_procedure_stats *total, const perma_procedure_st
     total->queue_capacity = max_size(total->queue_capacity, run->queue_capacity);
     total->regrowths += run->regrowths;
     total->batch_size = total->batch_size > run->batch_size ? total->batch_size : run->batch_size;
+    total->stacked_items += run->stacked_items;
 }
 
 void reyes_stats_add_run(reyes_stats *total, const perma_stats *run,
@@ -54,6 +55,10 @@ void reyes_stats_add_run(reyes_stats *total, const perma_stats *run,
     t->donations += run->donations;
     t->spills += run->spills;
     t->idle_polls += run->idle_polls;
+    t->stack_items = run->stack_items;
+    t->stacked_items += run->stacked_items;
+    t->stack_spills += run->stack_spills;
+    t->stack_peak = t->stack_peak > run->stack_peak ? t->stack_peak : run->stack_peak;
     t->technique = run->technique;
     t->strategy = run->strategy;
     for (int p = 0; p < REYES_PROC_COUNT; ++p)
