@@ -591,8 +591,10 @@ inline void perma_run_batch(__global uint *ctl, __global uint *queue_data, __glo
     /* The group's record in the watch page: the host's watchdog names the
      * procedure running if it never returns, and sees progress in DONE. */
     volatile __global uint *watch = abort_flag + PERMA_WATCH_RECORDS + get_group_id(0) * PERMA_WATCH_GROUP_WORDS;
+    /* An atomic store: the work-items running stacks name theirs too
+     * (perma_run_simple). */
     if (get_local_id(0) == 0 && perma_batch_run(mem))
-        watch[PERMA_WATCH_RUNNING] = mem->batch[PERMA_B_PROC] + 1u;
+        atomic_xchg(watch + PERMA_WATCH_RUNNING, mem->batch[PERMA_B_PROC] + 1u);
     /* The phases take the local id as an argument: PoCL inlines every
      * function that asks for it, which would hide them from a profile. */
     perma_read_items(get_local_id(0), ctl, queue_data, queue_seq, mem, input);
@@ -613,7 +615,7 @@ inline void perma_run_batch(__global uint *ctl, __global uint *queue_data, __glo
     if (get_local_id(0) == 0) {
         perma_publish_emits(ctl, queue_data, queue_seq, mem, own);
         if (perma_batch_run(mem) || mem->batch[PERMA_B_WF_RAN]) {
-            watch[PERMA_WATCH_RUNNING] = 0u;
+            atomic_xchg(watch + PERMA_WATCH_RUNNING, 0u);
             watch[PERMA_WATCH_DONE] += 1u;
             perma_watch_counts(watch, mem);
         }

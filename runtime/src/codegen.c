@@ -290,7 +290,7 @@ static void append_run_simple(perma_runtime *rt, perma_strbuf *sb)
         "        ctx->wf_sp = sp;\n"
         "        ctx->proc = q;\n"
         "        if (q != shown) {\n"
-        "            *watch = q + 1u;\n"
+        "            atomic_xchg(watch, q + 1u);\n"
         "            shown = q;\n"
         "        }\n"
         "        switch (q) {\n");
