@@ -376,5 +376,6 @@ perma_status perma_build_layout(perma_runtime *rt)
         if (staged > rt->build.stage_words)
             rt->build.stage_words = (unsigned)staged;
     }
+    rt->build.local_bytes = fixed + 4 * (size_t)rt->build.arena_words;
     return PERMA_OK;
 }

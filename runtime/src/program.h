@@ -26,6 +26,7 @@ typedef struct perma_build_products {
     unsigned stage_words;          /* a group's staging area for emits (global memory), words */
     unsigned local_queue_items;    /* 0: no local front queue */
     unsigned lq_words;
+    size_t local_bytes;            /* the layout's figure of a group's __local memory (arena and the rest) */
     unsigned order[PERMA_MAX_PROCEDURES];
     unsigned queue_sets;           /* 1 (shared) or one per group (distributed) */
     const struct perma_strategy_info *strategy; /* the schedule table's row (schedule_table.h) */

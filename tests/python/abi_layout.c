@@ -74,7 +74,8 @@ int main(int argc, char **argv)
     FIELD(perma_stats, peak_queue_bytes); FIELD(perma_stats, queue_memory_limit); FIELD(perma_stats, queues_kept);
     FIELD(perma_stats, items); FIELD(perma_stats, steals); FIELD(perma_stats, donations);
     FIELD(perma_stats, spills); FIELD(perma_stats, idle_polls); FIELD(perma_stats, overflowed_items);
-    FIELD(perma_stats, technique); FIELD(perma_stats, strategy);
+    FIELD(perma_stats, technique); FIELD(perma_stats, strategy); FIELD(perma_stats, work_groups_reason);
+    FIELD(perma_stats, resident_groups); FIELD(perma_stats, kernel_local_bytes);
     printf("}}\n}\n");
     return 0;
 }

@@ -85,7 +85,8 @@ class Stats(ctypes.Structure):
                 ('peak_queue_bytes', c_size_t), ('queue_memory_limit', c_size_t),
                 ('queues_kept', c_uint), ('items', c_uint64), ('steals', c_uint64),
                 ('donations', c_uint64), ('spills', c_uint64), ('idle_polls', c_uint64),
-                ('overflowed_items', c_uint64), ('technique', c_int), ('strategy', c_int)]
+                ('overflowed_items', c_uint64), ('technique', c_int), ('strategy', c_int),
+                ('work_groups_reason', c_char_p), ('resident_groups', c_uint), ('kernel_local_bytes', c_size_t)]
 
 
 # Every structure above, by its C name (for the layout test).
