@@ -37,7 +37,8 @@ void bench_common_options(bench_options *o, perma_cli_option rows[BENCH_COMMON_O
         { PERMA_CLI_WHOLE("groups", "N", &o->groups, 1, 1024, "perma work-groups (default: the runtime's choice)") },
         { PERMA_CLI_WHOLE("threads", "N", &o->threads, 1, 1024, "OpenMP threads (default: online CPUs)") },
         { PERMA_CLI_TEXT("only", "TEXT", &o->only, "run only perma variants whose label contains TEXT (--only =LABEL: only the variant of "
-                                           "exactly that label)") },
+                                           "exactly that label; several, separated by commas: the variants of "
+                                           "any)") },
         { PERMA_CLI_CUSTOM("devices", "LIST", parse_devices, o,
                            "measure every perma variant on each device of LIST, side by side (PERMA_DEVICE "
                            "values: pocl,intel or 0:0,1:0; the reyes effect workloads use the first)") },
