@@ -311,8 +311,10 @@ class Check:
             groups, got.get('seconds', 0))
 
     def bench(self, result, command, args, limit):
+        """perma-bench COMMAND ARGS, its rows summarized (summarize_bench or,
+        for reyes, summarize_reyes); a row whose check failed fails the step."""
         path = os.path.join(self.scratch, 'bench-%s.csv' % result.name)
-        status, text = self.run(result, [os.path.join(BIN, 'perma-bench'), command] + args + ['--csv', path], limit)
+        status, _ = self.run(result, [os.path.join(BIN, 'perma-bench'), command] + args + ['--csv', path], limit)
         if status != 0:
             result.fail('FAIL', 'perma-bench exit status %s' % status)
         if not os.path.exists(path):
@@ -323,20 +325,7 @@ class Check:
         wrong = [r for r in rows if r.get('check') not in ('ok', '-', '')]
         if wrong:
             result.fail('FAIL', '%d rows WRONG (%s)' % (len(wrong), wrong[0]['variant']))
-        summarize_bench(result, rows)
-
-    def reyes_speed(self, result, args, limit):
-        path = os.path.join(self.scratch, 'bench-%s.csv' % result.name)
-        status, _ = self.run(result, [os.path.join(BIN, 'perma-bench'), 'reyes', '--models', MODELS] + args +
-                             ['--csv', path], limit)
-        if status != 0:
-            result.fail('FAIL', 'perma-bench exit status %s' % status)
-        if not os.path.exists(path):
-            return
-        with open(path) as f:
-            rows = list(csv.DictReader(f))
-        self.bench_rows += [dict(row, step=result.name) for row in rows]
-        summarize_reyes(result, rows)
+        (summarize_reyes if command == 'reyes' else summarize_bench)(result, rows)
 
     # -- the whole check
 
@@ -363,15 +352,15 @@ class Check:
             self.step('bench_' + command,
                       lambda r, c=command: self.bench(r, c, quick + ['--repeat', '3'], 120 if short else 240))
         sizes = sum([['--size', s] for s in REYES_SIZES], [])
-        self.step('reyes_speed', lambda r: self.reyes_speed(
-            r, ['--workload', 'defaults', '--only', '=megakernel/shared', '--repeat', '3'] + sizes, 240))
+        self.step('reyes_speed', lambda r: self.bench(
+            r, 'reyes', ['--models', MODELS, '--workload', 'defaults', '--only', '=megakernel/shared', '--repeat', '3'] + sizes, 240))
         if not short:
             units = self.device.get('compute_units')
             if units:
                 self.step('bench_tree_one_group_per_unit', lambda r: self.bench(
                     r, 'tree', ['--only', TECHNIQUES, '--groups', str(min(int(units), 1024)), '--repeat', '3'], 240))
-            self.step('reyes_stages', lambda r: self.reyes_speed(
-                r, ['--workload', 'stages', '--only', TECHNIQUES, '--repeat', '3', '--size', REYES_SIZES[0]], 240))
+            self.step('reyes_stages', lambda r: self.bench(
+                r, 'reyes', ['--models', MODELS, '--workload', 'stages', '--only', TECHNIQUES, '--repeat', '3', '--size', REYES_SIZES[0]], 240))
         self.tests(tests[-1:] if short else tests)
         self.write_results()
 

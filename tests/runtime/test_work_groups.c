@@ -46,17 +46,28 @@ START_TEST(residency_by_local_memory_registers_and_cap)
 }
 END_TEST
 
-/* A tree of DEPTH under `schedule` on rt: exact counts; its statistics. */
-static perma_stats run_tree(perma_runtime *rt)
+/* The tree of DEPTH on rt, its root seeded; the counts arrive in *t. */
+typedef struct tree_run {
+    uint32_t counts[2];
+    uint64_t sums[1];
+} tree_run;
+
+static void seed_tree(perma_runtime *rt, tree_run *t)
 {
-    uint32_t counts[2] = { 0, 0 };
-    uint64_t sums[1] = { 0 };
-    perma_proc id = tree_add(rt, 1, counts, sums);
+    memset(t, 0, sizeof *t);
+    perma_proc id = tree_add(rt, 1, t->counts, t->sums);
     struct tree_node root = { 0, DEPTH, 1, 0 };
     ck_assert_perma_ok(rt, perma_seed(rt, id, &root, 1));
+}
+
+/* The tree run on rt: exact counts; its statistics. */
+static perma_stats run_tree(perma_runtime *rt)
+{
+    tree_run t;
+    seed_tree(rt, &t);
     ck_assert_perma_ok(rt, perma_run(rt));
-    ck_assert_uint_eq(counts[0], 1u << DEPTH);
-    ck_assert_uint_eq(counts[1], (1u << DEPTH) - 1);
+    ck_assert_uint_eq(t.counts[0], 1u << DEPTH);
+    ck_assert_uint_eq(t.counts[1], (1u << DEPTH) - 1);
     perma_stats st;
     ck_assert_perma_ok(rt, perma_get_stats(rt, &st));
     return st;
@@ -138,17 +149,14 @@ START_TEST(gpu_refuses_more_groups_than_fit)
 {
     cl_fault_pretend_gpu(2, 48 * KIB, 64, 0);
     perma_runtime *rt = runtime_for("megakernel/donation", 3);
-    uint32_t counts[2] = { 0, 0 };
-    uint64_t sums[1] = { 0 };
-    perma_proc id = tree_add(rt, 1, counts, sums);
-    struct tree_node root = { 0, DEPTH, 1, 0 };
-    ck_assert_perma_ok(rt, perma_seed(rt, id, &root, 1));
+    tree_run t;
+    seed_tree(rt, &t);
     ck_assert_int_eq(perma_run(rt), PERMA_ERR_ARGUMENT);
     ck_assert_contains(perma_errmsg(rt), "config.work_groups 3 is more persistent work-groups than");
     ck_assert_contains(perma_errmsg(rt), "holds at once for this program (2: 2 compute units x 1, 64 work-items per "
                                          "compute unit (CL_KERNEL_WORK_GROUP_SIZE)); groups that are not all running "
                                          "could wait for each other forever: ask for at most 2");
-    ck_assert_uint_eq(counts[0], 0);
+    ck_assert_uint_eq(t.counts[0], 0);
     perma_destroy(rt);
     rt = runtime_for("megakernel/donation", 2);
     ck_assert_uint_eq(run_tree(rt).work_groups, 2);
@@ -183,16 +191,15 @@ START_TEST(gpu_kernel_that_cannot_run)
 {
     cl_fault_pretend_gpu(2, 48 * KIB, 32, 0);
     perma_runtime *rt = runtime_for("megakernel/shared", 0);
-    uint32_t counts[2];
-    uint64_t sums[1];
-    tree_add(rt, 1, counts, sums);
+    tree_run t;
+    seed_tree(rt, &t);
     ck_assert_int_eq(perma_build(rt), PERMA_ERR_ARGUMENT);
     ck_assert_contains(perma_errmsg(rt), "the megakernel can run work-groups of at most 32 work-items on");
     ck_assert_contains(perma_errmsg(rt), "fewer than the group_size 64: set config.group_size to at most 32");
     perma_destroy(rt);
     cl_fault_pretend_gpu(2, 48 * KIB, 1024, 50 * KIB);
     rt = runtime_for("megakernel/shared", 0);
-    tree_add(rt, 1, counts, sums);
+    seed_tree(rt, &t);
     ck_assert_int_eq(perma_build(rt), PERMA_ERR_BUILD);
     ck_assert_contains(perma_errmsg(rt), "the megakernel uses 51200 bytes of __local memory per work-group, more "
                                          "than the 49152 bytes a group may use on");
