@@ -110,18 +110,30 @@ def now():
     return time.monotonic()
 
 
+# The files run.sh writes into RESULTS, and the most the log may hold (a
+# result file that comes back from the GPU machine has at most 16 MiB).
+RESULT_FILES = ('run-log.txt', 'results.csv', 'table.txt', 'perma-info.json', 'bench.csv', 'gpu-teapot.png',
+                'gpu-killeroo.png')
+LOG_LIMIT = 15 << 20
+
+
 class Log:
-    """Everything printed goes to stdout and to RESULTS/run-log.txt."""
+    """Everything printed goes to stdout and to RESULTS/run-log.txt (its
+    first LOG_LIMIT bytes)."""
 
     def __init__(self, path):
         self.file = open(path, 'w', encoding='utf-8', errors='replace') if path else None
+        self.written = 0
 
     def write(self, text):
         sys.stdout.write(text)
         sys.stdout.flush()
-        if self.file:
+        if self.file and self.written < LOG_LIMIT:
+            if self.written + len(text) >= LOG_LIMIT:
+                text = text[:LOG_LIMIT - self.written] + '\n[the log stops here: %d bytes]\n' % LOG_LIMIT
             self.file.write(text)
             self.file.flush()
+            self.written += len(text)
 
     def line(self, text=''):
         self.write(text + '\n')
@@ -626,6 +638,9 @@ def main(argv):
         return 0
     results = options['results']
     os.makedirs(results, exist_ok=True)
+    others = sorted(set(os.listdir(results)) - set(RESULT_FILES))
+    if others:
+        return usage("RESULTS '%s' holds other files (%s): give a new or empty folder" % (results, ', '.join(others[:3])))
     log = Log(os.path.join(results, 'run-log.txt'))
     scratch = tempfile.mkdtemp(prefix='perma-gpu-check.')
     try:

@@ -77,11 +77,18 @@ if [ -z "$build" ]; then
 fi
 [ -f "$build/build.ninja" ] || fail "$build is not a meson build folder"
 
-# Where each program is in the build (by its file name).
+# Where each program is in the build (its folder there; not a nested
+# build's, e.g. the sanitized one under sanitize/).
 find_built() {
     local found
-    found=$(find "$build" -name "$1" -type f -perm -u+x -not -path '*/meson-private/*' -not -path '*.p/*' | head -1)
-    [ -n "$found" ] || fail "$1 is not built in $build (meson compile -C $build $1)"
+    case $1 in
+    perma-info) found=$build/runtime/$1 ;;
+    perma-bench) found=$build/benchmarks/$1 ;;
+    reyes-render) found=$build/examples/reyes/$1 ;;
+    perma-image-compare) found=$build/benchmarks/gpu/$1 ;;
+    *) found=$build/tests/$1 ;;
+    esac
+    [ -x "$found" ] || fail "$1 is not built in $build (no $found; meson compile -C $build $1)"
     echo "$found"
 }
 

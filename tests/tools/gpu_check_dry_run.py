@@ -85,6 +85,12 @@ def main(argv):
         status, _, err = run([run_sh, os.path.join(scratch, 'r'), '--budget', '5'], 60)
         if status != 2 or "--budget '5': expected a whole number of seconds in 30..3600" not in err:
             fail('run.sh --budget 5: exit %d, %r' % (status, err))
+        taken = os.path.join(scratch, 'taken')
+        os.makedirs(taken)
+        open(os.path.join(taken, 'notes.txt'), 'w').close()
+        status, _, err = run([run_sh, taken, '--short'], 60)
+        if status != 2 or "holds other files (notes.txt): give a new or empty folder" not in err:
+            fail('run.sh into a folder of other files: exit %d, %r' % (status, err))
         status, out, _ = run([run_sh, os.path.join(scratch, 'none'), '--opencl-library', 'libnosuch-opencl.so.1',
                               '--driver-dir', os.path.join(scratch, 'nodriver')], 60)
         if status != 2 or 'run.sh: no libnosuch-opencl.so.1 under ' not in out:
