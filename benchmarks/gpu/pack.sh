@@ -117,7 +117,7 @@ copy_libraries() {
                 [ -n "$lib" ] || continue
                 if echo "$lib" | grep -Eq "$base_system"; then continue; fi
                 [ -e "$pack/bin/$lib" ] && continue
-                [ "$path" != "not" ] && [ -e "$path" ] || fail "$file needs $lib, which ldd cannot find"
+                if [ "$path" = "not" ] || [ ! -e "$path" ]; then fail "$file needs $lib, which ldd cannot find"; fi
                 cp -L "$path" "$pack/bin/$lib"
                 chmod u+w "$pack/bin/$lib"
                 echo "   $lib (from $path)"
@@ -135,10 +135,10 @@ python3 "$here/set_rpath.py" "$pack"/bin/lib*.so* | grep -- "-> '\$ORIGIN'" | se
 # does, through the program's search path).
 for file in "$pack"/bin/*; do
     case $(basename "$file") in lib*.so*) continue ;; esac
-    env -u LD_LIBRARY_PATH ldd "$file" | awk '$2 == "=>" { print $1, $3 }' | while read -r lib path; do
+    while read -r lib path; do
         if echo "$lib" | grep -Eq "$base_system"; then continue; fi
         [ "$path" = "$pack/bin/$lib" ] || fail "$(basename "$file") finds $lib at $path, not in the pack"
-    done
+    done < <(env -u LD_LIBRARY_PATH ldd "$file" | awk '$2 == "=>" { print $1, $3 }')
 done
 
 echo "== the run step and the models"
