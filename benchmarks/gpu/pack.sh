@@ -1,5 +1,5 @@
 #!/bin/bash
-# pack.sh [--build-dir BUILD] [--models DIR] [--keep] PACK
+# pack.sh [--build-dir BUILD] [--models DIR] PACK
 #
 # Build what the GPU check needs and put it in the folder PACK, which
 # runs on its own on a machine that has an OpenCL driver but nothing else
