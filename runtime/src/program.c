@@ -181,7 +181,7 @@ static perma_status create_kernels(perma_runtime *rt)
  * is stored after that launch, by the CPU time all of it took (waiting for
  * another process's build costs none).  *rebuild: the kernel made the
  * runtime lower its work-group count (device.c), on which the program
- * depends; it is released, not stored. */
+ * may depend; it is released (and not warmed up). */
 static perma_status build_and_warm_up(perma_runtime *rt, const char *text, const char *options, bool *rebuild)
 {
     double start = perma_now(), cpu_start = perma_cpu_now();
@@ -199,11 +199,14 @@ static perma_status build_and_warm_up(perma_runtime *rt, const char *text, const
         st = warm_up(rt);
     rt->build.info.seconds = perma_now() - start;
     double cpu_seconds = perma_cpu_now() - cpu_start;
+    /* A program built for a count the kernel lowered is stored too: where
+     * the count does not change the program (one queue set, staging that
+     * the count does not cut), the next build loads it. */
+    if (st == PERMA_OK && rt->build.info.origin == PERMA_PROGRAM_COMPILED && !warned)
+        rt->build.info.stored = perma_cache_store(rt, &entry, cpu_seconds);
     if (st != PERMA_OK || *rebuild) {
         perma_release_program(rt);
         rt->build.info.origin = PERMA_PROGRAM_NOT_BUILT;
-    } else if (rt->build.info.origin == PERMA_PROGRAM_COMPILED && !warned) {
-        rt->build.info.stored = perma_cache_store(rt, &entry, cpu_seconds);
     }
     perma_cache_entry_close(&entry);
     return st;

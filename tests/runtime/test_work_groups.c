@@ -185,6 +185,31 @@ START_TEST(gpu_builds_again_for_fewer_groups)
 }
 END_TEST
 
+/* The program built for the count the layout planned is stored in the
+ * program cache; with one queue set (and staging the count does not cut)
+ * the build for the lower count is the same program, loaded from there. */
+START_TEST(gpu_builds_again_from_the_cache)
+{
+    char dir[] = "/tmp/perma-work-groups-cache.XXXXXX";
+    ck_assert_ptr_nonnull(mkdtemp(dir));
+    setenv("PERMA_CACHE_DIR", dir, 1);
+    setenv("PERMA_CACHE_MIN_SECONDS", "0", 1);
+    cl_fault_pretend_gpu(3, 48 * KIB, 1024, 20 * KIB);
+    perma_runtime *rt = runtime_for("megakernel/shared", 0);
+    ck_assert_uint_eq(run_tree(rt).work_groups, 6);
+    perma_build_info info;
+    ck_assert_perma_ok(rt, perma_get_build_info(rt, &info));
+    ck_assert_int_eq(info.origin, PERMA_PROGRAM_CACHED);
+    perma_destroy(rt);
+    cl_fault_pretend_gpu(0, 0, 0, 0);
+    unsetenv("PERMA_CACHE_DIR");
+    unsetenv("PERMA_CACHE_MIN_SECONDS");
+    char command[128];
+    snprintf(command, sizeof command, "rm -rf %s", dir);
+    ck_assert_int_eq(system(command), 0);
+}
+END_TEST
+
 /* A kernel whose registers do not allow one group, or that uses more
  * __local memory than a group may: refused, saying which figure. */
 START_TEST(gpu_kernel_that_cannot_run)
@@ -219,6 +244,7 @@ int main(void)
     tcase_add_loop_test(tc, gpu_runs_what_fits_at_once, 0, (int)(sizeof gpu_schedules / sizeof *gpu_schedules));
     tcase_add_test(tc, gpu_refuses_more_groups_than_fit);
     tcase_add_test(tc, gpu_builds_again_for_fewer_groups);
+    tcase_add_test(tc, gpu_builds_again_from_the_cache);
     tcase_add_test(tc, gpu_kernel_that_cannot_run);
     suite_add_tcase(suite, tc);
     return test_run_suite(suite) ? EXIT_FAILURE : EXIT_SUCCESS;
