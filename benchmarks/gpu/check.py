@@ -35,11 +35,16 @@ and what is left of the budget: S seconds in all, default 420 with --short,
                  against the C reference on the host's cores (full: also the stages
                  under every technique at 1280x720)
 
+--short runs the test programs first, then the renders and the speed steps,
+the watchdog's program last (25 s per test: on a discrete GPU its stuck runs
+end only by the time limit); the full mode runs the renders and the speed
+steps at their default sizes first, then every test program.
+
 --only and --skip take comma-separated step names or prefixes (test_,
 bench_tree).  --dry-run checks the check itself on a CPU (the test suite
 runs it on PoCL: --opencl-library libpocl.so.2): the device may be a CPU.
 
-RESULTS gets at most 8 files: run-log.txt (everything printed), results.csv
+RESULTS (a new or empty folder) gets at most 8 files: run-log.txt (everything printed), results.csv
 (step, status, seconds, metric, value, unit, detail), table.txt (the table
 printed last), perma-info.json, bench.csv (perma-bench's rows of every
 bench step), and the GPU's renders gpu-teapot.png and gpu-killeroo.png.
