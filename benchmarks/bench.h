@@ -147,6 +147,9 @@ typedef struct bench_variant {
  * variant `index` (NULL past the last one). */
 unsigned bench_variant_count(void);
 const char *bench_variant_label(unsigned index);
+/* Add `label` after the listed variants unless it is one of them (--only
+ * =LABEL with a label the list does not have, e.g. another stack size). */
+void bench_variant_add(const char *label);
 /* The labels of every schedule of `set` (perma_schedule_all), the bounded
  * batches with their default limit named ("bounded-batches/p=4096"), at
  * most `max` of them; returns how many. */

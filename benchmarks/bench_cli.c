@@ -64,5 +64,19 @@ perma_cli_status bench_parse(bench_options *options, const char *synopsis, const
         .table_count = count ? 2 : 1,
         .notes = BENCH_EXIT_STATUS,
     };
-    return perma_cli_parse(&cli, argc, argv, message, sizeof message);
+    perma_cli_status st = perma_cli_parse(&cli, argc, argv, message, sizeof message);
+    /* --only =LABEL names any schedule, listed or not: it becomes a row
+     * (each such entry of a list). */
+    for (const char *entry = options->only; entry;) {
+        const char *comma = strchr(entry, ',');
+        size_t length = comma ? (size_t)(comma - entry) : strlen(entry);
+        char label[BENCH_LABEL_SIZE];
+        if (entry[0] == '=' && length > 1 && length <= sizeof label) {
+            memcpy(label, entry + 1, length - 1);
+            label[length - 1] = '\0';
+            bench_variant_add(label);
+        }
+        entry = comma ? comma + 1 : NULL;
+    }
+    return st;
 }

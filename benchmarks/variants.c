@@ -26,9 +26,10 @@ unsigned bench_schedule_labels(perma_schedule_set set, char (*labels)[BENCH_LABE
     return n;
 }
 
-/* After the megakernel's rows: its local front queue (+localN) under the
- * shared queues and under stealing. */
-static const char *const local_queue_rows[] = { "megakernel/shared+local256", "megakernel/stealing/random+local256" };
+/* After the megakernel's rows: its local front queue (+localN) and
+ * work-first stacks (+wfN) under the shared queues and under stealing. */
+static const char *const local_queue_rows[] = { "megakernel/shared+local256", "megakernel/stealing/random+local256",
+                                                "megakernel/shared+wf64", "megakernel/stealing/random+wf64" };
 #define LOCAL_QUEUE_ROWS (sizeof local_queue_rows / sizeof local_queue_rows[0])
 #define MAX_VARIANTS 32
 
@@ -55,6 +56,16 @@ unsigned bench_variant_count(void)
     if (!count)
         list_variants();
     return count;
+}
+
+void bench_variant_add(const char *label)
+{
+    unsigned n = bench_variant_count();
+    for (unsigned i = 0; i < n; ++i)
+        if (strcmp(labels[i], label) == 0)
+            return;
+    if (n < MAX_VARIANTS)
+        snprintf(labels[count++], BENCH_LABEL_SIZE, "%s", label);
 }
 
 const char *bench_variant_label(unsigned index)

@@ -38,6 +38,7 @@ typedef uint64_t perma_word64;
 #define PERMA_CTL_PROGRESS 5    /* epoch, bumped whenever queue room grows */
 #define PERMA_CTL_CLOCK 6       /* unused (the trace clock is on the watch page) */
 #define PERMA_CTL_GROW_STARVED 7 /* nonzero: a group starved of room may stop the launch to grow queues */
+#define PERMA_CTL_HUNGRY 8      /* groups that found nothing to run (work-first stacks give to them) */
 #define PERMA_CTL_HEADER_WORDS 16
 
 typedef struct perma_ctl_header {
@@ -49,7 +50,8 @@ typedef struct perma_ctl_header {
     perma_word progress;
     perma_word clock;
     perma_word grow_starved;
-    perma_word reserved[8];
+    perma_word hungry;
+    perma_word reserved[7];
 } perma_ctl_header;
 
 /* A queue record fills a 64-byte line, so groups hammering one queue's
@@ -121,20 +123,24 @@ typedef struct perma_group_record {
 #define PERMA_EMIT_ERROR_DETAIL 0xffffu      /* the edge or target part */
 
 /* ---- Statistics buffer -------------------------------------------------
- * One record per persistent work-group: per procedure ITEMS, BATCHES and
- * one EMITTED word per edge (max_edges of them), then the group's
+ * One record per persistent work-group: per procedure ITEMS, BATCHES,
+ * STACKED and one EMITTED word per edge (max_edges of them), then the group's
  * load-balancing counters. */
 
 #define PERMA_STAT_ITEMS 0
 #define PERMA_STAT_BATCHES 1
-#define PERMA_STAT_EMITTED 2 /* then max_edges words */
-#define PERMA_STAT_PROC_WORDS_FOR(max_edges) (2u + (max_edges))
+#define PERMA_STAT_STACKED 2 /* of ITEMS, those run from a work-item's stack (work-first) */
+#define PERMA_STAT_EMITTED 3 /* then max_edges words */
+#define PERMA_STAT_PROC_WORDS_FOR(max_edges) (3u + (max_edges))
 
 #define PERMA_GSTAT_STEALS 0
 #define PERMA_GSTAT_DONATIONS 1
 #define PERMA_GSTAT_DONATED 2
 #define PERMA_GSTAT_SPILLS 3
 #define PERMA_GSTAT_IDLE_POLLS 4
+#define PERMA_GSTAT_WF_RUNS 5   /* items run from the work-items' stacks (work-first) */
+#define PERMA_GSTAT_WF_SPILLS 6 /* items moved from the stacks to the global queues */
+#define PERMA_GSTAT_WF_PEAK 7   /* most items one work-item's stack held */
 #define PERMA_GSTAT_WORDS 8
 
 typedef struct perma_group_counters {
@@ -143,7 +149,9 @@ typedef struct perma_group_counters {
     perma_word donated;
     perma_word spills;
     perma_word idle_polls;
-    perma_word reserved[3];
+    perma_word wf_runs;
+    perma_word wf_spills;
+    perma_word wf_peak;
 } perma_group_counters;
 
 #define PERMA_STAT_GROUP_WORDS_FOR(procs, max_edges) \
@@ -156,7 +164,8 @@ typedef struct perma_group_counters {
 #define PERMA_TRACE_STEAL 1u
 #define PERMA_TRACE_LOCAL 2u
 #define PERMA_TRACE_DONATE 3u
-#define PERMA_TRACE_KINDS 4u
+#define PERMA_TRACE_STACK 4u /* items run from the work-items' stacks (the record's items) */
+#define PERMA_TRACE_KINDS 5u
 #define PERMA_TRACE_RECORD_WORDS 4u
 
 typedef struct perma_trace_record {
@@ -227,7 +236,11 @@ typedef struct perma_relayout_record {
 #define PERMA_OVERFLOW_QUEUE 0
 #define PERMA_OVERFLOW_COUNT 1
 #define PERMA_OVERFLOW_AT 2
-#define PERMA_EMIT_AREA_HEADER 32 /* the count and up to 8 (PERMA_MAX_EMITS) records, rounded up */
+/* Records an area holds: a batch's overflowed edges, then (work-first)
+ * one per procedure whose items the group's stacks held when the launch
+ * stopped. */
+#define PERMA_OVERFLOW_MAX_RECORDS (8 + 64) /* PERMA_MAX_EMITS + PERMA_MAX_PROCEDURES */
+#define PERMA_EMIT_AREA_HEADER 224 /* the count and the records, rounded up */
 #define PERMA_EMIT_AREA_STAGE PERMA_EMIT_AREA_HEADER
 #define PERMA_EMIT_AREA_OVERFLOW_FOR(stage_words) (PERMA_EMIT_AREA_HEADER + (stage_words))
 #define PERMA_EMIT_AREA_WORDS_FOR(stage_words) (PERMA_EMIT_AREA_HEADER + 2 * (stage_words))
@@ -333,6 +346,7 @@ enum perma_relayout_arg { PERMA_RELAYOUT_ARGS(PERMA_ARG_INDEX), PERMA_RELAYOUT_A
     X(perma_ctl_header, progress, PERMA_CTL_PROGRESS)                \
     X(perma_ctl_header, clock, PERMA_CTL_CLOCK)                      \
     X(perma_ctl_header, grow_starved, PERMA_CTL_GROW_STARVED)        \
+    X(perma_ctl_header, hungry, PERMA_CTL_HUNGRY)                    \
     X(perma_queue_record, head, PERMA_Q_HEAD)                        \
     X(perma_queue_record, tail, PERMA_Q_TAIL)                        \
     X(perma_queue_record, room, PERMA_Q_ROOM)                        \
@@ -349,6 +363,9 @@ enum perma_relayout_arg { PERMA_RELAYOUT_ARGS(PERMA_ARG_INDEX), PERMA_RELAYOUT_A
     X(perma_group_counters, donated, PERMA_GSTAT_DONATED)            \
     X(perma_group_counters, spills, PERMA_GSTAT_SPILLS)              \
     X(perma_group_counters, idle_polls, PERMA_GSTAT_IDLE_POLLS)      \
+    X(perma_group_counters, wf_runs, PERMA_GSTAT_WF_RUNS)            \
+    X(perma_group_counters, wf_spills, PERMA_GSTAT_WF_SPILLS)        \
+    X(perma_group_counters, wf_peak, PERMA_GSTAT_WF_PEAK)            \
     X(perma_trace_record, proc_kind, 0)                              \
     X(perma_trace_record, items, 1)                                  \
     X(perma_trace_record, start, 2)                                  \

@@ -28,7 +28,8 @@
 #define PERMA_B_DEST 5       /* donation: queue index they go to */
 #define PERMA_B_KIND 6       /* PERMA_TRACE_* */
 #define PERMA_B_FROM_LOCAL 7 /* 1: the items are on the group's local stack at START */
-#define PERMA_BATCH_WORDS 8
+#define PERMA_B_WF_RAN 8     /* work-first: items the batch ran from the work-items' stacks */
+#define PERMA_BATCH_WORDS 9
 
 #define PERMA_QINDEX(set, proc) ((set) * PERMA_NUM_PROCS + (proc))
 
@@ -38,8 +39,10 @@
  * barrier; the address of a kernel-scope __local variable is the same for
  * all work-items.) */
 typedef struct perma_group_mem {
-    uint arena[PERMA_ARENA_WORDS] __attribute__((aligned(64))); /* items, scratch, emit counters, staging */
-    uint lq[PERMA_LQ_WORDS] __attribute__((aligned(64)));       /* local front queue: a stack per procedure */
+    /* Items lie in place for their procedures at offsets that are multiples
+     * of their size, from a base aligned for any OpenCL type (double16). */
+    uint arena[PERMA_ARENA_WORDS] __attribute__((aligned(128))); /* items, scratch, emit counters, staging */
+    uint lq[PERMA_LQ_WORDS] __attribute__((aligned(128)));       /* local front queue: a stack per procedure */
     uint edge_counts[PERMA_MAX_EDGES];     /* per edge: items the batch emitted */
     uint edge_base[2 * PERMA_MAX_EDGES];   /* per edge: first local, then first global position */
     uint edge_keep[PERMA_MAX_EDGES];       /* per edge: emits kept on the local stack */
@@ -49,7 +52,75 @@ typedef struct perma_group_mem {
     uint stats[PERMA_STAT_GROUP_WORDS];    /* the group's statistics record */
     uint batch[PERMA_BATCH_WORDS];         /* what the group does next (PERMA_B_*) */
     uint error_code;                       /* emit errors of the batch */
+#if PERMA_WORK_FIRST
+    /* Work-first (kernels/perma_work_first.cl): work-item l's stack is
+     * slots [l * PERMA_WORK_FIRST, (l + 1) * PERMA_WORK_FIRST), aligned as
+     * the arena for any item type, wf_procs says whose item each holds. */
+    uint wf_slots[PERMA_GROUP_SIZE * PERMA_WORK_FIRST * PERMA_WF_SLOT_WORDS] __attribute__((aligned(128)));
+    uint wf_procs[PERMA_GROUP_SIZE * PERMA_WORK_FIRST];
+    uint wf_sp[PERMA_GROUP_SIZE];                      /* each stack's next free slot */
+    uint wf_own[PERMA_GROUP_SIZE * PERMA_MAX_EDGES];   /* each work-item's running item's emits, per edge */
+    uint wf_ran[PERMA_NUM_PROCS];                      /* this batch: items run from the stacks */
+    uint wf_pushed[PERMA_NUM_PROCS * PERMA_MAX_EDGES]; /* this batch: items pushed, per edge */
+    uint wf_total;                                     /* items waiting on the group's stacks */
+#endif
 } perma_group_mem;
+
+#if PERMA_WORK_FIRST
+/* Work-item 0 after a batch ran: fold what the work-items' stacks did
+ * (perma_run_simple's counts) into the group's statistics; returns how
+ * many more items wait on the stacks than before the batch (pushed less
+ * run), for OUTSTANDING. */
+inline int perma_wf_count_batch(__local perma_group_mem *mem)
+{
+    int more = 0;
+    uint ran = 0;
+    for (uint q = 0; q < PERMA_NUM_PROCS; ++q) {
+        __local uint *stats = mem->stats + q * PERMA_STAT_PROC_WORDS;
+        stats[PERMA_STAT_ITEMS] += mem->wf_ran[q];
+        stats[PERMA_STAT_STACKED] += mem->wf_ran[q];
+        ran += mem->wf_ran[q];
+        for (uint e = 0; e < perma_edge_count[q]; ++e) {
+            stats[PERMA_STAT_EMITTED + e] += mem->wf_pushed[q * PERMA_MAX_EDGES + e];
+            more += (int)mem->wf_pushed[q * PERMA_MAX_EDGES + e];
+        }
+    }
+    more -= (int)ran;
+    mem->wf_total = (uint)((int)mem->wf_total + more);
+    mem->stats[PERMA_NUM_PROCS * PERMA_STAT_PROC_WORDS + PERMA_GSTAT_WF_RUNS] += ran;
+    mem->batch[PERMA_B_WF_RAN] = ran;
+    return more;
+}
+
+/* Work-item 0 after the batch's copies: the progress counts of what the
+ * stacks ran and pushed (kernels/perma_abi.h, watch page), and the
+ * counters cleared for the next batch. */
+inline void perma_wf_watch_counts(volatile __global uint *watch, __local perma_group_mem *mem)
+{
+    for (uint q = 0; q < PERMA_NUM_PROCS; ++q) {
+        if (mem->wf_ran[q])
+            watch[PERMA_WATCH_COUNTS + q] += mem->wf_ran[q];
+        mem->wf_ran[q] = 0;
+        for (uint e = 0; e < perma_edge_count[q]; ++e) {
+            uint k = mem->wf_pushed[q * PERMA_MAX_EDGES + e];
+            if (k)
+                watch[PERMA_WATCH_COUNTS + PERMA_NUM_PROCS + perma_edge_target[q * PERMA_MAX_EDGES + e]] += k;
+            mem->wf_pushed[q * PERMA_MAX_EDGES + e] = 0;
+        }
+    }
+}
+#else
+inline int perma_wf_count_batch(__local perma_group_mem *mem)
+{
+    mem->batch[PERMA_B_WF_RAN] = 0;
+    return 0;
+}
+inline void perma_wf_watch_counts(volatile __global uint *watch, __local perma_group_mem *mem)
+{
+    (void)watch;
+    (void)mem;
+}
+#endif
 
 /* The ROOM a batch of `items` items of q reserves in the target of edge e
  * before it runs.  `expected`: what the group's batches of q emitted per
@@ -60,10 +131,17 @@ typedef struct perma_group_mem {
  * emits more than it reserved takes the rest after it ran
  * (perma_reserve_emits), or, if the target has no room for it, moves the
  * edge's emits to the overflow data of the group's emit area and stops the
- * launch so that the host grows the queue (perma_overflow_edge). */
+ * launch so that the host grows the queue (perma_overflow_edge).  A
+ * procedure whose items run from work-first stacks expects none: its
+ * items push their emits onto the stack, and stage them only when it is
+ * full (its statistics count the pushes too). */
 inline uint perma_batch_room(__local const perma_group_mem *mem, uint q, uint e, uint items, uint expected)
 {
     const uint max = perma_edge_max[q * PERMA_MAX_EDGES + e];
+#if PERMA_WORK_FIRST
+    if (expected && perma_wf_need[q] != PERMA_WF_NEVER)
+        return 0u;
+#endif
     const uint ran = expected ? mem->stats[q * PERMA_STAT_PROC_WORDS + PERMA_STAT_ITEMS] : 0u;
     if (ran == 0)
         return items * max;
@@ -76,6 +154,10 @@ inline uint perma_batch_room(__local const perma_group_mem *mem, uint q, uint e,
 inline uint perma_admissible(__global uint *ctl, __local const perma_group_mem *mem, uint set, uint q, uint want,
                              uint expected)
 {
+#if PERMA_WORK_FIRST
+    if (expected && perma_wf_need[q] != PERMA_WF_NEVER)
+        return want; /* it expects no emits in the queues (perma_batch_room) */
+#endif
     for (uint e = 0; e < perma_edge_count[q]; ++e) {
         uint t = perma_edge_target[q * PERMA_MAX_EDGES + e];
         int room = perma_load_int(PERMA_QUEUE(ctl, PERMA_QINDEX(set, t)) + PERMA_Q_ROOM);
@@ -170,7 +252,7 @@ inline uint perma_local_flush(__global uint *ctl, __global uint *queue_data, __g
  * (PERMA_SWITCH_WORDS), so the copy is a few vector moves, not a loop. */
 PERMA_INLINE void perma_copy_items_in(uint lid, uint count, uint start, __global uint *source,
                                       __global const uint *queue_data, __global uint *marks,
-                                      __global const uint *input, __local uint *items, const uint words)
+                                      __global const uint *input, __local perma_item_word *items, const uint words)
 {
     if (input) {
         __global const uint *in = input + start * words;
@@ -208,7 +290,8 @@ PERMA_PHASE void perma_read_items(uint lid, __global uint *ctl, __global uint *q
     __global uint *source = PERMA_QUEUE(ctl, mem->batch[PERMA_B_SOURCE]);
     const uint words = perma_item_words[proc];
     const uint edges = run ? perma_edge_count[proc] : 0u;
-    __local uint *items = mem->arena + perma_items_off[proc];
+    /* Written as perma_item_word: the procedure reads them by its own type. */
+    __local perma_item_word *items = (__local perma_item_word *)(mem->arena + perma_items_off[proc]);
     __local uint *counts = mem->arena + perma_counters_off[proc]; /* [slot * edges + edge] */
     read_mem_fence(CLK_GLOBAL_MEM_FENCE);
     if (input || !from_local) {
@@ -327,12 +410,17 @@ PERMA_PHASE void perma_reserve_emits(__global uint *ctl, __global uint *queue_da
         mem->edge_keep[e] = keep;
         mem->edge_base[PERMA_MAX_EDGES + e] = k > keep ? perma_queue_reserve(target, k - keep) : 0u;
     }
+    int outstanding = 0;
     if (run) {
         stats[proc * PERMA_STAT_PROC_WORDS + PERMA_STAT_ITEMS] += run;
         stats[proc * PERMA_STAT_PROC_WORDS + PERMA_STAT_BATCHES] += 1u;
-        /* Count the emits before they become visible, and retire the batch. */
-        atomic_add((volatile __global int *)(ctl + PERMA_CTL_OUTSTANDING), emitted - (int)run);
+        outstanding = emitted - (int)run;
     }
+    /* Items pushed onto the stacks wait like queued ones until they ran. */
+    outstanding += perma_wf_count_batch(mem);
+    /* Count the emits before they become visible, and retire the batch. */
+    if (outstanding)
+        atomic_add((volatile __global int *)(ctl + PERMA_CTL_OUTSTANDING), outstanding);
     if (command == PERMA_CMD_DONATE)
         mem->edge_base[0] = perma_queue_reserve(donee, count);
     /* Emits in the overflow area: every group stops after its batch, the
@@ -353,8 +441,8 @@ PERMA_PHASE void perma_reserve_emits(__global uint *ctl, __global uint *queue_da
  * slots[(pos0 + i) * words] unmasked.  `words` is a constant in each caller
  * (PERMA_SWITCH_WORDS). */
 PERMA_INLINE void perma_copy_emits_out(uint first, uint split, uint end, uint keep, __global const uint *src,
-                                       __local uint *stack, __global uint *slots, uint mask, __global uint *marks,
-                                       uint pos0, const uint words)
+                                       __local perma_item_word *stack, __global uint *slots, uint mask,
+                                       __global uint *marks, uint pos0, const uint words)
 {
     if (!marks) {
         for (uint i = first; i < end; ++i)
@@ -408,7 +496,8 @@ PERMA_PHASE void perma_write_emits(uint lid, __global uint *ctl, __global uint *
         __global uint *marks = over ? (__global uint *)0 : perma_queue_marks(target, queue_seq, 0u);
         __global const uint *stage = perma_emit_area(emit_areas) + PERMA_EMIT_AREA_STAGE +
                                      perma_edge_stage[proc * PERMA_MAX_EDGES + e];
-        __local uint *stack = mem->lq + perma_lq_off[t] + mem->edge_base[e] * tw;
+        /* Stacked items run in place: written as perma_item_word. */
+        __local perma_item_word *stack = (__local perma_item_word *)(mem->lq + perma_lq_off[t]) + mem->edge_base[e] * tw;
         /* Emits [first, end) of logical index i lie at src + i * tw: one
          * block of this work-item (lane staging) or one per item. */
         const uint lanes = perma_lane_items[proc];
@@ -479,6 +568,8 @@ PERMA_PHASE void perma_dispatch(uint lid, __local perma_group_mem *mem, __global
 inline void perma_watch_counts(volatile __global uint *watch, __local const perma_group_mem *mem)
 {
     const uint proc = mem->batch[PERMA_B_PROC];
+    if (!perma_batch_run(mem))
+        return;
     watch[PERMA_WATCH_COUNTS + proc] += perma_batch_run(mem);
     for (uint e = 0; e < perma_edge_count[proc]; ++e)
         watch[PERMA_WATCH_COUNTS + PERMA_NUM_PROCS + perma_edge_target[proc * PERMA_MAX_EDGES + e]] +=
@@ -521,10 +612,11 @@ inline void perma_run_batch(__global uint *ctl, __global uint *queue_data, __glo
     barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
     if (get_local_id(0) == 0) {
         perma_publish_emits(ctl, queue_data, queue_seq, mem, own);
-        if (perma_batch_run(mem)) {
+        if (perma_batch_run(mem) || mem->batch[PERMA_B_WF_RAN]) {
             watch[PERMA_WATCH_RUNNING] = 0u;
             watch[PERMA_WATCH_DONE] += 1u;
             perma_watch_counts(watch, mem);
         }
+        perma_wf_watch_counts(watch, mem);
     }
 }

@@ -32,34 +32,88 @@ typedef struct perma_ctx {
     ulong *reduce;                    /* this work-item's lane of the reductions (kernels/perma_reduce.cl) */
 #endif
     __local uint *error_code;         /* 0, or PERMA_EMIT_ERROR_* | detail (perma_abi.h) */
+#if PERMA_WORK_FIRST
+    /* Work-first (kernels/perma_work_first.cl): the item's emits into
+     * stackable procedures go onto the work-item's stack (wf_room 1, set
+     * only when the stack has room for all of them), else to the staging. */
+    uint wf_room;
+    uint wf_sp;                       /* the stack's next free slot */
+    __local uint *wf_slots;           /* the work-item's stack: PERMA_WORK_FIRST slots */
+    __local uint *wf_procs;           /* each slot's procedure (| PERMA_WF_DONE) */
+#endif
     perma_buffers buf;                /* user buffers, by name */
 } perma_ctx;
 
-/* Stage one item emitted into procedure `target` by the running procedure.
- * Returns 1 if staged, 0 if the target is not declared in .emits or the item
+/* Count one emit of the running item into procedure `target`: its edge
+ * (and in *own the item's emits there before this one), or -1 after
+ * recording the error if the target is not declared in .emits or the item
  * already emitted its declared maximum there (the run then fails). */
-PERMA_PHASE int perma_emit(perma_ctx *ctx, uint target, const uint *src)
+PERMA_PHASE int perma_count_emit(perma_ctx *ctx, uint target, uint *own)
 {
-    if (!ctx->active)
-        return 0;
     int edge = perma_edge_index[ctx->proc * PERMA_NUM_PROCS + target];
     if (edge < 0) {
         atomic_cmpxchg(ctx->error_code, 0u, PERMA_EMIT_ERROR_UNDECLARED | target);
-        return 0;
+        return -1;
     }
-    uint e = ctx->proc * PERMA_MAX_EDGES + (uint)edge;
     /* With one thread per item nobody else counts this item's emits. */
-    uint own = ctx->threads == 1 ? ctx->item_emit_counts[edge]++ : atomic_inc(ctx->item_emit_counts + edge);
-    uint max = perma_edge_max[e];
-    if (own >= max) {
+    *own = ctx->threads == 1 ? ctx->item_emit_counts[edge]++ : atomic_inc(ctx->item_emit_counts + edge);
+    if (*own >= perma_edge_max[ctx->proc * PERMA_MAX_EDGES + (uint)edge]) {
         atomic_cmpxchg(ctx->error_code, 0u, PERMA_EMIT_ERROR_LIMIT | (uint)edge);
-        return 0;
+        return -1;
     }
+    return edge;
+}
+
+/* Stage one item emitted into procedure `target` by the running procedure
+ * (its words: the emit helper hands them over as perma_item_word, see
+ * kernels/perma_prelude.cl).  Returns 1 if staged, 0 if perma_count_emit
+ * refused it. */
+PERMA_PHASE int perma_emit(perma_ctx *ctx, uint target, const perma_item_word *src)
+{
+    if (!ctx->active)
+        return 0;
+    uint own;
+    int edge = perma_count_emit(ctx, target, &own);
+    if (edge < 0)
+        return 0;
+    uint e = ctx->proc * PERMA_MAX_EDGES + (uint)edge;
+    uint max = perma_edge_max[e];
     uint words = perma_item_words[target];
     uint at = ctx->lane_counts ? ctx->lane * perma_lane_items[ctx->proc] * max + ctx->lane_counts[edge]++
                                : ctx->slot * max + own;
-    __global uint *dst = ctx->stage + perma_edge_stage[e] + at * words;
+    __global perma_item_word *dst = (__global perma_item_word *)ctx->stage + perma_edge_stage[e] + at * words;
     for (uint w = 0; w < words; ++w)
         dst[w] = src[w];
     return 1;
 }
+
+#if PERMA_WORK_FIRST
+/* A slot's procedure word: the procedure, and this bit once its item ran
+ * (its children lie above it; the slot is free when they are done). */
+#define PERMA_WF_DONE 0x80000000u
+
+/* Push an item of procedure `target` onto the running work-item's stack:
+ * the slot to write it to (the emit helper stores it there by its own
+ * type, so the procedure that runs it reads the same fields it was
+ * written with), or 0 after recording the error if the target is not
+ * declared in .emits or the stack is full.  The caller made sure of the
+ * room for the item's declared emits (ctx->wf_room); whether it kept to
+ * them is checked from the stack when it returns (perma_run_simple), so a
+ * push costs no counting. */
+PERMA_PHASE __local uint *perma_wf_push(perma_ctx *ctx, uint target)
+{
+    uint sp = ctx->wf_sp;
+    if (perma_edge_index[ctx->proc * PERMA_NUM_PROCS + target] < 0) {
+        atomic_cmpxchg(ctx->error_code, 0u, PERMA_EMIT_ERROR_UNDECLARED | target);
+        return 0;
+    }
+    if (sp >= PERMA_WORK_FIRST) { /* past every declared maximum */
+        atomic_cmpxchg(ctx->error_code, 0u,
+                       PERMA_EMIT_ERROR_LIMIT | (uint)perma_edge_index[ctx->proc * PERMA_NUM_PROCS + target]);
+        return 0;
+    }
+    ctx->wf_procs[sp] = target;
+    ctx->wf_sp = sp + 1u;
+    return ctx->wf_slots + sp * PERMA_WF_SLOT_WORDS;
+}
+#endif

@@ -13,6 +13,24 @@
 #pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
 #pragma OPENCL EXTENSION cl_khr_int64_extended_atomics : enable
 
+/* Item memory.  The runtime moves items it knows only by their size (the
+ * queues, the emit staging, the batch's copy in __local memory, the local
+ * stacks) as 32-bit words, while procedures read and write them as their
+ * own types (a struct with double fields, a float4, ...).  OpenCL C keeps
+ * C's aliasing rules and PoCL's LLVM applies them: a load through a
+ * `uint *` is taken not to read what a store to a `double` field wrote, so
+ * the copy of an item that a procedure has just changed could be moved
+ * before the change.  So every access of the runtime to memory that a
+ * procedure also touches by its own type goes through perma_item_word, a
+ * uint that may alias anything (as a char may): the emit's read of the
+ * procedure's item (through a copy in a union when the item type is
+ * aligned to less than 4 bytes: the generated emit helpers), and the writes of the items that a procedure
+ * reads in place in __local memory (perma_copy_items_in,
+ * perma_copy_emits_out).  Copies between the runtime's own buffers, which
+ * no procedure reads by type, stay plain uint.  docs/design.md, *Item
+ * memory and aliasing*. */
+typedef uint __attribute__((may_alias)) perma_item_word;
+
 /* Statistics and trace records of this program (kernels/perma_abi.h). */
 #define PERMA_STAT_PROC_WORDS PERMA_STAT_PROC_WORDS_FOR(PERMA_MAX_EDGES)
 #define PERMA_STAT_GROUP_WORDS PERMA_STAT_GROUP_WORDS_FOR(PERMA_NUM_PROCS, PERMA_MAX_EDGES)

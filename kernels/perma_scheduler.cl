@@ -218,8 +218,9 @@ inline int perma_note_starved(__global uint *ctl, __local const perma_group_mem 
 /* What work-item 0 of a group needs to pick its next batch. */
 typedef struct perma_picker {
     __global uint *ctl;
-    __global uint *queue_data; /* the local front queue's flush only */
+    __global uint *queue_data; /* the local front queue's flush, the stacks' spills */
     __global uint *queue_seq;
+    __global uint *emit_areas; /* the stacks' flush when the launch stops for room */
     __global uint *group_words;
     __local perma_group_mem *mem;
     __local uint *group_stat;
@@ -227,6 +228,7 @@ typedef struct perma_picker {
     uint own;           /* the group's queue set */
     uint *victim_state; /* stealing only: perma_first_victim's state */
     uint *starve_count; /* perma_note_starved's count */
+    uint *hungry;       /* 1 while the group counts itself in PERMA_CTL_HUNGRY */
     int starved;        /* the procedure room last cut short (perma_fit_batch), -1: none */
 } perma_picker;
 
@@ -237,6 +239,7 @@ typedef struct perma_picker {
 #define PERMA_FOUND_STOLEN 2u   /* another group's set */
 #define PERMA_FOUND_ADOPTED 3u  /* the set of a group that is not running */
 #define PERMA_FOUND_DONATED 4u  /* own items to give to set `dest` */
+#define PERMA_FOUND_STACKS 5u   /* no new items: the work-items run their stacks */
 
 /* Start the batch of `count` items of q at `start` in queue `source`
  * (`dest`: the queue a donation goes to): count it toward the starve limit
@@ -245,7 +248,7 @@ typedef struct perma_picker {
 inline void perma_begin_batch(perma_picker *p, uint found, uint q, uint start, uint count, uint source, uint dest)
 {
     __local uint *batch = p->mem->batch;
-    if (found != PERMA_FOUND_ADOPTED && found != PERMA_FOUND_DONATED)
+    if (found != PERMA_FOUND_ADOPTED && found != PERMA_FOUND_DONATED && found != PERMA_FOUND_STACKS)
         perma_note_starved(p->ctl, p->mem, p->groups, p->own, p->starved, q, p->starve_count);
     if (found == PERMA_FOUND_STOLEN || found == PERMA_FOUND_ADOPTED)
         p->group_stat[PERMA_GSTAT_STEALS] += 1u;
@@ -259,6 +262,8 @@ inline void perma_begin_batch(perma_picker *p, uint found, uint q, uint start, u
     perma_set_batch(batch, command, q, start, count, source, dest);
     if (found == PERMA_FOUND_STOLEN || found == PERMA_FOUND_ADOPTED)
         batch[PERMA_B_KIND] = PERMA_TRACE_STEAL;
+    if (found == PERMA_FOUND_STACKS)
+        batch[PERMA_B_KIND] = PERMA_TRACE_STACK;
 }
 
 /* Take a batch of q from queue set `from` and start it as `found`; 0 when
@@ -277,14 +282,22 @@ inline int perma_take_from(perma_picker *p, uint found, uint from, uint q, int f
 }
 
 /* The own queue set: pass 0 takes only queues that fill a whole batch
- * (Whippletree's rule); pass 1 takes any.  Within a pass, priority order. */
-inline int perma_take_own(perma_picker *p)
+ * (Whippletree's rule); pass 1 takes any.  Within a pass, priority order.
+ * `unstacked`: only procedures whose items cannot run from a stack (the
+ * group's stacks hold work: perma_take_stacks). */
+inline int perma_take_own_of(perma_picker *p, int unstacked)
 {
     for (uint pass = 0; pass < 2; ++pass)
         for (uint i = 0; i < PERMA_NUM_PROCS; ++i)
-            if (perma_take_from(p, PERMA_FOUND_OWN, p->own, perma_order[i], pass == 0))
+            if ((!unstacked || perma_wf_need[perma_order[i]] == PERMA_WF_NEVER) &&
+                perma_take_from(p, PERMA_FOUND_OWN, p->own, perma_order[i], pass == 0))
                 return 1;
     return 0;
+}
+
+inline int perma_take_own(perma_picker *p)
+{
+    return perma_take_own_of(p, 0);
 }
 
 /* Every other group's set from set `first` on (adopted: only the sets of
@@ -383,15 +396,64 @@ inline uint perma_flush_local(perma_picker *p) { (void)p; return 0; }
 inline int perma_take_local(perma_picker *p) { (void)p; return 0; }
 #endif
 
+#if PERMA_WORK_FIRST
+/* While the group's stacks hold items, work first: a batch of the queued
+ * items no stack can run, else a batch that runs the stacks
+ * (kernels/perma_work_first.cl), after spilling what the stacks cannot run
+ * or another group should get.  A group without stealing gives to a group
+ * that found nothing, whose set it can take from. */
+inline int perma_take_stacks(perma_picker *p)
+{
+    if (perma_take_own_of(p, 1))
+        return 1;
+    uint give = p->own;
+#if PERMA_QUEUE_SETS > 1 && !PERMA_STEALING
+    for (uint g = 0; g < p->groups; ++g)
+        if (g != p->own && perma_group_running(p->ctl, g) && perma_load(PERMA_GROUP(p->ctl, g) + PERMA_G_BLOCKED))
+            give = g;
+#endif
+    if (!perma_wf_relieve(p->ctl, p->queue_data, p->queue_seq, p->mem, p->own, give))
+        return 0;
+    perma_begin_batch(p, PERMA_FOUND_STACKS, 0, 0, 0, PERMA_QINDEX(p->own, 0), 0);
+    return 1;
+}
+
+/* A group that finds nothing to run counts itself in PERMA_CTL_HUNGRY,
+ * once, so that groups with full stacks give it some (perma_wf_relieve);
+ * it leaves the count when it finds work or leaves the launch. */
+inline void perma_set_hungry(perma_picker *p, uint hungry)
+{
+    if (*p->hungry == hungry || (hungry && p->mem->wf_total))
+        return;
+    *p->hungry = hungry;
+    if (hungry)
+        atomic_inc(p->ctl + PERMA_CTL_HUNGRY);
+    else
+        atomic_dec(p->ctl + PERMA_CTL_HUNGRY);
+}
+#endif
+
+/* The ways to a batch, in order; 1 when one was found (and begun). */
+inline int perma_find_batch(perma_picker *p)
+{
+    if (perma_take_local(p) || perma_donate(p))
+        return 1;
+#if PERMA_WORK_FIRST
+    if (p->mem->wf_total)
+        return perma_take_stacks(p);
+#endif
+    return perma_take_own(p) || perma_steal(p) || perma_adopt(p);
+}
+
 /* Work-item 0: choose what the group does next and write it to batch[]. */
 PERMA_PHASE void perma_pick_batch(__global uint *ctl, __global uint *queue_data, __global uint *queue_seq,
-                                  __global uint *group_words, uint groups, uint own,
+                                  __global uint *emit_areas, __global uint *group_words, uint groups, uint own,
                                   volatile __global uint *abort_flag, __local perma_group_mem *mem,
-                                  uint *victim_state, uint *starve_count)
+                                  uint *victim_state, uint *starve_count, uint *hungry)
 {
-    perma_picker picker = { ctl, queue_data, queue_seq, group_words, mem,
+    perma_picker picker = { ctl, queue_data, queue_seq, emit_areas, group_words, mem,
                             mem->stats + PERMA_NUM_PROCS * PERMA_STAT_PROC_WORDS, groups, own,
-                            victim_state, starve_count, -1 };
+                            victim_state, starve_count, hungry, -1 };
     perma_picker *p = &picker;
     for (uint poll = 0;; ++poll) {
         if (perma_load(ctl + PERMA_CTL_EXIT))
@@ -405,8 +467,12 @@ PERMA_PHASE void perma_pick_batch(__global uint *ctl, __global uint *queue_data,
 
         uint epoch = perma_load(ctl + PERMA_CTL_PROGRESS);
         p->starved = -1;
-        if (perma_take_local(p) || perma_donate(p) || perma_take_own(p) || perma_steal(p) || perma_adopt(p))
+        if (perma_find_batch(p)) {
+#if PERMA_WORK_FIRST
+            perma_set_hungry(p, 0u);
+#endif
             return;
+        }
         /* Local items that cannot run now go where other groups and the
          * host can see them before this group calls itself stalled.  That
          * publishes work, so it is progress: a group that looked at this
@@ -415,6 +481,9 @@ PERMA_PHASE void perma_pick_batch(__global uint *ctl, __global uint *queue_data,
         if (perma_flush_local(p))
             continue;
         p->group_stat[PERMA_GSTAT_IDLE_POLLS] += 1u;
+#if PERMA_WORK_FIRST
+        perma_set_hungry(p, 1u);
+#endif
         /* Nothing this group can start: either no room for the work it sees,
          * or no work it may take (another group's set, without stealing).
          * If every running group is in that state since the same epoch while
@@ -438,6 +507,13 @@ PERMA_PHASE void perma_pick_batch(__global uint *ctl, __global uint *queue_data,
      * over to the next launch.  After any other status the run is over. */
     if (PERMA_LOCAL_QUEUE && perma_load(ctl + PERMA_CTL_STATUS) == PERMA_KSTATUS_NEEDS_ROOM)
         perma_flush_local(p);
+#if PERMA_WORK_FIRST
+    /* The stacks' items to the overflow area, which the host appends to
+     * the queues it grows. */
+    if (perma_load(ctl + PERMA_CTL_STATUS) == PERMA_KSTATUS_NEEDS_ROOM)
+        perma_wf_flush(emit_areas, mem, own);
+    perma_set_hungry(p, 0u);
+#endif
     perma_set_batch(mem->batch, PERMA_CMD_EXIT, 0, 0, 0, 0, 0);
 }
 
@@ -457,6 +533,7 @@ void perma_megakernel(PERMA_COMMON_ARGS(PERMA_ARG_PARAM) PERMA_BUFFER_PARAMS)
     __global uint *group_words = PERMA_GROUP(ctl, group);
     uint victim_state = group * 2654435761u + 12345u; /* used by work-item 0 only */
     uint starve_count = 0;                            /* likewise */
+    uint hungry = 0;                                  /* likewise */
 #if PERMA_TRACE_EVENTS
     uint trace_count = 0, trace_start = 0;            /* likewise */
     __global uint *group_trace = trace + group * PERMA_TRACE_GROUP_WORDS;
@@ -471,6 +548,17 @@ void perma_megakernel(PERMA_COMMON_ARGS(PERMA_ARG_PARAM) PERMA_BUFFER_PARAMS)
         mem->stats[i] = 0;
     for (uint i = lid; i < PERMA_NUM_PROCS; i += PERMA_GROUP_SIZE)
         mem->lq_count[i] = 0;
+#if PERMA_WORK_FIRST
+    mem->wf_sp[lid] = 0;
+    for (uint e = 0; e < PERMA_MAX_EDGES; ++e)
+        mem->wf_own[lid * PERMA_MAX_EDGES + e] = 0;
+    for (uint i = lid; i < PERMA_NUM_PROCS * PERMA_MAX_EDGES; i += PERMA_GROUP_SIZE)
+        mem->wf_pushed[i] = 0;
+    for (uint i = lid; i < PERMA_NUM_PROCS; i += PERMA_GROUP_SIZE)
+        mem->wf_ran[i] = 0;
+    if (lid == 0)
+        mem->wf_total = 0;
+#endif
     if (lid == 0) {
         mem->error_code = 0;
         perma_emit_area(emit_areas)[PERMA_OVERFLOW_RECORDS] = 0;
@@ -484,22 +572,22 @@ void perma_megakernel(PERMA_COMMON_ARGS(PERMA_ARG_PARAM) PERMA_BUFFER_PARAMS)
     uint command = PERMA_CMD_IDLE;
     while (command != PERMA_CMD_EXIT) {
         if (lid == 0)
-            perma_pick_batch(ctl, queue_data, queue_seq, group_words, get_num_groups(0), own, abort_flag, mem,
-                             &victim_state, &starve_count);
+            perma_pick_batch(ctl, queue_data, queue_seq, emit_areas, group_words, get_num_groups(0), own, abort_flag,
+                             mem, &victim_state, &starve_count, &hungry);
         barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
         command = mem->batch[PERMA_B_COMMAND];
 #if PERMA_TRACE_EVENTS
-        if (lid == 0 && mem->batch[PERMA_B_COUNT])
+        if (lid == 0 && (mem->batch[PERMA_B_COUNT] || mem->batch[PERMA_B_KIND] == PERMA_TRACE_STACK))
             trace_start = atomic_inc(abort_flag + PERMA_WATCH_CLOCK);
 #endif
         perma_run_batch(ctl, queue_data, queue_seq, emit_areas, abort_flag, mem, lane, buf, (__global const uint *)0,
                         own);
 #if PERMA_TRACE_EVENTS
         /* Before work-item 0 schedules the next batch. */
-        if (lid == 0 && mem->batch[PERMA_B_COUNT] && trace_count < PERMA_TRACE_EVENTS) {
+        if (lid == 0 && (mem->batch[PERMA_B_COUNT] || mem->batch[PERMA_B_WF_RAN]) && trace_count < PERMA_TRACE_EVENTS) {
             __global uint *record = group_trace + 1u + 4u * trace_count++;
             record[0] = mem->batch[PERMA_B_PROC] | mem->batch[PERMA_B_KIND] << 8;
-            record[1] = mem->batch[PERMA_B_COUNT];
+            record[1] = mem->batch[PERMA_B_COUNT] + mem->batch[PERMA_B_WF_RAN];
             record[2] = trace_start;
             record[3] = atomic_inc(abort_flag + PERMA_WATCH_CLOCK);
         }

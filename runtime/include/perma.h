@@ -90,6 +90,8 @@ extern "C" {
 #define PERMA_MAX_REDUCTIONS 32
 #define PERMA_MAX_QUEUED_ITEMS ((size_t)1 << 30) /* most items one queue holds (seeds included) */
 #define PERMA_MAX_LOCAL_QUEUE_ITEMS 4096 /* most perma_schedule.local_queue_items */
+#define PERMA_MAX_WORK_FIRST_ITEMS 4096 /* most perma_schedule.work_first_items */
+#define PERMA_WORK_FIRST_OFF 0xffffffffu /* perma_schedule.work_first_items: no stacks ("+wf0") */
 #define PERMA_MESSAGE_MAX 1024
 
 typedef enum perma_status {
@@ -160,18 +162,19 @@ perma_status perma_victim_parse(const char *name, perma_victim *out);
 /* A schedule: how the work runs (perma_config.schedule), written as one
  * label on command lines, in tables and in reports:
  *
- *     megakernel[/STRATEGY[/VICTIM][/d=N]][+localN]
+ *     megakernel[/STRATEGY[/VICTIM][/d=N]][+localN][+wfN]
  *     kernel-per-procedure
  *     bounded-batches[/p=N]
  *
  * e.g. "megakernel/shared", "megakernel/stealing/round-robin",
  * "megakernel/shared+local32", "megakernel/donation/d=256",
- * "megakernel/stealing-donation/random/d=64+local32",
+ * "megakernel/stealing-donation/random/d=64+local32", "megakernel/shared+wf32",
  * "bounded-batches/p=64".  STRATEGY and VICTIM are the names above;
  * STRATEGY defaults to shared, VICTIM (only after a stealing strategy:
  * stealing, stealing-donation) to random.  /d=N (only after a donating
  * strategy: donation, stealing-donation) sets donation_threshold, +localN
- * local_queue_items, /p=N batch_limit; N is a decimal number >= 1 (leave
+ * local_queue_items, +wfN work_first_items (+wf0: PERMA_WORK_FIRST_OFF),
+ * /p=N batch_limit; N is a decimal number >= 1 (leave
  * the part out for the default).  All fields zero (what perma_config_init
  * sets) is megakernel/shared. */
 typedef struct perma_schedule {
@@ -189,6 +192,17 @@ typedef struct perma_schedule {
      * queue of a procedure holds more than this many items gives up to a
      * batch of it to the emptiest group; 0 = 4 batches of that procedure. */
     unsigned donation_threshold;
+    /* Megakernel only: work-first execution (docs/writing-procedures.md,
+     * *What an item costs*): a work-item runs the items its procedure emits
+     * into a procedure of one thread per item right away, depth first,
+     * from a stack of this many items in __local memory, and only what does
+     * not fit, or what it gives to an idle group, goes through the queues.
+     * 0 = the default: on, with a stack the device's __local memory holds
+     * (128 items on a CPU; perma_stats.stack_items says); N (at most
+     * PERMA_MAX_WORK_FIRST_ITEMS; the device may allow fewer: perma_create
+     * says so) = N items; PERMA_WORK_FIRST_OFF = off, every item goes
+     * through the queues. */
+    unsigned work_first_items;
 } perma_schedule;
 
 /* Parse a label into *out (set only on success).  PERMA_ERR_ARGUMENT for
@@ -702,6 +716,10 @@ typedef struct perma_procedure_stats {
     unsigned batch_size;                /* most items one batch holds (items / batches: the mean) */
     perma_batch_cut batch_cut;          /* why batches were smaller, if they were */
     int batch_cut_emit;                 /* the .emits entry responsible, or -1 */
+    /* Work-first (perma_schedule.work_first_items): of `items`, those that
+     * ran from a work-item's stack, right after the item that emitted them,
+     * without a batch of their own (the others ran in `batches`). */
+    uint64_t stacked_items;
 } perma_procedure_stats;
 
 /* Load-balancing counters of one persistent work-group. */
@@ -713,6 +731,13 @@ typedef struct perma_group_stats {
     uint64_t donated_items;
     uint64_t spills;           /* items its local front queue passed to global queues */
     uint64_t idle_polls;       /* scheduler polls that found nothing to run */
+    /* Work-first: items its work-items ran from their stacks, items moved
+     * from the stacks to the global queues (a stack too full for its top
+     * item's emits, or a share for an idle group), and the most items one
+     * work-item's stack held. */
+    uint64_t stacked_items;
+    uint64_t stack_spills;
+    unsigned stack_peak;
 } perma_group_stats;
 
 typedef struct perma_stats {
@@ -735,6 +760,15 @@ typedef struct perma_stats {
     uint64_t overflowed_items;
     perma_technique technique;
     perma_strategy strategy;
+    /* Work-first, sums over groups (perma_group_stats): items run from the
+     * work-items' stacks and items moved from them to the global queues;
+     * the most items one work-item's stack held (the stacks' memory is
+     * config.group_size * work_groups * schedule.work_first_items items at
+     * most, whatever the work). */
+    uint64_t stacked_items, stack_spills;
+    unsigned stack_peak;
+    unsigned stack_items;      /* items a work-item's stack holds (0: no stacks: work-first is off, or
+                                  no procedure's items can run from one) */
     /* How work_groups was chosen ("2 compute units", "configured", "132
      * compute units x 1, __local memory: 40960 of 49152 bytes each"); valid
      * until the runtime is destroyed or its program rebuilt. */

@@ -18,6 +18,10 @@
 #define ASSERT_STRUCT(type, words) _Static_assert(sizeof(type) == 4 * (words), #type " is not " #words " words");
 PERMA_ABI_MEMBERS(ASSERT_MEMBER)
 PERMA_ABI_STRUCTS(ASSERT_STRUCT)
+_Static_assert(PERMA_OVERFLOW_MAX_RECORDS == PERMA_MAX_EMITS + PERMA_MAX_PROCEDURES,
+               "an emit area holds a batch's overflowed edges and one record per procedure");
+_Static_assert(PERMA_OVERFLOW_RECORD(PERMA_OVERFLOW_MAX_RECORDS) <= PERMA_EMIT_AREA_HEADER,
+               "the emit area's header holds PERMA_OVERFLOW_MAX_RECORDS records");
 _Static_assert(offsetof(perma_ctl_block, queues) == 4 * PERMA_CTL_HEADER_WORDS,
                "the queue records follow the control block header");
 

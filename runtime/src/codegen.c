@@ -19,6 +19,7 @@ extern const char perma_kernel_scheduler[];
 extern const char perma_kernel_host_steps[];
 extern const char perma_kernel_relayout[];
 extern const char perma_kernel_reduce[];
+extern const char perma_kernel_work_first[];
 
 #define GENERATED_NAME "perma-generated.cl"
 
@@ -77,6 +78,12 @@ static void append_tables(perma_runtime *rt, perma_strbuf *sb)
     PER_PROC("perma_lane_items", p->lane_items);
     PER_PROC("perma_edge_count", p->emit_count);
     PER_PROC("perma_lq_off", p->lq_off);
+    PER_PROC("perma_simple", p->simple ? 1u : 0u);
+    PER_PROC("perma_scratch_off", p->scratch_off);
+    PER_PROC("perma_scratch_words", p->scratch_words);
+    /* Stack room an item of a stackable procedure needs (work-first),
+     * PERMA_WF_NEVER for the others. */
+    PER_PROC("perma_wf_need", p->stackable ? p->wf_need : 0xffffffffu);
     PER_EDGE("perma_edge_target", (unsigned)p->emit_target[e]);
     PER_EDGE("perma_edge_max", p->emit_max[e]);
     PER_EDGE("perma_edge_stage", p->stage_off[e]);
@@ -135,7 +142,11 @@ static void append_kernel_params(perma_runtime *rt, perma_strbuf *sb)
     perma_strbuf_append(sb, " (b).perma_watch_page = abort_flag; } while (0)\n");
 }
 
-/* One emit helper per procedure that something emits into. */
+/* One emit helper per procedure that something emits into.  It hands
+ * perma_emit the item as may-alias words (kernels/perma_prelude.cl,
+ * perma_item_word: why not as uint); an item type aligned to less than 4
+ * bytes is first copied by its own type into a union with such words, so
+ * the words are aligned (the branch not taken is compiled away). */
 static void append_emit_helpers(perma_runtime *rt, perma_strbuf *sb)
 {
     for (unsigned t = 0; t < rt->proc_count; ++t) {
@@ -146,10 +157,26 @@ static void append_emit_helpers(perma_runtime *rt, perma_strbuf *sb)
         if (!targeted)
             continue;
         const perma_proc_info *p = &rt->procs[t];
+        const char *type = p->item_type;
+        perma_strbuf_printf(sb, "PERMA_INLINE int emit_%s(perma_ctx *ctx, const %s *item)\n{\n", p->name, type);
+        /* Work-first: onto the work-item's stack, stored by its own type. */
+        if (p->stackable)
+            perma_strbuf_printf(sb,
+                                "    if (ctx->wf_room) {\n"
+                                "        __local uint *slot = perma_wf_push(ctx, %uu);\n"
+                                "        if (slot)\n"
+                                "            *(__local %s *)slot = *item;\n"
+                                "        return slot != 0;\n"
+                                "    }\n",
+                                t, type);
         perma_strbuf_printf(sb,
-                            "inline int emit_%s(perma_ctx *ctx, const %s *item)\n"
-                            "{\n    return perma_emit(ctx, %uu, (const uint *)item);\n}\n",
-                            p->name, p->item_type, t);
+                            "    if (__alignof__(%s) %% 4u == 0u)\n"
+                            "        return perma_emit(ctx, %uu, (const perma_item_word *)item);\n"
+                            "    union { %s item; perma_item_word words[%zu]; } copy;\n"
+                            "    copy.item = *item;\n"
+                            "    return perma_emit(ctx, %uu, copy.words);\n"
+                            "}\n",
+                            type, t, type, p->item_size / 4, t);
     }
 }
 
@@ -180,6 +207,147 @@ static void append_procedure_sources(perma_runtime *rt, perma_strbuf *sb)
     }
 }
 
+/* Work-first (kernels/perma_work_first.cl): every simple procedure's
+ * batch items and the work-item's stack in one loop, so each procedure has
+ * one call site.  The stack's top item runs first while it has room for
+ * its emits and the batch's budget lasts, then the next batch item; a
+ * finished item's slot is freed when the items above it are done.  The
+ * counts of what ran and was pushed stay in private variables (constant
+ * indices) and reach the group's counters once per batch. */
+static void append_run_simple(perma_runtime *rt, perma_strbuf *sb)
+{
+    perma_strbuf_append(sb,
+        "__attribute__((noinline, flatten)) void perma_run_simple(uint lid, __local perma_group_mem *mem,\n"
+        "                                                         const perma_ctx *caller)\n"
+        "{\n"
+        "    perma_ctx context = *caller; /* its own copies: the fields can live in registers */\n"
+        "    perma_ctx *ctx = &context;\n"
+        "#if PERMA_NUM_REDUCTIONS\n"
+        "    ulong lane[PERMA_REDUCE_WORDS];\n"
+        "    for (uint w = 0; w < PERMA_REDUCE_WORDS; ++w)\n"
+        "        lane[w] = caller->reduce[w];\n"
+        "    ctx->reduce = lane;\n"
+        "#endif\n"
+        "    const uint batch_proc = mem->batch[PERMA_B_PROC];\n"
+        "    const uint run = perma_simple[batch_proc] ? perma_batch_run(mem) : 0u;\n"
+        "    __local uint *items = perma_batch_items(mem);\n"
+        "    __local uint *arena = mem->arena;\n"
+        "    __local uint *own = mem->wf_own + lid * PERMA_MAX_EDGES;\n"
+        "    __local uint *procs = mem->wf_procs + lid * PERMA_WORK_FIRST;\n"
+        "    __local uint *slots = mem->wf_slots + lid * (PERMA_WORK_FIRST * PERMA_WF_SLOT_WORDS);\n"
+        "    ctx->thread = 0u;\n"
+        "    ctx->threads = 1u;\n"
+        "    ctx->active = 1u;\n"
+        "    ctx->lane = lid;\n"
+        "    ctx->item_emit_counts = own;\n"
+        "    ctx->wf_procs = procs;\n"
+        "    ctx->wf_slots = slots;\n"
+        "    uint sp = mem->wf_sp[lid], peak = sp, slot = lid, budget = PERMA_WF_BUDGET;\n");
+    for (unsigned i = 0; i < rt->proc_count; ++i) {
+        const perma_proc_info *p = &rt->procs[i];
+        if (!p->stackable)
+            continue;
+        perma_strbuf_printf(sb, "    uint ran_%u = 0u;\n", i);
+        for (unsigned e = 0; e < p->emit_count; ++e)
+            perma_strbuf_printf(sb, "    uint pushed_%u_%u = 0u;\n", i, e);
+    }
+    perma_strbuf_append(sb,
+        "    for (uint more = 1u; more;) {\n"
+        "        uint q = 0u, top = 0u, stacked = 0u, have = 1u;\n"
+        "        __local const uint *item = items;\n"
+        "        if (sp > 0u && (procs[sp - 1u] & PERMA_WF_DONE)) {\n"
+        "            --sp; /* its items ran: the slot is free */\n"
+        "            have = 0u;\n"
+        "        } else if (sp > 0u && budget > 0u && PERMA_WORK_FIRST - sp >= perma_wf_need[procs[sp - 1u]]) {\n"
+        "            top = sp - 1u;\n"
+        "            q = procs[top];\n"
+        "            procs[top] = q | PERMA_WF_DONE;\n"
+        "            item = slots + top * PERMA_WF_SLOT_WORDS;\n"
+        "            stacked = 1u;\n"
+        "            --budget;\n"
+        "            ctx->slot = lid;\n"
+        "            ctx->scratch = (__local void *)0;\n"
+        "            ctx->lane_counts = (__local uint *)0;\n"
+        "            ctx->wf_room = 1u;\n"
+        "        } else if (slot < run) {\n"
+        "            q = batch_proc;\n"
+        "            item = items + slot * perma_item_words[q];\n"
+        "            ctx->slot = slot;\n"
+        "            ctx->scratch = (__local void *)(arena + perma_scratch_off[q] + slot * perma_scratch_words[q]);\n"
+        "            ctx->lane_counts = arena + perma_lane_counts_off[q] + lid * perma_edge_count[q];\n"
+        "            ctx->wf_room = PERMA_WORK_FIRST - sp >= perma_wf_need[q] ? 1u : 0u;\n"
+        "            slot += PERMA_GROUP_SIZE;\n"
+        "        } else {\n"
+        "            have = more = 0u;\n"
+        "        }\n"
+        "        if (!have)\n"
+        "            continue;\n"
+        "        ctx->wf_sp = sp;\n"
+        "        ctx->proc = q;\n"
+        "        switch (q) {\n");
+    for (unsigned i = 0; i < rt->proc_count; ++i) {
+        const perma_proc_info *p = &rt->procs[i];
+        if (!p->simple)
+            continue;
+        perma_strbuf_printf(sb, "        case %u:\n            %s(ctx, (__local const %s *)item);\n", i, p->function,
+                            p->item_type);
+        /* Its pushes, per edge, from the stack (at most the declared
+         * maximum each); the staged emits' counters, for the next item. */
+        if (p->stackable && p->emit_count) {
+            perma_strbuf_append(sb, "            if (ctx->wf_room) {\n");
+            if (p->emit_count == 1) {
+                perma_strbuf_append(sb, "                uint count_0 = ctx->wf_sp - sp;\n");
+            } else {
+                for (unsigned e = 0; e < p->emit_count; ++e)
+                    perma_strbuf_printf(sb, "                uint count_%u = 0u;\n", e);
+                perma_strbuf_append(sb, "                for (uint i = sp; i < ctx->wf_sp; ++i) {\n");
+                for (unsigned e = 0; e < p->emit_count; ++e)
+                    perma_strbuf_printf(sb, "                    count_%u += procs[i] == %uu;\n", e,
+                                        (unsigned)p->emit_target[e]);
+                perma_strbuf_append(sb, "                }\n");
+            }
+            for (unsigned e = 0; e < p->emit_count; ++e)
+                perma_strbuf_printf(sb,
+                                    "                if (count_%u > %uu)\n"
+                                    "                    atomic_cmpxchg(ctx->error_code, 0u, PERMA_EMIT_ERROR_LIMIT | %uu);\n"
+                                    "                pushed_%u_%u += count_%u;\n",
+                                    e, p->emit_max[e], e, i, e, e);
+            perma_strbuf_append(sb, "            } else {\n");
+        }
+        for (unsigned e = 0; e < p->emit_count; ++e)
+            perma_strbuf_printf(sb, "            own[%u] = 0u;\n", e);
+        if (p->stackable && p->emit_count)
+            perma_strbuf_append(sb, "            }\n");
+        if (p->stackable)
+            perma_strbuf_printf(sb, "            ran_%u += stacked;\n", i);
+        perma_strbuf_append(sb, "            break;\n");
+    }
+    perma_strbuf_append(sb,
+        "        }\n"
+        "        sp = ctx->wf_sp;\n"
+        "        peak = max(peak, sp);\n"
+        "        if (stacked && sp == top + 1u)\n"
+        "            sp = top; /* it pushed nothing: its slot is free now */\n"
+        "    }\n"
+        "    mem->wf_sp[lid] = sp;\n"
+        "#if PERMA_NUM_REDUCTIONS\n"
+        "    for (uint w = 0; w < PERMA_REDUCE_WORDS; ++w)\n"
+        "        caller->reduce[w] = lane[w];\n"
+        "#endif\n");
+    for (unsigned i = 0; i < rt->proc_count; ++i) {
+        const perma_proc_info *p = &rt->procs[i];
+        if (!p->stackable)
+            continue;
+        perma_strbuf_printf(sb, "    if (ran_%u)\n        atomic_add(mem->wf_ran + %u, ran_%u);\n", i, i, i);
+        for (unsigned e = 0; e < p->emit_count; ++e)
+            perma_strbuf_printf(sb, "    if (pushed_%u_%u)\n        atomic_add(mem->wf_pushed + %u, pushed_%u_%u);\n", i,
+                                e, i * rt->build.max_edges + e, i, e);
+    }
+    perma_strbuf_append(sb,
+        "    atomic_max(mem->stats + PERMA_NUM_PROCS * PERMA_STAT_PROC_WORDS + PERMA_GSTAT_WF_PEAK, peak);\n"
+        "}\n");
+}
+
 /* The dispatch switch.  Each case sets the per-item fields of the context
  * with the procedure's constants (threads per item, arena offsets), so the
  * compiler folds them into the procedure's code after inlining.  A
@@ -206,11 +374,15 @@ static void append_dispatch(perma_runtime *rt, perma_strbuf *sb)
                             "    (void)lane;\n"
                             "#endif\n"
                             "    ctx->error_code = &mem->error_code;\n"
-                            "    ctx->buf = buf;\n"
-                            "    switch (proc) {\n");
+                            "    ctx->buf = buf;\n");
+    if (rt->build.wf_items) /* emits of the procedures below are staged */
+        perma_strbuf_append(sb, "    ctx->wf_room = 0u;\n");
+    perma_strbuf_append(sb, "    switch (proc) {\n");
     for (unsigned i = 0; i < rt->proc_count; ++i) {
         const perma_proc_info *p = &rt->procs[i];
         unsigned tpi = p->threads_per_item;
+        if (p->simple && rt->build.wf_items)
+            continue; /* perma_run_simple, below */
         if (p->simple) {
             /* Lane staging only when the layout gave it lanes (layout.c). */
             char lanes[64] = "0";
@@ -253,7 +425,10 @@ static void append_dispatch(perma_runtime *rt, perma_strbuf *sb)
                             i, tpi, i, tpi, tpi, p->scratch_off, p->scratch_words, p->emit_count,
                             p->cooperative ? "" : "if (ctx->active) ", p->function, p->item_type, p->item_size / 4);
     }
-    perma_strbuf_append(sb, "    }\n}\n");
+    perma_strbuf_append(sb, "    }\n");
+    if (rt->build.wf_items)
+        perma_strbuf_append(sb, "    perma_run_simple(lid, mem, ctx);\n");
+    perma_strbuf_append(sb, "}\n");
 }
 
 perma_status perma_generate_program(perma_runtime *rt, const perma_strbuf *reduce_constants,
@@ -282,13 +457,18 @@ perma_status perma_generate_program(perma_runtime *rt, const perma_strbuf *reduc
                             "#define PERMA_DONATION_THRESHOLD %uu\n"
                             "#define PERMA_LOCAL_QUEUE %uu\n"
                             "#define PERMA_LQ_WORDS %uu\n"
-                            "#define PERMA_TRACE_EVENTS %uu\n",
+                            "#define PERMA_TRACE_EVENTS %uu\n"
+                            "#define PERMA_WORK_FIRST %uu\n"
+                            "#define PERMA_WF_SLOT_WORDS %uu\n"
+                            "#define PERMA_WF_BUDGET %uu\n"
+                            "#define PERMA_WF_NEVER 0xffffffffu\n",
                         rt->proc_count, rt->group_size, item_barrier, rt->proc_count, rt->build.max_edges,
                         rt->build.arena_words, rt->build.stage_words, rt->build.queue_sets,
                         distributed && strategy->steals, distributed && strategy->donates,
                         rt->config.schedule.victim == PERMA_VICTIM_ROUND_ROBIN, rt->config.schedule.donation_threshold,
                         rt->build.local_queue_items, rt->build.lq_words ? rt->build.lq_words : 1u,
-                        rt->build.device_trace_events);
+                        rt->build.device_trace_events, rt->build.wf_items,
+                        rt->build.wf_slot_words ? rt->build.wf_slot_words : 1u, rt->build.wf_budget);
     if (reduce_constants->length)
         perma_strbuf_append(sb, reduce_constants->data);
     perma_strbuf_append(sb, perma_kernel_abi);
@@ -324,6 +504,10 @@ perma_status perma_generate_program(perma_runtime *rt, const perma_strbuf *reduc
     append_word_switch(rt, sb);
     perma_strbuf_append(sb, perma_kernel_batch);
     resume_generated(sb);
+    perma_strbuf_append(sb, perma_kernel_work_first);
+    resume_generated(sb);
+    if (rt->build.wf_items)
+        append_run_simple(rt, sb);
     append_dispatch(rt, sb);
     perma_strbuf_append(sb, perma_kernel_scheduler);
     resume_generated(sb);

@@ -174,6 +174,8 @@ perma_status perma_work_groups_fit(perma_runtime *rt, bool *rebuild)
     perma_residency r;
     perma_residency_of(units, rt->caps.local_mem_size, (size_t)kernel_local, kernel_size, rt->group_size, &r);
     rt->resident_groups = r.limit;
+    if (!rt->config.work_groups && rt->work_groups == r.limit)
+        set_work_groups(rt, r.limit, r.why); /* the kernel's own figures, as the layout's gave */
     if (rt->work_groups <= r.limit)
         return PERMA_OK;
     if (rt->config.work_groups && rt->executor->persistent)

@@ -60,6 +60,9 @@ typedef struct perma_proc_info {
     unsigned scratch_words;            /* per item */
     unsigned stage_off[PERMA_MAX_EMITS]; /* words into the group's staging area, per edge */
     unsigned lq_off;                   /* local front queue offset, words */
+    bool stackable;                    /* work-first: its items may run from a work-item's stack (simple,
+                                          no scratch, every target stackable, its emits fit a stack) */
+    unsigned wf_need;                  /* work-first: its declared emits, the stack room an item needs */
 
     /* Items seeded for the next run (item_size bytes each). */
     unsigned char *seeds;

@@ -254,8 +254,9 @@ static void compute_full_batches(perma_runtime *rt)
 static unsigned arena_cost(const perma_runtime *rt, perma_proc_info *p, unsigned batch, bool assign)
 {
     /* Lanes only for whole rounds of the group, so no lane has room for an
-     * item it never gets. */
-    bool lanes = p->simple && batch % rt->group_size == 0;
+     * item it never gets; always with work-first stacks, whose batches
+     * stage per work-item (kernels/perma_batch.cl, perma_run_simple). */
+    bool lanes = p->simple && (batch % rt->group_size == 0 || rt->build.wf_items);
     unsigned lane_items = (batch + rt->group_size - 1) / rt->group_size;
     unsigned offset = 0;
     if (assign) {
@@ -280,7 +281,7 @@ static unsigned arena_cost(const perma_runtime *rt, perma_proc_info *p, unsigned
  * as arena_cost says), edge after edge. */
 static size_t stage_cost(const perma_runtime *rt, perma_proc_info *p, unsigned batch, bool assign)
 {
-    bool lanes = p->simple && batch % rt->group_size == 0;
+    bool lanes = p->simple && (batch % rt->group_size == 0 || rt->build.wf_items);
     size_t staged = lanes ? (size_t)rt->group_size * ((batch + rt->group_size - 1) / rt->group_size) : batch;
     size_t offset = 0;
     for (unsigned e = 0; e < p->emit_count; ++e) {
@@ -299,6 +300,103 @@ static size_t stage_limit(const perma_runtime *rt)
 {
     size_t limit = rt->caps.max_alloc ? (size_t)(rt->caps.max_alloc / (16 * (cl_ulong)rt->work_groups)) : PERMA_STAGE_LIMIT_WORDS;
     return limit < PERMA_STAGE_LIMIT_WORDS ? limit : PERMA_STAGE_LIMIT_WORDS;
+}
+
+/* Items a work-item runs from its stack in one batch: long enough that a
+ * batch's own cost is small beside its items, short enough that a batch
+ * ends soon for the watchdog, progress, priorities, an idle group's share
+ * and, on a GPU, the divergence of the work-items' loops. */
+#define WF_BUDGET_CPU 1024
+#define WF_BUDGET_GPU 32
+
+/* The largest power of two (at most 128) that divides `bytes`: the most
+ * alignment a type of that size can have in OpenCL C. */
+static unsigned alignment_of_size(size_t bytes)
+{
+    unsigned a = 1;
+    while (a < 128 && bytes % (2 * a) == 0)
+        a *= 2;
+    return a;
+}
+
+/* Work-first (perma_schedule.work_first_items): which procedures' items
+ * may run from a work-item's stack, and the stacks' shape.  A procedure is
+ * stackable when it runs one thread per item and is not cooperative, has
+ * no scratch (its items run outside the batch's arena), declares at most
+ * half a stack of emits (an item runs from the stack only with room for
+ * all of them), and emits only into stackable procedures (its items never
+ * stage emits, so they may run in any batch).  The stack's slots hold the
+ * largest stackable item, aligned for every stackable type. */
+/* The __local words of the stacks of `items` items of `slot_words` words:
+ * the slots, a word per slot (its procedure), a stack pointer and a row of
+ * emit counters per work-item, counters per procedure and edge, and room
+ * to align the slots to 128 bytes. */
+static size_t wf_words_of(const perma_runtime *rt, unsigned items, unsigned slot_words)
+{
+    size_t g = rt->group_size, stacks = g * items;
+    return stacks * (slot_words + 1) + g + g * rt->build.max_edges + rt->proc_count * (1 + rt->build.max_edges) + 4 +
+           32;
+}
+
+/* Stack items when the schedule leaves it to the runtime: 128 (a depth
+ * first search of most trees fits, so few items spill), or fewer when
+ * the stacks would take more than half the __local memory `free` words
+ * leave (a GPU's 48 KiB); 0 when not even 8 fit. */
+static unsigned default_work_first_items(const perma_runtime *rt, unsigned slot_words, size_t free)
+{
+    unsigned items = 128;
+    while (items >= 8 && wf_words_of(rt, items, slot_words) > free / 2)
+        items /= 2;
+    return items >= 8 ? items : 0;
+}
+
+static void compute_work_first(perma_runtime *rt, size_t free)
+{
+    unsigned n = rt->proc_count, items = rt->config.schedule.work_first_items;
+    bool on = rt->executor->persistent && items != PERMA_WORK_FIRST_OFF;
+    /* The largest slot any procedure would need, for the default size. */
+    unsigned widest = 1;
+    for (unsigned i = 0; i < n; ++i)
+        if (words_of(rt->procs[i].item_size) > widest)
+            widest = words_of(rt->procs[i].item_size);
+    if (on && items == 0)
+        items = default_work_first_items(rt, widest, free);
+    for (unsigned i = 0; i < n; ++i) {
+        perma_proc_info *p = &rt->procs[i];
+        p->wf_need = 0;
+        for (unsigned e = 0; e < p->emit_count; ++e)
+            p->wf_need += p->emit_max[e];
+        p->stackable = on && items && p->simple && p->local_bytes_per_item == 0 && 2 * p->wf_need <= items;
+    }
+    for (bool changed = true; changed;) {
+        changed = false;
+        for (unsigned i = 0; i < n; ++i)
+            for (unsigned e = 0; e < rt->procs[i].emit_count && rt->procs[i].stackable; ++e)
+                if (!rt->procs[rt->procs[i].emit_target[e]].stackable) {
+                    rt->procs[i].stackable = false;
+                    changed = true;
+                }
+    }
+    /* Stacks only where an item can land on one: a stackable procedure
+     * that emits into a stackable one. */
+    bool pushed = false;
+    for (unsigned i = 0; i < n; ++i)
+        pushed = pushed || (rt->procs[i].stackable && rt->procs[i].emit_count);
+    unsigned slot = 0, align = 1;
+    for (unsigned i = 0; i < n; ++i) {
+        rt->procs[i].stackable = rt->procs[i].stackable && pushed;
+        if (!rt->procs[i].stackable)
+            continue;
+        if (words_of(rt->procs[i].item_size) > slot)
+            slot = words_of(rt->procs[i].item_size);
+        if (alignment_of_size(rt->procs[i].item_size) > align)
+            align = alignment_of_size(rt->procs[i].item_size);
+    }
+    rt->build.wf_items = slot ? items : 0;
+    rt->build.wf_slot_words = slot ? round_up(slot, align < 4 ? 1 : align / 4) : 0;
+    rt->build.wf_budget = rt->caps.is_cpu ? WF_BUDGET_CPU : WF_BUDGET_GPU;
+    rt->build.wf_words =
+        rt->build.wf_items ? (unsigned)wf_words_of(rt, rt->build.wf_items, rt->build.wf_slot_words) : 0;
 }
 
 perma_status perma_build_layout(perma_runtime *rt)
@@ -333,17 +431,29 @@ perma_status perma_build_layout(perma_runtime *rt)
     rt->build.local_queue_items = persistent ? rt->config.schedule.local_queue_items : 0;
     rt->build.lq_words = 0;
     for (unsigned i = 0; i < rt->proc_count; ++i) {
+        /* Each stack aligned as the kernel's arena (128 bytes), so items
+         * run in place there are aligned for their type. */
+        rt->build.lq_words = round_up(rt->build.lq_words, 32);
         rt->procs[i].lq_off = rt->build.lq_words;
         rt->build.lq_words += rt->build.local_queue_items * words_of(rt->procs[i].item_size);
     }
     /* The kernel's other __local words: statistics, edge counters, batch,
      * and the local front queues. */
-    size_t fixed = 4 * ((size_t)rt->proc_count * (3 + rt->build.max_edges) + 6 * rt->build.max_edges + 32 +
+    size_t fixed = 4 * ((size_t)rt->proc_count * (4 + rt->build.max_edges) + 6 * rt->build.max_edges + 32 +
                         (size_t)rt->build.lq_words);
     if (fixed >= limit)
         return perma_set_error(rt, PERMA_ERR_ARGUMENT,
                                "config.schedule.local_queue_items %u needs %u bytes of __local memory, more than the "
                                "%zu bytes available", rt->build.local_queue_items, 4 * rt->build.lq_words, limit);
+    compute_work_first(rt, (limit - fixed) / 4);
+    fixed += 4 * (size_t)rt->build.wf_words;
+    if (fixed >= limit)
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT,
+                               "config.schedule.work_first_items %u needs %zu bytes of __local memory for the stacks "
+                               "of %u work-items (items of up to %u bytes), more than the %zu bytes available: give "
+                               "fewer items (+wfN) or a smaller config.group_size",
+                               rt->build.wf_items, 4 * (size_t)rt->build.wf_words, rt->group_size,
+                               4 * rt->build.wf_slot_words, limit);
     size_t budget_words = (limit - fixed) / 4;
 
     rt->build.arena_words = 16;
@@ -376,6 +486,10 @@ perma_status perma_build_layout(perma_runtime *rt)
         if (staged > rt->build.stage_words)
             rt->build.stage_words = (unsigned)staged;
     }
+    /* A launch that stops for room moves the items on the group's stacks to
+     * its overflow data (as large as the staging), after the last batch's
+     * overflowed emits: room for both. */
+    rt->build.stage_words += rt->group_size * rt->build.wf_items * rt->build.wf_slot_words;
     rt->build.local_bytes = fixed + 4 * (size_t)rt->build.arena_words;
     return PERMA_OK;
 }

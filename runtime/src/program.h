@@ -26,6 +26,14 @@ typedef struct perma_build_products {
     unsigned stage_words;          /* a group's staging area for emits (global memory), words */
     unsigned local_queue_items;    /* 0: no local front queue */
     unsigned lq_words;
+    /* Work-first (layout.c, perma_schedule.work_first_items): items on a
+     * work-item's stack (0: off, also when no procedure can be stacked),
+     * words of a stack slot, items a work-item runs from its stack in one
+     * batch, and the __local words of the stacks and their counters. */
+    unsigned wf_items;
+    unsigned wf_slot_words;
+    unsigned wf_budget;
+    unsigned wf_words;
     size_t local_bytes;            /* the layout's figure of a group's __local memory (arena and the rest) */
     unsigned order[PERMA_MAX_PROCEDURES];
     unsigned queue_sets;           /* 1 (shared) or one per group (distributed) */

@@ -59,6 +59,9 @@ static perma_status check_config(perma_runtime *rt, const perma_config *c)
     if (c->schedule.local_queue_items > PERMA_MAX_LOCAL_QUEUE_ITEMS)
         return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.schedule.local_queue_items %u is above %u",
                                c->schedule.local_queue_items, (unsigned)PERMA_MAX_LOCAL_QUEUE_ITEMS);
+    if (c->schedule.work_first_items > PERMA_MAX_WORK_FIRST_ITEMS && c->schedule.work_first_items != PERMA_WORK_FIRST_OFF)
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT, "config.schedule.work_first_items %u is above %u",
+                               c->schedule.work_first_items, (unsigned)PERMA_MAX_WORK_FIRST_ITEMS);
     return PERMA_OK;
 }
 

@@ -216,22 +216,47 @@ static unsigned count_of(const char *text, int length)
     return (unsigned)value;
 }
 
-/* "+localN" after a technique whose label takes it, the '+' consumed. */
-static perma_status parse_local(cursor *c, unsigned *out)
+/* "+localN" or "+wfN" after a technique whose label takes them, the '+'
+ * consumed; each once. */
+static perma_status parse_plus_option(cursor *c, perma_schedule *s)
 {
-    static const char prefix[] = "local";
-    const int prefix_length = (int)sizeof prefix - 1;
+    static const struct {
+        const char *prefix;
+        size_t field;
+        unsigned most;
+        const char *what, *none;
+    } options[] = {
+        { "local", offsetof(perma_schedule, local_queue_items), PERMA_MAX_LOCAL_QUEUE_ITEMS, "in a local queue",
+          "no local queue" },
+        { "wf", offsetof(perma_schedule, work_first_items), PERMA_MAX_WORK_FIRST_ITEMS, "on a work-item's stack",
+          "the default stack, +wf0 for none" },
+    };
     part p = next_part(c);
-    if (p.length < prefix_length || strncmp(p.text, prefix, (size_t)prefix_length) != 0)
-        return fail(c, "unknown option '+%.*s' (+localN: N items in a local queue)", p.length, p.text);
-    *out = count_of(p.text + prefix_length, p.length - prefix_length);
-    if (!*out)
-        return fail(c, "'+%.*s' needs a number of items >= 1, e.g. +local32 (leave it out for no "
-                    "local queue)", p.length, p.text);
-    if (*out > PERMA_MAX_LOCAL_QUEUE_ITEMS)
-        return fail(c, "'+%.*s': at most %u items in a local queue", p.length, p.text,
-                    (unsigned)PERMA_MAX_LOCAL_QUEUE_ITEMS);
-    return PERMA_OK;
+    for (size_t i = 0; i < sizeof options / sizeof options[0]; ++i) {
+        int prefix_length = (int)strlen(options[i].prefix);
+        if (p.length < prefix_length || strncmp(p.text, options[i].prefix, (size_t)prefix_length) != 0 ||
+            (p.length > prefix_length && (p.text[prefix_length] < '0' || p.text[prefix_length] > '9')))
+            continue;
+        unsigned value, *out = (unsigned *)((char *)s + options[i].field);
+        if (*out)
+            return fail(c, "'+%.*s' after another +%sN (give it once)", p.length, p.text, options[i].prefix);
+        /* +wf0: no stacks (work-first is on by default). */
+        if (options[i].field == offsetof(perma_schedule, work_first_items) && p.length == prefix_length + 1 &&
+            p.text[prefix_length] == '0') {
+            *out = PERMA_WORK_FIRST_OFF;
+            return PERMA_OK;
+        }
+        value = count_of(p.text + prefix_length, p.length - prefix_length);
+        if (!value)
+            return fail(c, "'+%.*s' needs a number of items >= 1, e.g. +%s32 (leave it out for %s)", p.length,
+                        p.text, options[i].prefix, options[i].none);
+        if (value > options[i].most)
+            return fail(c, "'+%.*s': at most %u items %s", p.length, p.text, options[i].most, options[i].what);
+        *out = value;
+        return PERMA_OK;
+    }
+    return fail(c, "unknown option '+%.*s' (+localN: N items in a local queue; +wfN: work-first, a stack of N "
+                "items per work-item, +wf0 none)", p.length, p.text);
 }
 
 /* The N of an option part "NAME=N" whose name has name_length characters. */
@@ -326,7 +351,7 @@ static perma_status parse_end(const cursor *c, perma_technique technique)
         return fail(c, "'%s' after %s (a strategy is only valid with megakernel)", c->at,
                     perma_technique_name(technique));
     if (!row->local_queue && c->at[0] == '+')
-        return fail(c, "'%s' after %s (+localN is only valid with megakernel)", c->at,
+        return fail(c, "'%s' after %s (+localN and +wfN are only valid with megakernel)", c->at,
                     perma_technique_name(technique));
     return fail(c, "unexpected '%s' at the end", c->at);
 }
@@ -346,8 +371,8 @@ perma_status perma_schedule_parse(const char *label, perma_schedule *out, perma_
         st = parse_strategy_part(&c, &s);
     if (st == PERMA_OK && row->batch_limit)
         st = parse_batch_limit(&c, &s);
-    if (st == PERMA_OK && row->local_queue && accept(&c, '+'))
-        st = parse_local(&c, &s.local_queue_items);
+    while (st == PERMA_OK && row->local_queue && accept(&c, '+'))
+        st = parse_plus_option(&c, &s);
     if (st == PERMA_OK)
         st = parse_end(&c, s.technique);
     if (st != PERMA_OK)
@@ -382,7 +407,7 @@ int perma_schedule_format(const perma_schedule *s, char *buf, size_t size)
 {
     const char *technique = perma_technique_name(s->technique);
     const perma_technique_info *row = technique_row(s->technique);
-    char strategy[64] = "", limit[32] = "", local[32] = "";
+    char strategy[64] = "", limit[32] = "", local[32] = "", work_first[32] = "";
     bool named = technique != NULL;
     if (row->strategies)
         named = named && format_strategy(s, strategy, sizeof strategy);
@@ -390,12 +415,15 @@ int perma_schedule_format(const perma_schedule *s, char *buf, size_t size)
         snprintf(limit, sizeof limit, "/p=%u", s->batch_limit);
     if (row->local_queue && s->local_queue_items)
         snprintf(local, sizeof local, "+local%u", s->local_queue_items);
+    if (row->local_queue && s->work_first_items)
+        snprintf(work_first, sizeof work_first, "+wf%u",
+                 s->work_first_items == PERMA_WORK_FIRST_OFF ? 0u : s->work_first_items);
     if (!named) {
         if (size)
             buf[0] = '\0';
         return -1;
     }
-    return snprintf(buf, size, "%s%s%s%s", technique, strategy, limit, local);
+    return snprintf(buf, size, "%s%s%s%s%s", technique, strategy, limit, local, work_first);
 }
 
 /* How many names name_at gives. */

@@ -12,7 +12,8 @@ typedef struct perma_technique_info {
     perma_technique technique;
     const char *name;
     bool strategies;  /* label takes /STRATEGY[/VICTIM] */
-    bool local_queue; /* label takes +localN */
+    bool local_queue; /* label takes +localN and +wfN (per-group __local state: a front queue,
+                         work-item stacks) */
     bool batch_limit; /* label takes /p=N */
     const char *description;
 } perma_technique_info;

@@ -428,9 +428,9 @@ static perma_status read_overflow(perma_runtime *rt, size_t *per_queue)
     memset(per_queue, 0, s->queue_count * sizeof *per_queue);
     for (unsigned g = 0; g < rt->work_groups; ++g) {
         const uint32_t *h = overflow_header(s, g);
-        if (h[PERMA_OVERFLOW_RECORDS] > PERMA_MAX_EMITS)
+        if (h[PERMA_OVERFLOW_RECORDS] > PERMA_OVERFLOW_MAX_RECORDS)
             return perma_set_error(rt, PERMA_ERR_DEVICE, "work-group %u reports %u overflow records (at most %d)", g,
-                                   h[PERMA_OVERFLOW_RECORDS], PERMA_MAX_EMITS);
+                                   h[PERMA_OVERFLOW_RECORDS], PERMA_OVERFLOW_MAX_RECORDS);
         for (uint32_t r = 0; r < h[PERMA_OVERFLOW_RECORDS]; ++r) {
             const uint32_t *rec = h + PERMA_OVERFLOW_RECORD(r);
             if (rec[PERMA_OVERFLOW_QUEUE] >= s->queue_count ||
@@ -509,11 +509,11 @@ static perma_status check_stopped(perma_runtime *rt, const perma_ctl_block *ctl)
     return PERMA_OK;
 }
 
-/* Segments of overflowed items the relayout appends (at most one per group
- * and target). */
+/* Segments of overflowed items the relayout appends (at most one per
+ * overflow record of each group). */
 static size_t max_segments(const perma_runtime *rt)
 {
-    return (size_t)rt->work_groups * PERMA_MAX_EMITS;
+    return (size_t)rt->work_groups * PERMA_OVERFLOW_MAX_RECORDS;
 }
 
 /* Append queue qi's overflow segments to `segments` (at *used words) and

@@ -22,6 +22,7 @@ void perma_stats_reset(perma_runtime *rt)
     rt->stats.group_size = rt->group_size;
     rt->stats.procedure_count = rt->proc_count;
     rt->stats.queue_memory_limit = rt->build.queue_layout.memory_limit;
+    rt->stats.stack_items = rt->build.wf_items;
     for (unsigned q = 0; q < rt->proc_count; ++q) {
         perma_proc_info *p = &rt->procs[q];
         memset(&p->stats, 0, sizeof p->stats);
@@ -70,6 +71,7 @@ perma_status perma_stats_collect(perma_runtime *rt)
             perma_procedure_stats *ps = &rt->procs[q].stats;
             ps->items += s[PERMA_STAT_ITEMS];
             ps->batches += s[PERMA_STAT_BATCHES];
+            ps->stacked_items += s[PERMA_STAT_STACKED];
             for (unsigned e = 0; e < rt->procs[q].emit_count; ++e)
                 ps->emitted[e] += s[PERMA_STAT_EMITTED + e];
             rt->stats.items += s[PERMA_STAT_ITEMS];
@@ -83,6 +85,14 @@ perma_status perma_stats_collect(perma_runtime *rt)
         gs->donated_items += gw.donated;
         gs->spills += gw.spills;
         gs->idle_polls += gw.idle_polls;
+        gs->stacked_items += gw.wf_runs;
+        gs->stack_spills += gw.wf_spills;
+        if (gw.wf_peak > gs->stack_peak)
+            gs->stack_peak = gw.wf_peak;
+        rt->stats.stacked_items += gw.wf_runs;
+        rt->stats.stack_spills += gw.wf_spills;
+        if (gw.wf_peak > rt->stats.stack_peak)
+            rt->stats.stack_peak = gw.wf_peak;
         rt->stats.steals += gw.steals;
         rt->stats.donations += gw.donations;
         rt->stats.spills += gw.spills;
@@ -309,6 +319,10 @@ void perma_print_stats(perma_runtime *rt, FILE *out)
         fprintf(out, "load balancing: %" PRIu64 " steal(s), %" PRIu64 " donation(s), %" PRIu64
                      " spill(s), %" PRIu64 " idle poll(s)\n",
                 s->steals, s->donations, s->spills, s->idle_polls);
+    if (s->stack_items)
+        fprintf(out, "work-first: stacks of %u items; %" PRIu64 " item(s) ran from them (deepest %u), %" PRIu64
+                     " moved from them to the queues\n",
+                s->stack_items, s->stacked_items, s->stack_peak, s->stack_spills);
     fprintf(out, "%-20s %12s %10s %10s %10s %12s %10s  %s\n", "procedure", "items", "batches", "batch",
             "seeded", "peak queued", "capacity", "emitted");
     for (unsigned q = 0; q < rt->proc_count; ++q) {

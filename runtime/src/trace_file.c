@@ -26,7 +26,7 @@
 
 #define FOOTER "\n]}\n"
 
-static const char *const kind_names[] = { "run", "steal", "local", "donate" };
+static const char *const kind_names[] = { "run", "steal", "local", "donate", "stack" };
 
 typedef struct traced_file {
     struct traced_file *next;

@@ -37,7 +37,7 @@ int main(int argc, char **argv)
     STRUCT(perma_schedule);
     FIELD(perma_schedule, technique); FIELD(perma_schedule, strategy); FIELD(perma_schedule, victim);
     FIELD(perma_schedule, local_queue_items); FIELD(perma_schedule, batch_limit);
-    FIELD(perma_schedule, donation_threshold);
+    FIELD(perma_schedule, donation_threshold); FIELD(perma_schedule, work_first_items);
     STRUCT(perma_config);
     FIELD(perma_config, platform_index); FIELD(perma_config, device_index); FIELD(perma_config, platform_name);
     FIELD(perma_config, sub_devices); FIELD(perma_config, sub_device); FIELD(perma_config, work_groups);
@@ -64,18 +64,21 @@ int main(int argc, char **argv)
     FIELD(perma_procedure_stats, initial_capacity); FIELD(perma_procedure_stats, queue_capacity);
     FIELD(perma_procedure_stats, regrowths); FIELD(perma_procedure_stats, batch_size);
     FIELD(perma_procedure_stats, batch_cut); FIELD(perma_procedure_stats, batch_cut_emit);
+    FIELD(perma_procedure_stats, stacked_items);
     STRUCT(perma_group_stats);
     FIELD(perma_group_stats, batches); FIELD(perma_group_stats, items); FIELD(perma_group_stats, steals);
     FIELD(perma_group_stats, donations); FIELD(perma_group_stats, donated_items); FIELD(perma_group_stats, spills);
-    FIELD(perma_group_stats, idle_polls);
+    FIELD(perma_group_stats, idle_polls); FIELD(perma_group_stats, stacked_items);
+    FIELD(perma_group_stats, stack_spills); FIELD(perma_group_stats, stack_peak);
     STRUCT(perma_stats);
     FIELD(perma_stats, seconds); FIELD(perma_stats, launches); FIELD(perma_stats, regrowths);
     FIELD(perma_stats, work_groups); FIELD(perma_stats, group_size); FIELD(perma_stats, procedure_count);
     FIELD(perma_stats, peak_queue_bytes); FIELD(perma_stats, queue_memory_limit); FIELD(perma_stats, queues_kept);
     FIELD(perma_stats, items); FIELD(perma_stats, steals); FIELD(perma_stats, donations);
     FIELD(perma_stats, spills); FIELD(perma_stats, idle_polls); FIELD(perma_stats, overflowed_items);
-    FIELD(perma_stats, technique); FIELD(perma_stats, strategy); FIELD(perma_stats, work_groups_reason);
-    FIELD(perma_stats, resident_groups); FIELD(perma_stats, kernel_local_bytes);
+    FIELD(perma_stats, technique); FIELD(perma_stats, strategy); FIELD(perma_stats, stacked_items);
+    FIELD(perma_stats, stack_spills); FIELD(perma_stats, stack_peak); FIELD(perma_stats, stack_items);
+    FIELD(perma_stats, work_groups_reason); FIELD(perma_stats, resident_groups); FIELD(perma_stats, kernel_local_bytes);
     printf("}}\n}\n");
     return 0;
 }

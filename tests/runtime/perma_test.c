@@ -3,10 +3,10 @@
 #include <stdlib.h>
 #include <time.h>
 
-/* PERMA_TEST_TECHNIQUE, PERMA_TEST_STRATEGY, PERMA_TEST_VICTIM and
- * PERMA_TEST_LOCAL_QUEUE select the variant every test runs under (meson
+/* PERMA_TEST_TECHNIQUE, PERMA_TEST_STRATEGY, PERMA_TEST_VICTIM,
+ * PERMA_TEST_LOCAL_QUEUE and PERMA_TEST_WORK_FIRST select the variant every test runs under (meson
  * registers each test once per variant). */
-static void apply_variant(perma_config *config)
+void test_apply_variant(perma_config *config)
 {
     const char *v;
     if ((v = getenv("PERMA_TEST_TECHNIQUE")) && *v)
@@ -18,6 +18,8 @@ static void apply_variant(perma_config *config)
         ck_assert_msg(perma_victim_parse(v, &config->schedule.victim) == PERMA_OK, "bad PERMA_TEST_VICTIM %s", v);
     if ((v = getenv("PERMA_TEST_LOCAL_QUEUE")) && *v)
         config->schedule.local_queue_items = (unsigned)strtoul(v, NULL, 10);
+    if ((v = getenv("PERMA_TEST_WORK_FIRST")) && *v)
+        config->schedule.work_first_items = (unsigned)strtoul(v, NULL, 10);
     if ((v = getenv("PERMA_TEST_BATCH_LIMIT")) && *v)
         config->schedule.batch_limit = (unsigned)strtoul(v, NULL, 10);
 }
@@ -25,7 +27,7 @@ static void apply_variant(perma_config *config)
 perma_runtime *test_runtime_config(const perma_config *requested)
 {
     perma_config variant = *requested;
-    apply_variant(&variant);
+    test_apply_variant(&variant);
     const perma_config *config = &variant;
     perma_runtime *rt = NULL;
     perma_error error;

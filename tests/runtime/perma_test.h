@@ -12,6 +12,9 @@
 /* A runtime on the default device with the given group size (0 = default),
  * work-group count (0 = automatic) and queue capacity (0 = default). */
 perma_runtime *test_runtime(unsigned group_size, unsigned work_groups, size_t queue_capacity);
+/* Set the schedule of the variant the test runs under (PERMA_TEST_*), as
+ * test_runtime_config does. */
+void test_apply_variant(perma_config *config);
 perma_runtime *test_runtime_config(const perma_config *config);
 
 /* Fail the test with the runtime's message unless `status` is PERMA_OK. */

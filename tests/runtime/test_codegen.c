@@ -99,9 +99,16 @@ START_TEST(generated_text_has_the_expected_functions)
     perma_runtime *rt = runtime();
     char *text = generate(rt);
     ck_assert_contains(text, "/* perma megakernel, generated for 3 procedure(s). */");
-    /* An emit helper for consume only, typed with its item and index. */
+    /* An emit helper for consume only, typed with its item and index, that
+     * reads the item as may-alias words. */
     ck_assert_contains(text, "inline int emit_consume(perma_ctx *ctx, const struct pair *item)\n"
-                             "{\n    return perma_emit(ctx, 1u, (const uint *)item);\n}\n");
+                             "{\n"
+                             "    if (__alignof__(struct pair) % 4u == 0u)\n"
+                             "        return perma_emit(ctx, 1u, (const perma_item_word *)item);\n"
+                             "    union { struct pair item; perma_item_word words[2]; } copy;\n"
+                             "    copy.item = *item;\n"
+                             "    return perma_emit(ctx, 1u, copy.words);\n"
+                             "}\n");
     ck_assert_uint_eq(occurrences(text, "inline int emit_"), 1);
     /* The dispatch: produce in lanes over its batch, consume cooperative
      * (every work-item calls it), count guarded by nothing but its loop. */

@@ -188,6 +188,12 @@ static perma_config recording_config(recorder *r)
     config.progress = record;
     config.progress_user = r;
     config.progress_interval = 0.001;
+    /* Live counts move once per batch, and work-first would run the whole
+     * chain and its gate item in one batch on one work-item (the gate then
+     * waits for counts that only its batch's end publishes); and a tree
+     * run depth first never fills the 16-item queues these tests grow.
+     * So the queues carry every item here. */
+    config.schedule.work_first_items = PERMA_WORK_FIRST_OFF;
     return config;
 }
 

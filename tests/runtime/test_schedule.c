@@ -33,6 +33,11 @@ static const char *const canonical[] = {
     "megakernel/stealing-donation/random/d=1",
     "megakernel/stealing-donation/round-robin/d=64+local32",
     "megakernel/donation/d=4294967295",
+    "megakernel/shared+wf32",
+    "megakernel/stealing/random+local32+wf16",
+    "megakernel/donation/d=64+wf4096",
+    "megakernel/shared+wf0",
+    "megakernel/stealing/random+local32+wf0",
 };
 
 /* Short forms in use (the stress test, the examples' --compare): the
@@ -47,6 +52,8 @@ static const struct {
     { "megakernel+local8", "megakernel/shared+local8" },
     { "megakernel/stealing-donation/d=64", "megakernel/stealing-donation/random/d=64" },
     { "megakernel/stealing-donation/d=64+local32", "megakernel/stealing-donation/random/d=64+local32" },
+    { "megakernel+wf16+local8", "megakernel/shared+local8+wf16" },
+    { "megakernel/stealing+wf8", "megakernel/stealing/random+wf8" },
 };
 
 #define COUNT(a) (sizeof(a) / sizeof((a)[0]))
@@ -165,8 +172,8 @@ static const struct {
       "schedule 'bounded-batches/stealing': strategy 'stealing' with bounded-batches (a strategy is only "
       "valid with megakernel)" },
     { "kernel-per-procedure+local32",
-      "schedule 'kernel-per-procedure+local32': '+local32' after kernel-per-procedure (+localN is only "
-      "valid with megakernel)" },
+      "schedule 'kernel-per-procedure+local32': '+local32' after kernel-per-procedure (+localN and +wfN "
+      "are only valid with megakernel)" },
     { "megakernel/shared+local",
       "schedule 'megakernel/shared+local': '+local' needs a number of items >= 1, e.g. +local32 (leave "
       "it out for no local queue)" },
@@ -186,12 +193,30 @@ static const struct {
       "queue" },
     { "megakernel/shared+queue4",
       "schedule 'megakernel/shared+queue4': unknown option '+queue4' (+localN: N items in a local "
-      "queue)" },
+      "queue; +wfN: work-first, a stack of N items per work-item, +wf0 none)" },
+    { "megakernel/shared+wf",
+      "schedule 'megakernel/shared+wf': '+wf' needs a number of items >= 1, e.g. +wf32 (leave it out for "
+      "the default stack, +wf0 for none)" },
+    { "megakernel/shared+wf00",
+      "schedule 'megakernel/shared+wf00': '+wf00' needs a number of items >= 1, e.g. +wf32 (leave it out for "
+      "the default stack, +wf0 for none)" },
+    { "megakernel/shared+wf0+wf8",
+      "schedule 'megakernel/shared+wf0+wf8': '+wf8' after another +wfN (give it once)" },
+    { "megakernel/shared+wf4097",
+      "schedule 'megakernel/shared+wf4097': '+wf4097': at most 4096 items on a work-item's stack" },
+    { "megakernel/shared+wf8+wf8",
+      "schedule 'megakernel/shared+wf8+wf8': '+wf8' after another +wfN (give it once)" },
+    { "megakernel/shared+wfx",
+      "schedule 'megakernel/shared+wfx': unknown option '+wfx' (+localN: N items in a local "
+      "queue; +wfN: work-first, a stack of N items per work-item, +wf0 none)" },
+    { "bounded-batches+wf8",
+      "schedule 'bounded-batches+wf8': '+wf8' after bounded-batches (+localN and +wfN are only "
+      "valid with megakernel)" },
     { "megakernel/shared+local32/x", "schedule 'megakernel/shared+local32/x': unexpected '/x' at the end" },
     { "megakernel/stealing/random/x",
       "schedule 'megakernel/stealing/random/x': unexpected '/x' at the end" },
     { "megakernel/shared+local32+local64",
-      "schedule 'megakernel/shared+local32+local64': unexpected '+local64' at the end" },
+      "schedule 'megakernel/shared+local32+local64': '+local64' after another +localN (give it once)" },
     { "megakernel/shared ", "schedule 'megakernel/shared ': unknown strategy 'shared ' (shared, stealing, "
       "donation, stealing-donation)" },
     { "bounded-batches/p=0",
@@ -288,25 +313,27 @@ END_TEST
 START_TEST(format_leaves_out_fields_the_technique_ignores)
 {
     perma_schedule s = { PERMA_TECHNIQUE_KERNEL_PER_PROCEDURE, PERMA_STRATEGY_STEALING,
-                         PERMA_VICTIM_ROUND_ROBIN, 32, 64, 16 };
+                         PERMA_VICTIM_ROUND_ROBIN, 32, 64, 16, 8 };
     expect_format(&s, "kernel-per-procedure");
     s.technique = PERMA_TECHNIQUE_BOUNDED_BATCHES;
     expect_format(&s, "bounded-batches/p=64");
     s.technique = PERMA_TECHNIQUE_MEGAKERNEL;
-    expect_format(&s, "megakernel/stealing/round-robin+local32"); /* stealing does not donate */
+    expect_format(&s, "megakernel/stealing/round-robin+local32+wf8"); /* stealing does not donate */
     s.strategy = PERMA_STRATEGY_DONATION;
-    expect_format(&s, "megakernel/donation/d=16+local32");
+    expect_format(&s, "megakernel/donation/d=16+local32+wf8");
     s.strategy = PERMA_STRATEGY_STEALING_DONATION;
-    expect_format(&s, "megakernel/stealing-donation/round-robin/d=16+local32");
+    expect_format(&s, "megakernel/stealing-donation/round-robin/d=16+local32+wf8");
     s.strategy = PERMA_STRATEGY_SHARED;
-    expect_format(&s, "megakernel/shared+local32");
+    expect_format(&s, "megakernel/shared+local32+wf8");
+    s.local_queue_items = 0;
+    expect_format(&s, "megakernel/shared+wf8");
 }
 END_TEST
 
 START_TEST(format_rejects_unnamed_values_and_truncates)
 {
     char buf[64] = "old";
-    perma_schedule s = { (perma_technique)42, PERMA_STRATEGY_SHARED, PERMA_VICTIM_RANDOM, 0, 0, 0 };
+    perma_schedule s = { (perma_technique)42, PERMA_STRATEGY_SHARED, PERMA_VICTIM_RANDOM, 0, 0, 0, 0 };
     ck_assert_int_eq(perma_schedule_format(&s, buf, sizeof buf), -1);
     ck_assert_str_eq(buf, "");
     s.technique = PERMA_TECHNIQUE_MEGAKERNEL;
@@ -516,8 +543,8 @@ START_TEST(every_schedule_refuses_what_it_does_not_take)
         }
         if (!megakernel) {
             snprintf(bad_label, sizeof bad_label, "%s+local8", label);
-            snprintf(message, sizeof message, "schedule '%s': '+local8' after %s (+localN is only valid with "
-                     "megakernel)", bad_label, technique);
+            snprintf(message, sizeof message, "schedule '%s': '+local8' after %s (+localN and +wfN are only "
+                     "valid with megakernel)", bad_label, technique);
             expect_parse_error(bad_label, message);
         }
         if (s.technique == PERMA_TECHNIQUE_KERNEL_PER_PROCEDURE) {

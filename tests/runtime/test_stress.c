@@ -35,7 +35,7 @@ enum { SHAPES = sizeof shapes / sizeof shapes[0] };
 
 /* The schedules: every one (perma_schedule_all, the victims under one
  * stealing strategy), then every megakernel one of those with a local
- * front queue of 32 items.  Failure messages name them by label and
+ * front queue of 32 items, then with work-first stacks of 6 items.  Failure messages name them by label and
  * PERMA_STRESS_VARIANT=N indexes this list. */
 #define MAX_VARIANTS 32
 static perma_schedule variants[MAX_VARIANTS];
@@ -53,6 +53,14 @@ static void list_variants(void)
             continue;
         variants[variant_count] = variants[i];
         variants[variant_count++].local_queue_items = 32;
+    }
+    /* Work-first with stacks of 6 items: full stacks spill, and stacks are
+     * flushed at every stall of the tiny queues. */
+    for (unsigned i = 0, plain = variant_count; i < plain && variant_count < MAX_VARIANTS; ++i) {
+        if (variants[i].technique != PERMA_TECHNIQUE_MEGAKERNEL || variants[i].local_queue_items)
+            continue;
+        variants[variant_count] = variants[i];
+        variants[variant_count++].work_first_items = 6;
     }
     for (unsigned i = 0; i < variant_count; ++i)
         perma_schedule_format(&variants[i], variant_labels[i], sizeof variant_labels[i]);

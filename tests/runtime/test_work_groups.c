@@ -117,10 +117,12 @@ END_TEST
  * registers for 128 work-items: 2 groups of 64 per unit, 6 in all, under
  * every persistent strategy and the host-driven techniques.  Before the
  * build the count is the most any kernel could have (16 per unit), which
- * the build only lowers. */
+ * the build only lowers.  (Without work-first, whose stacks take half the
+ * __local memory: gpu_work_first_takes_a_unit.) */
 static const char *const gpu_schedules[] = {
-    "megakernel/shared", "megakernel/stealing", "megakernel/donation", "megakernel/stealing-donation",
-    "megakernel/shared+local64", "kernel-per-procedure", "bounded-batches/p=100",
+    "megakernel/shared+wf0", "megakernel/stealing+wf0", "megakernel/donation+wf0",
+    "megakernel/stealing-donation+wf0", "megakernel/shared+local64+wf0", "kernel-per-procedure",
+    "bounded-batches/p=100",
 };
 
 START_TEST(gpu_runs_what_fits_at_once)
@@ -137,6 +139,26 @@ START_TEST(gpu_runs_what_fits_at_once)
                      "3 compute units x 2, 128 work-items per compute unit (CL_KERNEL_WORK_GROUP_SIZE)");
     ck_assert_uint_le(st.kernel_local_bytes, 48 * KIB);
     ck_assert_contains(perma_device_summary(rt), "6 work-groups (3 compute units x 2");
+    perma_destroy(rt);
+    cl_fault_pretend_gpu(0, 0, 0, 0);
+}
+END_TEST
+
+/* Work-first's stacks take up to half the __local memory a group has
+ * left, so its megakernel holds one group per unit (by __local memory,
+ * before the registers' two). */
+START_TEST(gpu_work_first_takes_a_unit)
+{
+    cl_fault_pretend_gpu(3, 48 * KIB, 128, 0);
+    perma_runtime *rt = runtime_for("megakernel/shared", 0);
+    perma_stats st = run_tree(rt);
+    ck_assert_uint_gt(st.stack_items, 0);
+    ck_assert_uint_eq(st.work_groups, 3);
+    ck_assert_uint_gt(st.kernel_local_bytes, 24 * KIB);
+    char expected[96];
+    snprintf(expected, sizeof expected, "3 compute units x 1, __local memory: %zu of 49152 bytes each",
+             st.kernel_local_bytes);
+    ck_assert_str_eq(st.work_groups_reason, expected);
     perma_destroy(rt);
     cl_fault_pretend_gpu(0, 0, 0, 0);
 }
@@ -176,7 +198,7 @@ END_TEST
 START_TEST(gpu_builds_again_for_fewer_groups)
 {
     cl_fault_pretend_gpu(3, 48 * KIB, 1024, 20 * KIB);
-    perma_runtime *rt = runtime_for("megakernel/stealing", 0);
+    perma_runtime *rt = runtime_for("megakernel/stealing+wf0", 0);
     perma_stats st = run_tree(rt);
     ck_assert_uint_eq(st.work_groups, 6);
     ck_assert_str_eq(st.work_groups_reason, "3 compute units x 2, __local memory: 20480 of 49152 bytes each");
@@ -195,7 +217,7 @@ START_TEST(gpu_builds_again_from_the_cache)
     setenv("PERMA_CACHE_DIR", dir, 1);
     setenv("PERMA_CACHE_MIN_SECONDS", "0", 1);
     cl_fault_pretend_gpu(3, 48 * KIB, 1024, 20 * KIB);
-    perma_runtime *rt = runtime_for("megakernel/shared", 0);
+    perma_runtime *rt = runtime_for("megakernel/shared+wf0", 0);
     ck_assert_uint_eq(run_tree(rt).work_groups, 6);
     perma_build_info info;
     ck_assert_perma_ok(rt, perma_get_build_info(rt, &info));
@@ -242,6 +264,7 @@ int main(void)
     tcase_add_test(tc, residency_by_local_memory_registers_and_cap);
     tcase_add_test(tc, cpu_count_as_before);
     tcase_add_loop_test(tc, gpu_runs_what_fits_at_once, 0, (int)(sizeof gpu_schedules / sizeof *gpu_schedules));
+    tcase_add_test(tc, gpu_work_first_takes_a_unit);
     tcase_add_test(tc, gpu_refuses_more_groups_than_fit);
     tcase_add_test(tc, gpu_builds_again_for_fewer_groups);
     tcase_add_test(tc, gpu_builds_again_from_the_cache);

@@ -30,7 +30,8 @@ class Error(ctypes.Structure):
 
 class Schedule(ctypes.Structure):
     _fields_ = [('technique', c_int), ('strategy', c_int), ('victim', c_int),
-                ('local_queue_items', c_uint), ('batch_limit', c_uint), ('donation_threshold', c_uint)]
+                ('local_queue_items', c_uint), ('batch_limit', c_uint), ('donation_threshold', c_uint),
+                ('work_first_items', c_uint)]
 
 
 BUILD_LOG = ctypes.CFUNCTYPE(None, c_void_p, c_char_p)
@@ -70,13 +71,14 @@ class ProcedureStats(ctypes.Structure):
                 ('emitted', c_uint64 * MAX_EMITS), ('emit_count', c_uint), ('seeded', c_uint64),
                 ('peak_queue_items', c_uint64), ('initial_capacity', c_size_t),
                 ('queue_capacity', c_size_t), ('regrowths', c_uint), ('batch_size', c_uint),
-                ('batch_cut', c_int), ('batch_cut_emit', c_int)]
+                ('batch_cut', c_int), ('batch_cut_emit', c_int), ('stacked_items', c_uint64)]
 
 
 class GroupStats(ctypes.Structure):
     _fields_ = [('batches', c_uint64), ('items', c_uint64), ('steals', c_uint64),
                 ('donations', c_uint64), ('donated_items', c_uint64), ('spills', c_uint64),
-                ('idle_polls', c_uint64)]
+                ('idle_polls', c_uint64), ('stacked_items', c_uint64), ('stack_spills', c_uint64),
+                ('stack_peak', c_uint)]
 
 
 class Stats(ctypes.Structure):
@@ -86,7 +88,9 @@ class Stats(ctypes.Structure):
                 ('queues_kept', c_uint), ('items', c_uint64), ('steals', c_uint64),
                 ('donations', c_uint64), ('spills', c_uint64), ('idle_polls', c_uint64),
                 ('overflowed_items', c_uint64), ('technique', c_int), ('strategy', c_int),
-                ('work_groups_reason', c_char_p), ('resident_groups', c_uint), ('kernel_local_bytes', c_size_t)]
+                ('stacked_items', c_uint64), ('stack_spills', c_uint64), ('stack_peak', c_uint),
+                ('stack_items', c_uint), ('work_groups_reason', c_char_p), ('resident_groups', c_uint),
+                ('kernel_local_bytes', c_size_t)]
 
 
 # Every structure above, by its C name (for the layout test).
