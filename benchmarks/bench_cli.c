@@ -37,7 +37,8 @@ void bench_common_options(bench_options *o, perma_cli_option rows[BENCH_COMMON_O
         { PERMA_CLI_WHOLE("groups", "N", &o->groups, 1, 1024, "perma work-groups (default: the runtime's choice)") },
         { PERMA_CLI_WHOLE("threads", "N", &o->threads, 1, 1024, "OpenMP threads (default: online CPUs)") },
         { PERMA_CLI_TEXT("only", "TEXT", &o->only, "run only perma variants whose label contains TEXT (--only =LABEL: only the variant of "
-                                           "exactly that label)") },
+                                           "exactly that label; several, separated by commas: the variants of "
+                                           "any)") },
         { PERMA_CLI_CUSTOM("devices", "LIST", parse_devices, o,
                            "measure every perma variant on each device of LIST, side by side (PERMA_DEVICE "
                            "values: pocl,intel or 0:0,1:0; the reyes effect workloads use the first)") },
@@ -67,9 +68,19 @@ perma_cli_status bench_parse(bench_options *options, const char *synopsis, const
         .notes = BENCH_EXIT_STATUS,
     };
     perma_cli_status status = perma_cli_parse(&cli, argc, argv, message, sizeof message);
-    /* --only =LABEL names any schedule, listed or not: it becomes a row. */
-    if (status == PERMA_CLI_OK && options->only && options->only[0] == '=')
-        bench_variant_add(options->only + 1);
+    /* --only =LABEL names any schedule, listed or not: it becomes a row
+     * (each such entry of a list). */
+    for (const char *entry = status == PERMA_CLI_OK ? options->only : NULL; entry;) {
+        const char *comma = strchr(entry, ',');
+        size_t length = comma ? (size_t)(comma - entry) : strlen(entry);
+        char label[BENCH_LABEL_SIZE];
+        if (entry[0] == '=' && length > 1 && length <= sizeof label) {
+            memcpy(label, entry + 1, length - 1);
+            label[length - 1] = '\0';
+            bench_variant_add(label);
+        }
+        entry = comma ? comma + 1 : NULL;
+    }
     const perma_file_role outputs[] = { { options->csv_path, "--csv", 1 }, { options->trace_path, "--trace", 1 } };
     return status == PERMA_CLI_OK ? perma_cli_check_files(&cli, outputs, 2, message, sizeof message) : status;
 }

@@ -96,10 +96,28 @@ void bench_variant_use_device(const bench_options *options, unsigned d, bench_va
     snprintf(v->name, sizeof v->name, "%s @%s", v->label, options->devices[d]);
 }
 
+/* Whether `label` is one --only names: any of its comma-separated
+ * entries, each TEXT (contained in the label) or =LABEL (the label). */
+static int only_names(const char *only, const char *label)
+{
+    for (const char *entry = only; entry;) {
+        const char *comma = strchr(entry, ',');
+        size_t length = comma ? (size_t)(comma - entry) : strlen(entry);
+        char text[128];
+        if (length > 0 && length < sizeof text) {
+            memcpy(text, entry, length);
+            text[length] = '\0';
+            if (text[0] == '=' ? !strcmp(label, text + 1) : strstr(label, text) != NULL)
+                return 1;
+        }
+        entry = comma ? comma + 1 : NULL;
+    }
+    return 0;
+}
+
 int bench_variant_select(const bench_options *options, const char *label, bench_variant *out)
 {
-    if (options->only && (options->only[0] == '=' ? strcmp(label, options->only + 1) != 0
-                                                  : !strstr(label, options->only)))
+    if (options->only && !only_names(options->only, label))
         return 0;
     perma_error error;
     if (bench_variant_parse(label, out, &error) != PERMA_OK) {

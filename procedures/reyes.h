@@ -356,6 +356,9 @@ typedef struct reyes_stats {
      * capacities: the largest). */
     perma_stats run;
     perma_procedure_stats procedures[REYES_PROC_COUNT];
+    /* How the runtime chose run.work_groups (perma_stats.work_groups_reason,
+     * copied: run.work_groups_reason is NULL here). */
+    char work_groups_reason[160];
 } reyes_stats;
 
 /* Free what a render allocated in *stats (the per-bucket list). */

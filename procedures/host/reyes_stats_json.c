@@ -4,6 +4,21 @@
 
 #include "reyes.h"
 
+/* `text` as a JSON string. */
+static void json_string(FILE *out, const char *text)
+{
+    fputc('"', out);
+    for (const unsigned char *c = (const unsigned char *)text; *c; ++c) {
+        if (*c == '"' || *c == '\\')
+            fprintf(out, "\\%c", *c);
+        else if (*c < 0x20)
+            fprintf(out, "\\u%04x", *c);
+        else
+            fputc(*c, out);
+    }
+    fputc('"', out);
+}
+
 static void write_procedure(FILE *out, const perma_procedure_stats *p, int last)
 {
     fprintf(out, "    \"%s\": {\"items\": %" PRIu64 ", \"batches\": %" PRIu64
@@ -101,6 +116,10 @@ reyes_status reyes_write_stats_json(FILE *out, const reyes_stats *s, const reyes
     fprintf(out, "  \"seconds\": %.6f,\n", s->seconds);
     fprintf(out, "  \"work_groups\": %u, \"group_size\": %u, \"launches\": %u, \"regrowths\": %u,\n",
             s->run.work_groups, s->run.group_size, s->run.launches, s->run.regrowths);
+    fprintf(out, "  \"work_groups_reason\": ");
+    json_string(out, s->work_groups_reason);
+    fprintf(out, ", \"resident_groups\": %u, \"kernel_local_bytes\": %zu,\n", s->run.resident_groups,
+            s->run.kernel_local_bytes);
     fprintf(out, "  \"technique\": \"%s\", \"strategy\": \"%s\", \"victim\": \"%s\", "
                  "\"local_queue_items\": %u, \"batch_limit\": %u,\n",
             name_or_unknown(perma_technique_name(o->schedule.technique)),

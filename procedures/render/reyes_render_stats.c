@@ -1,6 +1,7 @@
 /* Statistics of a render: the runtime's per-run numbers summed over the
  * buckets' runs (peaks and capacities: the largest). */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 
 #include "reyes_render_stats.h"
@@ -47,6 +48,10 @@ void reyes_stats_add_run(reyes_stats *total, const perma_stats *run,
     t->launches += run->launches;
     t->regrowths += run->regrowths;
     t->work_groups = run->work_groups;
+    t->resident_groups = run->resident_groups;
+    t->kernel_local_bytes = run->kernel_local_bytes;
+    if (run->work_groups_reason)
+        snprintf(total->work_groups_reason, sizeof total->work_groups_reason, "%s", run->work_groups_reason);
     t->group_size = run->group_size;
     t->procedure_count = run->procedure_count;
     t->peak_queue_bytes = max_size(t->peak_queue_bytes, run->peak_queue_bytes);

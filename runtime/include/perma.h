@@ -279,8 +279,17 @@ typedef struct perma_config {
      * whole device, or the part PERMA_DEVICE names when the indexes are -1. */
     unsigned sub_devices;
     unsigned sub_device;
-    /* Persistent work-groups; 0 = as many as can be co-resident (compute
-     * units; on a CPU device the physical core count from hwloc). */
+    /* Persistent work-groups; 0 = as many as can be co-resident: on a CPU
+     * device the physical core count from hwloc (or the compute units if
+     * fewer); on another device the compute units times the groups one of
+     * them holds at once, by the megakernel's __local memory and registers
+     * (CL_KERNEL_LOCAL_MEM_SIZE against CL_DEVICE_LOCAL_MEM_SIZE,
+     * CL_KERNEL_WORK_GROUP_SIZE against group_size; at most 16), settled
+     * when the program is built (perma_stats.work_groups_reason says how).
+     * There, more than the device holds at once fails perma_build and
+     * perma_run with PERMA_ERR_ARGUMENT under the megakernel, rather than
+     * risk groups that wait forever for one that cannot start; a CPU runs
+     * any number (a group that cannot start waits for one that ends). */
     unsigned work_groups;
     /* Work-items per group; 0 = 64. */
     unsigned group_size;
@@ -787,13 +796,24 @@ typedef struct perma_stats {
     unsigned stack_peak;
     unsigned stack_items;      /* items a work-item's stack holds (0: no stacks: work-first is off, or
                                   no procedure's items can run from one) */
+    /* How work_groups was chosen ("2 compute units", "configured", "132
+     * compute units x 1, __local memory: 40960 of 49152 bytes each"); valid
+     * until the runtime is destroyed or its program rebuilt. */
+    const char *work_groups_reason;
+    /* Work-groups of this program's megakernel the device holds at once
+     * (config.work_groups); 0 on a CPU, which runs any number. */
+    unsigned resident_groups;
+    size_t kernel_local_bytes; /* __local memory of one group of the megakernel (CL_KERNEL_LOCAL_MEM_SIZE) */
 } perma_stats;
 
 perma_status perma_get_stats(perma_runtime *rt, perma_stats *out);
 perma_status perma_get_procedure_stats(perma_runtime *rt, perma_proc proc, perma_procedure_stats *out);
 /* The work-groups a run uses and the work-items in each, known from
  * perma_create on (config.work_groups, or the device's choice): e.g. to
- * size an array indexed by ctx->group.  Either pointer may be NULL, not
+ * size an array indexed by ctx->group.  On a device that is not a CPU the
+ * runtime's choice is settled when the program is built and may then be
+ * lower than before (never higher than at perma_create), so an array
+ * sized before holds every ctx->group.  Either pointer may be NULL, not
  * both. */
 perma_status perma_get_work_groups(perma_runtime *rt, unsigned *work_groups, unsigned *group_size);
 

@@ -1,7 +1,9 @@
 /* Choosing the OpenCL device and the number of persistent work-groups. */
 #include "device.h"
 #include "device_list.h"
+#include "executor.h"
 #include "internal.h"
+#include "layout.h"
 
 #include <hwloc.h>
 #include <stdlib.h>
@@ -40,10 +42,58 @@ static unsigned physical_cores(void)
     return cores > 0 ? (unsigned)cores : 0;
 }
 
+void perma_residency_of(unsigned compute_units, size_t device_local, size_t kernel_local,
+                        size_t kernel_group_size, unsigned group_size, perma_residency *out)
+{
+    unsigned per_unit = PERMA_MAX_GROUPS_PER_UNIT;
+    char bound[96];
+    snprintf(bound, sizeof bound, "at most %u per compute unit", per_unit);
+    size_t by_size = group_size ? kernel_group_size / group_size : 0;
+    if (by_size < per_unit) {
+        per_unit = (unsigned)by_size;
+        snprintf(bound, sizeof bound, "%zu work-items per compute unit (CL_KERNEL_WORK_GROUP_SIZE)",
+                 kernel_group_size);
+    }
+    size_t by_local = kernel_local ? device_local / kernel_local : per_unit;
+    if (by_local < per_unit) {
+        per_unit = (unsigned)by_local;
+        snprintf(bound, sizeof bound, "__local memory: %zu of %zu bytes each", kernel_local, device_local);
+    }
+    out->per_unit = per_unit;
+    out->limit = compute_units * per_unit;
+    snprintf(out->why, sizeof out->why, "%u compute units x %u, %s", compute_units, per_unit, bound);
+}
+
+/* The summary line (perma_device_summary) for the count and its reason. */
+static void summarize(perma_runtime *rt)
+{
+    snprintf(rt->summary, sizeof rt->summary, "%s: %u work-groups (%s) of %u work-items", rt->caps.name,
+             rt->work_groups, rt->work_groups_reason, rt->group_size);
+}
+
+static void set_work_groups(perma_runtime *rt, unsigned groups, const char *why)
+{
+    rt->work_groups = groups;
+    size_t length = strlen(why); /* cut to the field */
+    if (length >= sizeof rt->work_groups_reason)
+        length = sizeof rt->work_groups_reason - 1;
+    memcpy(rt->work_groups_reason, why, length);
+    rt->work_groups_reason[length] = '\0';
+    summarize(rt);
+}
+
+/* The count from perma_create on.  A CPU runs as many groups as it has
+ * physical cores, or compute units if fewer (a group that cannot start
+ * waits for one that ends).  Another device runs as many as it holds at
+ * once, which depends on the kernel: until the program is built, the most
+ * the device allows for any kernel (perma_work_groups_plan and
+ * perma_work_groups_fit lower it), so that an array sized by
+ * perma_get_work_groups holds every ctx->group. */
 static void choose_work_groups(perma_runtime *rt)
 {
-    char why[160];
-    unsigned groups = rt->caps.compute_units ? rt->caps.compute_units : 1;
+    char why[PERMA_REASON_MAX + 32];
+    unsigned units = rt->caps.compute_units ? rt->caps.compute_units : 1;
+    unsigned groups = units;
     snprintf(why, sizeof why, "%u compute units", (unsigned)rt->caps.compute_units);
     if (rt->caps.is_cpu) {
         unsigned cores = physical_cores();
@@ -52,14 +102,93 @@ static void choose_work_groups(perma_runtime *rt)
             snprintf(why, sizeof why, "%u physical cores (hwloc) of %u compute units", cores,
                      (unsigned)rt->caps.compute_units);
         }
+    } else {
+        perma_residency r;
+        perma_residency_of(units, rt->caps.local_mem_size, 0, rt->caps.max_group_size, rt->group_size, &r);
+        groups = r.limit ? r.limit : units;
+        snprintf(why, sizeof why, "%s; until the program is built", r.why);
     }
     if (rt->config.work_groups) {
         groups = rt->config.work_groups;
         snprintf(why, sizeof why, rt->debug ? "PERMA_DEBUG" : "configured");
     }
-    rt->work_groups = groups;
-    snprintf(rt->summary, sizeof rt->summary, "%s: %u work-groups (%s) of %u work-items",
-             rt->caps.name, rt->work_groups, why, rt->group_size);
+    rt->work_groups_bound = groups;
+    set_work_groups(rt, groups, why);
+}
+
+bool perma_work_groups_plan(perma_runtime *rt, size_t local_bytes)
+{
+    if (rt->caps.is_cpu || rt->config.work_groups)
+        return false;
+    unsigned units = rt->caps.compute_units ? rt->caps.compute_units : 1;
+    perma_residency r;
+    perma_residency_of(units, rt->caps.local_mem_size, local_bytes, rt->caps.max_group_size, rt->group_size, &r);
+    unsigned groups = r.limit < rt->work_groups_bound ? r.limit : rt->work_groups_bound;
+    if (!groups || groups == rt->work_groups)
+        return false; /* none: perma_work_groups_fit says why */
+    set_work_groups(rt, groups, r.why);
+    return true;
+}
+
+/* CL_KERNEL_* of the built megakernel on the device. */
+static perma_status kernel_info(perma_runtime *rt, cl_kernel_work_group_info what, const char *name, void *value,
+                                size_t size)
+{
+    cl_int err = clGetKernelWorkGroupInfo(rt->build.kernel, rt->device, what, size, value, NULL);
+    if (err != CL_SUCCESS)
+        return perma_set_error(rt, PERMA_ERR_OPENCL, "clGetKernelWorkGroupInfo(%s) failed: %s (%d)", name,
+                               perma_cl_error_name(err), (int)err);
+    return PERMA_OK;
+}
+
+perma_status perma_work_groups_fit(perma_runtime *rt, bool *rebuild)
+{
+    *rebuild = false;
+    rt->resident_groups = 0;
+    size_t kernel_size = 0;
+    cl_ulong kernel_local = 0;
+    perma_status st = kernel_info(rt, CL_KERNEL_WORK_GROUP_SIZE, "CL_KERNEL_WORK_GROUP_SIZE", &kernel_size,
+                                  sizeof kernel_size);
+    if (st == PERMA_OK)
+        st = kernel_info(rt, CL_KERNEL_LOCAL_MEM_SIZE, "CL_KERNEL_LOCAL_MEM_SIZE", &kernel_local,
+                         sizeof kernel_local);
+    if (st != PERMA_OK)
+        return st;
+    rt->kernel_local_bytes = (size_t)kernel_local;
+    if (kernel_size < rt->group_size)
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT,
+                               "the megakernel can run work-groups of at most %zu work-items on %s "
+                               "(CL_KERNEL_WORK_GROUP_SIZE: its registers), fewer than the group_size %u: set "
+                               "config.group_size to at most %zu", kernel_size, rt->caps.name, rt->group_size,
+                               kernel_size);
+    size_t limit = perma_local_memory(rt);
+    if (kernel_local > limit)
+        return perma_set_error(rt, PERMA_ERR_BUILD,
+                               "the megakernel uses %zu bytes of __local memory per work-group, more than the %zu "
+                               "bytes a group may use on %s (%s)", (size_t)kernel_local, limit, rt->caps.name,
+                               limit < rt->caps.local_mem_size ? "config.local_memory_limit"
+                                                               : "CL_DEVICE_LOCAL_MEM_SIZE");
+    if (rt->caps.is_cpu)
+        return PERMA_OK; /* a group that cannot start waits for one that ends */
+    unsigned units = rt->caps.compute_units ? rt->caps.compute_units : 1;
+    perma_residency r;
+    perma_residency_of(units, rt->caps.local_mem_size, (size_t)kernel_local, kernel_size, rt->group_size, &r);
+    rt->resident_groups = r.limit;
+    if (!rt->config.work_groups && rt->work_groups == r.limit)
+        set_work_groups(rt, r.limit, r.why); /* the kernel's own figures, as the layout's gave */
+    if (rt->work_groups <= r.limit)
+        return PERMA_OK;
+    if (rt->config.work_groups && rt->executor->persistent)
+        return perma_set_error(rt, PERMA_ERR_ARGUMENT,
+                               "config.work_groups %u is more persistent work-groups than %s holds at once for "
+                               "this program (%u: %s); groups that are not all running could wait for each other "
+                               "forever: ask for at most %u, or 0 (the runtime's choice)",
+                               rt->config.work_groups, rt->caps.name, r.limit, r.why, r.limit);
+    if (rt->config.work_groups)
+        return PERMA_OK; /* host-driven: groups do not wait for each other */
+    set_work_groups(rt, r.limit, r.why);
+    *rebuild = true;
+    return PERMA_OK;
 }
 
 /* Which device: platform and device indexes (or a platform by name) and

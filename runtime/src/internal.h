@@ -103,6 +103,11 @@ struct perma_runtime {
     perma_settings settings;   /* the PERMA_* environment variables (environment.c) */
     unsigned work_groups;
     unsigned group_size;
+    char work_groups_reason[PERMA_REASON_MAX]; /* how work_groups was chosen (device.c) */
+    unsigned work_groups_bound;     /* work_groups at perma_create, which a build never passes */
+    unsigned resident_groups;       /* groups of the built megakernel the device holds at once (device.c);
+                                       0: a CPU, or not built */
+    size_t kernel_local_bytes;      /* its CL_KERNEL_LOCAL_MEM_SIZE (0: not built) */
 
     perma_source_text sources[PERMA_MAX_PROCEDURES];
     unsigned source_count;
@@ -117,7 +122,8 @@ struct perma_runtime {
     perma_build_products build;     /* program.h */
 
     struct perma_device_state *state; /* state.c's, opaque elsewhere (state.h) */
-    perma_group_stats *group_stats; /* work_groups entries (stats.c) */
+    perma_group_stats *group_stats; /* group_stats_count >= work_groups entries (stats.c) */
+    unsigned group_stats_count;
     bool hung;                      /* a kernel ignored the watchdog; do not wait on it */
     perma_runtime *next_hung;       /* runtime.c's list of the hung runtimes perma_destroy kept */
     bool grow_starved;              /* a group starved of room may stop a launch to grow queues */

@@ -490,5 +490,6 @@ perma_status perma_build_layout(perma_runtime *rt)
      * its overflow data (as large as the staging), after the last batch's
      * overflowed emits: room for both. */
     rt->build.stage_words += rt->group_size * rt->build.wf_items * rt->build.wf_slot_words;
+    rt->build.local_bytes = fixed + 4 * (size_t)rt->build.arena_words;
     return PERMA_OK;
 }

@@ -179,11 +179,14 @@ static perma_status create_kernels(perma_runtime *rt)
 /* The program, its kernels and their compile at the first launch (PoCL),
  * all in rt->build.info.seconds; a program compiled here without warnings
  * is stored after that launch, by the CPU time all of it took (waiting for
- * another process's build costs none). */
-static perma_status build_and_warm_up(perma_runtime *rt, const char *text, const char *options)
+ * another process's build costs none).  *rebuild: the kernel made the
+ * runtime lower its work-group count (device.c), on which the program
+ * may depend; it is released (and not warmed up). */
+static perma_status build_and_warm_up(perma_runtime *rt, const char *text, const char *options, bool *rebuild)
 {
     double start = perma_now(), cpu_start = perma_cpu_now();
     memset(&rt->build.info, 0, sizeof rt->build.info);
+    *rebuild = false;
     perma_cache_entry entry;
     perma_status st = build_program(rt, text, options, &entry);
     /* A program with warnings is not cached, so that every build shows them. */
@@ -191,25 +194,42 @@ static perma_status build_and_warm_up(perma_runtime *rt, const char *text, const
     if (st == PERMA_OK)
         st = create_kernels(rt);
     if (st == PERMA_OK)
+        st = perma_work_groups_fit(rt, rebuild);
+    if (st == PERMA_OK && !*rebuild)
         st = warm_up(rt);
     rt->build.info.seconds = perma_now() - start;
     double cpu_seconds = perma_cpu_now() - cpu_start;
-    if (st != PERMA_OK) {
+    /* A program built for a count the kernel lowered is stored too: where
+     * the count does not change the program (one queue set, staging that
+     * the count does not cut), the next build loads it. */
+    if (st == PERMA_OK && rt->build.info.origin == PERMA_PROGRAM_COMPILED && !warned)
+        rt->build.info.stored = perma_cache_store(rt, &entry, cpu_seconds);
+    if (st != PERMA_OK || *rebuild) {
         perma_release_program(rt);
         rt->build.info.origin = PERMA_PROGRAM_NOT_BUILT;
-    } else if (rt->build.info.origin == PERMA_PROGRAM_COMPILED && !warned) {
-        rt->build.info.stored = perma_cache_store(rt, &entry, cpu_seconds);
     }
     perma_cache_entry_close(&entry);
     return st;
 }
 
-perma_status perma_build_program(perma_runtime *rt)
+/* The layout; with `plan`, at the work-group count it settles on a device
+ * that is not a CPU (device.c): the count depends on the layout's __local
+ * memory and the layout on the count (queue sets, staging). */
+static perma_status lay_out(perma_runtime *rt, bool plan)
 {
-    if (rt->built)
-        return PERMA_OK;
-    perma_release_program(rt);
     perma_status st = perma_build_layout(rt);
+    if (st == PERMA_OK && plan && perma_work_groups_plan(rt, rt->build.local_bytes))
+        st = perma_build_layout(rt);
+    return st;
+}
+
+/* One build: the layout (planning the count with `plan`), the generated
+ * program, its compile. */
+static perma_status build_once(perma_runtime *rt, bool plan, bool *rebuild)
+{
+    *rebuild = false;
+    perma_release_program(rt);
+    perma_status st = lay_out(rt, plan);
     if (st != PERMA_OK)
         return st;
     perma_strbuf sb, reduce_constants, reduce_helpers;
@@ -236,8 +256,30 @@ perma_status perma_build_program(perma_runtime *rt)
     char options[1024];
     snprintf(options, sizeof options, "-cl-std=CL1.2 %s%s", rt->debug ? "-DPERMA_DEBUG=1 " : "",
              rt->config.build_options ? rt->config.build_options : "");
-    st = build_and_warm_up(rt, sb.data, options);
+    st = build_and_warm_up(rt, sb.data, options, rebuild);
     perma_strbuf_free(&sb);
+    return st;
+}
+
+/* Builds of one program at most: the first at the count the layout
+ * plans, another at the count the compiled kernel allows if it holds fewer
+ * groups (its registers, or more __local memory than the layout's figure),
+ * one more to spare. */
+#define BUILD_ATTEMPTS 3
+
+perma_status perma_build_program(perma_runtime *rt)
+{
+    if (rt->built)
+        return PERMA_OK;
+    bool rebuild = true;
+    perma_status st = PERMA_OK;
+    for (unsigned attempt = 0; st == PERMA_OK && rebuild; ++attempt) {
+        if (attempt == BUILD_ATTEMPTS)
+            return perma_set_error(rt, PERMA_ERR_BUILD, "the megakernel did not settle on a work-group count "
+                                   "in %u builds (now %u: %s)", BUILD_ATTEMPTS, rt->work_groups,
+                                   rt->work_groups_reason);
+        st = build_once(rt, attempt == 0, &rebuild);
+    }
     if (st != PERMA_OK)
         return st;
     rt->built = true;

@@ -34,6 +34,7 @@ typedef struct perma_build_products {
     unsigned wf_slot_words;
     unsigned wf_budget;
     unsigned wf_words;
+    size_t local_bytes;            /* the layout's figure of a group's __local memory (arena and the rest) */
     unsigned order[PERMA_MAX_PROCEDURES];
     unsigned queue_sets;           /* 1 (shared) or one per group (distributed) */
     const struct perma_strategy_info *strategy; /* the schedule table's row (schedule_table.h) */

@@ -14,8 +14,11 @@ void perma_stats_reset(perma_runtime *rt)
     rt->stats.technique = rt->config.schedule.technique;
     rt->stats.strategy = rt->config.schedule.strategy;
     if (rt->group_stats)
-        memset(rt->group_stats, 0, rt->work_groups * sizeof *rt->group_stats);
+        memset(rt->group_stats, 0, rt->group_stats_count * sizeof *rt->group_stats);
     rt->stats.work_groups = rt->work_groups;
+    rt->stats.work_groups_reason = rt->work_groups_reason;
+    rt->stats.resident_groups = rt->resident_groups;
+    rt->stats.kernel_local_bytes = rt->kernel_local_bytes;
     rt->stats.group_size = rt->group_size;
     rt->stats.procedure_count = rt->proc_count;
     rt->stats.queue_memory_limit = rt->build.queue_layout.memory_limit;
@@ -36,10 +39,14 @@ perma_status perma_stats_collect(perma_runtime *rt)
     size_t stats_words = (size_t)rt->work_groups * group_words;
     unsigned queues = rt->build.queue_layout.count;
     size_t ctl_bytes = perma_ctl_block_bytes(queues);
-    if (!rt->group_stats) {
+    if (rt->group_stats_count < rt->work_groups) {
+        /* The build can change the count (device.c). */
+        free(rt->group_stats);
+        rt->group_stats_count = 0;
         rt->group_stats = calloc(rt->work_groups, sizeof *rt->group_stats);
         if (!rt->group_stats)
             return perma_set_error(rt, PERMA_ERR_NO_MEMORY, "out of memory for group statistics");
+        rt->group_stats_count = rt->work_groups;
     }
     uint32_t *words = malloc(stats_words * 4);
     perma_ctl_block *ctl = malloc(ctl_bytes);
@@ -250,6 +257,7 @@ void perma_stats_release(perma_runtime *rt)
 {
     free(rt->group_stats);
     rt->group_stats = NULL;
+    rt->group_stats_count = 0;
 }
 
 static perma_status get_group_stats_call(perma_runtime *rt, unsigned group, perma_group_stats *out)
@@ -310,6 +318,11 @@ static void print_stats(perma_runtime *rt, FILE *out)
                  "peak queue memory %zu bytes (limit %zu)\n",
             perma_technique_name(s->technique), perma_strategy_name(s->strategy), s->seconds, s->launches,
             s->regrowths, s->work_groups, s->group_size, s->peak_queue_bytes, s->queue_memory_limit);
+    char resident[96] = "on a CPU any number: a group that cannot start waits for one that ends";
+    if (s->resident_groups)
+        snprintf(resident, sizeof resident, "the device holds %u at once", s->resident_groups);
+    fprintf(out, "work-groups: %s; %s; the megakernel uses %zu bytes of __local memory per group\n",
+            s->work_groups_reason ? s->work_groups_reason : "", resident, s->kernel_local_bytes);
     if (s->queues_kept)
         fprintf(out, "%u queue(s) started at the capacity an earlier run grew them to\n", s->queues_kept);
     if (s->overflowed_items)

@@ -274,8 +274,9 @@ static void run_check(const perma_device_ref *ref, device_info *info)
                  CHECK_DEPTH, 1u << CHECK_DEPTH);
     } else {
         info->check_ok = true;
-        snprintf(info->check, sizeof info->check, "ok: %u leaves of a depth-%u tree in %.3f s (build %.2f s)",
-                 leaves, CHECK_DEPTH, stats.seconds, built - start);
+        snprintf(info->check, sizeof info->check, "ok: %u leaves of a depth-%u tree in %.3f s (build %.2f s) on %u "
+                 "work-groups (%s), %zu bytes of __local memory each", leaves, CHECK_DEPTH, stats.seconds,
+                 built - start, stats.work_groups, stats.work_groups_reason, stats.kernel_local_bytes);
     }
     perma_destroy(rt);
 }

@@ -82,7 +82,59 @@ static int fault_now(const char *name)
 WRAP_STATUS(clGetPlatformIDs, (cl_uint n, cl_platform_id *p, cl_uint *count), (n, p, count))
 WRAP_STATUS(clGetDeviceIDs, (cl_platform_id p, cl_device_type t, cl_uint n, cl_device_id *d, cl_uint *count),
             (p, t, n, d, count))
-WRAP_STATUS(clGetDeviceInfo, (cl_device_id d, cl_device_info i, size_t s, void *v, size_t *r), (d, i, s, v, r))
+static struct {
+    cl_uint units;
+    cl_ulong local_bytes;
+    size_t kernel_group_size;
+    cl_ulong kernel_local_bytes;
+} pretend;
+
+void cl_fault_pretend_gpu(unsigned compute_units, unsigned long local_bytes, size_t kernel_group_size,
+                          unsigned long kernel_local_bytes)
+{
+    pretend.units = compute_units;
+    pretend.local_bytes = local_bytes;
+    pretend.kernel_group_size = kernel_group_size;
+    pretend.kernel_local_bytes = kernel_local_bytes;
+}
+
+/* The pretended answer to a query of `size` bytes, if there is one. */
+static int pretended(const void *answer, size_t answer_size, size_t size, void *value, size_t *size_ret)
+{
+    if (value && size < answer_size)
+        return 0;
+    if (value)
+        memcpy(value, answer, answer_size);
+    if (size_ret)
+        *size_ret = answer_size;
+    return 1;
+}
+
+cl_int clGetDeviceInfo(cl_device_id d, cl_device_info i, size_t s, void *v, size_t *r)
+{
+    if (fault_now("clGetDeviceInfo"))
+        return CL_OUT_OF_RESOURCES;
+    cl_device_type gpu = CL_DEVICE_TYPE_GPU;
+    if (pretend.units && ((i == CL_DEVICE_TYPE && pretended(&gpu, sizeof gpu, s, v, r)) ||
+                          (i == CL_DEVICE_MAX_COMPUTE_UNITS && pretended(&pretend.units, sizeof pretend.units, s, v, r)) ||
+                          (i == CL_DEVICE_LOCAL_MEM_SIZE &&
+                           pretended(&pretend.local_bytes, sizeof pretend.local_bytes, s, v, r))))
+        return CL_SUCCESS;
+    return REAL(clGetDeviceInfo)(d, i, s, v, r);
+}
+
+cl_int clGetKernelWorkGroupInfo(cl_kernel k, cl_device_id d, cl_kernel_work_group_info i, size_t s, void *v,
+                                size_t *r)
+{
+    if (fault_now("clGetKernelWorkGroupInfo"))
+        return CL_OUT_OF_RESOURCES;
+    if (pretend.units && ((i == CL_KERNEL_WORK_GROUP_SIZE &&
+                           pretended(&pretend.kernel_group_size, sizeof pretend.kernel_group_size, s, v, r)) ||
+                          (i == CL_KERNEL_LOCAL_MEM_SIZE && pretend.kernel_local_bytes &&
+                           pretended(&pretend.kernel_local_bytes, sizeof pretend.kernel_local_bytes, s, v, r))))
+        return CL_SUCCESS;
+    return REAL(clGetKernelWorkGroupInfo)(k, d, i, s, v, r);
+}
 WRAP_OBJECT(cl_context, clCreateContext,
             (const cl_context_properties *p, cl_uint n, const cl_device_id *d,
              void (CL_CALLBACK *f)(const char *, const void *, size_t, void *), void *u, cl_int *errcode_ret),

@@ -5,6 +5,8 @@
 #ifndef CL_FAULT_H
 #define CL_FAULT_H
 
+#include <stddef.h>
+
 /* Fail the `n`th wrapped call from now on (1 = the next); 0 disarms. */
 void cl_fault_arm(unsigned long n);
 /* Calls counted since the last arm (or since start). */
@@ -36,5 +38,14 @@ cl_fault_transfers cl_fault_transfers_since_launch(void);
 void cl_fault_report_stall(unsigned n);
 /* Header reads rewritten so since the last cl_fault_report_stall(). */
 unsigned cl_fault_stalls_reported(void);
+
+/* Make the device look like a GPU with `compute_units` compute units and
+ * `local_bytes` of __local memory (clGetDeviceInfo) on which a kernel runs
+ * work-groups of at most `kernel_group_size` work-items and uses
+ * `kernel_local_bytes` of __local memory (clGetKernelWorkGroupInfo; 0:
+ * what the kernel really uses), from the next query on; the real device
+ * still runs everything.  0 compute units: the real device again. */
+void cl_fault_pretend_gpu(unsigned compute_units, unsigned long local_bytes, size_t kernel_group_size,
+                          unsigned long kernel_local_bytes);
 
 #endif

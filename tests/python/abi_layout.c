@@ -83,6 +83,7 @@ int main(int argc, char **argv)
     FIELD(perma_stats, spills); FIELD(perma_stats, idle_polls); FIELD(perma_stats, overflowed_items);
     FIELD(perma_stats, technique); FIELD(perma_stats, strategy); FIELD(perma_stats, stacked_items);
     FIELD(perma_stats, stack_spills); FIELD(perma_stats, stack_peak); FIELD(perma_stats, stack_items);
+    FIELD(perma_stats, work_groups_reason); FIELD(perma_stats, resident_groups); FIELD(perma_stats, kernel_local_bytes);
     printf("}}\n}\n");
     return 0;
 }

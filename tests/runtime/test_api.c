@@ -218,7 +218,12 @@ START_TEST(work_groups_known_before_the_first_run)
     ck_assert_msg(stray == 0, "%u items ran with ctx->group >= %u", stray, work_groups);
     perma_stats stats;
     ck_assert_perma_ok(rt, perma_get_stats(rt, &stats));
-    ck_assert_uint_eq(stats.work_groups, work_groups);
+    /* A device that is not a CPU settles its count in the build, never
+     * above the one known before (docs/gpu.md). */
+    if (stats.resident_groups)
+        ck_assert_uint_le(stats.work_groups, work_groups);
+    else
+        ck_assert_uint_eq(stats.work_groups, work_groups);
     ck_assert_uint_eq(stats.group_size, group_size);
     perma_destroy(rt);
 }

@@ -22,6 +22,7 @@ CASES = {
     'reyes-render': (['--fov', '180'], "--fov '180': expected a number > 0.5 and < 179"),
     'perma-bench': (['nosuch'], "COMMAND 'nosuch': expected queue, tree, pipeline"),
     'reyes-quality': (['--size', '0', 'builtin'], "--size '0': expected a whole number in 16..4096"),
+    'perma-image-compare': (['--tolerance', '256'], "--tolerance '256': expected a whole number in 0..255"),
 }
 BENCH_COMMANDS = {
     'queue': (['--generators', '0'], "--generators '0': expected a whole number in 1..1048576"),

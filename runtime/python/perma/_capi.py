@@ -100,7 +100,8 @@ class Stats(ctypes.Structure):
                 ('donations', c_uint64), ('spills', c_uint64), ('idle_polls', c_uint64),
                 ('overflowed_items', c_uint64), ('technique', c_int), ('strategy', c_int),
                 ('stacked_items', c_uint64), ('stack_spills', c_uint64), ('stack_peak', c_uint),
-                ('stack_items', c_uint)]
+                ('stack_items', c_uint), ('work_groups_reason', c_char_p), ('resident_groups', c_uint),
+                ('kernel_local_bytes', c_size_t)]
 
 
 # Every structure above, by its C name (for the layout test).

@@ -19,6 +19,7 @@ def stats_dict(s):
     out = _fields(s)
     out['technique'] = _name(lib.perma_technique_name, s.technique)
     out['strategy'] = _name(lib.perma_strategy_name, s.strategy)
+    out['work_groups_reason'] = (s.work_groups_reason or b'').decode(errors='replace')
     return out
 
 
