@@ -338,14 +338,18 @@ static size_t wf_words_of(const perma_runtime *rt, unsigned items, unsigned slot
            32;
 }
 
-/* Stack items when the schedule leaves it to the runtime: 128 (a depth
- * first search of most trees fits, so few items spill), or fewer when
- * the stacks would take more than half the __local memory `free` words
- * leave (a GPU's 48 KiB); 0 when not even 8 fit. */
+/* Stack items when the schedule leaves it to the runtime.  On a CPU 128 (a
+ * depth-first search of most trees fits, so few items spill), or fewer
+ * when the stacks would take more than half the __local memory `free`
+ * words leave.  On other devices at most 32 in at most a quarter of it: a
+ * GPU's 48 KiB also decides how many groups a compute unit holds at once
+ * (device.c), and its work-items' stacks diverge anyway.  0 when not even
+ * 8 fit. */
 static unsigned default_work_first_items(const perma_runtime *rt, unsigned slot_words, size_t free)
 {
-    unsigned items = 128;
-    while (items >= 8 && wf_words_of(rt, items, slot_words) > free / 2)
+    unsigned items = rt->caps.is_cpu ? 128 : 32;
+    size_t share = rt->caps.is_cpu ? free / 2 : free / 4;
+    while (items >= 8 && wf_words_of(rt, items, slot_words) > share)
         items /= 2;
     return items >= 8 ? items : 0;
 }
