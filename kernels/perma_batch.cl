@@ -559,8 +559,8 @@ PERMA_PHASE void perma_publish_emits(__global uint *ctl, __global uint *queue_da
 
 /* Phase "dispatch": run each item of the batch with its procedure
  * (generated after this file, since it follows the batch layout above). */
-PERMA_PHASE void perma_dispatch(uint lid, __local perma_group_mem *mem, __global uint *stage, ulong *lane,
-                                perma_buffers buf);
+PERMA_PHASE void perma_dispatch(uint lid, __global uint *ctl, __local perma_group_mem *mem, __global uint *stage,
+                                ulong *lane, perma_buffers buf);
 
 /* Work-item 0 after a batch it ran: the progress counts in the group's
  * watch page record (kernels/perma_abi.h), its items and what it emitted
@@ -604,7 +604,7 @@ inline void perma_run_batch(__global uint *ctl, __global uint *queue_data, __glo
 #endif
 
     /* Run the procedure (the generated dispatch). */
-    perma_dispatch(get_local_id(0), mem, perma_emit_area(emit_areas) + PERMA_EMIT_AREA_STAGE, lane, buf);
+    perma_dispatch(get_local_id(0), ctl, mem, perma_emit_area(emit_areas) + PERMA_EMIT_AREA_STAGE, lane, buf);
     barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
 
     if (get_local_id(0) == 0)

@@ -209,16 +209,22 @@ static void append_procedure_sources(perma_runtime *rt, perma_strbuf *sb)
 
 /* Work-first (kernels/perma_work_first.cl): every simple procedure's
  * batch items and the work-item's stack in one loop, so each procedure has
- * one call site.  The stack's top item runs first while it has room for
+ * one call site.  It asks for no work-item function (get_group_id and the
+ * like): PoCL inlines every function that does into the kernel, where its
+ * locals would live in per-work-item context arrays.  The stack's top item runs first while it has room for
  * its emits and the batch's budget lasts, then the next batch item; a
- * finished item's slot is freed when the items above it are done.  The
+ * finished item's slot is freed when the items above it are done.  When
+ * another group is idle (PERMA_CTL_HUNGRY: a word written rarely, so the
+ * load per item stays in the cache) a stack that has something to give
+ * stops after its first item, so that the batch ends and work-item 0
+ * gives (perma_wf_relieve) without waiting for the budget.  The
  * counts of what ran and was pushed stay in private variables (constant
  * indices) and reach the group's counters once per batch. */
 static void append_run_simple(perma_runtime *rt, perma_strbuf *sb)
 {
     perma_strbuf_append(sb,
-        "__attribute__((noinline, flatten)) void perma_run_simple(uint lid, __local perma_group_mem *mem,\n"
-        "                                                         const perma_ctx *caller)\n"
+        "__attribute__((noinline, flatten)) void perma_run_simple(uint lid, __global uint *ctl,\n"
+        "                                                         __local perma_group_mem *mem, const perma_ctx *caller)\n"
         "{\n"
         "    perma_ctx context = *caller; /* its own copies: the fields can live in registers */\n"
         "    perma_ctx *ctx = &context;\n"
@@ -246,7 +252,7 @@ static void append_run_simple(perma_runtime *rt, perma_strbuf *sb)
         "    /* The group's record in the watch page names the procedure running\n"
         "     * (the watchdog's message, if one never returns). */\n"
         "    volatile __global uint *watch = ctx->buf.perma_watch_page + PERMA_WATCH_RECORDS +\n"
-        "                                    get_group_id(0) * PERMA_WATCH_GROUP_WORDS + PERMA_WATCH_RUNNING;\n"
+        "                                    ctx->group * PERMA_WATCH_GROUP_WORDS + PERMA_WATCH_RUNNING;\n"
         "    uint shown = batch_proc;\n");
     for (unsigned i = 0; i < rt->proc_count; ++i) {
         const perma_proc_info *p = &rt->procs[i];
@@ -263,7 +269,8 @@ static void append_run_simple(perma_runtime *rt, perma_strbuf *sb)
         "        if (sp > 0u && (procs[sp - 1u] & PERMA_WF_DONE)) {\n"
         "            --sp; /* its items ran: the slot is free */\n"
         "            have = 0u;\n"
-        "        } else if (sp > 0u && budget > 0u && PERMA_WORK_FIRST - sp >= perma_wf_need[procs[sp - 1u]]) {\n"
+        "        } else if (sp > 0u && budget > 0u && PERMA_WORK_FIRST - sp >= perma_wf_need[procs[sp - 1u]] &&\n"
+        "                   !(sp > 1u && budget < PERMA_WF_BUDGET && perma_load_int(ctl + PERMA_CTL_HUNGRY) > 0)) {\n"
         "            top = sp - 1u;\n"
         "            q = procs[top];\n"
         "            procs[top] = q | PERMA_WF_DONE;\n"
@@ -365,9 +372,10 @@ static void append_run_simple(perma_runtime *rt, perma_strbuf *sb)
  * procedures may be larger than the group). */
 static void append_dispatch(perma_runtime *rt, perma_strbuf *sb)
 {
-    perma_strbuf_append(sb, "PERMA_PHASE void perma_dispatch(uint lid, __local perma_group_mem *mem, __global uint *stage,\n"
-                            "                             ulong *lane, perma_buffers buf)\n"
+    perma_strbuf_append(sb, "PERMA_PHASE void perma_dispatch(uint lid, __global uint *ctl, __local perma_group_mem *mem,\n"
+                            "                             __global uint *stage, ulong *lane, perma_buffers buf)\n"
                             "{\n"
+                            "    (void)ctl;\n"
                             "    const uint proc = mem->batch[PERMA_B_PROC];\n"
                             "    const uint run = perma_batch_run(mem);\n"
                             "    __local uint *arena = mem->arena;\n"
@@ -436,7 +444,7 @@ static void append_dispatch(perma_runtime *rt, perma_strbuf *sb)
     }
     perma_strbuf_append(sb, "    }\n");
     if (rt->build.wf_items)
-        perma_strbuf_append(sb, "    perma_run_simple(lid, mem, ctx);\n");
+        perma_strbuf_append(sb, "    perma_run_simple(lid, ctl, mem, ctx);\n");
     perma_strbuf_append(sb, "}\n");
 }
 
