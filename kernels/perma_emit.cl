@@ -95,22 +95,20 @@ PERMA_PHASE int perma_emit(perma_ctx *ctx, uint target, const perma_item_word *s
 /* Push an item of procedure `target` onto the running work-item's stack:
  * the slot to write it to (the emit helper stores it there by its own
  * type, so the procedure that runs it reads the same fields it was
- * written with), or 0 after recording the error if the target is not
- * declared in .emits or the stack is full.  The caller made sure of the
- * room for the item's declared emits (ctx->wf_room); whether it kept to
- * them is checked from the stack when it returns (perma_run_simple), so a
- * push costs no counting. */
+ * written with).  The caller made sure of the room for the item's
+ * declared emits (ctx->wf_room); whether it kept to them is checked from
+ * the stack when it returns (perma_run_simple), so a push costs no
+ * counting.  A target not declared in .emits, or a push past the stack,
+ * records the error (the run fails) and gets the stack's last slot to
+ * write into, so the caller needs no test. */
 PERMA_PHASE __local uint *perma_wf_push(perma_ctx *ctx, uint target)
 {
     uint sp = ctx->wf_sp;
-    if (perma_edge_index[ctx->proc * PERMA_NUM_PROCS + target] < 0) {
-        atomic_cmpxchg(ctx->error_code, 0u, PERMA_EMIT_ERROR_UNDECLARED | target);
-        return 0;
-    }
-    if (sp >= PERMA_WORK_FIRST) { /* past every declared maximum */
+    int edge = perma_edge_index[ctx->proc * PERMA_NUM_PROCS + target];
+    if (edge < 0 || sp >= PERMA_WORK_FIRST) {
         atomic_cmpxchg(ctx->error_code, 0u,
-                       PERMA_EMIT_ERROR_LIMIT | (uint)perma_edge_index[ctx->proc * PERMA_NUM_PROCS + target]);
-        return 0;
+                       edge < 0 ? PERMA_EMIT_ERROR_UNDECLARED | target : PERMA_EMIT_ERROR_LIMIT | (uint)edge);
+        return ctx->wf_slots + (PERMA_WORK_FIRST - 1u) * PERMA_WF_SLOT_WORDS;
     }
     ctx->wf_procs[sp] = target;
     ctx->wf_sp = sp + 1u;

@@ -40,14 +40,14 @@ inline __local perma_item_word *perma_wf_slot(__local perma_group_mem *mem, uint
 }
 
 /* Whether work-item l's top item cannot run: it is not done and the stack
- * lacks room for all it may emit. */
+ * lacks the room a stack item runs with (PERMA_WF_NEED). */
 inline int perma_wf_stuck(__local perma_group_mem *mem, uint l)
 {
     uint sp = mem->wf_sp[l];
     if (sp == 0)
         return 0;
     uint top = perma_wf_procs(mem, l)[sp - 1u];
-    return !(top & PERMA_WF_DONE) && PERMA_WORK_FIRST - sp < perma_wf_need[top];
+    return !(top & PERMA_WF_DONE) && PERMA_WORK_FIRST - sp < PERMA_WF_NEED;
 }
 
 /* Work-item 0: move the items in slots [0, count) of work-item l's stack

@@ -163,12 +163,10 @@ static void append_emit_helpers(perma_runtime *rt, perma_strbuf *sb)
         if (p->stackable)
             perma_strbuf_printf(sb,
                                 "    if (ctx->wf_room) {\n"
-                                "        __local uint *slot = perma_wf_push(ctx, %uu);\n"
-                                "        if (slot)\n"
-                                "            *(__local %s *)slot = *item;\n"
-                                "        return slot != 0;\n"
+                                "        *(__local %s *)perma_wf_push(ctx, %uu) = *item;\n"
+                                "        return 1;\n"
                                 "    }\n",
-                                t, type);
+                                type, t);
         perma_strbuf_printf(sb,
                             "    if (__alignof__(%s) %% 4u == 0u)\n"
                             "        return perma_emit(ctx, %uu, (const perma_item_word *)item);\n"
@@ -209,17 +207,42 @@ static void append_procedure_sources(perma_runtime *rt, perma_strbuf *sb)
 
 /* Work-first (kernels/perma_work_first.cl): every simple procedure's
  * batch items and the work-item's stack in one loop, so each procedure has
- * one call site.  It asks for no work-item function (get_group_id and the
+ * one call site.  A stack item runs with room for the largest declared
+ * emits of any stackable procedure (PERMA_WF_NEED, a constant: no table
+ * load per item).  It asks for no work-item function (get_group_id and the
  * like): PoCL inlines every function that does into the kernel, where its
  * locals would live in per-work-item context arrays.  The stack's top item runs first while it has room for
  * its emits and the batch's budget lasts, then the next batch item; a
  * finished item's slot is freed when the items above it are done.  When
- * another group is idle (PERMA_CTL_HUNGRY: a word written rarely, so the
+ * another group is idle (PERMA_CTL_HUNGRY: a word written rarely, so its
  * load per item stays in the cache) a stack that has something to give
- * stops after its first item, so that the batch ends and work-item 0
- * gives (perma_wf_relieve) without waiting for the budget.  The
+ * stops, so that the batch ends and work-item 0 gives (perma_wf_relieve)
+ * without waiting for the budget: a coarse item's group shares at once.  The
  * counts of what ran and was pushed stay in private variables (constant
  * indices) and reach the group's counters once per batch. */
+/* After an item of stackable procedure p (index i) that ran with stack
+ * room: its pushes per edge, from the stack above `sp` (at most the
+ * declared maximum each, else the run fails), added to its counters. */
+static void append_pushes_counted(const perma_proc_info *p, unsigned i, perma_strbuf *sb, const char *indent)
+{
+    if (p->emit_count == 1) {
+        perma_strbuf_printf(sb, "%suint count_0 = ctx->wf_sp - sp;\n", indent);
+    } else {
+        for (unsigned e = 0; e < p->emit_count; ++e)
+            perma_strbuf_printf(sb, "%suint count_%u = 0u;\n", indent, e);
+        perma_strbuf_printf(sb, "%sfor (uint i = sp; i < ctx->wf_sp; ++i) {\n", indent);
+        for (unsigned e = 0; e < p->emit_count; ++e)
+            perma_strbuf_printf(sb, "%s    count_%u += procs[i] == %uu;\n", indent, e, (unsigned)p->emit_target[e]);
+        perma_strbuf_printf(sb, "%s}\n", indent);
+    }
+    for (unsigned e = 0; e < p->emit_count; ++e)
+        perma_strbuf_printf(sb,
+                            "%sif (count_%u > %uu)\n"
+                            "%s    atomic_cmpxchg(ctx->error_code, 0u, PERMA_EMIT_ERROR_LIMIT | %uu);\n"
+                            "%spushed_%u_%u += count_%u;\n",
+                            indent, e, p->emit_max[e], indent, e, indent, i, e, e);
+}
+
 static void append_run_simple(perma_runtime *rt, perma_strbuf *sb)
 {
     perma_strbuf_append(sb,
@@ -263,43 +286,62 @@ static void append_run_simple(perma_runtime *rt, perma_strbuf *sb)
             perma_strbuf_printf(sb, "    uint pushed_%u_%u = 0u;\n", i, e);
     }
     perma_strbuf_append(sb,
-        "    for (uint more = 1u; more;) {\n"
-        "        uint q = 0u, top = 0u, stacked = 0u, have = 1u;\n"
-        "        __local const uint *item = items;\n"
-        "        if (sp > 0u && (procs[sp - 1u] & PERMA_WF_DONE)) {\n"
-        "            --sp; /* its items ran: the slot is free */\n"
-        "            have = 0u;\n"
-        "        } else if (sp > 0u && budget > 0u && PERMA_WORK_FIRST - sp >= perma_wf_need[procs[sp - 1u]] &&\n"
-        "                   !(sp > 1u && budget < PERMA_WF_BUDGET && perma_load_int(ctl + PERMA_CTL_HUNGRY) > 0)) {\n"
-        "            top = sp - 1u;\n"
-        "            q = procs[top];\n"
-        "            procs[top] = q | PERMA_WF_DONE;\n"
-        "            item = slots + top * PERMA_WF_SLOT_WORDS;\n"
-        "            stacked = 1u;\n"
+        "    for (;;) {\n"
+        "        /* The stack, depth first: its top item runs in place. */\n"
+        "        ctx->slot = lid;\n"
+        "        ctx->scratch = (__local void *)0;\n"
+        "        ctx->lane_counts = (__local uint *)0;\n"
+        "        ctx->wf_room = 1u;\n"
+        "        while (sp > 0u) {\n"
+        "            const uint q = procs[sp - 1u];\n"
+        "            if (q & PERMA_WF_DONE) {\n"
+        "                --sp; /* its items ran: the slot is free */\n"
+        "                continue;\n"
+        "            }\n"
+        "            if (budget == 0u || PERMA_WORK_FIRST - sp < PERMA_WF_NEED ||\n"
+        "                (perma_load_int(ctl + PERMA_CTL_HUNGRY) > 0 && sp > 1u && budget < PERMA_WF_BUDGET))\n"
+        "                break;\n"
         "            --budget;\n"
-        "            ctx->slot = lid;\n"
-        "            ctx->scratch = (__local void *)0;\n"
-        "            ctx->lane_counts = (__local uint *)0;\n"
-        "            ctx->wf_room = 1u;\n"
-        "        } else if (slot < run) {\n"
-        "            q = batch_proc;\n"
-        "            item = items + slot * perma_item_words[q];\n"
-        "            ctx->slot = slot;\n"
-        "            ctx->scratch = (__local void *)(arena + perma_scratch_off[q] + slot * perma_scratch_words[q]);\n"
-        "            ctx->lane_counts = arena + perma_lane_counts_off[q] + lid * perma_edge_count[q];\n"
-        "            ctx->wf_room = PERMA_WORK_FIRST - sp >= perma_wf_need[q] ? 1u : 0u;\n"
-        "            slot += PERMA_GROUP_SIZE;\n"
-        "        } else {\n"
-        "            have = more = 0u;\n"
+        "            const uint top = sp - 1u;\n"
+        "            procs[top] = q | PERMA_WF_DONE;\n"
+        "            __local const uint *item = slots + top * PERMA_WF_SLOT_WORDS;\n"
+        "            ctx->wf_sp = sp;\n"
+        "            ctx->proc = q;\n"
+        "            if (q != shown) {\n"
+        "                atomic_xchg(watch, q + 1u);\n"
+        "                shown = q;\n"
+        "            }\n"
+        "            switch (q) {\n");
+    for (unsigned i = 0; i < rt->proc_count; ++i) {
+        const perma_proc_info *p = &rt->procs[i];
+        if (!p->stackable)
+            continue;
+        perma_strbuf_printf(sb, "            case %u:\n                %s(ctx, (__local const %s *)item);\n", i,
+                            p->function, p->item_type);
+        append_pushes_counted(p, i, sb, "                ");
+        perma_strbuf_printf(sb, "                ++ran_%u;\n                break;\n", i);
+    }
+    perma_strbuf_append(sb,
+        "            }\n"
+        "            if (ctx->wf_sp == sp) {\n"
+        "                sp = top; /* it pushed nothing: its slot is free now */\n"
+        "            } else {\n"
+        "                sp = ctx->wf_sp;\n"
+        "                peak = max(peak, sp);\n"
+        "            }\n"
         "        }\n"
-        "        if (!have)\n"
-        "            continue;\n"
+        "        /* The batch's next item. */\n"
+        "        if (slot >= run)\n"
+        "            break;\n"
+        "        const uint q = batch_proc;\n"
+        "        __local const uint *item = items + slot * perma_item_words[q];\n"
+        "        ctx->slot = slot;\n"
+        "        ctx->scratch = (__local void *)(arena + perma_scratch_off[q] + slot * perma_scratch_words[q]);\n"
+        "        ctx->lane_counts = arena + perma_lane_counts_off[q] + lid * perma_edge_count[q];\n"
+        "        ctx->wf_room = PERMA_WORK_FIRST - sp >= perma_wf_need[q] ? 1u : 0u;\n"
         "        ctx->wf_sp = sp;\n"
         "        ctx->proc = q;\n"
-        "        if (q != shown) {\n"
-        "            atomic_xchg(watch, q + 1u);\n"
-        "            shown = q;\n"
-        "        }\n"
+        "        slot += PERMA_GROUP_SIZE;\n"
         "        switch (q) {\n");
     for (unsigned i = 0; i < rt->proc_count; ++i) {
         const perma_proc_info *p = &rt->procs[i];
@@ -307,44 +349,24 @@ static void append_run_simple(perma_runtime *rt, perma_strbuf *sb)
             continue;
         perma_strbuf_printf(sb, "        case %u:\n            %s(ctx, (__local const %s *)item);\n", i, p->function,
                             p->item_type);
-        /* Its pushes, per edge, from the stack (at most the declared
-         * maximum each); the staged emits' counters, for the next item. */
+        /* Its emits went onto the stack (room) or to the staging. */
         if (p->stackable && p->emit_count) {
             perma_strbuf_append(sb, "            if (ctx->wf_room) {\n");
-            if (p->emit_count == 1) {
-                perma_strbuf_append(sb, "                uint count_0 = ctx->wf_sp - sp;\n");
-            } else {
-                for (unsigned e = 0; e < p->emit_count; ++e)
-                    perma_strbuf_printf(sb, "                uint count_%u = 0u;\n", e);
-                perma_strbuf_append(sb, "                for (uint i = sp; i < ctx->wf_sp; ++i) {\n");
-                for (unsigned e = 0; e < p->emit_count; ++e)
-                    perma_strbuf_printf(sb, "                    count_%u += procs[i] == %uu;\n", e,
-                                        (unsigned)p->emit_target[e]);
-                perma_strbuf_append(sb, "                }\n");
-            }
-            for (unsigned e = 0; e < p->emit_count; ++e)
-                perma_strbuf_printf(sb,
-                                    "                if (count_%u > %uu)\n"
-                                    "                    atomic_cmpxchg(ctx->error_code, 0u, PERMA_EMIT_ERROR_LIMIT | %uu);\n"
-                                    "                pushed_%u_%u += count_%u;\n",
-                                    e, p->emit_max[e], e, i, e, e);
+            append_pushes_counted(p, i, sb, "                ");
             perma_strbuf_append(sb, "            } else {\n");
         }
         for (unsigned e = 0; e < p->emit_count; ++e)
             perma_strbuf_printf(sb, "            own[%u] = 0u;\n", e);
         if (p->stackable && p->emit_count)
             perma_strbuf_append(sb, "            }\n");
-        if (p->stackable)
-            perma_strbuf_printf(sb, "            ran_%u += stacked;\n", i);
         perma_strbuf_append(sb, "            break;\n");
     }
     perma_strbuf_append(sb,
         "        }\n"
         "        sp = ctx->wf_sp;\n"
         "        peak = max(peak, sp);\n"
-        "        if (stacked && sp == top + 1u)\n"
-        "            sp = top; /* it pushed nothing: its slot is free now */\n"
-        "    }\n"
+        "    }\n");
+    perma_strbuf_append(sb,
         "    mem->wf_sp[lid] = sp;\n"
         "#if PERMA_NUM_REDUCTIONS\n"
         "    for (uint w = 0; w < PERMA_REDUCE_WORDS; ++w)\n"
@@ -478,6 +500,7 @@ perma_status perma_generate_program(perma_runtime *rt, const perma_strbuf *reduc
                             "#define PERMA_WORK_FIRST %uu\n"
                             "#define PERMA_WF_SLOT_WORDS %uu\n"
                             "#define PERMA_WF_BUDGET %uu\n"
+                            "#define PERMA_WF_NEED %uu\n"
                             "#define PERMA_WF_NEVER 0xffffffffu\n",
                         rt->proc_count, rt->group_size, item_barrier, rt->proc_count, rt->build.max_edges,
                         rt->build.arena_words, rt->build.stage_words, rt->build.queue_sets,
@@ -485,7 +508,7 @@ perma_status perma_generate_program(perma_runtime *rt, const perma_strbuf *reduc
                         rt->config.schedule.victim == PERMA_VICTIM_ROUND_ROBIN, rt->config.schedule.donation_threshold,
                         rt->build.local_queue_items, rt->build.lq_words ? rt->build.lq_words : 1u,
                         rt->build.device_trace_events, rt->build.wf_items,
-                        rt->build.wf_slot_words ? rt->build.wf_slot_words : 1u, rt->build.wf_budget);
+                        rt->build.wf_slot_words ? rt->build.wf_slot_words : 1u, rt->build.wf_budget, rt->build.wf_need);
     if (reduce_constants->length)
         perma_strbuf_append(sb, reduce_constants->data);
     perma_strbuf_append(sb, perma_kernel_abi);

@@ -399,6 +399,10 @@ static void compute_work_first(perma_runtime *rt, size_t free)
     rt->build.wf_items = slot ? items : 0;
     rt->build.wf_slot_words = slot ? round_up(slot, align < 4 ? 1 : align / 4) : 0;
     rt->build.wf_budget = rt->caps.is_cpu ? WF_BUDGET_CPU : WF_BUDGET_GPU;
+    rt->build.wf_need = 0;
+    for (unsigned i = 0; i < n; ++i)
+        if (rt->procs[i].stackable && rt->procs[i].wf_need > rt->build.wf_need)
+            rt->build.wf_need = rt->procs[i].wf_need;
     rt->build.wf_words =
         rt->build.wf_items ? (unsigned)wf_words_of(rt, rt->build.wf_items, rt->build.wf_slot_words) : 0;
 }

@@ -29,10 +29,12 @@ typedef struct perma_build_products {
     /* Work-first (layout.c, perma_schedule.work_first_items): items on a
      * work-item's stack (0: off, also when no procedure can be stacked),
      * words of a stack slot, items a work-item runs from its stack in one
-     * batch, and the __local words of the stacks and their counters. */
+     * batch, the room a stack item runs with, and the __local words of the
+     * stacks and their counters. */
     unsigned wf_items;
     unsigned wf_slot_words;
     unsigned wf_budget;
+    unsigned wf_need;              /* the most stack room an item of a stackable procedure needs */
     unsigned wf_words;
     size_t local_bytes;            /* the layout's figure of a group's __local memory (arena and the rest) */
     unsigned order[PERMA_MAX_PROCEDURES];
