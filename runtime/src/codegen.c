@@ -316,10 +316,10 @@ static void append_run_simple(perma_runtime *rt, perma_strbuf *sb)
         const perma_proc_info *p = &rt->procs[i];
         if (!p->stackable)
             continue;
-        perma_strbuf_printf(sb, "            case %u:\n                %s(ctx, (__local const %s *)item);\n", i,
+        perma_strbuf_printf(sb, "            case %u: {\n                %s(ctx, (__local const %s *)item);\n", i,
                             p->function, p->item_type);
         append_pushes_counted(p, i, sb, "                ");
-        perma_strbuf_printf(sb, "                ++ran_%u;\n                break;\n", i);
+        perma_strbuf_printf(sb, "                ++ran_%u;\n                break;\n            }\n", i);
     }
     perma_strbuf_append(sb,
         "            }\n"
