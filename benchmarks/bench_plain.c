@@ -1,6 +1,7 @@
 /* `perma-bench plain`: the command, and the rows and perma helpers that
  * every plain workload shares (plain.h). */
 #include "plain.h"
+#include "plain_work.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -146,6 +147,7 @@ static const struct {
     { "simpson", plain_simpson },
     { "queens", plain_queens },
     { "sort", plain_sort },
+    { "subset", plain_subset },
 };
 enum { WORKLOAD_COUNT = sizeof workloads / sizeof workloads[0] };
 
@@ -164,7 +166,7 @@ static int parse_workloads(const perma_cli_option *option, const char *value, ch
     }
     if (!found || !selected) {
         snprintf(complaint, size, "expected a comma-separated list of uts-geometric, uts-binomial, simpson, "
-                                  "queens or sort");
+                                  "queens, sort or subset");
         return 1;
     }
     *(unsigned *)option->target = selected;
@@ -180,12 +182,15 @@ int bench_plain(bench_options *common, int argc, char **argv)
     unsigned selected = (1u << WORKLOAD_COUNT) - 1u, count = 0;
     const perma_cli_option rows[] = {
         { PERMA_CLI_CUSTOM("workload", "LIST", parse_workloads, &selected,
-                           "comma-separated: uts-geometric, uts-binomial, simpson, queens, sort (default: all)") },
+                           "comma-separated: uts-geometric, uts-binomial, simpson, queens, sort, subset (default: "
+                           "all)") },
         { PERMA_CLI_CHOICE("count", "HOW", &count, count_names,
                            "how the procedures add to their results: reduce (reduce_NAME, the runtime's "
                            "reductions; default), atomic (a global atomic per result per item, all groups on one "
                            "word; rows marked [atomics]) or both (a row for each)") },
         { PERMA_CLI_WHOLE("group-size", "N", &o.group_size, 1, 4096, "perma work-items per group (default 64)") },
+        { PERMA_CLI_WHOLE("weights", "N", &o.weights, 1, SUBSET_MAX_WEIGHTS,
+                          "subset: N weights (default 30, 16 with --quick; 34 makes 6.7e9 nodes)") },
         { PERMA_CLI_WHOLE("cutoff", "D", &o.cutoff, 1, 4096,
                           "OpenMP: spawn tasks only above depth D, in every workload (default: each workload's "
                           "own, shown in its row)") },

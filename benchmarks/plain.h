@@ -4,8 +4,8 @@
  * with reduce_<name>), each against sequential C and OpenMP tasks.
  *
  * bench_plain.c holds the command and the rows every workload shares;
- * plain_uts.c, plain_simpson.c, plain_queens.c and plain_sort.c one
- * workload each (host side), plain_*.cl their procedures, plain_work.h the
+ * plain_uts.c, plain_simpson.c, plain_queens.c, plain_sort.c and
+ * plain_subset.c one workload each (host side), plain_*.cl their procedures, plain_work.h the
  * per-item work that the procedures and the baselines (plain_baselines.h)
  * share. */
 #ifndef PLAIN_H
@@ -17,7 +17,7 @@
 
 /* The procedure sources, embedded at build time (kernels/embed.py). */
 extern const char plain_work_source[], plain_uts_source[], plain_simpson_source[], plain_queens_source[],
-    plain_sort_source[];
+    plain_sort_source[], plain_subset_source[];
 
 typedef enum plain_count {
     PLAIN_COUNT_REDUCE = 1, /* reduce_<name>(ctx, value): a reduction per result */
@@ -29,6 +29,7 @@ typedef struct plain_options {
     unsigned counts;        /* plain_count bits: the ways of counting measured */
     unsigned group_size;    /* perma work-items per group */
     unsigned cutoff;        /* OpenMP spawn depth for every workload; 0: each one's default */
+    unsigned weights;       /* subset sum: weights; 0: the default (30, 16 with --quick) */
 } plain_options;
 
 /* The OpenMP spawn depth: --cutoff, or the workload's default. */
@@ -96,5 +97,6 @@ int plain_uts_binomial(const plain_options *o, bench_report *report);
 int plain_simpson(const plain_options *o, bench_report *report);
 int plain_queens(const plain_options *o, bench_report *report);
 int plain_sort(const plain_options *o, bench_report *report);
+int plain_subset(const plain_options *o, bench_report *report);
 
 #endif

@@ -76,6 +76,27 @@ uint64_t plain_queens_sequential(uint n);
  * others are solved inside their task. */
 uint64_t plain_queens_openmp(uint n, unsigned threads, uint spawn_depth);
 
+/* ---- subset sum ---- */
+
+typedef struct plain_subset_instance {
+    uint n;                                 /* weights */
+    uint weights[SUBSET_MAX_WEIGHTS];
+    uint suffix[SUBSET_MAX_WEIGHTS + 1u];   /* suffix[i]: weights i, i + 1, ... */
+    uint target;                            /* half their sum */
+} plain_subset_instance;
+
+typedef struct plain_subset_result {
+    uint64_t nodes, solutions;
+} plain_subset_result;
+
+/* The instance of n weights (subset_weight). */
+void plain_subset_instance_init(plain_subset_instance *s, uint n);
+/* The textbook recursion over the whole search tree. */
+void plain_subset_sequential(const plain_subset_instance *s, plain_subset_result *out);
+/* Nodes above depth spawn_depth spawn a task per child, deeper ones
+ * recurse inside their task. */
+void plain_subset_openmp(const plain_subset_instance *s, unsigned threads, uint spawn_depth, plain_subset_result *out);
+
 /* ---- quicksort ---- */
 
 void plain_sort_sequential(uint *keys, uint n);

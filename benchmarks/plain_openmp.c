@@ -164,3 +164,49 @@ void plain_sort_openmp(uint *keys, uint n, uint cutoff, unsigned threads, uint s
 #pragma omp single
     sort_task(keys, 0u, n, cutoff, 0u, spawn_depth);
 }
+
+/* ---- subset sum ---- */
+
+static void subset_inline(const plain_subset_instance *s, uint index, uint need, plain_subset_result *r)
+{
+    r->nodes++;
+    r->solutions += need == 0u;
+    if (!subset_branches(s->n, s->suffix, index, need))
+        return;
+    subset_inline(s, index + 1u, need, r);
+    if (s->weights[index] <= need)
+        subset_inline(s, index + 1u, need - s->weights[index], r);
+}
+
+static void subset_task(const plain_subset_instance *s, uint index, uint need, uint spawn_depth)
+{
+    struct thread_sums *t = &sums[omp_get_thread_num()];
+    if (index >= spawn_depth) {
+        plain_subset_result r = { 0, 0 };
+        subset_inline(s, index, need, &r);
+        t->a += r.nodes;
+        t->b += r.solutions;
+        return;
+    }
+    t->a++;
+    t->b += need == 0u;
+    if (!subset_branches(s->n, s->suffix, index, need))
+        return;
+#pragma omp task
+    subset_task(s, index + 1u, need, spawn_depth);
+    if (s->weights[index] <= need) {
+#pragma omp task
+        subset_task(s, index + 1u, need - s->weights[index], spawn_depth);
+    }
+}
+
+void plain_subset_openmp(const plain_subset_instance *s, unsigned threads, uint spawn_depth, plain_subset_result *out)
+{
+    threads = clamp_threads(threads);
+#pragma omp parallel num_threads(threads)
+#pragma omp single
+    subset_task(s, 0u, s->target, spawn_depth);
+    struct thread_sums total = add_sums(threads);
+    out->nodes = total.a;
+    out->solutions = total.b;
+}

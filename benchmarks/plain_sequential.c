@@ -50,3 +50,34 @@ void plain_sort_sequential(uint *keys, uint n)
 {
     sort_range_sequential(keys, 0u, n);
 }
+
+void plain_subset_instance_init(plain_subset_instance *s, uint n)
+{
+    uint64_t total = 0;
+    s->n = n < SUBSET_MAX_WEIGHTS ? n : SUBSET_MAX_WEIGHTS;
+    s->suffix[s->n] = 0u;
+    for (uint i = s->n; i-- > 0;) {
+        s->weights[i] = subset_weight(i);
+        s->suffix[i] = s->suffix[i + 1u] + s->weights[i];
+    }
+    total = s->suffix[0];
+    s->target = (uint)(total / 2u);
+}
+
+static void subset_visit(const plain_subset_instance *s, uint index, uint need, plain_subset_result *r)
+{
+    r->nodes++;
+    r->solutions += need == 0u;
+    if (!subset_branches(s->n, s->suffix, index, need))
+        return;
+    subset_visit(s, index + 1u, need, r);
+    if (s->weights[index] <= need)
+        subset_visit(s, index + 1u, need - s->weights[index], r);
+}
+
+void plain_subset_sequential(const plain_subset_instance *s, plain_subset_result *out)
+{
+    plain_subset_result r = { 0, 0 };
+    subset_visit(s, 0u, s->target, &r);
+    *out = r;
+}

@@ -15,6 +15,7 @@
 #pragma OPENCL FP_CONTRACT OFF
 #define PLAIN_FN
 #define PLAIN_GLOBAL __global
+#define PLAIN_CONSTANT __constant
 #else
 #include <math.h>
 #include <stdint.h>
@@ -22,6 +23,7 @@ typedef uint32_t uint;
 typedef uint64_t ulong;
 #define PLAIN_FN static inline
 #define PLAIN_GLOBAL
+#define PLAIN_CONSTANT
 #endif
 
 /* ---- UTS trees: a node per item, a splitmix64 hash per child ---- */
@@ -189,6 +191,29 @@ PLAIN_FN uint queens_solve(uint n, uint row, uint columns, uint left, uint right
         f[d + 1u] = queens_free(n, c[d + 1u], l[d + 1u], r[d + 1u]);
         ++d;
     }
+}
+
+/* ---- subset sum: a node of a branch-and-bound search per item ---- */
+
+#define SUBSET_MAX_WEIGHTS 48u
+
+/* Choosing the weights index.. (each taken or not) to reach `need`. */
+struct subset_node {
+    uint index, need;
+};
+
+/* Weight i of the instance: 1000 to 9999. */
+PLAIN_FN uint subset_weight(uint i)
+{
+    return 1000u + (uint)(splitmix64((ulong)i * 0x9e3779b97f4a7c15UL) % 9000UL);
+}
+
+/* Whether node v has children (it is not a solution, weights are left,
+ * and those left can still reach its need); suffix[i] is the sum of
+ * weights i, i + 1, ... */
+PLAIN_FN int subset_branches(uint n, PLAIN_CONSTANT const uint *suffix, uint index, uint need)
+{
+    return need != 0u && index < n && suffix[index] >= need;
 }
 
 /* ---- quicksort: a range of the key array per item ---- */
