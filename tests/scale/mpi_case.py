@@ -339,10 +339,11 @@ def case_queens(args, tmp):
 
 
 # Long enough that a rank is still searching when the cases below stop or
-# kill it 1.5 s in (14 queens took under a second on an idle machine), and
-# short enough that rank 0 runs out of its own share and asks the stopped
-# rank for work within seconds (it notices a silent rank only then).
-QUEENS_LONG = ['--n', '15', '--rank-timeout', '3']
+# kill it 1.5 s in (15 queens take under 2 s on 2 ranks of an idle
+# machine), and short enough that rank 0 runs out of its own share and
+# asks the stopped rank for work within seconds (it notices a silent rank
+# only then).
+QUEENS_LONG = ['--n', '16', '--rank-timeout', '3']
 
 
 def case_queens_killed(args, tmp):
