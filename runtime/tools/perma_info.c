@@ -274,9 +274,13 @@ static void run_check(const perma_device_ref *ref, device_info *info)
                  CHECK_DEPTH, 1u << CHECK_DEPTH);
     } else {
         info->check_ok = true;
+        char stacks[96] = "; work-first off";
+        if (stats.stack_items)
+            snprintf(stacks, sizeof stacks, "; work-first stacks of %u items, %llu of the nodes ran from them",
+                     stats.stack_items, (unsigned long long)stats.stacked_items);
         snprintf(info->check, sizeof info->check, "ok: %u leaves of a depth-%u tree in %.3f s (build %.2f s) on %u "
-                 "work-groups (%s), %zu bytes of __local memory each", leaves, CHECK_DEPTH, stats.seconds,
-                 built - start, stats.work_groups, stats.work_groups_reason, stats.kernel_local_bytes);
+                 "work-groups (%s), %zu bytes of __local memory each%s", leaves, CHECK_DEPTH, stats.seconds,
+                 built - start, stats.work_groups, stats.work_groups_reason, stats.kernel_local_bytes, stacks);
     }
     perma_destroy(rt);
 }
