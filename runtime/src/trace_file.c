@@ -105,9 +105,15 @@ static void write_run(FILE *f, const perma_runtime *rt, unsigned run, double zer
     write_string(f, name);
     fprintf(f, ",\"run\":%u,\"schedule\":", run);
     write_string(f, schedule);
-    fprintf(f, ",\"work_groups\":%u,\"start_us\":%.3f,\"seconds\":%.6f,\"clock\":\"%s\"}}", rt->work_groups,
+    fprintf(f, ",\"work_groups\":%u,\"start_us\":%.3f,\"seconds\":%.6f,\"clock\":\"%s\"", rt->work_groups,
             (start - zero) * 1e6, rt->stats.seconds,
             host ? "host" : "device ticks timed by host samples");
+    /* Work-first: the stacks' size, the items run from them (the "stack"
+     * events and part of the others' items), the deepest stack and the
+     * items spilled from stacks to the queues. */
+    fprintf(f, ",\"stack_items\":%u,\"stacked_items\":%llu,\"stack_peak\":%u,\"stack_spills\":%llu}}",
+            rt->stats.stack_items, (unsigned long long)rt->stats.stacked_items, rt->stats.stack_peak,
+            (unsigned long long)rt->stats.stack_spills);
     fprintf(f, ",\n{\"name\":\"process_sort_index\",\"ph\":\"M\",\"pid\":%u,\"args\":{\"sort_index\":%u}}", run, run);
     if (host)
         fprintf(f, ",\n{\"name\":\"thread_name\",\"ph\":\"M\",\"pid\":%u,\"tid\":0,\"args\":{\"name\":\"host steps\"}}",

@@ -103,6 +103,12 @@ START_TEST(trace_events_cover_every_item)
          * items of a batch's event include what it ran from stacks). */
         ck_assert_uint_eq(events, ps.batches + stacks);
         ck_assert(stacks == 0 || ps.stacked_items > 0);
+        /* The run's metadata says what the stacks did. */
+        char expected[160];
+        snprintf(expected, sizeof expected, "\"stack_items\":%u,\"stacked_items\":%llu,\"stack_peak\":%u,"
+                 "\"stack_spills\":%llu}", st.stack_items, (unsigned long long)st.stacked_items, st.stack_peak,
+                 (unsigned long long)st.stack_spills);
+        ck_assert_contains(json, expected);
         ck_assert_uint_lt(max_tid, st.work_groups);
         ck_assert_contains(json, "\"name\":\"group 0\"");
         if (st.steals > 0)
