@@ -27,7 +27,8 @@
     L(grid, cl)                  \
     L(sharp_quads, cl)           \
     L(rasterize, cl)             \
-    L(occlusion, cl)
+    L(occlusion, cl)             \
+    L(dice_vertices, cl)
 
 /* X(ENUM, name, item type, priority, emits): procedure `name` is the
  * function reyes_NAME in device/reyes_NAME.cl over items of the type,
