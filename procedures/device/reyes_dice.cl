@@ -257,7 +257,9 @@ void reyes_dice_plain(perma_ctx *ctx, __local const struct reyes_subpatch *item,
             }
         }
     }
-    if (p->shading_rate > 0.0f)
+    if (p->polyline)
+        reyes_polyline_edges(p, &item_sp, &h, &light, base, g, shade);
+    else if (p->shading_rate > 0.0f)
         reyes_dice_edges(ctx, item, &h, &light, base, g, shade);
 }
 
@@ -300,10 +302,18 @@ void reyes_dice(perma_ctx *ctx, __local const struct reyes_subpatch *item)
     atomic_inc(&counters[REYES_COUNT_GRIDS]);
     if (p->stages == REYES_STAGES_SUBDIVIDE)
         return;
+    struct reyes_raster_target target = { p, ctx->buf.samples, counters, ctx->buf.blur_tuples, ctx->buf.patches };
     if (p->occlusion_cull) {
         struct reyes_subpatch sp = *item;
         if (reyes_grid_occluded(p, ctx->buf.patches, ctx->buf.samples, &sp)) {
             atomic_inc(&counters[REYES_COUNT_OCCLUDED]);
+            /* Its fillers close its neighbours' cracks and may reach
+             * past its hull. */
+            if (p->polyline) {
+                int2 size = reyes_dice_size(p, sp.dice_size);
+                uint base = reyes_dice_base_color(p, ctx->buf.colors[sp.patch], size.x, size.y);
+                reyes_polyline_fillers(&target, &sp, ctx->buf.patches, base, &s->strips, 1);
+            }
             return;
         }
     }
@@ -316,7 +326,10 @@ void reyes_dice(perma_ctx *ctx, __local const struct reyes_subpatch *item)
         reyes_dice_plain(ctx, item, &s->grid, full);
     else
         reyes_dice_displaced(ctx, item, s, full);
-    struct reyes_raster_target target = { p, ctx->buf.samples, counters, ctx->buf.blur_tuples, ctx->buf.patches };
+    if (p->polyline) {
+        struct reyes_subpatch sp = *item;
+        reyes_polyline_fillers(&target, &sp, ctx->buf.patches, s->grid.base, &s->strips, full);
+    }
     if (full) {
         /* Rasterized where it lies, in __local scratch (no 4 KB item
          * through a queue); reyes_rasterize counts the visible quads: it

@@ -23,8 +23,8 @@
  * pieces; that distance counts both the part across the chord and how far
  * past its ends the curve reaches (where the surface folds away from the
  * eye its lines double back on screen).  At least 1. */
-float reyes_rate_curve(__global const struct reyes_params *p, const float3 b[4], const float4 clip[4],
-                       const float2 s[4])
+float reyes_rate_curve_to(__global const struct reyes_params *p, const float3 b[4], const float4 clip[4],
+                          const float2 s[4], float sag, float min_piece)
 {
     float polygon = distance(s[0], s[1]) + distance(s[1], s[2]) + distance(s[2], s[3]);
     float2 chord = s[3] - s[0];
@@ -43,9 +43,16 @@ float reyes_rate_curve(__global const struct reyes_params *p, const float3 b[4],
     float space = distance(b[0], b[1]) + distance(b[1], b[2]) + distance(b[2], b[3]);
     float side = rsqrt(p->shading_rate);
     float by_rate = floor(0.5f * (polygon + sqrt(chord2)) * side + 0.5f);
-    float by_stray = ceil(sqrt(0.75f * stray / p->rate_sag));
-    float finest = ceil(space * reyes_pixels_per_unit(p, clip, 4) * side / p->rate_min_piece);
+    float by_stray = ceil(sqrt(0.75f * stray / sag));
+    float finest = ceil(space * reyes_pixels_per_unit(p, clip, 4) * side / min_piece);
     return fmax(fmax(by_rate, fmin(by_stray, finest)), 1.0f);
+}
+
+/* The same to the renderer's sag and shortest piece. */
+float reyes_rate_curve(__global const struct reyes_params *p, const float3 b[4], const float4 clip[4],
+                       const float2 s[4])
+{
+    return reyes_rate_curve_to(p, b, clip, s, p->rate_sag, p->rate_min_piece);
 }
 
 /* Micropolygons a projected sub-patch needs along u and v: the most that
@@ -82,18 +89,23 @@ float2 reyes_rate_segments(__global const struct reyes_params *p, const float3 c
     return (float2)(need[0], need[1]);
 }
 
-/* Segments along edge `edge` (REYES_EDGE_*) of sub-patch sp, from the
- * edge's own control points: blossomed from its base patch's line in the
- * canonical direction (reyes_restrict_canonical) and measured in that
- * order, so the neighbour across it (in this or a glued base patch)
- * computes the same bits.  At most grid - 1; grid - 1 if a point is not
- * in front of the near plane. */
-uint reyes_rate_edge(__global const struct reyes_params *p, const float3 base[16], const struct reyes_subpatch *sp,
-                     int edge)
+/* Open boundaries (reyes_rate_span_of): their sag and shortest piece, in
+ * parts of the renderer's. */
+#define REYES_OPEN_SAG (1.0f / 16.0f)
+#define REYES_OPEN_PIECE 0.25f
+
+/* Micropolygons along segment [a,b] of the line (along_u, fixed) of base
+ * patch `base` (reyes_line_curve): the rate's count (reyes_rate_curve) of
+ * its control points blossomed in the canonical direction
+ * (reyes_restrict_canonical) and measured in that order, so the
+ * neighbour across it (in this or a glued base patch) computes the same
+ * bits; -1 if a point is not in front of the near plane.  `open`: the
+ * line is a boundary no other patch shares, where a chord cutting inside
+ * the curve shows what lies behind: to a sixteenth of the sag in pieces
+ * down to a quarter of the shortest (REYES_OPEN_*). */
+float reyes_rate_span_of(__global const struct reyes_params *p, const float3 base[16], int along_u, float fixed,
+                         float a, float b, int open)
 {
-    int along_u;
-    float fixed, a, b;
-    reyes_edge_line(sp, edge, &along_u, &fixed, &a, &b);
     float3 line[4], e[4];
     reyes_line_curve(base, along_u, fixed, line);
     reyes_restrict_canonical(line, a, b, e);
@@ -101,15 +113,36 @@ uint reyes_rate_edge(__global const struct reyes_params *p, const float3 base[16
     float3 c[4];
     float4 clip[4];
     float2 s[4];
-    uint most = p->grid - 1u;
     for (int k = 0; k < 4; ++k) {
         c[k] = e[reversed ? 3 - k : k];
         clip[k] = reyes_to_clip(p, c[k]);
         if (clip[k].w <= p->near_w)
-            return most;
+            return -1.0f;
         s[k] = reyes_to_screen(p, clip[k]);
     }
-    return (uint)fmin(reyes_rate_curve(p, c, clip, s), (float)most);
+    if (open)
+        return reyes_rate_curve_to(p, c, clip, s, p->rate_sag * REYES_OPEN_SAG, p->rate_min_piece * REYES_OPEN_PIECE);
+    return reyes_rate_curve(p, c, clip, s);
+}
+
+float reyes_rate_span(__global const struct reyes_params *p, const float3 base[16], int along_u, float fixed,
+                      float a, float b)
+{
+    return reyes_rate_span_of(p, base, along_u, fixed, a, b, 0);
+}
+
+/* Segments along edge `edge` (REYES_EDGE_*) of sub-patch sp, from the
+ * edge's own control points (reyes_rate_span).  At most grid - 1; grid - 1
+ * if a point is not in front of the near plane. */
+uint reyes_rate_edge(__global const struct reyes_params *p, const float3 base[16], const struct reyes_subpatch *sp,
+                     int edge)
+{
+    int along_u;
+    float fixed, a, b;
+    reyes_edge_line(sp, edge, &along_u, &fixed, &a, &b);
+    uint most = p->grid - 1u;
+    float count = reyes_rate_span(p, base, along_u, fixed, a, b);
+    return count < 0.0f ? most : (uint)fmin(count, (float)most);
 }
 
 /* The four edges' segments, a byte each in REYES_EDGE_* order (kept in

@@ -8,6 +8,7 @@
 #include "reyes_render_internal.h"
 #include "reyes_renderer_internal.h"
 #include "reyes_look.h"
+#include "reyes_weld.h"
 
 static void free_buffers(render_buffers *b)
 {
@@ -84,7 +85,8 @@ static reyes_status allocate(const reyes_scene *scene, const reyes_options *o, r
     memset(b->counters, 0, sizeof b->counters);
     for (size_t i = 0; i < scene->patch_count; ++i)
         b->seeds[i] = (struct reyes_subpatch){ .patch = (uint32_t)i, .depth = 0,
-                                               .u0 = 0.0f, .v0 = 0.0f, .u1 = 1.0f, .v1 = 1.0f };
+                                               .u0 = 0.0f, .v0 = 0.0f, .u1 = 1.0f, .v1 = 1.0f,
+                                               .edge_levels = 0xffffffffu }; /* unsettled edges */
     return REYES_OK;
 }
 
@@ -196,6 +198,31 @@ static reyes_status render_tile(reyes_renderer *r, const reyes_scene *scene, con
     return resolve_samples(r, o, t, image, stats, error);
 }
 
+/* The points the run reads: with polylines the scene's welded (made once
+ * per scene and kept in the renderer), else the scene's own. */
+static reyes_status choose_points(reyes_renderer *r, const reyes_scene *scene, const reyes_options *o,
+                                  render_buffers *b, reyes_error *error)
+{
+    b->points = scene->points;
+    if (o->crack_fix != REYES_CRACK_FIX_POLYLINE || scene->patch_count == 0)
+        return REYES_OK;
+    uint64_t hash = reyes_points_hash(scene);
+    if (!r->welded || r->welded_from != scene->points || r->welded_count != scene->patch_count
+        || r->welded_hash != hash) {
+        free(r->welded);
+        r->welded = NULL;
+        size_t moved;
+        reyes_status status = reyes_weld_points(scene, &r->welded, &moved, error);
+        if (status != REYES_OK)
+            return status;
+        r->welded_from = scene->points;
+        r->welded_count = scene->patch_count;
+        r->welded_hash = hash;
+    }
+    b->points = r->welded;
+    return REYES_OK;
+}
+
 /* Render every bucket, row by row (one bucket: the whole image). */
 static reyes_status render_buckets(reyes_renderer *r, const reyes_scene *scene,
                                    const reyes_options *o, render_buffers *b, reyes_image *image,
@@ -281,6 +308,8 @@ reyes_status reyes_render(reyes_renderer *r, const reyes_scene *scene, const rey
         status = make_blur_tuples(options, &b, error);
     if (status == REYES_OK)
         status = allocate(scene, options, &b, image, error);
+    if (status == REYES_OK)
+        status = choose_points(r, scene, options, &b, error);
     if (status == REYES_OK)
         status = render_buckets(r, scene, options, &b, image, stats, error);
     free_buffers(&b);

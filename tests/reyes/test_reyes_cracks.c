@@ -53,6 +53,49 @@ START_TEST(test_sphere_watertight)
 }
 END_TEST
 
+/* Polylines (one pass, no communication between patches) with a shading
+ * rate: coarse micropolygons (rate 24, at most 3 per grid side) leave
+ * T-junction cracks wide enough to catch samples where sub-patches meet
+ * others split deeper; the sphere and a torus seen from random views show
+ * none with polylines, which fill some T-junctions (fillers) and put
+ * the same polyline on both sides of every other edge. */
+START_TEST(test_watertight_polylines)
+{
+    reyes_scene scene;
+    reyes_error error;
+    reyes_scene_init(&scene);
+    const float center[3] = {0.3f, -0.2f, 0.1f};
+    ck_assert_int_eq(reyes_scene_add_sphere(&scene, center, 1.0f, REYES_RGBA(200, 200, 200), &error), REYES_OK);
+    reyes_options o;
+    crack_options(&o, REYES_CRACK_FIX_NONE);
+    o.shading_rate = 400.0f;
+    reyes_renderer *renderer;
+    ck_assert_int_eq(reyes_renderer_create(&o, &renderer, &error), REYES_OK);
+    /* Holes are the ones a fine render covers (not the torus's own). */
+    reyes_options fine = o;
+    fine.shading_rate = 0.25f;
+    fine.crack_fix = REYES_CRACK_FIX_STITCH;
+    size_t without = reyes_test_holes_from_random_views(renderer, &scene, &o, &fine, VIEWS, SEED + 2, MAX_HOLE);
+    o.crack_fix = REYES_CRACK_FIX_POLYLINE;
+    size_t with = reyes_test_holes_from_random_views(renderer, &scene, &o, &fine, VIEWS, SEED + 2, MAX_HOLE);
+    reyes_camera camera;
+    ck_assert_int_eq(reyes_camera_frame(&scene, 40.0f, 1.0f, &camera, &error), REYES_OK);
+    reyes_image image;
+    reyes_stats stats;
+    reyes_test_render(renderer, &scene, &camera, &o, &image, &stats);
+    printf("sphere and torus, rate 24, %d views at 1 spp: %zu hole pixels without crack fix, %zu with polylines "
+           "(%llu fillers framed)\n", VIEWS, without, with, (unsigned long long)stats.fillers);
+    ck_assert_uint_gt(without, 0);
+    ck_assert_uint_eq(with, 0);
+    ck_assert_uint_gt(stats.fillers, 0);
+    ck_assert_uint_eq(stats.stitches, 0);
+    reyes_image_free(&image);
+    reyes_stats_free(&stats);
+    reyes_renderer_destroy(renderer);
+    reyes_scene_free(&scene);
+}
+END_TEST
+
 /* The tiered subdivision criterion, with coarse grids and sub-patches up
  * to BOUND_PX so that cracks are wide: sub-patches are split to different
  * depths by curvature, not only by size.  Both crack fixes close them:
@@ -233,6 +276,7 @@ int main(void)
     tcase_set_timeout(tc, 300);
     tcase_add_test(tc, test_sphere_watertight);
     tcase_add_test(tc, test_sphere_watertight_tiered);
+    tcase_add_test(tc, test_watertight_polylines);
     tcase_add_test(tc, test_builtin_wedges);
     tcase_add_test(tc, test_many_near_seams_render_in_seconds);
     suite_add_tcase(s, tc);
