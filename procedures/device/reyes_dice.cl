@@ -312,7 +312,7 @@ void reyes_dice(perma_ctx *ctx, __local const struct reyes_subpatch *item)
             if (p->polyline) {
                 int2 size = reyes_dice_size(p, sp.dice_size);
                 uint base = reyes_dice_base_color(p, ctx->buf.colors[sp.patch], size.x, size.y);
-                reyes_polyline_fillers(&target, &sp, ctx->buf.patches, base, &s->strips, 1);
+                reyes_polyline_fillers(&target, &sp, ctx->buf.patches, base, &s->strips, 1, 0);
             }
             return;
         }
@@ -328,7 +328,7 @@ void reyes_dice(perma_ctx *ctx, __local const struct reyes_subpatch *item)
         reyes_dice_displaced(ctx, item, s, full);
     if (p->polyline) {
         struct reyes_subpatch sp = *item;
-        reyes_polyline_fillers(&target, &sp, ctx->buf.patches, s->grid.base, &s->strips, full);
+        reyes_polyline_fillers(&target, &sp, ctx->buf.patches, s->grid.base, &s->strips, full, 1);
     }
     if (full) {
         /* Rasterized where it lies, in __local scratch (no 4 KB item

@@ -124,7 +124,7 @@ void reyes_polyline_test_edges(__global const struct reyes_params *p, __global c
         if (!loaded)
             reyes_load_patch(patches, sp->patch, base);
         loaded = 1;
-        float count = reyes_rate_span_of(p, base, along_u, fixed, a, b, reyes_polyline_open(patches, sp->patch, along_u, fixed));
+        float count = reyes_rate_span(p, base, along_u, fixed, a, b);
         if (count >= 0.0f && count <= (float)most)
             reyes_polyline_settle(sp, edge, level, (uint)count);
         else if (forced)
@@ -278,6 +278,12 @@ float3 reyes_boundary_point(const struct reyes_hull *h, int line, float tau)
     return (float3)(reyes_curve_at_scalar(w, x), reyes_curve_at_scalar(w, y), reyes_curve_at_scalar(w, z));
 }
 
+reyes_lane_mask reyes_polyline_place(__global const struct reyes_params *p, const struct reyes_hull *h,
+                                     const struct reyes_polyline_edge *e, float t[REYES_LANES],
+                                     float tau[REYES_LANES], int count, const struct reyes_lighting *light,
+                                     const struct reyes_subpatch *sp, uint base, int shade,
+                                     struct reyes_vertex_lanes *out, reyes_lanes *u, reyes_lanes *v);
+
 /* The edge's vertices (reyes_polyline_vertices) evaluated in lanes into
  * out, placed and shaded as dice's (reyes_dice_place_lanes, with sp's
  * shading), and their parameters (u, v).  Every vertex is the surface
@@ -298,6 +304,20 @@ int reyes_polyline_eval(__global const struct reyes_params *p, const struct reye
         reversed = reyes_curve_reversed(q);
     }
     int count = reyes_polyline_vertices(e, reversed, t, tau, first, last);
+    *degenerate = reyes_polyline_place(p, h, e, t, tau, count, light, sp, base, shade, out, u, v);
+    return count;
+}
+
+/* The points of the edge's line at parameters t[0 .. count - 1] (tau:
+ * on a boundary line, in its canonical direction), as
+ * reyes_polyline_eval evaluates them; the lanes past count repeat the
+ * last.  Returns the lanes whose normal vanished. */
+reyes_lane_mask reyes_polyline_place(__global const struct reyes_params *p, const struct reyes_hull *h,
+                                     const struct reyes_polyline_edge *e, float t[REYES_LANES],
+                                     float tau[REYES_LANES], int count, const struct reyes_lighting *light,
+                                     const struct reyes_subpatch *sp, uint base, int shade,
+                                     struct reyes_vertex_lanes *out, reyes_lanes *u, reyes_lanes *v)
+{
     for (int k = count; k < REYES_LANES; ++k)
         t[k] = tau[k] = t[count - 1];
     reyes_lanes along = reyes_vload_lanes(0, t);
@@ -327,8 +347,7 @@ int reyes_polyline_eval(__global const struct reyes_params *p, const struct reye
         ((float *)&x[1])[k] = point.y;
         ((float *)&x[2])[k] = point.z;
     }
-    *degenerate = reyes_dice_place_lanes(p, light, x, normal, collapsed, *u, *v, sp, base, shade, out);
-    return count;
+    return reyes_dice_place_lanes(p, light, x, normal, collapsed, *u, *v, sp, base, shade, out);
 }
 
 /* The colour (or packed normal) of a vertex at (u, v) whose normal
@@ -380,29 +399,41 @@ void reyes_polyline_edges(__global const struct reyes_params *p, const struct re
     }
 }
 
-/* Append triangle (a, b, c) of the vertices in `out` to the filler grid f
+/* Vertices for the filler grid: placed lanes and their colours (with the
+ * poles' fixed). */
+struct reyes_filler_vertices {
+    struct reyes_vertex_lanes out;
+    uint rgba[REYES_LANES];
+};
+
+/* Vertex k of `from` into slot `slot` of the filler grid f. */
+REYES_INLINE void reyes_polyline_put(__local struct reyes_grid *f, int slot, const struct reyes_filler_vertices *from,
+                                     int k)
+{
+    f->x[slot] = ((const float *)&from->out.x)[k];
+    f->y[slot] = ((const float *)&from->out.y)[k];
+    f->z[slot] = ((const float *)&from->out.z)[k];
+    f->rgba[slot] = from->rgba[k];
+#ifdef REYES_VERTEX_MOTION
+    f->mx[slot] = ((const float *)&from->out.motion[0])[k];
+    f->my[slot] = ((const float *)&from->out.motion[1])[k];
+    f->mw[slot] = ((const float *)&from->out.motion[2])[k];
+#endif
+}
+
+/* Append triangle (vertex a of va, b of vb, c of vc) to the filler grid f
  * (2 columns: rows [a, b] and [c, c], a quad with two equal corners). */
-REYES_INLINE void reyes_polyline_add_triangle(__global const struct reyes_params *p, __local struct reyes_grid *f,
-                                              const struct reyes_vertex_lanes *out, const uint rgba[REYES_LANES],
-                                              int a, int b, int c)
+REYES_INLINE void reyes_polyline_add_triangle(__local struct reyes_grid *f, const struct reyes_filler_vertices *va,
+                                              int a, const struct reyes_filler_vertices *vb, int b,
+                                              const struct reyes_filler_vertices *vc, int c)
 {
     int row = (int)f->rows;
-    const int corner[4] = { a, b, c, c };
-    for (int i = 0; i < 4; ++i) {
-        int slot = 2 * row + i, k = corner[i];
-        f->x[slot] = ((const float *)&out->x)[k];
-        f->y[slot] = ((const float *)&out->y)[k];
-        f->z[slot] = ((const float *)&out->z)[k];
-        f->rgba[slot] = rgba[k];
-#ifdef REYES_VERTEX_MOTION
-        f->mx[slot] = ((const float *)&out->motion[0])[k];
-        f->my[slot] = ((const float *)&out->motion[1])[k];
-        f->mw[slot] = ((const float *)&out->motion[2])[k];
-#endif
-    }
+    reyes_polyline_put(f, 2 * row, va, a);
+    reyes_polyline_put(f, 2 * row + 1, vb, b);
+    reyes_polyline_put(f, 2 * row + 2, vc, c);
+    reyes_polyline_put(f, 2 * row + 3, vc, c);
     f->quad_rows |= 1u << row;
     f->rows = (uint)row + 2u;
-    (void)p;
 }
 
 /* Rasterize the filler grid's triangles (a full render) and count them. */
@@ -418,21 +449,76 @@ REYES_INLINE void reyes_polyline_flush(const struct reyes_raster_target *target,
     f->quad_rows = 0u;
 }
 
+/* The bulges of an open boundary edge: each piece's chord cuts inside the
+ * curve by up to the rate's sag, and an open boundary (or a gap the weld
+ * left) shows what lies behind that sliver; three points at a quarter,
+ * half and three quarters of each piece and a fan of three triangles from
+ * its first corner cover it to a sixteenth of the sag.  The piece corners
+ * are the grid's boundary vertices (v, first .. last), bit for bit. */
+void reyes_polyline_bulges(const struct reyes_raster_target *target, const struct reyes_hull *h,
+                           const struct reyes_polyline_edge *e, const struct reyes_lighting *light,
+                           const struct reyes_subpatch *rect, uint base, const struct reyes_filler_vertices *v,
+                           int first, int last, __local struct reyes_grid *f, uint room, int full)
+{
+    __global const struct reyes_params *p = target->params;
+    float3 q[4];
+    reyes_boundary_curve(h, e->boundary, q);
+    int reversed = reyes_curve_reversed(q);
+    /* The corners' parameters: the list the edge was evaluated at. */
+    float t_of[REYES_LANES], tau_of[REYES_LANES];
+    int a, b;
+    reyes_polyline_vertices(e, reversed, t_of, tau_of, &a, &b);
+    /* Up to five pieces (15 points) a batch. */
+    for (int k0 = first; k0 < last; k0 += 5) {
+        int pieces = min(5, last - k0);
+        float t[REYES_LANES], tau[REYES_LANES];
+        for (int i = 0; i < 3 * pieces; ++i) {
+            int k = k0 + i / 3;
+            float w = 0.25f * (float)(i % 3 + 1);
+            t[i] = t_of[k] * (1.0f - w) + t_of[k + 1] * w;
+            tau[i] = reversed ? 1.0f - t[i] : t[i];
+        }
+        struct reyes_filler_vertices qv;
+        reyes_lanes u, vv;
+        reyes_lane_mask degenerate = reyes_polyline_place(p, h, e, t, tau, 3 * pieces, light, rect, base, 1, &qv.out,
+                                                          &u, &vv);
+        for (int i = 0; i < REYES_LANES; ++i) {
+            qv.rgba[i] = ((uint *)&qv.out.rgba)[i];
+            if (i < 3 * pieces && !p->sample_shading && ((int *)&degenerate)[i])
+                qv.rgba[i] = reyes_polyline_pole_color(p, h, ((float *)&u)[i], ((float *)&vv)[i], base);
+        }
+        for (int j = 0; j < pieces; ++j) {
+            if (f->rows / 2u + 3u > room)
+                reyes_polyline_flush(target, f, full);
+            int k = k0 + j, i = 3 * j;
+            reyes_polyline_add_triangle(f, v, k, &qv, i, &qv, i + 1);
+            reyes_polyline_add_triangle(f, v, k, &qv, i + 1, &qv, i + 2);
+            reyes_polyline_add_triangle(f, v, k, &qv, i + 2, v, k + 1);
+        }
+    }
+}
+
 /* dice: the fillers of every edge end inside a piece of its segment (the
- * fans from the piece's first corner, above), rasterized from the scratch
+ * fans from the piece's first corner, above) and, with `bulges`, the
+ * bulges of the edges on open boundaries, rasterized from the scratch
  * grid f (with sample shading lit with the patch's normal at each
  * sample's parameters: f's rectangle holds every segment).  Also for a
- * grid occlusion culling skips: its fillers may reach past its hull. */
+ * grid occlusion culling skips (without bulges): its fillers may reach
+ * past its hull. */
 void reyes_polyline_fillers(const struct reyes_raster_target *target, const struct reyes_subpatch *sp,
-                            __global const float4 *patches, uint base, __local struct reyes_grid *f, int full)
+                            __global const float4 *patches, uint base, __local struct reyes_grid *f, int full,
+                            int bulges)
 {
     __global const struct reyes_params *p = target->params;
     struct reyes_polyline_edge edges[4];
-    int any = 0;
+    int partial[4], open[4], any = 0;
     float2 lo = (float2)(sp->u0, sp->v0), hi = (float2)(sp->u1, sp->v1);
     for (int edge = 0; edge < 4; ++edge) {
         edges[edge] = reyes_polyline_edge_of(sp, edge);
-        any |= reyes_polyline_partial(&edges[edge]);
+        partial[edge] = reyes_polyline_partial(&edges[edge]);
+        open[edge] = bulges && edges[edge].boundary >= 0
+                     && reyes_polyline_open(patches, sp->patch, edges[edge].along_u, edges[edge].fixed);
+        any |= partial[edge] | open[edge];
         if (edges[edge].along_u) {
             lo.x = fmin(lo.x, edges[edge].s);
             hi.x = fmax(hi.x, edges[edge].s + edges[edge].span);
@@ -460,31 +546,35 @@ void reyes_polyline_fillers(const struct reyes_raster_target *target, const stru
     uint room = min((uint)REYES_GRID_CAPACITY(p->grid) / 4u, 16u);
     for (int edge = 0; edge < 4; ++edge) {
         const struct reyes_polyline_edge *e = &edges[edge];
-        if (!reyes_polyline_partial(e))
+        if (!partial[edge] && !open[edge])
             continue;
-        struct reyes_vertex_lanes out;
-        reyes_lanes u, v;
+        struct reyes_filler_vertices v;
+        reyes_lanes u, vv;
         reyes_lane_mask degenerate;
         int first = 0, last = 0;
-        int count = reyes_polyline_eval(p, &h, e, &light, &rect, base, 1, &out, &u, &v, &degenerate, &first, &last);
-        uint rgba[REYES_LANES];
+        int count = reyes_polyline_eval(p, &h, e, &light, &rect, base, 1, &v.out, &u, &vv, &degenerate, &first,
+                                        &last);
         for (int k = 0; k < REYES_LANES; ++k) {
-            rgba[k] = ((uint *)&out.rgba)[k];
+            v.rgba[k] = ((uint *)&v.out.rgba)[k];
             if (k < count && !p->sample_shading && ((int *)&degenerate)[k])
-                rgba[k] = reyes_polyline_pole_color(p, &h, ((float *)&u)[k], ((float *)&v)[k], base);
+                v.rgba[k] = reyes_polyline_pole_color(p, &h, ((float *)&u)[k], ((float *)&vv)[k], base);
         }
-        if (f->rows / 2u + 2u > room)
-            reyes_polyline_flush(target, f, full);
-        /* a inside the first piece: P_0, A, then the next vertex (P_1, or b
-         * and P_1 when b is in the same piece). */
-        if (first > 0) {
-            reyes_polyline_add_triangle(p, f, &out, rgba, 0, first, first + 1);
-            if (first + 1 == last && last < count - 1)
-                reyes_polyline_add_triangle(p, f, &out, rgba, 0, last, count - 1);
+        if (partial[edge]) {
+            if (f->rows / 2u + 2u > room)
+                reyes_polyline_flush(target, f, full);
+            /* a inside the first piece: P_0, A, then the next vertex (P_1,
+             * or b and P_1 when b is in the same piece). */
+            if (first > 0) {
+                reyes_polyline_add_triangle(f, &v, 0, &v, first, &v, first + 1);
+                if (first + 1 == last && last < count - 1)
+                    reyes_polyline_add_triangle(f, &v, 0, &v, last, &v, count - 1);
+            }
+            /* b inside the last piece (another one): P_j, B, P_{j+1}. */
+            if (last < count - 1 && !(first > 0 && first + 1 == last))
+                reyes_polyline_add_triangle(f, &v, last - 1, &v, last, &v, count - 1);
         }
-        /* b inside the last piece (another one): P_j, B, P_{j+1}. */
-        if (last < count - 1 && !(first > 0 && first + 1 == last))
-            reyes_polyline_add_triangle(p, f, &out, rgba, last - 1, last, count - 1);
+        if (open[edge])
+            reyes_polyline_bulges(target, &h, e, &light, &rect, base, &v, first, last, f, room, full);
     }
     reyes_polyline_flush(target, f, full);
 }

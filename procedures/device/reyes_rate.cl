@@ -23,8 +23,8 @@
  * pieces; that distance counts both the part across the chord and how far
  * past its ends the curve reaches (where the surface folds away from the
  * eye its lines double back on screen).  At least 1. */
-float reyes_rate_curve_to(__global const struct reyes_params *p, const float3 b[4], const float4 clip[4],
-                          const float2 s[4], float sag, float min_piece)
+float reyes_rate_curve(__global const struct reyes_params *p, const float3 b[4], const float4 clip[4],
+                       const float2 s[4])
 {
     float polygon = distance(s[0], s[1]) + distance(s[1], s[2]) + distance(s[2], s[3]);
     float2 chord = s[3] - s[0];
@@ -43,16 +43,9 @@ float reyes_rate_curve_to(__global const struct reyes_params *p, const float3 b[
     float space = distance(b[0], b[1]) + distance(b[1], b[2]) + distance(b[2], b[3]);
     float side = rsqrt(p->shading_rate);
     float by_rate = floor(0.5f * (polygon + sqrt(chord2)) * side + 0.5f);
-    float by_stray = ceil(sqrt(0.75f * stray / sag));
-    float finest = ceil(space * reyes_pixels_per_unit(p, clip, 4) * side / min_piece);
+    float by_stray = ceil(sqrt(0.75f * stray / p->rate_sag));
+    float finest = ceil(space * reyes_pixels_per_unit(p, clip, 4) * side / p->rate_min_piece);
     return fmax(fmax(by_rate, fmin(by_stray, finest)), 1.0f);
-}
-
-/* The same to the renderer's sag and shortest piece. */
-float reyes_rate_curve(__global const struct reyes_params *p, const float3 b[4], const float4 clip[4],
-                       const float2 s[4])
-{
-    return reyes_rate_curve_to(p, b, clip, s, p->rate_sag, p->rate_min_piece);
 }
 
 /* Micropolygons a projected sub-patch needs along u and v: the most that
@@ -89,22 +82,14 @@ float2 reyes_rate_segments(__global const struct reyes_params *p, const float3 c
     return (float2)(need[0], need[1]);
 }
 
-/* Open boundaries (reyes_rate_span_of): their sag and shortest piece, in
- * parts of the renderer's. */
-#define REYES_OPEN_SAG (1.0f / 16.0f)
-#define REYES_OPEN_PIECE 0.25f
-
 /* Micropolygons along segment [a,b] of the line (along_u, fixed) of base
  * patch `base` (reyes_line_curve): the rate's count (reyes_rate_curve) of
  * its control points blossomed in the canonical direction
  * (reyes_restrict_canonical) and measured in that order, so the
  * neighbour across it (in this or a glued base patch) computes the same
- * bits; -1 if a point is not in front of the near plane.  `open`: the
- * line is a boundary no other patch shares, where a chord cutting inside
- * the curve shows what lies behind: to a sixteenth of the sag in pieces
- * down to a quarter of the shortest (REYES_OPEN_*). */
-float reyes_rate_span_of(__global const struct reyes_params *p, const float3 base[16], int along_u, float fixed,
-                         float a, float b, int open)
+ * bits; -1 if a point is not in front of the near plane. */
+float reyes_rate_span(__global const struct reyes_params *p, const float3 base[16], int along_u, float fixed,
+                      float a, float b)
 {
     float3 line[4], e[4];
     reyes_line_curve(base, along_u, fixed, line);
@@ -120,15 +105,7 @@ float reyes_rate_span_of(__global const struct reyes_params *p, const float3 bas
             return -1.0f;
         s[k] = reyes_to_screen(p, clip[k]);
     }
-    if (open)
-        return reyes_rate_curve_to(p, c, clip, s, p->rate_sag * REYES_OPEN_SAG, p->rate_min_piece * REYES_OPEN_PIECE);
     return reyes_rate_curve(p, c, clip, s);
-}
-
-float reyes_rate_span(__global const struct reyes_params *p, const float3 base[16], int along_u, float fixed,
-                      float a, float b)
-{
-    return reyes_rate_span_of(p, base, along_u, fixed, a, b, 0);
 }
 
 /* Segments along edge `edge` (REYES_EDGE_*) of sub-patch sp, from the

@@ -1,5 +1,5 @@
 /*
- * The command's default dicing (shading rate 1) held to fixed 16x16 grids
+ * The command's default dicing (shading rate 1, polylines) held to fixed 16x16 grids
  * and to the brute-force reference (docs/reyes-dicing.md *Dicing to a
  * shading rate*): no sample sees through a crack (1 sample per pixel, at
  * the renderer's own sample positions), at most 4 micropolygons per
@@ -51,6 +51,7 @@ static void expect_view_quality(const reyes_scene *scene, const reyes_camera *ca
     ck_assert_msg(reyes_quality_colour(renderer, scene, camera, &o, &reference, NULL, &fixed, &error) == REYES_OK,
                   "%s", error.message);
     o.shading_rate = 1.0f;
+    o.crack_fix = REYES_CRACK_FIX_POLYLINE;
     ck_assert_msg(reyes_quality_cracks(renderer, scene, camera, &o, &reference, &rate, &error) == REYES_OK, "%s",
                   error.message);
     ck_assert_msg(reyes_quality_colour(renderer, scene, camera, &o, &reference, NULL, &rate, &error) == REYES_OK,
