@@ -323,29 +323,51 @@ reyes_lane_mask reyes_polyline_place(__global const struct reyes_params *p, cons
     reyes_lanes along = reyes_vload_lanes(0, t);
     *u = e->along_u ? along : (reyes_lanes)e->fixed;
     *v = e->along_u ? (reyes_lanes)e->fixed : along;
+    /* Normals only where vertices are lit (sample shading packs their
+     * parameters instead). */
+    int lit = shade && !p->sample_shading;
+    reyes_lanes x[3], normal[3] = { (reyes_lanes)0.0f, (reyes_lanes)0.0f, (reyes_lanes)0.0f };
+    reyes_lane_mask collapsed = (reyes_lane_mask)0;
     struct reyes_row_curves_lanes rc;
-    reyes_row_curves_lanes(h, *v, &rc);
-    reyes_lanes x[3], normal[3];
-    reyes_row_point_lanes(&rc, *u, x);
-    reyes_lane_mask collapsed = reyes_row_normal_lanes(&rc, *u, normal);
-    for (int k = 0; k < count; ++k) {
-        float uk = e->along_u ? t[k] : e->fixed, vk = e->along_u ? e->fixed : t[k];
-        int line = vk == 0.0f ? REYES_EDGE_V0 : vk == 1.0f ? REYES_EDGE_V1
-                   : uk == 0.0f ? REYES_EDGE_U0 : uk == 1.0f ? REYES_EDGE_U1 : -1;
-        if (line < 0)
-            continue;
-        float at = tau[k];
-        if (line != e->boundary) {
-            /* An end on a boundary across the edge's line. */
+    if (lit || e->boundary < 0)
+        reyes_row_curves_lanes(h, *v, &rc);
+    if (lit)
+        collapsed = reyes_row_normal_lanes(&rc, *u, normal);
+    if (e->boundary >= 0) {
+        /* Every vertex on the boundary's curve, in lanes (its ends at the
+         * base patch's corners are its control points either way). */
+        float3 q[4];
+        reyes_boundary_curve(h, e->boundary, q);
+        int reversed = reyes_curve_reversed(q);
+        reyes_lanes w[4];
+        reyes_bernstein_lanes(reyes_vload_lanes(0, tau), w);
+        float cx[4], cy[4], cz[4];
+        for (int k = 0; k < 4; ++k) {
+            float3 c = q[reversed ? 3 - k : k];
+            cx[k] = c.x;
+            cy[k] = c.y;
+            cz[k] = c.z;
+        }
+        x[0] = reyes_curve_at_one(w, cx);
+        x[1] = reyes_curve_at_one(w, cy);
+        x[2] = reyes_curve_at_one(w, cz);
+    } else {
+        reyes_row_point_lanes(&rc, *u, x);
+        /* An end on a boundary of the base patch across the line. */
+        for (int k = 0; k < count; k += count - 1 > 0 ? count - 1 : 1) {
+            float uk = e->along_u ? t[k] : e->fixed, vk = e->along_u ? e->fixed : t[k];
+            int line = vk == 0.0f ? REYES_EDGE_V0 : vk == 1.0f ? REYES_EDGE_V1
+                       : uk == 0.0f ? REYES_EDGE_U0 : uk == 1.0f ? REYES_EDGE_U1 : -1;
+            if (line < 0)
+                continue;
             float3 q[4];
             reyes_boundary_curve(h, line, q);
             float along_line = line == REYES_EDGE_V0 || line == REYES_EDGE_V1 ? uk : vk;
-            at = reyes_curve_reversed(q) ? 1.0f - along_line : along_line;
+            float3 point = reyes_boundary_point(h, line, reyes_curve_reversed(q) ? 1.0f - along_line : along_line);
+            ((float *)&x[0])[k] = point.x;
+            ((float *)&x[1])[k] = point.y;
+            ((float *)&x[2])[k] = point.z;
         }
-        float3 point = reyes_boundary_point(h, line, at);
-        ((float *)&x[0])[k] = point.x;
-        ((float *)&x[1])[k] = point.y;
-        ((float *)&x[2])[k] = point.z;
     }
     return reyes_dice_place_lanes(p, light, x, normal, collapsed, *u, *v, sp, base, shade, out);
 }
@@ -361,10 +383,24 @@ REYES_INLINE uint reyes_polyline_pole_color(__global const struct reyes_params *
     return reyes_vertex_color_at(p, cp, u, v, base);
 }
 
+/* Whether an edge that is its whole segment, with as many pieces as the
+ * lattice has along it, is already the lattice's row: inside the base
+ * patch (the same parameters, the same arithmetic), and on a boundary
+ * that runs in its canonical direction (the lattice's row there is that
+ * curve evaluated as reyes_boundary_point does: the rows' weights at
+ * v = 0 or 1, the columns' at u = 0 or 1, are 1 and 0). */
+REYES_INLINE int reyes_polyline_as_lattice(const struct reyes_hull *h, const struct reyes_polyline_edge *e)
+{
+    if (e->boundary < 0)
+        return 1;
+    float3 q[4];
+    reyes_boundary_curve(h, e->boundary, q);
+    return !reyes_curve_reversed(q);
+}
+
 /* dice: put every edge's polyline vertices in the lattice's boundary slots
- * (reyes_edge_step).  An edge inside the base patch that is its whole
- * segment with as many pieces as the lattice has along it is already the
- * lattice's row (the same parameters, the same arithmetic). */
+ * (reyes_edge_step), but where the lattice's row is the polyline
+ * already (reyes_polyline_as_lattice). */
 void reyes_polyline_edges(__global const struct reyes_params *p, const struct reyes_subpatch *sp,
                           const struct reyes_hull *h, const struct reyes_lighting *light, uint base,
                           __local struct reyes_grid *g, int shade)
@@ -373,7 +409,7 @@ void reyes_polyline_edges(__global const struct reyes_params *p, const struct re
     for (int edge = 0; edge < 4; ++edge) {
         struct reyes_polyline_edge e = reyes_polyline_edge_of(sp, edge);
         int n = (e.along_u ? columns : rows) - 1;
-        if (e.boundary < 0 && e.d == 0u && (int)e.pieces == n)
+        if (e.d == 0u && (int)e.pieces == n && reyes_polyline_as_lattice(h, &e))
             continue;
         struct reyes_vertex_lanes out;
         reyes_lanes u, v;
