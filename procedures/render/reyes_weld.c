@@ -157,14 +157,16 @@ reyes_status reyes_weld_points(const reyes_scene *scene, float **out, size_t *mo
 
 uint64_t reyes_points_hash(const reyes_scene *scene)
 {
-    uint64_t h = 0x9e3779b97f4a7c15u ^ (uint64_t)scene->patch_count;
+    /* Four independent chains (a patch is 32 words), then mixed. */
+    uint64_t h[4] = { 0x9e3779b97f4a7c15u ^ (uint64_t)scene->patch_count, 1, 2, 3 };
     size_t words = scene->patch_count * 64 * sizeof(float) / sizeof(uint64_t);
     const unsigned char *bytes = (const unsigned char *)scene->points;
-    for (size_t i = 0; i < words; ++i) {
-        uint64_t w;
-        memcpy(&w, bytes + i * sizeof w, sizeof w);
-        h = (h ^ w) * 0x100000001b3u;
-        h ^= h >> 29;
-    }
-    return h;
+    for (size_t i = 0; i < words; i += 4)
+        for (int k = 0; k < 4; ++k) {
+            uint64_t w;
+            memcpy(&w, bytes + (i + (size_t)k) * sizeof w, sizeof w);
+            h[k] = (h[k] ^ w) * 0x100000001b3u;
+            h[k] ^= h[k] >> 29;
+        }
+    return ((h[0] * 31u + h[1]) * 31u + h[2]) * 31u + h[3];
 }
