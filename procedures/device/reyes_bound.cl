@@ -342,7 +342,12 @@ void reyes_bound(perma_ctx *ctx, __local const struct reyes_subpatch *item)
     struct reyes_subpatch sp = *item;
     float3 cp[16];
     float4 clip[16];
-    reyes_subpatch_points(ctx->buf.patches, &sp, cp);
+    /* A whole base patch at a shading rate: its own control points (fixed
+     * grids keep the C reference's restricted ones, bit for bit). */
+    if (p->shading_rate > 0.0f && sp.u0 == 0.0f && sp.v0 == 0.0f && sp.u1 == 1.0f && sp.v1 == 1.0f)
+        reyes_load_patch(ctx->buf.patches, sp.patch, cp);
+    else
+        reyes_subpatch_points(ctx->buf.patches, &sp, cp);
 
     float radius = reyes_displacement_radius(p);
     __global const float *m = p->view_proj;
@@ -398,14 +403,17 @@ void reyes_bound(perma_ctx *ctx, __local const struct reyes_subpatch *item)
     if (p->polyline && reason == 0u && !forced)
         reason = reyes_polyline_reason(&sp, need, &split_u);
     if (forced || reason == 0u) {
+        int polyline_fillers = 0;
         if (forced)
             atomic_inc(&counters[REYES_COUNT_FORCED_DICE]);
         if (p->polyline) {
             /* The lattice takes the most of its rows and columns and of
              * its edges' polylines (reyes_polyline.cl). */
             uint2 sides = convert_uint2(fmin(need, (float)(p->grid - 1u)));
-            sides.x = max(sides.x, max(reyes_polyline_count(&sp, REYES_EDGE_V0), reyes_polyline_count(&sp, REYES_EDGE_V1)));
-            sides.y = max(sides.y, max(reyes_polyline_count(&sp, REYES_EDGE_U0), reyes_polyline_count(&sp, REYES_EDGE_U1)));
+            uint counts[4];
+            polyline_fillers = reyes_polyline_prepare_dice(ctx->buf.patches, &sp, counts);
+            sides.x = max(sides.x, max(counts[REYES_EDGE_V0], counts[REYES_EDGE_V1]));
+            sides.y = max(sides.y, max(counts[REYES_EDGE_U0], counts[REYES_EDGE_U1]));
             sp.dice_size = (sp.dice_size & 0xffff0000u) | (sides.x + 1u) | ((sides.y + 1u) << 8);
         } else if (p->shading_rate > 0.0f) {
             /* The lattice takes the most of its rows and columns and of
@@ -422,8 +430,9 @@ void reyes_bound(perma_ctx *ctx, __local const struct reyes_subpatch *item)
          * A stitched leaf is still recorded, flagged, so the stitch plan
          * is the same. */
         int sampleless = p->shading_rate > 0.0f && !p->blur && radius == 0.0f && !reyes_hull_has_sample(p, s, lo, hi);
-        /* A polyline grid's fillers may reach past its hull: kept. */
-        if (sampleless && p->polyline && reyes_polyline_has_fillers(&sp))
+        /* A polyline grid's T-junction fillers may reach past its hull:
+         * kept. */
+        if (polyline_fillers)
             sampleless = 0;
         if (sampleless && !p->polyline)
             sp.dice_size |= REYES_DICE_NO_SAMPLE;

@@ -309,7 +309,7 @@ void reyes_dice(perma_ctx *ctx, __local const struct reyes_subpatch *item)
             atomic_inc(&counters[REYES_COUNT_OCCLUDED]);
             /* Its fillers close its neighbours' cracks and may reach
              * past its hull. */
-            if (p->polyline) {
+            if (p->polyline && (sp.edge_levels & REYES_POLYLINE_HAS_FILLERS)) {
                 int2 size = reyes_dice_size(p, sp.dice_size);
                 uint base = reyes_dice_base_color(p, ctx->buf.colors[sp.patch], size.x, size.y);
                 reyes_polyline_fillers(&target, &sp, ctx->buf.patches, base, &s->strips, 1, 0);
@@ -326,7 +326,7 @@ void reyes_dice(perma_ctx *ctx, __local const struct reyes_subpatch *item)
         reyes_dice_plain(ctx, item, &s->grid, full);
     else
         reyes_dice_displaced(ctx, item, s, full);
-    if (p->polyline) {
+    if (p->polyline && (item->edge_levels & REYES_POLYLINE_HAS_FILLERS)) {
         struct reyes_subpatch sp = *item;
         reyes_polyline_fillers(&target, &sp, ctx->buf.patches, s->grid.base, &s->strips, full, 1);
     }

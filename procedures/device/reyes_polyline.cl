@@ -54,6 +54,11 @@
 #define REYES_POLYLINE_MOST 15u
 /* An edge_levels byte with this bit: unsettled (0xff: never tested). */
 #define REYES_POLYLINE_FAILED 0x80u
+/* Set by bound in the last edge's byte of a sub-patch to dice that has
+ * fillers (a T-junction or an open boundary): dice looks for them only
+ * then.  Levels are at most REYES_MAX_DEPTH (40), under this bit. */
+#define REYES_POLYLINE_HAS_FILLERS (0x40u << (8 * REYES_EDGE_U0))
+#define REYES_POLYLINE_LEVEL_MASK 0x3fu
 
 REYES_INLINE uint reyes_polyline_byte(const struct reyes_subpatch *sp, int edge)
 {
@@ -150,7 +155,7 @@ struct reyes_polyline_edge reyes_polyline_edge_of(const struct reyes_subpatch *s
 {
     struct reyes_polyline_edge e;
     reyes_edge_line(sp, edge, &e.along_u, &e.fixed, &e.a, &e.b);
-    uint level = reyes_polyline_byte(sp, edge) & 0x7fu;
+    uint level = reyes_polyline_byte(sp, edge) & REYES_POLYLINE_LEVEL_MASK;
     e.pieces = reyes_polyline_pieces(sp, edge);
     e.span = ldexp(1.0f, -(int)level);
     e.s = reyes_segment_start(e.a, level);
@@ -190,7 +195,7 @@ REYES_INLINE int reyes_polyline_partial(const struct reyes_polyline_edge *e)
     return ((e->lo | e->hi) & mask) != 0ul;
 }
 
-/* Whether any edge of sp has an end inside a piece (it has fillers). */
+/* Whether any edge of sp has an end inside a piece (T-junction fillers). */
 int reyes_polyline_has_fillers(const struct reyes_subpatch *sp)
 {
     for (int edge = 0; edge < 4; ++edge) {
@@ -199,6 +204,24 @@ int reyes_polyline_has_fillers(const struct reyes_subpatch *sp)
             return 1;
     }
     return 0;
+}
+
+/* bound, for a sub-patch to dice: each edge's segments (counts[], in
+ * REYES_EDGE_* order); the sub-patch flagged when it has T-junction
+ * fillers or an edge on an open boundary (bulges).  Returns whether it
+ * has T-junction fillers. */
+int reyes_polyline_prepare_dice(__global const float4 *patches, struct reyes_subpatch *sp, uint counts[4])
+{
+    int partial = 0, open = 0;
+    for (int edge = 0; edge < 4; ++edge) {
+        struct reyes_polyline_edge e = reyes_polyline_edge_of(sp, edge);
+        counts[edge] = (uint)(reyes_polyline_last_corner(&e) - reyes_polyline_first_corner(&e));
+        partial |= reyes_polyline_partial(&e);
+        open |= e.boundary >= 0 && reyes_polyline_open(patches, sp->patch, e.along_u, e.fixed);
+    }
+    if (partial || open)
+        sp->edge_levels |= REYES_POLYLINE_HAS_FILLERS;
+    return partial;
 }
 
 /* The vertices along the edge, in the line's own direction: S's corners

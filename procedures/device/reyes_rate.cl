@@ -93,7 +93,14 @@ float reyes_rate_span(__global const struct reyes_params *p, const float3 base[1
 {
     float3 line[4], e[4];
     reyes_line_curve(base, along_u, fixed, line);
-    reyes_restrict_canonical(line, a, b, e);
+    /* The whole line is its own control points (both sides: the same
+     * rule), without blossoming them. */
+    if (a == 0.0f && b == 1.0f) {
+        for (int k = 0; k < 4; ++k)
+            e[k] = line[k];
+    } else {
+        reyes_restrict_canonical(line, a, b, e);
+    }
     int reversed = reyes_curve_reversed(line);
     float3 c[4];
     float4 clip[4];
