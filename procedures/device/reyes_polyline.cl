@@ -41,13 +41,20 @@
  * chord and their boundaries whatever its shape (a fan from a vertex of a
  * closed polygon has the polygon's winding number).
  *
+ * Seams and open boundaries.  The renderer welds the scene's seams once
+ * (procedures/render/reyes_weld.c), so both sides of a seam have the same
+ * boundary curve, and marks the boundaries no patch shares: there a
+ * chord cutting inside the curve would show what lies behind, and dice
+ * adds bulges (reyes_polyline_bulges).
+ *
  * Storage in the work item (struct reyes_subpatch): a byte of edge_levels
  * per edge, the settled segment's level (S is 2^-level of the line), or
  * REYES_POLYLINE_FAILED | level when the edge's own span, 2^-level of
  * the line, asked for too many (0xff: not tested); and N - 1 in the
  * nibble at bit 16 + 4 edge of dice_size (whose two low bytes are the
- * grid's size, reyes_dice_size).  Parameters are exact dyadic numbers to
- * 24 splits of a line.
+ * grid's size, reyes_dice_size); REYES_POLYLINE_HAS_FILLERS when dice
+ * has fillers to draw.  Parameters are exact dyadic numbers to 24 splits
+ * of a line.
  */
 
 /* A settled segment's pieces: at most this many (a nibble). */
@@ -181,29 +188,11 @@ REYES_INLINE ulong reyes_polyline_last_corner(const struct reyes_polyline_edge *
     return (e->hi + ((1ul << e->d) - 1ul)) >> e->d;
 }
 
-/* Segments of the edge's boundary: the corners strictly inside it, plus 1. */
-REYES_INLINE uint reyes_polyline_count(const struct reyes_subpatch *sp, int edge)
-{
-    struct reyes_polyline_edge e = reyes_polyline_edge_of(sp, edge);
-    return (uint)(reyes_polyline_last_corner(&e) - reyes_polyline_first_corner(&e));
-}
-
 /* Whether an end of the edge lies inside a piece of S (a T-junction). */
 REYES_INLINE int reyes_polyline_partial(const struct reyes_polyline_edge *e)
 {
     ulong mask = (1ul << e->d) - 1ul;
     return ((e->lo | e->hi) & mask) != 0ul;
-}
-
-/* Whether any edge of sp has an end inside a piece (T-junction fillers). */
-int reyes_polyline_has_fillers(const struct reyes_subpatch *sp)
-{
-    for (int edge = 0; edge < 4; ++edge) {
-        struct reyes_polyline_edge e = reyes_polyline_edge_of(sp, edge);
-        if (reyes_polyline_partial(&e))
-            return 1;
-    }
-    return 0;
 }
 
 /* bound, for a sub-patch to dice: each edge's segments (counts[], in

@@ -318,11 +318,14 @@ static Suite *suite(void)
  * issue 25's targets where the defaults meet them and elsewhere to the
  * bound measured (docs/reyes-measurements.md: small on screen the teaspoon's FLIP
  * error is 7 % above the fixed grids', whose silhouettes are exact to a
- * thousandth of a pixel).  The killeroo's 11532 small patches meet 4
+ * thousandth of a pixel: 0.00083 against 0.00077 with polylines, 0.00082
+ * stitched and without a crack fix; held to 8 %).  The killeroo's 11532 small patches meet 4
  * micropolygons per covered pixel only with occlusion culling (2.30 and
  * 3.59 measured with it, 2.28 and 3.87-3.89 with its margin at 1/256,
  * 5.15 and 8.01 without; the counts vary a little with the timing of the
- * two groups). */
+ * two groups).  Framed, its FLIP is 1.2 % above the fixed grids' with
+ * polylines (0.00328 against 0.00324; 0.9 % stitched, 1.2 % without a
+ * crack fix): held to 2 %. */
 START_TEST(test_models)
 {
     const struct {
@@ -330,10 +333,10 @@ START_TEST(test_models)
         bounds framed, small;
     } models[] = {
         {"teapot.bpt", targets, targets},
-        {"killeroo.bpt", targets, targets},
+        {"killeroo.bpt", {4.0, 0.02}, targets},
         {"newell-teapot.bpt", targets, {4.0, 0.02}},
         {"teacup.bpt", targets, targets},
-        {"teaspoon.bpt", targets, {4.0, 0.07}},
+        {"teaspoon.bpt", targets, {4.0, 0.08}},
     };
     const reyes_quality_view views[] = { {0, 25, 1.0f}, {30, 30, 2.5f} };
     for (size_t m = 0; m < sizeof models / sizeof models[0]; ++m) {
