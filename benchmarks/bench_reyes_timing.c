@@ -49,13 +49,13 @@ void reyes_bench_time_reference(stage_timing *t, const reyes_scene *scene, const
     reyes_error error;
     reyes_status status;
     reyes_image image = { 0 };
-    double cpu = process_cpu_seconds();
+    double cpu = process_cpu_seconds(), start = bench_now();
     if (o->stages == REYES_STAGES_ALL)
         status = threads ? reyes_reference_render_parallel(scene, camera, o, threads, &image, &t->counts, &error)
                          : reyes_reference_render(scene, camera, o, &image, &t->counts, &error);
     else
         status = reyes_reference_run(scene, camera, o, &t->counts, &error);
-    double used = process_cpu_seconds() - cpu;
+    double used = process_cpu_seconds() - cpu, wall = bench_now() - start;
     if (status != REYES_OK) {
         snprintf(t->message, sizeof t->message, "%s", error.message);
         t->ran = 0;
@@ -68,7 +68,10 @@ void reyes_bench_time_reference(stage_timing *t, const reyes_scene *scene, const
         t->culls = o->occlusion_cull && o->shading_rate > 0.0f;
         reyes_image_free(&image);
     }
-    t->seconds[t->runs] = t->walls[t->runs] = t->counts.seconds;
+    /* seconds: the pipeline's span (as a perma_run); walls: the whole call
+     * (its clear and resolve too). */
+    t->seconds[t->runs] = t->counts.seconds;
+    t->walls[t->runs] = wall;
     t->cpus[t->runs] = used;
     ++t->runs;
 }
@@ -112,7 +115,8 @@ double reyes_bench_reference_row(bench_report *report, const char *workload, int
     row.ran = t->ran && t->runs > 0;
     snprintf(row.message, sizeof row.message, "%s", t->message);
     if (row.ran) {
-        row.seconds = row.wall_seconds = reyes_bench_best_of(t->seconds, t->runs);
+        row.seconds = reyes_bench_best_of(t->seconds, t->runs);
+        row.wall_seconds = reyes_bench_best_of(t->walls, t->runs);
         row.units = (double)t->counts.micropolygons;
         row.count = row.expected = t->counts.grids;
         snprintf(row.message, sizeof row.message, "splits %llu grids %llu%s", (unsigned long long)t->counts.splits,

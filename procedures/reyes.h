@@ -133,7 +133,7 @@ int reyes_camera_project(const float m[16], unsigned width, unsigned height, con
 
 /* ---- Rendering ---- */
 
-enum { REYES_CRACK_FIX_NONE, REYES_CRACK_FIX_STITCH, REYES_CRACK_FIX_WEDGE };
+enum { REYES_CRACK_FIX_NONE, REYES_CRACK_FIX_STITCH, REYES_CRACK_FIX_WEDGE, REYES_CRACK_FIX_POLYLINE };
 
 /* Subdivision criteria: the values of reyes_shared.h. */
 #define REYES_MAX_EPSILON 1000.0f
@@ -225,7 +225,12 @@ typedef struct reyes_options {
      * every edge settles on a flat segment of its base patch's line and
      * both sides reach the polyline of its curve at grid - 1 steps with
      * wedge strips; docs/reyes-dicing.md),
-     * REYES_CRACK_FIX_NONE leaves them. */
+     * REYES_CRACK_FIX_POLYLINE closes them in one pass without
+     * communication with a shading rate (not fixed grids, no
+     * displacement: both sides of every edge put the polyline of a segment
+     * of its line they choose alone on it, and the side with a corner
+     * inside one of its pieces fills the T-junction; reyes-render's
+     * default with a shading rate), REYES_CRACK_FIX_NONE leaves them. */
     unsigned crack_fix;
     /* Displacement along the normal (docs/reyes-effects.md): REYES_DISPLACE_NONE
      * (default), _BUMPS (procedural noise bumps of height 0..amplitude) or

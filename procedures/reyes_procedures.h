@@ -27,7 +27,9 @@
     L(grid, cl)                  \
     L(sharp_quads, cl)           \
     L(rasterize, cl)             \
-    L(occlusion, cl)
+    L(occlusion, cl)             \
+    L(dice_vertices, cl)         \
+    L(polyline, cl)
 
 /* X(ENUM, name, item type, priority, emits): procedure `name` is the
  * function reyes_NAME in device/reyes_NAME.cl over items of the type,

@@ -30,6 +30,11 @@ static perma_cli_status check_subdivision_options(reyes_cli *cli, const perma_cl
                               cli->reference ? "--reference" : "--crack-fix wedge");
     if (!cli->shading_rate_given)
         cli->render.shading_rate = cli->grid_given || fixed ? 0.0f : 1.0f;
+    /* One pass at a rate; fixed grids and displaced surfaces stitch. */
+    int displaced = cli->render.displace_mode != REYES_DISPLACE_NONE && cli->render.displace_amplitude != 0.0f;
+    if (!cli->crack_fix_given)
+        cli->render.crack_fix = cli->render.shading_rate > 0.0f && !displaced ? REYES_CRACK_FIX_POLYLINE
+                                                                              : REYES_CRACK_FIX_STITCH;
     return PERMA_CLI_OK;
 }
 

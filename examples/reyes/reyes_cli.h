@@ -26,6 +26,9 @@ typedef struct reyes_cli {
      * --grid alone, --crack-fix wedge and --reference dice fixed grids;
      * otherwise the rate is 1. */
     int grid_given, shading_rate_given;
+    /* Without --crack-fix: polyline with a shading rate and no
+     * displacement, else stitch. */
+    int crack_fix_given;
     /* Scale-out (docs/scale-out.md): a device list to spread buckets or
      * frames over (NULL: one device), an animation of `frames` frames
      * (0: one image) turning the camera by orbit_deg over all of them. */

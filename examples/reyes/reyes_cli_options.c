@@ -16,7 +16,7 @@
 
 #define REYES_MAX_FRAMES 100000u
 
-static const char *const crack_fix_names[] = { "none", "stitch", "wedge", NULL };   /* REYES_CRACK_FIX_* */
+static const char *const crack_fix_names[] = { "none", "stitch", "wedge", "polyline", NULL }; /* REYES_CRACK_FIX_* */
 static const char *const off_on_names[] = { "off", "on", NULL };
 static const char *const subdivision_names[] = { "bound", "tiered", NULL };          /* REYES_SUBDIVISION_* */
 
@@ -141,7 +141,9 @@ void reyes_cli_describe(reyes_cli *cli, const char *program, reyes_cli_descripti
         { PERMA_CLI_SIZE("bucket", "WxH", cli->bucket, 1, REYES_MAX_SIZE,
                          "render in screen tiles of WxH pixels (default: one)") },
         { PERMA_CLI_CHOICE("crack-fix", "NAME", &r->crack_fix, crack_fix_names,
-                           "how cracks between grids are filled (default stitch; wedge: one pass, tiered only)") },
+                           "how cracks between grids are filled (default: polyline with a shading rate and no "
+                           "displacement, else stitch; wedge: fixed grids, tiered only)"),
+          .given = &cli->crack_fix_given },
         { PERMA_CLI_CUSTOM("displace", "KIND", parse_displace, cli,
                            "bumps:AMPLITUDE or png:FILE:AMPLITUDE (gray PNG at the patch's u,v)") },
         { PERMA_CLI_CUSTOM("motion", "dx,dy,dz", parse_floats, r->motion,

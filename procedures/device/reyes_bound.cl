@@ -161,6 +161,19 @@ uint reyes_wedge_reason(__global const struct reyes_params *p, __global const fl
     return 0u;
 }
 
+/* With polylines, an unsettled edge of a sub-patch that would be diced is
+ * a reason to split across it (reyes_polyline.cl): along u for V0 or V1,
+ * along v for U0 or U1, the longer need first when both. */
+uint reyes_polyline_reason(const struct reyes_subpatch *sp, float2 need, int *split_u)
+{
+    int unsettled_u = !reyes_polyline_settled(sp, REYES_EDGE_V0) || !reyes_polyline_settled(sp, REYES_EDGE_V1);
+    int unsettled_v = !reyes_polyline_settled(sp, REYES_EDGE_U0) || !reyes_polyline_settled(sp, REYES_EDGE_U1);
+    if (!unsettled_u && !unsettled_v)
+        return 0u;
+    *split_u = unsettled_u && (!unsettled_v || need.x >= need.y);
+    return REYES_COUNT_SPLIT_EDGE;
+}
+
 /* Whether a projectable sub-patch is split, as the counter naming the
  * reason (0: dice it), and in which direction (*split_u).  A bound that
  * is too large splits along the longer hull; with a shading rate the
@@ -329,7 +342,12 @@ void reyes_bound(perma_ctx *ctx, __local const struct reyes_subpatch *item)
     struct reyes_subpatch sp = *item;
     float3 cp[16];
     float4 clip[16];
-    reyes_subpatch_points(ctx->buf.patches, &sp, cp);
+    /* A whole base patch at a shading rate: its own control points (fixed
+     * grids keep the C reference's restricted ones, bit for bit). */
+    if (p->shading_rate > 0.0f && sp.u0 == 0.0f && sp.v0 == 0.0f && sp.u1 == 1.0f && sp.v1 == 1.0f)
+        reyes_load_patch(ctx->buf.patches, sp.patch, cp);
+    else
+        reyes_subpatch_points(ctx->buf.patches, &sp, cp);
 
     float radius = reyes_displacement_radius(p);
     __global const float *m = p->view_proj;
@@ -349,6 +367,8 @@ void reyes_bound(perma_ctx *ctx, __local const struct reyes_subpatch *item)
         return;
     }
     int forced = sp.depth >= p->max_depth;
+    if (p->polyline)
+        reyes_polyline_test_edges(p, ctx->buf.patches, &sp, forced);
     if (any_behind) {
         /* Never project through the near plane: split in world space. */
         if (forced) {
@@ -376,13 +396,26 @@ void reyes_bound(perma_ctx *ctx, __local const struct reyes_subpatch *item)
         return;
     }
     int split_u;
-    sp.edge_levels = 0xffffffffu;
+    if (!p->polyline)
+        sp.edge_levels = 0xffffffffu;
     float2 need = p->shading_rate > 0.0f ? reyes_rate_segments(p, cp, clip, s) : (float2)(0.0f, 0.0f);
     uint reason = reyes_split_reason(p, ctx->buf.patches, &sp, cp, clip, s, hi - lo, need, &split_u);
+    if (p->polyline && reason == 0u && !forced)
+        reason = reyes_polyline_reason(&sp, need, &split_u);
     if (forced || reason == 0u) {
+        int polyline_fillers = 0;
         if (forced)
             atomic_inc(&counters[REYES_COUNT_FORCED_DICE]);
-        if (p->shading_rate > 0.0f) {
+        if (p->polyline) {
+            /* The lattice takes the most of its rows and columns and of
+             * its edges' polylines (reyes_polyline.cl). */
+            uint2 sides = convert_uint2(fmin(need, (float)(p->grid - 1u)));
+            uint counts[4];
+            polyline_fillers = reyes_polyline_prepare_dice(ctx->buf.patches, &sp, counts);
+            sides.x = max(sides.x, max(counts[REYES_EDGE_V0], counts[REYES_EDGE_V1]));
+            sides.y = max(sides.y, max(counts[REYES_EDGE_U0], counts[REYES_EDGE_U1]));
+            sp.dice_size = (sp.dice_size & 0xffff0000u) | (sides.x + 1u) | ((sides.y + 1u) << 8);
+        } else if (p->shading_rate > 0.0f) {
             /* The lattice takes the most of its rows and columns and of
              * its edges (reyes_rate.cl); an edge with fewer keeps its own. */
             uint edges = reyes_rate_edges(p, ctx->buf.patches, &sp);
@@ -397,7 +430,11 @@ void reyes_bound(perma_ctx *ctx, __local const struct reyes_subpatch *item)
          * A stitched leaf is still recorded, flagged, so the stitch plan
          * is the same. */
         int sampleless = p->shading_rate > 0.0f && !p->blur && radius == 0.0f && !reyes_hull_has_sample(p, s, lo, hi);
-        if (sampleless)
+        /* A polyline grid's T-junction fillers may reach past its hull:
+         * kept. */
+        if (polyline_fillers)
+            sampleless = 0;
+        if (sampleless && !p->polyline)
             sp.dice_size |= REYES_DICE_NO_SAMPLE;
         if (p->record_leaves) {
             if (p->blur)

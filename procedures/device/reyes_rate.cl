@@ -82,34 +82,51 @@ float2 reyes_rate_segments(__global const struct reyes_params *p, const float3 c
     return (float2)(need[0], need[1]);
 }
 
+/* Micropolygons along segment [a,b] of the line (along_u, fixed) of base
+ * patch `base` (reyes_line_curve): the rate's count (reyes_rate_curve) of
+ * its control points blossomed in the canonical direction
+ * (reyes_restrict_canonical) and measured in that order, so the
+ * neighbour across it (in this or a glued base patch) computes the same
+ * bits; -1 if a point is not in front of the near plane. */
+float reyes_rate_span(__global const struct reyes_params *p, const float3 base[16], int along_u, float fixed,
+                      float a, float b)
+{
+    float3 line[4], e[4];
+    reyes_line_curve(base, along_u, fixed, line);
+    /* The whole line is its own control points (both sides: the same
+     * rule), without blossoming them. */
+    if (a == 0.0f && b == 1.0f) {
+        for (int k = 0; k < 4; ++k)
+            e[k] = line[k];
+    } else {
+        reyes_restrict_canonical(line, a, b, e);
+    }
+    int reversed = reyes_curve_reversed(line);
+    float3 c[4];
+    float4 clip[4];
+    float2 s[4];
+    for (int k = 0; k < 4; ++k) {
+        c[k] = e[reversed ? 3 - k : k];
+        clip[k] = reyes_to_clip(p, c[k]);
+        if (clip[k].w <= p->near_w)
+            return -1.0f;
+        s[k] = reyes_to_screen(p, clip[k]);
+    }
+    return reyes_rate_curve(p, c, clip, s);
+}
+
 /* Segments along edge `edge` (REYES_EDGE_*) of sub-patch sp, from the
- * edge's own control points: blossomed from its base patch's line in the
- * canonical direction (reyes_restrict_canonical) and measured in that
- * order, so the neighbour across it (in this or a glued base patch)
- * computes the same bits.  At most grid - 1; grid - 1 if a point is not
- * in front of the near plane. */
+ * edge's own control points (reyes_rate_span).  At most grid - 1; grid - 1
+ * if a point is not in front of the near plane. */
 uint reyes_rate_edge(__global const struct reyes_params *p, const float3 base[16], const struct reyes_subpatch *sp,
                      int edge)
 {
     int along_u;
     float fixed, a, b;
     reyes_edge_line(sp, edge, &along_u, &fixed, &a, &b);
-    float3 line[4], e[4];
-    reyes_line_curve(base, along_u, fixed, line);
-    reyes_restrict_canonical(line, a, b, e);
-    int reversed = reyes_curve_reversed(line);
-    float3 c[4];
-    float4 clip[4];
-    float2 s[4];
     uint most = p->grid - 1u;
-    for (int k = 0; k < 4; ++k) {
-        c[k] = e[reversed ? 3 - k : k];
-        clip[k] = reyes_to_clip(p, c[k]);
-        if (clip[k].w <= p->near_w)
-            return most;
-        s[k] = reyes_to_screen(p, clip[k]);
-    }
-    return (uint)fmin(reyes_rate_curve(p, c, clip, s), (float)most);
+    float count = reyes_rate_span(p, base, along_u, fixed, a, b);
+    return count < 0.0f ? most : (uint)fmin(count, (float)most);
 }
 
 /* The four edges' segments, a byte each in REYES_EDGE_* order (kept in

@@ -19,13 +19,15 @@ struct reyes_subpatch {
     REYES_U32 patch;  /* index of the base patch */
     REYES_U32 depth;  /* number of splits from the base patch */
     float u0, v0, u1, v1;
-    /* Wedge crack fix: the level at which each edge settled, a byte per
-     * edge in REYES_EDGE_* order (0xff: not settled), set by bound for
-     * dice (reyes_flatness.cl); unused otherwise. */
+    /* Wedge and polyline crack fixes: the level at which each edge
+     * settled, a byte per edge in REYES_EDGE_* order (0xff: not settled;
+     * reyes_flatness.cl, reyes_polyline.cl); with a shading rate
+     * otherwise each edge's segments (reyes_rate.cl). */
     REYES_U32 edge_levels;
     /* Shading-rate dicing (reyes_params.shading_rate > 0): the grid's
      * vertices along u (low byte) and v (next byte), chosen by bound; 0:
-     * the renderer's grid x grid. */
+     * the renderer's grid x grid.  The polyline crack fix keeps each edge's
+     * settled segment's pieces less 1 in the nibble at bit 16 + 4 edge. */
     REYES_U32 dice_size;
 };
 
@@ -303,7 +305,11 @@ struct reyes_params {
      * over (reyes_grid_occluded, reyes_occlusion.cl); only with a shading
      * rate, undisplaced, unblurred, without wedges, in full renders. */
     REYES_U32 occlusion_cull;
-    REYES_U32 pad6;
+    /* 1: crack fix by polylines (reyes_polyline.cl; with a shading rate):
+     * bound settles every edge on a segment of its base patch's line
+     * that both sides choose alone, dice puts that segment's polyline on
+     * the edge and fills the T-junctions. */
+    REYES_U32 polyline;
 };
 
 #endif

@@ -10,6 +10,11 @@ void reyes_split_u(perma_ctx *ctx, __local const struct reyes_subpatch *item)
     left.u1 = mid;
     right.u0 = mid;
     left.depth = right.depth = item->depth + 1u;
+    if (ctx->buf.params->polyline) {
+        /* The split line's edges start unsettled (reyes_polyline.cl). */
+        reyes_polyline_mark(&left, REYES_EDGE_U1, 0xffu);
+        reyes_polyline_mark(&right, REYES_EDGE_U0, 0xffu);
+    }
     atomic_inc(&ctx->buf.counters[REYES_COUNT_SPLITS]);
     emit_bound(ctx, &left);
     emit_bound(ctx, &right);

@@ -508,16 +508,22 @@ REYES_INLINE float2 reyes_grid_uv(__global const struct reyes_params *p, const s
     return (float2)(u, v);
 }
 
-/* The colour (or packed normal, reyes_shade) of undisplaced grid vertex
- * (i,j) for the patch's packed base colour rgba, the normal taken slightly
- * inside where it vanishes (reyes_vertex_normal_from). */
+/* The colour (or packed normal, reyes_shade) of the undisplaced point at
+ * (u,v), or of grid vertex (i,j), for the patch's packed base colour
+ * rgba, the normal taken slightly inside where it vanishes
+ * (reyes_vertex_normal_from). */
+uint reyes_vertex_color_at(__global const struct reyes_params *p, const float3 cp[16], float u, float v, uint rgba)
+{
+    float3 x, n;
+    int collapsed = reyes_patch_point_normal(cp, u, v, &x, &n);
+    return reyes_shade(p, x, reyes_vertex_normal_from(p, cp, u, v, n, collapsed), rgba);
+}
+
 uint reyes_grid_vertex_color(__global const struct reyes_params *p, const float3 cp[16],
                              const struct reyes_subpatch *sp, uint rgba, int i, int j)
 {
     float2 uv = reyes_grid_uv(p, sp, i, j);
-    float3 x, n;
-    int collapsed = reyes_patch_point_normal(cp, uv.x, uv.y, &x, &n);
-    return reyes_shade(p, x, reyes_vertex_normal_from(p, cp, uv.x, uv.y, n, collapsed), rgba);
+    return reyes_vertex_color_at(p, cp, uv.x, uv.y, rgba);
 }
 
 /* Position (clip space) of grid vertex (i,j), and its color when `shade`

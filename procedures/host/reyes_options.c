@@ -148,10 +148,11 @@ reyes_status reyes_options_check(const reyes_options *o, reyes_error *error)
     reyes_status blur_status = check_blur_algo(o, error);
     if (blur_status != REYES_OK)
         return blur_status;
-    if (o->crack_fix > REYES_CRACK_FIX_WEDGE)
+    if (o->crack_fix > REYES_CRACK_FIX_POLYLINE)
         return reyes_fail(error, REYES_ERR_ARGUMENT,
-                          "crack fix %u is not %u (none), %u (stitch) or %u (wedge)", o->crack_fix,
-                          REYES_CRACK_FIX_NONE, REYES_CRACK_FIX_STITCH, REYES_CRACK_FIX_WEDGE);
+                          "crack fix %u is not %u (none), %u (stitch), %u (wedge) or %u (polyline)", o->crack_fix,
+                          REYES_CRACK_FIX_NONE, REYES_CRACK_FIX_STITCH, REYES_CRACK_FIX_WEDGE,
+                          REYES_CRACK_FIX_POLYLINE);
     if (o->crack_fix == REYES_CRACK_FIX_WEDGE && o->subdivision != REYES_SUBDIVISION_TIERED)
         return reyes_fail(error, REYES_ERR_ARGUMENT,
                           "crack fix wedge needs the tiered subdivision criterion");
@@ -164,6 +165,14 @@ reyes_status reyes_options_check(const reyes_options *o, reyes_error *error)
         return reyes_fail(error, REYES_ERR_ARGUMENT,
                           "crack fix wedge needs fixed grids (shading rate 0): its strips assume grid - 1 "
                           "steps along every edge");
+    if (o->crack_fix == REYES_CRACK_FIX_POLYLINE && o->shading_rate == 0.0f)
+        return reyes_fail(error, REYES_ERR_ARGUMENT,
+                          "crack fix polyline needs a shading rate (fixed grids stitch or use wedges)");
+    if (o->crack_fix == REYES_CRACK_FIX_POLYLINE && o->displace_mode != REYES_DISPLACE_NONE
+        && o->displace_amplitude != 0.0f)
+        return reyes_fail(error, REYES_ERR_ARGUMENT,
+                          "crack fix polyline cannot be combined with displacement (its polylines are of the "
+                          "undisplaced surface; stitch instead)");
     if (o->crack_fix == REYES_CRACK_FIX_WEDGE && o->displace_mode != REYES_DISPLACE_NONE
         && o->displace_amplitude != 0.0f)
         return reyes_fail(error, REYES_ERR_ARGUMENT,

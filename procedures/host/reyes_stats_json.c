@@ -99,8 +99,9 @@ reyes_status reyes_write_stats_json(FILE *out, const reyes_stats *s, const reyes
     fprintf(out, "  \"samples_written\": %" PRIu64 ",\n", s->samples_written);
     fprintf(out, "  \"crack_fix\": \"%s\", \"stitches\": %" PRIu64 ", \"fillers\": %" PRIu64 ",\n",
             o->crack_fix == REYES_CRACK_FIX_STITCH  ? "stitch"
-            : o->crack_fix == REYES_CRACK_FIX_WEDGE ? "wedge"
-                                                     : "none",
+            : o->crack_fix == REYES_CRACK_FIX_WEDGE    ? "wedge"
+            : o->crack_fix == REYES_CRACK_FIX_POLYLINE ? "polyline"
+                                                        : "none",
             s->stitches, s->fillers);
     fprintf(out, "  \"peak_queue_bytes\": %zu,\n", s->peak_queue_bytes);
     fprintf(out, "  \"displace_mode\": %u, \"displace_amplitude\": %g, \"motion\": [%g, %g, %g], "

@@ -8,6 +8,7 @@
 #include "reyes_render_internal.h"
 #include "reyes_renderer_internal.h"
 #include "reyes_look.h"
+#include "reyes_weld.h"
 
 static void free_buffers(render_buffers *b)
 {
@@ -84,7 +85,8 @@ static reyes_status allocate(const reyes_scene *scene, const reyes_options *o, r
     memset(b->counters, 0, sizeof b->counters);
     for (size_t i = 0; i < scene->patch_count; ++i)
         b->seeds[i] = (struct reyes_subpatch){ .patch = (uint32_t)i, .depth = 0,
-                                               .u0 = 0.0f, .v0 = 0.0f, .u1 = 1.0f, .v1 = 1.0f };
+                                               .u0 = 0.0f, .v0 = 0.0f, .u1 = 1.0f, .v1 = 1.0f,
+                                               .edge_levels = 0xffffffffu }; /* unsettled edges */
     return REYES_OK;
 }
 
@@ -196,6 +198,81 @@ static reyes_status render_tile(reyes_renderer *r, const reyes_scene *scene, con
     return resolve_samples(r, o, t, image, stats, error);
 }
 
+/* The points the run reads: with polylines the scene's welded (made once
+ * per scene and kept in the renderer), else the scene's own. */
+static reyes_status choose_points(reyes_renderer *r, const reyes_scene *scene, const reyes_options *o,
+                                  render_buffers *b, reyes_error *error)
+{
+    b->points = scene->points;
+    if (o->crack_fix != REYES_CRACK_FIX_POLYLINE || scene->patch_count == 0)
+        return REYES_OK;
+    uint64_t hash = reyes_points_hash(scene);
+    if (!r->welded || r->welded_from != scene->points || r->welded_count != scene->patch_count
+        || r->welded_hash != hash) {
+        free(r->welded);
+        r->welded = NULL;
+        size_t moved;
+        reyes_status status = reyes_weld_points(scene, &r->welded, &moved, error);
+        if (status != REYES_OK)
+            return status;
+        r->welded_from = scene->points;
+        r->welded_count = scene->patch_count;
+        r->welded_hash = hash;
+    }
+    b->points = r->welded;
+    return REYES_OK;
+}
+
+/* Seeds front to back for occlusion culling in one pass (polylines, no
+ * crack fix): each base patch by its control points' nearest clip w, in
+ * REYES_SEED_BINS bins between the scene's nearest and farthest (a
+ * counting sort, stable: patch order within a bin), those reaching the
+ * near plane first.  Small patches (the killeroo's) are diced whole, in
+ * about this order, so the near ones are drawn before the far ones they
+ * hide are tested (reyes_occlusion.cl); the image does not depend on it. */
+#define REYES_SEED_BINS 4096u
+static reyes_status order_seeds_front_to_back(const reyes_scene *scene, render_buffers *b, reyes_error *error)
+{
+    size_t n = scene->patch_count;
+    if (!b->params.occlusion_cull || n < 2)
+        return REYES_OK;
+    float *near = malloc(n * sizeof *near);
+    uint32_t *count = calloc(REYES_SEED_BINS + 1, sizeof *count);
+    struct reyes_subpatch *sorted = malloc(n * sizeof *sorted);
+    if (!near || !count || !sorted) {
+        free(near), free(count), free(sorted);
+        return reyes_fail(error, REYES_ERR_NO_MEMORY, "out of memory ordering %zu patches", n);
+    }
+    const float *m = b->params.view_proj + 12;
+    float lo = INFINITY, hi = -INFINITY;
+    for (size_t i = 0; i < n; ++i) {
+        const float *cp = b->points + i * 64;
+        float w = INFINITY;
+        for (int k = 0; k < 16; ++k)
+            w = fminf(w, m[0] * cp[4 * k] + m[1] * cp[4 * k + 1] + m[2] * cp[4 * k + 2] + m[3]);
+        near[i] = w > b->params.near_w ? w : -INFINITY;
+        if (near[i] > -INFINITY) {
+            lo = fminf(lo, w);
+            hi = fmaxf(hi, w);
+        }
+    }
+    float scale = hi > lo ? (float)(REYES_SEED_BINS - 1) / (hi - lo) : 0.0f;
+    for (size_t i = 0; i < n; ++i) {
+        uint32_t bin = near[i] == -INFINITY ? 0u : 1u + (uint32_t)((near[i] - lo) * scale);
+        near[i] = (float)bin;
+        ++count[bin < REYES_SEED_BINS ? bin : REYES_SEED_BINS];
+    }
+    for (uint32_t k = 1; k <= REYES_SEED_BINS; ++k)
+        count[k] += count[k - 1];
+    for (size_t i = n; i-- > 0;) {
+        uint32_t bin = (uint32_t)near[i];
+        sorted[--count[bin < REYES_SEED_BINS ? bin : REYES_SEED_BINS]] = b->seeds[i];
+    }
+    memcpy(b->seeds, sorted, n * sizeof *sorted);
+    free(near), free(count), free(sorted);
+    return REYES_OK;
+}
+
 /* Render every bucket, row by row (one bucket: the whole image). */
 static reyes_status render_buckets(reyes_renderer *r, const reyes_scene *scene,
                                    const reyes_options *o, render_buffers *b, reyes_image *image,
@@ -218,6 +295,10 @@ static reyes_status render_buckets(reyes_renderer *r, const reyes_scene *scene,
                   && scene->patch_count > 0;
     if (b->stitched) {
         reyes_status status = render_subdivide_and_plan(r, scene, o, b, stats, error);
+        if (status != REYES_OK)
+            return status;
+    } else {
+        reyes_status status = order_seeds_front_to_back(scene, b, error);
         if (status != REYES_OK)
             return status;
     }
@@ -281,6 +362,8 @@ reyes_status reyes_render(reyes_renderer *r, const reyes_scene *scene, const rey
         status = make_blur_tuples(options, &b, error);
     if (status == REYES_OK)
         status = allocate(scene, options, &b, image, error);
+    if (status == REYES_OK)
+        status = choose_points(r, scene, options, &b, error);
     if (status == REYES_OK)
         status = render_buckets(r, scene, options, &b, image, stats, error);
     free_buffers(&b);

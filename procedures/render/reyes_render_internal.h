@@ -12,6 +12,7 @@
 
 /* The per-render buffers handed to perma_bind_host. */
 typedef struct render_buffers {
+    const float *points;            /* the patches' control points: the scene's, or welded */
     struct reyes_params params;
     uint32_t counters[REYES_COUNTERS];
     struct reyes_subpatch *seeds;   /* one per base patch */

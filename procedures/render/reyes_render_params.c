@@ -138,6 +138,7 @@ reyes_status render_fill_params(const reyes_scene *scene, const reyes_camera *ca
     p->flat_lambda = o->flat_lambda;
     p->flat_cap_px = o->flat_bound_px > 0.0f ? o->flat_bound_px : (float)(o->grid - 1u);
     p->wedges = o->crack_fix == REYES_CRACK_FIX_WEDGE ? 1u : 0u;
+    p->polyline = o->crack_fix == REYES_CRACK_FIX_POLYLINE ? 1u : 0u;
     p->cull_margin = o->cull_margin;
     p->ambient = REYES_AMBIENT;
     p->diffuse = REYES_DIFFUSE;

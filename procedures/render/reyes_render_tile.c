@@ -27,7 +27,7 @@ static perma_status bind_buffers(reyes_renderer *r, const reyes_scene *scene, re
     static struct reyes_leaf no_leaf;
     static struct reyes_stitch_piece no_piece;
     perma_runtime *rt = r->rt;
-    perma_status s = perma_bind_host(rt, "patches", "__global const float4 *", scene->points,
+    perma_status s = perma_bind_host(rt, "patches", "__global const float4 *", (void *)b->points,
                                      scene->patch_count * 64 * sizeof(float), PERMA_READ);
     if (s == PERMA_OK)
         s = perma_bind_host(rt, "colors", "__global const uint *", scene->colors,

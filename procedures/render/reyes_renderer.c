@@ -155,6 +155,7 @@ void reyes_renderer_destroy(reyes_renderer *renderer)
         return;
     if (renderer->samples)
         clReleaseMemObject(renderer->samples);
+    free(renderer->welded);
     perma_destroy(renderer->rt);
     free(renderer);
 }

@@ -15,6 +15,13 @@ struct reyes_renderer {
      * render to render: cleared there, read back by mapping. */
     cl_mem samples;
     size_t samples_bytes;
+    /* The polyline crack fix renders the scene's points welded
+     * (reyes_weld.h): those of the last scene, known by its points'
+     * address, count and hash. */
+    float *welded;
+    const float *welded_from;
+    size_t welded_count;
+    uint64_t welded_hash;
 };
 
 /* Copy the runtime's last message into *error. */

@@ -9,12 +9,15 @@
  * things on fewer views).
  *
  *   reyes-quality [--size N] [--spp N] [--rate R] [--crack-fix NAME] [--no-grid] [--cracks] [--dump DIR]
- *                 [--views LIST] MODEL...   (options: perma_cli's table in main; --help)
+ *                 [--views LIST | --random N [--seed S]] MODEL...   (options: perma_cli's table in main; --help)
  *
- * MODEL: a .bpt file, `builtin` or `subdivision[:LEVELS][:loose]` (loose:
- * boundaries that agree only to rounding); LIST: views
+ * MODEL: a .bpt file, `builtin` or `subdivision[:LEVELS][:loose][:ico]`
+ * (loose: boundaries that agree only to rounding; ico: the icosahedral
+ * cage, base patch corners of valence 3 to 6); LIST: views
  * `azimuth,elevation,distance` separated by `/` (degrees about the
- * framed camera's target, distance in framed distances).
+ * framed camera's target, distance in framed distances); --random: N
+ * views of reyes_quality_random_view (framed, near, telephoto, grazing).
+ * The last lines total the see-through samples and holes per dicing.
  */
 #include <stdio.h>
 #include <stdlib.h>
@@ -33,7 +36,7 @@ typedef struct settings {
     int no_grid, cracks_only;
     const char *dump;
     reyes_quality_view views[16];
-    unsigned view_count;
+    unsigned view_count, random_views, seed;
     const char **models;
     size_t model_count;
 } settings;
@@ -83,9 +86,10 @@ static int load(const char *name, reyes_scene *scene, reyes_error *error)
         return reyes_scene_add_builtin(scene, error) == REYES_OK;
     if (strncmp(name, "subdivision", 11) == 0) {
         /* subdivision[:LEVELS][:loose] */
-        unsigned levels = name[11] == ':' ? (unsigned)atoi(name + 12) : 4u;
+        unsigned levels = name[11] == ':' && name[12] >= '0' && name[12] <= '9' ? (unsigned)atoi(name + 12) : 4u;
         int glued = strstr(name, "loose") == NULL;
-        return reyes_subdivision_model_add(scene, levels, glued, reyes_model_color(0), error) == REYES_OK;
+        unsigned cage = strstr(name, "ico") ? REYES_CAGE_ICOSAHEDRAL : REYES_CAGE_CUBE;
+        return reyes_subdivision_cage_add(scene, cage, levels, glued, reyes_model_color(0), error) == REYES_OK;
     }
     return reyes_scene_load_bpt(scene, name, reyes_model_color(0), error) == REYES_OK;
 }
@@ -102,14 +106,14 @@ static void print_line(const char *model, unsigned view, const char *config, con
 
 int main(int argc, char **argv)
 {
-    settings s = { 512, 4, 1.0f, REYES_CRACK_FIX_STITCH, 0, 0, NULL, {{0, 0, 0}}, 0, NULL, 0 };
+    settings s = { 512, 4, 1.0f, REYES_CRACK_FIX_STITCH, 0, 0, NULL, {{0, 0, 0}}, 0, 0, 1, NULL, 0 };
     parse_views_text("0,25,1/60,10,0.9/140,45,1.1/220,5,0.8/300,-20,1/30,30,2.5/100,20,4", &s);
     s.models = calloc(argc > 0 ? (size_t)argc : 1, sizeof *s.models);
     if (!s.models) {
         fprintf(stderr, "reyes-quality: out of memory\n");
         return 1;
     }
-    static const char *const crack_fixes[] = { "none", "stitch", NULL }; /* REYES_CRACK_FIX_* */
+    static const char *const crack_fixes[] = { "none", "stitch", "wedge", "polyline", NULL }; /* REYES_CRACK_FIX_* */
     const perma_cli_option rows[] = {
         { PERMA_CLI_WHOLE("size", "N", &s.size, 16, 4096, "image side in pixels (default 512)") },
         { PERMA_CLI_WHOLE("spp", "N", &s.spp, 1, REYES_MAX_SPP, "samples per pixel (default 4)") },
@@ -122,6 +126,9 @@ int main(int argc, char **argv)
         { PERMA_CLI_CUSTOM("views", "a,e,d/...", parse_views, &s,
                            "views: azimuth,elevation (degrees about the framed camera's target), distance (in "
                            "framed distances), separated by '/' (default: docs/reyes-measurements.md's 7)") },
+        { PERMA_CLI_WHOLE("random", "N", &s.random_views, 0, 100000,
+                          "N random views instead: framed, near, telephoto and grazing in turn") },
+        { PERMA_CLI_WHOLE("seed", "S", &s.seed, 0, 4000000000u, "the random views' seed (default 1)") },
     };
     const perma_cli_table table = { "options", rows, sizeof rows / sizeof rows[0] };
     const perma_cli_option model_row = { PERMA_CLI_CUSTOM(NULL, "MODEL", add_model, &s, NULL) };
@@ -148,13 +155,13 @@ int main(int argc, char **argv)
     reyes_options_init(&base);
     base.width = base.height = s.size;
     base.spp = s.spp;
-    base.crack_fix = s.crack_fix;
     reyes_renderer *renderer;
     reyes_error error;
     if (reyes_renderer_create(&base, &renderer, &error) != REYES_OK) {
         fprintf(stderr, "reyes-quality: %s\n", error.message);
         return 1;
     }
+    size_t see_through[2] = {0, 0}, holes[2] = {0, 0};
     for (size_t m = 0; m < s.model_count; ++m) {
         reyes_scene scene;
         if (!load(s.models[m], &scene, &error)) {
@@ -167,8 +174,12 @@ int main(int argc, char **argv)
             fprintf(stderr, "reyes-quality: %s\n", error.message);
             return 1;
         }
-        for (unsigned v = 0; v < s.view_count; ++v) {
-            reyes_camera camera = reyes_quality_orbit(&framed, s.views[v]);
+        unsigned views = s.random_views ? s.random_views : s.view_count;
+        for (unsigned v = 0; v < views; ++v) {
+            reyes_quality_shot shot = { s.views[v % 16], 1.0f, {0.0f, 0.0f, 0.0f} };
+            if (s.random_views)
+                shot = reyes_quality_random_shot(s.seed, v);
+            reyes_camera camera = reyes_quality_shoot(&framed, shot);
             reyes_quality_reference reference;
             unsigned what = s.cracks_only ? REYES_QUALITY_CRACKS
                                            : REYES_QUALITY_CRACKS | REYES_QUALITY_SAMPLES | REYES_QUALITY_TRUTH;
@@ -184,6 +195,9 @@ int main(int argc, char **argv)
             for (int config = s.no_grid ? 1 : 0; config < 2; ++config) {
                 reyes_options o = base;
                 o.shading_rate = config == 0 ? 0.0f : s.rate;
+                /* Polylines need a rate: the fixed grids stitch then. */
+                o.crack_fix = config == 0 && s.crack_fix == REYES_CRACK_FIX_POLYLINE ? REYES_CRACK_FIX_STITCH
+                                                                                    : s.crack_fix;
                 reyes_quality_result r = {0};
                 reyes_status status = reyes_quality_cracks(renderer, &scene, &camera, &o, &reference, &r, &error);
                 if (status == REYES_OK && !s.cracks_only)
@@ -199,11 +213,16 @@ int main(int argc, char **argv)
                     return 1;
                 }
                 print_line(name, v, config == 0 ? "grid 16" : "rate", &r);
+                see_through[config] += r.see_through;
+                holes[config] += r.holes;
             }
             reyes_quality_reference_free(&reference);
         }
         reyes_scene_free(&scene);
     }
+    for (int config = s.no_grid ? 1 : 0; config < 2; ++config)
+        printf("total %s: see-through %zu holes %zu\n", config == 0 ? "grid 16" : "rate", see_through[config],
+               holes[config]);
     reyes_renderer_destroy(renderer);
     free(s.models);
     return 0;

@@ -9,18 +9,69 @@
 
 reyes_camera reyes_quality_orbit(const reyes_camera *framed, reyes_quality_view view)
 {
+    reyes_quality_shot shot = { view, 1.0f, {0.0f, 0.0f, 0.0f} };
+    return reyes_quality_shoot(framed, shot);
+}
+
+reyes_camera reyes_quality_shoot(const reyes_camera *framed, reyes_quality_shot shot)
+{
+    reyes_quality_view view = shot.view;
     float d[3], length = 0.0f;
     for (int k = 0; k < 3; ++k) {
         d[k] = framed->eye[k] - framed->at[k];
         length += d[k] * d[k];
     }
-    length = sqrtf(length) * view.distance;
+    float framed_length = sqrtf(length);
+    length = framed_length * view.distance;
     float a = atan2f(d[1], d[0]) + view.azimuth * 0.017453293f, e = view.elevation * 0.017453293f;
     reyes_camera camera = *framed;
-    camera.eye[0] = framed->at[0] + length * cosf(e) * cosf(a);
-    camera.eye[1] = framed->at[1] + length * cosf(e) * sinf(a);
-    camera.eye[2] = framed->at[2] + length * sinf(e);
+    for (int k = 0; k < 3; ++k)
+        camera.at[k] = framed->at[k] + shot.aim[k] * framed_length;
+    camera.eye[0] = camera.at[0] + length * cosf(e) * cosf(a);
+    camera.eye[1] = camera.at[1] + length * cosf(e) * sinf(a);
+    camera.eye[2] = camera.at[2] + length * sinf(e);
+    if (shot.zoom != 1.0f)
+        camera.fov_deg = 2.0f * atanf(tanf(framed->fov_deg * 0.008726646f) / shot.zoom) / 0.008726646f;
     return camera;
+}
+
+/* A uniform number in [0, 1) from (seed, k, n): a fixed hash. */
+static float uniform(unsigned seed, unsigned k, unsigned n)
+{
+    uint32_t h = seed * 0x9e3779b9u ^ k * 0x85ebca6bu ^ n * 0xc2b2ae35u;
+    h ^= h >> 16;
+    h *= 0x7feb352du;
+    h ^= h >> 15;
+    h *= 0x846ca68bu;
+    h ^= h >> 16;
+    return (float)(h >> 8) / 16777216.0f;
+}
+
+reyes_quality_shot reyes_quality_random_shot(unsigned seed, unsigned k)
+{
+    reyes_quality_shot shot = { { 360.0f * uniform(seed, k, 0), 170.0f * uniform(seed, k, 1) - 85.0f, 1.0f }, 1.0f,
+                                {0.0f, 0.0f, 0.0f} };
+    reyes_quality_view *v = &shot.view;
+    float r = uniform(seed, k, 2);
+    switch (k % 4) {
+    case 0: /* framed */
+        v->distance = 0.7f + 1.3f * r;
+        break;
+    case 1: /* near, aimed at a part */
+        v->distance = 0.2f + 0.3f * r;
+        for (int i = 0; i < 3; ++i)
+            shot.aim[i] = 0.6f * uniform(seed, k, 3 + (unsigned)i) - 0.3f;
+        break;
+    case 2: /* telephoto: from afar, zoomed back to about the framed size */
+        v->distance = 4.0f + 8.0f * r;
+        shot.zoom = v->distance * (0.7f + 0.6f * uniform(seed, k, 3));
+        break;
+    default: /* grazing */
+        v->elevation = 8.0f * uniform(seed, k, 3) - 4.0f;
+        v->distance = 0.6f + 0.9f * r;
+        break;
+    }
+    return shot;
 }
 
 reyes_status reyes_quality_reference_make(const reyes_scene *scene, const reyes_camera *camera,

@@ -18,6 +18,22 @@ typedef struct reyes_quality_view {
     float azimuth, elevation, distance;
 } reyes_quality_view;
 
+/* A view of a sweep: the orbit, its field of view divided by zoom (a
+ * telephoto view from afar), and the target moved by aim (fractions of
+ * the framed distance, world axes: a near view of a part of the model). */
+typedef struct reyes_quality_shot {
+    reyes_quality_view view;
+    float zoom, aim[3];
+} reyes_quality_shot;
+
+/* Random view k of a sweep with this seed: a quarter each framed
+ * (distance 0.7 to 2), near (0.2 to 0.5, aimed up to 0.3 away from the
+ * target), telephoto (4 to 12, zoomed to about the framed size) and
+ * grazing (elevation within 4 degrees of the horizon, distance 0.6 to
+ * 1.5); azimuth and the other elevations uniform. */
+reyes_quality_shot reyes_quality_random_shot(unsigned seed, unsigned k);
+reyes_camera reyes_quality_shoot(const reyes_camera *framed, reyes_quality_shot shot);
+
 reyes_camera reyes_quality_orbit(const reyes_camera *framed, reyes_quality_view view);
 
 /* The references of one view, adaptively tessellated: at 1 sample per

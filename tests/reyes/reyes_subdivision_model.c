@@ -150,6 +150,70 @@ static int make_cube(mesh *m)
     return 1;
 }
 
+/* A quad cage whose vertices have valence 3, 4, 5 and 6: an icosahedron,
+ * each triangle cut into four (the new vertices have valence 6), each of
+ * those cut into three quads from its centre (valence 3) to its edges'
+ * midpoints (valence 4); the icosahedron's corners keep valence 5. */
+static int make_icosahedral(mesh *m)
+{
+    const double g = (1.0 + sqrt(5.0)) / 2.0;
+    double v[12][3] = {{-1, g, 0}, {1, g, 0}, {-1, -g, 0}, {1, -g, 0}, {0, -1, g}, {0, 1, g},
+                       {0, -1, -g}, {0, 1, -g}, {g, 0, -1}, {g, 0, 1}, {-g, 0, -1}, {-g, 0, 1}};
+    static const unsigned t[20][3] = {{0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11},
+                                      {1, 5, 9}, {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                                      {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8}, {3, 8, 9},
+                                      {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}};
+    /* 80 triangles of 12 + 30 vertices, each 3 quads with a centre and
+     * three midpoints: at most 42 + 80 + 240 vertices (midpoints shared by
+     * looking them up). */
+    size_t cap = 42 + 80 + 240;
+    m->v = calloc(cap, sizeof *m->v);
+    m->f = malloc(240 * sizeof *m->f);
+    unsigned (*tri)[3] = malloc(80 * sizeof *tri);
+    if (!m->v || !m->f || !tri) {
+        free(tri);
+        mesh_free(m);
+        return 0;
+    }
+    m->vertices = 0;
+    for (int k = 0; k < 12; ++k)
+        memcpy(m->v[m->vertices++], v[k], sizeof v[k]);
+    /* The midpoint of (a, b), found among the vertices or added. */
+#define MIDPOINT(a, b, out)                                                                                   do {                                                                                                          double mid[3];                                                                                            for (int k = 0; k < 3; ++k)                                                                                   mid[k] = 0.5 * (m->v[a][k] + m->v[b][k]);                                                            size_t found = m->vertices;                                                                               for (size_t i = 0; i < m->vertices; ++i)                                                                      if (m->v[i][0] == mid[0] && m->v[i][1] == mid[1] && m->v[i][2] == mid[2])                                     found = i;                                                                                        if (found == m->vertices)                                                                                     memcpy(m->v[m->vertices++], mid, sizeof mid);                                                         (out) = (unsigned)found;                                                                              } while (0)
+    size_t tris = 0;
+    for (int f = 0; f < 20; ++f) {
+        unsigned a = t[f][0], b = t[f][1], c = t[f][2], ab, bc, ca;
+        MIDPOINT(a, b, ab);
+        MIDPOINT(b, c, bc);
+        MIDPOINT(c, a, ca);
+        const unsigned four[4][3] = {{a, ab, ca}, {ab, b, bc}, {ca, bc, c}, {ab, bc, ca}};
+        memcpy(tri[tris], four, sizeof four);
+        tris += 4;
+    }
+    m->faces = 0;
+    for (size_t f = 0; f < tris; ++f) {
+        unsigned a = tri[f][0], b = tri[f][1], c = tri[f][2], ab, bc, ca;
+        MIDPOINT(a, b, ab);
+        MIDPOINT(b, c, bc);
+        MIDPOINT(c, a, ca);
+        unsigned centre = (unsigned)m->vertices++;
+        for (int k = 0; k < 3; ++k)
+            m->v[centre][k] = (m->v[a][k] + m->v[b][k] + m->v[c][k]) / 3.0;
+        const unsigned quads[3][4] = {{a, ab, centre, ca}, {b, bc, centre, ab}, {c, ca, centre, bc}};
+        memcpy(m->f[m->faces], quads, sizeof quads);
+        m->faces += 3;
+    }
+#undef MIDPOINT
+    free(tri);
+    /* Onto the unit sphere, as the cube's corners lie on one. */
+    for (size_t i = 0; i < m->vertices; ++i) {
+        double r = sqrt(m->v[i][0] * m->v[i][0] + m->v[i][1] * m->v[i][1] + m->v[i][2] * m->v[i][2]);
+        for (int k = 0; k < 3; ++k)
+            m->v[i][k] *= sqrt(3.0) / r;
+    }
+    return 1;
+}
+
 /* Move every vertex along its direction from the centre by up to
  * `amount` of its distance, a fixed hash of its index. */
 static void lumps(mesh *m, double amount, uint32_t seed)
@@ -262,11 +326,20 @@ static reyes_status add_patches(const mesh *m, reyes_scene *scene, uint32_t rgba
 reyes_status reyes_subdivision_model_add(reyes_scene *scene, unsigned levels, int glued, uint32_t rgba,
                                          reyes_error *error)
 {
+    return reyes_subdivision_cage_add(scene, REYES_CAGE_CUBE, levels, glued, rgba, error);
+}
+
+reyes_status reyes_subdivision_cage_add(reyes_scene *scene, unsigned cage, unsigned levels, int glued, uint32_t rgba,
+                                        reyes_error *error)
+{
     if (levels < 1 || levels > 6)
         return reyes_fail(error, REYES_ERR_ARGUMENT, "subdivision model levels %u is not in 1..6", levels);
+    if (cage > REYES_CAGE_ICOSAHEDRAL)
+        return reyes_fail(error, REYES_ERR_ARGUMENT, "subdivision cage %u is not %u (cube) or %u (icosahedral)", cage,
+                          REYES_CAGE_CUBE, REYES_CAGE_ICOSAHEDRAL);
     mesh m = {0};
-    if (!make_cube(&m))
-        return reyes_fail(error, REYES_ERR_NO_MEMORY, "out of memory for a cube cage");
+    if (!(cage == REYES_CAGE_CUBE ? make_cube(&m) : make_icosahedral(&m)))
+        return reyes_fail(error, REYES_ERR_NO_MEMORY, "out of memory for a subdivision cage");
     for (unsigned level = 0; level < levels; ++level) {
         /* Lumps on the first two refinements: a few large, then smaller. */
         if (level == 1)

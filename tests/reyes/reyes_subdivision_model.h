@@ -23,4 +23,12 @@
 reyes_status reyes_subdivision_model_add(reyes_scene *scene, unsigned levels, int glued, uint32_t rgba,
                                          reyes_error *error);
 
+/* The same from another cage: REYES_CAGE_CUBE (the above: valences 3 and
+ * 4) or REYES_CAGE_ICOSAHEDRAL (240 quads around an icosahedron whose
+ * vertices have valence 3, 4, 5 and 6: 240 * 4^levels patches, base
+ * patch corners where 3 to 6 patches meet). */
+enum { REYES_CAGE_CUBE, REYES_CAGE_ICOSAHEDRAL };
+reyes_status reyes_subdivision_cage_add(reyes_scene *scene, unsigned cage, unsigned levels, int glued, uint32_t rgba,
+                                        reyes_error *error);
+
 #endif

@@ -43,6 +43,43 @@ START_TEST(test_buckets_identical)
 }
 END_TEST
 
+/* Polylines at a shading rate (the command's default) too: every bucket
+ * settles the same edges and draws the same fillers, so buckets of two
+ * sizes give the unbucketed bytes, with occlusion culling and blur. */
+START_TEST(test_buckets_identical_polylines)
+{
+    reyes_scene scene;
+    reyes_camera camera;
+    reyes_test_builtin_scene(&scene, &camera, 160, 120);
+    reyes_options o;
+    reyes_options_init(&o);
+    o.width = 160;
+    o.height = 120;
+    o.shading_rate = 1.0f;
+    o.crack_fix = REYES_CRACK_FIX_POLYLINE;
+    for (int blurred = 0; blurred < 2; ++blurred) {
+        o.motion[0] = blurred ? 0.3f : 0.0f;
+        o.bucket_width = o.bucket_height = 0;
+        reyes_image whole, tiled;
+        reyes_stats whole_stats, tiled_stats;
+        reyes_test_render(reyes_test_renderer(0), &scene, &camera, &o, &whole, &whole_stats);
+        ck_assert_uint_gt(whole_stats.fillers, 0);
+        const unsigned sizes[2][2] = { {64, 64}, {48, 20} };
+        for (int k = 0; k < 2; ++k) {
+            o.bucket_width = sizes[k][0];
+            o.bucket_height = sizes[k][1];
+            reyes_test_render(reyes_test_renderer(0), &scene, &camera, &o, &tiled, &tiled_stats);
+            reyes_test_expect_same_image(&whole, &tiled, blurred ? "buckets, polylines, blurred" : "buckets, polylines");
+            reyes_image_free(&tiled);
+            reyes_stats_free(&tiled_stats);
+        }
+        reyes_image_free(&whole);
+        reyes_stats_free(&whole_stats);
+    }
+    reyes_scene_free(&scene);
+}
+END_TEST
+
 /* Kernel-per-procedure holds a whole breadth-first level of micropolygons
  * in its queues: with 32x32 buckets the peak queue memory is smaller than
  * for the whole image, and the image is the same.  (Its steps reserve room
@@ -138,6 +175,7 @@ int main(void)
     TCase *tc = tcase_create("buckets");
     tcase_set_timeout(tc, 300);
     tcase_add_test(tc, test_buckets_identical);
+    tcase_add_test(tc, test_buckets_identical_polylines);
     tcase_add_test(tc, test_buckets_bound_queue_memory);
     tcase_add_test(tc, test_buckets_identical_displaced);
     tcase_add_test(tc, test_bucket_arguments);

@@ -28,11 +28,26 @@ START_TEST(test_defaults)
     ck_assert_uint_eq(cli.render.width, 512);
     ck_assert_uint_eq(cli.render.grid, 16);
     ck_assert_float_eq(cli.render.shading_rate, 1.0f); /* the library's default is 0: fixed grids */
-    ck_assert_uint_eq(cli.render.crack_fix, REYES_CRACK_FIX_STITCH);
+    ck_assert_uint_eq(cli.render.crack_fix, REYES_CRACK_FIX_POLYLINE); /* one pass at a rate */
     ck_assert_uint_eq(cli.render.occlusion_cull, 1);
     ck_assert_uint_eq(cli.render.bucket_width, 0);
     ck_assert(!cli.has_camera);
     ck_assert_int_eq(cli.render.area_stats, 0); /* no --stats: the areas are not tallied */
+    reyes_cli_free(&cli);
+    /* Fixed grids and displaced surfaces stitch unless told otherwise. */
+    ck_assert_int_eq(PARSE(&cli, message, "--grid", "8"), PERMA_CLI_OK);
+    ck_assert_float_eq(cli.render.shading_rate, 0.0f);
+    ck_assert_uint_eq(cli.render.crack_fix, REYES_CRACK_FIX_STITCH);
+    reyes_cli_free(&cli);
+    ck_assert_int_eq(PARSE(&cli, message, "--displace", "bumps:0.1"), PERMA_CLI_OK);
+    ck_assert_float_eq(cli.render.shading_rate, 1.0f);
+    ck_assert_uint_eq(cli.render.crack_fix, REYES_CRACK_FIX_STITCH);
+    reyes_cli_free(&cli);
+    ck_assert_int_eq(PARSE(&cli, message, "--grid", "8", "--shading-rate", "2"), PERMA_CLI_OK);
+    ck_assert_uint_eq(cli.render.crack_fix, REYES_CRACK_FIX_POLYLINE);
+    reyes_cli_free(&cli);
+    ck_assert_int_eq(PARSE(&cli, message, "--crack-fix", "none"), PERMA_CLI_OK);
+    ck_assert_uint_eq(cli.render.crack_fix, REYES_CRACK_FIX_NONE);
     reyes_cli_free(&cli);
 }
 END_TEST
@@ -314,7 +329,7 @@ START_TEST(test_bad_usage)
         { COUNT("--bucket", "0x8"), ARGS("--bucket", "0x8"), "--bucket" },
         { COUNT("--bucket", "64"), ARGS("--bucket", "64"), "--bucket '64': expected WxH" },
         { COUNT("--crack-fix", "glue"), ARGS("--crack-fix", "glue"),
-          "--crack-fix 'glue': expected none, stitch or wedge" },
+          "--crack-fix 'glue': expected none, stitch, wedge or polyline" },
         { COUNT("--displace", "bumps"), ARGS("--displace", "bumps"), "bumps:AMPLITUDE" },
         { COUNT("--displace", "bumps:x"), ARGS("--displace", "bumps:x"), "--displace 'bumps:x': amplitude 'x' is not a number" },
         { COUNT("--displace", "png:0.1"), ARGS("--displace", "png:0.1"), "png:FILE:AMPLITUDE" },

@@ -178,6 +178,21 @@ START_TEST(test_options_check)
     o.crack_fix = REYES_CRACK_FIX_WEDGE;
     ck_assert_int_eq(reyes_options_check(&o, &error), REYES_ERR_ARGUMENT);
     ck_assert(strstr(error.message, "crack fix wedge needs fixed grids") != NULL);
+    /* Polylines: a shading rate, no displacement. */
+    reyes_options_init(&o);
+    o.crack_fix = REYES_CRACK_FIX_POLYLINE;
+    ck_assert_int_eq(reyes_options_check(&o, &error), REYES_ERR_ARGUMENT);
+    ck_assert_str_eq(error.message, "crack fix polyline needs a shading rate (fixed grids stitch or use wedges)");
+    o.shading_rate = 1.0f;
+    ck_assert_int_eq(reyes_options_check(&o, &error), REYES_OK);
+    o.displace_mode = REYES_DISPLACE_BUMPS;
+    o.displace_amplitude = 0.1f;
+    ck_assert_int_eq(reyes_options_check(&o, &error), REYES_ERR_ARGUMENT);
+    ck_assert_str_eq(error.message, "crack fix polyline cannot be combined with displacement (its polylines are of "
+                                    "the undisplaced surface; stitch instead)");
+    o.crack_fix = 4;
+    ck_assert_int_eq(reyes_options_check(&o, &error), REYES_ERR_ARGUMENT);
+    ck_assert_str_eq(error.message, "crack fix 4 is not 0 (none), 1 (stitch), 2 (wedge) or 3 (polyline)");
     /* Occlusion culling: on by default, 0 or 1. */
     reyes_options_init(&o);
     ck_assert_uint_eq(o.occlusion_cull, 1);

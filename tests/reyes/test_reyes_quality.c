@@ -1,5 +1,5 @@
 /*
- * The command's default dicing (shading rate 1) held to fixed 16x16 grids
+ * The command's default dicing (shading rate 1, polylines) held to fixed 16x16 grids
  * and to the brute-force reference (docs/reyes-dicing.md *Dicing to a
  * shading rate*): no sample sees through a crack (1 sample per pixel, at
  * the renderer's own sample positions), at most 4 micropolygons per
@@ -51,6 +51,7 @@ static void expect_view_quality(const reyes_scene *scene, const reyes_camera *ca
     ck_assert_msg(reyes_quality_colour(renderer, scene, camera, &o, &reference, NULL, &fixed, &error) == REYES_OK,
                   "%s", error.message);
     o.shading_rate = 1.0f;
+    o.crack_fix = REYES_CRACK_FIX_POLYLINE;
     ck_assert_msg(reyes_quality_cracks(renderer, scene, camera, &o, &reference, &rate, &error) == REYES_OK, "%s",
                   error.message);
     ck_assert_msg(reyes_quality_colour(renderer, scene, camera, &o, &reference, NULL, &rate, &error) == REYES_OK,
@@ -317,11 +318,14 @@ static Suite *suite(void)
  * issue 25's targets where the defaults meet them and elsewhere to the
  * bound measured (docs/reyes-measurements.md: small on screen the teaspoon's FLIP
  * error is 7 % above the fixed grids', whose silhouettes are exact to a
- * thousandth of a pixel).  The killeroo's 11532 small patches meet 4
+ * thousandth of a pixel: 0.00083 against 0.00077 with polylines, 0.00082
+ * stitched and without a crack fix; held to 8 %).  The killeroo's 11532 small patches meet 4
  * micropolygons per covered pixel only with occlusion culling (2.30 and
  * 3.59 measured with it, 2.28 and 3.87-3.89 with its margin at 1/256,
  * 5.15 and 8.01 without; the counts vary a little with the timing of the
- * two groups). */
+ * two groups).  Framed, its FLIP is 1.2 % above the fixed grids' with
+ * polylines (0.00328 against 0.00324; 0.9 % stitched, 1.2 % without a
+ * crack fix): held to 2 %. */
 START_TEST(test_models)
 {
     const struct {
@@ -329,10 +333,10 @@ START_TEST(test_models)
         bounds framed, small;
     } models[] = {
         {"teapot.bpt", targets, targets},
-        {"killeroo.bpt", targets, targets},
+        {"killeroo.bpt", {4.0, 0.02}, targets},
         {"newell-teapot.bpt", targets, {4.0, 0.02}},
         {"teacup.bpt", targets, targets},
-        {"teaspoon.bpt", targets, {4.0, 0.07}},
+        {"teaspoon.bpt", targets, {4.0, 0.08}},
     };
     const reyes_quality_view views[] = { {0, 25, 1.0f}, {30, 30, 2.5f} };
     for (size_t m = 0; m < sizeof models / sizeof models[0]; ++m) {

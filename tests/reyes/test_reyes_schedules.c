@@ -4,7 +4,9 @@
  * command's: edge counts, stitches across seams, sample shading).  At
  * the rate with occlusion culling (the default) which grids are skipped
  * depends on the order they run in, so the counts are compared without
- * it, and the culled render's image with the unculled one's. */
+ * it, and the culled render's image with the unculled one's.  The
+ * command's crack fix at the rate, polylines (with the culling), renders
+ * the same bytes and splits and grids on every schedule too. */
 #include <check.h>
 #include <stdlib.h>
 #include <string.h>
@@ -23,7 +25,8 @@ START_TEST(test_every_schedule_identical)
     reyes_options_init(&o);
     o.width = WIDTH;
     o.height = HEIGHT;
-    reyes_image first = {0}, first_rate = {0};
+    reyes_image first = {0}, first_rate = {0}, first_polyline = {0};
+    uint64_t polyline_splits = 0, polyline_grids = 0;
     reyes_stats first_stats, first_rate_stats;
     memset(&first_stats, 0, sizeof first_stats);
     memset(&first_rate_stats, 0, sizeof first_rate_stats);
@@ -46,7 +49,27 @@ START_TEST(test_every_schedule_identical)
             reyes_options culled = rate;
             culled.occlusion_cull = 1;
             reyes_test_render(renderer, &scene, &camera, &culled, &culled_image, &culled_stats);
+            reyes_options polyline = culled;
+            polyline.crack_fix = REYES_CRACK_FIX_POLYLINE;
+            reyes_image polyline_image;
+            reyes_stats polyline_stats;
+            reyes_test_render(renderer, &scene, &camera, &polyline, &polyline_image, &polyline_stats);
             reyes_renderer_destroy(renderer);
+            char polyline_label[160];
+            snprintf(polyline_label, sizeof polyline_label, "%s, shading rate 1, polylines", label);
+            if (rendered == 0) {
+                first_polyline = polyline_image;
+                polyline_splits = polyline_stats.splits;
+                polyline_grids = polyline_stats.grids;
+                ck_assert_uint_gt(polyline_stats.fillers, 0);
+                ck_assert_uint_eq(polyline_stats.stitches, 0);
+            } else {
+                reyes_test_expect_same_image(&first_polyline, &polyline_image, polyline_label);
+                ck_assert_uint_eq(polyline_stats.splits, polyline_splits);
+                ck_assert_uint_eq(polyline_stats.grids, polyline_grids);
+                reyes_image_free(&polyline_image);
+            }
+            reyes_stats_free(&polyline_stats);
             /* The runtime ran what was asked for. */
             ck_assert_msg(stats.run.technique == o.schedule.technique, "%s: ran another technique", label);
             ck_assert_msg(o.schedule.technique != PERMA_TECHNIQUE_MEGAKERNEL
@@ -84,6 +107,7 @@ START_TEST(test_every_schedule_identical)
     }
     reyes_image_free(&first);
     reyes_image_free(&first_rate);
+    reyes_image_free(&first_polyline);
     reyes_scene_free(&scene);
 }
 END_TEST
