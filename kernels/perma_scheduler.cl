@@ -439,8 +439,10 @@ inline int perma_find_batch(perma_picker *p)
     if (perma_take_local(p) || perma_donate(p))
         return 1;
 #if PERMA_WORK_FIRST
-    if (p->mem->wf_total)
-        return perma_take_stacks(p);
+    /* Stacks whose items cannot run (no room to spill them) must not keep
+     * the group from other work: it takes and steals as without them. */
+    if (p->mem->wf_total && perma_take_stacks(p))
+        return 1;
 #endif
     return perma_take_own(p) || perma_steal(p) || perma_adopt(p);
 }

@@ -158,7 +158,11 @@ static void append_emit_helpers(perma_runtime *rt, perma_strbuf *sb)
             continue;
         const perma_proc_info *p = &rt->procs[t];
         const char *type = p->item_type;
-        perma_strbuf_printf(sb, "PERMA_INLINE int emit_%s(perma_ctx *ctx, const %s *item)\n{\n", p->name, type);
+        /* Forced inline only where it can push: elsewhere the compiler's
+         * choice, as for the procedures (a forced one makes its caller big
+         * enough that the procedure is no longer inlined into the dispatch). */
+        perma_strbuf_printf(sb, "%s int emit_%s(perma_ctx *ctx, const %s *item)\n{\n",
+                            p->stackable ? "PERMA_INLINE" : "inline", p->name, type);
         /* Work-first: onto the work-item's stack, stored by its own type. */
         if (p->stackable)
             perma_strbuf_printf(sb,
