@@ -32,8 +32,8 @@ perma_runtime *test_runtime_config(const perma_config *config);
 
 /* Assert that `haystack` contains `needle`. */
 #define ck_assert_contains(haystack, needle)                                                 \
-    ck_assert_msg(strstr((haystack), (needle)) != NULL, "expected '%s' in message: %s",      \
-                  (needle), (haystack))
+    ck_assert_msg(strstr((haystack), (needle)) != NULL, "expected '%.1000s' in: %.2000s",    \
+                  (needle), (haystack)) /* bounded: Check refuses longer messages */
 
 /* A monotonic clock in seconds. */
 double perma_test_now(void);

@@ -100,8 +100,9 @@ START_TEST(generated_text_has_the_expected_functions)
     char *text = generate(rt);
     ck_assert_contains(text, "/* perma megakernel, generated for 3 procedure(s). */");
     /* An emit helper for consume only, typed with its item and index, that
-     * reads the item as may-alias words. */
-    ck_assert_contains(text, "PERMA_INLINE int emit_consume(perma_ctx *ctx, const struct pair *item)\n"
+     * reads the item as may-alias words; consume cannot run from a stack,
+     * so its helper is inlined where the compiler chooses. */
+    ck_assert_contains(text, "\ninline int emit_consume(perma_ctx *ctx, const struct pair *item)\n"
                              "{\n"
                              "    if (__alignof__(struct pair) % 4u == 0u)\n"
                              "        return perma_emit(ctx, 1u, (const perma_item_word *)item);\n"
@@ -109,7 +110,8 @@ START_TEST(generated_text_has_the_expected_functions)
                              "    copy.item = *item;\n"
                              "    return perma_emit(ctx, 1u, copy.words);\n"
                              "}\n");
-    ck_assert_uint_eq(occurrences(text, "INLINE int emit_"), 1);
+    ck_assert_uint_eq(occurrences(text, "inline int emit_"), 1);
+    ck_assert_uint_eq(occurrences(text, "PERMA_INLINE int emit_"), 0);
     /* The dispatch: produce in lanes over its batch, consume cooperative
      * (every work-item calls it), count guarded by nothing but its loop. */
     ck_assert_contains(text, "PERMA_PHASE void perma_dispatch(");
@@ -122,6 +124,56 @@ START_TEST(generated_text_has_the_expected_functions)
     ck_assert_contains(text, "__constant uint perma_order[3] = { 1, 2, 0 };");
     free(text);
     perma_destroy(rt);
+}
+END_TEST
+
+/* The program of `node` (uint), which emits up to 2 of itself, under the
+ * schedule `label` (free it). */
+static char *generate_tree(const char *label)
+{
+    perma_runtime *rt = runtime_under(label);
+    perma_procedure node = { .name = "node", .item_type = "uint", .item_size = 4, .threads_per_item = 1,
+                             .source_file = "node.cl", .function = "node",
+                             .source = "void node(perma_ctx *c, __local const uint *x)\n"
+                                       "{\n"
+                                       "    uint child = *x - 1u;\n"
+                                       "    if (*x)\n"
+                                       "        emit_node(c, &child);\n"
+                                       "}\n",
+                             .emits = { { "node", 2 } } };
+    perma_proc id;
+    ck_assert_perma_ok(rt, perma_register(rt, &node, &id));
+    ck_assert_perma_ok(rt, perma_build_layout(rt));
+    perma_strbuf sb, reduce_constants, reduce_helpers;
+    perma_strbuf_init(&sb);
+    perma_strbuf_init(&reduce_constants);
+    perma_strbuf_init(&reduce_helpers);
+    perma_reductions_generate(rt, &reduce_constants, &reduce_helpers);
+    ck_assert_perma_ok(rt, perma_generate_program(rt, &reduce_constants, &reduce_helpers, &sb));
+    perma_strbuf_free(&reduce_constants);
+    perma_strbuf_free(&reduce_helpers);
+    ck_assert(!sb.failed);
+    perma_destroy(rt);
+    return sb.data;
+}
+
+/* A helper that can push onto a work-first stack is forced inline (the
+ * stack loop runs it for every item); without stacks it is a plain inline
+ * helper with no push. */
+START_TEST(emit_helpers_push_only_with_stacks)
+{
+    char *text = generate_tree(NULL);
+    ck_assert_contains(text, "PERMA_INLINE int emit_node(perma_ctx *ctx, const uint *item)\n"
+                             "{\n"
+                             "    if (ctx->wf_room) {\n"
+                             "        *(__local uint *)perma_wf_push(ctx, 0u) = *item;\n");
+    free(text);
+    text = generate_tree("megakernel/shared+wf0");
+    ck_assert_contains(text, "\ninline int emit_node(perma_ctx *ctx, const uint *item)\n"
+                             "{\n"
+                             "    if (__alignof__(uint) % 4u == 0u)\n");
+    ck_assert_uint_eq(occurrences(text, "perma_wf_push(ctx"), 0);
+    free(text);
 }
 END_TEST
 
@@ -183,4 +235,4 @@ START_TEST(schedule_constants_follow_the_label)
 END_TEST
 
 PERMA_TEST_MAIN("codegen", generated_text_has_the_expected_functions, user_sources_appear_once_with_their_lines,
-                schedule_constants_follow_the_label)
+                schedule_constants_follow_the_label, emit_helpers_push_only_with_stacks)
