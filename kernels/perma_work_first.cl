@@ -65,8 +65,17 @@ inline uint perma_wf_spill(__global uint *ctl, __global uint *queue_data, __glob
     for (uint i = 0; i < count; ++i)
         if (!(procs[i] & PERMA_WF_DONE))
             per[procs[i]] += 1u;
+    /* Look before taking: a queue without room ends the spill before any
+     * room is taken, so a spill that keeps failing (the group waits for
+     * bigger queues) gives none back and counts no progress.  Counted, it
+     * would keep every group from agreeing that only bigger queues help
+     * (perma_all_blocked), and they would spin until the watchdog. */
+    for (uint q = 0; q < PERMA_NUM_PROCS; ++q)
+        if (per[q] && perma_load_int(PERMA_QUEUE(ctl, PERMA_QINDEX(set, q)) + PERMA_Q_ROOM) < (int)per[q])
+            return 0;
     for (uint q = 0; q < PERMA_NUM_PROCS; ++q) {
         if (per[q] && !perma_queue_reserve_room(ctl, PERMA_QUEUE(ctl, PERMA_QINDEX(set, q)), (int)per[q])) {
+            /* Another group took the room since the look: that is progress. */
             for (uint r = 0; r < q; ++r)
                 perma_queue_return_room(ctl, PERMA_QUEUE(ctl, PERMA_QINDEX(set, r)), (int)per[r]);
             return 0;

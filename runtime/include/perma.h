@@ -484,6 +484,13 @@ typedef struct perma_procedure {
                                  first.  Procedures that emit into each other in a
                                  cycle must differ in priority (checked at build) */
     int cooperative;          /* 1: called by all work-items, may use barrier() */
+    int queue_only;           /* 1: its items always go through the queues, in the order the
+                                 scheduler takes them, and never run depth first from a
+                                 work-item's stack (work-first, perma_schedule.work_first_items);
+                                 nor do the items of procedures that emit into it.  For searches
+                                 whose work grows when items run out of breadth-first order:
+                                 label-correcting BFS or shortest paths, where a vertex reached
+                                 first along a long path is expanded again for each shorter one */
 } perma_procedure;
 
 /* Validate and register a procedure.  Emit targets are resolved when the

@@ -38,6 +38,7 @@ typedef struct perma_proc_info {
     size_t local_bytes_per_item;
     int priority;
     int cooperative;
+    int queue_only;
     unsigned emit_count;
     char *emit_target_name[PERMA_MAX_EMITS];
     unsigned emit_max[PERMA_MAX_EMITS];

@@ -321,11 +321,11 @@ static unsigned alignment_of_size(size_t bytes)
 
 /* Work-first (perma_schedule.work_first_items): which procedures' items
  * may run from a work-item's stack, and the stacks' shape.  A procedure is
- * stackable when it runs one thread per item and is not cooperative, has
- * no scratch (its items run outside the batch's arena), declares at most
- * half a stack of emits (an item runs from the stack only with room for
- * all of them), and emits only into stackable procedures (its items never
- * stage emits, so they may run in any batch).  The stack's slots hold the
+ * stackable when it runs one thread per item, is neither cooperative nor
+ * queue_only, has no scratch (its items run outside the batch's arena),
+ * declares at most half a stack of emits (an item runs from the stack only
+ * with room for all of them), and emits only into stackable procedures
+ * (its items never stage emits, so they may run in any batch).  The stack's slots hold the
  * largest stackable item, aligned for every stackable type. */
 /* The __local words of the stacks of `items` items of `slot_words` words:
  * the slots, a word per slot (its procedure), a stack pointer and a row of
@@ -370,7 +370,8 @@ static void compute_work_first(perma_runtime *rt, size_t free)
         p->wf_need = 0;
         for (unsigned e = 0; e < p->emit_count; ++e)
             p->wf_need += p->emit_max[e];
-        p->stackable = on && items && p->simple && p->local_bytes_per_item == 0 && 2 * p->wf_need <= items;
+        p->stackable = on && items && p->simple && !p->queue_only && p->local_bytes_per_item == 0 &&
+                       2 * p->wf_need <= items;
     }
     for (bool changed = true; changed;) {
         changed = false;

@@ -154,6 +154,7 @@ static perma_status register_call(perma_runtime *rt, const perma_procedure *d, p
     p->local_bytes_per_item = d->local_bytes_per_item;
     p->priority = d->priority;
     p->cooperative = d->cooperative;
+    p->queue_only = d->queue_only;
     bool oom = !p->name || !p->item_type || !p->function;
     for (unsigned e = 0; e < PERMA_MAX_EMITS && d->emits[e].target; ++e) {
         p->emit_target_name[e] = copy_string(d->emits[e].target);

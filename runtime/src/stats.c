@@ -306,7 +306,7 @@ static void print_batch_warning(const perma_runtime *rt, unsigned q, FILE *out)
                      "so far), more than the queue of %zu holds (a queue grows when a group's batches keep being "
                      "cut, up to config.queue_memory_limit, %zu bytes); raise the limit, or let fewer items wait "
                      "(docs/writing-procedures.md, section 6)\n",
-                p->name, (double)ps->items / (double)ps->batches, ps->batch_size,
+                p->name, (double)(ps->items - ps->stacked_items) / (double)ps->batches, ps->batch_size,
                 (double)ps->emitted[e] / (double)ps->items, target, target_capacity(rt, queues, count, (unsigned)p->emit_target[e]),
                 perma_queue_memory_limit(rt));
 }
@@ -341,9 +341,10 @@ static void print_stats(perma_runtime *rt, FILE *out)
     for (unsigned q = 0; q < rt->proc_count; ++q) {
         const perma_proc_info *p = &rt->procs[q];
         const perma_procedure_stats *ps = &p->stats;
+        /* Items per batch: those that ran from stacks took no batch. */
         char batch[32];
-        snprintf(batch, sizeof batch, "%.1f/%u", ps->batches ? (double)ps->items / (double)ps->batches : 0.0,
-                 ps->batch_size);
+        snprintf(batch, sizeof batch, "%.1f/%u",
+                 ps->batches ? (double)(ps->items - ps->stacked_items) / (double)ps->batches : 0.0, ps->batch_size);
         fprintf(out, "%-20s %12" PRIu64 " %10" PRIu64 " %10s %10" PRIu64 " %12" PRIu64 " %10zu ", p->name,
                 ps->items, ps->batches, batch, ps->seeded, ps->peak_queue_items, ps->queue_capacity);
         for (unsigned e = 0; e < p->emit_count; ++e)

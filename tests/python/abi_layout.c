@@ -62,6 +62,7 @@ int main(int argc, char **argv)
     FIELD(perma_procedure, threads_per_item); FIELD(perma_procedure, local_bytes_per_item);
     FIELD(perma_procedure, source); FIELD(perma_procedure, source_file); FIELD(perma_procedure, function);
     FIELD(perma_procedure, emits); FIELD(perma_procedure, priority); FIELD(perma_procedure, cooperative);
+    FIELD(perma_procedure, queue_only);
     STRUCT(perma_procedure_stats);
     FIELD(perma_procedure_stats, name); FIELD(perma_procedure_stats, items); FIELD(perma_procedure_stats, batches);
     FIELD(perma_procedure_stats, emitted); FIELD(perma_procedure_stats, emit_count);

@@ -51,7 +51,7 @@ void greedy(perma_ctx *ctx, __local const struct node *n)
 }
 """
 COUNTDOWN = """
-// A chain of n->depth items, one after another.
+// A chain of n->depth items, one after another, through the queues (queue_only).
 void countdown(perma_ctx *ctx, __local const struct node *n)
 {
     if (n->depth == 0u)
@@ -79,7 +79,8 @@ class Workloads:
         self.rt.add_type('mix', MIX)
         self.split = self.rt.register('split', SPLIT, item=NODE, emits={'split': 2}, source_file='split.cl')
         self.greedy = self.rt.register('greedy', GREEDY, item=NODE, emits={'split': 1})
-        self.countdown = self.rt.register('countdown', COUNTDOWN, item=NODE, emits={'countdown': 1})
+        self.countdown = self.rt.register('countdown', COUNTDOWN, item=NODE, emits={'countdown': 1},
+                                          queue_only=True)
         self.copy = self.rt.register('copy', COPY, item=MIX)
         self.leaves = np.zeros(1, np.uint32)
         self.weights = np.arange(1, 33, dtype=np.uint32) ** 2

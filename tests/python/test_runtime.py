@@ -37,6 +37,19 @@ def test_tree_counts_and_stats(workloads):
     assert w.rt.group_stats(0) == stats['groups'][0]
 
 
+def test_queue_only_items_go_through_the_queues(workloads):
+    """split runs from the work-items' stacks (work-first); countdown is queue_only."""
+    w = workloads
+    stats = w.tree(10)
+    assert stats['stack_items'] > 0
+    assert stats['procedures']['split']['stacked_items'] > 1000
+    w.rt.seed(w.countdown, np.array([(500, 0)], NODE))
+    stats = w.rt.run()
+    assert stats['procedures']['countdown']['items'] == 501
+    assert stats['procedures']['countdown']['stacked_items'] == 0
+    assert stats['stacked_items'] == 0
+
+
 def test_reductions(workloads):
     w = workloads
     stats = w.tree(12)

@@ -1,7 +1,9 @@
 /* Work-first execution (perma_schedule.work_first_items, the megakernel's
  * default): a depth-first search needs queue memory that does not grow
- * with its tree, full stacks spill to the queues and lose nothing, an idle
- * group gets a share of a busy group's stacks, and the statistics say so. */
+ * with its tree, full stacks spill to the queues and lose nothing (also
+ * when the queues must grow for them), an idle group gets a share of a
+ * busy group's stacks, queue_only procedures stay off the stacks, and the
+ * statistics say so. */
 #include "perma_test.h"
 
 #include <stdlib.h>
@@ -148,6 +150,143 @@ START_TEST(an_idle_group_gets_a_share_of_the_stacks)
 }
 END_TEST
 
+/* Two procedures that emit into each other, stacks of 8 items and queues
+ * of 8: a stuck stack's bottom half holds items of both, and one queue may
+ * have room while the other has none.  The spill then moves nothing and
+ * must not count as progress, or the groups never agree that only bigger
+ * queues help and spin until the watchdog stops the run. */
+static const char *mixed_source = "void left(perma_ctx *ctx, __local const struct node *n)\n"
+                                  "{\n"
+                                  "    reduce_nodes(ctx, 1u);\n"
+                                  "    if (n->depth == n->target)\n"
+                                  "        return;\n"
+                                  "    struct node child = { n->depth + 1u, n->target, 2u * n->id, 0u };\n"
+                                  "    emit_left(ctx, &child);\n"
+                                  "    child.id += 1u;\n"
+                                  "    emit_right(ctx, &child);\n"
+                                  "}\n"
+                                  "void right(perma_ctx *ctx, __local const struct node *n)\n"
+                                  "{\n"
+                                  "    reduce_nodes(ctx, 1u);\n"
+                                  "    reduce_leaf_ids(ctx, (ulong)n->id);\n"
+                                  "    if (n->depth == n->target)\n"
+                                  "        return;\n"
+                                  "    struct node child = { n->depth + 1u, n->target, 2u * n->id, 0u };\n"
+                                  "    emit_right(ctx, &child);\n"
+                                  "    child.id += 1u;\n"
+                                  "    emit_left(ctx, &child);\n"
+                                  "}\n";
+
+/* The sum of the ids of the right items below (and including) an item. */
+static uint64_t right_id_sum(uint64_t id, int is_right, unsigned depth, unsigned target)
+{
+    uint64_t sum = is_right ? id : 0;
+    if (depth < target)
+        sum += right_id_sum(2 * id, is_right, depth + 1, target) + right_id_sum(2 * id + 1, !is_right, depth + 1, target);
+    return sum;
+}
+
+START_TEST(spills_of_two_procedures_into_full_queues_grow_them)
+{
+    const unsigned groups[] = { 1, 2 };
+    perma_config config;
+    perma_config_init(&config);
+    perma_error error;
+    ck_assert_msg(perma_schedule_parse("megakernel/shared+wf8", &config.schedule, &error) == PERMA_OK, "%s",
+                  error.message);
+    config.work_groups = groups[_i];
+    config.group_size = 8;
+    config.queue_capacity = 8;
+    config.stall_limit = 10;
+    config.time_limit = 60;
+    perma_runtime *rt;
+    ck_assert_msg(perma_create(&config, &rt, &error) == PERMA_OK, "%s", error.message);
+    ck_assert_perma_ok(rt, perma_add_source(rt, types, "node.cl"));
+    perma_proc left, right;
+    perma_procedure l = { .name = "left", .item_type = "struct node", .item_size = sizeof(struct node),
+                          .source = mixed_source, .source_file = "mixed.cl", .function = "left",
+                          .emits = { { "left", 1 }, { "right", 1 } }, .priority = 1 };
+    perma_procedure r = { .name = "right", .item_type = "struct node", .item_size = sizeof(struct node),
+                          .source = mixed_source, .source_file = "mixed.cl", .function = "right",
+                          .emits = { { "right", 1 }, { "left", 1 } } };
+    ck_assert_perma_ok(rt, perma_register(rt, &l, &left));
+    ck_assert_perma_ok(rt, perma_register(rt, &r, &right));
+    uint64_t nodes = 0, right_ids = 0;
+    ck_assert_perma_ok(rt, perma_declare_reduction(rt, "nodes", PERMA_REDUCE_SUM, PERMA_TYPE_ULONG, &nodes));
+    ck_assert_perma_ok(rt, perma_declare_reduction(rt, "leaf_ids", PERMA_REDUCE_SUM, PERMA_TYPE_ULONG, &right_ids));
+    const unsigned depth = 16;
+    struct node root = { 0, depth, 1, 0 };
+    ck_assert_perma_ok(rt, perma_seed(rt, left, &root, 1));
+    ck_assert_perma_ok(rt, perma_run(rt));
+    ck_assert_uint_eq(nodes, (2ull << depth) - 1);
+    ck_assert_uint_eq(right_ids, right_id_sum(1, 0, 0, depth));
+    perma_stats st;
+    ck_assert_perma_ok(rt, perma_get_stats(rt, &st));
+    ck_assert_uint_gt(st.stack_spills, 0);
+    ck_assert_uint_gt(st.regrowths, 0);
+    perma_destroy(rt);
+}
+END_TEST
+
+/* A queue_only procedure's items always go through the queues, and so do
+ * those of a procedure that emits into it: no stacks at all here, and the
+ * counts are still exact. */
+START_TEST(queue_only_items_never_run_from_a_stack)
+{
+    perma_config config;
+    perma_config_init(&config);
+    config.work_groups = 2;
+    config.time_limit = 60;
+    perma_error error;
+    perma_runtime *rt;
+    ck_assert_msg(perma_create(&config, &rt, &error) == PERMA_OK, "%s", error.message);
+    ck_assert_perma_ok(rt, perma_add_source(rt, types, "node.cl"));
+    perma_proc left, right;
+    perma_procedure l = { .name = "left", .item_type = "struct node", .item_size = sizeof(struct node),
+                          .source = mixed_source, .source_file = "mixed.cl", .function = "left",
+                          .emits = { { "left", 1 }, { "right", 1 } }, .priority = 1, .queue_only = _i };
+    perma_procedure r = { .name = "right", .item_type = "struct node", .item_size = sizeof(struct node),
+                          .source = mixed_source, .source_file = "mixed.cl", .function = "right",
+                          .emits = { { "right", 1 }, { "left", 1 } }, .queue_only = !_i };
+    ck_assert_perma_ok(rt, perma_register(rt, &l, &left));
+    ck_assert_perma_ok(rt, perma_register(rt, &r, &right));
+    uint64_t nodes = 0, right_ids = 0;
+    ck_assert_perma_ok(rt, perma_declare_reduction(rt, "nodes", PERMA_REDUCE_SUM, PERMA_TYPE_ULONG, &nodes));
+    ck_assert_perma_ok(rt, perma_declare_reduction(rt, "leaf_ids", PERMA_REDUCE_SUM, PERMA_TYPE_ULONG, &right_ids));
+    const unsigned depth = 14;
+    struct node root = { 0, depth, 1, 0 };
+    ck_assert_perma_ok(rt, perma_seed(rt, left, &root, 1));
+    ck_assert_perma_ok(rt, perma_run(rt));
+    ck_assert_uint_eq(nodes, (2ull << depth) - 1);
+    ck_assert_uint_eq(right_ids, right_id_sum(1, 0, 0, depth));
+    perma_stats st;
+    ck_assert_perma_ok(rt, perma_get_stats(rt, &st));
+    ck_assert_uint_eq(st.stack_items, 0);
+    ck_assert_uint_eq(st.stacked_items, 0);
+    perma_procedure_stats ps;
+    ck_assert_perma_ok(rt, perma_get_procedure_stats(rt, right, &ps));
+    ck_assert_uint_eq(ps.stacked_items, 0);
+    ck_assert_uint_eq(ps.items, (1ull << depth) - 1);
+    perma_destroy(rt);
+
+    /* The same procedures without queue_only run almost all from stacks. */
+    ck_assert_msg(perma_create(&config, &rt, &error) == PERMA_OK, "%s", error.message);
+    ck_assert_perma_ok(rt, perma_add_source(rt, types, "node.cl"));
+    l.queue_only = r.queue_only = 0;
+    ck_assert_perma_ok(rt, perma_register(rt, &l, &left));
+    ck_assert_perma_ok(rt, perma_register(rt, &r, &right));
+    ck_assert_perma_ok(rt, perma_declare_reduction(rt, "nodes", PERMA_REDUCE_SUM, PERMA_TYPE_ULONG, &nodes));
+    ck_assert_perma_ok(rt, perma_declare_reduction(rt, "leaf_ids", PERMA_REDUCE_SUM, PERMA_TYPE_ULONG, &right_ids));
+    ck_assert_perma_ok(rt, perma_seed(rt, left, &root, 1));
+    ck_assert_perma_ok(rt, perma_run(rt));
+    ck_assert_uint_eq(nodes, (2ull << depth) - 1);
+    ck_assert_perma_ok(rt, perma_get_stats(rt, &st));
+    ck_assert_uint_gt(st.stack_items, 0);
+    ck_assert_uint_gt(st.stacked_items, st.items / 2);
+    perma_destroy(rt);
+}
+END_TEST
+
 /* The statistics text says what the stacks did. */
 START_TEST(stats_name_the_stacks)
 {
@@ -176,6 +315,8 @@ int main(void)
     tcase_add_test(tc, depth_first_memory_does_not_grow_with_the_tree);
     tcase_add_test(tc, full_stacks_spill_and_lose_nothing);
     tcase_add_loop_test(tc, an_idle_group_gets_a_share_of_the_stacks, 0, 3);
+    tcase_add_loop_test(tc, spills_of_two_procedures_into_full_queues_grow_them, 0, 2);
+    tcase_add_loop_test(tc, queue_only_items_never_run_from_a_stack, 0, 2);
     tcase_add_test(tc, stats_name_the_stacks);
     suite_add_tcase(s, tc);
     return test_run_suite(s) ? EXIT_FAILURE : EXIT_SUCCESS;

@@ -74,7 +74,8 @@ class Procedure(ctypes.Structure):
     _fields_ = [('name', c_char_p), ('item_type', c_char_p), ('item_size', c_size_t),
                 ('threads_per_item', c_uint), ('local_bytes_per_item', c_size_t),
                 ('source', c_char_p), ('source_file', c_char_p), ('function', c_char_p),
-                ('emits', Emit * MAX_EMITS), ('priority', c_int), ('cooperative', c_int)]
+                ('emits', Emit * MAX_EMITS), ('priority', c_int), ('cooperative', c_int),
+                ('queue_only', c_int)]
 
 
 class ProcedureStats(ctypes.Structure):

@@ -164,14 +164,17 @@ class Runtime:
                             'or give the type' % (dtype,))
 
     def register(self, name, source=None, *, item, function=None, item_type=None, emits=None,
-                 threads_per_item=1, local_bytes_per_item=0, priority=0, cooperative=False, source_file=None):
+                 threads_per_item=1, local_bytes_per_item=0, priority=0, cooperative=False, queue_only=False,
+                 source_file=None):
         """Register a procedure (perma_register); returns its Procedure.
 
         item: the numpy dtype of one item (its itemsize is the item_size the
         device checks against sizeof(item_type) at build); item_type: its
         OpenCL C type (default: cl_type(item)); function: default `name`;
         emits: {target: most items per input item}; source: OpenCL C text,
-        or source_file a file to read."""
+        or source_file a file to read; queue_only: its items always go
+        through the queues, never depth first from a work-item's stack
+        (perma_procedure.queue_only)."""
         dtype = np.dtype(item)
         item_type = item_type if item_type is not None else self.cl_type(dtype)
         emits = tuple((emits or {}).items())
@@ -185,7 +188,8 @@ class Runtime:
                             source=_bytes(source, 'source'),
                             source_file=_bytes(source_file, 'source_file'),
                             function=_bytes(function if function is not None else name, 'function'),
-                            priority=priority, cooperative=1 if cooperative else 0)
+                            priority=priority, cooperative=1 if cooperative else 0,
+                            queue_only=1 if queue_only else 0)
         for i, (target, max_items) in enumerate(emits):
             d.emits[i] = _capi.Emit(_bytes(target, 'emit target'), _count(max_items, what + 'emits[%r]' % target))
         handle = c_int()
