@@ -186,6 +186,38 @@ static uint64_t right_id_sum(uint64_t id, int is_right, unsigned depth, unsigned
     return sum;
 }
 
+/* Run the left/right tree of `depth` under `config`, with .queue_only set
+ * as given, check its counts against the host and return its statistics. */
+static void mixed_tree_run(const perma_config *config, int left_queue_only, int right_queue_only, unsigned depth,
+                           perma_stats *stats, perma_procedure_stats *right_stats)
+{
+    perma_error error;
+    perma_runtime *rt;
+    ck_assert_msg(perma_create(config, &rt, &error) == PERMA_OK, "%s", error.message);
+    ck_assert_perma_ok(rt, perma_add_source(rt, types, "node.cl"));
+    perma_proc left, right;
+    perma_procedure l = { .name = "left", .item_type = "struct node", .item_size = sizeof(struct node),
+                          .source = mixed_source, .source_file = "mixed.cl", .function = "left",
+                          .emits = { { "left", 1 }, { "right", 1 } }, .priority = 1,
+                          .queue_only = left_queue_only };
+    perma_procedure r = { .name = "right", .item_type = "struct node", .item_size = sizeof(struct node),
+                          .source = mixed_source, .source_file = "mixed.cl", .function = "right",
+                          .emits = { { "right", 1 }, { "left", 1 } }, .queue_only = right_queue_only };
+    ck_assert_perma_ok(rt, perma_register(rt, &l, &left));
+    ck_assert_perma_ok(rt, perma_register(rt, &r, &right));
+    uint64_t nodes = 0, right_ids = 0;
+    ck_assert_perma_ok(rt, perma_declare_reduction(rt, "nodes", PERMA_REDUCE_SUM, PERMA_TYPE_ULONG, &nodes));
+    ck_assert_perma_ok(rt, perma_declare_reduction(rt, "leaf_ids", PERMA_REDUCE_SUM, PERMA_TYPE_ULONG, &right_ids));
+    struct node root = { 0, depth, 1, 0 };
+    ck_assert_perma_ok(rt, perma_seed(rt, left, &root, 1));
+    ck_assert_perma_ok(rt, perma_run(rt));
+    ck_assert_uint_eq(nodes, (2ull << depth) - 1);
+    ck_assert_uint_eq(right_ids, right_id_sum(1, 0, 0, depth));
+    ck_assert_perma_ok(rt, perma_get_stats(rt, stats));
+    ck_assert_perma_ok(rt, perma_get_procedure_stats(rt, right, right_stats));
+    perma_destroy(rt);
+}
+
 START_TEST(spills_of_two_procedures_into_full_queues_grow_them)
 {
     const unsigned groups[] = { 1, 2 };
@@ -199,32 +231,11 @@ START_TEST(spills_of_two_procedures_into_full_queues_grow_them)
     config.queue_capacity = 8;
     config.stall_limit = 10;
     config.time_limit = 60;
-    perma_runtime *rt;
-    ck_assert_msg(perma_create(&config, &rt, &error) == PERMA_OK, "%s", error.message);
-    ck_assert_perma_ok(rt, perma_add_source(rt, types, "node.cl"));
-    perma_proc left, right;
-    perma_procedure l = { .name = "left", .item_type = "struct node", .item_size = sizeof(struct node),
-                          .source = mixed_source, .source_file = "mixed.cl", .function = "left",
-                          .emits = { { "left", 1 }, { "right", 1 } }, .priority = 1 };
-    perma_procedure r = { .name = "right", .item_type = "struct node", .item_size = sizeof(struct node),
-                          .source = mixed_source, .source_file = "mixed.cl", .function = "right",
-                          .emits = { { "right", 1 }, { "left", 1 } } };
-    ck_assert_perma_ok(rt, perma_register(rt, &l, &left));
-    ck_assert_perma_ok(rt, perma_register(rt, &r, &right));
-    uint64_t nodes = 0, right_ids = 0;
-    ck_assert_perma_ok(rt, perma_declare_reduction(rt, "nodes", PERMA_REDUCE_SUM, PERMA_TYPE_ULONG, &nodes));
-    ck_assert_perma_ok(rt, perma_declare_reduction(rt, "leaf_ids", PERMA_REDUCE_SUM, PERMA_TYPE_ULONG, &right_ids));
-    const unsigned depth = 16;
-    struct node root = { 0, depth, 1, 0 };
-    ck_assert_perma_ok(rt, perma_seed(rt, left, &root, 1));
-    ck_assert_perma_ok(rt, perma_run(rt));
-    ck_assert_uint_eq(nodes, (2ull << depth) - 1);
-    ck_assert_uint_eq(right_ids, right_id_sum(1, 0, 0, depth));
     perma_stats st;
-    ck_assert_perma_ok(rt, perma_get_stats(rt, &st));
+    perma_procedure_stats right;
+    mixed_tree_run(&config, 0, 0, 16, &st, &right);
     ck_assert_uint_gt(st.stack_spills, 0);
     ck_assert_uint_gt(st.regrowths, 0);
-    perma_destroy(rt);
 }
 END_TEST
 
@@ -237,53 +248,19 @@ START_TEST(queue_only_items_never_run_from_a_stack)
     perma_config_init(&config);
     config.work_groups = 2;
     config.time_limit = 60;
-    perma_error error;
-    perma_runtime *rt;
-    ck_assert_msg(perma_create(&config, &rt, &error) == PERMA_OK, "%s", error.message);
-    ck_assert_perma_ok(rt, perma_add_source(rt, types, "node.cl"));
-    perma_proc left, right;
-    perma_procedure l = { .name = "left", .item_type = "struct node", .item_size = sizeof(struct node),
-                          .source = mixed_source, .source_file = "mixed.cl", .function = "left",
-                          .emits = { { "left", 1 }, { "right", 1 } }, .priority = 1, .queue_only = _i };
-    perma_procedure r = { .name = "right", .item_type = "struct node", .item_size = sizeof(struct node),
-                          .source = mixed_source, .source_file = "mixed.cl", .function = "right",
-                          .emits = { { "right", 1 }, { "left", 1 } }, .queue_only = !_i };
-    ck_assert_perma_ok(rt, perma_register(rt, &l, &left));
-    ck_assert_perma_ok(rt, perma_register(rt, &r, &right));
-    uint64_t nodes = 0, right_ids = 0;
-    ck_assert_perma_ok(rt, perma_declare_reduction(rt, "nodes", PERMA_REDUCE_SUM, PERMA_TYPE_ULONG, &nodes));
-    ck_assert_perma_ok(rt, perma_declare_reduction(rt, "leaf_ids", PERMA_REDUCE_SUM, PERMA_TYPE_ULONG, &right_ids));
     const unsigned depth = 14;
-    struct node root = { 0, depth, 1, 0 };
-    ck_assert_perma_ok(rt, perma_seed(rt, left, &root, 1));
-    ck_assert_perma_ok(rt, perma_run(rt));
-    ck_assert_uint_eq(nodes, (2ull << depth) - 1);
-    ck_assert_uint_eq(right_ids, right_id_sum(1, 0, 0, depth));
     perma_stats st;
-    ck_assert_perma_ok(rt, perma_get_stats(rt, &st));
+    perma_procedure_stats right;
+    mixed_tree_run(&config, _i, !_i, depth, &st, &right);
     ck_assert_uint_eq(st.stack_items, 0);
     ck_assert_uint_eq(st.stacked_items, 0);
-    perma_procedure_stats ps;
-    ck_assert_perma_ok(rt, perma_get_procedure_stats(rt, right, &ps));
-    ck_assert_uint_eq(ps.stacked_items, 0);
-    ck_assert_uint_eq(ps.items, (1ull << depth) - 1);
-    perma_destroy(rt);
+    ck_assert_uint_eq(right.stacked_items, 0);
+    ck_assert_uint_eq(right.items, (1ull << depth) - 1);
 
     /* The same procedures without queue_only run almost all from stacks. */
-    ck_assert_msg(perma_create(&config, &rt, &error) == PERMA_OK, "%s", error.message);
-    ck_assert_perma_ok(rt, perma_add_source(rt, types, "node.cl"));
-    l.queue_only = r.queue_only = 0;
-    ck_assert_perma_ok(rt, perma_register(rt, &l, &left));
-    ck_assert_perma_ok(rt, perma_register(rt, &r, &right));
-    ck_assert_perma_ok(rt, perma_declare_reduction(rt, "nodes", PERMA_REDUCE_SUM, PERMA_TYPE_ULONG, &nodes));
-    ck_assert_perma_ok(rt, perma_declare_reduction(rt, "leaf_ids", PERMA_REDUCE_SUM, PERMA_TYPE_ULONG, &right_ids));
-    ck_assert_perma_ok(rt, perma_seed(rt, left, &root, 1));
-    ck_assert_perma_ok(rt, perma_run(rt));
-    ck_assert_uint_eq(nodes, (2ull << depth) - 1);
-    ck_assert_perma_ok(rt, perma_get_stats(rt, &st));
+    mixed_tree_run(&config, 0, 0, depth, &st, &right);
     ck_assert_uint_gt(st.stack_items, 0);
     ck_assert_uint_gt(st.stacked_items, st.items / 2);
-    perma_destroy(rt);
 }
 END_TEST
 
