@@ -82,6 +82,14 @@ void reyes_test_builtin_scene(reyes_scene *scene, reyes_camera *camera, unsigned
     ck_assert_int_eq(reyes_camera_frame(scene, 40.0f, (float)width / (float)height, camera, &error), REYES_OK);
 }
 
+void reyes_test_small_builtin(reyes_scene *scene, reyes_camera *camera, reyes_options *options)
+{
+    reyes_test_builtin_scene(scene, camera, 160, 120);
+    reyes_options_init(options);
+    options->width = 160;
+    options->height = 120;
+}
+
 void reyes_test_load_model(reyes_scene *scene, const char *dir, const char *file)
 {
     char path[1024];

@@ -36,6 +36,10 @@ size_t reyes_test_enclosed_pixels(const reyes_image *image, size_t max_region);
  * width x height image. */
 void reyes_test_builtin_scene(reyes_scene *scene, reyes_camera *camera, unsigned width, unsigned height);
 
+/* The built-in scene framed for 160x120 and default options of that size:
+ * the small render most tests compare. */
+void reyes_test_small_builtin(reyes_scene *scene, reyes_camera *camera, reyes_options *options);
+
 /* The model dir/file (a .bpt file, in the first model colour); fails the
  * test with the loader's message if it cannot be read. */
 void reyes_test_load_model(reyes_scene *scene, const char *dir, const char *file);

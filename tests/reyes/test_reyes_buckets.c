@@ -13,11 +13,8 @@ START_TEST(test_buckets_identical)
 {
     reyes_scene scene;
     reyes_camera camera;
-    reyes_test_builtin_scene(&scene, &camera, 160, 120);
     reyes_options o;
-    reyes_options_init(&o);
-    o.width = 160;
-    o.height = 120;
+    reyes_test_small_builtin(&scene, &camera, &o);
     reyes_image whole, tiled;
     reyes_stats whole_stats, tiled_stats;
     reyes_test_render(reyes_test_renderer(0), &scene, &camera, &o, &whole, &whole_stats);
@@ -50,11 +47,8 @@ START_TEST(test_buckets_identical_polylines)
 {
     reyes_scene scene;
     reyes_camera camera;
-    reyes_test_builtin_scene(&scene, &camera, 160, 120);
     reyes_options o;
-    reyes_options_init(&o);
-    o.width = 160;
-    o.height = 120;
+    reyes_test_small_builtin(&scene, &camera, &o);
     o.shading_rate = 1.0f;
     o.crack_fix = REYES_CRACK_FIX_POLYLINE;
     for (int blurred = 0; blurred < 2; ++blurred) {

@@ -325,11 +325,8 @@ START_TEST(test_shading_rate_identical)
 {
     reyes_scene scene;
     reyes_camera camera;
-    reyes_test_builtin_scene(&scene, &camera, 160, 120);
     reyes_options o;
-    reyes_options_init(&o);
-    o.width = 160;
-    o.height = 120;
+    reyes_test_small_builtin(&scene, &camera, &o);
     o.shading_rate = 1.0f;
     for (int stitched = 0; stitched < 2; ++stitched) {
         o.crack_fix = stitched ? REYES_CRACK_FIX_STITCH : REYES_CRACK_FIX_NONE;

@@ -74,11 +74,8 @@ START_TEST(test_parallel_identical)
 {
     reyes_scene scene;
     reyes_camera camera;
-    reyes_test_builtin_scene(&scene, &camera, 160, 120);
     reyes_options o;
-    reyes_options_init(&o);
-    o.width = 160;
-    o.height = 120;
+    reyes_test_small_builtin(&scene, &camera, &o);
     o.crack_fix = REYES_CRACK_FIX_NONE;
     expect_identical(&scene, &camera, &o, "fixed grids");
     o.spp = 5;

@@ -21,6 +21,23 @@ static const char *pair_source =
     "void consume(perma_ctx *c, __local const struct pair *p) { (void)c; (void)p; barrier(CLK_LOCAL_MEM_FENCE); }\n"
     "void count(perma_ctx *c, __local const struct pair *p) { (void)c; (void)p; }\n";
 
+/* Lay out the registered procedures and generate the program text (the
+ * caller frees it). */
+static char *program_text(perma_runtime *rt)
+{
+    ck_assert_perma_ok(rt, perma_build_layout(rt));
+    perma_strbuf sb, reduce_constants, reduce_helpers;
+    perma_strbuf_init(&sb);
+    perma_strbuf_init(&reduce_constants);
+    perma_strbuf_init(&reduce_helpers);
+    perma_reductions_generate(rt, &reduce_constants, &reduce_helpers);
+    ck_assert_perma_ok(rt, perma_generate_program(rt, &reduce_constants, &reduce_helpers, &sb));
+    perma_strbuf_free(&reduce_constants);
+    perma_strbuf_free(&reduce_helpers);
+    ck_assert(!sb.failed);
+    return sb.data;
+}
+
 /* The generated program of that registration (free it). */
 static char *generate(perma_runtime *rt)
 {
@@ -45,17 +62,7 @@ static char *generate(perma_runtime *rt)
     ck_assert_perma_ok(rt, perma_register(rt, &produce, &id));
     ck_assert_perma_ok(rt, perma_register(rt, &consume, &id));
     ck_assert_perma_ok(rt, perma_register(rt, &count, &id));
-    ck_assert_perma_ok(rt, perma_build_layout(rt));
-    perma_strbuf sb, reduce_constants, reduce_helpers;
-    perma_strbuf_init(&sb);
-    perma_strbuf_init(&reduce_constants);
-    perma_strbuf_init(&reduce_helpers);
-    perma_reductions_generate(rt, &reduce_constants, &reduce_helpers);
-    ck_assert_perma_ok(rt, perma_generate_program(rt, &reduce_constants, &reduce_helpers, &sb));
-    perma_strbuf_free(&reduce_constants);
-    perma_strbuf_free(&reduce_helpers);
-    ck_assert(!sb.failed);
-    return sb.data;
+    return program_text(rt);
 }
 
 /* A runtime of 2 groups of 8 under the schedule `label` (NULL: the
@@ -143,18 +150,9 @@ static char *generate_tree(const char *label)
                              .emits = { { "node", 2 } } };
     perma_proc id;
     ck_assert_perma_ok(rt, perma_register(rt, &node, &id));
-    ck_assert_perma_ok(rt, perma_build_layout(rt));
-    perma_strbuf sb, reduce_constants, reduce_helpers;
-    perma_strbuf_init(&sb);
-    perma_strbuf_init(&reduce_constants);
-    perma_strbuf_init(&reduce_helpers);
-    perma_reductions_generate(rt, &reduce_constants, &reduce_helpers);
-    ck_assert_perma_ok(rt, perma_generate_program(rt, &reduce_constants, &reduce_helpers, &sb));
-    perma_strbuf_free(&reduce_constants);
-    perma_strbuf_free(&reduce_helpers);
-    ck_assert(!sb.failed);
+    char *text = program_text(rt);
     perma_destroy(rt);
-    return sb.data;
+    return text;
 }
 
 /* A helper that can push onto a work-first stack is forced inline (the
