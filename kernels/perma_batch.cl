@@ -309,6 +309,20 @@ PERMA_PHASE void perma_read_items(uint lid, __global uint *ctl, __global uint *q
     }
 }
 
+/* Where the next record's items start in a group's overflow data: after
+ * the last record's items, counted in that record's item size (0 when
+ * there is none).  Records of different item sizes follow each other: a
+ * batch's overflowed edges, then the stacks' items (perma_wf_flush). */
+inline uint perma_overflow_end(__global const uint *area)
+{
+    uint n = area[PERMA_OVERFLOW_RECORDS];
+    if (n == 0u)
+        return 0u;
+    __global const uint *last = area + PERMA_OVERFLOW_RECORD(n - 1u);
+    return last[PERMA_OVERFLOW_AT] + last[PERMA_OVERFLOW_COUNT] * perma_item_words[last[PERMA_OVERFLOW_QUEUE] %
+                                                                                   PERMA_NUM_PROCS];
+}
+
 /* Edge e of the batch emitted k items into queue `qi` that has no room for
  * them: they go to the overflow data of the group's emit area instead
  * (perma_write_emits copies them there), recorded for the host, which
@@ -320,10 +334,7 @@ inline void perma_overflow_edge(__global uint *ctl, __global uint *emit_areas, _
 {
     __global uint *area = perma_emit_area(emit_areas);
     uint n = area[PERMA_OVERFLOW_RECORDS];
-    uint at = n ? area[PERMA_OVERFLOW_RECORD(n - 1u) + PERMA_OVERFLOW_AT] +
-                      area[PERMA_OVERFLOW_RECORD(n - 1u) + PERMA_OVERFLOW_COUNT] *
-                          perma_item_words[qi % PERMA_NUM_PROCS]
-                : 0u;
+    uint at = perma_overflow_end(area);
     area[PERMA_OVERFLOW_RECORD(n) + PERMA_OVERFLOW_QUEUE] = qi;
     area[PERMA_OVERFLOW_RECORD(n) + PERMA_OVERFLOW_COUNT] = k;
     area[PERMA_OVERFLOW_RECORD(n) + PERMA_OVERFLOW_AT] = at;

@@ -156,11 +156,7 @@ inline void perma_wf_flush(__global uint *emit_areas, __local perma_group_mem *m
 {
     __global uint *area = perma_emit_area(emit_areas);
     uint n = area[PERMA_OVERFLOW_RECORDS];
-    uint at = n ? area[PERMA_OVERFLOW_RECORD(n - 1u) + PERMA_OVERFLOW_AT] +
-                      area[PERMA_OVERFLOW_RECORD(n - 1u) + PERMA_OVERFLOW_COUNT] *
-                          perma_item_words[area[PERMA_OVERFLOW_RECORD(n - 1u) + PERMA_OVERFLOW_QUEUE] %
-                                           PERMA_NUM_PROCS]
-                : 0u;
+    uint at = perma_overflow_end(area);
     __global uint *data = area + PERMA_EMIT_AREA_OVERFLOW;
     for (uint q = 0; q < PERMA_NUM_PROCS; ++q) {
         uint words = perma_item_words[q], count = 0;

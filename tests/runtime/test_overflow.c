@@ -425,6 +425,79 @@ END_TEST
 /* Bounded batches keep the queue at O(N + depth * p * (k - 1)) items where
  * breadth-first needs a whole tree level.  Built directly (not through the
  * test variant) because the technique is the point. */
+/* One batch whose emits overflow two queues of different item sizes: each
+ * edge's overflowed items lie after the previous edge's, measured in that
+ * edge's item size, and arrive intact.  Generators 0..511 emit nothing, so
+ * later batches reserve (about) nothing and overflow both edges at once. */
+static const char *two_sizes_types = "struct wide { uint word[16]; };\n";
+static const char *two_sizes_source =
+    "void two_sizes_generate(perma_ctx *ctx, __local const uint *g)\n"
+    "{\n"
+    "    if (*g < 512u)\n"
+    "        return;\n"
+    "    struct wide w;\n"
+    "    for (uint j = 0; j < 16u; ++j)\n"
+    "        w.word[j] = *g * 16u + j;\n"
+    "    emit_two_sizes_wide(ctx, &w);\n"
+    "    uint n = *g;\n"
+    "    emit_two_sizes_narrow(ctx, &n);\n"
+    "}\n"
+    "void two_sizes_wide(perma_ctx *ctx, __local const struct wide *w)\n"
+    "{\n"
+    "    uint intact = 1u;\n"
+    "    for (uint j = 1; j < 16u; ++j)\n"
+    "        intact &= w->word[j] == w->word[0] + j;\n"
+    "    atomic_add(&ctx->buf.sink[0], intact);\n"
+    "    atomic_add(&ctx->buf.sink[1], w->word[0] / 16u);\n"
+    "}\n"
+    "void two_sizes_narrow(perma_ctx *ctx, __local const uint *n)\n"
+    "{\n"
+    "    atomic_inc(&ctx->buf.sink[2]);\n"
+    "    atomic_add(&ctx->buf.sink[3], *n);\n"
+    "}\n";
+
+START_TEST(overflow_of_two_item_sizes_in_one_batch)
+{
+    enum { GENERATORS = 4096 };
+    perma_runtime *rt = test_runtime_queues(64, 1, 16);
+    ck_assert_perma_ok(rt, perma_add_source(rt, two_sizes_types, "wide.cl"));
+    perma_procedure generate = { .name = "two_sizes_generate", .item_type = "uint", .item_size = 4,
+                                 .source = two_sizes_source, .source_file = "two_sizes.cl",
+                                 .function = "two_sizes_generate",
+                                 .emits = { { "two_sizes_wide", 1 }, { "two_sizes_narrow", 1 } } };
+    perma_procedure wide = generate, narrow = generate;
+    wide.name = wide.function = "two_sizes_wide";
+    wide.item_type = "struct wide";
+    wide.item_size = 64;
+    wide.emits[0].target = NULL;
+    narrow.name = narrow.function = "two_sizes_narrow";
+    narrow.emits[0].target = NULL;
+    perma_proc gen_id, id;
+    ck_assert_perma_ok(rt, perma_register(rt, &generate, &gen_id));
+    ck_assert_perma_ok(rt, perma_register(rt, &wide, &id));
+    ck_assert_perma_ok(rt, perma_register(rt, &narrow, &id));
+    uint32_t sink[4] = { 0, 0, 0, 0 };
+    ck_assert_perma_ok(rt, perma_bind_host(rt, "sink", "__global uint *", sink, sizeof sink, PERMA_READ_WRITE));
+    static uint32_t seeds[GENERATORS];
+    uint32_t sum = 0;
+    for (uint32_t g = 0; g < GENERATORS; ++g) {
+        seeds[g] = g;
+        sum += g >= 512 ? g : 0;
+    }
+    ck_assert_perma_ok(rt, perma_seed(rt, gen_id, seeds, GENERATORS));
+    ck_assert_perma_ok(rt, perma_run(rt));
+    ck_assert_uint_eq(sink[0], GENERATORS - 512); /* every wide item intact */
+    ck_assert_uint_eq(sink[1], sum);
+    ck_assert_uint_eq(sink[2], GENERATORS - 512);
+    ck_assert_uint_eq(sink[3], sum);
+    perma_stats st;
+    ck_assert_perma_ok(rt, perma_get_stats(rt, &st));
+    if (st.technique == PERMA_TECHNIQUE_MEGAKERNEL)
+        ck_assert_uint_gt(st.overflowed_items, 0);
+    perma_destroy(rt);
+}
+END_TEST
+
 START_TEST(bounded_batches_bound_memory)
 {
     enum { DEPTH = 16, LIMIT = 64 };
@@ -470,6 +543,7 @@ int main(void)
     tcase_add_test(tc, declared_emits_do_not_cut_batches);
     tcase_add_test(tc, emits_beyond_the_reservation_overflow_and_arrive);
     tcase_add_test(tc, overflow_path_taken);
+    tcase_add_test(tc, overflow_of_two_item_sizes_in_one_batch);
     suite_add_tcase(s, tc);
     return test_run_suite(s) ? EXIT_FAILURE : EXIT_SUCCESS;
 }
