@@ -1,5 +1,6 @@
 #include "perma_test.h"
 
+#include <stdbool.h>
 #include <stdlib.h>
 #include <time.h>
 
@@ -18,29 +19,22 @@ void test_apply_variant(perma_config *config)
         ck_assert_msg(perma_victim_parse(v, &config->schedule.victim) == PERMA_OK, "bad PERMA_TEST_VICTIM %s", v);
     if ((v = getenv("PERMA_TEST_LOCAL_QUEUE")) && *v)
         config->schedule.local_queue_items = (unsigned)strtoul(v, NULL, 10);
-    if ((v = getenv("PERMA_TEST_WORK_FIRST")) && *v) /* 0: off (every item through the queues) */
-        config->schedule.work_first_items = strtoul(v, NULL, 10) ? (unsigned)strtoul(v, NULL, 10) : PERMA_WORK_FIRST_OFF;
+    if ((v = getenv("PERMA_TEST_WORK_FIRST")) && *v) { /* 0: off (every item through the queues) */
+        unsigned items = (unsigned)strtoul(v, NULL, 10);
+        config->schedule.work_first_items = items ? items : PERMA_WORK_FIRST_OFF;
+    }
     if ((v = getenv("PERMA_TEST_BATCH_LIMIT")) && *v)
         config->schedule.batch_limit = (unsigned)strtoul(v, NULL, 10);
 }
 
-perma_runtime *test_runtime_config(const perma_config *requested)
-{
-    perma_config variant = *requested;
-    test_apply_variant(&variant);
-    const perma_config *config = &variant;
-    perma_runtime *rt = NULL;
-    perma_error error;
-    perma_status st = perma_create(config, &rt, &error);
-    ck_assert_msg(st == PERMA_OK, "perma_create: %s: %s", perma_status_name(st), error.message);
-    return rt;
-}
-
-perma_runtime *test_runtime_queues_config(const perma_config *requested)
+/* A runtime of `requested` under the test's variant; with `queues_only`,
+ * work-first off whatever the variant says. */
+static perma_runtime *create_under_variant(const perma_config *requested, bool queues_only)
 {
     perma_config config = *requested;
     test_apply_variant(&config);
-    config.schedule.work_first_items = PERMA_WORK_FIRST_OFF;
+    if (queues_only)
+        config.schedule.work_first_items = PERMA_WORK_FIRST_OFF;
     perma_runtime *rt = NULL;
     perma_error error;
     perma_status st = perma_create(&config, &rt, &error);
@@ -48,7 +42,9 @@ perma_runtime *test_runtime_queues_config(const perma_config *requested)
     return rt;
 }
 
-perma_runtime *test_runtime_queues(unsigned group_size, unsigned work_groups, size_t queue_capacity)
+/* The tests' usual configuration: a group size, a group count and a
+ * queue capacity, and a time limit that turns a hang into a failure. */
+static perma_config small_config(unsigned group_size, unsigned work_groups, size_t queue_capacity)
 {
     perma_config config;
     perma_config_init(&config);
@@ -56,18 +52,29 @@ perma_runtime *test_runtime_queues(unsigned group_size, unsigned work_groups, si
     config.work_groups = work_groups;
     config.queue_capacity = queue_capacity;
     config.time_limit = 120;
-    return test_runtime_queues_config(&config);
+    return config;
+}
+
+perma_runtime *test_runtime_config(const perma_config *requested)
+{
+    return create_under_variant(requested, false);
+}
+
+perma_runtime *test_runtime_queues_config(const perma_config *requested)
+{
+    return create_under_variant(requested, true);
+}
+
+perma_runtime *test_runtime_queues(unsigned group_size, unsigned work_groups, size_t queue_capacity)
+{
+    perma_config config = small_config(group_size, work_groups, queue_capacity);
+    return create_under_variant(&config, true);
 }
 
 perma_runtime *test_runtime(unsigned group_size, unsigned work_groups, size_t queue_capacity)
 {
-    perma_config config;
-    perma_config_init(&config);
-    config.group_size = group_size;
-    config.work_groups = work_groups;
-    config.queue_capacity = queue_capacity;
-    config.time_limit = 120;
-    return test_runtime_config(&config);
+    perma_config config = small_config(group_size, work_groups, queue_capacity);
+    return create_under_variant(&config, false);
 }
 
 double perma_test_now(void)
