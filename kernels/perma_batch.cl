@@ -122,6 +122,19 @@ inline void perma_wf_watch_counts(volatile __global uint *watch, __local perma_g
 }
 #endif
 
+/* Whether a batch of q, reserving by its expected emits, expects them all
+ * on the work-first stacks (q is stackable), so none in the queues. */
+inline int perma_emits_onto_stacks(uint q, uint expected)
+{
+#if PERMA_WORK_FIRST
+    return expected && perma_wf_need[q] != PERMA_WF_NEVER;
+#else
+    (void)q;
+    (void)expected;
+    return 0;
+#endif
+}
+
 /* The ROOM a batch of `items` items of q reserves in the target of edge e
  * before it runs.  `expected`: what the group's batches of q emitted per
  * item into e so far in this launch (its statistics), rounded up, so an
@@ -138,10 +151,8 @@ inline void perma_wf_watch_counts(volatile __global uint *watch, __local perma_g
 inline uint perma_batch_room(__local const perma_group_mem *mem, uint q, uint e, uint items, uint expected)
 {
     const uint max = perma_edge_max[q * PERMA_MAX_EDGES + e];
-#if PERMA_WORK_FIRST
-    if (expected && perma_wf_need[q] != PERMA_WF_NEVER)
+    if (perma_emits_onto_stacks(q, expected))
         return 0u;
-#endif
     const uint ran = expected ? mem->stats[q * PERMA_STAT_PROC_WORDS + PERMA_STAT_ITEMS] : 0u;
     if (ran == 0)
         return items * max;
@@ -154,10 +165,8 @@ inline uint perma_batch_room(__local const perma_group_mem *mem, uint q, uint e,
 inline uint perma_admissible(__global uint *ctl, __local const perma_group_mem *mem, uint set, uint q, uint want,
                              uint expected)
 {
-#if PERMA_WORK_FIRST
-    if (expected && perma_wf_need[q] != PERMA_WF_NEVER)
+    if (perma_emits_onto_stacks(q, expected))
         return want; /* it expects no emits in the queues (perma_batch_room) */
-#endif
     for (uint e = 0; e < perma_edge_count[q]; ++e) {
         uint t = perma_edge_target[q * PERMA_MAX_EDGES + e];
         int room = perma_load_int(PERMA_QUEUE(ctl, PERMA_QINDEX(set, t)) + PERMA_Q_ROOM);

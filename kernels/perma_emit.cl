@@ -44,40 +44,28 @@ typedef struct perma_ctx {
     perma_buffers buf;                /* user buffers, by name */
 } perma_ctx;
 
-/* Count one emit of the running item into procedure `target`: its edge
- * (and in *own the item's emits there before this one), or -1 after
- * recording the error if the target is not declared in .emits or the item
- * already emitted its declared maximum there (the run then fails). */
-PERMA_PHASE int perma_count_emit(perma_ctx *ctx, uint target, uint *own)
-{
-    int edge = perma_edge_index[ctx->proc * PERMA_NUM_PROCS + target];
-    if (edge < 0) {
-        atomic_cmpxchg(ctx->error_code, 0u, PERMA_EMIT_ERROR_UNDECLARED | target);
-        return -1;
-    }
-    /* With one thread per item nobody else counts this item's emits. */
-    *own = ctx->threads == 1 ? ctx->item_emit_counts[edge]++ : atomic_inc(ctx->item_emit_counts + edge);
-    if (*own >= perma_edge_max[ctx->proc * PERMA_MAX_EDGES + (uint)edge]) {
-        atomic_cmpxchg(ctx->error_code, 0u, PERMA_EMIT_ERROR_LIMIT | (uint)edge);
-        return -1;
-    }
-    return edge;
-}
-
 /* Stage one item emitted into procedure `target` by the running procedure
  * (its words: the emit helper hands them over as perma_item_word, see
- * kernels/perma_prelude.cl).  Returns 1 if staged, 0 if perma_count_emit
- * refused it. */
+ * kernels/perma_prelude.cl).  Returns 1 if staged, 0 if the target is not
+ * declared in .emits or the item already emitted its declared maximum
+ * there (the run then fails). */
 PERMA_PHASE int perma_emit(perma_ctx *ctx, uint target, const perma_item_word *src)
 {
     if (!ctx->active)
         return 0;
-    uint own;
-    int edge = perma_count_emit(ctx, target, &own);
-    if (edge < 0)
+    int edge = perma_edge_index[ctx->proc * PERMA_NUM_PROCS + target];
+    if (edge < 0) {
+        atomic_cmpxchg(ctx->error_code, 0u, PERMA_EMIT_ERROR_UNDECLARED | target);
         return 0;
+    }
     uint e = ctx->proc * PERMA_MAX_EDGES + (uint)edge;
+    /* With one thread per item nobody else counts this item's emits. */
+    uint own = ctx->threads == 1 ? ctx->item_emit_counts[edge]++ : atomic_inc(ctx->item_emit_counts + edge);
     uint max = perma_edge_max[e];
+    if (own >= max) {
+        atomic_cmpxchg(ctx->error_code, 0u, PERMA_EMIT_ERROR_LIMIT | (uint)edge);
+        return 0;
+    }
     uint words = perma_item_words[target];
     uint at = ctx->lane_counts ? ctx->lane * perma_lane_items[ctx->proc] * max + ctx->lane_counts[edge]++
                                : ctx->slot * max + own;
