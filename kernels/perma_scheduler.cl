@@ -220,7 +220,6 @@ typedef struct perma_picker {
     __global uint *ctl;
     __global uint *queue_data; /* the local front queue's flush, the stacks' spills */
     __global uint *queue_seq;
-    __global uint *emit_areas; /* the stacks' flush when the launch stops for room */
     __global uint *group_words;
     __local perma_group_mem *mem;
     __local uint *group_stat;
@@ -453,7 +452,7 @@ PERMA_PHASE void perma_pick_batch(__global uint *ctl, __global uint *queue_data,
                                   volatile __global uint *abort_flag, __local perma_group_mem *mem,
                                   uint *victim_state, uint *starve_count, uint *hungry)
 {
-    perma_picker picker = { ctl, queue_data, queue_seq, emit_areas, group_words, mem,
+    perma_picker picker = { ctl, queue_data, queue_seq, group_words, mem,
                             mem->stats + PERMA_NUM_PROCS * PERMA_STAT_PROC_WORDS, groups, own,
                             victim_state, starve_count, hungry, -1 };
     perma_picker *p = &picker;

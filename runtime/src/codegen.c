@@ -209,21 +209,6 @@ static void append_procedure_sources(perma_runtime *rt, perma_strbuf *sb)
     }
 }
 
-/* Work-first (kernels/perma_work_first.cl): every simple procedure's
- * batch items and the work-item's stack in one loop, so each procedure has
- * one call site.  A stack item runs with room for the largest declared
- * emits of any stackable procedure (PERMA_WF_NEED, a constant: no table
- * load per item).  It asks for no work-item function (get_group_id and the
- * like): PoCL inlines every function that does into the kernel, where its
- * locals would live in per-work-item context arrays.  The stack's top item runs first while it has room for
- * its emits and the batch's budget lasts, then the next batch item; a
- * finished item's slot is freed when the items above it are done.  When
- * another group is idle (PERMA_CTL_HUNGRY: a word written rarely, so its
- * load per item stays in the cache) a stack that has something to give
- * stops, so that the batch ends and work-item 0 gives (perma_wf_relieve)
- * without waiting for the budget: a coarse item's group shares at once.  The
- * counts of what ran and was pushed stay in private variables (constant
- * indices) and reach the group's counters once per batch. */
 /* After an item of stackable procedure p (index i) that ran with stack
  * room: its pushes per edge, from the stack above `sp` (at most the
  * declared maximum each, else the run fails), added to its counters. */
@@ -247,6 +232,22 @@ static void append_pushes_counted(const perma_proc_info *p, unsigned i, perma_st
                             indent, e, p->emit_max[e], indent, e, indent, i, e, e);
 }
 
+/* Work-first (kernels/perma_work_first.cl): every simple procedure's batch
+ * items and the work-item's stack in one loop, so each procedure has one
+ * call site.  A stack item runs with room for the largest declared emits of
+ * any stackable procedure (PERMA_WF_NEED, a constant: no table load per
+ * item).  It asks for no work-item function (get_group_id and the like):
+ * PoCL inlines every function that does into the kernel, where its locals
+ * would live in per-work-item context arrays.  The stack's top item runs
+ * first while it has room for its emits and the batch's budget lasts, then
+ * the next batch item; a finished item's slot is freed when the items above
+ * it are done.  When another group is idle (PERMA_CTL_HUNGRY: a word
+ * written rarely, so its load per item stays in the cache) a stack that has
+ * something to give stops, so that the batch ends and work-item 0 gives
+ * (perma_wf_relieve) without waiting for the budget: a coarse item's group
+ * shares at once.  The counts of what ran and was pushed stay in private
+ * variables (constant indices) and reach the group's counters once per
+ * batch. */
 static void append_run_simple(perma_runtime *rt, perma_strbuf *sb)
 {
     perma_strbuf_append(sb,

@@ -319,14 +319,6 @@ static unsigned alignment_of_size(size_t bytes)
     return a;
 }
 
-/* Work-first (perma_schedule.work_first_items): which procedures' items
- * may run from a work-item's stack, and the stacks' shape.  A procedure is
- * stackable when it runs one thread per item, is neither cooperative nor
- * queue_only, has no scratch (its items run outside the batch's arena),
- * declares at most half a stack of emits (an item runs from the stack only
- * with room for all of them), and emits only into stackable procedures
- * (its items never stage emits, so they may run in any batch).  The stack's slots hold the
- * largest stackable item, aligned for every stackable type. */
 /* The __local words of the stacks of `items` items of `slot_words` words:
  * the slots, a word per slot (its procedure), a stack pointer and a row of
  * emit counters per work-item, counters per procedure and edge, and room
@@ -354,6 +346,14 @@ static unsigned default_work_first_items(const perma_runtime *rt, unsigned slot_
     return items >= 8 ? items : 0;
 }
 
+/* Work-first (perma_schedule.work_first_items): which procedures' items may
+ * run from a work-item's stack, and the stacks' shape.  A procedure is
+ * stackable when it runs one thread per item, is neither cooperative nor
+ * queue_only, has no scratch (its items run outside the batch's arena),
+ * declares at most half a stack of emits (an item runs from the stack only
+ * with room for all of them), and emits only into stackable procedures (its
+ * items never stage emits, so they may run in any batch).  The stack's
+ * slots hold the largest stackable item, aligned for every stackable type. */
 static void compute_work_first(perma_runtime *rt, size_t free)
 {
     unsigned n = rt->proc_count, items = rt->config.schedule.work_first_items;
