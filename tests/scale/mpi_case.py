@@ -129,11 +129,18 @@ def case_buckets(args, tmp):
         traces = sorted(f for f in os.listdir(tmp) if f.startswith('trace'))
         expect(traces == ['trace-rank%d.json' % r for r in range(args.ranks)],
                'expected a trace per rank, found %s' % traces, out)
+        # A bucket whose patches all fall outside it dices nothing, so a rank
+        # may trace no dice batch; every rank that rendered traced its bound
+        # batches, and every grid was diced once: the ranks' traced dice
+        # items add up to the job's grid count.
+        grids = int(re.search(r'on %d ranks, (\d+) grids' % args.ranks, out).group(1))
+        diced = 0
         for rank, buckets in enumerate(taken):
             events = json.loads(read(os.path.join(tmp, traces[rank])))['traceEvents']
-            batches = [e for e in events if e.get('ph') == 'X' and e.get('name') == 'dice']
-            expect(not buckets or batches, 'rank %d rendered %d buckets but traced no dice batch' % (rank, buckets),
-                   out)
+            batches = [e for e in events if e.get('ph') == 'X']
+            expect(not buckets or batches, 'rank %d rendered %d buckets but traced no batch' % (rank, buckets), out)
+            diced += sum(e['args']['items'] for e in batches if e.get('name') == 'dice')
+        expect(diced == grids, 'the traces hold %d dice items for %d grids' % (diced, grids), out)
     print(out)
 
 
