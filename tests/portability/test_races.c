@@ -24,12 +24,9 @@
 static perma_runtime *schedule_runtime(const char *label, unsigned work_groups, size_t capacity,
                                        unsigned group_size)
 {
-    perma_schedule schedule;
-    perma_error error;
-    ck_assert_msg(perma_schedule_parse(label, &schedule, &error) == PERMA_OK, "%s", error.message);
     perma_config config;
     perma_config_init(&config);
-    config.schedule = schedule;
+    test_parse_schedule(label, &config.schedule);
     config.work_groups = work_groups;
     config.queue_capacity = capacity;
     config.group_size = group_size;

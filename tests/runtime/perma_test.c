@@ -7,6 +7,12 @@
 /* PERMA_TEST_TECHNIQUE, PERMA_TEST_STRATEGY, PERMA_TEST_VICTIM,
  * PERMA_TEST_LOCAL_QUEUE and PERMA_TEST_WORK_FIRST select the variant every test runs under (meson
  * registers each test once per variant). */
+void test_parse_schedule(const char *label, perma_schedule *schedule)
+{
+    perma_error error;
+    ck_assert_msg(perma_schedule_parse(label, schedule, &error) == PERMA_OK, "%s", error.message);
+}
+
 void test_apply_variant(perma_config *config)
 {
     const char *v;

@@ -17,6 +17,9 @@ perma_runtime *test_runtime(unsigned group_size, unsigned work_groups, size_t qu
  * which a depth-first run would not make grow. */
 perma_runtime *test_runtime_queues(unsigned group_size, unsigned work_groups, size_t queue_capacity);
 perma_runtime *test_runtime_queues_config(const perma_config *config);
+/* Parse schedule `label` into *schedule, failing the test with the
+ * parser's message when it is not one. */
+void test_parse_schedule(const char *label, perma_schedule *schedule);
 /* Set the schedule of the variant the test runs under (PERMA_TEST_*), as
  * test_runtime_config does. */
 void test_apply_variant(perma_config *config);

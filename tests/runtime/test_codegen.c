@@ -73,9 +73,8 @@ static perma_runtime *runtime_under(const char *label)
     perma_config_init(&config);
     config.group_size = 8;
     config.work_groups = 2;
-    perma_error error;
     if (label)
-        ck_assert_msg(perma_schedule_parse(label, &config.schedule, &error) == PERMA_OK, "%s", error.message);
+        test_parse_schedule(label, &config.schedule);
     return test_runtime_config(&config);
 }
 

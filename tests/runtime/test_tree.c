@@ -152,8 +152,7 @@ static void tree_runtime_open(tree_runtime *t, const char *label)
     perma_config config;
     perma_config_init(&config);
     config.time_limit = 120;
-    perma_error error;
-    ck_assert_msg(perma_schedule_parse(label, &config.schedule, &error) == PERMA_OK, "%s", error.message);
+    test_parse_schedule(label, &config.schedule);
     t->rt = test_runtime_config(&config);
     t->id = tree_add(t->rt, 1, t->counts, t->sums);
 }

@@ -41,11 +41,11 @@ static void tree_open(tree *t, const char *label, unsigned groups, unsigned grou
 {
     perma_config config;
     perma_config_init(&config);
-    perma_error error;
-    ck_assert_msg(perma_schedule_parse(label, &config.schedule, &error) == PERMA_OK, "%s", error.message);
+    test_parse_schedule(label, &config.schedule);
     config.work_groups = groups;
     config.group_size = group_size;
     config.time_limit = 120;
+    perma_error error;
     ck_assert_msg(perma_create(&config, &t->rt, &error) == PERMA_OK, "%s", error.message);
     ck_assert_perma_ok(t->rt, perma_add_source(t->rt, types, "node.cl"));
     perma_procedure split = { .name = "split", .item_type = "struct node", .item_size = sizeof(struct node),
@@ -226,9 +226,7 @@ START_TEST(spills_of_two_procedures_into_full_queues_grow_them)
     const unsigned groups[] = { 1, 2 };
     perma_config config;
     perma_config_init(&config);
-    perma_error error;
-    ck_assert_msg(perma_schedule_parse("megakernel/shared+wf8", &config.schedule, &error) == PERMA_OK, "%s",
-                  error.message);
+    test_parse_schedule("megakernel/shared+wf8", &config.schedule);
     config.work_groups = groups[_i];
     config.group_size = 8;
     config.queue_capacity = 8;

@@ -79,7 +79,7 @@ static perma_runtime *runtime_for(const char *schedule, unsigned work_groups)
     perma_config_init(&config);
     config.work_groups = work_groups;
     config.time_limit = 120;
-    ck_assert_int_eq(perma_schedule_parse(schedule, &config.schedule, NULL), PERMA_OK);
+    test_parse_schedule(schedule, &config.schedule);
     perma_runtime *rt = NULL;
     perma_error error;
     perma_status st = perma_create(&config, &rt, &error);
