@@ -17,6 +17,10 @@ perma_runtime *test_runtime(unsigned group_size, unsigned work_groups, size_t qu
  * which a depth-first run would not make grow. */
 perma_runtime *test_runtime_queues(unsigned group_size, unsigned work_groups, size_t queue_capacity);
 perma_runtime *test_runtime_queues_config(const perma_config *config);
+/* The whole of file `path` as a string (free it); fails the test if unreadable. */
+char *test_read_file(const char *path);
+/* How many times `needle` occurs in `text`, not overlapping. */
+unsigned test_occurrences(const char *text, const char *needle);
 /* Parse schedule `label` into *schedule, failing the test with the
  * parser's message when it is not one. */
 void test_parse_schedule(const char *label, perma_schedule *schedule);

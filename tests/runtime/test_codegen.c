@@ -83,14 +83,6 @@ static perma_runtime *runtime(void)
     return runtime_under(NULL);
 }
 
-static unsigned occurrences(const char *text, const char *needle)
-{
-    unsigned n = 0;
-    for (const char *p = text; (p = strstr(p, needle)) != NULL; p += strlen(needle))
-        ++n;
-    return n;
-}
-
 /* The number of the line `at` is on (1-based). */
 static size_t line_of(const char *text, const char *at)
 {
@@ -116,8 +108,8 @@ START_TEST(generated_text_has_the_expected_functions)
                              "    copy.item = *item;\n"
                              "    return perma_emit(ctx, 1u, copy.words);\n"
                              "}\n");
-    ck_assert_uint_eq(occurrences(text, "inline int emit_"), 1);
-    ck_assert_uint_eq(occurrences(text, "PERMA_INLINE int emit_"), 0);
+    ck_assert_uint_eq(test_occurrences(text, "inline int emit_"), 1);
+    ck_assert_uint_eq(test_occurrences(text, "PERMA_INLINE int emit_"), 0);
     /* The dispatch: produce in lanes over its batch, consume cooperative
      * (every work-item calls it), count guarded by nothing but its loop. */
     ck_assert_contains(text, "PERMA_PHASE void perma_dispatch(");
@@ -169,7 +161,7 @@ START_TEST(emit_helpers_push_only_with_stacks)
     ck_assert_contains(text, "\ninline int emit_node(perma_ctx *ctx, const uint *item)\n"
                              "{\n"
                              "    if (__alignof__(uint) % 4u == 0u)\n");
-    ck_assert_uint_eq(occurrences(text, "perma_wf_push(ctx"), 0);
+    ck_assert_uint_eq(test_occurrences(text, "perma_wf_push(ctx"), 0);
     free(text);
 }
 END_TEST
@@ -179,10 +171,10 @@ START_TEST(user_sources_appear_once_with_their_lines)
     perma_runtime *rt = runtime();
     char *text = generate(rt);
     /* pair.cl serves two procedures and appears once; so do the others. */
-    ck_assert_uint_eq(occurrences(text, "#line 1 \"pair.cl\"\n"), 1);
-    ck_assert_uint_eq(occurrences(text, "#line 1 \"produce.cl\"\n"), 1);
-    ck_assert_uint_eq(occurrences(text, "#line 1 \"pair.h\"\n"), 1);
-    ck_assert_uint_eq(occurrences(text, "void count(perma_ctx *c"), 1);
+    ck_assert_uint_eq(test_occurrences(text, "#line 1 \"pair.cl\"\n"), 1);
+    ck_assert_uint_eq(test_occurrences(text, "#line 1 \"produce.cl\"\n"), 1);
+    ck_assert_uint_eq(test_occurrences(text, "#line 1 \"pair.h\"\n"), 1);
+    ck_assert_uint_eq(test_occurrences(text, "void count(perma_ctx *c"), 1);
     /* After each user source the generated text says again which of its
      * own lines follows, and that is true. */
     unsigned checked = 0;

@@ -16,19 +16,6 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
-static char *read_file(const char *path)
-{
-    FILE *f = fopen(path, "rb");
-    ck_assert_msg(f != NULL, "cannot open %s", path);
-    fseek(f, 0, SEEK_END);
-    long size = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char *text = calloc(1, (size_t)size + 1);
-    ck_assert_uint_eq(fread(text, 1, (size_t)size, f), (size_t)size);
-    fclose(f);
-    return text;
-}
-
 /* Sum of the "items" of all executed batches (not donations, which move
  * items), their count, the number of donations, of batches that ran only
  * work-first stacks ("stack") and the highest tid. */
@@ -87,7 +74,7 @@ START_TEST(trace_events_cover_every_item)
     perma_stats st;
     ck_assert_perma_ok(rt, perma_get_stats(rt, &st));
 
-    char *json = read_file(path);
+    char *json = test_read_file(path);
     ck_assert_contains(json, "\"traceEvents\":[");
     ck_assert_contains(json, "\"name\":\"tree\"");
     uint64_t items;
@@ -197,7 +184,7 @@ START_TEST(every_run_stays_in_the_file_in_real_time)
         ck_assert_uint_eq(items[run], (2u << (8 + run)) - 1);
     }
 
-    char *json = read_file(path);
+    char *json = test_read_file(path);
     static trace_line lines[MAX_LINES];
     unsigned n = parse_lines(json, lines, MAX_LINES);
     free(json);
@@ -310,7 +297,7 @@ START_TEST(full_disk_keeps_the_earlier_trace)
     struct tree_node root = { 0, 6, 1, 0 };
     ck_assert_perma_ok(rt, perma_seed(rt, id, &root, 1));
     ck_assert_perma_ok(rt, perma_run(rt)); /* builds the program, unlimited */
-    char *earlier = read_file(path);
+    char *earlier = test_read_file(path);
     signal(SIGXFSZ, SIG_IGN);
     struct rlimit limit = { 200, 200 };
     ck_assert_int_eq(setrlimit(RLIMIT_FSIZE, &limit), 0);
@@ -320,7 +307,7 @@ START_TEST(full_disk_keeps_the_earlier_trace)
     snprintf(expected, sizeof expected, "cannot write the trace: writing '%s' failed: %s (the file there "
              "before is unchanged)", path, strerror(EFBIG));
     ck_assert_str_eq(perma_errmsg(rt), expected);
-    char *now = read_file(path);
+    char *now = test_read_file(path);
     ck_assert_str_eq(now, earlier);
     free(now);
     free(earlier);
