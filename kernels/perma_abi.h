@@ -166,6 +166,10 @@ typedef struct perma_group_counters {
 #define PERMA_TRACE_DONATE 3u
 #define PERMA_TRACE_STACK 4u /* items run from the work-items' stacks (the record's items) */
 #define PERMA_TRACE_KINDS 5u
+/* A record's procedure for work of the stacks as a whole (a batch that only
+ * ran stacks, items the stacks gave another group): their items are of any
+ * procedure. */
+#define PERMA_TRACE_STACKS 0xffu
 #define PERMA_TRACE_RECORD_WORDS 4u
 
 typedef struct perma_trace_record {

@@ -63,6 +63,7 @@ typedef struct perma_group_mem {
     uint wf_ran[PERMA_NUM_PROCS];                      /* this batch: items run from the stacks */
     uint wf_pushed[PERMA_NUM_PROCS * PERMA_MAX_EDGES]; /* this batch: items pushed, per edge */
     uint wf_total;                                     /* items waiting on the group's stacks */
+    uint wf_given;                                     /* items the stacks gave another group, not yet traced */
 #endif
 } perma_group_mem;
 

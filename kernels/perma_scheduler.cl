@@ -523,6 +523,21 @@ PERMA_PHASE void perma_pick_batch(__global uint *ctl, __global uint *queue_data,
     __local perma_group_mem perma_group_state;        \
     __local perma_group_mem *const mem = &perma_group_state
 
+#if PERMA_TRACE_EVENTS
+/* Work-item 0: the group's next trace record, while there is room. */
+inline void perma_trace_add(__global uint *group_trace, uint *trace_count, uint proc, uint kind, uint items,
+                            uint start, uint end)
+{
+    if (*trace_count >= PERMA_TRACE_EVENTS)
+        return;
+    __global uint *record = group_trace + 1u + PERMA_TRACE_RECORD_WORDS * (*trace_count)++;
+    record[0] = proc | kind << 8;
+    record[1] = items;
+    record[2] = start;
+    record[3] = end;
+}
+#endif
+
 __kernel __attribute__((reqd_work_group_size(PERMA_GROUP_SIZE, 1, 1)))
 void perma_megakernel(PERMA_COMMON_ARGS(PERMA_ARG_PARAM) PERMA_BUFFER_PARAMS)
 {
@@ -557,8 +572,10 @@ void perma_megakernel(PERMA_COMMON_ARGS(PERMA_ARG_PARAM) PERMA_BUFFER_PARAMS)
         mem->wf_pushed[i] = 0;
     for (uint i = lid; i < PERMA_NUM_PROCS; i += PERMA_GROUP_SIZE)
         mem->wf_ran[i] = 0;
-    if (lid == 0)
+    if (lid == 0) {
         mem->wf_total = 0;
+        mem->wf_given = 0;
+    }
 #endif
     if (lid == 0) {
         mem->error_code = 0;
@@ -578,6 +595,15 @@ void perma_megakernel(PERMA_COMMON_ARGS(PERMA_ARG_PARAM) PERMA_BUFFER_PARAMS)
         barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
         command = mem->batch[PERMA_B_COMMAND];
 #if PERMA_TRACE_EVENTS
+#if PERMA_WORK_FIRST
+        /* What the stacks gave another group while the batch was picked: a
+         * donation, as the statistics count it. */
+        if (lid == 0 && mem->wf_given) {
+            uint now = atomic_inc(abort_flag + PERMA_WATCH_CLOCK);
+            perma_trace_add(group_trace, &trace_count, PERMA_TRACE_STACKS, PERMA_TRACE_DONATE, mem->wf_given, now, now);
+            mem->wf_given = 0;
+        }
+#endif
         if (lid == 0 && (mem->batch[PERMA_B_COUNT] || mem->batch[PERMA_B_KIND] == PERMA_TRACE_STACK))
             trace_start = atomic_inc(abort_flag + PERMA_WATCH_CLOCK);
 #endif
@@ -585,12 +611,11 @@ void perma_megakernel(PERMA_COMMON_ARGS(PERMA_ARG_PARAM) PERMA_BUFFER_PARAMS)
                         own);
 #if PERMA_TRACE_EVENTS
         /* Before work-item 0 schedules the next batch. */
-        if (lid == 0 && (mem->batch[PERMA_B_COUNT] || mem->batch[PERMA_B_WF_RAN]) && trace_count < PERMA_TRACE_EVENTS) {
-            __global uint *record = group_trace + 1u + 4u * trace_count++;
-            record[0] = mem->batch[PERMA_B_PROC] | mem->batch[PERMA_B_KIND] << 8;
-            record[1] = mem->batch[PERMA_B_COUNT] + mem->batch[PERMA_B_WF_RAN];
-            record[2] = trace_start;
-            record[3] = atomic_inc(abort_flag + PERMA_WATCH_CLOCK);
+        if (lid == 0 && (mem->batch[PERMA_B_COUNT] || mem->batch[PERMA_B_WF_RAN])) {
+            uint kind = mem->batch[PERMA_B_KIND];
+            perma_trace_add(group_trace, &trace_count, kind == PERMA_TRACE_STACK ? PERMA_TRACE_STACKS
+                            : mem->batch[PERMA_B_PROC], kind, mem->batch[PERMA_B_COUNT] + mem->batch[PERMA_B_WF_RAN],
+                            trace_start, atomic_inc(abort_flag + PERMA_WATCH_CLOCK));
         }
 #endif
     }

@@ -144,6 +144,7 @@ inline int perma_wf_relieve(__global uint *ctl, __global uint *queue_data, __glo
         __local uint *group_stat = mem->stats + PERMA_NUM_PROCS * PERMA_STAT_PROC_WORDS;
         group_stat[PERMA_GSTAT_DONATIONS] += 1u;
         group_stat[PERMA_GSTAT_DONATED] += given;
+        mem->wf_given += given;
     }
     return runnable;
 }

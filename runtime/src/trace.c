@@ -213,7 +213,7 @@ perma_status perma_trace_collect(perma_runtime *rt)
             perma_trace_event event = { g, r.proc_kind & 0xffu, (r.proc_kind >> 8) & 0xffu, r.items,
                                         tick_time(t->samples, t->sample_count, r.start),
                                         tick_time(t->samples, t->sample_count, r.end) };
-            if (event.proc >= rt->proc_count || event.kind >= PERMA_TRACE_KINDS)
+            if ((event.proc >= rt->proc_count && event.proc != PERMA_TRACE_STACKS) || event.kind >= PERMA_TRACE_KINDS)
                 continue;
             st = push_event(rt, &event);
         }

@@ -9,8 +9,8 @@
 
 typedef struct perma_trace_event {
     uint32_t group;     /* track; UINT32_MAX for host steps */
-    uint32_t proc;
-    uint32_t kind;      /* 0 run, 1 steal, 2 local, 3 donate */
+    uint32_t proc;      /* or PERMA_TRACE_STACKS: the work-first stacks, items of any procedure */
+    uint32_t kind;      /* PERMA_TRACE_RUN ... PERMA_TRACE_STACK */
     uint32_t items;
     double start, end;  /* host time (perma_now) */
 } perma_trace_event;

@@ -27,6 +27,9 @@
 #define FOOTER "\n]}\n"
 
 static const char *const kind_names[] = { "run", "steal", "local", "donate", "stack" };
+/* The name of events of the work-first stacks as a whole: no procedure's
+ * name, which is an identifier, can be it. */
+#define STACKS_NAME "(stacks)"
 
 typedef struct traced_file {
     struct traced_file *next;
@@ -127,7 +130,7 @@ static void write_run(FILE *f, const perma_runtime *rt, unsigned run, double zer
         double duration = e->end > e->start ? e->end - e->start : 0.0;
         fprintf(f, ",\n{\"name\":\"%s\",\"cat\":\"%s\",\"ph\":\"X\",\"pid\":%u,\"tid\":%u,\"ts\":%.3f,\"dur\":%.3f,"
                    "\"args\":{\"items\":%u,\"kind\":\"%s\"}}",
-                rt->procs[e->proc].name, kind_names[e->kind], run, e->group == UINT32_MAX ? 0u : e->group,
+                e->proc == PERMA_TRACE_STACKS ? STACKS_NAME : rt->procs[e->proc].name, kind_names[e->kind], run, e->group == UINT32_MAX ? 0u : e->group,
                 (e->start - zero) * 1e6, duration * 1e6, e->items, kind_names[e->kind]);
     }
 }

@@ -6,7 +6,9 @@ usage: perma-trace-to-svg TRACE.json [OUT.svg] [--title TEXT] [--json]
 Prints, for each run in the file, per procedure: the time its batches kept
 work-groups busy, its share of the run's group time, its batches and items,
 and the batches taken by stealing and the donations; then the share of the
-group time no batch ran (idle).  --json prints the same as one JSON object.
+group time no batch ran (idle).  Work of the work-first stacks as a whole
+(batches that only ran stacks, shares the stacks gave another group) is
+listed as the procedure "(stacks)".  --json prints the same as one JSON object.
 With OUT.svg it also draws one row per track (work-group, or host steps) of
 every run, one box per batch, coloured by procedure.  The same file opens
 in Perfetto (ui.perfetto.dev) or chrome://tracing.  A run writes a trace when

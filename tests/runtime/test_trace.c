@@ -100,6 +100,9 @@ START_TEST(trace_events_cover_every_item)
         ck_assert_contains(json, "\"name\":\"group 0\"");
         if (st.steals > 0)
             ck_assert_contains(json, "\"kind\":\"steal\"");
+        /* A batch that only ran stacks runs items of any procedure: it is
+         * the stacks' event, as are the items they gave another group. */
+        ck_assert_uint_eq(test_occurrences(json, "{\"name\":\"(stacks)\",\"cat\":\"stack\""), stacks);
     } else {
         ck_assert_uint_eq(events, st.launches);   /* one event per host step */
         ck_assert_contains(json, "host steps");
@@ -229,7 +232,8 @@ START_TEST(every_run_stays_in_the_file_in_real_time)
         ck_assert_uint_eq(sum, items[run]);
     }
 
-    /* The converter's summary: the same items, run by run. */
+    /* The converter's summary: the same items, run by run (the tree's
+     * batches and the batches that only ran stacks, "(stacks)"). */
     char command[512];
     snprintf(command, sizeof command, "python3 runtime/tools/trace_to_svg.py %s --json", path);
     FILE *pipe = popen(command, "r");
@@ -244,9 +248,15 @@ START_TEST(every_run_stays_in_the_file_in_real_time)
         snprintf(key, sizeof key, "\"run\": %u,", run + 1);
         at = strstr(at, key);
         ck_assert_msg(at != NULL, "no %s in the summary: %s", key, summary);
-        at = strstr(at, "\"tree\"");
-        ck_assert_ptr_nonnull(at);
-        ck_assert_uint_eq((uint64_t)number_after(at, "\"items\": "), items[run]);
+        const char *tree = strstr(at, "\"tree\""), *stacks = strstr(at, "\"(stacks)\"");
+        snprintf(key, sizeof key, "\"run\": %u,", run + 2);
+        const char *next = strstr(at, key);
+        ck_assert_ptr_nonnull(tree);
+        ck_assert(!next || tree < next);
+        uint64_t summed = (uint64_t)number_after(tree, "\"items\": ");
+        if (stacks && (!next || stacks < next))
+            summed += (uint64_t)number_after(stacks, "\"items\": ");
+        ck_assert_uint_eq(summed, items[run]);
         double idle = number_after(at, "\"idle_share\": ");
         ck_assert_msg(idle >= 0.0 && idle <= 1.0, "idle share %g", idle);
     }

@@ -2,12 +2,13 @@
  * default): a depth-first search needs queue memory that does not grow
  * with its tree, full stacks spill to the queues and lose nothing (also
  * when the queues must grow for them), an idle group gets a share of a
- * busy group's stacks, queue_only procedures stay off the stacks, and the
+ * busy group's stacks (traced as a donation under donation), queue_only procedures stay off the stacks, and the
  * statistics say so. */
 #include "perma_test.h"
 
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 /* A binary tree of heap ids (root 1) down to `target`: every node adds 1
  * to `nodes`, every leaf its id to `leaf_ids`. */
@@ -35,9 +36,9 @@ typedef struct tree {
     uint64_t nodes, leaf_ids;
 } tree;
 
-/* A runtime of `label`'s schedule with `groups` work-groups of
- * `group_size` work-items (0: the defaults) and the tree registered. */
-static void tree_open(tree *t, const char *label, unsigned groups, unsigned group_size)
+/* A configuration of `label`'s schedule with `groups` work-groups of
+ * `group_size` work-items (0: the defaults). */
+static perma_config tree_config(const char *label, unsigned groups, unsigned group_size)
 {
     perma_config config;
     perma_config_init(&config);
@@ -45,8 +46,14 @@ static void tree_open(tree *t, const char *label, unsigned groups, unsigned grou
     config.work_groups = groups;
     config.group_size = group_size;
     config.time_limit = 120;
+    return config;
+}
+
+/* A runtime of `config` with the tree registered. */
+static void tree_open_config(tree *t, const perma_config *config)
+{
     perma_error error;
-    ck_assert_msg(perma_create(&config, &t->rt, &error) == PERMA_OK, "%s", error.message);
+    ck_assert_msg(perma_create(config, &t->rt, &error) == PERMA_OK, "%s", error.message);
     ck_assert_perma_ok(t->rt, perma_add_source(t->rt, types, "node.cl"));
     perma_procedure split = { .name = "split", .item_type = "struct node", .item_size = sizeof(struct node),
                               .source = source, .function = "split", .emits = { { "split", 2 } } };
@@ -54,6 +61,12 @@ static void tree_open(tree *t, const char *label, unsigned groups, unsigned grou
     ck_assert_perma_ok(t->rt, perma_declare_reduction(t->rt, "nodes", PERMA_REDUCE_SUM, PERMA_TYPE_ULONG, &t->nodes));
     ck_assert_perma_ok(t->rt,
                        perma_declare_reduction(t->rt, "leaf_ids", PERMA_REDUCE_SUM, PERMA_TYPE_ULONG, &t->leaf_ids));
+}
+
+static void tree_open(tree *t, const char *label, unsigned groups, unsigned group_size)
+{
+    perma_config config = tree_config(label, groups, group_size);
+    tree_open_config(t, &config);
 }
 
 /* Run the tree of depth `depth` (from a fresh queue capacity) and check its
@@ -150,6 +163,41 @@ START_TEST(an_idle_group_gets_a_share_of_the_stacks)
         ck_assert_uint_le(gs.stack_peak, st.stack_items);
     }
     perma_destroy(t.rt);
+}
+END_TEST
+
+/* Under donation the idle group's share of the stacks goes into its own
+ * queue set: a donation in the statistics and in the trace, where it is
+ * an event of the stacks ("(stacks)", kind donate) with the items given. */
+START_TEST(a_share_given_under_donation_is_a_traced_donation)
+{
+    char path[] = "/tmp/perma-wf-trace-XXXXXX";
+    int fd = mkstemp(path);
+    ck_assert_int_ge(fd, 0);
+    close(fd);
+    perma_config config = tree_config("megakernel/donation", 2, 0);
+    config.trace_path = path;
+    tree t;
+    tree_open_config(&t, &config);
+    perma_stats st;
+    tree_run(&t, 21, &st);
+    uint64_t given = 0, donated = 0;
+    for (unsigned g = 0; g < st.work_groups; ++g) {
+        perma_group_stats gs;
+        ck_assert_perma_ok(t.rt, perma_get_group_stats(t.rt, g, &gs));
+        donated += gs.donated_items;
+    }
+    ck_assert_uint_gt(st.donations, 0);
+    perma_destroy(t.rt);
+
+    char *json = test_read_file(path);
+    remove(path);
+    ck_assert_uint_eq(test_occurrences(json, "\"cat\":\"donate\""), st.donations);
+    ck_assert_uint_gt(test_occurrences(json, "{\"name\":\"(stacks)\",\"cat\":\"donate\""), 0);
+    for (const char *p = json; (p = strstr(p, "\"cat\":\"donate\"")) != NULL; ++p)
+        given += strtoull(strstr(p, "\"items\":") + 8, NULL, 10);
+    ck_assert_uint_eq(given, donated);
+    free(json);
 }
 END_TEST
 
@@ -293,6 +341,7 @@ int main(void)
     tcase_add_test(tc, depth_first_memory_does_not_grow_with_the_tree);
     tcase_add_test(tc, full_stacks_spill_and_lose_nothing);
     tcase_add_loop_test(tc, an_idle_group_gets_a_share_of_the_stacks, 0, 3);
+    tcase_add_test(tc, a_share_given_under_donation_is_a_traced_donation);
     tcase_add_loop_test(tc, spills_of_two_procedures_into_full_queues_grow_them, 0, 2);
     tcase_add_loop_test(tc, queue_only_items_never_run_from_a_stack, 0, 2);
     tcase_add_test(tc, stats_name_the_stacks);
